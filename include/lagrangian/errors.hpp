@@ -1,0 +1,46 @@
+#pragma once
+/// \file errors.hpp
+/// Exceptions thrown by the library. Every message names the offending field
+/// and value, so a user can fix the input without reading the source.
+
+#include <stdexcept>
+#include <string>
+
+namespace lagrangian {
+
+/// Base of every error the library throws.
+class Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// A model parameter is out of its physical range (mass ≤ 0, NaN, …).
+class ParameterError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// A simulation option is invalid (t_end < t0, rtol ≤ 0, unknown stepper, …).
+class OptionError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// The dynamics cannot be evaluated at a state (singular mass matrix, …).
+class DynamicsError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// A run failed part-way (non-finite state, step-size underflow, max_steps).
+class SimulationError : public Error {
+ public:
+  SimulationError(const std::string& what, double time) : Error(what), time_(time) {}
+  /// Time (s) at which the run stopped.
+  double time() const noexcept { return time_; }
+
+ private:
+  double time_;
+};
+
+}  // namespace lagrangian

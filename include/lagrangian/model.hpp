@@ -1,0 +1,233 @@
+#pragma once
+/// \file model.hpp
+/// What a user writes: a model in generalized coordinates.
+///
+/// A model is a plain struct with
+///  - `static constexpr int dof` — the number n of generalized coordinates;
+///  - `S kinetic(const Vec<S, n>& q, const Vec<S, n>& qd, const S& t) const`
+///    — kinetic energy T(q, q̇, t) in J, and
+///    `S potential(const Vec<S, n>& q, const S& t) const` — potential V(q, t)
+///    in J; or instead a direct `S lagrangian(q, qd, t) const` (L = T − V);
+///  - optionally `Vec<S, n> generalized_forces(q, qd, t) const` — the
+///    non-conservative generalized forces Q (N or N·m per coordinate),
+///    `S dissipation(q, qd) const` — the Rayleigh function D with
+///    Q = −∂D/∂q̇ (W), and `coordinate_names()` returning n names.
+/// Every function is a template on the scalar type S so that the same code
+/// runs on `double` and on AD scalars. Write ordinary C++: `S x = 0`, `auto`
+/// locals, `pow`, `abs`, `using std::cos; cos(x)` all work.
+///
+/// \code
+/// struct Pendulum {
+///   static constexpr int dof = 1;
+///   double m = 1, l = 1, g = 9.81;
+///   template <class S> S kinetic(const lagrangian::Vec<S, 1>&, const lagrangian::Vec<S, 1>& qd, const S&) const {
+///     return 0.5 * m * l * l * qd[0] * qd[0];
+///   }
+///   template <class S> S potential(const lagrangian::Vec<S, 1>& q, const S&) const {
+///     using std::cos; return -m * g * l * cos(q[0]);
+///   }
+/// };
+/// \endcode
+
+#include <array>
+#include <concepts>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "lagrangian/ad.hpp"
+
+namespace lagrangian {
+
+/// Column vector of n scalars (generalized coordinates, velocities, forces).
+template <class S, int N>
+using Vec = Eigen::Matrix<S, N, 1>;
+
+/// n×n matrix (mass matrix).
+template <class S, int N>
+using Mat = Eigen::Matrix<S, N, N>;
+
+namespace detail {
+
+template <class M>
+concept declares_dof = requires {
+  { M::dof } -> std::convertible_to<int>;
+} && (M::dof >= 1);
+
+template <class M, class S>
+concept has_kinetic_for = requires(const M& m, const Vec<S, M::dof>& q, const S& t) {
+  { m.kinetic(q, q, t) } -> std::convertible_to<S>;
+};
+template <class M, class S>
+concept has_potential_for = requires(const M& m, const Vec<S, M::dof>& q, const S& t) {
+  { m.potential(q, t) } -> std::convertible_to<S>;
+};
+template <class M, class S>
+concept has_lagrangian_for = requires(const M& m, const Vec<S, M::dof>& q, const S& t) {
+  { m.lagrangian(q, q, t) } -> std::convertible_to<S>;
+};
+
+// The AD scalars the dynamics instantiates model functions with.
+template <class M>
+using SecondOrderJet = ad::Jet<double, M::dof + 1, 2>;
+template <class M>
+using FirstOrderJet = ad::Jet<double, M::dof, 1>;
+
+template <class M, class S>
+concept energies_for = (has_kinetic_for<M, S> && has_potential_for<M, S>) || has_lagrangian_for<M, S>;
+
+}  // namespace detail
+
+/// A model giving T and V (or L) for double and for the AD scalars.
+template <class M>
+concept Model = detail::declares_dof<M> && detail::energies_for<M, double> &&
+                detail::energies_for<M, detail::SecondOrderJet<M>> && detail::energies_for<M, detail::FirstOrderJet<M>>;
+
+/// True when the model gives T and V separately (so T + V can be reported).
+template <class M>
+inline constexpr bool has_kinetic_potential_v =
+    detail::has_kinetic_for<M, double> && detail::has_potential_for<M, double>;
+
+/// True when the model gives non-conservative generalized forces Q(q, q̇, t).
+template <class M>
+inline constexpr bool has_generalized_forces_v =
+    requires(const M& m, const Vec<double, M::dof>& q, double t) {
+      { m.generalized_forces(q, q, t) } -> std::convertible_to<Vec<double, M::dof>>;
+    };
+
+/// True when the model gives a Rayleigh dissipation function D(q, q̇).
+template <class M>
+inline constexpr bool has_dissipation_v = requires(const M& m, const Vec<detail::FirstOrderJet<M>, M::dof>& q) {
+  { m.dissipation(q, q) } -> std::convertible_to<detail::FirstOrderJet<M>>;
+};
+
+/// True when the model names its coordinates.
+template <class M>
+inline constexpr bool has_coordinate_names_v = requires(const M& m) {
+  { m.coordinate_names() };
+};
+
+/// True when the model has a name for reports (`std::string name() const`).
+template <class M>
+inline constexpr bool has_name_v = requires(const M& m) {
+  { m.name() } -> std::convertible_to<std::string>;
+};
+
+/// Checks a model and stops compilation with one sentence per missing piece.
+/// Called by every public entry point that takes a model.
+template <class M>
+constexpr void check_model() {
+  static_assert(detail::declares_dof<M>,
+                "lagrangian: a model must declare `static constexpr int dof = n;` (n >= 1 generalized coordinates)");
+  if constexpr (detail::declares_dof<M>) {
+    static_assert(detail::energies_for<M, double>,
+                  "lagrangian: a model must define `template <class S> S kinetic(const Vec<S, dof>& q, const Vec<S, "
+                  "dof>& qd, const S& t) const` and `template <class S> S potential(const Vec<S, dof>& q, const S& t) "
+                  "const`, or a direct `lagrangian(q, qd, t)`; none was found callable with double");
+    static_assert(!detail::energies_for<M, double> ||
+                      (detail::energies_for<M, detail::SecondOrderJet<M>> &&
+                       detail::energies_for<M, detail::FirstOrderJet<M>>),
+                  "lagrangian: the model's kinetic/potential/lagrangian must be templates on the scalar type S "
+                  "(they are called with automatic-differentiation scalars, not only with double)");
+  }
+}
+
+/// Names of the coordinates of a model: the model's own, or q0, q1, ….
+template <class M>
+std::vector<std::string> coordinate_names(const M& model) {
+  std::vector<std::string> names;
+  if constexpr (has_coordinate_names_v<M>) {
+    for (const auto& s : model.coordinate_names()) names.emplace_back(s);
+  } else {
+    for (int i = 0; i < M::dof; ++i) names.push_back("q" + std::to_string(i));
+  }
+  return names;
+}
+
+/// Name of a model for reports: the model's own or "model".
+template <class M>
+std::string model_name(const M& model) {
+  if constexpr (has_name_v<M>) {
+    return model.name();
+  } else {
+    return "model";
+  }
+}
+
+// -- quick models from generic lambdas --------------------------------------
+
+/// Placeholder for an absent optional function of a LambdaModel.
+struct None {};
+
+/// A model assembled from generic lambdas; see make_model().
+template <int N, class Kinetic, class Potential, class Forces = None, class Dissipation = None>
+struct LambdaModel {
+  static constexpr int dof = N;
+  std::string model_name;
+  std::array<std::string, N> names;
+  Kinetic kinetic_fn;
+  Potential potential_fn;
+  [[no_unique_address]] Forces forces_fn{};
+  [[no_unique_address]] Dissipation dissipation_fn{};
+
+  std::string name() const { return model_name; }
+  const std::array<std::string, N>& coordinate_names() const { return names; }
+
+  template <class S>
+  S kinetic(const Vec<S, N>& q, const Vec<S, N>& qd, const S& t) const {
+    return kinetic_fn(q, qd, t);
+  }
+  template <class S>
+  S potential(const Vec<S, N>& q, const S& t) const {
+    return potential_fn(q, t);
+  }
+  template <class S>
+    requires(!std::is_same_v<Forces, None>)
+  Vec<S, N> generalized_forces(const Vec<S, N>& q, const Vec<S, N>& qd, const S& t) const {
+    return forces_fn(q, qd, t);
+  }
+  template <class S>
+    requires(!std::is_same_v<Dissipation, None>)
+  S dissipation(const Vec<S, N>& q, const Vec<S, N>& qd) const {
+    return dissipation_fn(q, qd);
+  }
+};
+
+/// Builds a model from generic lambdas `kinetic(q, qd, t)` and
+/// `potential(q, t)`; the lambdas take `const auto&` arguments.
+/// \code
+/// auto pendulum = lagrangian::make_model<1>("pendulum", {"theta"},
+///     [](const auto& q, const auto& qd, const auto& t) { return 0.5 * qd[0] * qd[0]; },
+///     [](const auto& q, const auto& t) { using std::cos; return -9.81 * cos(q[0]); });
+/// \endcode
+template <int N, class Kinetic, class Potential>
+LambdaModel<N, Kinetic, Potential> make_model(std::string name, std::array<std::string, N> names, Kinetic kinetic,
+                                              Potential potential) {
+  return {std::move(name), std::move(names), std::move(kinetic), std::move(potential)};
+}
+
+/// Adds generalized forces Q(q, qd, t) (a generic lambda returning Vec<S, N>).
+template <int N, class K, class V, class F, class D, class NewForces>
+LambdaModel<N, K, V, NewForces, D> with_forces(LambdaModel<N, K, V, F, D> m, NewForces forces) {
+  return {std::move(m.model_name), std::move(m.names), std::move(m.kinetic_fn), std::move(m.potential_fn),
+          std::move(forces), std::move(m.dissipation_fn)};
+}
+
+/// Adds a Rayleigh dissipation function D(q, qd) (generic lambda), Q = −∂D/∂q̇.
+template <int N, class K, class V, class F, class D, class NewDissipation>
+LambdaModel<N, K, V, F, NewDissipation> with_dissipation(LambdaModel<N, K, V, F, D> m, NewDissipation d) {
+  return {std::move(m.model_name), std::move(m.names), std::move(m.kinetic_fn), std::move(m.potential_fn),
+          std::move(m.forces_fn), std::move(d)};
+}
+
+/// A state of a model with n coordinates: positions q and velocities q̇.
+template <int N>
+struct State {
+  Vec<double, N> q = Vec<double, N>::Zero();   ///< generalized coordinates
+  Vec<double, N> qd = Vec<double, N>::Zero();  ///< generalized velocities
+};
+
+}  // namespace lagrangian

@@ -1,0 +1,88 @@
+#pragma once
+/// \file report.hpp
+/// Options of a run and the report of what it cost and how accurate it was.
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace lagrangian {
+
+/// Names of the steppers `simulate` accepts.
+///  - "rk4":            classical Runge–Kutta, fixed step `dt`, order 4.
+///  - "dopri5":         Dormand–Prince 5(4), adaptive, dense output (default).
+///  - "cash_karp54":    Cash–Karp 5(4), adaptive.
+///  - "fehlberg78":     Runge–Kutta–Fehlberg 7(8), adaptive.
+///  - "bulirsch_stoer": Bulirsch–Stoer extrapolation, adaptive order.
+///  - "rosenbrock4":    linearly implicit Rosenbrock 4(3) for stiff problems;
+///                      its Jacobian ∂f/∂x is formed by central finite
+///                      differences of the AD-derived right-hand side.
+std::vector<std::string> stepper_names();
+
+/// What a run should do. Times in s.
+struct SimulationOptions {
+  std::string method = "dopri5";  ///< stepper name, see stepper_names()
+  double t0 = 0.0;                ///< start time (s)
+  double t_end = 10.0;            ///< end time (s), > t0
+  double dt = 1e-3;               ///< fixed step for rk4; first trial step for adaptive steppers (s)
+  double rtol = 1e-10;            ///< relative tolerance per step (adaptive steppers)
+  double atol = 1e-12;            ///< absolute tolerance per step (adaptive steppers)
+  std::uint64_t max_steps = 50'000'000;  ///< a run needing more accepted steps fails
+  /// Time between samples sent to the observer (s). 0: every accepted step.
+  /// Negative: only the initial and final states.
+  double output_interval = 0.0;
+
+  /// Throws OptionError naming the first invalid field and its value.
+  void validate() const;
+};
+
+/// Drift of one generalized momentum conjugate to a cyclic coordinate.
+struct MomentumDrift {
+  std::string coordinate;   ///< name of the cyclic coordinate
+  double initial = 0;       ///< p at t0
+  double max_abs_drift = 0;  ///< max |p(t) − p(t0)| over the samples
+  double final_abs_drift = 0;  ///< |p(t_end) − p(t0)|
+};
+
+/// What a run did, what it cost and how accurate it was.
+struct RunReport {
+  std::string model;             ///< model name
+  std::vector<std::string> coordinates;  ///< coordinate names
+  std::string method;            ///< stepper name
+  bool adaptive = true;          ///< adaptive step size control
+  double rtol = 0, atol = 0, dt = 0;
+  double t0 = 0, t_end = 0;
+
+  std::uint64_t steps = 0;            ///< accepted steps
+  std::uint64_t rejected_steps = 0;   ///< steps rejected by the error control
+  std::uint64_t rhs_evaluations = 0;  ///< evaluations of q̈ (including those for Jacobians)
+  std::uint64_t samples = 0;          ///< samples sent to the observer
+  double wall_time_s = 0;             ///< wall-clock time of the integration (s)
+
+  /// True when no generalized force or dissipation is declared and ∂L/∂t = 0
+  /// at the sampled states: the energy function h is then a constant of the
+  /// motion and its drift measures the integration error.
+  bool conservative = false;
+  /// Scale for relative energy drift: max(|h0|, |T0| + |V0|) (J), or 1 J when zero.
+  double energy_scale = 1;
+  double energy_initial = 0;        ///< h(t0) = p·q̇ − L (J)
+  double energy_final = 0;          ///< h(t_end) (J)
+  double energy_drift_max = 0;      ///< max |h − h0| / energy_scale over the samples
+  double energy_drift_final = 0;    ///< |h(t_end) − h0| / energy_scale
+  bool has_total_energy = false;    ///< the model gives T and V separately
+  double total_energy_initial = 0;  ///< T + V at t0 (J)
+  double total_energy_drift_max = 0;    ///< max |E − E0| / energy_scale
+  double total_energy_drift_final = 0;  ///< |E(t_end) − E0| / energy_scale
+  std::vector<MomentumDrift> conserved_momenta;  ///< cyclic coordinates and their momenta
+
+  /// The report as a JSON object (numbers with 17 significant digits; NaN as null).
+  std::string to_json() const;
+  /// A few human-readable lines for a terminal.
+  std::string summary() const;
+  /// Writes to_json() to `path` (through `<path>.partial`, renamed when
+  /// complete); throws OptionError naming the path when it cannot.
+  void write_json(const std::string& path) const;
+};
+
+}  // namespace lagrangian

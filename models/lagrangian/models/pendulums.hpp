@@ -1,0 +1,270 @@
+#pragma once
+/// \file pendulums.hpp
+/// Pendulum-family and central-force models in generalized coordinates.
+/// SI units throughout: masses in kg, lengths in m, g in m/s², angles in rad,
+/// stiffness in N/m, energies in J. Angles θ are measured from the downward
+/// vertical unless stated otherwise.
+
+#include <array>
+#include <string>
+#include <string_view>
+
+#include "lagrangian/model.hpp"
+#include "lagrangian/params.hpp"
+
+namespace lagrangian::models {
+
+/// Plane pendulum: a point mass m on a massless rod of length l.
+///   T = ½ m l² θ̇²,  V = −m g l cos θ.
+struct SimplePendulum {
+  static constexpr int dof = 1;
+  double m, l, g;
+  explicit SimplePendulum(double mass = 1.0, double length = 1.0, double gravity = 9.81)
+      : m(require_positive("SimplePendulum", "m", mass)),
+        l(require_positive("SimplePendulum", "l", length)),
+        g(require_nonnegative("SimplePendulum", "g", gravity)) {}
+  std::string name() const { return "simple_pendulum"; }
+  std::array<std::string_view, 1> coordinate_names() const { return {"theta"}; }
+  template <class S>
+  S kinetic(const Vec<S, 1>&, const Vec<S, 1>& qd, const S&) const {
+    return 0.5 * m * l * l * qd[0] * qd[0];
+  }
+  template <class S>
+  S potential(const Vec<S, 1>& q, const S&) const {
+    using std::cos;
+    return -m * g * l * cos(q[0]);
+  }
+};
+
+/// Double pendulum: masses m1, m2 on massless rods l1, l2; θ1, θ2 from the
+/// downward vertical.
+///   T = ½ (m1+m2) l1² θ̇1² + ½ m2 l2² θ̇2² + m2 l1 l2 θ̇1 θ̇2 cos(θ1 − θ2),
+///   V = −(m1+m2) g l1 cos θ1 − m2 g l2 cos θ2.
+struct DoublePendulum {
+  static constexpr int dof = 2;
+  double m1, m2, l1, l2, g;
+  explicit DoublePendulum(double mass1 = 1.0, double mass2 = 1.0, double length1 = 1.0, double length2 = 1.0,
+                          double gravity = 9.81)
+      : m1(require_positive("DoublePendulum", "m1", mass1)),
+        m2(require_positive("DoublePendulum", "m2", mass2)),
+        l1(require_positive("DoublePendulum", "l1", length1)),
+        l2(require_positive("DoublePendulum", "l2", length2)),
+        g(require_nonnegative("DoublePendulum", "g", gravity)) {}
+  std::string name() const { return "double_pendulum"; }
+  std::array<std::string_view, 2> coordinate_names() const { return {"theta1", "theta2"}; }
+  template <class S>
+  S kinetic(const Vec<S, 2>& q, const Vec<S, 2>& qd, const S&) const {
+    using std::cos;
+    return 0.5 * (m1 + m2) * l1 * l1 * qd[0] * qd[0] + 0.5 * m2 * l2 * l2 * qd[1] * qd[1] +
+           m2 * l1 * l2 * qd[0] * qd[1] * cos(q[0] - q[1]);
+  }
+  template <class S>
+  S potential(const Vec<S, 2>& q, const S&) const {
+    using std::cos;
+    return -(m1 + m2) * g * l1 * cos(q[0]) - m2 * g * l2 * cos(q[1]);
+  }
+};
+
+/// Spherical pendulum: polar angle θ from the downward vertical, azimuth φ.
+///   T = ½ m l² (θ̇² + sin²θ φ̇²),  V = −m g l cos θ.  φ is cyclic.
+struct SphericalPendulum {
+  static constexpr int dof = 2;
+  double m, l, g;
+  explicit SphericalPendulum(double mass = 1.0, double length = 1.0, double gravity = 9.81)
+      : m(require_positive("SphericalPendulum", "m", mass)),
+        l(require_positive("SphericalPendulum", "l", length)),
+        g(require_nonnegative("SphericalPendulum", "g", gravity)) {}
+  std::string name() const { return "spherical_pendulum"; }
+  std::array<std::string_view, 2> coordinate_names() const { return {"theta", "phi"}; }
+  template <class S>
+  S kinetic(const Vec<S, 2>& q, const Vec<S, 2>& qd, const S&) const {
+    using std::sin;
+    const S s = sin(q[0]);
+    return 0.5 * m * l * l * (qd[0] * qd[0] + s * s * qd[1] * qd[1]);
+  }
+  template <class S>
+  S potential(const Vec<S, 2>& q, const S&) const {
+    using std::cos;
+    return -m * g * l * cos(q[0]);
+  }
+};
+
+/// Elastic (spring) pendulum: radial distance r and angle θ; spring of
+/// stiffness k and rest length l0.
+///   T = ½ m (ṙ² + r² θ̇²),  V = −m g r cos θ + ½ k (r − l0)².
+struct ElasticPendulum {
+  static constexpr int dof = 2;
+  double m, k, l0, g;
+  explicit ElasticPendulum(double mass = 1.0, double stiffness = 40.0, double rest_length = 1.0,
+                           double gravity = 9.81)
+      : m(require_positive("ElasticPendulum", "m", mass)),
+        k(require_positive("ElasticPendulum", "k", stiffness)),
+        l0(require_positive("ElasticPendulum", "l0", rest_length)),
+        g(require_nonnegative("ElasticPendulum", "g", gravity)) {}
+  std::string name() const { return "elastic_pendulum"; }
+  std::array<std::string_view, 2> coordinate_names() const { return {"r", "theta"}; }
+  template <class S>
+  S kinetic(const Vec<S, 2>& q, const Vec<S, 2>& qd, const S&) const {
+    return 0.5 * m * (qd[0] * qd[0] + q[0] * q[0] * qd[1] * qd[1]);
+  }
+  template <class S>
+  S potential(const Vec<S, 2>& q, const S&) const {
+    using std::cos;
+    const S stretch = q[0] - l0;
+    return -m * g * q[0] * cos(q[1]) + 0.5 * k * stretch * stretch;
+  }
+};
+
+/// Bead of mass m on a circular hoop of radius R that spins at a constant
+/// rate ω (rad/s) about its vertical diameter (a moving, rheonomic
+/// constraint); θ measured from the bottom of the hoop.
+///   T = ½ m R² (θ̇² + ω² sin²θ),  V = −m g R cos θ.
+/// L has no explicit t, so the Jacobi integral h = ½ m R² (θ̇² − ω² sin²θ) + V
+/// is conserved while T + V is not (the motor does work).
+struct BeadOnRotatingHoop {
+  static constexpr int dof = 1;
+  double m, R, omega, g;
+  explicit BeadOnRotatingHoop(double mass = 1.0, double radius = 0.5, double spin_rate = 6.0,
+                              double gravity = 9.81)
+      : m(require_positive("BeadOnRotatingHoop", "m", mass)),
+        R(require_positive("BeadOnRotatingHoop", "R", radius)),
+        omega(require_finite("BeadOnRotatingHoop", "omega", spin_rate)),
+        g(require_nonnegative("BeadOnRotatingHoop", "g", gravity)) {}
+  std::string name() const { return "bead_on_rotating_hoop"; }
+  std::array<std::string_view, 1> coordinate_names() const { return {"theta"}; }
+  /// The hoop's angle ωt enters the bead's position (R sinθ cos ωt,
+  /// R sinθ sin ωt, −R cosθ); squaring its velocity, ωt cancels and leaves
+  /// the azimuthal speed ω R sinθ.
+  template <class S>
+  S kinetic(const Vec<S, 1>& q, const Vec<S, 1>& qd, const S&) const {
+    using std::sin;
+    const S s = sin(q[0]);
+    return 0.5 * m * R * R * (qd[0] * qd[0] + omega * omega * s * s);
+  }
+  template <class S>
+  S potential(const Vec<S, 1>& q, const S&) const {
+    using std::cos;
+    return -m * g * R * cos(q[0]);
+  }
+};
+
+/// Particle of mass m in the attractive inverse-square field V = −k/r, in
+/// plane polar coordinates (r, φ); k = G M m (J·m).
+///   T = ½ m (ṙ² + r² φ̇²).  φ is cyclic: p_φ = m r² φ̇ is conserved.
+struct KeplerPolar {
+  static constexpr int dof = 2;
+  double m, k;
+  explicit KeplerPolar(double mass = 1.0, double strength = 1.0)
+      : m(require_positive("KeplerPolar", "m", mass)), k(require_positive("KeplerPolar", "k", strength)) {}
+  std::string name() const { return "kepler_polar"; }
+  std::array<std::string_view, 2> coordinate_names() const { return {"r", "phi"}; }
+  template <class S>
+  S kinetic(const Vec<S, 2>& q, const Vec<S, 2>& qd, const S&) const {
+    return 0.5 * m * (qd[0] * qd[0] + q[0] * q[0] * qd[1] * qd[1]);
+  }
+  template <class S>
+  S potential(const Vec<S, 2>& q, const S&) const {
+    return -k / q[0];
+  }
+};
+
+/// Pendulum (mass m, length l) hanging from a cart of mass M that slides on
+/// a horizontal rail and is held by a spring of stiffness k; coordinates the
+/// cart position x (m) and the pendulum angle θ.
+///   T = ½ (M + m) ẋ² + m l ẋ θ̇ cos θ + ½ m l² θ̇²,  V = ½ k x² − m g l cos θ.
+struct CartPendulum {
+  static constexpr int dof = 2;
+  double M, m, l, k, g;
+  explicit CartPendulum(double cart_mass = 2.0, double bob_mass = 1.0, double length = 1.0, double stiffness = 10.0,
+                        double gravity = 9.81)
+      : M(require_positive("CartPendulum", "M", cart_mass)),
+        m(require_positive("CartPendulum", "m", bob_mass)),
+        l(require_positive("CartPendulum", "l", length)),
+        k(require_nonnegative("CartPendulum", "k", stiffness)),
+        g(require_nonnegative("CartPendulum", "g", gravity)) {}
+  std::string name() const { return "cart_pendulum"; }
+  std::array<std::string_view, 2> coordinate_names() const { return {"x", "theta"}; }
+  template <class S>
+  S kinetic(const Vec<S, 2>& q, const Vec<S, 2>& qd, const S&) const {
+    using std::cos;
+    return 0.5 * (M + m) * qd[0] * qd[0] + m * l * qd[0] * qd[1] * cos(q[1]) + 0.5 * m * l * l * qd[1] * qd[1];
+  }
+  template <class S>
+  S potential(const Vec<S, 2>& q, const S&) const {
+    using std::cos;
+    return 0.5 * k * q[0] * q[0] - m * g * l * cos(q[1]);
+  }
+};
+
+/// Pendulum whose pivot is driven vertically, y_p(t) = a cos(Ω t) (a in m,
+/// Ω in rad/s): an explicitly time-dependent Lagrangian.
+///   T = ½ m (l² θ̇² + ẏ_p² + 2 l ẏ_p θ̇ sin θ),  V = m g (y_p − l cos θ),
+/// whose equation of motion is θ̈ = −(g + ÿ_p) sin θ / l.
+struct DrivenPendulum {
+  static constexpr int dof = 1;
+  double m, l, a, Omega, g;
+  explicit DrivenPendulum(double mass = 1.0, double length = 1.0, double amplitude = 0.05, double drive_rate = 30.0,
+                          double gravity = 9.81)
+      : m(require_positive("DrivenPendulum", "m", mass)),
+        l(require_positive("DrivenPendulum", "l", length)),
+        a(require_finite("DrivenPendulum", "a", amplitude)),
+        Omega(require_finite("DrivenPendulum", "Omega", drive_rate)),
+        g(require_nonnegative("DrivenPendulum", "g", gravity)) {}
+  std::string name() const { return "driven_pendulum"; }
+  std::array<std::string_view, 1> coordinate_names() const { return {"theta"}; }
+  template <class S>
+  S kinetic(const Vec<S, 1>& q, const Vec<S, 1>& qd, const S& t) const {
+    using std::sin;
+    const S yd = -a * Omega * sin(Omega * t);
+    return 0.5 * m * (l * l * qd[0] * qd[0] + yd * yd + 2.0 * l * yd * qd[0] * sin(q[0]));
+  }
+  template <class S>
+  S potential(const Vec<S, 1>& q, const S& t) const {
+    using std::cos;
+    return m * g * (a * cos(Omega * t) - l * cos(q[0]));
+  }
+};
+
+/// Chain of N point masses m_i on massless rods l_i (a planar N-link
+/// pendulum), angles from the downward vertical. With x_k = Σ_{i≤k} l_i sin θ_i,
+/// y_k = −Σ_{i≤k} l_i cos θ_i:  T = Σ_k ½ m_k (ẋ_k² + ẏ_k²),  V = Σ_k m_k g y_k.
+template <int N>
+struct PendulumChain {
+  static constexpr int dof = N;
+  std::array<double, N> m;
+  std::array<double, N> l;
+  double g;
+  explicit PendulumChain(double mass = 1.0, double length = 1.0, double gravity = 9.81)
+      : g(require_nonnegative("PendulumChain", "g", gravity)) {
+    m.fill(require_positive("PendulumChain", "m", mass));
+    l.fill(require_positive("PendulumChain", "l", length));
+  }
+  std::string name() const { return "pendulum_chain_" + std::to_string(N); }
+  template <class S>
+  S kinetic(const Vec<S, N>& q, const Vec<S, N>& qd, const S&) const {
+    using std::cos;
+    using std::sin;
+    S vx = 0;
+    S vy = 0;
+    S T = 0;
+    for (int k = 0; k < N; ++k) {
+      vx += l[k] * cos(q[k]) * qd[k];
+      vy += l[k] * sin(q[k]) * qd[k];
+      T += 0.5 * m[k] * (vx * vx + vy * vy);
+    }
+    return T;
+  }
+  template <class S>
+  S potential(const Vec<S, N>& q, const S&) const {
+    using std::cos;
+    S y = 0;
+    S V = 0;
+    for (int k = 0; k < N; ++k) {
+      y -= l[k] * cos(q[k]);
+      V += m[k] * g * y;
+    }
+    return V;
+  }
+};
+
+}  // namespace lagrangian::models

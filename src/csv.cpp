@@ -1,0 +1,65 @@
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <utility>
+
+#include "lagrangian/errors.hpp"
+#include "lagrangian/observers.hpp"
+
+namespace lagrangian {
+
+CsvSink::CsvSink(std::string path) : path_(std::move(path)) {
+  const std::string partial = path_ + ".partial";
+  file_ = std::fopen(partial.c_str(), "w");
+  if (!file_) throw OptionError("cannot write output file '" + partial + "': " + std::strerror(errno));
+}
+
+CsvSink::CsvSink(CsvSink&& other) noexcept
+    : path_(std::move(other.path_)),
+      file_(std::exchange(other.file_, nullptr)),
+      total_energy_(other.total_energy_),
+      finished_(other.finished_) {}
+
+CsvSink::~CsvSink() {
+  if (file_) {
+    std::fclose(file_);
+    if (!finished_) std::remove((path_ + ".partial").c_str());
+  }
+}
+
+void CsvSink::begin(const std::vector<std::string>& names, bool has_total_energy) {
+  total_energy_ = has_total_energy;
+  std::fputs("t", file_);
+  for (const auto& n : names) std::fprintf(file_, ",%s", n.c_str());
+  for (const auto& n : names) std::fprintf(file_, ",%s_dot", n.c_str());
+  std::fputs(",energy", file_);
+  if (total_energy_) std::fputs(",total_energy", file_);
+  std::fputc('\n', file_);
+}
+
+void CsvSink::write_row(double t, const double* q, const double* qd, int n, double energy, double total_energy) {
+  std::fprintf(file_, "%.17g", t);
+  for (int i = 0; i < n; ++i) std::fprintf(file_, ",%.17g", q[i]);
+  for (int i = 0; i < n; ++i) std::fprintf(file_, ",%.17g", qd[i]);
+  std::fprintf(file_, ",%.17g", energy);
+  if (total_energy_) std::fprintf(file_, ",%.17g", total_energy);
+  std::fputc('\n', file_);
+}
+
+void CsvSink::finish() {
+  if (!file_ || finished_) return;
+  const bool write_failed = std::ferror(file_) != 0;
+  const bool close_failed = std::fclose(file_) != 0;
+  file_ = nullptr;
+  const std::string partial = path_ + ".partial";
+  if (write_failed || close_failed) {
+    std::remove(partial.c_str());
+    throw OptionError("writing output file '" + partial + "' failed");
+  }
+  if (std::rename(partial.c_str(), path_.c_str()) != 0)
+    throw OptionError("cannot rename '" + partial + "' to '" + path_ + "': " + std::strerror(errno));
+  finished_ = true;
+}
+
+}  // namespace lagrangian

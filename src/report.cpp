@@ -1,0 +1,179 @@
+#include "lagrangian/report.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <cstdio>
+#include <sstream>
+
+#include "lagrangian/errors.hpp"
+#include "lagrangian/params.hpp"
+
+namespace lagrangian {
+
+std::vector<std::string> stepper_names() {
+  return {"rk4", "dopri5", "cash_karp54", "fehlberg78", "bulirsch_stoer", "rosenbrock4"};
+}
+
+namespace {
+
+[[noreturn]] void option_failure(const std::string& field, const std::string& condition, double value) {
+  throw OptionError("simulation option '" + field + "' must be " + condition + ", got " +
+                    detail::format_number(value));
+}
+
+void json_string(std::ostringstream& os, const std::string& s) {
+  os << '"';
+  for (const char c : s) {
+    switch (c) {
+      case '"': os << "\\\""; break;
+      case '\\': os << "\\\\"; break;
+      case '\n': os << "\\n"; break;
+      case '\t': os << "\\t"; break;
+      case '\r': os << "\\r"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+          os << buf;
+        } else {
+          os << c;
+        }
+    }
+  }
+  os << '"';
+}
+
+void json_number(std::ostringstream& os, double v) {
+  if (std::isfinite(v)) {
+    os << detail::format_number(v);
+  } else {
+    os << "null";
+  }
+}
+
+}  // namespace
+
+void SimulationOptions::validate() const {
+  const auto names = stepper_names();
+  if (std::find(names.begin(), names.end(), method) == names.end()) {
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw OptionError("simulation option 'method' is '" + method + "', which is not a stepper; choose one of: " + list);
+  }
+  if (!std::isfinite(t0)) option_failure("t0", "finite", t0);
+  if (!std::isfinite(t_end)) option_failure("t_end", "finite", t_end);
+  if (!(t_end > t0))
+    throw OptionError("simulation option 't_end' must be greater than t0 = " + detail::format_number(t0) + ", got " +
+                      detail::format_number(t_end));
+  if (!std::isfinite(dt) || !(dt > 0)) option_failure("dt", "positive and finite", dt);
+  if (!std::isfinite(rtol) || !(rtol > 0)) option_failure("rtol", "positive and finite", rtol);
+  if (!std::isfinite(atol) || !(atol > 0)) option_failure("atol", "positive and finite", atol);
+  if (rtol >= 1) option_failure("rtol", "less than 1", rtol);
+  if (max_steps == 0) throw OptionError("simulation option 'max_steps' must be at least 1, got 0");
+  if (!std::isfinite(output_interval)) option_failure("output_interval", "finite", output_interval);
+}
+
+std::string RunReport::to_json() const {
+  std::ostringstream os;
+  os << "{\n  \"model\": ";
+  json_string(os, model);
+  os << ",\n  \"coordinates\": [";
+  for (std::size_t i = 0; i < coordinates.size(); ++i) {
+    if (i) os << ", ";
+    json_string(os, coordinates[i]);
+  }
+  os << "],\n  \"method\": ";
+  json_string(os, method);
+  os << ",\n  \"adaptive\": " << (adaptive ? "true" : "false");
+  const std::pair<const char*, double> numbers[] = {
+      {"rtol", rtol}, {"atol", atol}, {"dt", dt}, {"t0", t0}, {"t_end", t_end}, {"wall_time_s", wall_time_s}};
+  for (const auto& [k, v] : numbers) {
+    os << ",\n  \"" << k << "\": ";
+    json_number(os, v);
+  }
+  os << ",\n  \"steps\": " << steps << ",\n  \"rejected_steps\": " << rejected_steps
+     << ",\n  \"rhs_evaluations\": " << rhs_evaluations << ",\n  \"samples\": " << samples;
+  os << ",\n  \"conservative\": " << (conservative ? "true" : "false");
+  const std::pair<const char*, double> energy[] = {{"energy_scale", energy_scale},
+                                                   {"energy_initial", energy_initial},
+                                                   {"energy_final", energy_final},
+                                                   {"energy_drift_max", energy_drift_max},
+                                                   {"energy_drift_final", energy_drift_final}};
+  for (const auto& [k, v] : energy) {
+    os << ",\n  \"" << k << "\": ";
+    json_number(os, v);
+  }
+  os << ",\n  \"has_total_energy\": " << (has_total_energy ? "true" : "false");
+  if (has_total_energy) {
+    os << ",\n  \"total_energy_initial\": ";
+    json_number(os, total_energy_initial);
+    os << ",\n  \"total_energy_drift_max\": ";
+    json_number(os, total_energy_drift_max);
+    os << ",\n  \"total_energy_drift_final\": ";
+    json_number(os, total_energy_drift_final);
+  }
+  os << ",\n  \"conserved_momenta\": [";
+  for (std::size_t i = 0; i < conserved_momenta.size(); ++i) {
+    const auto& m = conserved_momenta[i];
+    os << (i ? ", " : "") << "{\"coordinate\": ";
+    json_string(os, m.coordinate);
+    os << ", \"initial\": ";
+    json_number(os, m.initial);
+    os << ", \"max_abs_drift\": ";
+    json_number(os, m.max_abs_drift);
+    os << ", \"final_abs_drift\": ";
+    json_number(os, m.final_abs_drift);
+    os << "}";
+  }
+  os << "]\n}\n";
+  return os.str();
+}
+
+void RunReport::write_json(const std::string& path) const {
+  const std::string partial = path + ".partial";
+  std::FILE* f = std::fopen(partial.c_str(), "w");
+  if (!f) throw OptionError("cannot write report file '" + partial + "': " + std::strerror(errno));
+  const std::string text = to_json();
+  const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  if (std::fclose(f) != 0 || !ok) {
+    std::remove(partial.c_str());
+    throw OptionError("writing report file '" + partial + "' failed");
+  }
+  if (std::rename(partial.c_str(), path.c_str()) != 0)
+    throw OptionError("cannot rename '" + partial + "' to '" + path + "': " + std::strerror(errno));
+}
+
+std::string RunReport::summary() const {
+  std::ostringstream os;
+  char buf[256];
+  os << "model " << model << " (" << coordinates.size() << " coordinates), method " << method;
+  if (adaptive) {
+    std::snprintf(buf, sizeof buf, ", rtol %.1e, atol %.1e", rtol, atol);
+  } else {
+    std::snprintf(buf, sizeof buf, ", dt %.3g s", dt);
+  }
+  os << buf << "\n";
+  std::snprintf(buf, sizeof buf, "t = %.6g .. %.6g s: %llu steps (%llu rejected), %llu RHS evaluations, %.3f ms wall\n",
+                t0, t_end, static_cast<unsigned long long>(steps), static_cast<unsigned long long>(rejected_steps),
+                static_cast<unsigned long long>(rhs_evaluations), wall_time_s * 1e3);
+  os << buf;
+  std::snprintf(buf, sizeof buf, "energy function h: %.12g J, relative drift max %.2e, final %.2e%s\n", energy_initial,
+                energy_drift_max, energy_drift_final,
+                conservative ? "" : " (not conserved: forces, dissipation or explicit time dependence)");
+  os << buf;
+  if (has_total_energy) {
+    std::snprintf(buf, sizeof buf, "total energy T+V: %.12g J, relative drift max %.2e, final %.2e\n",
+                  total_energy_initial, total_energy_drift_max, total_energy_drift_final);
+    os << buf;
+  }
+  for (const auto& m : conserved_momenta) {
+    std::snprintf(buf, sizeof buf, "momentum of cyclic %s: %.12g, drift max %.2e\n", m.coordinate.c_str(), m.initial,
+                  m.max_abs_drift);
+    os << buf;
+  }
+  return os.str();
+}
+
+}  // namespace lagrangian
