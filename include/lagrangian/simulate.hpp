@@ -23,13 +23,12 @@
 #include <boost/numeric/odeint/stepper/bulirsch_stoer.hpp>
 #include <boost/numeric/odeint/stepper/controlled_runge_kutta.hpp>
 #include <boost/numeric/odeint/stepper/generation.hpp>
-#include <boost/numeric/odeint/stepper/rosenbrock4.hpp>
-#include <boost/numeric/odeint/stepper/rosenbrock4_controller.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_cash_karp54.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_dopri5.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
 
+#include "lagrangian/detail/stiff.hpp"
 #include "lagrangian/dynamics.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/model.hpp"
@@ -183,7 +182,7 @@ class RunState {
     if (opt_.output_interval == 0) {
       emit(t, x, x + n);
     } else if (opt_.output_interval > 0) {
-      std::array<double, 2 * n> buf;
+      std::array<double, 2 * n> buf{};
       const double tol = 1e-12 * std::max(std::abs(t), opt_.output_interval);
       for (double to = next_output_time(); to <= t + tol && to <= opt_.t_end + tol; to = next_output_time()) {
         ++next_output_index_;
@@ -347,44 +346,47 @@ void run_rk4(FirstOrderSystem<M> sys, std::array<double, 2 * M::dof>& x, const S
   }
 }
 
+/// The stiff path: odeint's rosenbrock4 (see detail/stiff.hpp). Its Jacobian
+/// ∂f/∂x is formed by central differences of the AD-derived right-hand side,
+///   J_ij ≈ (f_i(x + h e_j) − f_i(x − h e_j)) / 2h,  h = ∛ε · max(|x_j|, 1),
+/// with truncation error O(h²) ≈ 1e-10 relative; ∂f/∂t likewise.
 template <class M, class Observer>
 void run_rosenbrock4(FirstOrderSystem<M> sys, std::array<double, 2 * M::dof>& x, const SimulationOptions& opt,
                      RunState<M, Observer>& rs) {
-  namespace odeint = boost::numeric::odeint;
-  using V = boost::numeric::ublas::vector<double>;
-  using Mtx = boost::numeric::ublas::matrix<double>;
   constexpr int m = 2 * M::dof;
-  std::array<double, m> xa;
-  std::array<double, m> fa;
-  std::array<double, m> fb;
-  auto rhs = [&](const V& xv, V& dxdt, double t) {
-    for (int i = 0; i < m; ++i) xa[i] = xv[i];
-    sys(xa, fa, t);
-    for (int i = 0; i < m; ++i) dxdt[i] = fa[i];
-  };
-  // Central differences: J_ij ≈ (f_i(x + h e_j) − f_i(x − h e_j)) / 2h with
-  // h = ∛ε · max(|x_j|, 1), error O(h²) ≈ 1e-10 relative.
-  auto jac = [&](const V& xv, Mtx& J, double t, V& dfdt) {
-    const double cbrt_eps = std::cbrt(std::numeric_limits<double>::epsilon());
-    for (int i = 0; i < m; ++i) xa[i] = xv[i];
-    for (int j = 0; j < m; ++j) {
-      const double h = cbrt_eps * std::max(std::abs(xa[j]), 1.0);
-      const double xj = xa[j];
-      xa[j] = xj + h;
-      sys(xa, fa, t);
-      xa[j] = xj - h;
-      sys(xa, fb, t);
-      xa[j] = xj;
-      for (int i = 0; i < m; ++i) J(i, j) = (fa[i] - fb[i]) / (2 * h);
-    }
-    const double ht = cbrt_eps * std::max(std::abs(t), 1.0);
-    sys(xa, fa, t + ht);
-    sys(xa, fb, t - ht);
-    for (int i = 0; i < m; ++i) dfdt[i] = (fa[i] - fb[i]) / (2 * ht);
-  };
-  odeint::rosenbrock4_controller<odeint::rosenbrock4<double>> stepper(opt.atol, opt.rtol);
-  V xv(m);
-  for (int i = 0; i < m; ++i) xv[i] = x[i];
+  using X = std::array<double, m>;
+  struct Context {
+    FirstOrderSystem<M> sys;
+    X xa, fa, fb;
+  } ctx{sys, {}, {}, {}};
+  StiffSystem stiff{
+      &ctx,
+      [](void* c, const double* xin, double* dxdt, double t) {
+        auto& k = *static_cast<Context*>(c);
+        std::copy(xin, xin + m, k.xa.begin());
+        k.sys(k.xa, k.fa, t);
+        std::copy(k.fa.begin(), k.fa.end(), dxdt);
+      },
+      [](void* c, const double* xin, double* J, double* dfdt, double t) {
+        auto& k = *static_cast<Context*>(c);
+        const double cbrt_eps = std::cbrt(std::numeric_limits<double>::epsilon());
+        std::copy(xin, xin + m, k.xa.begin());
+        for (int j = 0; j < m; ++j) {
+          const double h = cbrt_eps * std::max(std::abs(k.xa[j]), 1.0);
+          const double xj = k.xa[j];
+          k.xa[j] = xj + h;
+          k.sys(k.xa, k.fa, t);
+          k.xa[j] = xj - h;
+          k.sys(k.xa, k.fb, t);
+          k.xa[j] = xj;
+          for (int i = 0; i < m; ++i) J[i * m + j] = (k.fa[i] - k.fb[i]) / (2 * h);
+        }
+        const double ht = cbrt_eps * std::max(std::abs(t), 1.0);
+        k.sys(k.xa, k.fa, t + ht);
+        k.sys(k.xa, k.fb, t - ht);
+        for (int i = 0; i < m; ++i) dfdt[i] = (k.fa[i] - k.fb[i]) / (2 * ht);
+      }};
+  Rosenbrock4Stepper stepper(m, opt.atol, opt.rtol);
   double t = opt.t0;
   double dt = opt.dt;
   while (!reached(t, opt.t_end)) {
@@ -392,9 +394,8 @@ void run_rosenbrock4(FirstOrderSystem<M> sys, std::array<double, 2 * M::dof>& x,
     const bool clamped = t + dt > limit;
     double dt_try = clamped ? limit - t : dt;
     const double t_old = t;
-    if (stepper.try_step(std::make_pair(rhs, jac), xv, t, dt_try) == odeint::success) {
+    if (stepper.try_step(stiff, x.data(), t, dt_try)) {
       if (clamped) t = limit;
-      for (int i = 0; i < m; ++i) x[i] = xv[i];
       rs.reset_rejections();
       rs.accepted(t_old, t, x.data(), [](double, double*) {});
       dt = clamped ? std::max(dt, dt_try) : dt_try;

@@ -1,0 +1,340 @@
+// Integration: conservation laws, closed forms, convergence order, sampling.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "lagrangian/lagrangian.hpp"
+#include "lagrangian/models/pendulums.hpp"
+
+namespace {
+
+using namespace lagrangian;
+using namespace lagrangian::models;
+
+constexpr double kPi = std::numbers::pi;
+
+/// Harmonic oscillator m ẍ = −k x with the closed form x = A cos ωt + (v0/ω) sin ωt.
+auto harmonic_oscillator(double m, double k) {
+  return make_model<1>(
+      "harmonic_oscillator", {"x"}, [m](const auto&, const auto& qd, const auto&) { return 0.5 * m * qd[0] * qd[0]; },
+      [k](const auto& q, const auto&) { return 0.5 * k * q[0] * q[0]; });
+}
+
+SimulationOptions options(const std::string& method, double t_end, double rtol = 1e-10) {
+  SimulationOptions o;
+  o.method = method;
+  o.t_end = t_end;
+  o.rtol = rtol;
+  o.atol = rtol * 1e-2;
+  return o;
+}
+
+// -- energy conservation: dopri5, rtol 1e-10, 20 periods: drift ≤ 1e-8 ------------
+
+template <class M>
+void expect_energy_conserved(const M& model, const State<M::dof>& x0, double period) {
+  const RunReport r = simulate(model, x0, options("dopri5", 20 * period));
+  EXPECT_TRUE(r.conservative) << r.model;
+  EXPECT_LE(r.energy_drift_max, 1e-8) << r.model;
+  EXPECT_LE(r.total_energy_drift_max, 1e-8) << r.model;
+  EXPECT_GT(r.steps, 100u) << r.model;  // the run did real work
+}
+
+TEST(Simulate, EnergyConservedSimplePendulum) {
+  const SimplePendulum m(1.0, 1.0, 9.81);
+  State<1> x0;
+  x0.q[0] = 2.5;  // large amplitude
+  expect_energy_conserved(m, x0, 2 * kPi * std::sqrt(m.l / m.g));
+}
+
+TEST(Simulate, EnergyConservedDoublePendulum) {
+  const DoublePendulum m;
+  State<2> x0;
+  x0.q << 2.0, 2.0;
+  expect_energy_conserved(m, x0, 2 * kPi * std::sqrt(m.l1 / m.g));
+}
+
+TEST(Simulate, EnergyConservedSphericalPendulum) {
+  const SphericalPendulum m;
+  State<2> x0;
+  x0.q << 1.0, 0.0;
+  x0.qd << 0.0, 2.0;
+  expect_energy_conserved(m, x0, 2 * kPi * std::sqrt(m.l / m.g));
+}
+
+TEST(Simulate, EnergyConservedElasticPendulum) {
+  const ElasticPendulum m;
+  State<2> x0;
+  x0.q << 1.3, 0.5;
+  expect_energy_conserved(m, x0, 2 * kPi * std::sqrt(m.l0 / m.g));
+}
+
+TEST(Simulate, EnergyConservedCartPendulum) {
+  const CartPendulum m;
+  State<2> x0;
+  x0.q << 0.3, 1.2;
+  expect_energy_conserved(m, x0, 2 * kPi * std::sqrt(m.l / m.g));
+}
+
+// -- Kepler: p_φ conserved (φ cyclic), energy conserved, period -----------------------
+
+TEST(Simulate, KeplerAngularMomentumConservedAndPeriodMatches) {
+  const KeplerPolar m(1.0, 1.0);  // μ = k/m = 1
+  // Start at perihelion of an orbit with a = 1, e = 0.5: r_p = a(1−e),
+  // v_p = √(μ(1+e)/(a(1−e))).
+  const double a = 1.0, e = 0.5, mu = 1.0;
+  State<2> x0;
+  x0.q << a * (1 - e), 0.0;
+  x0.qd << 0.0, std::sqrt(mu * (1 + e) / (a * (1 - e))) / (a * (1 - e));
+  const double period = 2 * kPi * std::sqrt(a * a * a / mu);
+  SimulationOptions o = options("dopri5", 20 * period, 1e-11);
+  o.output_interval = period / 8;  // samples land on whole periods
+  Recorder<2> rec;
+  const RunReport r = simulate(m, x0, o, rec);
+  ASSERT_EQ(r.conserved_momenta.size(), 1u);
+  EXPECT_EQ(r.conserved_momenta[0].coordinate, "phi");
+  const double p_phi = m.m * x0.q[0] * x0.q[0] * x0.qd[1];
+  EXPECT_NEAR(r.conserved_momenta[0].initial, p_phi, 1e-15);
+  EXPECT_LE(r.conserved_momenta[0].max_abs_drift, 1e-9 * p_phi);
+  EXPECT_LE(r.energy_drift_max, 1e-8);
+  // After each whole period the particle is back at perihelion: r = a(1−e), φ = 2πk.
+  for (const auto& s : rec.samples) {
+    const double k = s.t / period;
+    if (std::abs(k - std::round(k)) > 1e-9) continue;
+    EXPECT_NEAR(s.q[0], a * (1 - e), 1e-7) << "t = " << s.t;
+    EXPECT_NEAR(s.q[1], 2 * kPi * std::round(k), 1e-6) << "t = " << s.t;
+  }
+}
+
+TEST(Simulate, SphericalPendulumAzimuthalMomentumConserved) {
+  const SphericalPendulum m;
+  State<2> x0;
+  x0.q << 1.2, 0.3;
+  x0.qd << 0.4, 1.5;
+  const RunReport r = simulate(m, x0, options("dopri5", 10.0));
+  ASSERT_EQ(r.conserved_momenta.size(), 1u);
+  EXPECT_EQ(r.conserved_momenta[0].coordinate, "phi");
+  EXPECT_LE(r.conserved_momenta[0].max_abs_drift, 1e-8 * std::abs(r.conserved_momenta[0].initial));
+}
+
+TEST(Simulate, NoCyclicCoordinateWhereLDependsOnIt) {
+  const DoublePendulum m;
+  State<2> x0;
+  x0.q << 0.1, 0.2;
+  EXPECT_TRUE(cyclic_coordinates(m, x0).empty());
+  const KeplerPolar k;
+  State<2> y0;
+  y0.q << 1.0, 0.0;
+  y0.qd << 0.0, 1.0;
+  EXPECT_EQ(cyclic_coordinates(k, y0), std::vector<int>{1});
+}
+
+// -- the Jacobi integral of the rotating hoop ---------------------------------------
+
+TEST(Simulate, RotatingHoopConservesJacobiIntegralNotTotalEnergy) {
+  const BeadOnRotatingHoop m(0.1, 0.5, 6.0, 9.81);
+  State<1> x0;
+  x0.q[0] = 0.05;
+  const RunReport r = simulate(m, x0, options("dopri5", 20.0));
+  EXPECT_TRUE(r.conservative);
+  EXPECT_LE(r.energy_drift_max, 1e-8);
+  EXPECT_GT(r.total_energy_drift_max, 1e-2);  // the motor feeds energy in and out
+}
+
+TEST(Simulate, ExplicitTimeDependenceIsNotConservative) {
+  const DrivenPendulum m;
+  State<1> x0;
+  x0.q[0] = 0.3;
+  EXPECT_FALSE(is_autonomous(m, x0));
+  const RunReport r = simulate(m, x0, options("dopri5", 2.0));
+  EXPECT_FALSE(r.conservative);
+}
+
+// -- closed forms -------------------------------------------------------------------
+
+TEST(Simulate, HarmonicOscillatorMatchesClosedFormWithEveryStepper) {
+  const double m = 0.5, k = 2.0, w = std::sqrt(k / m);
+  const auto osc = harmonic_oscillator(m, k);
+  State<1> x0;
+  x0.q[0] = 0.7;
+  x0.qd[0] = -0.3;
+  for (const std::string& method : stepper_names()) {
+    SimulationOptions o = options(method, 10.0);
+    o.dt = 1e-3;
+    o.output_interval = 0.25;
+    Recorder<1> rec;
+    const RunReport r = simulate(osc, x0, o, rec);
+    ASSERT_EQ(rec.samples.size(), 41u) << method;  // t = 0, 0.25, …, 10
+    double worst = 0;
+    for (const auto& s : rec.samples) {
+      const double exact = x0.q[0] * std::cos(w * s.t) + x0.qd[0] / w * std::sin(w * s.t);
+      worst = std::max(worst, std::abs(s.q[0] - exact));
+    }
+    // rk4 at dt = 1e-3 has a global error ~ (w dt)⁴ t ≈ 1e-11; the adaptive
+    // steppers run at rtol 1e-10; rosenbrock4 is only order 4 with a
+    // finite-difference Jacobian.
+    const double bound = method == "rosenbrock4" ? 1e-6 : 1e-7;
+    EXPECT_LE(worst, bound) << method;
+    EXPECT_DOUBLE_EQ(rec.samples.back().t, 10.0) << method;
+    EXPECT_EQ(r.samples, rec.samples.size()) << method;
+    EXPECT_GE(r.rhs_evaluations, r.steps) << method;
+  }
+}
+
+TEST(Simulate, DampedForcedOscillatorMatchesClosedForm) {
+  // m ẍ + c ẋ + k x = F: x(t) = F/k + e^{−γt}(A cos ω_d t + B sin ω_d t).
+  const double m = 1.0, k = 4.0, c = 0.4, F = 0.8;
+  auto model = with_forces(
+      with_dissipation(harmonic_oscillator(m, k), [c](const auto&, const auto& qd) { return 0.5 * c * qd[0] * qd[0]; }),
+      [F](const auto& q, const auto&, const auto&) {
+        using S = typename std::decay_t<decltype(q)>::Scalar;
+        return Vec<S, 1>(S(F));
+      });
+  const double gamma = c / (2 * m), wd = std::sqrt(k / m - gamma * gamma);
+  State<1> x0;
+  x0.q[0] = 1.0;
+  const double A = x0.q[0] - F / k, B = (x0.qd[0] + gamma * A) / wd;
+  SimulationOptions o = options("dopri5", 15.0);
+  o.output_interval = 0.5;
+  Recorder<1> rec;
+  const RunReport r = simulate(model, x0, o, rec);
+  EXPECT_FALSE(r.conservative);
+  for (const auto& s : rec.samples) {
+    const double exact = F / k + std::exp(-gamma * s.t) * (A * std::cos(wd * s.t) + B * std::sin(wd * s.t));
+    EXPECT_NEAR(s.q[0], exact, 1e-8) << "t = " << s.t;
+  }
+}
+
+// -- convergence order of rk4 ---------------------------------------------------------
+
+TEST(Simulate, Rk4GlobalErrorFallsSixteenfoldWhenStepHalves) {
+  const double w = 3.0;
+  const auto osc = harmonic_oscillator(1.0, w * w);
+  State<1> x0;
+  x0.q[0] = 1.0;
+  auto error = [&](double dt) {
+    SimulationOptions o = options("rk4", 5.0);
+    o.dt = dt;
+    o.output_interval = -1;  // initial and final state only
+    Recorder<1> rec;
+    simulate(osc, x0, o, rec);
+    return std::abs(rec.samples.back().q[0] - std::cos(w * 5.0));
+  };
+  const double e1 = error(0.02), e2 = error(0.01), e3 = error(0.005);
+  const double order12 = std::log2(e1 / e2), order23 = std::log2(e2 / e3);
+  EXPECT_NEAR(order12, 4.0, 0.2) << e1 << " " << e2;
+  EXPECT_NEAR(order23, 4.0, 0.2) << e2 << " " << e3;
+}
+
+TEST(Simulate, Rk4ConvergesOnDoublePendulumAgainstTightReference) {
+  const DoublePendulum m;
+  State<2> x0;
+  x0.q << 1.0, 0.5;
+  SimulationOptions ref_opt = options("fehlberg78", 3.0, 1e-13);
+  ref_opt.atol = 1e-15;
+  ref_opt.output_interval = -1;
+  Recorder<2> ref;
+  simulate(m, x0, ref_opt, ref);
+  auto error = [&](double dt) {
+    SimulationOptions o = options("rk4", 3.0);
+    o.dt = dt;
+    o.output_interval = -1;
+    Recorder<2> rec;
+    simulate(m, x0, o, rec);
+    return (rec.samples.back().q - ref.samples.back().q).norm();
+  };
+  const double e1 = error(4e-3), e2 = error(2e-3);
+  EXPECT_NEAR(std::log2(e1 / e2), 4.0, 0.2) << e1 << " " << e2;
+}
+
+// -- adaptive steppers: tighter tolerance, smaller error, more work -------------------
+
+TEST(Simulate, AdaptiveSteppersTightenWithTolerance) {
+  const auto osc = harmonic_oscillator(1.0, 1.0);
+  State<1> x0;
+  x0.q[0] = 1.0;
+  for (const std::string method : {"dopri5", "cash_karp54", "fehlberg78", "bulirsch_stoer"}) {
+    double prev_err = 1e300;
+    std::uint64_t prev_evals = 0;
+    for (double tol : {1e-6, 1e-9, 1e-12}) {
+      SimulationOptions o = options(method, 20.0, tol);
+      o.output_interval = -1;
+      Recorder<1> rec;
+      const RunReport r = simulate(osc, x0, o, rec);
+      const double err = std::abs(rec.samples.back().q[0] - std::cos(20.0));
+      EXPECT_LT(err, prev_err) << method << " tol " << tol;
+      EXPECT_GT(r.rhs_evaluations, prev_evals) << method << " tol " << tol;
+      prev_err = err;
+      prev_evals = r.rhs_evaluations;
+    }
+  }
+}
+
+TEST(Simulate, StiffStepperHandlesStiffOscillator) {
+  // ẍ = −k x with heavy damping c: an overdamped, stiff linear system whose
+  // slow mode decays like e^{−(k/c) t}. rosenbrock4 takes few steps.
+  const double k = 1.0, c = 1e4;
+  auto model = with_dissipation(harmonic_oscillator(1.0, k),
+                                [c](const auto&, const auto& qd) { return 0.5 * c * qd[0] * qd[0]; });
+  State<1> x0;
+  x0.q[0] = 1.0;
+  SimulationOptions o = options("rosenbrock4", 100.0, 1e-8);
+  o.output_interval = -1;
+  Recorder<1> rec;
+  const RunReport r = simulate(model, x0, o, rec);
+  // Slow root of s² + c s + k = 0: s = (−c + √(c² − 4k))/2; the fast mode has decayed.
+  const double s_slow = (-c + std::sqrt(c * c - 4 * k)) / 2;
+  const double s_fast = (-c - std::sqrt(c * c - 4 * k)) / 2;
+  const double A = x0.q[0] * s_fast / (s_fast - s_slow);  // from x(0) = 1, ẋ(0) = 0
+  EXPECT_NEAR(rec.samples.back().q[0], A * std::exp(s_slow * 100.0), 1e-6);
+  EXPECT_LT(r.steps, 2000u);
+  // An explicit stepper needs orders of magnitude more steps on the same problem.
+  o.method = "dopri5";
+  const RunReport explicit_run = simulate(model, x0, o);
+  EXPECT_GT(explicit_run.steps, 20 * r.steps);
+}
+
+// -- sampling -------------------------------------------------------------------------
+
+TEST(Simulate, DenseOutputSamplesAreAccurateBetweenSteps) {
+  const double w = 2.0;
+  const auto osc = harmonic_oscillator(1.0, w * w);
+  State<1> x0;
+  x0.q[0] = 1.0;
+  SimulationOptions o = options("dopri5", 10.0, 1e-12);
+  o.output_interval = 1e-3;  // much finer than the steps
+  Recorder<1> rec;
+  const RunReport r = simulate(osc, x0, o, rec);
+  EXPECT_LT(r.steps, rec.samples.size());  // samples between steps came from dense output
+  for (const auto& s : rec.samples) EXPECT_NEAR(s.q[0], std::cos(w * s.t), 1e-9) << s.t;
+}
+
+TEST(Simulate, EverySampleOnAcceptedStepsByDefault) {
+  const SimplePendulum m;
+  State<1> x0;
+  x0.q[0] = 0.5;
+  Recorder<1> rec;
+  const RunReport r = simulate(m, x0, options("cash_karp54", 2.0), rec);
+  EXPECT_EQ(rec.samples.size(), r.steps + 1);
+  EXPECT_EQ(rec.samples.front().t, 0.0);
+  EXPECT_EQ(rec.samples.back().t, 2.0);
+  for (std::size_t i = 1; i < rec.samples.size(); ++i) EXPECT_GT(rec.samples[i].t, rec.samples[i - 1].t);
+}
+
+TEST(Simulate, ReportJsonNamesItsFields) {
+  const KeplerPolar m;
+  State<2> x0;
+  x0.q << 1.0, 0.0;
+  x0.qd << 0.0, 1.0;
+  const RunReport r = simulate(m, x0, options("dopri5", 1.0));
+  const std::string json = r.to_json();
+  for (const char* key : {"\"model\": \"kepler_polar\"", "\"method\": \"dopri5\"", "\"steps\": ", "\"rejected_steps\": ",
+                          "\"rhs_evaluations\": ", "\"wall_time_s\": ", "\"energy_drift_max\": ",
+                          "\"total_energy_drift_final\": ", "\"conserved_momenta\": [{\"coordinate\": \"phi\""})
+    EXPECT_NE(json.find(key), std::string::npos) << key << "\n" << json;
+  EXPECT_NE(r.summary().find("momentum of cyclic phi"), std::string::npos);
+}
+
+}  // namespace
