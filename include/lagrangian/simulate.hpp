@@ -295,7 +295,8 @@ void run_dopri5(FirstOrderSystem<M> sys, std::array<double, 2 * M::dof>& x, cons
                 RunState<M, Observer>& rs) {
   namespace odeint = boost::numeric::odeint;
   using X = std::array<double, 2 * M::dof>;
-  auto stepper = odeint::make_controlled<odeint::runge_kutta_dopri5<X>>(opt.atol, opt.rtol);
+  using Controlled = odeint::controlled_runge_kutta<odeint::runge_kutta_dopri5<X>>;
+  Controlled stepper{typename Controlled::error_checker_type(opt.atol, opt.rtol)};
   X dxdt;
   X x_old;
   X dxdt_old;
@@ -468,10 +469,12 @@ RunReport simulate(const M& model, const State<M::dof>& initial, const Simulatio
     } else if (m == "rk4") {
       detail::run_rk4(sys, x, options, rs);
     } else if (m == "cash_karp54") {
-      auto stepper = odeint::make_controlled<odeint::runge_kutta_cash_karp54<X>>(options.atol, options.rtol);
+      using Controlled = odeint::controlled_runge_kutta<odeint::runge_kutta_cash_karp54<X>>;
+      Controlled stepper{typename Controlled::error_checker_type(options.atol, options.rtol)};
       detail::run_controlled(stepper, sys, x, options, rs);
     } else if (m == "fehlberg78") {
-      auto stepper = odeint::make_controlled<odeint::runge_kutta_fehlberg78<X>>(options.atol, options.rtol);
+      using Controlled = odeint::controlled_runge_kutta<odeint::runge_kutta_fehlberg78<X>>;
+      Controlled stepper{typename Controlled::error_checker_type(options.atol, options.rtol)};
       detail::run_controlled(stepper, sys, x, options, rs);
     } else if (m == "bulirsch_stoer") {
       odeint::bulirsch_stoer<X> stepper(options.atol, options.rtol);
