@@ -10,14 +10,13 @@
 /// Q = −∂D/∂q̇ from a Rayleigh function D. Units: M in kg (or kg·m² for
 /// angles), forces in N (or N·m), q̈ in m/s² (or rad/s²).
 ///
-/// Derivatives come from two forward-mode passes per evaluation:
-///  1. T (or L) with a second-order Jet in n + 1 directions: the n velocity
-///     directions and the single path direction (δq, δt) = (q̇, 1). Its
-///     Hessian holds M (velocity × velocity block) and the mixed term
-///     (∂²L/∂q̇∂q) q̇ + ∂²L/∂q̇∂t (velocity × path column): a directional
-///     derivative, never a third-order tensor.
-///  2. L with a first-order Jet in the n position directions: ∂L/∂q.
-/// V does not depend on q̇, so it enters only pass 2.
+/// Everything comes from one forward-mode pass over T and V (or L) with
+/// ad::EomJet numbers: the n velocity directions to second order (M), the
+/// single path direction (δq, δt) = (q̇, 1) mixed with them (the term
+/// (∂²L/∂q̇∂q) q̇ + ∂²L/∂q̇∂t, a directional derivative, never a third-order
+/// tensor), and the n position directions to first order (∂L/∂q). The
+/// number type skips the parts that are structurally zero (a function of q
+/// alone has no velocity derivatives; a velocity is affine in q̇).
 ///
 /// Every function takes a const model and (in the fast form) a Workspace
 /// that the caller owns; nothing is allocated on the heap per call.
@@ -54,11 +53,13 @@ struct Workspace {
   Vec<double, N> rhs;                 ///< ∂L/∂q − mixed + Q
   Vec<double, N> accelerations;       ///< q̈ = M⁻¹ rhs
   double lagrangian = 0;              ///< L
-  Eigen::LLT<Mat<double, N>> cholesky;  ///< factorisation of M
+  Eigen::LLT<Mat<double, N>> cholesky;  ///< factorisation of M (n > 2)
 };
 
-/// Relative pivot below which the mass matrix is reported singular:
-/// min(diag L_chol)² / max(diag L_chol)² < 1e-14 (L_chol the Cholesky factor).
+/// Relative pivot below which the mass matrix is reported singular: with
+/// the Cholesky pivots d_i (M = L D Lᵀ, L unit lower triangular),
+/// min d / max d < 1e-14. Systems with n ≤ 2 are solved in closed form with
+/// the same criterion; larger ones with a fixed-size Eigen LLT.
 inline constexpr double singular_mass_tolerance = 1e-14;
 
 namespace detail {
@@ -84,52 +85,30 @@ S lagrangian_of(const M& model, const Vec<S, M::dof>& q, const Vec<S, M::dof>& q
   }
 }
 
-/// Pass 1: M, p and the mixed term from T (or L) in n + 1 second-order directions.
+/// The Euler–Lagrange pass: L, ∂L/∂q, p, M and the mixed term from one
+/// evaluation of T and V (or L) on ad::EomJet numbers.
 template <class M>
-LAGRANGIAN_FLATTEN void velocity_pass(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q,
-                                      const Vec<double, M::dof>& qd, double t) {
+LAGRANGIAN_FLATTEN void eom_pass(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q,
+                                 const Vec<double, M::dof>& qd, double t) {
   constexpr int n = M::dof;
-  using J = ad::Jet<double, n + 1, 2>;
+  using J = ad::EomJet<n>;
   Vec<J, n> qj;
   Vec<J, n> qdj;
   for (int k = 0; k < n; ++k) {
-    qj[k] = J(q[k]);
-    qj[k].g[n] = qd[k];  // path direction δq = q̇
-    qdj[k] = J::variable(qd[k], k);
+    qj[k] = J::position(q[k], qd[k], k);
+    qdj[k] = J::velocity(qd[k], k);
   }
-  J tj(t);
-  tj.g[n] = 1.0;  // path direction δt = 1
-  J e;
-  if constexpr (has_kinetic_for<M, J>) {
-    e = J(model.kinetic(qj, qdj, tj));
-  } else {
-    e = J(model.lagrangian(qj, qdj, tj));
-  }
+  const J l = lagrangian_of(model, qj, qdj, J::time(t));
+  ws.lagrangian = l.v;
   for (int i = 0; i < n; ++i) {
-    ws.momenta[i] = e.g[i];
-    ws.mixed[i] = e.hess(i, n);
+    ws.dL_dq[i] = l.gq[i];
+    ws.momenta[i] = l.level >= 1 ? l.gv[i] : 0.0;
+    ws.mixed[i] = l.level >= 1 ? l.c[i] : 0.0;
     for (int j = i; j < n; ++j) {
-      ws.mass(i, j) = e.hess(i, j);
+      ws.mass(i, j) = l.hess(i, j);
       ws.mass(j, i) = ws.mass(i, j);
     }
   }
-}
-
-/// Pass 2: ∂L/∂q and L in n first-order directions.
-template <class M>
-LAGRANGIAN_FLATTEN void position_pass(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q,
-                                      const Vec<double, M::dof>& qd, double t) {
-  constexpr int n = M::dof;
-  using J = ad::Jet<double, n, 1>;
-  Vec<J, n> qj;
-  Vec<J, n> qdj;
-  for (int k = 0; k < n; ++k) {
-    qj[k] = J::variable(q[k], k);
-    qdj[k] = J(qd[k]);
-  }
-  const J l = lagrangian_of(model, qj, qdj, J(t));
-  ws.lagrangian = l.v;
-  for (int i = 0; i < n; ++i) ws.dL_dq[i] = l.g[i];
 }
 
 /// Q = generalized forces − ∂D/∂q̇.
@@ -163,8 +142,7 @@ template <class M>
 void evaluate(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q, const Vec<double, M::dof>& qd,
               double t) {
   check_model<M>();
-  detail::velocity_pass(model, ws, q, qd, t);
-  detail::position_pass(model, ws, q, qd, t);
+  detail::eom_pass(model, ws, q, qd, t);
   detail::force_pass(model, ws, q, qd, t);
   ws.rhs = ws.dL_dq - ws.mixed + ws.forces;
 }
@@ -176,25 +154,45 @@ template <class M>
 const Vec<double, M::dof>& accelerations(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q,
                                          const Vec<double, M::dof>& qd, double t) {
   evaluate(model, ws, q, qd, t);
-  ws.cholesky.compute(ws.mass);
-  bool ok = ws.cholesky.info() == Eigen::Success;
-  if (ok) {
-    const auto d = ws.cholesky.matrixLLT().diagonal();
-    const double lo = d.minCoeff();
-    const double hi = d.maxCoeff();
-    ok = std::isfinite(lo) && std::isfinite(hi) && lo > 0 && (lo * lo) >= singular_mass_tolerance * (hi * hi);
+  constexpr int n = M::dof;
+  // Cholesky pivots d_i (M = L D Lᵀ with unit L, d_i = L_chol,ii²) must be
+  // positive with min d / max d ≥ singular_mass_tolerance.
+  bool ok;
+  if constexpr (n == 1) {
+    const double m = ws.mass(0, 0);
+    ok = std::isfinite(m) && m > 0;
+    if (ok) ws.accelerations[0] = ws.rhs[0] / m;
+  } else if constexpr (n == 2) {
+    // Closed form: d_0 = M00, d_1 = det / M00; Cramer's rule for q̈.
+    const double a = ws.mass(0, 0), b = ws.mass(0, 1), c = ws.mass(1, 1);
+    const double det = a * c - b * b;
+    const double d1 = det / a;
+    ok = std::isfinite(det) && a > 0 && d1 > 0 && std::min(a, d1) >= singular_mass_tolerance * std::max(a, d1);
+    if (ok) {
+      ws.accelerations[0] = (c * ws.rhs[0] - b * ws.rhs[1]) / det;
+      ws.accelerations[1] = (a * ws.rhs[1] - b * ws.rhs[0]) / det;
+    }
+  } else {
+    ws.cholesky.compute(ws.mass);
+    ok = ws.cholesky.info() == Eigen::Success;
+    if (ok) {
+      const auto d = ws.cholesky.matrixLLT().diagonal();
+      const double lo = d.minCoeff();
+      const double hi = d.maxCoeff();
+      ok = std::isfinite(lo) && std::isfinite(hi) && lo > 0 && (lo * lo) >= singular_mass_tolerance * (hi * hi);
+    }
+    if (ok) ws.accelerations = ws.cholesky.solve(ws.rhs);
   }
   if (!ok) {
     std::ostringstream os;
     os.precision(17);
     os << "mass matrix M = d2L/dqd2 is singular or not positive definite at " << detail::describe_state(q, qd, t)
        << "; M = [";
-    for (int i = 0; i < M::dof; ++i)
-      for (int j = 0; j < M::dof; ++j) os << (i || j ? (j ? ", " : "; ") : "") << ws.mass(i, j);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) os << (i || j ? (j ? ", " : "; ") : "") << ws.mass(i, j);
     os << "]";
     throw DynamicsError(os.str());
   }
-  ws.accelerations = ws.cholesky.solve(ws.rhs);
   return ws.accelerations;
 }
 
@@ -228,7 +226,7 @@ Mat<double, M::dof> mass_matrix(const M& model, const Vec<double, M::dof>& q, co
                                 double t = 0.0) {
   check_model<M>();
   Workspace<M::dof> ws;
-  detail::velocity_pass(model, ws, q, qd, t);
+  detail::eom_pass(model, ws, q, qd, t);
   return ws.mass;
 }
 

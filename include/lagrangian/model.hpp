@@ -11,7 +11,9 @@
 ///  - optionally `Vec<S, n> generalized_forces(q, qd, t) const` — the
 ///    non-conservative generalized forces Q (N or N·m per coordinate),
 ///    `S dissipation(q, qd) const` — the Rayleigh function D with
-///    Q = −∂D/∂q̇ (W), and `coordinate_names()` returning n names.
+///    Q = −∂D/∂q̇ (W), `coordinate_names()` returning n names, `name()`,
+///    and hand-coded `accelerations(q, qd, t, qdd)` (see
+///    has_explicit_accelerations_v).
 /// Every function is a template on the scalar type S so that the same code
 /// runs on `double` and on AD scalars. Write ordinary C++: `S x = 0`, `auto`
 /// locals, `pow`, `abs`, `using std::cos; cos(x)` all work.
@@ -72,7 +74,7 @@ concept has_lagrangian_for = requires(const M& m, const Vec<S, M::dof>& q, const
 
 // The AD scalars the dynamics instantiates model functions with.
 template <class M>
-using SecondOrderJet = ad::Jet<double, M::dof + 1, 2>;
+using EomJet = ad::EomJet<M::dof>;
 template <class M>
 using FirstOrderJet = ad::Jet<double, M::dof, 1>;
 
@@ -84,7 +86,7 @@ concept energies_for = (has_kinetic_for<M, S> && has_potential_for<M, S>) || has
 /// A model giving T and V (or L) for double and for the AD scalars.
 template <class M>
 concept Model = detail::declares_dof<M> && detail::energies_for<M, double> &&
-                detail::energies_for<M, detail::SecondOrderJet<M>> && detail::energies_for<M, detail::FirstOrderJet<M>>;
+                detail::energies_for<M, detail::EomJet<M>> && detail::energies_for<M, detail::FirstOrderJet<M>>;
 
 /// True when the model gives T and V separately (so T + V can be reported).
 template <class M>
@@ -103,6 +105,18 @@ template <class M>
 inline constexpr bool has_dissipation_v = requires(const M& m, const Vec<detail::FirstOrderJet<M>, M::dof>& q) {
   { m.dissipation(q, q) } -> std::convertible_to<detail::FirstOrderJet<M>>;
 };
+
+/// True when the model also supplies hand-coded equations of motion
+/// `void accelerations(const Vec<double, n>& q, const Vec<double, n>& qd, double t, Vec<double, n>& qdd) const`.
+/// simulate() then integrates those instead of the AD-derived ones (energies,
+/// momenta and reports still come from T and V). Meant for checking a
+/// hand derivation against the Lagrangian and for measuring the driver's own
+/// overhead; the AD path is the default and the reference.
+template <class M>
+inline constexpr bool has_explicit_accelerations_v =
+    requires(const M& m, const Vec<double, M::dof>& q, double t, Vec<double, M::dof>& out) {
+      m.accelerations(q, q, t, out);
+    };
 
 /// True when the model names its coordinates.
 template <class M>
@@ -128,7 +142,7 @@ constexpr void check_model() {
                   "dof>& qd, const S& t) const` and `template <class S> S potential(const Vec<S, dof>& q, const S& t) "
                   "const`, or a direct `lagrangian(q, qd, t)`; none was found callable with double");
     static_assert(!detail::energies_for<M, double> ||
-                      (detail::energies_for<M, detail::SecondOrderJet<M>> &&
+                      (detail::energies_for<M, detail::EomJet<M>> &&
                        detail::energies_for<M, detail::FirstOrderJet<M>>),
                   "lagrangian: the model's kinetic/potential/lagrangian must be templates on the scalar type S "
                   "(they are called with automatic-differentiation scalars, not only with double)");

@@ -106,10 +106,14 @@ struct FirstOrderSystem {
       q[i] = x[i];
       qd[i] = x[n + i];
     }
-    const Vec<double, n>& qdd = accelerations(*model, *ws, q, qd, t);
+    if constexpr (has_explicit_accelerations_v<M>) {
+      model->accelerations(q, qd, t, ws->accelerations);
+    } else {
+      accelerations(*model, *ws, q, qd, t);
+    }
     for (int i = 0; i < n; ++i) {
       dxdt[i] = qd[i];
-      dxdt[n + i] = qdd[i];
+      dxdt[n + i] = ws->accelerations[i];
     }
     ++*evaluations;
   }
@@ -501,7 +505,7 @@ std::vector<int> cyclic_coordinates(const M& model, const State<M::dof>& s, doub
   cyclic.fill(true);
   Workspace<n> ws;
   for (const State<n>& p : detail::probe_states(s)) {
-    detail::position_pass(model, ws, p.q, p.qd, t);
+    detail::eom_pass(model, ws, p.q, p.qd, t);
     detail::force_pass(model, ws, p.q, p.qd, t);
     for (int i = 0; i < n; ++i) cyclic[i] = cyclic[i] && ws.dL_dq[i] == 0.0 && ws.forces[i] == 0.0;
   }
