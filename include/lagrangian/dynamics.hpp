@@ -35,8 +35,10 @@
 
 #if defined(__GNUC__)
 #define LAGRANGIAN_FLATTEN __attribute__((flatten))
+#define LAGRANGIAN_INLINE __attribute__((always_inline)) inline
 #else
 #define LAGRANGIAN_FLATTEN
+#define LAGRANGIAN_INLINE inline
 #endif
 
 namespace lagrangian {
@@ -51,7 +53,7 @@ struct Workspace {
   Vec<double, N> mixed;               ///< (∂²L/∂q̇∂q) q̇ + ∂²L/∂q̇∂t
   Vec<double, N> forces;              ///< Q, non-conservative generalized forces
   Vec<double, N> rhs;                 ///< ∂L/∂q − mixed + Q
-  Vec<double, N> accelerations;       ///< q̈ = M⁻¹ rhs
+  Vec<double, N> accelerations;       ///< q̈ = M⁻¹ rhs (from the reference-returning accelerations())
   double lagrangian = 0;              ///< L
   Eigen::LLT<Mat<double, N>> cholesky;  ///< factorisation of M (n > 2)
 };
@@ -148,11 +150,11 @@ void evaluate(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& 
 }
 
 /// Generalized accelerations q̈ (m/s² or rad/s²) at (q, q̇, t), written into
-/// ws.accelerations and returned by reference. Throws DynamicsError naming the
-/// state when M is singular or not positive definite.
+/// caller storage `out` (the hot-path form: no heap, no copy). Throws
+/// DynamicsError naming the state when M is singular or not positive definite.
 template <class M>
-const Vec<double, M::dof>& accelerations(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q,
-                                         const Vec<double, M::dof>& qd, double t) {
+void accelerations(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q, const Vec<double, M::dof>& qd,
+                   double t, Vec<double, M::dof>& out) {
   evaluate(model, ws, q, qd, t);
   constexpr int n = M::dof;
   // Cholesky pivots d_i (M = L D Lᵀ with unit L, d_i = L_chol,ii²) must be
@@ -161,7 +163,7 @@ const Vec<double, M::dof>& accelerations(const M& model, Workspace<M::dof>& ws, 
   if constexpr (n == 1) {
     const double m = ws.mass(0, 0);
     ok = std::isfinite(m) && m > 0;
-    if (ok) ws.accelerations[0] = ws.rhs[0] / m;
+    if (ok) out[0] = ws.rhs[0] / m;
   } else if constexpr (n == 2) {
     // Closed form: d_0 = M00, d_1 = det / M00; Cramer's rule for q̈.
     const double a = ws.mass(0, 0), b = ws.mass(0, 1), c = ws.mass(1, 1);
@@ -169,8 +171,8 @@ const Vec<double, M::dof>& accelerations(const M& model, Workspace<M::dof>& ws, 
     const double d1 = det / a;
     ok = std::isfinite(det) && a > 0 && d1 > 0 && std::min(a, d1) >= singular_mass_tolerance * std::max(a, d1);
     if (ok) {
-      ws.accelerations[0] = (c * ws.rhs[0] - b * ws.rhs[1]) / det;
-      ws.accelerations[1] = (a * ws.rhs[1] - b * ws.rhs[0]) / det;
+      out[0] = (c * ws.rhs[0] - b * ws.rhs[1]) / det;
+      out[1] = (a * ws.rhs[1] - b * ws.rhs[0]) / det;
     }
   } else {
     ws.cholesky.compute(ws.mass);
@@ -181,7 +183,7 @@ const Vec<double, M::dof>& accelerations(const M& model, Workspace<M::dof>& ws, 
       const double hi = d.maxCoeff();
       ok = std::isfinite(lo) && std::isfinite(hi) && lo > 0 && (lo * lo) >= singular_mass_tolerance * (hi * hi);
     }
-    if (ok) ws.accelerations = ws.cholesky.solve(ws.rhs);
+    if (ok) out = ws.cholesky.solve(ws.rhs);
   }
   if (!ok) {
     std::ostringstream os;
@@ -193,6 +195,13 @@ const Vec<double, M::dof>& accelerations(const M& model, Workspace<M::dof>& ws, 
     os << "]";
     throw DynamicsError(os.str());
   }
+}
+
+/// q̈ written into ws.accelerations and returned by reference.
+template <class M>
+const Vec<double, M::dof>& accelerations(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q,
+                                         const Vec<double, M::dof>& qd, double t) {
+  accelerations(model, ws, q, qd, t, ws.accelerations);
   return ws.accelerations;
 }
 
