@@ -338,3 +338,35 @@ TEST(Simulate, ReportJsonNamesItsFields) {
 }
 
 }  // namespace
+
+namespace {
+
+// A model that also supplies its hand-derived q̈: simulate integrates that,
+// and the trajectory must agree with the AD-derived one.
+struct HandSpherical : lagrangian::models::SphericalPendulum {
+  void accelerations(const lagrangian::Vec<double, 2>& q, const lagrangian::Vec<double, 2>& qd, double,
+                     lagrangian::Vec<double, 2>& qdd) const {
+    const double s = std::sin(q[0]), c = std::cos(q[0]);
+    qdd[0] = s * c * qd[1] * qd[1] - (g / l) * s;
+    qdd[1] = -2.0 * (c / s) * qd[0] * qd[1];
+  }
+};
+
+TEST(Simulate, ModelSuppliedAccelerationsAgreeWithAD) {
+  static_assert(lagrangian::has_explicit_accelerations_v<HandSpherical>);
+  static_assert(!lagrangian::has_explicit_accelerations_v<lagrangian::models::SphericalPendulum>);
+  lagrangian::State<2> x0;
+  x0.q << 1.0, 0.0;
+  x0.qd << 0.0, 2.0;
+  lagrangian::SimulationOptions o;
+  o.t_end = 5.0;
+  o.rtol = 1e-12;
+  o.atol = 1e-14;
+  o.output_interval = -1;
+  lagrangian::Recorder<2> hand, ad;
+  lagrangian::simulate(HandSpherical{}, x0, o, hand);
+  lagrangian::simulate(lagrangian::models::SphericalPendulum{}, x0, o, ad);
+  EXPECT_LE((hand.samples.back().q - ad.samples.back().q).norm(), 1e-9);
+}
+
+}  // namespace

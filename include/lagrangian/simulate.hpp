@@ -307,12 +307,15 @@ void run_dopri5(FirstOrderSystem<M> sys, std::array<double, 2 * M::dof>& x, cons
   X dxdt_old;
   double t = opt.t0;
   double dt = opt.dt;
+  const bool dense = opt.output_interval > 0;  // samples between steps need the step's start
   sys(x, dxdt, t);
   while (!reached(t, opt.t_end)) {
     const bool clamped = t + dt > opt.t_end;
     double dt_try = clamped ? opt.t_end - t : dt;
-    x_old = x;
-    dxdt_old = dxdt;
+    if (dense) {
+      x_old = x;
+      dxdt_old = dxdt;
+    }
     const double t_old = t;
     if (stepper.try_step(sys, x, dxdt, t, dt_try) == odeint::success) {
       if (clamped) t = opt.t_end;
