@@ -44,9 +44,20 @@
 namespace lagrangian {
 
 /// Scratch space and results of one dynamics evaluation for a model with n
-/// coordinates. Allocate one per thread and reuse it for every call.
+/// coordinates. Allocate one per thread and reuse it for every call; for a
+/// run-time sized model (N = Dynamic) construct it with the size.
 template <int N>
 struct Workspace {
+  Workspace()
+    requires(N != Dynamic)
+  = default;
+  explicit Workspace(int n) { resize(n); }
+  void resize(int n) {
+    mass.resize(n, n);
+    for (auto* v : {&momenta, &dL_dq, &mixed, &forces, &rhs, &accelerations, &scratch_q, &scratch_qd, &scratch_qdd})
+      v->resize(n);
+  }
+
   Mat<double, N> mass;                ///< M = ∂²L/∂q̇² (kg, kg·m, kg·m²)
   Vec<double, N> momenta;             ///< p = ∂L/∂q̇
   Vec<double, N> dL_dq;               ///< ∂L/∂q
@@ -56,6 +67,7 @@ struct Workspace {
   Vec<double, N> accelerations;       ///< q̈ = M⁻¹ rhs (from the reference-returning accelerations())
   double lagrangian = 0;              ///< L
   Eigen::LLT<Mat<double, N>> cholesky;  ///< factorisation of M (n > 2)
+  Vec<double, N> scratch_q, scratch_qd, scratch_qdd;  ///< buffers for run-time sized right-hand sides
 };
 
 /// Relative pivot below which the mass matrix is reported singular: with
@@ -71,9 +83,9 @@ std::string describe_state(const Vec<double, N>& q, const Vec<double, N>& qd, do
   std::ostringstream os;
   os.precision(17);
   os << "t = " << t << ", q = [";
-  for (int i = 0; i < N; ++i) os << (i ? ", " : "") << q[i];
+  for (int i = 0; i < q.size(); ++i) os << (i ? ", " : "") << q[i];
   os << "], qd = [";
-  for (int i = 0; i < N; ++i) os << (i ? ", " : "") << qd[i];
+  for (int i = 0; i < qd.size(); ++i) os << (i ? ", " : "") << qd[i];
   os << "]";
   return os.str();
 }
@@ -87,11 +99,61 @@ S lagrangian_of(const M& model, const Vec<S, M::dof>& q, const Vec<S, M::dof>& q
   }
 }
 
+/// Run-time sized models: the same quantities from passes over pairs of
+/// coordinate blocks (a, b), each seeding the 2·kBlock directions of the two
+/// blocks; the pass (a, b) gives the M entries of rows a × columns b, the
+/// pass (a, a) also ∂L/∂q, p and the mixed term of block a.
+template <class M>
+void eom_pass_blocks(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q,
+                     const Vec<double, M::dof>& qd, double t) {
+  using J = ad::EomJet<2 * kBlock>;
+  const int n = static_cast<int>(q.size());
+  const int blocks = (n + kBlock - 1) / kBlock;
+  Vec<J, Dynamic> qj(n), qdj(n);
+  for (int a = 0; a < blocks; ++a) {
+    for (int b = a; b < blocks; ++b) {
+      for (int k = 0; k < n; ++k) {
+        qj[k] = J(q[k]);
+        qj[k].d = qd[k];  // the path direction moves every coordinate
+        qdj[k] = J(qd[k]);
+      }
+      auto seed = [&](int block, int offset) {
+        for (int k = block * kBlock; k < std::min(n, (block + 1) * kBlock); ++k) {
+          const int local = offset + k - block * kBlock;
+          qj[k].gq[local] = 1.0;
+          qdj[k] = J::velocity(qd[k], local);
+        }
+      };
+      seed(a, 0);
+      if (b != a) seed(b, kBlock);
+      const J l = lagrangian_of(model, qj, qdj, J::time(t));
+      ws.lagrangian = l.v;
+      for (int i = a * kBlock; i < std::min(n, (a + 1) * kBlock); ++i) {
+        const int li = i - a * kBlock;
+        if (b == a) {
+          ws.dL_dq[i] = l.gq[li];
+          ws.momenta[i] = l.level >= 1 ? l.gv[li] : 0.0;
+          ws.mixed[i] = l.level >= 1 ? l.c[li] : 0.0;
+        }
+        const int offset = b == a ? 0 : kBlock;
+        for (int j = b * kBlock; j < std::min(n, (b + 1) * kBlock); ++j) {
+          ws.mass(i, j) = l.hess(li, offset + j - b * kBlock);
+          ws.mass(j, i) = ws.mass(i, j);
+        }
+      }
+    }
+  }
+}
+
 /// The Euler–Lagrange pass: L, ∂L/∂q, p, M and the mixed term from one
 /// evaluation of T and V (or L) on ad::EomJet numbers.
 template <class M>
 LAGRANGIAN_FLATTEN void eom_pass(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q,
                                  const Vec<double, M::dof>& qd, double t) {
+  if constexpr (M::dof == Dynamic) {
+    eom_pass_blocks(model, ws, q, qd, t);
+    return;
+  } else {
   constexpr int n = M::dof;
   using J = ad::EomJet<n>;
   Vec<J, n> qj;
@@ -111,6 +173,7 @@ LAGRANGIAN_FLATTEN void eom_pass(const M& model, Workspace<M::dof>& ws, const Ve
       ws.mass(j, i) = ws.mass(i, j);
     }
   }
+  }
 }
 
 /// Q = generalized forces − ∂D/∂q̇.
@@ -121,18 +184,23 @@ LAGRANGIAN_FLATTEN void force_pass(const M& model, Workspace<M::dof>& ws, const 
   if constexpr (has_generalized_forces_v<M>) {
     ws.forces = model.generalized_forces(q, qd, t);
   } else {
-    ws.forces.setZero();
+    ws.forces.setZero(q.size());
   }
   if constexpr (has_dissipation_v<M>) {
-    using J = ad::Jet<double, n, 1>;
-    Vec<J, n> qj;
-    Vec<J, n> qdj;
-    for (int k = 0; k < n; ++k) {
-      qj[k] = J(q[k]);
-      qdj[k] = J::variable(qd[k], k);
+    // ∂D/∂q̇ in blocks of the Jet's width (one block when n is fixed).
+    constexpr int w = ad_directions<M>;
+    using J = ad::Jet<double, w, 1>;
+    const int size = static_cast<int>(q.size());
+    Vec<J, n> qj = q.template cast<J>();
+    Vec<J, n> qdj = qd.template cast<J>();
+    for (int start = 0; start < size; start += w) {
+      for (int k = start; k < std::min(size, start + w); ++k) qdj[k] = J::variable(qd[k], k - start);
+      const J d = J(model.dissipation(qj, qdj));
+      for (int k = start; k < std::min(size, start + w); ++k) {
+        ws.forces[k] -= d.g[k - start];
+        qdj[k] = J(qd[k]);
+      }
     }
-    const J d = J(model.dissipation(qj, qdj));
-    for (int i = 0; i < n; ++i) ws.forces[i] -= d.g[i];
   }
 }
 
@@ -156,7 +224,7 @@ template <class M>
 void accelerations(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q, const Vec<double, M::dof>& qd,
                    double t, Vec<double, M::dof>& out) {
   evaluate(model, ws, q, qd, t);
-  constexpr int n = M::dof;
+  constexpr int n = M::dof;  // Dynamic (-1) takes the LLT branch
   // Cholesky pivots d_i (M = L D Lᵀ with unit L, d_i = L_chol,ii²) must be
   // positive with min d / max d ≥ singular_mass_tolerance.
   bool ok;
@@ -190,8 +258,8 @@ void accelerations(const M& model, Workspace<M::dof>& ws, const Vec<double, M::d
     os.precision(17);
     os << "mass matrix M = d2L/dqd2 is singular or not positive definite at " << detail::describe_state(q, qd, t)
        << "; M = [";
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) os << (i || j ? (j ? ", " : "; ") : "") << ws.mass(i, j);
+    for (int i = 0; i < ws.mass.rows(); ++i)
+      for (int j = 0; j < ws.mass.cols(); ++j) os << (i || j ? (j ? ", " : "; ") : "") << ws.mass(i, j);
     os << "]";
     throw DynamicsError(os.str());
   }
@@ -209,7 +277,7 @@ const Vec<double, M::dof>& accelerations(const M& model, Workspace<M::dof>& ws, 
 template <class M>
 Vec<double, M::dof> accelerations(const M& model, const Vec<double, M::dof>& q, const Vec<double, M::dof>& qd,
                                   double t = 0.0) {
-  Workspace<M::dof> ws;
+  Workspace<M::dof> ws(static_cast<int>(q.size()));
   return accelerations(model, ws, q, qd, t);
 }
 
@@ -219,14 +287,20 @@ Vec<double, M::dof> momenta(const M& model, const Vec<double, M::dof>& q, const 
                             double t = 0.0) {
   check_model<M>();
   constexpr int n = M::dof;
-  using J = ad::Jet<double, n, 1>;
-  Vec<J, n> qj = q.template cast<J>();
-  Vec<J, n> qdj;
-  for (int k = 0; k < n; ++k) qdj[k] = J::variable(qd[k], k);
-  const J l = detail::lagrangian_of(model, qj, qdj, J(t));
-  Vec<double, n> p;
-  for (int i = 0; i < n; ++i) p[i] = l.g[i];
-  return p;
+  if constexpr (n == Dynamic) {
+    Workspace<n> ws(static_cast<int>(q.size()));
+    detail::eom_pass(model, ws, q, qd, t);
+    return ws.momenta;
+  } else {
+    using J = ad::Jet<double, n, 1>;
+    Vec<J, n> qj = q.template cast<J>();
+    Vec<J, n> qdj;
+    for (int k = 0; k < n; ++k) qdj[k] = J::variable(qd[k], k);
+    const J l = detail::lagrangian_of(model, qj, qdj, J(t));
+    Vec<double, n> p;
+    for (int i = 0; i < n; ++i) p[i] = l.g[i];
+    return p;
+  }
 }
 
 /// Mass matrix M = ∂²L/∂q̇² (kg, kg·m, kg·m²).
@@ -234,7 +308,7 @@ template <class M>
 Mat<double, M::dof> mass_matrix(const M& model, const Vec<double, M::dof>& q, const Vec<double, M::dof>& qd,
                                 double t = 0.0) {
   check_model<M>();
-  Workspace<M::dof> ws;
+  Workspace<M::dof> ws(static_cast<int>(q.size()));
   detail::eom_pass(model, ws, q, qd, t);
   return ws.mass;
 }
@@ -264,15 +338,8 @@ template <class M>
 double energy_function(const M& model, const Vec<double, M::dof>& q, const Vec<double, M::dof>& qd,
                        double t = 0.0) {
   check_model<M>();
-  constexpr int n = M::dof;
-  using J = ad::Jet<double, n, 1>;
-  const Vec<J, n> qj = q.template cast<J>();
-  Vec<J, n> qdj;
-  for (int k = 0; k < n; ++k) qdj[k] = J::variable(qd[k], k);
-  const J l = detail::lagrangian_of(model, qj, qdj, J(t));
-  double h = -l.v;
-  for (int i = 0; i < n; ++i) h += l.g[i] * qd[i];
-  return h;
+  const Vec<double, M::dof> p = momenta(model, q, qd, t);
+  return p.dot(qd) - lagrangian_value(model, q, qd, t);
 }
 
 /// Kinetic energy T (J); only for models that give T and V separately.
@@ -301,7 +368,7 @@ template <class M>
 Vec<double, M::dof> nonconservative_forces(const M& model, const Vec<double, M::dof>& q,
                                            const Vec<double, M::dof>& qd, double t = 0.0) {
   check_model<M>();
-  Workspace<M::dof> ws;
+  Workspace<M::dof> ws(static_cast<int>(q.size()));
   detail::force_pass(model, ws, q, qd, t);
   return ws.forces;
 }

@@ -44,6 +44,10 @@
 
 namespace lagrangian {
 
+/// `dof` of a model whose number of coordinates is known only at run time;
+/// such a model also has `int size() const`.
+inline constexpr int Dynamic = Eigen::Dynamic;
+
 /// Column vector of n scalars (generalized coordinates, velocities, forces).
 template <class S, int N>
 using Vec = Eigen::Matrix<S, N, 1>;
@@ -57,7 +61,16 @@ namespace detail {
 template <class M>
 concept declares_dof = requires {
   { M::dof } -> std::convertible_to<int>;
-} && (M::dof >= 1);
+} && (M::dof >= 1 || (M::dof == Dynamic && requires(const M& m) {
+                        { m.size() } -> std::convertible_to<int>;
+                      }));
+
+/// Coordinates per block in the block-wise derivative passes used for
+/// run-time sized models (each pass seeds two blocks).
+inline constexpr int kBlock = 4;
+/// Number of AD directions for a model: n, or two blocks when n is dynamic.
+template <class M>
+inline constexpr int ad_directions = M::dof > 0 ? M::dof : 2 * kBlock;
 
 template <class M, class S>
 concept has_kinetic_for = requires(const M& m, const Vec<S, M::dof>& q, const S& t) {
@@ -74,9 +87,9 @@ concept has_lagrangian_for = requires(const M& m, const Vec<S, M::dof>& q, const
 
 // The AD scalars the dynamics instantiates model functions with.
 template <class M>
-using EomJet = ad::EomJet<M::dof>;
+using EomJet = ad::EomJet<ad_directions<M>>;
 template <class M>
-using FirstOrderJet = ad::Jet<double, M::dof, 1>;
+using FirstOrderJet = ad::Jet<double, ad_directions<M>, 1>;
 
 template <class M, class S>
 concept energies_for = (has_kinetic_for<M, S> && has_potential_for<M, S>) || has_lagrangian_for<M, S>;
@@ -135,7 +148,8 @@ inline constexpr bool has_name_v = requires(const M& m) {
 template <class M>
 constexpr void check_model() {
   static_assert(detail::declares_dof<M>,
-                "lagrangian: a model must declare `static constexpr int dof = n;` (n >= 1 generalized coordinates)");
+                "lagrangian: a model must declare `static constexpr int dof = n;` (n >= 1 generalized coordinates), "
+                "or `dof = lagrangian::Dynamic` together with `int size() const`");
   if constexpr (detail::declares_dof<M>) {
     static_assert(detail::energies_for<M, double>,
                   "lagrangian: a model must define `template <class S> S kinetic(const Vec<S, dof>& q, const Vec<S, "
@@ -149,6 +163,17 @@ constexpr void check_model() {
   }
 }
 
+/// Number of coordinates of a model: `dof`, or `size()` for a run-time sized model.
+template <class M>
+int model_size(const M& model) {
+  if constexpr (M::dof == Dynamic) {
+    return static_cast<int>(model.size());
+  } else {
+    (void)model;
+    return M::dof;
+  }
+}
+
 /// Names of the coordinates of a model: the model's own, or q0, q1, ….
 template <class M>
 std::vector<std::string> coordinate_names(const M& model) {
@@ -156,7 +181,7 @@ std::vector<std::string> coordinate_names(const M& model) {
   if constexpr (has_coordinate_names_v<M>) {
     for (const auto& s : model.coordinate_names()) names.emplace_back(s);
   } else {
-    for (int i = 0; i < M::dof; ++i) names.push_back("q" + std::to_string(i));
+    for (int i = 0; i < model_size(model); ++i) names.push_back("q" + std::to_string(i));
   }
   return names;
 }
@@ -237,11 +262,16 @@ LambdaModel<N, K, V, F, NewDissipation> with_dissipation(LambdaModel<N, K, V, F,
           std::move(m.forces_fn), std::move(d)};
 }
 
-/// A state of a model with n coordinates: positions q and velocities q̇.
+/// A state of a model with n coordinates: positions q and velocities q̇,
+/// zero-initialised. Run-time sized states are built with State(n).
 template <int N>
 struct State {
-  Vec<double, N> q = Vec<double, N>::Zero();   ///< generalized coordinates
-  Vec<double, N> qd = Vec<double, N>::Zero();  ///< generalized velocities
+  Vec<double, N> q;   ///< generalized coordinates
+  Vec<double, N> qd;  ///< generalized velocities
+  State()
+    requires(N != Dynamic)
+      : q(Vec<double, N>::Zero()), qd(Vec<double, N>::Zero()) {}
+  explicit State(int n) : q(Vec<double, N>::Zero(n)), qd(Vec<double, N>::Zero(n)) {}
 };
 
 }  // namespace lagrangian

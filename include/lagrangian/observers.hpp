@@ -59,7 +59,7 @@ class CsvSink {
 
   template <int N>
   void operator()(const Sample<N>& s) {
-    write_row(s.t, s.q.data(), s.qd.data(), N, s.energy, s.total_energy);
+    write_row(s.t, s.q.data(), s.qd.data(), static_cast<int>(s.q.size()), s.energy, s.total_energy);
   }
 
   /// Flushes and renames the partial file to its final name.

@@ -52,11 +52,33 @@ bool is_autonomous(const M& model, const State<M::dof>& s, double t = 0.0);
 
 namespace detail {
 
+/// Storage of the first-order state x = [q; q̇]: a fixed array, or a vector
+/// for run-time sized models.
+template <int N>
+struct state_buffer {
+  using type = std::array<double, 2 * N>;
+};
+template <>
+struct state_buffer<Dynamic> {
+  using type = std::vector<double>;
+};
+template <int N>
+using StateBuffer = typename state_buffer<N>::type;
+
+template <int N>
+StateBuffer<N> make_buffer(int n) {
+  if constexpr (N == Dynamic) {
+    return StateBuffer<N>(static_cast<std::size_t>(2 * n), 0.0);
+  } else {
+    (void)n;
+    return StateBuffer<N>{};
+  }
+}
+
 /// The sampled states used by cyclic_coordinates() and is_autonomous().
 template <int N>
 std::array<State<N>, 4> probe_states(const State<N>& s) {
-  std::array<State<N>, 4> out;
-  out[0] = s;
+  std::array<State<N>, 4> out{s, s, s, s};
   std::uint64_t lcg = 0x9E3779B97F4A7C15ull;
   auto next = [&lcg]() {
     lcg = lcg * 6364136223846793005ull + 1442695040888963407ull;
@@ -64,7 +86,7 @@ std::array<State<N>, 4> probe_states(const State<N>& s) {
   };
   for (int k = 1; k < 4; ++k) {
     out[k] = s;
-    for (int i = 0; i < N; ++i) {
+    for (int i = 0; i < s.q.size(); ++i) {
       out[k].q[i] += 0.1 * next() * (1.0 + std::abs(s.q[i]));
       out[k].qd[i] += 0.1 * next() * (1.0 + std::abs(s.qd[i]));
     }
@@ -77,17 +99,22 @@ template <class M>
 double energy_and_momenta(const M& model, const Vec<double, M::dof>& q, const Vec<double, M::dof>& qd, double t,
                           Vec<double, M::dof>& p) {
   constexpr int n = M::dof;
-  using J = ad::Jet<double, n, 1>;
-  const Vec<J, n> qj = q.template cast<J>();
-  Vec<J, n> qdj;
-  for (int k = 0; k < n; ++k) qdj[k] = J::variable(qd[k], k);
-  const J l = lagrangian_of(model, qj, qdj, J(t));
-  double h = -l.v;
-  for (int i = 0; i < n; ++i) {
-    p[i] = l.g[i];
-    h += p[i] * qd[i];
+  if constexpr (n == Dynamic) {
+    p = momenta(model, q, qd, t);
+    return p.dot(qd) - lagrangian_value(model, q, qd, t);
+  } else {
+    using J = ad::Jet<double, n, 1>;
+    const Vec<J, n> qj = q.template cast<J>();
+    Vec<J, n> qdj;
+    for (int k = 0; k < n; ++k) qdj[k] = J::variable(qd[k], k);
+    const J l = lagrangian_of(model, qj, qdj, J(t));
+    double h = -l.v;
+    for (int i = 0; i < n; ++i) {
+      p[i] = l.g[i];
+      h += p[i] * qd[i];
+    }
+    return h;
   }
-  return h;
 }
 
 /// The first-order system ẋ = f(x, t) handed to Odeint, counting evaluations.
@@ -100,23 +127,40 @@ struct FirstOrderSystem {
 
   template <class X, class DX>
   LAGRANGIAN_INLINE void operator()(const X& x, DX& dxdt, double t) const {
-    Vec<double, n> q;
-    Vec<double, n> qd;
-    for (int i = 0; i < n; ++i) {
-      q[i] = x[i];
-      qd[i] = x[n + i];
+    if constexpr (n == Dynamic) {
+      const int size = static_cast<int>(ws->scratch_q.size());
+      for (int i = 0; i < size; ++i) {
+        ws->scratch_q[i] = x[i];
+        ws->scratch_qd[i] = x[size + i];
+      }
+      evaluate_into(ws->scratch_q, ws->scratch_qd, t, ws->scratch_qdd);
+      for (int i = 0; i < size; ++i) {
+        dxdt[i] = x[size + i];
+        dxdt[size + i] = ws->scratch_qdd[i];
+      }
+    } else {
+      Vec<double, n> q;
+      Vec<double, n> qd;
+      for (int i = 0; i < n; ++i) {
+        q[i] = x[i];
+        qd[i] = x[n + i];
+      }
+      Vec<double, n> qdd;  // a local: a store to the workspace and reload costs ~35% here
+      evaluate_into(q, qd, t, qdd);
+      for (int i = 0; i < n; ++i) {
+        dxdt[i] = qd[i];
+        dxdt[n + i] = qdd[i];
+      }
     }
-    Vec<double, n> qdd;  // a local: a store to the workspace and reload costs ~35% here
+    ++*evaluations;
+  }
+  LAGRANGIAN_INLINE void evaluate_into(const Vec<double, n>& q, const Vec<double, n>& qd, double t,
+                                       Vec<double, n>& qdd) const {
     if constexpr (has_explicit_accelerations_v<M>) {
       model->accelerations(q, qd, t, qdd);
     } else {
       accelerations(*model, *ws, q, qd, t, qdd);
     }
-    for (int i = 0; i < n; ++i) {
-      dxdt[i] = qd[i];
-      dxdt[n + i] = qdd[i];
-    }
-    ++*evaluations;
   }
 };
 
@@ -132,12 +176,18 @@ class RunState {
   static constexpr int n = M::dof;
 
   RunState(const M& model, const SimulationOptions& opt, Observer& obs, RunReport& report)
-      : model_(model), opt_(opt), obs_(obs), report_(report) {}
+      : model_(model),
+        opt_(opt),
+        obs_(obs),
+        report_(report),
+        size_(model_size(model)),
+        buf_(make_buffer<n>(size_)),
+        last_x_(make_buffer<n>(size_)) {}
 
   void start(const State<n>& x0) {
     const std::vector<int> cyclic = cyclic_coordinates(model_, x0, opt_.t0);
     cyclic_.assign(cyclic.begin(), cyclic.end());
-    Vec<double, n> p;
+    Vec<double, n> p(size_);
     h0_ = energy_and_momenta(model_, x0.q, x0.qd, opt_.t0, p);
     double scale = std::abs(h0_);
     if constexpr (has_kinetic_potential_v<M>) {
@@ -169,12 +219,12 @@ class RunState {
   template <class Interp>
   void accepted(double t_old, double t, const double* x, Interp&& interpolate) {
     ++report_.steps;
-    for (int i = 0; i < 2 * n; ++i) {
+    for (int i = 0; i < 2 * size_; ++i) {
       if (!std::isfinite(x[i])) {
         std::ostringstream os;
         os.precision(17);
         os << "non-finite state after the step from t = " << t_old << " to t = " << t << ": x = [";
-        for (int k = 0; k < 2 * n; ++k) os << (k ? ", " : "") << x[k];
+        for (int k = 0; k < 2 * size_; ++k) os << (k ? ", " : "") << x[k];
         os << "] (q then qd); the run was stopped";
         throw SimulationError(os.str(), t);
       }
@@ -185,23 +235,22 @@ class RunState {
       throw SimulationError(os.str(), t);
     }
     if (opt_.output_interval == 0) {
-      emit(t, x, x + n);
+      emit(t, x, x + size_);
     } else if (opt_.output_interval > 0) {
-      std::array<double, 2 * n> buf{};
       const double tol = 1e-12 * std::max(std::abs(t), opt_.output_interval);
       for (double to = next_output_time(); to <= t + tol && to <= opt_.t_end + tol; to = next_output_time()) {
         ++next_output_index_;
         if (std::abs(to - t) <= tol) {
-          emit(t, x, x + n);
+          emit(t, x, x + size_);
           last_emitted_ = t;
         } else {
-          interpolate(to, buf.data());
-          emit(to, buf.data(), buf.data() + n);
+          interpolate(to, buf_.data());
+          emit(to, buf_.data(), buf_.data() + size_);
         }
       }
     }
     last_t_ = t;
-    std::copy(x, x + 2 * n, last_x_.begin());
+    if (opt_.output_interval != 0) std::copy(x, x + 2 * size_, last_x_.begin());
   }
 
   void rejected(double t, double dt) {
@@ -218,7 +267,8 @@ class RunState {
 
   /// Final bookkeeping: sample the end state if not done yet.
   void finish() {
-    if (opt_.output_interval != 0 && last_emitted_ != last_t_) emit(last_t_, last_x_.data(), last_x_.data() + n);
+    if (opt_.output_interval != 0 && last_emitted_ != last_t_)
+      emit(last_t_, last_x_.data(), last_x_.data() + size_);
     report_.energy_drift_final = std::abs(h_last_ - h0_) / report_.energy_scale;
     if (report_.has_total_energy) report_.total_energy_drift_final = std::abs(e_last_ - e0_) / report_.energy_scale;
     report_.energy_final = h_last_;
@@ -228,11 +278,13 @@ class RunState {
   void emit(double t, const double* q, const double* qd) {
     Sample<n> s;
     s.t = t;
-    for (int i = 0; i < n; ++i) {
+    s.q.resize(size_);
+    s.qd.resize(size_);
+    for (int i = 0; i < size_; ++i) {
       s.q[i] = q[i];
       s.qd[i] = qd[i];
     }
-    Vec<double, n> p;
+    Vec<double, n> p(size_);
     s.energy = energy_and_momenta(model_, s.q, s.qd, t, p);
     h_last_ = s.energy;
     report_.energy_drift_max = std::max(report_.energy_drift_max, std::abs(s.energy - h0_) / report_.energy_scale);
@@ -262,7 +314,9 @@ class RunState {
   std::uint64_t consecutive_rejections_ = 0;
   double last_emitted_ = std::numeric_limits<double>::quiet_NaN();
   double last_t_ = 0;
-  std::array<double, 2 * n> last_x_{};
+  int size_;
+  StateBuffer<n> buf_;
+  StateBuffer<n> last_x_;
 };
 
 /// True when t has reached t_end up to rounding.
@@ -272,9 +326,9 @@ inline bool reached(double t, double t_end) {
 
 /// Loop for an Odeint controlled stepper without dense output: steps are
 /// shortened to land on output times and on t_end.
-template <class M, class Observer, class Controlled>
-void run_controlled(Controlled& stepper, FirstOrderSystem<M> sys, std::array<double, 2 * M::dof>& x,
-                    const SimulationOptions& opt, RunState<M, Observer>& rs) {
+template <class M, class Observer, class Controlled, class X>
+void run_controlled(Controlled& stepper, FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt,
+                    RunState<M, Observer>& rs) {
   namespace odeint = boost::numeric::odeint;
   double t = opt.t0;
   double dt = opt.dt;
@@ -295,16 +349,15 @@ void run_controlled(Controlled& stepper, FirstOrderSystem<M> sys, std::array<dou
   }
 }
 
-template <class M, class Observer>
-void run_dopri5(FirstOrderSystem<M> sys, std::array<double, 2 * M::dof>& x, const SimulationOptions& opt,
-                RunState<M, Observer>& rs) {
+template <class M, class Observer, class X>
+void run_dopri5(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt, RunState<M, Observer>& rs) {
   namespace odeint = boost::numeric::odeint;
-  using X = std::array<double, 2 * M::dof>;
   using Controlled = odeint::controlled_runge_kutta<odeint::runge_kutta_dopri5<X>>;
   Controlled stepper{typename Controlled::error_checker_type(opt.atol, opt.rtol)};
-  X dxdt;
-  X x_old;
-  X dxdt_old;
+  X dxdt = x;
+  X x_old = x;
+  X dxdt_old = x;
+  X buf = x;
   double t = opt.t0;
   double dt = opt.dt;
   const bool dense = opt.output_interval > 0;  // samples between steps need the step's start
@@ -322,7 +375,6 @@ void run_dopri5(FirstOrderSystem<M> sys, std::array<double, 2 * M::dof>& x, cons
       rs.reset_rejections();
       const double t_new = t;
       rs.accepted(t_old, t_new, x.data(), [&](double to, double* out) {
-        X buf;
         stepper.stepper().calc_state(to, buf, x_old, dxdt_old, t_old, x, dxdt, t_new);
         std::copy(buf.begin(), buf.end(), out);
       });
@@ -334,11 +386,9 @@ void run_dopri5(FirstOrderSystem<M> sys, std::array<double, 2 * M::dof>& x, cons
   }
 }
 
-template <class M, class Observer>
-void run_rk4(FirstOrderSystem<M> sys, std::array<double, 2 * M::dof>& x, const SimulationOptions& opt,
-             RunState<M, Observer>& rs) {
+template <class M, class Observer, class X>
+void run_rk4(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt, RunState<M, Observer>& rs) {
   namespace odeint = boost::numeric::odeint;
-  using X = std::array<double, 2 * M::dof>;
   odeint::runge_kutta4<X> stepper;
   // Fixed steps of opt.dt; the k-th step ends at t0 + k dt (no accumulated
   // rounding); a step is shortened only to land on an output time or t_end.
@@ -359,25 +409,24 @@ void run_rk4(FirstOrderSystem<M> sys, std::array<double, 2 * M::dof>& x, const S
 /// ∂f/∂x is formed by central differences of the AD-derived right-hand side,
 ///   J_ij ≈ (f_i(x + h e_j) − f_i(x − h e_j)) / 2h,  h = ∛ε · max(|x_j|, 1),
 /// with truncation error O(h²) ≈ 1e-10 relative; ∂f/∂t likewise.
-template <class M, class Observer>
-void run_rosenbrock4(FirstOrderSystem<M> sys, std::array<double, 2 * M::dof>& x, const SimulationOptions& opt,
-                     RunState<M, Observer>& rs) {
-  constexpr int m = 2 * M::dof;
-  using X = std::array<double, m>;
+template <class M, class Observer, class X>
+void run_rosenbrock4(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt, RunState<M, Observer>& rs) {
   struct Context {
     FirstOrderSystem<M> sys;
     X xa, fa, fb;
-  } ctx{sys, {}, {}, {}};
+    int m;
+  } ctx{sys, x, x, x, static_cast<int>(x.size())};
   StiffSystem stiff{
       &ctx,
       [](void* c, const double* xin, double* dxdt, double t) {
         auto& k = *static_cast<Context*>(c);
-        std::copy(xin, xin + m, k.xa.begin());
+        std::copy(xin, xin + k.m, k.xa.begin());
         k.sys(k.xa, k.fa, t);
         std::copy(k.fa.begin(), k.fa.end(), dxdt);
       },
       [](void* c, const double* xin, double* J, double* dfdt, double t) {
         auto& k = *static_cast<Context*>(c);
+        const int m = k.m;
         const double cbrt_eps = std::cbrt(std::numeric_limits<double>::epsilon());
         std::copy(xin, xin + m, k.xa.begin());
         for (int j = 0; j < m; ++j) {
@@ -395,7 +444,7 @@ void run_rosenbrock4(FirstOrderSystem<M> sys, std::array<double, 2 * M::dof>& x,
         k.sys(k.xa, k.fb, t - ht);
         for (int i = 0; i < m; ++i) dfdt[i] = (k.fa[i] - k.fb[i]) / (2 * ht);
       }};
-  Rosenbrock4Stepper stepper(m, opt.atol, opt.rtol);
+  Rosenbrock4Stepper stepper(ctx.m, opt.atol, opt.rtol);
   double t = opt.t0;
   double dt = opt.dt;
   while (!reached(t, opt.t_end)) {
@@ -433,8 +482,12 @@ RunReport simulate(const M& model, const State<M::dof>& initial, const Simulatio
   namespace odeint = boost::numeric::odeint;
   const auto wall_start = std::chrono::steady_clock::now();
   options.validate();
+  const int size = model_size(model);
   const auto names = coordinate_names(model);
-  for (int i = 0; i < n; ++i) {
+  if (initial.q.size() != size || initial.qd.size() != size)
+    throw OptionError("initial state has " + std::to_string(initial.q.size()) + " coordinates and " +
+                      std::to_string(initial.qd.size()) + " velocities; the model has " + std::to_string(size));
+  for (int i = 0; i < size; ++i) {
     if (!std::isfinite(initial.q[i]) || !std::isfinite(initial.qd[i])) {
       std::ostringstream os;
       os << "initial state: " << (std::isfinite(initial.q[i]) ? "qd" : "q") << "[" << i << "] ('"
@@ -457,19 +510,19 @@ RunReport simulate(const M& model, const State<M::dof>& initial, const Simulatio
   report.conservative =
       !has_generalized_forces_v<M> && !has_dissipation_v<M> && is_autonomous(model, initial, options.t0);
 
-  Workspace<n> ws;
+  Workspace<n> ws(size);
   accelerations(model, ws, initial.q, initial.qd, options.t0);  // a singular M at t0 is an input error
 
   using Obs = std::remove_reference_t<Observer>;
   detail::RunState<M, Obs> rs(model, options, observer, report);
   detail::FirstOrderSystem<M> sys{&model, &ws, &report.rhs_evaluations};
-  std::array<double, 2 * n> x;
-  for (int i = 0; i < n; ++i) {
+  using X = detail::StateBuffer<n>;
+  X x = detail::make_buffer<n>(size);
+  for (int i = 0; i < size; ++i) {
     x[i] = initial.q[i];
-    x[n + i] = initial.qd[i];
+    x[size + i] = initial.qd[i];
   }
   rs.start(initial);
-  using X = std::array<double, 2 * n>;
   try {
     const std::string& m = options.method;
     if (m == "dopri5") {
@@ -505,17 +558,18 @@ template <class M>
 std::vector<int> cyclic_coordinates(const M& model, const State<M::dof>& s, double t) {
   check_model<M>();
   constexpr int n = M::dof;
-  std::array<bool, n> cyclic;
-  cyclic.fill(true);
-  Workspace<n> ws;
+  const int size = static_cast<int>(s.q.size());
+  std::vector<bool> cyclic(static_cast<std::size_t>(size), true);
+  Workspace<n> ws(size);
   for (const State<n>& p : detail::probe_states(s)) {
     detail::eom_pass(model, ws, p.q, p.qd, t);
     detail::force_pass(model, ws, p.q, p.qd, t);
-    for (int i = 0; i < n; ++i) cyclic[i] = cyclic[i] && ws.dL_dq[i] == 0.0 && ws.forces[i] == 0.0;
+    for (int i = 0; i < size; ++i)
+      cyclic[static_cast<std::size_t>(i)] = cyclic[static_cast<std::size_t>(i)] && ws.dL_dq[i] == 0.0 && ws.forces[i] == 0.0;
   }
   std::vector<int> out;
-  for (int i = 0; i < n; ++i)
-    if (cyclic[i]) out.push_back(i);
+  for (int i = 0; i < size; ++i)
+    if (cyclic[static_cast<std::size_t>(i)]) out.push_back(i);
   return out;
 }
 

@@ -1,0 +1,134 @@
+// Models whose number of coordinates is known only at run time agree with
+// the same models written with a compile-time size.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "lagrangian/lagrangian.hpp"
+#include "lagrangian/models/pendulums.hpp"
+
+namespace {
+
+using namespace lagrangian;
+
+/// The N-link chain of models::PendulumChain with N chosen at run time, plus
+/// an optional linear damping D = ½ c Σ θ̇ᵢ².
+struct RuntimeChain {
+  static constexpr int dof = Dynamic;
+  int n;
+  double m = 1.0, l = 1.0, g = 9.81, c = 0.0;
+  int size() const { return n; }
+  template <class S>
+  S kinetic(const Vec<S, Dynamic>& q, const Vec<S, Dynamic>& qd, const S&) const {
+    using std::cos;
+    using std::sin;
+    S vx = 0, vy = 0, T = 0;
+    for (int k = 0; k < n; ++k) {
+      vx += l * cos(q[k]) * qd[k];
+      vy += l * sin(q[k]) * qd[k];
+      T += 0.5 * m * (vx * vx + vy * vy);
+    }
+    return T;
+  }
+  template <class S>
+  S potential(const Vec<S, Dynamic>& q, const S&) const {
+    using std::cos;
+    S y = 0, V = 0;
+    for (int k = 0; k < n; ++k) {
+      y -= l * cos(q[k]);
+      V += m * g * y;
+    }
+    return V;
+  }
+  template <class S>
+  S dissipation(const Vec<S, Dynamic>&, const Vec<S, Dynamic>& qd) const {
+    S d = 0;
+    for (int k = 0; k < n; ++k) d += 0.5 * c * qd[k] * qd[k];
+    return d;
+  }
+};
+
+template <int N>
+void compare_with_fixed(std::mt19937_64& rng) {
+  const models::PendulumChain<N> fixed(1.0, 1.0, 9.81);
+  const RuntimeChain dyn{N};
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  Vec<double, N> q, qd;
+  for (int i = 0; i < N; ++i) {
+    q[i] = u(rng);
+    qd[i] = u(rng);
+  }
+  const Eigen::VectorXd qx = q, qdx = qd;
+  const double scale = accelerations(fixed, q, qd).template lpNorm<Eigen::Infinity>();
+  EXPECT_LE((accelerations(dyn, qx, qdx) - accelerations(fixed, q, qd)).template lpNorm<Eigen::Infinity>(),
+            1e-11 * scale)
+      << "n = " << N;
+  EXPECT_LE((mass_matrix(dyn, qx, qdx) - mass_matrix(fixed, q, qd)).norm(), 1e-12 * mass_matrix(fixed, q, qd).norm())
+      << "n = " << N;
+  EXPECT_LE((momenta(dyn, qx, qdx) - momenta(fixed, q, qd)).norm(), 1e-12 * momenta(fixed, q, qd).norm());
+  EXPECT_NEAR(energy_function(dyn, qx, qdx), energy_function(fixed, q, qd), 1e-12 * std::abs(energy_function(fixed, q, qd)));
+}
+
+TEST(DynamicSize, DerivativesMatchFixedSizeAcrossBlockBoundaries) {
+  std::mt19937_64 rng(99);
+  compare_with_fixed<1>(rng);
+  compare_with_fixed<3>(rng);
+  compare_with_fixed<4>(rng);
+  compare_with_fixed<5>(rng);
+  compare_with_fixed<9>(rng);
+}
+
+TEST(DynamicSize, SimulationMatchesFixedSize) {
+  constexpr int n = 5;
+  const models::PendulumChain<n> fixed;
+  const RuntimeChain dyn{n};
+  State<n> x0;
+  State<Dynamic> y0(n);
+  for (int i = 0; i < n; ++i) {
+    x0.q[i] = y0.q[i] = 0.3 - 0.1 * i;
+  }
+  for (const std::string method : {"dopri5", "rk4", "rosenbrock4"}) {
+    SimulationOptions o;
+    o.method = method;
+    o.t_end = 2.0;
+    o.output_interval = 0.5;
+    Recorder<n> a;
+    Recorder<Dynamic> b;
+    const RunReport ra = simulate(fixed, x0, o, a);
+    const RunReport rb = simulate(dyn, y0, o, b);
+    ASSERT_EQ(a.samples.size(), b.samples.size()) << method;
+    for (std::size_t k = 0; k < a.samples.size(); ++k)
+      EXPECT_LE((a.samples[k].q - Vec<double, n>(b.samples[k].q)).norm(), 1e-8) << method << " t = " << a.samples[k].t;
+    EXPECT_LE(rb.energy_drift_max, 1e-7) << method;
+    EXPECT_EQ(rb.coordinates.size(), static_cast<std::size_t>(n));
+  }
+}
+
+TEST(DynamicSize, DissipationIsDifferentiatedBlockwise) {
+  RuntimeChain dyn{6};
+  dyn.c = 0.7;
+  Eigen::VectorXd q = Eigen::VectorXd::LinSpaced(6, 0.1, 0.6), qd = Eigen::VectorXd::LinSpaced(6, -1.0, 1.5);
+  EXPECT_LE((nonconservative_forces(dyn, q, qd) + dyn.c * qd).norm(), 1e-14);
+  State<Dynamic> s(6);
+  s.q = q;
+  s.qd = qd;
+  SimulationOptions o;
+  o.t_end = 5.0;
+  const RunReport r = simulate(dyn, s, o);
+  EXPECT_FALSE(r.conservative);
+}
+
+TEST(DynamicSize, StateSizeMismatchIsAClearError) {
+  const RuntimeChain dyn{4};
+  State<Dynamic> s(3);
+  try {
+    simulate(dyn, s, SimulationOptions{});
+    FAIL() << "no error";
+  } catch (const OptionError& e) {
+    EXPECT_STREQ(e.what(), "initial state has 3 coordinates and 3 velocities; the model has 4");
+  }
+}
+
+}  // namespace
