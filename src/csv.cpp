@@ -28,13 +28,17 @@ CsvSink::~CsvSink() {
   }
 }
 
-void CsvSink::begin(const std::vector<std::string>& names, bool has_total_energy) {
-  total_energy_ = has_total_energy;
+void CsvSink::begin(const Columns& columns) {
+  total_energy_ = columns.total_energy;
   std::fputs("t", file_);
-  for (const auto& n : names) std::fprintf(file_, ",%s", n.c_str());
-  for (const auto& n : names) std::fprintf(file_, ",%s_dot", n.c_str());
+  for (const auto& n : columns.coordinates) std::fprintf(file_, ",%s", n.c_str());
+  for (const auto& n : columns.coordinates) std::fprintf(file_, ",%s_dot", n.c_str());
   std::fputs(",energy", file_);
   if (total_energy_) std::fputs(",total_energy", file_);
+  if (!columns.constraints.empty()) {
+    for (const auto& n : columns.constraints) std::fprintf(file_, ",lambda_%s", n.c_str());
+    for (const auto& n : columns.coordinates) std::fprintf(file_, ",Qc_%s", n.c_str());
+  }
   std::fputc('\n', file_);
 }
 
@@ -44,6 +48,11 @@ void CsvSink::write_row(double t, const double* q, const double* qd, int n, doub
   for (int i = 0; i < n; ++i) std::fprintf(file_, ",%.17g", qd[i]);
   std::fprintf(file_, ",%.17g", energy);
   if (total_energy_) std::fprintf(file_, ",%.17g", total_energy);
+}
+
+void CsvSink::write_extra(const Eigen::VectorXd& multipliers, const Eigen::VectorXd& forces) {
+  for (Eigen::Index i = 0; i < multipliers.size(); ++i) std::fprintf(file_, ",%.17g", multipliers[i]);
+  for (Eigen::Index i = 0; i < forces.size(); ++i) std::fprintf(file_, ",%.17g", forces[i]);
   std::fputc('\n', file_);
 }
 

@@ -12,6 +12,15 @@
 
 namespace lagrangian {
 
+const char* to_string(Stabilization s) {
+  switch (s) {
+    case Stabilization::none: return "none";
+    case Stabilization::baumgarte: return "baumgarte";
+    case Stabilization::projection: return "projection";
+  }
+  return "unknown";
+}
+
 std::vector<std::string> stepper_names() {
   return {"rk4", "dopri5", "cash_karp54", "fehlberg78", "bulirsch_stoer", "rosenbrock4"};
 }
@@ -73,6 +82,10 @@ void SimulationOptions::validate() const {
   if (rtol >= 1) option_failure("rtol", "less than 1", rtol);
   if (max_steps == 0) throw OptionError("simulation option 'max_steps' must be at least 1, got 0");
   if (!std::isfinite(output_interval)) option_failure("output_interval", "finite", output_interval);
+  if (!std::isfinite(baumgarte_omega) || !(baumgarte_omega > 0))
+    option_failure("baumgarte_omega", "positive and finite", baumgarte_omega);
+  if (!std::isfinite(projection_tolerance) || !(projection_tolerance > 0))
+    option_failure("projection_tolerance", "positive and finite", projection_tolerance);
 }
 
 std::string RunReport::to_json() const {
@@ -127,7 +140,37 @@ std::string RunReport::to_json() const {
     json_number(os, m.final_abs_drift);
     os << "}";
   }
-  os << "]\n}\n";
+  os << "]";
+  os << ",\n  \"constrained\": " << (constrained ? "true" : "false");
+  if (constrained) {
+    const ConstraintReport& c = constraints;
+    os << ",\n  \"constraints\": {\"names\": [";
+    for (std::size_t i = 0; i < c.names.size(); ++i) {
+      if (i) os << ", ";
+      json_string(os, c.names[i]);
+    }
+    os << "], \"stabilization\": ";
+    json_string(os, c.stabilization);
+    const std::pair<const char*, double> nums[] = {{"baumgarte_omega", c.baumgarte_omega},
+                                                   {"max_position_residual", c.max_position_residual},
+                                                   {"max_velocity_residual", c.max_velocity_residual},
+                                                   {"final_position_residual", c.final_position_residual},
+                                                   {"final_velocity_residual", c.final_velocity_residual},
+                                                   {"stabilization_time_s", c.stabilization_time_s}};
+    for (const auto& [k, v] : nums) {
+      os << ", \"" << k << "\": ";
+      json_number(os, v);
+    }
+    os << ", \"projections\": " << c.projections << ", \"projection_iterations\": " << c.projection_iterations
+       << ", \"extra_rhs_evaluations\": " << c.extra_rhs_evaluations << ", \"initial_rank\": " << c.initial_rank
+       << ", \"min_rank\": " << c.min_rank << ", \"warnings\": [";
+    for (std::size_t i = 0; i < c.warnings.size(); ++i) {
+      if (i) os << ", ";
+      json_string(os, c.warnings[i]);
+    }
+    os << "]}";
+  }
+  os << "\n}\n";
   return os.str();
 }
 
@@ -167,6 +210,17 @@ std::string RunReport::summary() const {
     std::snprintf(buf, sizeof buf, "total energy T+V: %.12g J, relative drift max %.2e, final %.2e\n",
                   total_energy_initial, total_energy_drift_max, total_energy_drift_final);
     os << buf;
+  }
+  if (constrained) {
+    const ConstraintReport& c = constraints;
+    std::snprintf(buf, sizeof buf,
+                  "constraints (%zu, %s): max residual position %.2e, velocity %.2e; %llu projections, %llu extra RHS, "
+                  "%.3f ms\n",
+                  c.names.size(), c.stabilization.c_str(), c.max_position_residual, c.max_velocity_residual,
+                  static_cast<unsigned long long>(c.projections),
+                  static_cast<unsigned long long>(c.extra_rhs_evaluations), c.stabilization_time_s * 1e3);
+    os << buf;
+    for (const auto& w : c.warnings) os << "warning: " << w << "\n";
   }
   for (const auto& m : conserved_momenta) {
     std::snprintf(buf, sizeof buf, "momentum of cyclic %s: %.12g, drift max %.2e\n", m.coordinate.c_str(), m.initial,

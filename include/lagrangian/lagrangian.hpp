@@ -3,6 +3,7 @@
 /// Everything a user needs: models, AD-derived dynamics, simulation, sinks.
 
 #include "lagrangian/ad.hpp"
+#include "lagrangian/constraints.hpp"
 #include "lagrangian/dynamics.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/model.hpp"

@@ -3,8 +3,7 @@
 /// Sinks for the samples a run produces.
 ///
 /// An observer is any callable `void(const Sample<n>&)`. It may also have
-///  - `void begin(const std::vector<std::string>& coordinate_names, bool has_total_energy)`,
-///    called once before the first sample, and
+///  - `void begin(const Columns&)`, called once before the first sample, and
 ///  - `void finish()`, called only when the run completed successfully.
 /// A sink that writes files commits them in finish(), so a failed run never
 /// leaves output that looks complete.
@@ -26,6 +25,17 @@ struct Sample {
   Vec<double, N> qd;
   double energy = 0;  ///< energy function h = p·q̇ − L (J)
   double total_energy = std::numeric_limits<double>::quiet_NaN();  ///< T + V (J), NaN if the model has no T, V split
+  /// Constrained models: the Lagrange multipliers λ (force along +∇ of each
+  /// constraint) and the generalized constraint forces Cᵀλ; empty otherwise.
+  Eigen::VectorXd multipliers;
+  Eigen::VectorXd constraint_forces;
+};
+
+/// What a run will sample, for observers that write headers.
+struct Columns {
+  std::vector<std::string> coordinates;  ///< coordinate names
+  std::vector<std::string> constraints;  ///< constraint names (empty without constraints)
+  bool total_energy = false;             ///< T + V is sampled
 };
 
 /// Observer that ignores every sample.
@@ -43,6 +53,7 @@ struct Recorder {
 
 /// Writes samples as CSV with a header row:
 ///   t, <q names...>, <name>_dot..., energy[, total_energy]
+///   [, lambda_<constraint>..., Qc_<coordinate>...]   (constrained models)
 /// Values use 17 significant digits. The file is written as `<path>.partial`
 /// and renamed to `<path>` by finish(); it is removed if the run fails.
 class CsvSink {
@@ -55,11 +66,12 @@ class CsvSink {
   CsvSink(CsvSink&& other) noexcept;
   ~CsvSink();
 
-  void begin(const std::vector<std::string>& coordinate_names, bool has_total_energy);
+  void begin(const Columns& columns);
 
   template <int N>
   void operator()(const Sample<N>& s) {
     write_row(s.t, s.q.data(), s.qd.data(), static_cast<int>(s.q.size()), s.energy, s.total_energy);
+    write_extra(s.multipliers, s.constraint_forces);
   }
 
   /// Flushes and renames the partial file to its final name.
@@ -69,6 +81,7 @@ class CsvSink {
 
  private:
   void write_row(double t, const double* q, const double* qd, int n, double energy, double total_energy);
+  void write_extra(const Eigen::VectorXd& multipliers, const Eigen::VectorXd& forces);
   std::string path_;
   std::FILE* file_ = nullptr;
   bool total_energy_ = false;

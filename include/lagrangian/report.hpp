@@ -20,6 +20,16 @@ namespace lagrangian {
 ///                      differences of the AD-derived right-hand side.
 std::vector<std::string> stepper_names();
 
+/// How constraint drift is controlled during a run of a constrained model.
+enum class Stabilization {
+  none,        ///< the index-1 equations as they are; the residual drifts with time
+  baumgarte,   ///< C q̈ = −γ − 2ω ġ − ω² g (holonomic rows), −γ − ω φ (Pfaffian rows)
+  projection,  ///< after every accepted step: q by Gauss–Newton onto g = 0, q̇ by M-weighted projection
+};
+
+/// Name of a stabilization ("none", "baumgarte", "projection").
+const char* to_string(Stabilization s);
+
 /// What a run should do. Times in s.
 struct SimulationOptions {
   std::string method = "dopri5";  ///< stepper name, see stepper_names()
@@ -33,6 +43,11 @@ struct SimulationOptions {
   /// Negative: only the initial and final states.
   double output_interval = 0.0;
 
+  // Constrained models only (ignored otherwise).
+  Stabilization stabilization = Stabilization::projection;  ///< drift control
+  double baumgarte_omega = 10.0;        ///< Baumgarte rate ω (1/s), critically damped
+  double projection_tolerance = 1e-12;  ///< ‖g‖∞ after projection, relative to 1 + ‖q‖∞
+
   /// Throws OptionError naming the first invalid field and its value.
   void validate() const;
 };
@@ -43,6 +58,24 @@ struct MomentumDrift {
   double initial = 0;       ///< p at t0
   double max_abs_drift = 0;  ///< max |p(t) − p(t0)| over the samples
   double final_abs_drift = 0;  ///< |p(t_end) − p(t0)|
+};
+
+/// Constraint residuals and the cost of keeping them small.
+struct ConstraintReport {
+  std::vector<std::string> names;        ///< holonomic then Pfaffian constraints
+  std::string stabilization;             ///< none, baumgarte or projection
+  double baumgarte_omega = 0;            ///< ω used (1/s), 0 unless baumgarte
+  double max_position_residual = 0;      ///< max ‖g(q, t)‖∞ over accepted steps (holonomic)
+  double max_velocity_residual = 0;      ///< max ‖C q̇ + c‖∞ over accepted steps
+  double final_position_residual = 0;    ///< ‖g‖∞ at t_end
+  double final_velocity_residual = 0;    ///< ‖C q̇ + c‖∞ at t_end
+  std::uint64_t projections = 0;         ///< projections carried out
+  std::uint64_t projection_iterations = 0;  ///< Gauss–Newton iterations in them
+  std::uint64_t extra_rhs_evaluations = 0;  ///< right-hand sides re-evaluated after projections
+  double stabilization_time_s = 0;       ///< wall time spent projecting (s)
+  int initial_rank = 0;                  ///< rank of the constraint Jacobian at t0
+  int min_rank = 0;                      ///< smallest rank met at the samples
+  std::vector<std::string> warnings;     ///< rank drops (singular configurations) with their times
 };
 
 /// What a run did, what it cost and how accurate it was.
@@ -75,6 +108,8 @@ struct RunReport {
   double total_energy_drift_max = 0;    ///< max |E − E0| / energy_scale
   double total_energy_drift_final = 0;  ///< |E(t_end) − E0| / energy_scale
   std::vector<MomentumDrift> conserved_momenta;  ///< cyclic coordinates and their momenta
+  bool constrained = false;                      ///< the model declares constraints
+  ConstraintReport constraints;                  ///< filled when constrained
 
   /// The report as a JSON object (numbers with 17 significant digits; NaN as null).
   std::string to_json() const;

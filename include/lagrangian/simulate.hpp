@@ -28,6 +28,7 @@
 #include <boost/numeric/odeint/stepper/runge_kutta_dopri5.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
 
+#include "lagrangian/constraints.hpp"
 #include "lagrangian/detail/stiff.hpp"
 #include "lagrangian/dynamics.hpp"
 #include "lagrangian/errors.hpp"
@@ -37,8 +38,10 @@
 
 namespace lagrangian {
 
-/// Indices of cyclic coordinates: ∂L/∂q_i = 0 and Q_i = 0 at the given state
-/// and at three nearby states (a fixed, deterministic perturbation). This is
+/// Indices of coordinates whose momenta are conserved: cyclic (∂L/∂q_i = 0,
+/// Q_i = 0) and, for constrained models, untouched by every constraint (the
+/// column i of the constraint Jacobian is zero), at the given state and at
+/// three nearby states (a fixed, deterministic perturbation). This is
 /// a sampled check: a coordinate that drops out of L only on those states
 /// would be misreported, which is why the run reports the momentum drift so
 /// the claim can be seen to hold.
@@ -117,6 +120,13 @@ double energy_and_momenta(const M& model, const Vec<double, M::dof>& q, const Ve
   }
 }
 
+/// Per-run state of a constrained model's right-hand side.
+template <class M>
+struct ConstraintContext {
+  ConstraintWorkspace<M::dof, constraint_count_v<M>> cw;
+  double omega = 0;  ///< Baumgarte rate (1/s), 0 when not stabilising that way
+};
+
 /// The first-order system ẋ = f(x, t) handed to Odeint, counting evaluations.
 template <class M>
 struct FirstOrderSystem {
@@ -124,6 +134,7 @@ struct FirstOrderSystem {
   const M* model;
   Workspace<n>* ws;
   std::uint64_t* evaluations;
+  std::conditional_t<has_constraints_v<M>, ConstraintContext<M>*, None> constraints{};
 
   template <class X, class DX>
   LAGRANGIAN_INLINE void operator()(const X& x, DX& dxdt, double t) const {
@@ -156,7 +167,9 @@ struct FirstOrderSystem {
   }
   LAGRANGIAN_INLINE void evaluate_into(const Vec<double, n>& q, const Vec<double, n>& qd, double t,
                                        Vec<double, n>& qdd) const {
-    if constexpr (has_explicit_accelerations_v<M>) {
+    if constexpr (has_constraints_v<M>) {
+      constrained_accelerations(*model, *ws, constraints->cw, q, qd, t, qdd, constraints->omega);
+    } else if constexpr (has_explicit_accelerations_v<M>) {
       model->accelerations(q, qd, t, qdd);
     } else {
       accelerations(*model, *ws, q, qd, t, qdd);
@@ -164,13 +177,32 @@ struct FirstOrderSystem {
   }
 };
 
-template <class O, int N>
-concept observer_with_begin = requires(O& o, const std::vector<std::string>& names) { o.begin(names, true); };
+template <class O>
+concept observer_with_begin = requires(O& o, const Columns& c) { o.begin(c); };
 template <class O>
 concept observer_with_finish = requires(O& o) { o.finish(); };
 
+/// A non-owning, type-erased observer: the run loops are compiled once per
+/// model, not once per (model, observer) pair. One indirect call per sample.
+template <int N>
+struct ObserverRef {
+  void* object = nullptr;
+  void (*sample)(void*, const Sample<N>&) = nullptr;
+  void (*begin)(void*, const Columns&) = nullptr;
+
+  template <class O>
+  static ObserverRef of(O& o) {
+    ObserverRef r;
+    r.object = &o;
+    r.sample = [](void* p, const Sample<N>& s) { (*static_cast<O*>(p))(s); };
+    if constexpr (observer_with_begin<O>) r.begin = [](void* p, const Columns& c) { static_cast<O*>(p)->begin(c); };
+    return r;
+  }
+  void operator()(const Sample<N>& s) const { sample(object, s); }
+};
+
 /// Bookkeeping shared by all stepper loops: samples, drift monitors, limits.
-template <class M, class Observer>
+template <class M, class Observer = ObserverRef<M::dof>>
 class RunState {
  public:
   static constexpr int n = M::dof;
@@ -202,7 +234,9 @@ class RunState {
     report_.energy_initial = h0_;
     const auto names = coordinate_names(model_);
     for (int i : cyclic_) report_.conserved_momenta.push_back({names[static_cast<std::size_t>(i)], p[i], 0, 0});
-    if constexpr (observer_with_begin<Observer, n>) obs_.begin(names, has_kinetic_potential_v<M>);
+    Columns columns{names, {}, has_kinetic_potential_v<M>};
+    if constexpr (has_constraints_v<M>) start_constraints(x0, columns);
+    if (obs_.begin) obs_.begin(obs_.object, columns);
     next_output_index_ = 1;
     emit(opt_.t0, x0.q.data(), x0.qd.data());
   }
@@ -253,6 +287,54 @@ class RunState {
     if (opt_.output_interval != 0) std::copy(x, x + 2 * size_, last_x_.begin());
   }
 
+  /// Constrained models: projection (when chosen) and residual monitoring
+  /// after an accepted step ending at t with state x; true when x changed.
+  bool stabilize(double* x, double t) {
+    if constexpr (!has_constraints_v<M>) {
+      (void)x;
+      (void)t;
+      return false;
+    } else {
+      ConstraintReport& cr = report_.constraints;
+      Vec<double, n> q, qd;
+      for (int i = 0; i < n; ++i) {
+        q[i] = x[i];
+        qd[i] = x[n + i];
+      }
+      bool changed = false;
+      if (opt_.stabilization == Stabilization::projection) {
+        const auto start = std::chrono::steady_clock::now();
+        try {
+          cr.projection_iterations +=
+              static_cast<std::uint64_t>(project_positions(model_, q, t, opt_.projection_tolerance, 20));
+        } catch (const ConstraintError& e) {
+          throw SimulationError(std::string("projection failed: ") + e.what(), t);
+        }
+        project_velocities(model_, ws_, q, qd, t);
+        ++cr.projections;
+        for (int i = 0; i < n; ++i) {
+          changed = changed || x[i] != q[i] || x[n + i] != qd[i];
+          x[i] = q[i];
+          x[n + i] = qd[i];
+        }
+        cr.stabilization_time_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      }
+      const auto cs = constraint_state(model_, q, qd, t);
+      const double pos = holonomic_count_v<M> > 0
+                             ? cs.position.head(holonomic_count_v<M>).template lpNorm<Eigen::Infinity>()
+                             : 0.0;
+      const double vel = cs.velocity.template lpNorm<Eigen::Infinity>();
+      cr.max_position_residual = std::max(cr.max_position_residual, pos);
+      cr.max_velocity_residual = std::max(cr.max_velocity_residual, vel);
+      cr.final_position_residual = pos;
+      cr.final_velocity_residual = vel;
+      return changed;
+    }
+  }
+  void extra_rhs_evaluation() {
+    if constexpr (has_constraints_v<M>) ++report_.constraints.extra_rhs_evaluations;
+  }
+
   void rejected(double t, double dt) {
     ++report_.rejected_steps;
     if (++consecutive_rejections_ > 1000 || !(dt > 1e-15 * std::max(1.0, std::abs(t)))) {
@@ -294,6 +376,7 @@ class RunState {
       report_.total_energy_drift_max =
           std::max(report_.total_energy_drift_max, std::abs(s.total_energy - e0_) / report_.energy_scale);
     }
+    if constexpr (has_constraints_v<M>) sample_constraints(s);
     for (std::size_t k = 0; k < cyclic_.size(); ++k) {
       MomentumDrift& d = report_.conserved_momenta[k];
       d.final_abs_drift = std::abs(p[cyclic_[k]] - d.initial);
@@ -304,10 +387,66 @@ class RunState {
     last_emitted_ = t;
   }
 
+  void start_constraints(const State<n>& x0, Columns& columns) {
+    if constexpr (has_constraints_v<M>) {
+      ConstraintReport& cr = report_.constraints;
+      report_.constrained = true;
+      cr.names = constraint_names(model_);
+      columns.constraints = cr.names;
+      cr.stabilization = to_string(opt_.stabilization);
+      cr.baumgarte_omega = opt_.stabilization == Stabilization::baumgarte ? opt_.baumgarte_omega : 0.0;
+      const DofReport dof = dof_report(model_, x0, opt_.t0);
+      cr.initial_rank = cr.min_rank = dof.velocity_rank;
+      if (dof.holonomic_rank >= n)
+        throw ConstraintError("the holonomic constraints fix all " + std::to_string(n) +
+                              " coordinates (rank " + std::to_string(dof.holonomic_rank) + "): no motion is left");
+      for (const auto& r : dof.redundant)
+        cr.warnings.push_back("constraint " + r + " is redundant at t0 (its Jacobian row depends on earlier rows)");
+      const auto cs = constraint_state(model_, x0.q, x0.qd, opt_.t0);
+      const double qs = 1.0 + x0.q.template lpNorm<Eigen::Infinity>();
+      const double vs = 1.0 + x0.qd.template lpNorm<Eigen::Infinity>();
+      for (int i = 0; i < constraint_count_v<M>; ++i) {
+        const bool holo = i < holonomic_count_v<M>;
+        if ((holo && !(std::abs(cs.position[i]) <= 1e-9 * qs)) || !(std::abs(cs.velocity[i]) <= 1e-9 * vs)) {
+          std::ostringstream os;
+          os.precision(17);
+          os << "initial state violates constraint " << cr.names[static_cast<std::size_t>(i)] << ": "
+             << (holo ? "g = " : "") << (holo ? cs.position[i] : 0.0) << (holo ? ", " : "")
+             << "velocity residual = " << cs.velocity[i]
+             << "; use consistent_initial_state() to find the nearest consistent state";
+          throw ConstraintError(os.str());
+        }
+      }
+    }
+  }
+  void sample_constraints(Sample<n>& s) {
+    if constexpr (has_constraints_v<M>) {
+      Vec<double, n> qdd;
+      constrained_accelerations(model_, ws_, cw_, s.q, s.qd, s.t, qdd, 0.0);
+      s.multipliers = cw_.multipliers;
+      s.constraint_forces = cw_.constraint_forces;
+      const auto cs = constraint_state(model_, s.q, s.qd, s.t);
+      const int rank = detail::numeric_rank(cs.jacobian);
+      ConstraintReport& cr = report_.constraints;
+      if (rank < cr.min_rank) {
+        std::ostringstream os;
+        os.precision(10);
+        os << "rank of the constraint Jacobian dropped from " << cr.initial_rank << " to " << rank << " at t = " << s.t
+           << " (singular configuration)";
+        cr.warnings.push_back(os.str());
+        cr.min_rank = rank;
+      }
+    }
+  }
+
   const M& model_;
   const SimulationOptions& opt_;
   Observer& obs_;
   RunReport& report_;
+  Workspace<n> ws_{model_size(model_)};
+  [[no_unique_address]] std::conditional_t<has_constraints_v<M>, ConstraintContext<M>, None> cc_{};
+  [[no_unique_address]] std::conditional_t<has_constraints_v<M>, ConstraintWorkspace<n, constraint_count_v<M>>, None>
+      cw_{};
   std::vector<int> cyclic_;
   double h0_ = 0, e0_ = 0, h_last_ = 0, e_last_ = 0;
   std::uint64_t next_output_index_ = 1;
@@ -339,6 +478,7 @@ void run_controlled(Controlled& stepper, FirstOrderSystem<M> sys, X& x, const Si
     const double t_old = t;
     if (stepper.try_step(sys, x, t, dt_try) == odeint::success) {
       if (clamped) t = limit;  // land exactly on the output time or t_end
+      rs.stabilize(x.data(), t);
       rs.reset_rejections();
       rs.accepted(t_old, t, x.data(), [](double, double*) {});
       dt = clamped ? std::max(dt, dt_try) : dt_try;
@@ -357,6 +497,7 @@ void run_dopri5(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt, Run
   X dxdt = x;
   X x_old = x;
   X dxdt_old = x;
+  X dxdt_step = x;
   X buf = x;
   double t = opt.t0;
   double dt = opt.dt;
@@ -374,8 +515,17 @@ void run_dopri5(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt, Run
       if (clamped) t = opt.t_end;
       rs.reset_rejections();
       const double t_new = t;
+      const X* deriv_new = &dxdt;
+      if constexpr (has_constraints_v<M>) {
+        if (dense) dxdt_step = dxdt;  // the step's own end derivative, for its dense output
+        if (rs.stabilize(x.data(), t)) {
+          if (dense) deriv_new = &dxdt_step;
+          sys(x, dxdt, t);  // FSAL: the projected state needs its own derivative
+          rs.extra_rhs_evaluation();
+        }
+      }
       rs.accepted(t_old, t_new, x.data(), [&](double to, double* out) {
-        stepper.stepper().calc_state(to, buf, x_old, dxdt_old, t_old, x, dxdt, t_new);
+        stepper.stepper().calc_state(to, buf, x_old, dxdt_old, t_old, x, *deriv_new, t_new);
         std::copy(buf.begin(), buf.end(), out);
       });
       dt = clamped ? std::max(dt, dt_try) : dt_try;
@@ -401,6 +551,7 @@ void run_rk4(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt, RunSta
     const double t_old = t;
     stepper.do_step(sys, x, t, t_next - t);
     t = t_next;
+    rs.stabilize(x.data(), t);
     rs.accepted(t_old, t, x.data(), [](double, double*) {});
   }
 }
@@ -454,6 +605,7 @@ void run_rosenbrock4(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt
     const double t_old = t;
     if (stepper.try_step(stiff, x.data(), t, dt_try)) {
       if (clamped) t = limit;
+      rs.stabilize(x.data(), t);
       rs.reset_rejections();
       rs.accepted(t_old, t, x.data(), [](double, double*) {});
       dt = clamped ? std::max(dt, dt_try) : dt_try;
@@ -466,17 +618,32 @@ void run_rosenbrock4(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt
 
 }  // namespace detail
 
-/// Integrates a model from `initial` over [options.t0, options.t_end] and
-/// returns what the run cost and how accurate it was. Samples go to
-/// `observer` (see observers.hpp); its finish() is called only on success.
-///
-/// Throws OptionError for invalid options or a non-finite initial state,
-/// DynamicsError when M is singular at t0, and SimulationError (with the
-/// time) when the run fails part-way: a non-finite state, step-size
-/// underflow, max_steps, or a singular mass matrix met during the run.
-template <class M, class Observer = NullObserver>
-RunReport simulate(const M& model, const State<M::dof>& initial, const SimulationOptions& options,
-                   Observer&& observer = {}) {
+namespace detail {
+
+/// True when every constraint is scleronomic and workless: C q̇ + c has
+/// c = 0 (no ∂g/∂t, no a(q, t)) at the sampled states and times.
+template <class M>
+bool constraints_workless(const M& model, const State<M::dof>& s, double t) {
+  if constexpr (!has_constraints_v<M>) {
+    (void)model;
+    (void)s;
+    (void)t;
+    return true;
+  } else {
+    const auto probes = probe_states(s);
+    for (std::size_t k = 0; k < probes.size(); ++k) {
+      const double tk = t + 0.37 * static_cast<double>(k) * (1.0 + std::abs(t));
+      const auto cs = constraint_state(model, probes[k].q, Vec<double, M::dof>::Zero().eval(), tk);
+      if (!cs.velocity.isZero(0.0)) return false;
+    }
+    return true;
+  }
+}
+
+/// The body of simulate(), compiled once per model (the observer is erased).
+template <class M>
+RunReport simulate_impl(const M& model, const State<M::dof>& initial, const SimulationOptions& options,
+                        ObserverRef<M::dof> observer) {
   check_model<M>();
   constexpr int n = M::dof;
   namespace odeint = boost::numeric::odeint;
@@ -507,17 +674,23 @@ RunReport simulate(const M& model, const State<M::dof>& initial, const Simulatio
   report.dt = options.dt;
   report.t0 = options.t0;
   report.t_end = options.t_end;
-  report.conservative =
-      !has_generalized_forces_v<M> && !has_dissipation_v<M> && is_autonomous(model, initial, options.t0);
+  report.conservative = !has_generalized_forces_v<M> && !has_dissipation_v<M> &&
+                        is_autonomous(model, initial, options.t0) &&
+                        constraints_workless(model, initial, options.t0);
 
   Workspace<n> ws(size);
-  accelerations(model, ws, initial.q, initial.qd, options.t0);  // a singular M at t0 is an input error
+  if constexpr (!has_constraints_v<M>)
+    accelerations(model, ws, initial.q, initial.qd, options.t0);  // a singular M at t0 is an input error
 
-  using Obs = std::remove_reference_t<Observer>;
-  detail::RunState<M, Obs> rs(model, options, observer, report);
-  detail::FirstOrderSystem<M> sys{&model, &ws, &report.rhs_evaluations};
-  using X = detail::StateBuffer<n>;
-  X x = detail::make_buffer<n>(size);
+  RunState<M> rs(model, options, observer, report);
+  FirstOrderSystem<M> sys{&model, &ws, &report.rhs_evaluations};
+  [[maybe_unused]] std::conditional_t<has_constraints_v<M>, ConstraintContext<M>, None> constraint_context{};
+  if constexpr (has_constraints_v<M>) {
+    constraint_context.omega = options.stabilization == Stabilization::baumgarte ? options.baumgarte_omega : 0.0;
+    sys.constraints = &constraint_context;
+  }
+  using X = StateBuffer<n>;
+  X x = make_buffer<n>(size);
   for (int i = 0; i < size; ++i) {
     x[i] = initial.q[i];
     x[size + i] = initial.qd[i];
@@ -526,22 +699,22 @@ RunReport simulate(const M& model, const State<M::dof>& initial, const Simulatio
   try {
     const std::string& m = options.method;
     if (m == "dopri5") {
-      detail::run_dopri5(sys, x, options, rs);
+      run_dopri5(sys, x, options, rs);
     } else if (m == "rk4") {
-      detail::run_rk4(sys, x, options, rs);
+      run_rk4(sys, x, options, rs);
     } else if (m == "cash_karp54") {
       using Controlled = odeint::controlled_runge_kutta<odeint::runge_kutta_cash_karp54<X>>;
       Controlled stepper{typename Controlled::error_checker_type(options.atol, options.rtol)};
-      detail::run_controlled(stepper, sys, x, options, rs);
+      run_controlled(stepper, sys, x, options, rs);
     } else if (m == "fehlberg78") {
       using Controlled = odeint::controlled_runge_kutta<odeint::runge_kutta_fehlberg78<X>>;
       Controlled stepper{typename Controlled::error_checker_type(options.atol, options.rtol)};
-      detail::run_controlled(stepper, sys, x, options, rs);
+      run_controlled(stepper, sys, x, options, rs);
     } else if (m == "bulirsch_stoer") {
       odeint::bulirsch_stoer<X> stepper(options.atol, options.rtol);
-      detail::run_controlled(stepper, sys, x, options, rs);
+      run_controlled(stepper, sys, x, options, rs);
     } else if (m == "rosenbrock4") {
-      detail::run_rosenbrock4(sys, x, options, rs);
+      run_rosenbrock4(sys, x, options, rs);
     } else {
       throw OptionError("unreachable: unknown method '" + m + "'");
     }
@@ -549,8 +722,32 @@ RunReport simulate(const M& model, const State<M::dof>& initial, const Simulatio
     throw SimulationError(std::string("run stopped: ") + e.what(), std::numeric_limits<double>::quiet_NaN());
   }
   rs.finish();
-  if constexpr (detail::observer_with_finish<Obs>) observer.finish();
   report.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  return report;
+}
+
+}  // namespace detail
+
+/// Integrates a model from `initial` over [options.t0, options.t_end] and
+/// returns what the run cost and how accurate it was. Samples go to
+/// `observer` (see observers.hpp); its finish() is called only on success.
+///
+/// Throws OptionError for invalid options or a non-finite initial state,
+/// DynamicsError when M is singular at t0, ConstraintError for an unusable
+/// constraint set or an inconsistent initial state, and SimulationError (with
+/// the time) when the run fails part-way: a non-finite state, step-size
+/// underflow, max_steps, or a singular mass matrix met during the run.
+template <class M, class Observer = NullObserver>
+RunReport simulate(const M& model, const State<M::dof>& initial, const SimulationOptions& options,
+                   Observer&& observer = {}) {
+  check_model<M>();
+  using Obs = std::remove_reference_t<Observer>;
+  RunReport report = detail::simulate_impl(model, initial, options, detail::ObserverRef<M::dof>::of(observer));
+  if constexpr (detail::observer_with_finish<Obs>) {
+    const auto start = std::chrono::steady_clock::now();
+    observer.finish();
+    report.wall_time_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
   return report;
 }
 
@@ -566,6 +763,12 @@ std::vector<int> cyclic_coordinates(const M& model, const State<M::dof>& s, doub
     detail::force_pass(model, ws, p.q, p.qd, t);
     for (int i = 0; i < size; ++i)
       cyclic[static_cast<std::size_t>(i)] = cyclic[static_cast<std::size_t>(i)] && ws.dL_dq[i] == 0.0 && ws.forces[i] == 0.0;
+    if constexpr (has_constraints_v<M>) {
+      // A constraint force along q_i changes p_i: conserved only if no constraint involves q_i.
+      const auto cs = constraint_state(model, p.q, p.qd, t);
+      for (int i = 0; i < size; ++i)
+        cyclic[static_cast<std::size_t>(i)] = cyclic[static_cast<std::size_t>(i)] && cs.jacobian.col(i).isZero(0.0);
+    }
   }
   std::vector<int> out;
   for (int i = 0; i < size; ++i)

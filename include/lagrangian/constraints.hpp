@@ -1,0 +1,366 @@
+#pragma once
+/// \file constraints.hpp
+/// Constrained systems: holonomic constraints g(q, t) = 0 and Pfaffian
+/// (nonholonomic) constraints A(q, t) q̇ + a(q, t) = 0, declared in the model
+/// like T and V:
+///
+///   template <class S> Vec<S, m> holonomic(const Vec<S, n>& q, const S& t) const;
+///   template <class S> Vec<S, k> pfaffian(const Vec<S, n>& q, const Vec<S, n>& qd, const S& t) const;
+///
+/// (the Pfaffian expression is written as the whole of A q̇ + a and must be
+/// affine in q̇), optionally with `holonomic_names()` / `pfaffian_names()`.
+///
+/// All constraints are used at the velocity level, C(q, t) q̇ + c(q, t) = 0, with
+/// the rows of C the holonomic Jacobian G = ∂g/∂q and the Pfaffian A = ∂φ/∂q̇.
+/// Differentiating once more, C q̈ + γ = 0, where γ is the second derivative of
+/// g along the path (δq, δt) = (q̇, 1), and for Pfaffian rows the derivative of
+/// φ along (q̇, 1) at fixed q̇. With Lagrange multipliers λ the equations of
+/// motion are the saddle-point system
+///   M q̈ = f + Cᵀ λ,    C q̈ = −γ − b,
+/// where f is the unconstrained right-hand side, Cᵀλ the generalized
+/// constraint force (λ is the force along +∇g of each constraint, in N for a
+/// length constraint) and b the Baumgarte term. It is solved by the Schur
+/// complement S = C M⁻¹ Cᵀ, factorised with a complete orthogonal
+/// decomposition so that redundant constraints (S singular) still give the
+/// minimum-norm multipliers and the right q̈.
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <Eigen/QR>
+#include <Eigen/SVD>
+
+#include "lagrangian/ad.hpp"
+#include "lagrangian/dynamics.hpp"
+#include "lagrangian/errors.hpp"
+#include "lagrangian/model.hpp"
+#include "lagrangian/report.hpp"
+
+namespace lagrangian {
+
+/// A constraint cannot be satisfied, or the constraint set is unusable.
+class ConstraintError : public Error {
+ public:
+  using Error::Error;
+};
+
+namespace detail {
+template <class M>
+concept has_holonomic_c = requires(const M& m, const Vec<double, M::dof>& q, double t) {
+  { m.holonomic(q, t) };
+};
+template <class M>
+concept has_pfaffian_c = requires(const M& m, const Vec<double, M::dof>& q, double t) {
+  { m.pfaffian(q, q, t) };
+};
+template <class M>
+constexpr int holonomic_rows() {
+  if constexpr (has_holonomic_c<M>) {
+    using R = std::decay_t<decltype(std::declval<const M&>().holonomic(std::declval<const Vec<double, M::dof>&>(), 0.0))>;
+    return R::RowsAtCompileTime;
+  } else {
+    return 0;
+  }
+}
+template <class M>
+constexpr int pfaffian_rows() {
+  if constexpr (has_pfaffian_c<M>) {
+    using R = std::decay_t<decltype(std::declval<const M&>().pfaffian(std::declval<const Vec<double, M::dof>&>(),
+                                                                      std::declval<const Vec<double, M::dof>&>(), 0.0))>;
+    return R::RowsAtCompileTime;
+  } else {
+    return 0;
+  }
+}
+}  // namespace detail
+
+/// Number of holonomic constraints a model declares (0 when none).
+template <class M>
+inline constexpr int holonomic_count_v = detail::holonomic_rows<M>();
+/// Number of Pfaffian constraints a model declares (0 when none).
+template <class M>
+inline constexpr int pfaffian_count_v = detail::pfaffian_rows<M>();
+/// Total number of constraint rows.
+template <class M>
+inline constexpr int constraint_count_v = holonomic_count_v<M> + pfaffian_count_v<M>;
+/// True when the model declares any constraint.
+template <class M>
+inline constexpr bool has_constraints_v = constraint_count_v<M> > 0;
+
+/// Relative tolerance of the rank decisions: a singular value σ_i counts when
+/// σ_i > rank_tolerance · σ_max (and σ_max > 0).
+inline constexpr double rank_tolerance = 1e-10;
+
+/// Names of the constraints: the model's own, or g0, g1, … and a0, a1, ….
+template <class M>
+std::vector<std::string> constraint_names(const M& model) {
+  std::vector<std::string> names;
+  if constexpr (holonomic_count_v<M> > 0) {
+    if constexpr (requires { model.holonomic_names(); }) {
+      for (const auto& s : model.holonomic_names()) names.emplace_back(s);
+      if (names.size() != static_cast<std::size_t>(holonomic_count_v<M>))
+        throw ConstraintError("holonomic_names() gives " + std::to_string(names.size()) + " names for " +
+                              std::to_string(holonomic_count_v<M>) + " holonomic constraints");
+    } else {
+      for (int i = 0; i < holonomic_count_v<M>; ++i) names.push_back("g" + std::to_string(i));
+    }
+  }
+  if constexpr (pfaffian_count_v<M> > 0) {
+    if constexpr (requires { model.pfaffian_names(); }) {
+      const std::size_t before = names.size();
+      for (const auto& s : model.pfaffian_names()) names.emplace_back(s);
+      if (names.size() - before != static_cast<std::size_t>(pfaffian_count_v<M>))
+        throw ConstraintError("pfaffian_names() gives " + std::to_string(names.size() - before) + " names for " +
+                              std::to_string(pfaffian_count_v<M>) + " Pfaffian constraints");
+    } else {
+      for (int i = 0; i < pfaffian_count_v<M>; ++i) names.push_back("a" + std::to_string(i));
+    }
+  }
+  return names;
+}
+
+/// The velocity-level constraint data at a state, for m = mh + mp rows.
+template <int N, int C>
+struct ConstraintState {
+  Eigen::Matrix<double, C, N> jacobian;  ///< C: rows ∂g/∂q (holonomic) then A = ∂φ/∂q̇ (Pfaffian)
+  Vec<double, C> position;               ///< g(q, t) for holonomic rows, 0 for Pfaffian rows
+  Vec<double, C> velocity;               ///< ġ = G q̇ + ∂g/∂t, and φ = A q̇ + a
+  Vec<double, C> gamma;                  ///< γ: C q̈ + γ = 0
+};
+
+/// Evaluates g, G, ġ, γ (holonomic) and φ, A, β (Pfaffian) by AD.
+template <class M>
+ConstraintState<M::dof, constraint_count_v<M>> constraint_state(const M& model, const Vec<double, M::dof>& q,
+                                                               const Vec<double, M::dof>& qd, double t) {
+  constexpr int n = M::dof;
+  constexpr int mh = holonomic_count_v<M>;
+  constexpr int mp = pfaffian_count_v<M>;
+  ConstraintState<n, mh + mp> cs;
+  cs.jacobian.setZero();
+  cs.position.setZero();
+  if constexpr (mh > 0) {
+    // Gradient rows: a first-order Jet in the n position directions.
+    using J1 = ad::Jet<double, n, 1>;
+    Vec<J1, n> qj;
+    for (int k = 0; k < n; ++k) qj[k] = J1::variable(q[k], k);
+    const Vec<J1, mh> g1 = model.holonomic(qj, J1(t));
+    // Path derivatives: a second-order Jet in the single direction (q̇, 1).
+    using J2 = ad::Jet<double, 1, 2>;
+    Vec<J2, n> qp;
+    for (int k = 0; k < n; ++k) {
+      qp[k] = J2(q[k]);
+      qp[k].g[0] = qd[k];
+    }
+    J2 tp(t);
+    tp.g[0] = 1.0;
+    const Vec<J2, mh> g2 = model.holonomic(qp, tp);
+    for (int i = 0; i < mh; ++i) {
+      cs.position[i] = g1[i].v;
+      for (int k = 0; k < n; ++k) cs.jacobian(i, k) = g1[i].g[k];
+      cs.velocity[i] = g2[i].g[0];
+      cs.gamma[i] = g2[i].hess(0, 0);
+    }
+  }
+  if constexpr (mp > 0) {
+    using J = ad::EomJet<n>;
+    Vec<J, n> qj, qdj;
+    for (int k = 0; k < n; ++k) {
+      qj[k] = J::position(q[k], qd[k], k);
+      qdj[k] = J::velocity(qd[k], k);
+    }
+    const Vec<J, mp> phi = model.pfaffian(qj, qdj, J::time(t));
+    for (int i = 0; i < mp; ++i) {
+      if (phi[i].level == 2) {
+        throw ConstraintError("Pfaffian constraint " + constraint_names(model)[static_cast<std::size_t>(mh + i)] +
+                              " is not affine in the velocities (A(q, t) qd + a(q, t) is required)");
+      }
+      cs.velocity[mh + i] = phi[i].v;
+      for (int k = 0; k < n; ++k) cs.jacobian(mh + i, k) = phi[i].level >= 1 ? phi[i].gv[k] : 0.0;
+      cs.gamma[mh + i] = phi[i].d;  // ∂φ/∂q q̇ + ∂φ/∂t at fixed q̇
+    }
+  }
+  return cs;
+}
+
+/// Scratch space of a constrained evaluation.
+template <int N, int C>
+struct ConstraintWorkspace {
+  Eigen::Matrix<double, N, C> minv_ct;  ///< M⁻¹ Cᵀ
+  Mat<double, C> schur;                 ///< S = C M⁻¹ Cᵀ
+  Eigen::CompleteOrthogonalDecomposition<Mat<double, C>> cod;
+  Vec<double, C> multipliers;           ///< λ
+  Vec<double, N> constraint_forces;     ///< Cᵀ λ
+  Eigen::LLT<Mat<double, N>> mass_llt;
+};
+
+/// q̈ and λ of a constrained model (see the file comment for the system).
+/// `omega` > 0 adds the Baumgarte term with that rate (1/s).
+template <class M>
+void constrained_accelerations(const M& model, Workspace<M::dof>& ws,
+                               ConstraintWorkspace<M::dof, constraint_count_v<M>>& cw, const Vec<double, M::dof>& q,
+                               const Vec<double, M::dof>& qd, double t, Vec<double, M::dof>& out,
+                               double omega = 0.0) {
+  constexpr int mh = holonomic_count_v<M>;
+  evaluate(model, ws, q, qd, t);
+  cw.mass_llt.compute(ws.mass);
+  if (cw.mass_llt.info() != Eigen::Success || !(ws.mass.diagonal().minCoeff() > 0)) {
+    throw DynamicsError("mass matrix M = d2L/dqd2 is singular or not positive definite at " +
+                        detail::describe_state(q, qd, t));
+  }
+  const auto cs = constraint_state(model, q, qd, t);
+  Vec<double, constraint_count_v<M>> target = -cs.gamma;
+  if (omega > 0) {
+    for (int i = 0; i < constraint_count_v<M>; ++i) {
+      if (i < mh) {
+        target[i] -= 2.0 * omega * cs.velocity[i] + omega * omega * cs.position[i];
+      } else {
+        target[i] -= omega * cs.velocity[i];
+      }
+    }
+  }
+  cw.minv_ct = cw.mass_llt.solve(cs.jacobian.transpose());
+  cw.schur = cs.jacobian * cw.minv_ct;
+  cw.cod.compute(cw.schur);
+  const Vec<double, M::dof> free = cw.mass_llt.solve(ws.rhs);
+  cw.multipliers = cw.cod.solve(target - cs.jacobian * free);
+  cw.constraint_forces = cs.jacobian.transpose() * cw.multipliers;
+  out = free + cw.minv_ct * cw.multipliers;
+}
+
+/// What the constraint Jacobians say about the degrees of freedom at a state.
+struct DofReport {
+  int coordinates = 0;            ///< n
+  int holonomic = 0;              ///< m holonomic constraints declared
+  int pfaffian = 0;               ///< k Pfaffian constraints declared
+  int holonomic_rank = 0;         ///< rank of G = ∂g/∂q (SVD, rank_tolerance)
+  int velocity_rank = 0;          ///< rank of [G; A]
+  int dof = 0;                    ///< configuration degrees of freedom n − rank G
+  int velocity_dof = 0;           ///< velocity degrees of freedom n − rank [G; A]
+  std::vector<std::string> redundant;  ///< constraints whose rows depend on earlier ones
+  std::vector<double> singular_values;  ///< of [G; A], descending
+  /// A few lines for a terminal.
+  std::string summary() const {
+    std::ostringstream os;
+    os << "coordinates " << coordinates << ", holonomic constraints " << holonomic << " (rank " << holonomic_rank
+       << "), Pfaffian constraints " << pfaffian << "\n";
+    os << "degrees of freedom " << dof << " (velocity " << velocity_dof << ")\n";
+    if (!redundant.empty()) {
+      os << "redundant:";
+      for (const auto& r : redundant) os << " " << r;
+      os << "\n";
+    }
+    return os.str();
+  }
+};
+
+namespace detail {
+template <class Mtx>
+int numeric_rank(const Mtx& a, std::vector<double>* values = nullptr) {
+  if (a.rows() == 0) return 0;
+  const Eigen::MatrixXd dense = a;
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(dense);
+  const auto& s = svd.singularValues();
+  if (values) values->assign(s.data(), s.data() + s.size());
+  if (s.size() == 0 || !(s[0] > 0)) return 0;
+  int r = 0;
+  for (int i = 0; i < s.size(); ++i)
+    if (s[i] > rank_tolerance * s[0]) ++r;
+  return r;
+}
+}  // namespace detail
+
+/// Degrees of freedom at a state: DOF = n − rank(∂g/∂q), velocity DOF =
+/// n − rank([G; A]); constraints whose rows add no rank to the rows before
+/// them are reported as redundant, by name.
+template <class M>
+DofReport dof_report(const M& model, const State<M::dof>& s, double t = 0.0) {
+  check_model<M>();
+  DofReport r;
+  r.coordinates = model_size(model);
+  r.holonomic = holonomic_count_v<M>;
+  r.pfaffian = pfaffian_count_v<M>;
+  if constexpr (has_constraints_v<M>) {
+    const auto cs = constraint_state(model, s.q, s.qd, t);
+    const auto names = constraint_names(model);
+    r.holonomic_rank = detail::numeric_rank(cs.jacobian.topRows(holonomic_count_v<M>));
+    r.velocity_rank = detail::numeric_rank(cs.jacobian, &r.singular_values);
+    int rank = 0;
+    for (int i = 0; i < constraint_count_v<M>; ++i) {
+      const int next = detail::numeric_rank(cs.jacobian.topRows(i + 1));
+      if (next == rank) r.redundant.push_back(names[static_cast<std::size_t>(i)]);
+      rank = next;
+    }
+  }
+  r.dof = r.coordinates - r.holonomic_rank;
+  r.velocity_dof = r.coordinates - r.velocity_rank;
+  return r;
+}
+
+/// Moves q onto g(q, t) = 0 by Gauss–Newton steps q ← q − G⁺ g (G⁺ the
+/// minimum-norm pseudo-inverse, by complete orthogonal decomposition) until
+/// ‖g‖∞ ≤ tolerance. Returns the number of iterations; throws
+/// ConstraintError when `max_iterations` do not reach the tolerance.
+template <class M>
+int project_positions(const M& model, Vec<double, M::dof>& q, double t, double tolerance = 1e-12,
+                      int max_iterations = 20) {
+  constexpr int mh = holonomic_count_v<M>;
+  if constexpr (mh == 0) {
+    return 0;
+  } else {
+    const Vec<double, M::dof> zero = Vec<double, M::dof>::Zero();
+    for (int it = 0; it < max_iterations; ++it) {
+      const auto cs = constraint_state(model, q, zero, t);
+      const Vec<double, mh> g = cs.position.head(mh);
+      const double scale = 1.0 + q.template lpNorm<Eigen::Infinity>();
+      if (g.template lpNorm<Eigen::Infinity>() <= tolerance * scale) return it;
+      const Eigen::Matrix<double, mh, M::dof> G = cs.jacobian.topRows(mh);
+      Eigen::CompleteOrthogonalDecomposition<Eigen::Matrix<double, mh, M::dof>> cod(G);
+      const Vec<double, M::dof> dq = cod.solve(g);
+      q -= dq;
+      if (!q.allFinite()) break;
+    }
+    const auto cs = constraint_state(model, q, zero, t);
+    std::ostringstream os;
+    os.precision(17);
+    os << "cannot satisfy the holonomic constraints: after " << max_iterations
+       << " Gauss-Newton steps the residuals are";
+    const auto names = constraint_names(model);
+    for (int i = 0; i < mh; ++i) os << " " << names[static_cast<std::size_t>(i)] << " = " << cs.position[i];
+    os << " at t = " << t;
+    throw ConstraintError(os.str());
+  }
+}
+
+/// Projects q̇ onto C q̇ + c = 0 in the M-norm (the nearest consistent
+/// velocities in kinetic energy): q̇ ← q̇ − M⁻¹Cᵀ S⁺ (C q̇ + c).
+template <class M>
+void project_velocities(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q, Vec<double, M::dof>& qd,
+                        double t) {
+  if constexpr (has_constraints_v<M>) {
+    evaluate(model, ws, q, qd, t);
+    const auto cs = constraint_state(model, q, qd, t);
+    Eigen::LLT<Mat<double, M::dof>> llt(ws.mass);
+    const Eigen::Matrix<double, M::dof, constraint_count_v<M>> minv_ct = llt.solve(cs.jacobian.transpose());
+    const Mat<double, constraint_count_v<M>> schur = cs.jacobian * minv_ct;
+    Eigen::CompleteOrthogonalDecomposition<Mat<double, constraint_count_v<M>>> cod(schur);
+    qd -= minv_ct * cod.solve(cs.velocity);
+  }
+}
+
+/// The nearest consistent initial state: q minimises ‖q − q_guess‖² subject
+/// to g(q, t) = 0 (NLopt SLSQP with AD gradients, then Gauss–Newton to
+/// `tolerance`), q̇ is the M-weighted projection of q̇_guess. Throws
+/// ConstraintError naming the residuals when no consistent state is found.
+template <class M>
+State<M::dof> consistent_initial_state(const M& model, const State<M::dof>& guess, double t = 0.0,
+                                       double tolerance = 1e-12);
+
+}  // namespace lagrangian
+
+#include "lagrangian/detail/consistent.hpp"

@@ -1,0 +1,220 @@
+#pragma once
+/// \file constrained.hpp
+/// Constrained systems written in redundant coordinates with holonomic or
+/// Pfaffian constraints (see constraints.hpp). SI units; gravity along −y
+/// (planar models) or −z (spatial models). With g = 0 for a constraint of the
+/// form |r| − l, the multiplier λ is the force along +∇g = r̂: a rod in tension
+/// T has λ = −T.
+
+#include <array>
+#include <cmath>
+#include <string>
+#include <string_view>
+
+#include "lagrangian/model.hpp"
+#include "lagrangian/params.hpp"
+
+namespace lagrangian::models {
+
+/// Bead of mass m on a straight wire through the origin at angle α to the
+/// horizontal, in a vertical plane; coordinates (x, y).
+///   T = ½ m (ẋ² + ẏ²),  V = m g y,  g_wire = x sin α − y cos α = 0.
+/// Along the wire s̈ = −g sin α.
+struct BeadOnWire {
+  static constexpr int dof = 2;
+  double m, alpha, g;
+  explicit BeadOnWire(double mass = 1.0, double angle = 0.5, double gravity = 9.81)
+      : m(require_positive("BeadOnWire", "m", mass)),
+        alpha(require_finite("BeadOnWire", "alpha", angle)),
+        g(require_nonnegative("BeadOnWire", "g", gravity)) {}
+  std::string name() const { return "bead_on_wire"; }
+  std::array<std::string_view, 2> coordinate_names() const { return {"x", "y"}; }
+  std::array<std::string_view, 1> holonomic_names() const { return {"wire"}; }
+  template <class S>
+  S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
+    return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1]);
+  }
+  template <class S>
+  S potential(const Vec<S, 2>& q, const S&) const {
+    return m * g * q[1];
+  }
+  template <class S>
+  Vec<S, 1> holonomic(const Vec<S, 2>& q, const S&) const {
+    return Vec<S, 1>(q[0] * std::sin(alpha) - q[1] * std::cos(alpha));
+  }
+};
+
+/// Bead on a straight horizontal wire that spins at a constant rate ω about a
+/// vertical axis through the origin (a rheonomic constraint); coordinates
+/// (x, y) in the horizontal plane, no gravity in that plane.
+///   g = x sin ωt − y cos ωt = 0.  Radially r̈ = ω² r, so
+///   r(t) = r0 cosh ωt + (ṙ0/ω) sinh ωt.
+struct BeadOnRotatingWire {
+  static constexpr int dof = 2;
+  double m, omega;
+  explicit BeadOnRotatingWire(double mass = 1.0, double spin_rate = 2.0)
+      : m(require_positive("BeadOnRotatingWire", "m", mass)),
+        omega(require_finite("BeadOnRotatingWire", "omega", spin_rate)) {}
+  std::string name() const { return "bead_on_rotating_wire"; }
+  std::array<std::string_view, 2> coordinate_names() const { return {"x", "y"}; }
+  std::array<std::string_view, 1> holonomic_names() const { return {"wire"}; }
+  template <class S>
+  S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
+    return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1]);
+  }
+  template <class S>
+  S potential(const Vec<S, 2>&, const S&) const {
+    return S(0);
+  }
+  template <class S>
+  Vec<S, 1> holonomic(const Vec<S, 2>& q, const S& t) const {
+    using std::cos;
+    using std::sin;
+    return Vec<S, 1>(q[0] * sin(omega * t) - q[1] * cos(omega * t));
+  }
+};
+
+/// Plane pendulum as a particle (x, y) held at distance l from the pivot.
+///   T = ½ m (ẋ² + ẏ²),  V = m g y,  g_rod = √(x² + y²) − l = 0.
+struct CartesianPendulum {
+  static constexpr int dof = 2;
+  double m, l, g;
+  explicit CartesianPendulum(double mass = 1.0, double length = 1.0, double gravity = 9.81)
+      : m(require_positive("CartesianPendulum", "m", mass)),
+        l(require_positive("CartesianPendulum", "l", length)),
+        g(require_nonnegative("CartesianPendulum", "g", gravity)) {}
+  std::string name() const { return "cartesian_pendulum"; }
+  std::array<std::string_view, 2> coordinate_names() const { return {"x", "y"}; }
+  std::array<std::string_view, 1> holonomic_names() const { return {"rod"}; }
+  template <class S>
+  S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
+    return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1]);
+  }
+  template <class S>
+  S potential(const Vec<S, 2>& q, const S&) const {
+    return m * g * q[1];
+  }
+  template <class S>
+  Vec<S, 1> holonomic(const Vec<S, 2>& q, const S&) const {
+    using std::sqrt;
+    return Vec<S, 1>(sqrt(q[0] * q[0] + q[1] * q[1]) - l);
+  }
+};
+
+/// Particle (x, y, z) on a sphere of radius R about the origin, gravity −z:
+/// the spherical pendulum in Cartesian coordinates.
+struct ParticleOnSphere {
+  static constexpr int dof = 3;
+  double m, R, g;
+  explicit ParticleOnSphere(double mass = 1.0, double radius = 1.0, double gravity = 9.81)
+      : m(require_positive("ParticleOnSphere", "m", mass)),
+        R(require_positive("ParticleOnSphere", "R", radius)),
+        g(require_nonnegative("ParticleOnSphere", "g", gravity)) {}
+  std::string name() const { return "particle_on_sphere"; }
+  std::array<std::string_view, 3> coordinate_names() const { return {"x", "y", "z"}; }
+  std::array<std::string_view, 1> holonomic_names() const { return {"sphere"}; }
+  template <class S>
+  S kinetic(const Vec<S, 3>&, const Vec<S, 3>& qd, const S&) const {
+    return 0.5 * m * qd.squaredNorm();
+  }
+  template <class S>
+  S potential(const Vec<S, 3>& q, const S&) const {
+    return m * g * q[2];
+  }
+  template <class S>
+  Vec<S, 1> holonomic(const Vec<S, 3>& q, const S&) const {
+    using std::sqrt;
+    return Vec<S, 1>(sqrt(q.squaredNorm()) - R);
+  }
+};
+
+/// Atwood machine: masses m1, m2 at heights y1, y2 on an inextensible string
+/// over a massless pulley; g_string = y1 + y2 − c = 0.
+/// Closed form: ÿ1 = −(m1 − m2) g / (m1 + m2), tension 2 m1 m2 g / (m1 + m2).
+struct AtwoodMachine {
+  static constexpr int dof = 2;
+  double m1, m2, g, c;
+  explicit AtwoodMachine(double mass1 = 3.0, double mass2 = 1.0, double gravity = 9.81, double length = 0.0)
+      : m1(require_positive("AtwoodMachine", "m1", mass1)),
+        m2(require_positive("AtwoodMachine", "m2", mass2)),
+        g(require_nonnegative("AtwoodMachine", "g", gravity)),
+        c(require_finite("AtwoodMachine", "c", length)) {}
+  std::string name() const { return "atwood_machine"; }
+  std::array<std::string_view, 2> coordinate_names() const { return {"y1", "y2"}; }
+  std::array<std::string_view, 1> holonomic_names() const { return {"string"}; }
+  template <class S>
+  S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
+    return 0.5 * m1 * qd[0] * qd[0] + 0.5 * m2 * qd[1] * qd[1];
+  }
+  template <class S>
+  S potential(const Vec<S, 2>& q, const S&) const {
+    return m1 * g * q[0] + m2 * g * q[1];
+  }
+  template <class S>
+  Vec<S, 1> holonomic(const Vec<S, 2>& q, const S&) const {
+    return Vec<S, 1>(q[0] + q[1] - c);
+  }
+};
+
+/// Double pendulum in Cartesian coordinates (x1, y1, x2, y2) with two rod
+/// constraints |r1| = l1 and |r2 − r1| = l2.
+struct CartesianDoublePendulum {
+  static constexpr int dof = 4;
+  double m1, m2, l1, l2, g;
+  explicit CartesianDoublePendulum(double mass1 = 1.0, double mass2 = 1.0, double length1 = 1.0,
+                                   double length2 = 1.0, double gravity = 9.81)
+      : m1(require_positive("CartesianDoublePendulum", "m1", mass1)),
+        m2(require_positive("CartesianDoublePendulum", "m2", mass2)),
+        l1(require_positive("CartesianDoublePendulum", "l1", length1)),
+        l2(require_positive("CartesianDoublePendulum", "l2", length2)),
+        g(require_nonnegative("CartesianDoublePendulum", "g", gravity)) {}
+  std::string name() const { return "cartesian_double_pendulum"; }
+  std::array<std::string_view, 4> coordinate_names() const { return {"x1", "y1", "x2", "y2"}; }
+  std::array<std::string_view, 2> holonomic_names() const { return {"rod1", "rod2"}; }
+  template <class S>
+  S kinetic(const Vec<S, 4>&, const Vec<S, 4>& qd, const S&) const {
+    return 0.5 * m1 * (qd[0] * qd[0] + qd[1] * qd[1]) + 0.5 * m2 * (qd[2] * qd[2] + qd[3] * qd[3]);
+  }
+  template <class S>
+  S potential(const Vec<S, 4>& q, const S&) const {
+    return m1 * g * q[1] + m2 * g * q[3];
+  }
+  template <class S>
+  Vec<S, 2> holonomic(const Vec<S, 4>& q, const S&) const {
+    using std::sqrt;
+    const S dx = q[2] - q[0], dy = q[3] - q[1];
+    return Vec<S, 2>(sqrt(q[0] * q[0] + q[1] * q[1]) - l1, sqrt(dx * dx + dy * dy) - l2);
+  }
+};
+
+/// Knife edge (or skate) on a horizontal plane: contact point (x, y), heading
+/// φ; it cannot slide sideways, a nonholonomic (Pfaffian) constraint
+///   ẋ sin φ − ẏ cos φ = 0.
+///   T = ½ m (ẋ² + ẏ²) + ½ I φ̇².
+/// Configuration DOF 3, velocity DOF 2. Free motion: φ̇ and the speed are
+/// constant and the contact point runs on a circle of radius v/φ̇.
+struct KnifeEdge {
+  static constexpr int dof = 3;
+  double m, I;
+  explicit KnifeEdge(double mass = 1.0, double inertia = 0.1)
+      : m(require_positive("KnifeEdge", "m", mass)), I(require_positive("KnifeEdge", "I", inertia)) {}
+  std::string name() const { return "knife_edge"; }
+  std::array<std::string_view, 3> coordinate_names() const { return {"x", "y", "phi"}; }
+  std::array<std::string_view, 1> pfaffian_names() const { return {"no_sideslip"}; }
+  template <class S>
+  S kinetic(const Vec<S, 3>&, const Vec<S, 3>& qd, const S&) const {
+    return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1]) + 0.5 * I * qd[2] * qd[2];
+  }
+  template <class S>
+  S potential(const Vec<S, 3>&, const S&) const {
+    return S(0);
+  }
+  template <class S>
+  Vec<S, 1> pfaffian(const Vec<S, 3>& q, const Vec<S, 3>& qd, const S&) const {
+    using std::cos;
+    using std::sin;
+    return Vec<S, 1>(qd[0] * sin(q[2]) - qd[1] * cos(q[2]));
+  }
+};
+
+}  // namespace lagrangian::models
