@@ -364,7 +364,8 @@ TEST(Simulate, ModelSuppliedAccelerationsAgreeWithAD) {
   o.atol = 1e-14;
   o.output_interval = -1;
   lagrangian::Recorder<2> hand, ad;
-  lagrangian::simulate(HandSpherical{}, x0, o, hand);
+  const HandSpherical hand_model;
+  lagrangian::simulate(hand_model, x0, o, hand);
   lagrangian::simulate(lagrangian::models::SphericalPendulum{}, x0, o, ad);
   EXPECT_LE((hand.samples.back().q - ad.samples.back().q).norm(), 1e-9);
 }

@@ -309,12 +309,13 @@ class EomJet {
   std::array<double, N> c;         // valid when level >= 1
   std::array<double, hessian_size> H;  // valid when level == 2
 
-  constexpr EomJet() { gq.fill(0.0); }
-  /// A constant. Implicit, so `S x = 0` and `x * 2` work.
+  constexpr EomJet() { zero_all(); }
+  /// A constant. Implicit, so `S x = 0` and `x * 2` work. (All parts are
+  /// zeroed here, once; results of operations write only their valid parts.)
   template <class A>
     requires std::is_arithmetic_v<A>
   constexpr EomJet(A value) : v(static_cast<double>(value)) {
-    gq.fill(0.0);
+    zero_all();
   }
 
  private:
@@ -513,6 +514,12 @@ class EomJet {
   }
 
  private:
+  constexpr void zero_all() {
+    gq.fill(0.0);
+    gv.fill(0.0);
+    c.fill(0.0);
+    H.fill(0.0);
+  }
   /// H (+)= f u uᵀ restricted to the upper triangle (assign when `fresh`).
   static constexpr void add_outer(std::array<double, hessian_size>& H, const std::array<double, N>& u,
                                   const std::array<double, N>& w, double f, bool fresh) {
