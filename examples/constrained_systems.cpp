@@ -81,6 +81,28 @@ int main() try {
     check(r.conserved_momenta.size() == 1 && r.conserved_momenta[0].coordinate == "phi",
           "p_phi conserved; p_x, p_y are not (the constraint acts on x, y)");
   }
+  {  // A particle released near the top of a smooth sphere slides and leaves
+     // it where the normal force vanishes: cos θ* = (2/3) cos θ0.
+    const double theta0 = 0.05, R = 1.0;
+    const ParticleOffSphere sphere(1.0, R, 9.81);
+    State<2> s;
+    s.q << R * std::sin(theta0), R * std::cos(theta0);
+    SimulationOptions o;
+    o.t_end = 2.0;
+    o.rtol = 1e-12;
+    o.atol = 1e-14;
+    o.output_interval = 0;
+    Recorder<2> rec;
+    std::cout << "== particle sliding off a sphere (unilateral)\n";
+    const RunReport r = simulate(sphere, s, o, rec);
+    std::cout << r.summary();
+    double cos_release = 0;
+    for (const auto& x : rec.samples)
+      if (!r.constraints.event_times.empty() && x.t == r.constraints.event_times[0]) cos_release = x.q[1] / R;
+    std::cout << "  leaves at cos θ = " << cos_release << ", (2/3) cos θ0 = " << 2.0 / 3.0 * std::cos(theta0) << "\n";
+    check(r.constraints.events.size() == 1 && std::abs(cos_release - 2.0 / 3.0 * std::cos(theta0)) < 1e-9,
+          "leaves the sphere at cos θ = (2/3) cos θ0");
+  }
   std::cout << (failures ? "some checks failed\n" : "all checks passed\n");
   return failures ? 1 : 0;
 } catch (const std::exception& e) {

@@ -168,6 +168,15 @@ std::string RunReport::to_json() const {
       if (i) os << ", ";
       json_string(os, c.warnings[i]);
     }
+    os << "], \"events\": [";
+    for (std::size_t i = 0; i < c.events.size(); ++i) {
+      if (i) os << ", ";
+      os << "{\"event\": ";
+      json_string(os, c.events[i]);
+      os << ", \"t\": ";
+      json_number(os, c.event_times[i]);
+      os << "}";
+    }
     os << "]}";
   }
   os << "\n}\n";
@@ -221,6 +230,7 @@ std::string RunReport::summary() const {
                   static_cast<unsigned long long>(c.extra_rhs_evaluations), c.stabilization_time_s * 1e3);
     os << buf;
     for (const auto& w : c.warnings) os << "warning: " << w << "\n";
+    for (const auto& e : c.events) os << "event: " << e << "\n";
   }
   for (const auto& m : conserved_momenta) {
     std::snprintf(buf, sizeof buf, "momentum of cyclic %s: %.12g, drift max %.2e\n", m.coordinate.c_str(), m.initial,

@@ -203,4 +203,66 @@ TEST(Constraints, KnifeEdgeRunsOnACircleAndKeepsItsSpin) {
   EXPECT_LE(r.conserved_momenta[0].max_abs_drift, 1e-10);
 }
 
+// A free particle with two rheonomic constraints that its natural motion
+// x = v t, y = 0 satisfies: g1 = y, g2 = y + (t − 1)(x − v t). Their gradients
+// (0, 1) and (t − 1, 1) are parallel at t = 1: the Jacobian loses rank there.
+struct DegeneratingPair {
+  static constexpr int dof = 2;
+  double v = 0.5;
+  template <class S>
+  S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
+    return 0.5 * qd.squaredNorm();
+  }
+  template <class S>
+  S potential(const Vec<S, 2>& q, const S&) const {
+    return 0 * q[0];
+  }
+  template <class S>
+  Vec<S, 2> holonomic(const Vec<S, 2>& q, const S& t) const {
+    return Vec<S, 2>(q[1], q[1] + (t - 1.0) * (q[0] - v * t));
+  }
+};
+
+TEST(Constraints, RankDropAlongTheTrajectoryIsWarnedAndTheRunStaysFinite) {
+  State<2> s;
+  s.qd << 0.5, 0.0;
+  SimulationOptions o;
+  o.t_end = 2.0;
+  o.output_interval = 0.25;  // a sample lands on t = 1
+  Recorder<2> rec;
+  const RunReport r = simulate(DegeneratingPair{}, s, o, rec);
+  EXPECT_EQ(r.constraints.initial_rank, 2);
+  EXPECT_EQ(r.constraints.min_rank, 1);
+  ASSERT_EQ(r.constraints.warnings.size(), 1u);
+  EXPECT_EQ(r.constraints.warnings[0], "rank of the constraint Jacobian dropped from 2 to 1 at t = 1 (singular configuration)");
+  for (const auto& x : rec.samples) {
+    EXPECT_TRUE(x.multipliers.allFinite());
+    EXPECT_NEAR(x.q[0], 0.5 * x.t, 1e-9);
+  }
+}
+
+TEST(Constraints, CartesianDoublePendulumMatchesAngles) {
+  const DoublePendulum angles(1.0, 1.0, 1.0, 1.0, 9.81);
+  const CartesianDoublePendulum cart(1.0, 1.0, 1.0, 1.0, 9.81);
+  const double a = 1.0, b = 0.4;
+  State<2> s;
+  s.q << a, b;
+  State<4> c;
+  c.q << std::sin(a), -std::cos(a), std::sin(a) + std::sin(b), -std::cos(a) - std::cos(b);
+  SimulationOptions o;
+  o.t_end = 5.0;
+  o.rtol = 1e-11;
+  o.atol = 1e-13;
+  o.output_interval = 0.5;
+  Recorder<2> ra;
+  Recorder<4> rc;
+  simulate(angles, s, o, ra);
+  simulate(cart, c, o, rc);
+  for (std::size_t k = 0; k < ra.samples.size(); ++k) {
+    const auto& q = rc.samples[k].q;
+    EXPECT_NEAR(std::atan2(q[0], -q[1]), ra.samples[k].q[0], 1e-8);
+    EXPECT_NEAR(std::atan2(q[2] - q[0], -(q[3] - q[1])), ra.samples[k].q[1], 1e-8);
+  }
+}
+
 }  // namespace

@@ -8,7 +8,13 @@
 ///   template <class S> Vec<S, k> pfaffian(const Vec<S, n>& q, const Vec<S, n>& qd, const S& t) const;
 ///
 /// (the Pfaffian expression is written as the whole of A q̇ + a and must be
-/// affine in q̇), optionally with `holonomic_names()` / `pfaffian_names()`.
+/// affine in q̇), optionally with `holonomic_names()` / `pfaffian_names()`;
+/// and unilateral constraints g(q, t) ≥ 0,
+///
+///   template <class S> Vec<S, u> unilateral(const Vec<S, n>& q, const S& t) const;
+///
+/// which act like holonomic ones while active (contact) and are released when
+/// their multiplier would pull (see simulate.hpp).
 ///
 /// All constraints are used at the velocity level, C(q, t) q̇ + c(q, t) = 0, with
 /// the rows of C the holonomic Jacobian G = ∂g/∂q and the Pfaffian A = ∂φ/∂q̇.
@@ -25,6 +31,7 @@
 /// minimum-norm multipliers and the right q̈.
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -60,6 +67,19 @@ concept has_pfaffian_c = requires(const M& m, const Vec<double, M::dof>& q, doub
   { m.pfaffian(q, q, t) };
 };
 template <class M>
+concept has_unilateral_c = requires(const M& m, const Vec<double, M::dof>& q, double t) {
+  { m.unilateral(q, t) };
+};
+template <class M>
+constexpr int unilateral_rows() {
+  if constexpr (has_unilateral_c<M>) {
+    using R = std::decay_t<decltype(std::declval<const M&>().unilateral(std::declval<const Vec<double, M::dof>&>(), 0.0))>;
+    return R::RowsAtCompileTime;
+  } else {
+    return 0;
+  }
+}
+template <class M>
 constexpr int holonomic_rows() {
   if constexpr (has_holonomic_c<M>) {
     using R = std::decay_t<decltype(std::declval<const M&>().holonomic(std::declval<const Vec<double, M::dof>&>(), 0.0))>;
@@ -86,9 +106,19 @@ inline constexpr int holonomic_count_v = detail::holonomic_rows<M>();
 /// Number of Pfaffian constraints a model declares (0 when none).
 template <class M>
 inline constexpr int pfaffian_count_v = detail::pfaffian_rows<M>();
-/// Total number of constraint rows.
+/// Number of unilateral constraints g(q, t) ≥ 0 a model declares.
 template <class M>
-inline constexpr int constraint_count_v = holonomic_count_v<M> + pfaffian_count_v<M>;
+inline constexpr int unilateral_count_v = detail::unilateral_rows<M>();
+/// Rows at the position level: holonomic, then unilateral.
+template <class M>
+inline constexpr int position_rows_v = holonomic_count_v<M> + unilateral_count_v<M>;
+/// Total number of constraint rows: holonomic, unilateral, Pfaffian (in that order).
+template <class M>
+inline constexpr int constraint_count_v = holonomic_count_v<M> + unilateral_count_v<M> + pfaffian_count_v<M>;
+/// Set of active unilateral constraints: bit j for unilateral constraint j.
+using ActiveSet = std::uint64_t;
+/// Every unilateral constraint active.
+inline constexpr ActiveSet all_active = ~ActiveSet{0};
 /// True when the model declares any constraint.
 template <class M>
 inline constexpr bool has_constraints_v = constraint_count_v<M> > 0;
@@ -109,6 +139,17 @@ std::vector<std::string> constraint_names(const M& model) {
                               std::to_string(holonomic_count_v<M>) + " holonomic constraints");
     } else {
       for (int i = 0; i < holonomic_count_v<M>; ++i) names.push_back("g" + std::to_string(i));
+    }
+  }
+  if constexpr (unilateral_count_v<M> > 0) {
+    if constexpr (requires { model.unilateral_names(); }) {
+      const std::size_t before = names.size();
+      for (const auto& s : model.unilateral_names()) names.emplace_back(s);
+      if (names.size() - before != static_cast<std::size_t>(unilateral_count_v<M>))
+        throw ConstraintError("unilateral_names() gives " + std::to_string(names.size() - before) + " names for " +
+                              std::to_string(unilateral_count_v<M>) + " unilateral constraints");
+    } else {
+      for (int i = 0; i < unilateral_count_v<M>; ++i) names.push_back("u" + std::to_string(i));
     }
   }
   if constexpr (pfaffian_count_v<M> > 0) {
@@ -140,16 +181,18 @@ ConstraintState<M::dof, constraint_count_v<M>> constraint_state(const M& model, 
                                                                const Vec<double, M::dof>& qd, double t) {
   constexpr int n = M::dof;
   constexpr int mh = holonomic_count_v<M>;
+  constexpr int mu = unilateral_count_v<M>;
   constexpr int mp = pfaffian_count_v<M>;
-  ConstraintState<n, mh + mp> cs;
+  constexpr int mpos = mh + mu;
+  ConstraintState<n, constraint_count_v<M>> cs;
   cs.jacobian.setZero();
   cs.position.setZero();
-  if constexpr (mh > 0) {
-    // Gradient rows: a first-order Jet in the n position directions.
+  // Position-level rows (holonomic, then unilateral) from the same two passes.
+  auto position_rows = [&](int offset, auto&& fn) {
     using J1 = ad::Jet<double, n, 1>;
     Vec<J1, n> qj;
     for (int k = 0; k < n; ++k) qj[k] = J1::variable(q[k], k);
-    const Vec<J1, mh> g1 = model.holonomic(qj, J1(t));
+    const auto g1 = fn(qj, J1(t));
     // Path derivatives: a second-order Jet in the single direction (q̇, 1).
     using J2 = ad::Jet<double, 1, 2>;
     Vec<J2, n> qp;
@@ -159,14 +202,21 @@ ConstraintState<M::dof, constraint_count_v<M>> constraint_state(const M& model, 
     }
     J2 tp(t);
     tp.g[0] = 1.0;
-    const Vec<J2, mh> g2 = model.holonomic(qp, tp);
-    for (int i = 0; i < mh; ++i) {
-      cs.position[i] = g1[i].v;
-      for (int k = 0; k < n; ++k) cs.jacobian(i, k) = g1[i].g[k];
-      cs.velocity[i] = g2[i].g[0];
-      cs.gamma[i] = g2[i].hess(0, 0);
+    const auto g2 = fn(qp, tp);
+    for (int i = 0; i < g1.size(); ++i) {
+      cs.position[offset + i] = g1[i].v;
+      for (int k = 0; k < n; ++k) cs.jacobian(offset + i, k) = g1[i].g[k];
+      cs.velocity[offset + i] = g2[i].g[0];
+      cs.gamma[offset + i] = g2[i].hess(0, 0);
     }
+  };
+  if constexpr (mh > 0) {
+    position_rows(0, [&](const auto& qq, const auto& tt) { return model.holonomic(qq, tt); });
   }
+  if constexpr (mu > 0) {
+    position_rows(mh, [&](const auto& qq, const auto& tt) { return model.unilateral(qq, tt); });
+  }
+  (void)mpos;
   if constexpr (mp > 0) {
     using J = ad::EomJet<n>;
     Vec<J, n> qj, qdj;
@@ -177,15 +227,28 @@ ConstraintState<M::dof, constraint_count_v<M>> constraint_state(const M& model, 
     const Vec<J, mp> phi = model.pfaffian(qj, qdj, J::time(t));
     for (int i = 0; i < mp; ++i) {
       if (phi[i].level == 2) {
-        throw ConstraintError("Pfaffian constraint " + constraint_names(model)[static_cast<std::size_t>(mh + i)] +
+        throw ConstraintError("Pfaffian constraint " + constraint_names(model)[static_cast<std::size_t>(mpos + i)] +
                               " is not affine in the velocities (A(q, t) qd + a(q, t) is required)");
       }
-      cs.velocity[mh + i] = phi[i].v;
-      for (int k = 0; k < n; ++k) cs.jacobian(mh + i, k) = phi[i].level >= 1 ? phi[i].gv[k] : 0.0;
-      cs.gamma[mh + i] = phi[i].d;  // ∂φ/∂q q̇ + ∂φ/∂t at fixed q̇
+      cs.velocity[mpos + i] = phi[i].v;
+      for (int k = 0; k < n; ++k) cs.jacobian(mpos + i, k) = phi[i].level >= 1 ? phi[i].gv[k] : 0.0;
+      cs.gamma[mpos + i] = phi[i].d;  // ∂φ/∂q q̇ + ∂φ/∂t at fixed q̇
     }
   }
   return cs;
+}
+
+/// Zeroes the rows of inactive unilateral constraints, which then carry no
+/// force (their multipliers come out zero).
+template <class M, class CS>
+void drop_inactive(CS& cs, ActiveSet active) {
+  for (int j = 0; j < unilateral_count_v<M>; ++j) {
+    if (!((active >> j) & 1u)) {
+      const int r = holonomic_count_v<M> + j;
+      cs.jacobian.row(r).setZero();
+      cs.position[r] = cs.velocity[r] = cs.gamma[r] = 0.0;
+    }
+  }
 }
 
 /// Scratch space of a constrained evaluation.
@@ -200,20 +263,22 @@ struct ConstraintWorkspace {
 };
 
 /// q̈ and λ of a constrained model (see the file comment for the system).
-/// `omega` > 0 adds the Baumgarte term with that rate (1/s).
+/// `omega` > 0 adds the Baumgarte term with that rate (1/s); unilateral
+/// constraints not in `active` are left out.
 template <class M>
 void constrained_accelerations(const M& model, Workspace<M::dof>& ws,
                                ConstraintWorkspace<M::dof, constraint_count_v<M>>& cw, const Vec<double, M::dof>& q,
                                const Vec<double, M::dof>& qd, double t, Vec<double, M::dof>& out,
-                               double omega = 0.0) {
-  constexpr int mh = holonomic_count_v<M>;
+                               double omega = 0.0, ActiveSet active = all_active) {
+  constexpr int mh = position_rows_v<M>;
   evaluate(model, ws, q, qd, t);
   cw.mass_llt.compute(ws.mass);
   if (cw.mass_llt.info() != Eigen::Success || !(ws.mass.diagonal().minCoeff() > 0)) {
     throw DynamicsError("mass matrix M = d2L/dqd2 is singular or not positive definite at " +
                         detail::describe_state(q, qd, t));
   }
-  const auto cs = constraint_state(model, q, qd, t);
+  auto cs = constraint_state(model, q, qd, t);
+  drop_inactive<M>(cs, active);
   Vec<double, constraint_count_v<M>> target = -cs.gamma;
   if (omega > 0) {
     for (int i = 0; i < constraint_count_v<M>; ++i) {
@@ -238,6 +303,7 @@ struct DofReport {
   int coordinates = 0;            ///< n
   int holonomic = 0;              ///< m holonomic constraints declared
   int pfaffian = 0;               ///< k Pfaffian constraints declared
+  int unilateral = 0;             ///< unilateral constraints declared (not counted in the ranks)
   int holonomic_rank = 0;         ///< rank of G = ∂g/∂q (SVD, rank_tolerance)
   int velocity_rank = 0;          ///< rank of [G; A]
   int dof = 0;                    ///< configuration degrees of freedom n − rank G
@@ -285,13 +351,17 @@ DofReport dof_report(const M& model, const State<M::dof>& s, double t = 0.0) {
   r.coordinates = model_size(model);
   r.holonomic = holonomic_count_v<M>;
   r.pfaffian = pfaffian_count_v<M>;
+  r.unilateral = unilateral_count_v<M>;
   if constexpr (has_constraints_v<M>) {
-    const auto cs = constraint_state(model, s.q, s.qd, t);
+    auto cs = constraint_state(model, s.q, s.qd, t);
+    drop_inactive<M>(cs, ActiveSet{0});  // bilateral rows only
     const auto names = constraint_names(model);
     r.holonomic_rank = detail::numeric_rank(cs.jacobian.topRows(holonomic_count_v<M>));
     r.velocity_rank = detail::numeric_rank(cs.jacobian, &r.singular_values);
     int rank = 0;
     for (int i = 0; i < constraint_count_v<M>; ++i) {
+      const bool unilateral = i >= holonomic_count_v<M> && i < position_rows_v<M>;
+      if (unilateral) continue;
       const int next = detail::numeric_rank(cs.jacobian.topRows(i + 1));
       if (next == rank) r.redundant.push_back(names[static_cast<std::size_t>(i)]);
       rank = next;
@@ -308,14 +378,15 @@ DofReport dof_report(const M& model, const State<M::dof>& s, double t = 0.0) {
 /// ConstraintError when `max_iterations` do not reach the tolerance.
 template <class M>
 int project_positions(const M& model, Vec<double, M::dof>& q, double t, double tolerance = 1e-12,
-                      int max_iterations = 20) {
-  constexpr int mh = holonomic_count_v<M>;
+                      int max_iterations = 20, ActiveSet active = all_active) {
+  constexpr int mh = position_rows_v<M>;
   if constexpr (mh == 0) {
     return 0;
   } else {
     const Vec<double, M::dof> zero = Vec<double, M::dof>::Zero();
     for (int it = 0; it < max_iterations; ++it) {
-      const auto cs = constraint_state(model, q, zero, t);
+      auto cs = constraint_state(model, q, zero, t);
+      drop_inactive<M>(cs, active);
       const Vec<double, mh> g = cs.position.head(mh);
       const double scale = 1.0 + q.template lpNorm<Eigen::Infinity>();
       if (g.template lpNorm<Eigen::Infinity>() <= tolerance * scale) return it;
@@ -341,10 +412,11 @@ int project_positions(const M& model, Vec<double, M::dof>& q, double t, double t
 /// velocities in kinetic energy): q̇ ← q̇ − M⁻¹Cᵀ S⁺ (C q̇ + c).
 template <class M>
 void project_velocities(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q, Vec<double, M::dof>& qd,
-                        double t) {
+                        double t, ActiveSet active = all_active) {
   if constexpr (has_constraints_v<M>) {
     evaluate(model, ws, q, qd, t);
-    const auto cs = constraint_state(model, q, qd, t);
+    auto cs = constraint_state(model, q, qd, t);
+    drop_inactive<M>(cs, active);
     Eigen::LLT<Mat<double, M::dof>> llt(ws.mass);
     const Eigen::Matrix<double, M::dof, constraint_count_v<M>> minv_ct = llt.solve(cs.jacobian.transpose());
     const Mat<double, constraint_count_v<M>> schur = cs.jacobian * minv_ct;

@@ -76,6 +76,9 @@ struct ConstraintReport {
   int initial_rank = 0;                  ///< rank of the constraint Jacobian at t0
   int min_rank = 0;                      ///< smallest rank met at the samples
   std::vector<std::string> warnings;     ///< rank drops (singular configurations) with their times
+  /// Unilateral constraints: "released <name> at t = <t>" for every lift-off, in order.
+  std::vector<std::string> events;
+  std::vector<double> event_times;       ///< the times of `events` (s)
 };
 
 /// What a run did, what it cost and how accurate it was.

@@ -20,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include <boost/math/tools/toms748_solve.hpp>
 #include <boost/numeric/odeint/stepper/bulirsch_stoer.hpp>
 #include <boost/numeric/odeint/stepper/controlled_runge_kutta.hpp>
 #include <boost/numeric/odeint/stepper/generation.hpp>
@@ -52,6 +53,10 @@ std::vector<int> cyclic_coordinates(const M& model, const State<M::dof>& s, doub
 /// later times (sampled check, same caveat as cyclic_coordinates()).
 template <class M>
 bool is_autonomous(const M& model, const State<M::dof>& s, double t = 0.0);
+
+/// Time tolerance of located events (lift-off of unilateral constraints):
+/// the bracket is narrowed to 1e-12 · max(1 s, |t|).
+inline constexpr double release_time_tolerance = 1e-12;
 
 namespace detail {
 
@@ -120,11 +125,32 @@ double energy_and_momenta(const M& model, const Vec<double, M::dof>& q, const Ve
   }
 }
 
+/// True when every constraint is scleronomic and workless: C q̇ + c has
+/// c = 0 (no ∂g/∂t, no a(q, t)) at the sampled states and times.
+template <class M>
+bool constraints_workless(const M& model, const State<M::dof>& s, double t) {
+  if constexpr (!has_constraints_v<M>) {
+    (void)model;
+    (void)s;
+    (void)t;
+    return true;
+  } else {
+    const auto probes = probe_states(s);
+    for (std::size_t k = 0; k < probes.size(); ++k) {
+      const double tk = t + 0.37 * static_cast<double>(k) * (1.0 + std::abs(t));
+      const auto cs = constraint_state(model, probes[k].q, Vec<double, M::dof>::Zero().eval(), tk);
+      if (!cs.velocity.isZero(0.0)) return false;
+    }
+    return true;
+  }
+}
+
 /// Per-run state of a constrained model's right-hand side.
 template <class M>
 struct ConstraintContext {
   ConstraintWorkspace<M::dof, constraint_count_v<M>> cw;
-  double omega = 0;  ///< Baumgarte rate (1/s), 0 when not stabilising that way
+  double omega = 0;               ///< Baumgarte rate (1/s), 0 when not stabilising that way
+  ActiveSet active = all_active;  ///< unilateral constraints in contact
 };
 
 /// The first-order system ẋ = f(x, t) handed to Odeint, counting evaluations.
@@ -168,12 +194,33 @@ struct FirstOrderSystem {
   LAGRANGIAN_INLINE void evaluate_into(const Vec<double, n>& q, const Vec<double, n>& qd, double t,
                                        Vec<double, n>& qdd) const {
     if constexpr (has_constraints_v<M>) {
-      constrained_accelerations(*model, *ws, constraints->cw, q, qd, t, qdd, constraints->omega);
+      constrained_accelerations(*model, *ws, constraints->cw, q, qd, t, qdd, constraints->omega, constraints->active);
     } else if constexpr (has_explicit_accelerations_v<M>) {
       model->accelerations(q, qd, t, qdd);
     } else {
       accelerations(*model, *ws, q, qd, t, qdd);
     }
+  }
+};
+
+/// The state inside an accepted step for steppers without dense output: one
+/// Runge–Kutta–Fehlberg 7(8) step from the step's start (t0, x0) to t, an
+/// 8th-order continuous extension (13 right-hand sides per evaluation, used
+/// only while locating an event).
+template <class M, class X>
+struct SubStep {
+  const FirstOrderSystem<M>& sys;
+  X x0;
+  double t0;
+  void operator()(double t, double* out) const {
+    if (t == t0) {
+      std::copy(x0.begin(), x0.end(), out);
+      return;
+    }
+    boost::numeric::odeint::runge_kutta_fehlberg78<X> stepper;
+    X x = x0;
+    stepper.do_step(sys, x0, t0, x, t - t0);
+    std::copy(x.begin(), x.end(), out);
   }
 };
 
@@ -305,12 +352,12 @@ class RunState {
       if (opt_.stabilization == Stabilization::projection) {
         const auto start = std::chrono::steady_clock::now();
         try {
-          cr.projection_iterations +=
-              static_cast<std::uint64_t>(project_positions(model_, q, t, opt_.projection_tolerance, 20));
+          cr.projection_iterations += static_cast<std::uint64_t>(
+              project_positions(model_, q, t, opt_.projection_tolerance, 20, active()));
         } catch (const ConstraintError& e) {
           throw SimulationError(std::string("projection failed: ") + e.what(), t);
         }
-        project_velocities(model_, ws_, q, qd, t);
+        project_velocities(model_, ws_, q, qd, t, active());
         ++cr.projections;
         for (int i = 0; i < n; ++i) {
           changed = changed || x[i] != q[i] || x[n + i] != qd[i];
@@ -319,9 +366,21 @@ class RunState {
         }
         cr.stabilization_time_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       }
-      const auto cs = constraint_state(model_, q, qd, t);
-      const double pos = holonomic_count_v<M> > 0
-                             ? cs.position.head(holonomic_count_v<M>).template lpNorm<Eigen::Infinity>()
+      auto cs = constraint_state(model_, q, qd, t);
+      for (int j = 0; j < unilateral_count_v<M>; ++j) {
+        const int row = holonomic_count_v<M> + j;
+        if (!((active() >> j) & 1u) && cs.position[row] < -1e-9 * (1.0 + q.template lpNorm<Eigen::Infinity>())) {
+          std::ostringstream os;
+          os.precision(17);
+          os << "unilateral constraint " << cr.names[static_cast<std::size_t>(row)] << " is violated at t = " << t
+             << " (g = " << cs.position[row]
+             << "): the body came back into contact; impacts are not handled by this version";
+          throw SimulationError(os.str(), t);
+        }
+      }
+      drop_inactive<M>(cs, active());
+      const double pos = position_rows_v<M> > 0
+                             ? cs.position.head(position_rows_v<M>).template lpNorm<Eigen::Infinity>()
                              : 0.0;
       const double vel = cs.velocity.template lpNorm<Eigen::Infinity>();
       cr.max_position_residual = std::max(cr.max_position_residual, pos);
@@ -333,6 +392,79 @@ class RunState {
   }
   void extra_rhs_evaluation() {
     if constexpr (has_constraints_v<M>) ++report_.constraints.extra_rhs_evaluations;
+  }
+  void attach(ConstraintContext<M>* ctx) { ctx_ = ctx; }
+  ActiveSet active() const { return ctx_ ? ctx_->active : all_active; }
+
+  /// Unilateral constraints: when an active one's multiplier is negative at
+  /// the end of the step (it would pull), finds the time t* in the step where
+  /// it crosses zero (Boost.Math TOMS 748 on the step's continuous extension:
+  /// dopri5's dense output, or a Fehlberg 7(8) sub-step from the step's
+  /// start; bracket narrowed to release_time_tolerance), moves the step end to
+  /// t*, releases the constraint and returns true. The caller restarts its
+  /// stepper from there.
+  template <class Interp>
+  bool release(double t_old, double& t, double* x, Interp&& interp) {
+    if constexpr (unilateral_count_v<M> == 0) {
+      (void)t_old;
+      (void)t;
+      (void)x;
+      (void)interp;
+      return false;
+    } else {
+      const ActiveSet act = ctx_->active;
+      if ((act & ((ActiveSet{1} << unilateral_count_v<M>) - 1)) == 0) return false;
+      auto multipliers_at = [&](const double* xs, double ts) {
+        Vec<double, n> q, qd, qdd;
+        for (int i = 0; i < n; ++i) {
+          q[i] = xs[i];
+          qd[i] = xs[n + i];
+        }
+        constrained_accelerations(model_, ws_, cw_, q, qd, ts, qdd, 0.0, act);
+        return cw_.multipliers;
+      };
+      const auto lam_end = multipliers_at(x, t);
+      int which = -1;
+      double t_star = t;
+      std::vector<double> buf(static_cast<std::size_t>(2 * n));
+      for (int j = 0; j < unilateral_count_v<M>; ++j) {
+        const int row = holonomic_count_v<M> + j;
+        if (!((act >> j) & 1u) || !(lam_end[row] < 0)) continue;
+        auto f = [&](double ts) {
+          if (ts == t) return lam_end[row];
+          interp(ts, buf.data());
+          return multipliers_at(buf.data(), ts)[row];
+        };
+        const double fa = f(t_old);
+        double tj = t_old;
+        if (fa > 0) {
+          std::uintmax_t iterations = 100;
+          const auto r = boost::math::tools::toms748_solve(
+              f, t_old, t, fa, lam_end[row],
+              [](double a, double b) { return std::abs(b - a) <= release_time_tolerance * std::max(1.0, std::abs(a)); },
+              iterations);
+          tj = r.second;  // the end where λ < 0 side begins: the constraint still pushes up to r.first
+        }
+        if (tj < t_star) {
+          t_star = tj;
+          which = j;
+        }
+      }
+      if (which < 0) return false;
+      if (t_star < t) {
+        interp(t_star, buf.data());
+        std::copy(buf.begin(), buf.end(), x);
+        t = t_star;
+      }
+      ctx_->active &= ~(ActiveSet{1} << which);
+      const std::string name = report_.constraints.names[static_cast<std::size_t>(holonomic_count_v<M> + which)];
+      std::ostringstream os;
+      os.precision(15);
+      os << "released " << name << " at t = " << t;
+      report_.constraints.events.push_back(os.str());
+      report_.constraints.event_times.push_back(t);
+      return true;
+    }
   }
 
   void rejected(double t, double dt) {
@@ -397,16 +529,35 @@ class RunState {
       cr.baumgarte_omega = opt_.stabilization == Stabilization::baumgarte ? opt_.baumgarte_omega : 0.0;
       const DofReport dof = dof_report(model_, x0, opt_.t0);
       cr.initial_rank = cr.min_rank = dof.velocity_rank;
-      if (dof.holonomic_rank >= n)
+      if constexpr (M::dof == Dynamic) static_assert(M::dof != Dynamic, "constraints need a compile-time dof");
+      // Full rank leaves no motion unless the constraints themselves move (a
+      // prescribed, rheonomic motion with 0 degrees of freedom).
+      if (dof.holonomic_rank >= n && constraints_workless(model_, x0, opt_.t0))
         throw ConstraintError("the holonomic constraints fix all " + std::to_string(n) +
                               " coordinates (rank " + std::to_string(dof.holonomic_rank) + "): no motion is left");
       for (const auto& r : dof.redundant)
         cr.warnings.push_back("constraint " + r + " is redundant at t0 (its Jacobian row depends on earlier rows)");
-      const auto cs = constraint_state(model_, x0.q, x0.qd, opt_.t0);
+      auto cs = constraint_state(model_, x0.q, x0.qd, opt_.t0);
       const double qs = 1.0 + x0.q.template lpNorm<Eigen::Infinity>();
       const double vs = 1.0 + x0.qd.template lpNorm<Eigen::Infinity>();
+      ActiveSet active = 0;
+      for (int j = 0; j < unilateral_count_v<M>; ++j) {
+        const int row = holonomic_count_v<M> + j;
+        const double g = cs.position[row], gd = cs.velocity[row];
+        if (g < -1e-9 * qs || (std::abs(g) <= 1e-9 * qs && gd < -1e-9 * vs)) {
+          std::ostringstream os;
+          os.precision(17);
+          os << "unilateral constraint " << cr.names[static_cast<std::size_t>(row)]
+             << (g < -1e-9 * qs ? " is violated at t0: g = " : " is approached at t0 (an impact): dg/dt = ")
+             << (g < -1e-9 * qs ? g : gd) << "; start on or outside the admissible side at rest relative to it";
+          throw ConstraintError(os.str());
+        }
+        if (std::abs(g) <= 1e-9 * qs) active |= ActiveSet{1} << j;  // in contact
+      }
+      if (ctx_) ctx_->active = active;
+      drop_inactive<M>(cs, active);
       for (int i = 0; i < constraint_count_v<M>; ++i) {
-        const bool holo = i < holonomic_count_v<M>;
+        const bool holo = i < position_rows_v<M>;
         if ((holo && !(std::abs(cs.position[i]) <= 1e-9 * qs)) || !(std::abs(cs.velocity[i]) <= 1e-9 * vs)) {
           std::ostringstream os;
           os.precision(17);
@@ -422,10 +573,11 @@ class RunState {
   void sample_constraints(Sample<n>& s) {
     if constexpr (has_constraints_v<M>) {
       Vec<double, n> qdd;
-      constrained_accelerations(model_, ws_, cw_, s.q, s.qd, s.t, qdd, 0.0);
+      constrained_accelerations(model_, ws_, cw_, s.q, s.qd, s.t, qdd, 0.0, active());
       s.multipliers = cw_.multipliers;
       s.constraint_forces = cw_.constraint_forces;
-      const auto cs = constraint_state(model_, s.q, s.qd, s.t);
+      auto cs = constraint_state(model_, s.q, s.qd, s.t);
+      drop_inactive<M>(cs, ActiveSet{0});  // rank of the bilateral constraints
       const int rank = detail::numeric_rank(cs.jacobian);
       ConstraintReport& cr = report_.constraints;
       if (rank < cr.min_rank) {
@@ -444,7 +596,7 @@ class RunState {
   Observer& obs_;
   RunReport& report_;
   Workspace<n> ws_{model_size(model_)};
-  [[no_unique_address]] std::conditional_t<has_constraints_v<M>, ConstraintContext<M>, None> cc_{};
+  ConstraintContext<M>* ctx_ = nullptr;
   [[no_unique_address]] std::conditional_t<has_constraints_v<M>, ConstraintWorkspace<n, constraint_count_v<M>>, None>
       cw_{};
   std::vector<int> cyclic_;
@@ -471,13 +623,18 @@ void run_controlled(Controlled& stepper, FirstOrderSystem<M> sys, X& x, const Si
   namespace odeint = boost::numeric::odeint;
   double t = opt.t0;
   double dt = opt.dt;
+  [[maybe_unused]] X x_prev = x;
   while (!reached(t, opt.t_end)) {
     const double limit = std::min(opt.t_end, rs.next_output_time());
     const bool clamped = t + dt > limit;
     double dt_try = clamped ? limit - t : dt;
     const double t_old = t;
+    if constexpr (unilateral_count_v<M> > 0) x_prev = x;
     if (stepper.try_step(sys, x, t, dt_try) == odeint::success) {
       if (clamped) t = limit;  // land exactly on the output time or t_end
+      if constexpr (unilateral_count_v<M> > 0) {
+        rs.release(t_old, t, x.data(), SubStep<M, X>{sys, x_prev, t_old});  // no state carried between steps
+      }
       rs.stabilize(x.data(), t);
       rs.reset_rejections();
       rs.accepted(t_old, t, x.data(), [](double, double*) {});
@@ -501,7 +658,8 @@ void run_dopri5(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt, Run
   X buf = x;
   double t = opt.t0;
   double dt = opt.dt;
-  const bool dense = opt.output_interval > 0;  // samples between steps need the step's start
+  // Samples between steps and event location need the step's start.
+  const bool dense = opt.output_interval > 0 || unilateral_count_v<M> > 0;
   sys(x, dxdt, t);
   while (!reached(t, opt.t_end)) {
     const bool clamped = t + dt > opt.t_end;
@@ -516,18 +674,23 @@ void run_dopri5(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt, Run
       rs.reset_rejections();
       const double t_new = t;
       const X* deriv_new = &dxdt;
+      auto interpolate = [&](double to, double* out) {
+        stepper.stepper().calc_state(to, buf, x_old, dxdt_old, t_old, x, *deriv_new, t_new);
+        std::copy(buf.begin(), buf.end(), out);
+      };
       if constexpr (has_constraints_v<M>) {
-        if (dense) dxdt_step = dxdt;  // the step's own end derivative, for its dense output
-        if (rs.stabilize(x.data(), t)) {
-          if (dense) deriv_new = &dxdt_step;
-          sys(x, dxdt, t);  // FSAL: the projected state needs its own derivative
+        if (dense) {
+          dxdt_step = dxdt;  // the step's own end derivative, for its dense output
+          deriv_new = &dxdt_step;
+        }
+        bool changed = rs.release(t_old, t, x.data(), interpolate);
+        changed = rs.stabilize(x.data(), t) || changed;
+        if (changed) {
+          sys(x, dxdt, t);  // FSAL: the moved state needs its own derivative
           rs.extra_rhs_evaluation();
         }
       }
-      rs.accepted(t_old, t_new, x.data(), [&](double to, double* out) {
-        stepper.stepper().calc_state(to, buf, x_old, dxdt_old, t_old, x, *deriv_new, t_new);
-        std::copy(buf.begin(), buf.end(), out);
-      });
+      rs.accepted(t_old, t, x.data(), interpolate);
       dt = clamped ? std::max(dt, dt_try) : dt_try;
     } else {
       rs.rejected(t, dt_try);
@@ -549,8 +712,10 @@ void run_rk4(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt, RunSta
     const double t_next = std::min({t_grid, opt.t_end, rs.next_output_time()});
     if (t_next >= t_grid) ++k;
     const double t_old = t;
+    [[maybe_unused]] const X x_prev = unilateral_count_v<M> > 0 ? x : X{};
     stepper.do_step(sys, x, t, t_next - t);
     t = t_next;
+    if constexpr (unilateral_count_v<M> > 0) rs.release(t_old, t, x.data(), SubStep<M, X>{sys, x_prev, t_old});
     rs.stabilize(x.data(), t);
     rs.accepted(t_old, t, x.data(), [](double, double*) {});
   }
@@ -603,8 +768,10 @@ void run_rosenbrock4(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt
     const bool clamped = t + dt > limit;
     double dt_try = clamped ? limit - t : dt;
     const double t_old = t;
+    [[maybe_unused]] const X x_prev = unilateral_count_v<M> > 0 ? x : X{};
     if (stepper.try_step(stiff, x.data(), t, dt_try)) {
       if (clamped) t = limit;
+      if constexpr (unilateral_count_v<M> > 0) rs.release(t_old, t, x.data(), SubStep<M, X>{sys, x_prev, t_old});
       rs.stabilize(x.data(), t);
       rs.reset_rejections();
       rs.accepted(t_old, t, x.data(), [](double, double*) {});
@@ -619,26 +786,6 @@ void run_rosenbrock4(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt
 }  // namespace detail
 
 namespace detail {
-
-/// True when every constraint is scleronomic and workless: C q̇ + c has
-/// c = 0 (no ∂g/∂t, no a(q, t)) at the sampled states and times.
-template <class M>
-bool constraints_workless(const M& model, const State<M::dof>& s, double t) {
-  if constexpr (!has_constraints_v<M>) {
-    (void)model;
-    (void)s;
-    (void)t;
-    return true;
-  } else {
-    const auto probes = probe_states(s);
-    for (std::size_t k = 0; k < probes.size(); ++k) {
-      const double tk = t + 0.37 * static_cast<double>(k) * (1.0 + std::abs(t));
-      const auto cs = constraint_state(model, probes[k].q, Vec<double, M::dof>::Zero().eval(), tk);
-      if (!cs.velocity.isZero(0.0)) return false;
-    }
-    return true;
-  }
-}
 
 /// The body of simulate(), compiled once per model (the observer is erased).
 template <class M>
@@ -688,6 +835,7 @@ RunReport simulate_impl(const M& model, const State<M::dof>& initial, const Simu
   if constexpr (has_constraints_v<M>) {
     constraint_context.omega = options.stabilization == Stabilization::baumgarte ? options.baumgarte_omega : 0.0;
     sys.constraints = &constraint_context;
+    rs.attach(&constraint_context);
   }
   using X = StateBuffer<n>;
   X x = make_buffer<n>(size);

@@ -33,7 +33,8 @@ void consistency_constraints(unsigned m, double* result, unsigned n, const doubl
   const auto& p = *static_cast<const ConsistencyProblem<M>*>(data);
   Vec<double, M::dof> q;
   for (unsigned i = 0; i < n; ++i) q[static_cast<int>(i)] = x[i];
-  const auto cs = constraint_state(*p.model, q, Vec<double, M::dof>::Zero().eval(), p.t);
+  auto cs = constraint_state(*p.model, q, Vec<double, M::dof>::Zero().eval(), p.t);
+  drop_inactive<M>(cs, ActiveSet{0});
   for (unsigned i = 0; i < m; ++i) {
     result[i] = cs.position[static_cast<int>(i)];
     if (grad)
@@ -71,12 +72,13 @@ State<M::dof> consistent_initial_state(const M& model, const State<M::dof>& gues
     }
     // Polish (or, if SLSQP failed, try from the guess) with Gauss–Newton; it
     // throws ConstraintError naming the residuals when no solution is reached.
-    project_positions(model, s.q, t, tolerance, 50);
+    project_positions(model, s.q, t, tolerance, 50, ActiveSet{0});
   }
   if constexpr (has_constraints_v<M>) {
     Workspace<n> ws;
-    project_velocities(model, ws, s.q, s.qd, t);
-    const auto cs = constraint_state(model, s.q, s.qd, t);
+    project_velocities(model, ws, s.q, s.qd, t, ActiveSet{0});
+    auto cs = constraint_state(model, s.q, s.qd, t);
+    drop_inactive<M>(cs, ActiveSet{0});
     const double scale = 1.0 + s.qd.template lpNorm<Eigen::Infinity>();
     for (int i = 0; i < constraint_count_v<M>; ++i) {
       if (!(std::abs(cs.velocity[i]) <= 1e3 * tolerance * scale)) {

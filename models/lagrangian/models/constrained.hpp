@@ -217,4 +217,36 @@ struct KnifeEdge {
   }
 };
 
+/// Particle (x, y) sliding without friction on the outside of a smooth
+/// sphere (a circle in the vertical plane) of radius R centred at the origin;
+/// gravity −y. The surface pushes but cannot pull: the unilateral constraint
+///   g = √(x² + y²) − R ≥ 0.
+/// Released at rest at angle θ0 from the top, the normal force is
+/// N = m g (3 cos θ − 2 cos θ0) and the particle leaves where it vanishes,
+/// cos θ* = (2/3) cos θ0.
+struct ParticleOffSphere {
+  static constexpr int dof = 2;
+  double m, R, g;
+  explicit ParticleOffSphere(double mass = 1.0, double radius = 1.0, double gravity = 9.81)
+      : m(require_positive("ParticleOffSphere", "m", mass)),
+        R(require_positive("ParticleOffSphere", "R", radius)),
+        g(require_nonnegative("ParticleOffSphere", "g", gravity)) {}
+  std::string name() const { return "particle_off_sphere"; }
+  std::array<std::string_view, 2> coordinate_names() const { return {"x", "y"}; }
+  std::array<std::string_view, 1> unilateral_names() const { return {"surface"}; }
+  template <class S>
+  S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
+    return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1]);
+  }
+  template <class S>
+  S potential(const Vec<S, 2>& q, const S&) const {
+    return m * g * q[1];
+  }
+  template <class S>
+  Vec<S, 1> unilateral(const Vec<S, 2>& q, const S&) const {
+    using std::sqrt;
+    return Vec<S, 1>(sqrt(q[0] * q[0] + q[1] * q[1]) - R);
+  }
+};
+
 }  // namespace lagrangian::models

@@ -1,0 +1,111 @@
+// Unilateral constraints: active while the multiplier pushes, released where
+// it would pull (a particle sliding off a smooth sphere).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "lagrangian/lagrangian.hpp"
+#include "lagrangian/models/constrained.hpp"
+
+namespace {
+
+using namespace lagrangian;
+using namespace lagrangian::models;
+
+State<2> on_top(double R, double theta0) {
+  State<2> s;
+  s.q << R * std::sin(theta0), R * std::cos(theta0);
+  return s;
+}
+
+TEST(Unilateral, ParticleLeavesTheSphereWhereTheNormalForceVanishes) {
+  const double m = 0.5, R = 1.2, g = 9.81, theta0 = 0.1;
+  const ParticleOffSphere model(m, R, g);
+  const double cos_star = 2.0 / 3.0 * std::cos(theta0);
+  for (const std::string method : {"dopri5", "cash_karp54", "fehlberg78", "rk4"}) {
+    SimulationOptions o;
+    o.method = method;
+    o.t_end = 2.0;
+    o.rtol = 1e-12;
+    o.atol = 1e-14;
+    o.dt = 1e-3;
+    o.output_interval = 0;  // every step, so the release point is a sample
+    Recorder<2> rec;
+    const RunReport r = simulate(model, on_top(R, theta0), o, rec);
+    ASSERT_EQ(r.constraints.events.size(), 1u) << method;
+    EXPECT_EQ(r.constraints.events[0].rfind("released surface at t = ", 0), 0u) << r.constraints.events[0];
+    const double t_release = r.constraints.event_times[0];
+    bool found = false;
+    for (const auto& s : rec.samples) {
+      if (s.t < t_release) {
+        // On the surface: λ = N = m g (3 cos θ − 2 cos θ0) ≥ 0, along +∇g (outwards).
+        const double cos_theta = s.q[1] / s.q.norm();
+        EXPECT_NEAR(s.multipliers[0], m * g * (3 * cos_theta - 2 * std::cos(theta0)), 1e-7) << method << " " << s.t;
+        EXPECT_GE(s.multipliers[0], -1e-9);
+      } else if (s.t == t_release) {
+        found = true;
+        const double cos_theta = s.q[1] / R;
+        EXPECT_NEAR(cos_theta, cos_star, method == "rk4" ? 1e-7 : 1e-9) << method;
+        // Speed from energy: v² = 2 g R (cos θ0 − cos θ*).
+        EXPECT_NEAR(s.qd.squaredNorm(), 2 * g * R * (std::cos(theta0) - cos_star), 1e-7) << method;
+      } else {
+        EXPECT_EQ(s.multipliers[0], 0.0) << method;  // free flight: no force
+        EXPECT_GT(s.q.norm(), R) << method;        // moving away from the sphere
+      }
+    }
+    EXPECT_TRUE(found) << method;
+    EXPECT_LE(r.total_energy_drift_max, 1e-8) << method;
+  }
+}
+
+TEST(Unilateral, StartingInsideOrIntoTheSurfaceIsAClearError) {
+  const ParticleOffSphere model;
+  State<2> inside;
+  inside.q << 0.0, 0.9;
+  try {
+    simulate(model, inside, SimulationOptions{});
+    FAIL() << "no error";
+  } catch (const ConstraintError& e) {
+    EXPECT_NE(std::string(e.what()).find("unilateral constraint surface is violated at t0: g = -0.09"),
+              std::string::npos)
+        << e.what();
+  }
+  State<2> diving = on_top(1.0, 0.0);
+  diving.qd << 0.0, -1.0;
+  EXPECT_THROW(simulate(model, diving, SimulationOptions{}), ConstraintError);
+}
+
+TEST(Unilateral, AboveTheSurfaceItIsInactive) {
+  // Dropped from above: free fall until it would touch; no force before.
+  const ParticleOffSphere model;
+  State<2> s;
+  s.q << 0.3, 3.0;
+  SimulationOptions o;
+  o.t_end = 0.2;
+  o.output_interval = 0.05;
+  Recorder<2> rec;
+  simulate(model, s, o, rec);
+  for (const auto& x : rec.samples) {
+    EXPECT_EQ(x.multipliers[0], 0.0);
+    EXPECT_NEAR(x.q[1], 3.0 - 0.5 * 9.81 * x.t * x.t, 1e-10);
+  }
+}
+
+TEST(Unilateral, ComingBackIntoContactIsReportedNotIgnored) {
+  // Dropped onto the sphere: the contact is an impact, which this version
+  // does not resolve; the run must stop with a clear message, not pass through.
+  const ParticleOffSphere model;
+  State<2> s;
+  s.q << 0.0, 1.5;
+  SimulationOptions o;
+  o.t_end = 1.0;
+  try {
+    simulate(model, s, o);
+    FAIL() << "no error";
+  } catch (const SimulationError& e) {
+    EXPECT_NE(std::string(e.what()).find("unilateral constraint surface is violated"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
