@@ -7,6 +7,7 @@
 #include <new>
 
 #include "lagrangian/lagrangian.hpp"
+#include "lagrangian/models/constrained.hpp"
 #include "lagrangian/models/pendulums.hpp"
 
 // GCC cannot see that these new/delete pairs both use malloc/free.
@@ -55,6 +56,17 @@ TEST(NoAllocation, AccelerationsDoNotAllocate) {
   EXPECT_EQ(allocations_in_accelerations(DoublePendulum()), 0);
   EXPECT_EQ(allocations_in_accelerations(PendulumChain<10>()), 0);
   EXPECT_EQ(allocations_in_accelerations(DrivenPendulum()), 0);
+}
+
+TEST(NoAllocation, ConstrainedAccelerationsDoNotAllocate) {
+  const CartesianDoublePendulum model;
+  Workspace<4> ws;
+  ConstraintWorkspace<4, 2> cw;
+  Vec<double, 4> q(0.6, -0.8, 1.4, -1.4), qd = Vec<double, 4>::Zero(), qdd;
+  const long before = g_allocations.load();
+  for (int i = 0; i < 100; ++i) constrained_accelerations(model, ws, cw, q, qd, 0.0, qdd);
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_TRUE(qdd.allFinite());
 }
 
 TEST(NoAllocation, AllocationCountOfARunDoesNotGrowWithSteps) {

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <string>
 
+#include "constrained_helpers.hpp"
 #include "lagrangian/lagrangian.hpp"
 #include "lagrangian/models/constrained.hpp"
 #include "lagrangian/models/pendulums.hpp"
@@ -18,12 +19,7 @@ using namespace lagrangian;
 using namespace lagrangian::models;
 constexpr double kPi = std::numbers::pi;
 
-State<2> pendulum_cartesian_state(double l, double theta, double theta_dot) {
-  State<2> s;
-  s.q << l * std::sin(theta), -l * std::cos(theta);
-  s.qd << l * std::cos(theta) * theta_dot, l * std::sin(theta) * theta_dot;
-  return s;
-}
+using test_helpers::pendulum_cartesian_state;
 
 TEST(Constraints, PendulumTwoFormulationsAgreeOverTenPeriods) {
   const double l = 1.3, g = 9.81, th0 = 1.2;

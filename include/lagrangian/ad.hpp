@@ -831,9 +831,11 @@ bool isnan(const J& a) {
 
 // -- Eigen integration: matrices and vectors of jets ------------------------------
 namespace Eigen {
-template <class T, int N, int O>
-struct NumTraits<lagrangian::ad::Jet<T, N, O>> : NumTraits<T> {
-  using Real = lagrangian::ad::Jet<T, N, O>;
+/// Traits shared by the AD number types: Real is the AD type, T its value
+/// type, N its number of directions (a cost hint for Eigen).
+template <class Real_, class T, int N>
+struct LagrangianAdNumTraits : NumTraits<T> {
+  using Real = Real_;
   using NonInteger = Real;
   using Nested = Real;
   using Literal = Real;
@@ -852,27 +854,10 @@ struct NumTraits<lagrangian::ad::Jet<T, N, O>> : NumTraits<T> {
   static inline Real lowest() { return Real(NumTraits<T>::lowest()); }
   static inline int digits10() { return NumTraits<T>::digits10(); }
 };
+template <class T, int N, int O>
+struct NumTraits<lagrangian::ad::Jet<T, N, O>> : LagrangianAdNumTraits<lagrangian::ad::Jet<T, N, O>, T, N> {};
 template <int N>
-struct NumTraits<lagrangian::ad::EomJet<N>> : NumTraits<double> {
-  using Real = lagrangian::ad::EomJet<N>;
-  using NonInteger = Real;
-  using Nested = Real;
-  using Literal = Real;
-  enum {
-    IsComplex = 0,
-    IsInteger = 0,
-    IsSigned = 1,
-    RequireInitialization = 1,
-    ReadCost = 1 + N,
-    AddCost = 1 + N,
-    MulCost = 1 + 3 * N
-  };
-  static inline Real epsilon() { return Real(NumTraits<double>::epsilon()); }
-  static inline Real dummy_precision() { return Real(NumTraits<double>::dummy_precision()); }
-  static inline Real highest() { return Real(NumTraits<double>::highest()); }
-  static inline Real lowest() { return Real(NumTraits<double>::lowest()); }
-  static inline int digits10() { return NumTraits<double>::digits10(); }
-};
+struct NumTraits<lagrangian::ad::EomJet<N>> : LagrangianAdNumTraits<lagrangian::ad::EomJet<N>, double, N> {};
 template <int N, typename BinaryOp>
 struct ScalarBinaryOpTraits<lagrangian::ad::EomJet<N>, double, BinaryOp> {
   using ReturnType = lagrangian::ad::EomJet<N>;

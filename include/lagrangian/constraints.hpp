@@ -127,40 +127,51 @@ inline constexpr bool has_constraints_v = constraint_count_v<M> > 0;
 /// σ_i > rank_tolerance · σ_max (and σ_max > 0).
 inline constexpr double rank_tolerance = 1e-10;
 
-/// Names of the constraints: the model's own, or g0, g1, … and a0, a1, ….
+namespace detail {
+/// Appends one kind's names (the model's own, checked for count, or
+/// prefix0, prefix1, …).
+template <class Names>
+void append_constraint_names(std::vector<std::string>& out, const Names* given, int count, const char* prefix,
+                             const char* accessor, const char* kind) {
+  if (given) {
+    const std::size_t before = out.size();
+    for (const auto& s : *given) out.emplace_back(s);
+    if (out.size() - before != static_cast<std::size_t>(count))
+      throw ConstraintError(std::string(accessor) + "() gives " + std::to_string(out.size() - before) +
+                            " names for " + std::to_string(count) + " " + kind + " constraints");
+  } else {
+    for (int i = 0; i < count; ++i) out.push_back(prefix + std::to_string(i));
+  }
+}
+}  // namespace detail
+
+/// Names of the constraints, holonomic, unilateral, then Pfaffian: the
+/// model's own, or g0, g1, …, u0, …, a0, ….
 template <class M>
 std::vector<std::string> constraint_names(const M& model) {
   std::vector<std::string> names;
   if constexpr (holonomic_count_v<M> > 0) {
     if constexpr (requires { model.holonomic_names(); }) {
-      for (const auto& s : model.holonomic_names()) names.emplace_back(s);
-      if (names.size() != static_cast<std::size_t>(holonomic_count_v<M>))
-        throw ConstraintError("holonomic_names() gives " + std::to_string(names.size()) + " names for " +
-                              std::to_string(holonomic_count_v<M>) + " holonomic constraints");
+      const auto given = model.holonomic_names();
+      detail::append_constraint_names(names, &given, holonomic_count_v<M>, "g", "holonomic_names", "holonomic");
     } else {
-      for (int i = 0; i < holonomic_count_v<M>; ++i) names.push_back("g" + std::to_string(i));
+      detail::append_constraint_names<std::vector<std::string>>(names, nullptr, holonomic_count_v<M>, "g", "", "");
     }
   }
   if constexpr (unilateral_count_v<M> > 0) {
     if constexpr (requires { model.unilateral_names(); }) {
-      const std::size_t before = names.size();
-      for (const auto& s : model.unilateral_names()) names.emplace_back(s);
-      if (names.size() - before != static_cast<std::size_t>(unilateral_count_v<M>))
-        throw ConstraintError("unilateral_names() gives " + std::to_string(names.size() - before) + " names for " +
-                              std::to_string(unilateral_count_v<M>) + " unilateral constraints");
+      const auto given = model.unilateral_names();
+      detail::append_constraint_names(names, &given, unilateral_count_v<M>, "u", "unilateral_names", "unilateral");
     } else {
-      for (int i = 0; i < unilateral_count_v<M>; ++i) names.push_back("u" + std::to_string(i));
+      detail::append_constraint_names<std::vector<std::string>>(names, nullptr, unilateral_count_v<M>, "u", "", "");
     }
   }
   if constexpr (pfaffian_count_v<M> > 0) {
     if constexpr (requires { model.pfaffian_names(); }) {
-      const std::size_t before = names.size();
-      for (const auto& s : model.pfaffian_names()) names.emplace_back(s);
-      if (names.size() - before != static_cast<std::size_t>(pfaffian_count_v<M>))
-        throw ConstraintError("pfaffian_names() gives " + std::to_string(names.size() - before) + " names for " +
-                              std::to_string(pfaffian_count_v<M>) + " Pfaffian constraints");
+      const auto given = model.pfaffian_names();
+      detail::append_constraint_names(names, &given, pfaffian_count_v<M>, "a", "pfaffian_names", "Pfaffian");
     } else {
-      for (int i = 0; i < pfaffian_count_v<M>; ++i) names.push_back("a" + std::to_string(i));
+      detail::append_constraint_names<std::vector<std::string>>(names, nullptr, pfaffian_count_v<M>, "a", "", "");
     }
   }
   return names;
@@ -256,7 +267,10 @@ template <int N, int C>
 struct ConstraintWorkspace {
   Eigen::Matrix<double, N, C> minv_ct;  ///< M⁻¹ Cᵀ
   Mat<double, C> schur;                 ///< S = C M⁻¹ Cᵀ
-  Eigen::CompleteOrthogonalDecomposition<Mat<double, C>> cod;
+  /// Dynamic-size storage, allocated once here: one instantiation of the
+  /// decomposition serves every model (compile time), and compute() on the
+  /// same size does not reallocate.
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod{C, C};
   Vec<double, C> multipliers;           ///< λ
   Vec<double, N> constraint_forces;     ///< Cᵀ λ
   Eigen::LLT<Mat<double, N>> mass_llt;
@@ -390,9 +404,9 @@ int project_positions(const M& model, Vec<double, M::dof>& q, double t, double t
       const Vec<double, mh> g = cs.position.head(mh);
       const double scale = 1.0 + q.template lpNorm<Eigen::Infinity>();
       if (g.template lpNorm<Eigen::Infinity>() <= tolerance * scale) return it;
-      const Eigen::Matrix<double, mh, M::dof> G = cs.jacobian.topRows(mh);
-      Eigen::CompleteOrthogonalDecomposition<Eigen::Matrix<double, mh, M::dof>> cod(G);
-      const Vec<double, M::dof> dq = cod.solve(g);
+      const Eigen::MatrixXd G = cs.jacobian.topRows(mh);
+      Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(G);
+      const Vec<double, M::dof> dq = cod.solve(Eigen::VectorXd(g));
       q -= dq;
       if (!q.allFinite()) break;
     }
@@ -419,9 +433,10 @@ void project_velocities(const M& model, Workspace<M::dof>& ws, const Vec<double,
     drop_inactive<M>(cs, active);
     Eigen::LLT<Mat<double, M::dof>> llt(ws.mass);
     const Eigen::Matrix<double, M::dof, constraint_count_v<M>> minv_ct = llt.solve(cs.jacobian.transpose());
-    const Mat<double, constraint_count_v<M>> schur = cs.jacobian * minv_ct;
-    Eigen::CompleteOrthogonalDecomposition<Mat<double, constraint_count_v<M>>> cod(schur);
-    qd -= minv_ct * cod.solve(cs.velocity);
+    const Eigen::MatrixXd schur = cs.jacobian * minv_ct;
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(schur);
+    const Vec<double, constraint_count_v<M>> correction = cod.solve(Eigen::VectorXd(cs.velocity));
+    qd -= minv_ct * correction;
   }
 }
 

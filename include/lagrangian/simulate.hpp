@@ -163,7 +163,7 @@ struct FirstOrderSystem {
   std::conditional_t<has_constraints_v<M>, ConstraintContext<M>*, None> constraints{};
 
   template <class X, class DX>
-  LAGRANGIAN_INLINE void operator()(const X& x, DX& dxdt, double t) const {
+  void operator()(const X& x, DX& dxdt, double t) const {
     if constexpr (n == Dynamic) {
       const int size = static_cast<int>(ws->scratch_q.size());
       for (int i = 0; i < size; ++i) {
@@ -191,7 +191,7 @@ struct FirstOrderSystem {
     }
     ++*evaluations;
   }
-  LAGRANGIAN_INLINE void evaluate_into(const Vec<double, n>& q, const Vec<double, n>& qd, double t,
+  void evaluate_into(const Vec<double, n>& q, const Vec<double, n>& qd, double t,
                                        Vec<double, n>& qdd) const {
     if constexpr (has_constraints_v<M>) {
       constrained_accelerations(*model, *ws, constraints->cw, q, qd, t, qdd, constraints->omega, constraints->active);

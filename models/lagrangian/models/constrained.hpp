@@ -16,20 +16,12 @@
 
 namespace lagrangian::models {
 
-/// Bead of mass m on a straight wire through the origin at angle α to the
-/// horizontal, in a vertical plane; coordinates (x, y).
-///   T = ½ m (ẋ² + ẏ²),  V = m g y,  g_wire = x sin α − y cos α = 0.
-/// Along the wire s̈ = −g sin α.
-struct BeadOnWire {
-  static constexpr int dof = 2;
-  double m, alpha, g;
-  explicit BeadOnWire(double mass = 1.0, double angle = 0.5, double gravity = 9.81)
-      : m(require_positive("BeadOnWire", "m", mass)),
-        alpha(require_finite("BeadOnWire", "alpha", angle)),
-        g(require_nonnegative("BeadOnWire", "g", gravity)) {}
-  std::string name() const { return "bead_on_wire"; }
+namespace detail {
+/// A particle of mass m in a vertical plane, coordinates (x, y), gravity g
+/// along −y: T = ½ m (ẋ² + ẏ²), V = m g y.
+struct PlanarParticle {
+  double m, g;
   std::array<std::string_view, 2> coordinate_names() const { return {"x", "y"}; }
-  std::array<std::string_view, 1> holonomic_names() const { return {"wire"}; }
   template <class S>
   S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
     return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1]);
@@ -38,6 +30,21 @@ struct BeadOnWire {
   S potential(const Vec<S, 2>& q, const S&) const {
     return m * g * q[1];
   }
+};
+}  // namespace detail
+
+/// Bead of mass m on a straight wire through the origin at angle α to the
+/// horizontal, in a vertical plane; coordinates (x, y).
+///   T = ½ m (ẋ² + ẏ²),  V = m g y,  g_wire = x sin α − y cos α = 0.
+/// Along the wire s̈ = −g sin α.
+struct BeadOnWire : detail::PlanarParticle {
+  static constexpr int dof = 2;
+  double alpha;
+  explicit BeadOnWire(double mass = 1.0, double angle = 0.5, double gravity = 9.81)
+      : PlanarParticle{require_positive("BeadOnWire", "m", mass), require_nonnegative("BeadOnWire", "g", gravity)},
+        alpha(require_finite("BeadOnWire", "alpha", angle)) {}
+  std::string name() const { return "bead_on_wire"; }
+  std::array<std::string_view, 1> holonomic_names() const { return {"wire"}; }
   template <class S>
   Vec<S, 1> holonomic(const Vec<S, 2>& q, const S&) const {
     return Vec<S, 1>(q[0] * std::sin(alpha) - q[1] * std::cos(alpha));
@@ -76,24 +83,15 @@ struct BeadOnRotatingWire {
 
 /// Plane pendulum as a particle (x, y) held at distance l from the pivot.
 ///   T = ½ m (ẋ² + ẏ²),  V = m g y,  g_rod = √(x² + y²) − l = 0.
-struct CartesianPendulum {
+struct CartesianPendulum : detail::PlanarParticle {
   static constexpr int dof = 2;
-  double m, l, g;
+  double l;
   explicit CartesianPendulum(double mass = 1.0, double length = 1.0, double gravity = 9.81)
-      : m(require_positive("CartesianPendulum", "m", mass)),
-        l(require_positive("CartesianPendulum", "l", length)),
-        g(require_nonnegative("CartesianPendulum", "g", gravity)) {}
+      : PlanarParticle{require_positive("CartesianPendulum", "m", mass),
+                       require_nonnegative("CartesianPendulum", "g", gravity)},
+        l(require_positive("CartesianPendulum", "l", length)) {}
   std::string name() const { return "cartesian_pendulum"; }
-  std::array<std::string_view, 2> coordinate_names() const { return {"x", "y"}; }
   std::array<std::string_view, 1> holonomic_names() const { return {"rod"}; }
-  template <class S>
-  S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
-    return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1]);
-  }
-  template <class S>
-  S potential(const Vec<S, 2>& q, const S&) const {
-    return m * g * q[1];
-  }
   template <class S>
   Vec<S, 1> holonomic(const Vec<S, 2>& q, const S&) const {
     using std::sqrt;
@@ -224,24 +222,15 @@ struct KnifeEdge {
 /// Released at rest at angle θ0 from the top, the normal force is
 /// N = m g (3 cos θ − 2 cos θ0) and the particle leaves where it vanishes,
 /// cos θ* = (2/3) cos θ0.
-struct ParticleOffSphere {
+struct ParticleOffSphere : detail::PlanarParticle {
   static constexpr int dof = 2;
-  double m, R, g;
+  double R;
   explicit ParticleOffSphere(double mass = 1.0, double radius = 1.0, double gravity = 9.81)
-      : m(require_positive("ParticleOffSphere", "m", mass)),
-        R(require_positive("ParticleOffSphere", "R", radius)),
-        g(require_nonnegative("ParticleOffSphere", "g", gravity)) {}
+      : PlanarParticle{require_positive("ParticleOffSphere", "m", mass),
+                       require_nonnegative("ParticleOffSphere", "g", gravity)},
+        R(require_positive("ParticleOffSphere", "R", radius)) {}
   std::string name() const { return "particle_off_sphere"; }
-  std::array<std::string_view, 2> coordinate_names() const { return {"x", "y"}; }
   std::array<std::string_view, 1> unilateral_names() const { return {"surface"}; }
-  template <class S>
-  S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
-    return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1]);
-  }
-  template <class S>
-  S potential(const Vec<S, 2>& q, const S&) const {
-    return m * g * q[1];
-  }
   template <class S>
   Vec<S, 1> unilateral(const Vec<S, 2>& q, const S&) const {
     using std::sqrt;

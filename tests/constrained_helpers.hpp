@@ -1,0 +1,18 @@
+#pragma once
+// Shared by the constraint tests.
+#include <cmath>
+
+#include "lagrangian/model.hpp"
+
+namespace test_helpers {
+
+/// The Cartesian state (x, y, ẋ, ẏ) of a pendulum of length l at angle θ
+/// from the downward vertical with rate θ̇.
+inline lagrangian::State<2> pendulum_cartesian_state(double l, double theta, double theta_dot) {
+  lagrangian::State<2> s;
+  s.q << l * std::sin(theta), -l * std::cos(theta);
+  s.qd << l * std::cos(theta) * theta_dot, l * std::sin(theta) * theta_dot;
+  return s;
+}
+
+}  // namespace test_helpers
