@@ -1,10 +1,12 @@
 // The constrained systems of the course notes: degrees of freedom from the
 // constraint Jacobians, and a short run of each checked against what it must do.
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 
 #include "lagrangian/lagrangian.hpp"
 #include "lagrangian/models/constrained.hpp"
+#include "lagrangian/models/pendulums.hpp"
 
 using namespace lagrangian;
 using namespace lagrangian::models;
@@ -51,13 +53,35 @@ int main() try {
     const RunReport r = run("bead on a rotating wire", bead, s, 1.0);
     check(!r.conservative, "the moving wire does work (energy not conserved)");
   }
-  {  // A particle on a sphere: 2 degrees of freedom.
+  {  // A particle on a sphere: 2 degrees of freedom; the same motion as the
+     // spherical pendulum in the angles (θ from the downward vertical, φ).
+    const double th = 1.0, phd = 1.5;
     State<3> s;
-    s.q << std::sin(1.0), 0.0, -std::cos(1.0);
-    s.qd << 0.0, 1.5, 0.0;
+    s.q << std::sin(th), 0.0, -std::cos(th);
+    s.qd << 0.0, std::sin(th) * phd, 0.0;
     const RunReport r = run("particle on a sphere", ParticleOnSphere{}, s, 5.0);
     check(dof_report(ParticleOnSphere{}, s).dof == 2, "3 coordinates − 1 constraint = 2 DOF");
     check(r.total_energy_drift_max < 1e-8, "energy conserved");
+    State<2> a;
+    a.q << th, 0.0;
+    a.qd << 0.0, phd;
+    SimulationOptions o;
+    o.t_end = 5.0;
+    o.rtol = 1e-11;
+    o.atol = 1e-13;
+    o.output_interval = 0.5;
+    Recorder<3> cart;
+    Recorder<2> angles;
+    simulate(ParticleOnSphere{}, s, o, cart);
+    simulate(SphericalPendulum{}, a, o, angles);
+    double worst = 0;
+    for (std::size_t k = 0; k < cart.samples.size(); ++k) {
+      const auto& q = angles.samples[k].q;
+      const Vec<double, 3> p(std::sin(q[0]) * std::cos(q[1]), std::sin(q[0]) * std::sin(q[1]), -std::cos(q[0]));
+      worst = std::max(worst, (p - cart.samples[k].q).norm());
+    }
+    std::cout << "  max distance Cartesian vs spherical coordinates: " << worst << " m\n";
+    check(worst < 1e-8, "Cartesian with the constraint = spherical coordinates");
   }
   {  // Atwood machine: constant acceleration (m1 − m2) g / (m1 + m2).
     const AtwoodMachine atwood(3.0, 1.0);
