@@ -710,12 +710,12 @@ void run_rk4(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt, RunSta
   while (!reached(t, opt.t_end)) {
     const double t_grid = opt.t0 + static_cast<double>(k + 1) * opt.dt;
     const double t_next = std::min({t_grid, opt.t_end, rs.next_output_time()});
-    if (t_next >= t_grid) ++k;
     const double t_old = t;
     [[maybe_unused]] const X x_prev = unilateral_count_v<M> > 0 ? x : X{};
     stepper.do_step(sys, x, t, t_next - t);
     t = t_next;
     if constexpr (unilateral_count_v<M> > 0) rs.release(t_old, t, x.data(), SubStep<M, X>{sys, x_prev, t_old});
+    if (t >= t_grid) ++k;  // a step cut at an event leaves the grid point ahead
     rs.stabilize(x.data(), t);
     rs.accepted(t_old, t, x.data(), [](double, double*) {});
   }
