@@ -15,4 +15,18 @@ inline lagrangian::State<2> pendulum_cartesian_state(double l, double theta, dou
   return s;
 }
 
+/// A free unit-mass particle in the plane (T = ½|q̇|², V = 0), to which tests
+/// add constraints.
+struct FreePlanarParticle {
+  static constexpr int dof = 2;
+  template <class S>
+  S kinetic(const lagrangian::Vec<S, 2>&, const lagrangian::Vec<S, 2>& qd, const S&) const {
+    return 0.5 * qd.squaredNorm();
+  }
+  template <class S>
+  S potential(const lagrangian::Vec<S, 2>& q, const S&) const {
+    return 0 * q[0];
+  }
+};
+
 }  // namespace test_helpers

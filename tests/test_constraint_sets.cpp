@@ -117,16 +117,7 @@ TEST(Constraints, InconsistentInitialStateIsRepaired) {
   }
 }
 
-struct Contradictory {
-  static constexpr int dof = 2;
-  template <class S>
-  S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
-    return 0.5 * qd.squaredNorm();
-  }
-  template <class S>
-  S potential(const Vec<S, 2>& q, const S&) const {
-    return 0 * q[0];
-  }
+struct Contradictory : test_helpers::FreePlanarParticle {
   template <class S>
   Vec<S, 1> holonomic(const Vec<S, 2>& q, const S&) const {
     return Vec<S, 1>(q[0] * q[0] + q[1] * q[1] + 1.0);  // x² + y² = −1: no real solution

@@ -202,17 +202,8 @@ TEST(Constraints, KnifeEdgeRunsOnACircleAndKeepsItsSpin) {
 // A free particle with two rheonomic constraints that its natural motion
 // x = v t, y = 0 satisfies: g1 = y, g2 = y + (t − 1)(x − v t). Their gradients
 // (0, 1) and (t − 1, 1) are parallel at t = 1: the Jacobian loses rank there.
-struct DegeneratingPair {
-  static constexpr int dof = 2;
+struct DegeneratingPair : test_helpers::FreePlanarParticle {
   double v = 0.5;
-  template <class S>
-  S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
-    return 0.5 * qd.squaredNorm();
-  }
-  template <class S>
-  S potential(const Vec<S, 2>& q, const S&) const {
-    return 0 * q[0];
-  }
   template <class S>
   Vec<S, 2> holonomic(const Vec<S, 2>& q, const S& t) const {
     return Vec<S, 2>(q[1], q[1] + (t - 1.0) * (q[0] - v * t));
