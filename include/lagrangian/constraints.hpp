@@ -273,7 +273,6 @@ struct ConstraintWorkspace {
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod{C, C};
   Vec<double, C> multipliers;           ///< λ
   Vec<double, N> constraint_forces;     ///< Cᵀ λ
-  Eigen::LLT<Mat<double, N>> mass_llt;
 };
 
 /// q̈ and λ of a constrained model (see the file comment for the system).
@@ -286,11 +285,7 @@ void constrained_accelerations(const M& model, Workspace<M::dof>& ws,
                                double omega = 0.0, ActiveSet active = all_active) {
   constexpr int mh = position_rows_v<M>;
   evaluate(model, ws, q, qd, t);
-  cw.mass_llt.compute(ws.mass);
-  if (cw.mass_llt.info() != Eigen::Success || !(ws.mass.diagonal().minCoeff() > 0)) {
-    throw DynamicsError("mass matrix M = d2L/dqd2 is singular or not positive definite at " +
-                        detail::describe_state(q, qd, t));
-  }
+  detail::factor_mass_matrix(ws, q, qd, t);
   auto cs = constraint_state(model, q, qd, t);
   drop_inactive<M>(cs, active);
   Vec<double, constraint_count_v<M>> target = -cs.gamma;
@@ -303,10 +298,10 @@ void constrained_accelerations(const M& model, Workspace<M::dof>& ws,
       }
     }
   }
-  cw.minv_ct = cw.mass_llt.solve(cs.jacobian.transpose());
+  cw.minv_ct = ws.cholesky.solve(cs.jacobian.transpose());
   cw.schur = cs.jacobian * cw.minv_ct;
   cw.cod.compute(cw.schur);
-  const Vec<double, M::dof> free = cw.mass_llt.solve(ws.rhs);
+  const Vec<double, M::dof> free = ws.cholesky.solve(ws.rhs);
   cw.multipliers = cw.cod.solve(target - cs.jacobian * free);
   cw.constraint_forces = cs.jacobian.transpose() * cw.multipliers;
   out = free + cw.minv_ct * cw.multipliers;
@@ -431,8 +426,8 @@ void project_velocities(const M& model, Workspace<M::dof>& ws, const Vec<double,
     evaluate(model, ws, q, qd, t);
     auto cs = constraint_state(model, q, qd, t);
     drop_inactive<M>(cs, active);
-    Eigen::LLT<Mat<double, M::dof>> llt(ws.mass);
-    const Eigen::Matrix<double, M::dof, constraint_count_v<M>> minv_ct = llt.solve(cs.jacobian.transpose());
+    detail::factor_mass_matrix(ws, q, qd, t);
+    const Eigen::Matrix<double, M::dof, constraint_count_v<M>> minv_ct = ws.cholesky.solve(cs.jacobian.transpose());
     const Eigen::MatrixXd schur = cs.jacobian * minv_ct;
     Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(schur);
     const Vec<double, constraint_count_v<M>> correction = cod.solve(Eigen::VectorXd(cs.velocity));

@@ -35,10 +35,8 @@
 
 #if defined(__GNUC__)
 #define LAGRANGIAN_FLATTEN __attribute__((flatten))
-#define LAGRANGIAN_INLINE __attribute__((always_inline)) inline
 #else
 #define LAGRANGIAN_FLATTEN
-#define LAGRANGIAN_INLINE inline
 #endif
 
 namespace lagrangian {
@@ -66,7 +64,7 @@ struct Workspace {
   Vec<double, N> rhs;                 ///< ∂L/∂q − mixed + Q
   Vec<double, N> accelerations;       ///< q̈ = M⁻¹ rhs (from the reference-returning accelerations())
   double lagrangian = 0;              ///< L
-  Eigen::LLT<Mat<double, N>> cholesky;  ///< factorisation of M (n > 2)
+  Eigen::LLT<Mat<double, N>> cholesky;  ///< factorisation of M (n > 2, and constrained models)
   Vec<double, N> scratch_q, scratch_qd, scratch_qdd;  ///< buffers for run-time sized right-hand sides
 };
 
@@ -150,29 +148,28 @@ void eom_pass_blocks(const M& model, Workspace<M::dof>& ws, const Vec<double, M:
 template <class M>
 LAGRANGIAN_FLATTEN void eom_pass(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q,
                                  const Vec<double, M::dof>& qd, double t) {
-  if constexpr (M::dof == Dynamic) {
-    eom_pass_blocks(model, ws, q, qd, t);
-    return;
-  } else {
   constexpr int n = M::dof;
-  using J = ad::EomJet<n>;
-  Vec<J, n> qj;
-  Vec<J, n> qdj;
-  for (int k = 0; k < n; ++k) {
-    qj[k] = J::position(q[k], qd[k], k);
-    qdj[k] = J::velocity(qd[k], k);
-  }
-  const J l = lagrangian_of(model, qj, qdj, J::time(t));
-  ws.lagrangian = l.v;
-  for (int i = 0; i < n; ++i) {
-    ws.dL_dq[i] = l.gq[i];
-    ws.momenta[i] = l.level >= 1 ? l.gv[i] : 0.0;
-    ws.mixed[i] = l.level >= 1 ? l.c[i] : 0.0;
-    for (int j = i; j < n; ++j) {
-      ws.mass(i, j) = l.hess(i, j);
-      ws.mass(j, i) = ws.mass(i, j);
+  if constexpr (n == Dynamic) {
+    eom_pass_blocks(model, ws, q, qd, t);
+  } else {
+    using J = ad::EomJet<n>;
+    Vec<J, n> qj;
+    Vec<J, n> qdj;
+    for (int k = 0; k < n; ++k) {
+      qj[k] = J::position(q[k], qd[k], k);
+      qdj[k] = J::velocity(qd[k], k);
     }
-  }
+    const J l = lagrangian_of(model, qj, qdj, J::time(t));
+    ws.lagrangian = l.v;
+    for (int i = 0; i < n; ++i) {
+      ws.dL_dq[i] = l.gq[i];
+      ws.momenta[i] = l.level >= 1 ? l.gv[i] : 0.0;
+      ws.mixed[i] = l.level >= 1 ? l.c[i] : 0.0;
+      for (int j = i; j < n; ++j) {
+        ws.mass(i, j) = l.hess(i, j);
+        ws.mass(j, i) = ws.mass(i, j);
+      }
+    }
   }
 }
 
@@ -204,6 +201,34 @@ LAGRANGIAN_FLATTEN void force_pass(const M& model, Workspace<M::dof>& ws, const 
   }
 }
 
+template <int N>
+[[noreturn]] void singular_mass_failure(const Workspace<N>& ws, const Vec<double, N>& q, const Vec<double, N>& qd,
+                                        double t) {
+  std::ostringstream os;
+  os.precision(17);
+  os << "mass matrix M = d2L/dqd2 is singular or not positive definite at " << describe_state(q, qd, t) << "; M = [";
+  for (int i = 0; i < ws.mass.rows(); ++i)
+    for (int j = 0; j < ws.mass.cols(); ++j) os << (i || j ? (j ? ", " : "; ") : "") << ws.mass(i, j);
+  os << "]";
+  throw DynamicsError(os.str());
+}
+
+/// Factorises ws.mass into ws.cholesky; throws DynamicsError naming the
+/// state unless the Cholesky pivots d_i = L_ii² are positive with
+/// min d / max d ≥ singular_mass_tolerance.
+template <int N>
+void factor_mass_matrix(Workspace<N>& ws, const Vec<double, N>& q, const Vec<double, N>& qd, double t) {
+  ws.cholesky.compute(ws.mass);
+  bool ok = ws.cholesky.info() == Eigen::Success;
+  if (ok) {
+    const auto d = ws.cholesky.matrixLLT().diagonal();
+    const double lo = d.minCoeff();
+    const double hi = d.maxCoeff();
+    ok = std::isfinite(lo) && std::isfinite(hi) && lo > 0 && (lo * lo) >= singular_mass_tolerance * (hi * hi);
+  }
+  if (!ok) singular_mass_failure(ws, q, qd, t);
+}
+
 }  // namespace detail
 
 /// Evaluates M, p, ∂L/∂q, Q and the right-hand side of M q̈ = rhs into `ws`
@@ -227,41 +252,22 @@ void accelerations(const M& model, Workspace<M::dof>& ws, const Vec<double, M::d
   constexpr int n = M::dof;  // Dynamic (-1) takes the LLT branch
   // Cholesky pivots d_i (M = L D Lᵀ with unit L, d_i = L_chol,ii²) must be
   // positive with min d / max d ≥ singular_mass_tolerance.
-  bool ok;
   if constexpr (n == 1) {
     const double m = ws.mass(0, 0);
-    ok = std::isfinite(m) && m > 0;
-    if (ok) out[0] = ws.rhs[0] / m;
+    if (!(std::isfinite(m) && m > 0)) detail::singular_mass_failure(ws, q, qd, t);
+    out[0] = ws.rhs[0] / m;
   } else if constexpr (n == 2) {
     // Closed form: d_0 = M00, d_1 = det / M00; Cramer's rule for q̈.
     const double a = ws.mass(0, 0), b = ws.mass(0, 1), c = ws.mass(1, 1);
     const double det = a * c - b * b;
     const double d1 = det / a;
-    ok = std::isfinite(det) && a > 0 && d1 > 0 && std::min(a, d1) >= singular_mass_tolerance * std::max(a, d1);
-    if (ok) {
-      out[0] = (c * ws.rhs[0] - b * ws.rhs[1]) / det;
-      out[1] = (a * ws.rhs[1] - b * ws.rhs[0]) / det;
-    }
+    if (!(std::isfinite(det) && a > 0 && d1 > 0 && std::min(a, d1) >= singular_mass_tolerance * std::max(a, d1)))
+      detail::singular_mass_failure(ws, q, qd, t);
+    out[0] = (c * ws.rhs[0] - b * ws.rhs[1]) / det;
+    out[1] = (a * ws.rhs[1] - b * ws.rhs[0]) / det;
   } else {
-    ws.cholesky.compute(ws.mass);
-    ok = ws.cholesky.info() == Eigen::Success;
-    if (ok) {
-      const auto d = ws.cholesky.matrixLLT().diagonal();
-      const double lo = d.minCoeff();
-      const double hi = d.maxCoeff();
-      ok = std::isfinite(lo) && std::isfinite(hi) && lo > 0 && (lo * lo) >= singular_mass_tolerance * (hi * hi);
-    }
-    if (ok) out = ws.cholesky.solve(ws.rhs);
-  }
-  if (!ok) {
-    std::ostringstream os;
-    os.precision(17);
-    os << "mass matrix M = d2L/dqd2 is singular or not positive definite at " << detail::describe_state(q, qd, t)
-       << "; M = [";
-    for (int i = 0; i < ws.mass.rows(); ++i)
-      for (int j = 0; j < ws.mass.cols(); ++j) os << (i || j ? (j ? ", " : "; ") : "") << ws.mass(i, j);
-    os << "]";
-    throw DynamicsError(os.str());
+    detail::factor_mass_matrix(ws, q, qd, t);
+    out = ws.cholesky.solve(ws.rhs);
   }
 }
 

@@ -102,26 +102,21 @@ std::array<State<N>, 4> probe_states(const State<N>& s) {
   return out;
 }
 
-/// h = p·q̇ − L and p in one first-order pass.
+/// h = p·q̇ − L, with p returned too.
 template <class M>
 double energy_and_momenta(const M& model, const Vec<double, M::dof>& q, const Vec<double, M::dof>& qd, double t,
                           Vec<double, M::dof>& p) {
-  constexpr int n = M::dof;
-  if constexpr (n == Dynamic) {
-    p = momenta(model, q, qd, t);
-    return p.dot(qd) - lagrangian_value(model, q, qd, t);
-  } else {
-    using J = ad::Jet<double, n, 1>;
-    const Vec<J, n> qj = q.template cast<J>();
-    Vec<J, n> qdj;
-    for (int k = 0; k < n; ++k) qdj[k] = J::variable(qd[k], k);
-    const J l = lagrangian_of(model, qj, qdj, J(t));
-    double h = -l.v;
-    for (int i = 0; i < n; ++i) {
-      p[i] = l.g[i];
-      h += p[i] * qd[i];
-    }
-    return h;
+  p = momenta(model, q, qd, t);
+  return p.dot(qd) - lagrangian_value(model, q, qd, t);
+}
+
+/// Splits x = [q; q̇] (2n values) into q and q̇.
+template <int N>
+void split_state(const double* x, Vec<double, N>& q, Vec<double, N>& qd) {
+  const auto n = q.size();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    q[i] = x[i];
+    qd[i] = x[n + i];
   }
 }
 
@@ -166,10 +161,7 @@ struct FirstOrderSystem {
   void operator()(const X& x, DX& dxdt, double t) const {
     if constexpr (n == Dynamic) {
       const int size = static_cast<int>(ws->scratch_q.size());
-      for (int i = 0; i < size; ++i) {
-        ws->scratch_q[i] = x[i];
-        ws->scratch_qd[i] = x[size + i];
-      }
+      split_state(x.data(), ws->scratch_q, ws->scratch_qd);
       evaluate_into(ws->scratch_q, ws->scratch_qd, t, ws->scratch_qdd);
       for (int i = 0; i < size; ++i) {
         dxdt[i] = x[size + i];
@@ -178,10 +170,7 @@ struct FirstOrderSystem {
     } else {
       Vec<double, n> q;
       Vec<double, n> qd;
-      for (int i = 0; i < n; ++i) {
-        q[i] = x[i];
-        qd[i] = x[n + i];
-      }
+      split_state(x.data(), q, qd);
       Vec<double, n> qdd;  // a local: a store to the workspace and reload costs ~35% here
       evaluate_into(q, qd, t, qdd);
       for (int i = 0; i < n; ++i) {
@@ -344,10 +333,7 @@ class RunState {
     } else {
       ConstraintReport& cr = report_.constraints;
       Vec<double, n> q, qd;
-      for (int i = 0; i < n; ++i) {
-        q[i] = x[i];
-        qd[i] = x[n + i];
-      }
+      split_state(x, q, qd);
       bool changed = false;
       if (opt_.stabilization == Stabilization::projection) {
         const auto start = std::chrono::steady_clock::now();
@@ -416,10 +402,7 @@ class RunState {
       if ((act & ((ActiveSet{1} << unilateral_count_v<M>) - 1)) == 0) return false;
       auto multipliers_at = [&](const double* xs, double ts) {
         Vec<double, n> q, qd, qdd;
-        for (int i = 0; i < n; ++i) {
-          q[i] = xs[i];
-          qd[i] = xs[n + i];
-        }
+        split_state(xs, q, qd);
         constrained_accelerations(model_, ws_, cw_, q, qd, ts, qdd, 0.0, act);
         return cw_.multipliers;
       };
