@@ -408,7 +408,7 @@ class RunState {
       };
       const auto lam_end = multipliers_at(x, t);
       int which = -1;
-      double t_star = t;
+      double t_star = std::numeric_limits<double>::infinity();  // a root at the step end counts too
       std::vector<double> buf(static_cast<std::size_t>(2 * n));
       for (int j = 0; j < unilateral_count_v<M>; ++j) {
         const int row = holonomic_count_v<M> + j;
@@ -426,7 +426,7 @@ class RunState {
               f, t_old, t, fa, lam_end[row],
               [](double a, double b) { return std::abs(b - a) <= release_time_tolerance * std::max(1.0, std::abs(a)); },
               iterations);
-          tj = r.second;  // the end where λ < 0 side begins: the constraint still pushes up to r.first
+          tj = r.second;  // upper end of the final bracket: λ ≥ 0 up to r.first, < 0 from here
         }
         if (tj < t_star) {
           t_star = tj;
