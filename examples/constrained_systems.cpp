@@ -122,9 +122,9 @@ int main() try {
     std::cout << r.summary();
     double cos_release = 0;
     for (const auto& x : rec.samples)
-      if (!r.constraints.event_times.empty() && x.t == r.constraints.event_times[0]) cos_release = x.q[1] / R;
+      if (!r.events.empty() && x.t == r.events[0].t) cos_release = x.q[1] / R;
     std::cout << "  leaves at cos θ = " << cos_release << ", (2/3) cos θ0 = " << 2.0 / 3.0 * std::cos(theta0) << "\n";
-    check(r.constraints.events.size() == 1 && std::abs(cos_release - 2.0 / 3.0 * std::cos(theta0)) < 1e-9,
+    check(r.events.size() == 1 && r.events[0].kind == lagrangian::EventKind::release && std::abs(cos_release - 2.0 / 3.0 * std::cos(theta0)) < 1e-9,
           "leaves the sphere at cos θ = (2/3) cos θ0");
   }
   std::cout << (failures ? "some checks failed\n" : "all checks passed\n");

@@ -21,6 +21,17 @@ const char* to_string(Stabilization s) {
   return "unknown";
 }
 
+const char* to_string(EventKind k) {
+  switch (k) {
+    case EventKind::impact: return "impact";
+    case EventKind::rest: return "rest";
+    case EventKind::release: return "release";
+    case EventKind::watched: return "event";
+    case EventKind::stop: return "stop";
+  }
+  return "unknown";
+}
+
 std::vector<std::string> stepper_names() {
   return {"rk4", "dopri5", "cash_karp54", "fehlberg78", "bulirsch_stoer", "rosenbrock4"};
 }
@@ -86,6 +97,11 @@ void SimulationOptions::validate() const {
     option_failure("baumgarte_omega", "positive and finite", baumgarte_omega);
   if (!std::isfinite(projection_tolerance) || !(projection_tolerance > 0))
     option_failure("projection_tolerance", "positive and finite", projection_tolerance);
+  if (!(zeno_speed_ratio >= 0 && zeno_speed_ratio < 1)) option_failure("zeno_speed_ratio", "in [0, 1)", zeno_speed_ratio);
+  if (!std::isfinite(zeno_min_interval) || !(zeno_min_interval >= 0))
+    option_failure("zeno_min_interval", "non-negative and finite", zeno_min_interval);
+  if (!std::isfinite(contact_touch_speed) || !(contact_touch_speed >= 0))
+    option_failure("contact_touch_speed", "non-negative and finite", contact_touch_speed);
 }
 
 std::string RunReport::to_json() const {
@@ -168,16 +184,45 @@ std::string RunReport::to_json() const {
       if (i) os << ", ";
       json_string(os, c.warnings[i]);
     }
-    os << "], \"events\": [";
-    for (std::size_t i = 0; i < c.events.size(); ++i) {
-      if (i) os << ", ";
-      os << "{\"event\": ";
-      json_string(os, c.events[i]);
-      os << ", \"t\": ";
-      json_number(os, c.event_times[i]);
-      os << "}";
-    }
     os << "]}";
+  }
+  // Events: counts by kind, the times of stops, and the first few in full
+  // (the whole log goes to write_events_csv).
+  std::uint64_t counts[5] = {0, 0, 0, 0, 0};
+  for (const auto& e : events) ++counts[static_cast<int>(e.kind)];
+  os << ",\n  \"events\": {\"count\": " << events.size();
+  for (int k = 0; k < 5; ++k) os << ", \"" << to_string(static_cast<EventKind>(k)) << "\": " << counts[k];
+  os << ", \"impact_energy_loss\": ";
+  json_number(os, impact_energy_loss);
+  os << ", \"first\": [";
+  const std::size_t shown = std::min<std::size_t>(events.size(), 20);
+  for (std::size_t i = 0; i < shown; ++i) {
+    const EventRecord& e = events[i];
+    os << (i ? ", " : "") << "{\"t\": ";
+    json_number(os, e.t);
+    os << ", \"kind\": ";
+    json_string(os, to_string(e.kind));
+    os << ", \"name\": ";
+    json_string(os, e.name);
+    const std::pair<const char*, double> f[] = {{"impulse", e.impulse},
+                                                {"approach_speed", e.approach_speed},
+                                                {"separation_speed", e.separation_speed},
+                                                {"ke_before", e.kinetic_energy_before},
+                                                {"ke_after", e.kinetic_energy_after}};
+    for (const auto& [k, v] : f) {
+      os << ", \"" << k << "\": ";
+      json_number(os, v);
+    }
+    os << "}";
+  }
+  os << "]}";
+  os << ",\n  \"t_final\": ";
+  json_number(os, t_final);
+  os << ",\n  \"stopped_by\": ";
+  if (stopped_by.empty()) {
+    os << "null";
+  } else {
+    json_string(os, stopped_by);
   }
   os << "\n}\n";
   return os.str();
@@ -197,6 +242,30 @@ void RunReport::write_json(const std::string& path) const {
     throw OptionError("cannot rename '" + partial + "' to '" + path + "': " + std::strerror(errno));
 }
 
+void RunReport::write_events_csv(const std::string& path) const {
+  const std::string partial = path + ".partial";
+  std::FILE* f = std::fopen(partial.c_str(), "w");
+  if (!f) throw OptionError("cannot write events file '" + partial + "': " + std::strerror(errno));
+  std::fputs("t,kind,name,impulse,approach_speed,separation_speed,ke_before,ke_after\n", f);
+  for (const EventRecord& e : events) {
+    std::string name = e.name;
+    if (name.find_first_of(",\"\n") != std::string::npos) {
+      std::string quoted = "\"";
+      for (char c : name) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+      name = quoted + "\"";
+    }
+    std::fprintf(f, "%.17g,%s,%s,%.17g,%.17g,%.17g,%.17g,%.17g\n", e.t, to_string(e.kind), name.c_str(), e.impulse,
+                 e.approach_speed, e.separation_speed, e.kinetic_energy_before, e.kinetic_energy_after);
+  }
+  const bool ok = std::ferror(f) == 0;
+  if (std::fclose(f) != 0 || !ok) {
+    std::remove(partial.c_str());
+    throw OptionError("writing events file '" + partial + "' failed");
+  }
+  if (std::rename(partial.c_str(), path.c_str()) != 0)
+    throw OptionError("cannot rename '" + partial + "' to '" + path + "': " + std::strerror(errno));
+}
+
 std::string RunReport::summary() const {
   std::ostringstream os;
   char buf[256];
@@ -208,7 +277,7 @@ std::string RunReport::summary() const {
   }
   os << buf << "\n";
   std::snprintf(buf, sizeof buf, "t = %.6g .. %.6g s: %llu steps (%llu rejected), %llu RHS evaluations, %.3f ms wall\n",
-                t0, t_end, static_cast<unsigned long long>(steps), static_cast<unsigned long long>(rejected_steps),
+                t0, t_final, static_cast<unsigned long long>(steps), static_cast<unsigned long long>(rejected_steps),
                 static_cast<unsigned long long>(rhs_evaluations), wall_time_s * 1e3);
   os << buf;
   std::snprintf(buf, sizeof buf, "energy function h: %.12g J, relative drift max %.2e, final %.2e%s\n", energy_initial,
@@ -230,7 +299,26 @@ std::string RunReport::summary() const {
                   static_cast<unsigned long long>(c.extra_rhs_evaluations), c.stabilization_time_s * 1e3);
     os << buf;
     for (const auto& w : c.warnings) os << "warning: " << w << "\n";
-    for (const auto& e : c.events) os << "event: " << e << "\n";
+  }
+  if (!events.empty()) {
+    std::uint64_t counts[5] = {0, 0, 0, 0, 0};
+    for (const auto& e : events) ++counts[static_cast<int>(e.kind)];
+    std::snprintf(buf, sizeof buf,
+                  "events: %zu (%llu impacts, %llu rests, %llu releases, %llu watched); impacts dissipated %.6g J\n",
+                  events.size(), static_cast<unsigned long long>(counts[0]),
+                  static_cast<unsigned long long>(counts[1]), static_cast<unsigned long long>(counts[2]),
+                  static_cast<unsigned long long>(counts[3] + counts[4]), impact_energy_loss);
+    os << buf;
+    for (const auto& e : events) {
+      if (e.kind == EventKind::rest || e.kind == EventKind::stop || e.kind == EventKind::release) {
+        std::snprintf(buf, sizeof buf, "event: %s %s at t = %.15g s\n", to_string(e.kind), e.name.c_str(), e.t);
+        os << buf;
+      }
+    }
+  }
+  if (!stopped_by.empty()) {
+    std::snprintf(buf, sizeof buf, "stopped by event %s at t = %.15g s\n", stopped_by.c_str(), stopped_at);
+    os << buf;
   }
   for (const auto& m : conserved_momenta) {
     std::snprintf(buf, sizeof buf, "momentum of cyclic %s: %.12g, drift max %.2e\n", m.coordinate.c_str(), m.initial,

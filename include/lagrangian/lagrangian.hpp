@@ -5,6 +5,7 @@
 #include "lagrangian/ad.hpp"
 #include "lagrangian/constraints.hpp"
 #include "lagrangian/dynamics.hpp"
+#include "lagrangian/impact.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/observers.hpp"

@@ -3,6 +3,7 @@
 /// Options of a run and the report of what it cost and how accurate it was.
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -48,6 +49,21 @@ struct SimulationOptions {
   double baumgarte_omega = 10.0;        ///< Baumgarte rate ω (1/s), critically damped
   double projection_tolerance = 1e-12;  ///< ‖g‖∞ after projection, relative to 1 + ‖q‖∞
 
+  // Contacts (unilateral constraints with restitution) only.
+  /// Zeno rule: an impact whose approach speed is at most this fraction of
+  /// the largest approach speed met so far on the same contact, or that comes
+  /// within `zeno_min_interval` of the previous impact there, ends the
+  /// bouncing: it is resolved with e = 0 and the contact becomes a resting
+  /// contact (active unilateral constraint). In [0, 1).
+  double zeno_speed_ratio = 1e-6;
+  /// Shortest time between two impacts on one contact before they count as
+  /// an accumulation (s), relative to max(1 s, |t|).
+  double zeno_min_interval = 1e-10;
+  /// Approach speeds at or below this (units of dφ/dt, m/s for a distance
+  /// gap) are touches, not impacts: no impulse; the contact becomes resting
+  /// if the motion presses into it and is ignored if it curves away.
+  double contact_touch_speed = 1e-9;
+
   /// Throws OptionError naming the first invalid field and its value.
   void validate() const;
 };
@@ -76,9 +92,30 @@ struct ConstraintReport {
   int initial_rank = 0;                  ///< rank of the constraint Jacobian at t0
   int min_rank = 0;                      ///< smallest rank met at the samples
   std::vector<std::string> warnings;     ///< rank drops (singular configurations) with their times
-  /// Unilateral constraints: "released <name> at t = <t>" for every lift-off, in order.
-  std::vector<std::string> events;
-  std::vector<double> event_times;       ///< the times of `events` (s)
+};
+
+/// Kinds of logged events.
+enum class EventKind {
+  impact,   ///< a contact closed with approach speed: Newton's law of restitution applied
+  rest,     ///< a contact became a resting contact (Zeno accumulation, plastic impact or a slow touch)
+  release,  ///< a resting contact lifted off (its force would have pulled)
+  watched,  ///< a watched event function crossed zero
+  stop,     ///< a watched event with action stop ended the run
+};
+
+/// Name of an event kind ("impact", "rest", "release", "event", "stop").
+const char* to_string(EventKind k);
+
+/// One entry of a run's event log (see RunReport::write_events_csv).
+struct EventRecord {
+  double t = 0;              ///< time (s), located to event_time_tolerance
+  EventKind kind = EventKind::impact;
+  std::string name;          ///< the contact or event function (for contacts between bodies, their names)
+  double impulse = 0;        ///< Λ along +∇φ (N·s for a distance gap); 0 for releases and watched events
+  double approach_speed = 0;     ///< −dφ/dt before (m/s for a distance gap); 0 unless impact or rest
+  double separation_speed = 0;   ///< dφ/dt after
+  double kinetic_energy_before = 0;  ///< T just before (J)
+  double kinetic_energy_after = 0;   ///< T just after (J)
 };
 
 /// What a run did, what it cost and how accurate it was.
@@ -114,6 +151,16 @@ struct RunReport {
   bool constrained = false;                      ///< the model declares constraints
   ConstraintReport constraints;                  ///< filled when constrained
 
+  /// Every event in time order: impacts, rests, releases, watched events.
+  std::vector<EventRecord> events;
+  std::uint64_t impacts = 0;        ///< events of kind impact
+  double impact_energy_loss = 0;    ///< sum of T_before − T_after over impacts and rests (J)
+  /// Time at which a watched event with action stop ended the run (s); NaN
+  /// when the run reached t_end.
+  double stopped_at = std::numeric_limits<double>::quiet_NaN();
+  std::string stopped_by;           ///< name of that event; empty when none
+  double t_final = 0;               ///< time the run ended (t_end, or stopped_at) (s)
+
   /// The report as a JSON object (numbers with 17 significant digits; NaN as null).
   std::string to_json() const;
   /// A few human-readable lines for a terminal.
@@ -121,6 +168,11 @@ struct RunReport {
   /// Writes to_json() to `path` (through `<path>.partial`, renamed when
   /// complete); throws OptionError naming the path when it cannot.
   void write_json(const std::string& path) const;
+  /// Writes the event log as CSV with the header
+  ///   t,kind,name,impulse,approach_speed,separation_speed,ke_before,ke_after
+  /// (through `<path>.partial`, renamed when complete); throws OptionError
+  /// naming the path when it cannot.
+  void write_events_csv(const std::string& path) const;
 };
 
 }  // namespace lagrangian

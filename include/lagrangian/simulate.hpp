@@ -33,6 +33,7 @@
 #include "lagrangian/detail/stiff.hpp"
 #include "lagrangian/dynamics.hpp"
 #include "lagrangian/errors.hpp"
+#include "lagrangian/impact.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/observers.hpp"
 #include "lagrangian/report.hpp"
@@ -54,9 +55,12 @@ std::vector<int> cyclic_coordinates(const M& model, const State<M::dof>& s, doub
 template <class M>
 bool is_autonomous(const M& model, const State<M::dof>& s, double t = 0.0);
 
-/// Time tolerance of located events (lift-off of unilateral constraints):
-/// the bracket is narrowed to 1e-12 · max(1 s, |t|).
-inline constexpr double release_time_tolerance = 1e-12;
+/// Time tolerance of located events (impacts, lift-offs, watched events):
+/// the TOMS 748 bracket is narrowed to event_time_tolerance · max(1 s, |t|),
+/// i.e. 1e-12 relative with an absolute floor of 1e-12 s.
+inline constexpr double event_time_tolerance = 1e-12;
+/// Former name of event_time_tolerance.
+inline constexpr double release_time_tolerance = event_time_tolerance;
 
 namespace detail {
 
@@ -183,6 +187,14 @@ struct FirstOrderSystem {
   void evaluate_into(const Vec<double, n>& q, const Vec<double, n>& qd, double t,
                                        Vec<double, n>& qdd) const {
     if constexpr (has_constraints_v<M>) {
+      if constexpr (holonomic_count_v<M> + pfaffian_count_v<M> == 0) {
+        // Contacts only: in free flight the plain equations of motion apply.
+        constexpr ActiveSet mask = (ActiveSet{1} << unilateral_count_v<M>) - 1;
+        if ((constraints->active & mask) == 0) {
+          accelerations(*model, *ws, q, qd, t, qdd);
+          return;
+        }
+      }
       constrained_accelerations(*model, *ws, constraints->cw, q, qd, t, qdd, constraints->omega, constraints->active);
     } else if constexpr (has_explicit_accelerations_v<M>) {
       model->accelerations(q, qd, t, qdd);
@@ -242,6 +254,9 @@ template <class M, class Observer = ObserverRef<M::dof>>
 class RunState {
  public:
   static constexpr int n = M::dof;
+  /// The model declares contacts or watched events (the event code is compiled only then).
+  static constexpr bool has_events_v = unilateral_count_v<M> > 0 || event_count_v<M> > 0;
+  static constexpr ActiveSet unilateral_mask = (ActiveSet{1} << unilateral_count_v<M>) - 1;
 
   RunState(const M& model, const SimulationOptions& opt, Observer& obs, RunReport& report)
       : model_(model),
@@ -252,7 +267,14 @@ class RunState {
         buf_(make_buffer<n>(size_)),
         last_x_(make_buffer<n>(size_)) {}
 
-  void start(const State<n>& x0) {
+  /// Sets up the monitors and emits the first sample. Contacts that touch
+  /// and approach at t0 are resolved first (impacts at t0); the state the
+  /// run continues from is returned.
+  State<n> start(State<n> x0) {
+    Columns columns{coordinate_names(model_), {}, has_kinetic_potential_v<M>};
+    if constexpr (has_constraints_v<M>) start_constraints(x0, columns);
+    if constexpr (event_count_v<M> > 0) specs_ = event_specs(model_);
+    if constexpr (has_events_v) event_buf_.assign(static_cast<std::size_t>(2 * size_), 0.0);
     const std::vector<int> cyclic = cyclic_coordinates(model_, x0, opt_.t0);
     cyclic_.assign(cyclic.begin(), cyclic.end());
     Vec<double, n> p(size_);
@@ -268,13 +290,12 @@ class RunState {
     }
     report_.energy_scale = scale > 0 && std::isfinite(scale) ? scale : 1.0;
     report_.energy_initial = h0_;
-    const auto names = coordinate_names(model_);
-    for (int i : cyclic_) report_.conserved_momenta.push_back({names[static_cast<std::size_t>(i)], p[i], 0, 0});
-    Columns columns{names, {}, has_kinetic_potential_v<M>};
-    if constexpr (has_constraints_v<M>) start_constraints(x0, columns);
+    for (int i : cyclic_) report_.conserved_momenta.push_back({columns.coordinates[static_cast<std::size_t>(i)], p[i], 0, 0});
     if (obs_.begin) obs_.begin(obs_.object, columns);
     next_output_index_ = 1;
+    last_t_ = opt_.t0;
     emit(opt_.t0, x0.q.data(), x0.qd.data());
+    return x0;
   }
 
   /// Next time a sample is due (infinity when sampling every step or never).
@@ -332,6 +353,8 @@ class RunState {
       return false;
     } else {
       ConstraintReport& cr = report_.constraints;
+      constexpr bool only_contacts = holonomic_count_v<M> + pfaffian_count_v<M> == 0;
+      if (only_contacts && (active() & unilateral_mask) == 0) return false;  // free flight: nothing to hold
       Vec<double, n> q, qd;
       split_state(x, q, qd);
       bool changed = false;
@@ -360,7 +383,8 @@ class RunState {
           os.precision(17);
           os << "unilateral constraint " << cr.names[static_cast<std::size_t>(row)] << " is violated at t = " << t
              << " (g = " << cs.position[row]
-             << "): the body came back into contact; impacts are not handled by this version";
+             << ") without a located contact event; the step passed through the contact (try a smaller dt or "
+                "tighter tolerances)";
           throw SimulationError(os.str(), t);
         }
       }
@@ -382,71 +406,246 @@ class RunState {
   void attach(ConstraintContext<M>* ctx) { ctx_ = ctx; }
   ActiveSet active() const { return ctx_ ? ctx_->active : all_active; }
 
-  /// Unilateral constraints: when an active one's multiplier is negative at
-  /// the end of the step (it would pull), finds the time t* in the step where
-  /// it crosses zero (Boost.Math TOMS 748 on the step's continuous extension:
-  /// dopri5's dense output, or a Fehlberg 7(8) sub-step from the step's
-  /// start; bracket narrowed to release_time_tolerance), moves the step end to
-  /// t*, releases the constraint and returns true. The caller restarts its
-  /// stepper from there.
+  /// Events in the step just taken from (t_old, x_old) to (t, x): lift-off
+  /// of resting contacts (their multiplier turns negative), contacts closing
+  /// (the gap φ falls through zero, or dips below zero and back inside the
+  /// step), and watched event functions crossing zero in their direction.
+  /// Each crossing is located with Boost.Math's TOMS 748 on the step's
+  /// continuous extension `interp` (dopri5's dense output, or a Fehlberg 7(8)
+  /// sub-step from the step's start), the bracket narrowed to
+  /// event_time_tolerance · max(1 s, |t|). The earliest event is applied:
+  /// the step end moves to it (t and x are overwritten) and true is
+  /// returned, so the caller restarts its stepper there; later events in
+  /// the step are found by the following steps, so events are handled in
+  /// time order. Truly simultaneous contacts are resolved together by
+  /// resolve_contacts().
   template <class Interp>
-  bool release(double t_old, double& t, double* x, Interp&& interp) {
-    if constexpr (unilateral_count_v<M> == 0) {
-      (void)t_old;
-      (void)t;
-      (void)x;
-      (void)interp;
+  bool handle_events(double t_old, const double* x_old, double& t, double* x, Interp&& interp) {
+    if constexpr (!has_events_v) {
+      (void)t_old, (void)x_old, (void)t, (void)x, (void)interp;
       return false;
     } else {
-      const ActiveSet act = ctx_->active;
-      if ((act & ((ActiveSet{1} << unilateral_count_v<M>) - 1)) == 0) return false;
-      auto multipliers_at = [&](const double* xs, double ts) {
-        Vec<double, n> q, qd, qdd;
-        split_state(xs, q, qd);
-        constrained_accelerations(model_, ws_, cw_, q, qd, ts, qdd, 0.0, act);
-        return cw_.multipliers;
+      const double tol_t = event_time_tolerance * std::max(1.0, std::abs(t));
+      auto close_enough = [tol_t](double a, double b) { return std::abs(b - a) <= tol_t; };
+      // Candidate: kind 0 release, 1 contact (at the step start), 2 contact, 3 watched.
+      int best_kind = -1, best_index = -1;
+      double best_t = std::numeric_limits<double>::infinity();
+      auto consider = [&](double tc, int kind, int index) {
+        if (tc < best_t) {
+          best_t = tc;
+          best_kind = kind;
+          best_index = index;
+        }
       };
-      const auto lam_end = multipliers_at(x, t);
-      int which = -1;
-      double t_star = std::numeric_limits<double>::infinity();  // a root at the step end counts too
-      std::vector<double> buf(static_cast<std::size_t>(2 * n));
-      for (int j = 0; j < unilateral_count_v<M>; ++j) {
-        const int row = holonomic_count_v<M> + j;
-        if (!((act >> j) & 1u) || !(lam_end[row] < 0)) continue;
-        auto f = [&](double ts) {
-          if (ts == t) return lam_end[row];
-          interp(ts, buf.data());
-          return multipliers_at(buf.data(), ts)[row];
-        };
-        const double fa = f(t_old);
-        double tj = t_old;
-        if (fa > 0) {
+      std::vector<double>& buf = event_buf_;
+      if constexpr (unilateral_count_v<M> > 0) {
+        const ActiveSet act = ctx_->active;
+        // Lift-off: an active contact whose multiplier is negative at the step end.
+        if ((act & unilateral_mask) != 0) {
+          auto multipliers_at = [&](const double* xs, double ts) {
+            Vec<double, n> q, qd, qdd;
+            split_state(xs, q, qd);
+            constrained_accelerations(model_, ws_, cw_, q, qd, ts, qdd, 0.0, act);
+            return cw_.multipliers;
+          };
+          const auto lam_end = multipliers_at(x, t);
+          for (int j = 0; j < unilateral_count_v<M>; ++j) {
+            const int row = holonomic_count_v<M> + j;
+            if (!((act >> j) & 1u) || !(lam_end[row] < 0)) continue;
+            auto f = [&](double ts) {
+              if (ts == t) return lam_end[row];
+              interp(ts, buf.data());
+              return multipliers_at(buf.data(), ts)[row];
+            };
+            const double fa = f(t_old);
+            double tj = t_old;
+            if (fa > 0) {
+              std::uintmax_t iterations = 100;
+              tj = boost::math::tools::toms748_solve(f, t_old, t, fa, lam_end[row], close_enough, iterations).second;
+            }
+            consider(tj, 0, j);  // upper end: λ < 0 from there on
+          }
+        }
+        // Closing contacts among the inactive ones.
+        Vec<double, unilateral_count_v<M>> ga, ra, gb, rb;
+        gaps_at(x_old, t_old, ga, ra);
+        gaps_at(x, t, gb, rb);
+        const double touch = contact_touch_tolerance(x);
+        for (int j = 0; j < unilateral_count_v<M>; ++j) {
+          if ((act >> j) & 1u) continue;
+          auto gap = [&](double ts) {
+            if (ts == t) return gb[j];
+            if (ts == t_old) return ga[j];
+            interp(ts, buf.data());
+            Vec<double, unilateral_count_v<M>> g, r;
+            gaps_at(buf.data(), ts, g, r);
+            return g[j];
+          };
+          auto rate = [&](double ts) {
+            if (ts == t) return rb[j];
+            if (ts == t_old) return ra[j];
+            interp(ts, buf.data());
+            Vec<double, unilateral_count_v<M>> g, r;
+            gaps_at(buf.data(), ts, g, r);
+            return r[j];
+          };
+          double hi = t;
+          bool crossing = ga[j] >= 0 && gb[j] < 0;
+          if (!crossing && ga[j] >= 0 && gb[j] >= 0 && ra[j] < 0 && rb[j] > 0) {
+            // A dip inside the step: find the gap's minimum (φ̇ = 0), look below zero there.
+            std::uintmax_t iterations = 100;
+            const auto r = boost::math::tools::toms748_solve(rate, t_old, t, ra[j], rb[j], close_enough, iterations);
+            hi = 0.5 * (r.first + r.second);
+            crossing = gap(hi) < 0;
+          }
+          if (crossing) {
+            double tj = t_old;
+            if (ga[j] > 0) {
+              std::uintmax_t iterations = 100;
+              tj = boost::math::tools::toms748_solve(gap, t_old, hi, ga[j], gap(hi), close_enough, iterations).first;
+            }
+            // A slow touch that stays within the tolerance is not an impact.
+            if (-rate(tj) <= opt_.contact_touch_speed && gb[j] >= -touch) continue;
+            consider(tj, 2, j);  // lower end: φ ≥ 0, just before contact
+          } else if (ga[j] < 0 && gb[j] < -touch && gb[j] < ga[j]) {
+            consider(t_old, 1, j);  // already touching at the step start and pressing in
+          }
+        }
+      }
+      if constexpr (event_count_v<M> > 0) {
+        Vec<double, event_count_v<M>> fa = watched_at(x_old, t_old), fb = watched_at(x, t);
+        for (int k = 0; k < event_count_v<M>; ++k) {
+          const Direction d = specs_[static_cast<std::size_t>(k)].direction;
+          const bool falls = fa[k] > 0 && fb[k] <= 0, rises = fa[k] < 0 && fb[k] >= 0;
+          if (!((falls && d != Direction::rising) || (rises && d != Direction::falling))) continue;
+          auto f = [&](double ts) {
+            if (ts == t) return fb[k];
+            interp(ts, buf.data());
+            return watched_at(buf.data(), ts)[k];
+          };
           std::uintmax_t iterations = 100;
-          const auto r = boost::math::tools::toms748_solve(
-              f, t_old, t, fa, lam_end[row],
-              [](double a, double b) { return std::abs(b - a) <= release_time_tolerance * std::max(1.0, std::abs(a)); },
-              iterations);
-          tj = r.second;  // upper end of the final bracket: λ ≥ 0 up to r.first, < 0 from here
-        }
-        if (tj < t_star) {
-          t_star = tj;
-          which = j;
+          consider(boost::math::tools::toms748_solve(f, t_old, t, fa[k], fb[k], close_enough, iterations).second, 3,
+                   k);
         }
       }
-      if (which < 0) return false;
-      if (t_star < t) {
-        interp(t_star, buf.data());
+      if (best_kind < 0) return false;
+      if (best_t < t) {
+        interp(best_t, buf.data());
         std::copy(buf.begin(), buf.end(), x);
-        t = t_star;
+        t = best_t;
       }
-      ctx_->active &= ~(ActiveSet{1} << which);
-      const std::string name = report_.constraints.names[static_cast<std::size_t>(holonomic_count_v<M> + which)];
-      std::ostringstream os;
-      os.precision(15);
-      os << "released " << name << " at t = " << t;
-      report_.constraints.events.push_back(os.str());
-      report_.constraints.event_times.push_back(t);
+      if (best_kind == 0) {
+        if constexpr (unilateral_count_v<M> > 0) {
+          ctx_->active &= ~(ActiveSet{1} << best_index);
+          log_simple(EventKind::release, contact_name(best_index), t, x);
+        }
+      } else if (best_kind == 1 || best_kind == 2) {
+        resolve_contacts(x, t, best_index);
+      } else {
+        const EventSpec& s = specs_[static_cast<std::size_t>(best_index)];
+        log_simple(EventKind::watched, s.name, t, x);
+        if (s.action == EventAction::stop) {
+          log_simple(EventKind::stop, s.name, t, x);
+          stopped_ = true;
+          report_.stopped_at = t;
+          report_.stopped_by = s.name;
+        }
+      }
       return true;
+    }
+  }
+
+  /// True once a watched event with action stop has fired.
+  bool stopped() const { return stopped_; }
+
+  /// Resolves every contact that is touching (|φ| within the touch
+  /// tolerance) and approaching faster than contact_touch_speed at (x, t),
+  /// one pair at a time: the one approaching fastest first, by Newton's law
+  /// of restitution (apply_impact), until none approaches (the sequential
+  /// rule for simultaneous impacts; each step conserves momentum, and kinetic
+  /// energy when e = 1). Zeno accumulations are resolved plastically (see
+  /// SimulationOptions::zeno_speed_ratio). Afterwards the contacts that took
+  /// part (and `trigger`) are resting (active) when they do not separate,
+  /// and active contacts that separate are released.
+  void resolve_contacts(double* x, double t, int trigger) {
+    if constexpr (unilateral_count_v<M> > 0) {
+      constexpr int u = unilateral_count_v<M>;
+      Vec<double, n> q, qd;
+      split_state(x, q, qd);
+      const double touch = contact_touch_tolerance(x);
+      Vec<double, u> g, r;
+      std::array<bool, u> involved{};
+      std::array<bool, u> rested{};
+      involved[static_cast<std::size_t>(trigger)] = true;
+      const int max_impacts = 1000 * u;
+      int count = 0;
+      for (;; ++count) {
+        contact_gaps(model_, q, qd, t, g, r);
+        int j = -1;
+        for (int i = 0; i < u; ++i)
+          if (g[i] <= touch && r[i] < -opt_.contact_touch_speed && (j < 0 || r[i] < r[j])) j = i;
+        if (j < 0) break;
+        if (count >= max_impacts) {
+          std::ostringstream os;
+          os.precision(17);
+          os << "simultaneous impacts at t = " << t << " did not settle after " << max_impacts
+             << " pairwise impacts (contact " << contact_name(j) << " still approaching at " << -r[j] << ")";
+          throw SimulationError(os.str(), t);
+        }
+        const std::size_t js = static_cast<std::size_t>(j);
+        if constexpr (!has_restitution_v<M>) {
+          std::ostringstream os;
+          os.precision(17);
+          os << "contact " << contact_name(j) << " closed at t = " << t << " with approach speed " << -r[j]
+             << "; the model declares no restitution(), so the impact cannot be resolved";
+          throw SimulationError(os.str(), t);
+        }
+        const double approach = -r[j];
+        const bool zeno = approach <= opt_.zeno_speed_ratio * approach_max_[js] ||
+                          t - last_impact_[js] <= opt_.zeno_min_interval * std::max(1.0, std::abs(t));
+        const double e = zeno ? 0.0 : restitution_[js];
+        const double h_before = energy_function(model_, q, qd, t);
+        ImpactResult<n> res;
+        try {
+          res = apply_impact(model_, ws_, q, qd, t, j, e);
+        } catch (const DynamicsError& err) {
+          throw SimulationError(std::string("impact failed: ") + err.what(), t);
+        }
+        approach_max_[js] = std::max(approach_max_[js], approach);
+        last_impact_[js] = t;
+        involved[js] = true;
+        rested[js] = zeno;
+        EventRecord rec;
+        rec.t = t;
+        rec.kind = zeno ? EventKind::rest : EventKind::impact;
+        rec.name = contact_name(j);
+        rec.impulse = res.impulse;
+        rec.approach_speed = res.approach_speed;
+        rec.separation_speed = res.separation_speed;
+        rec.kinetic_energy_before = res.kinetic_energy_before;
+        rec.kinetic_energy_after = res.kinetic_energy_after;
+        report_.events.push_back(rec);
+        if (!zeno) ++report_.impacts;
+        report_.impact_energy_loss += res.kinetic_energy_before - res.kinetic_energy_after;
+        shift_reference_energy(q, qd, t, h_before, res.kinetic_energy_after - res.kinetic_energy_before);
+      }
+      contact_gaps(model_, q, qd, t, g, r);
+      ActiveSet& active = ctx_->active;
+      for (int j = 0; j < u; ++j) {
+        const std::size_t js = static_cast<std::size_t>(j);
+        const ActiveSet bit = ActiveSet{1} << j;
+        const bool resting = g[j] <= touch && r[j] <= opt_.contact_touch_speed;
+        if ((active & bit) && !resting) {
+          active &= ~bit;
+          log_simple(EventKind::release, contact_name(j), t, x);
+        } else if (!(active & bit) && involved[js] && resting) {
+          active |= bit;
+          if (!rested[js]) log_simple(EventKind::rest, contact_name(j), t, x);
+        }
+      }
+      for (int i = 0; i < n; ++i) x[n + i] = qd[i];
+    } else {
+      (void)x, (void)t, (void)trigger;
     }
   }
 
@@ -464,6 +663,7 @@ class RunState {
 
   /// Final bookkeeping: sample the end state if not done yet.
   void finish() {
+    report_.t_final = last_t_;
     if (opt_.output_interval != 0 && last_emitted_ != last_t_)
       emit(last_t_, last_x_.data(), last_x_.data() + size_);
     report_.energy_drift_final = std::abs(h_last_ - h0_) / report_.energy_scale;
@@ -502,7 +702,7 @@ class RunState {
     last_emitted_ = t;
   }
 
-  void start_constraints(const State<n>& x0, Columns& columns) {
+  void start_constraints(State<n>& x0, Columns& columns) {
     if constexpr (has_constraints_v<M>) {
       ConstraintReport& cr = report_.constraints;
       report_.constrained = true;
@@ -524,18 +724,52 @@ class RunState {
       const double qs = 1.0 + x0.q.template lpNorm<Eigen::Infinity>();
       const double vs = 1.0 + x0.qd.template lpNorm<Eigen::Infinity>();
       ActiveSet active = 0;
-      for (int j = 0; j < unilateral_count_v<M>; ++j) {
-        const int row = holonomic_count_v<M> + j;
-        const double g = cs.position[row], gd = cs.velocity[row];
-        if (g < -1e-9 * qs || (std::abs(g) <= 1e-9 * qs && gd < -1e-9 * vs)) {
-          std::ostringstream os;
-          os.precision(17);
-          os << "unilateral constraint " << cr.names[static_cast<std::size_t>(row)]
-             << (g < -1e-9 * qs ? " is violated at t0: g = " : " is approached at t0 (an impact): dg/dt = ")
-             << (g < -1e-9 * qs ? g : gd) << "; start on or outside the admissible side at rest relative to it";
-          throw ConstraintError(os.str());
+      if constexpr (unilateral_count_v<M> > 0) {
+        restitution_ = restitution_coefficients(model_);
+        approach_max_.fill(0.0);
+        last_impact_.fill(-std::numeric_limits<double>::infinity());
+        bool approaching = false;
+        for (int j = 0; j < unilateral_count_v<M>; ++j) {
+          const int row = holonomic_count_v<M> + j;
+          const double g = cs.position[row], gd = cs.velocity[row];
+          if (g < -1e-9 * qs) {
+            std::ostringstream os;
+            os.precision(17);
+            os << "unilateral constraint " << cr.names[static_cast<std::size_t>(row)] << " is violated at t0: g = " << g
+               << " (the bodies overlap); start on or outside the admissible side";
+            throw ConstraintError(os.str());
+          }
+          if (std::abs(g) <= 1e-9 * qs) {
+            if (gd < -opt_.contact_touch_speed) {
+              approaching = true;  // an impact at t0
+            } else if (gd <= opt_.contact_touch_speed) {
+              active |= ActiveSet{1} << j;  // resting contact
+            }
+          }
+          (void)vs;
         }
-        if (std::abs(g) <= 1e-9 * qs) active |= ActiveSet{1} << j;  // in contact
+        if (ctx_) ctx_->active = active;
+        if (approaching) {
+          if constexpr (!has_restitution_v<M>) {
+            throw ConstraintError("a unilateral constraint is approached at t0 (an impact) but the model declares no "
+                                  "restitution(); start at rest relative to it, or declare restitution()");
+          }
+          StateBuffer<n> xb = make_buffer<n>(size_);
+          for (int i = 0; i < size_; ++i) {
+            xb[static_cast<std::size_t>(i)] = x0.q[i];
+            xb[static_cast<std::size_t>(size_ + i)] = x0.qd[i];
+          }
+          for (int j = 0; j < unilateral_count_v<M>; ++j) {
+            const int row = holonomic_count_v<M> + j;
+            if (std::abs(cs.position[row]) <= 1e-9 * qs && cs.velocity[row] < -opt_.contact_touch_speed) {
+              resolve_contacts(xb.data(), opt_.t0, j);
+              break;
+            }
+          }
+          split_state(xb.data(), x0.q, x0.qd);
+          active = ctx_ ? ctx_->active : active;
+          cs = constraint_state(model_, x0.q, x0.qd, opt_.t0);
+        }
       }
       if (ctx_) ctx_->active = active;
       drop_inactive<M>(cs, active);
@@ -574,11 +808,66 @@ class RunState {
     }
   }
 
+
+  /// Gaps within this of zero count as touching: 1e-9 (1 + ‖q‖∞).
+  double contact_touch_tolerance(const double* x) const {
+    double qmax = 0;
+    for (int i = 0; i < size_; ++i) qmax = std::max(qmax, std::abs(x[i]));
+    return 1e-9 * (1.0 + qmax);
+  }
+  template <class G>
+  void gaps_at(const double* x, double t, G& g, G& r) const {
+    Vec<double, n> q, qd;
+    split_state(x, q, qd);
+    contact_gaps(model_, q, qd, t, g, r);
+  }
+  Vec<double, event_count_v<M>> watched_at(const double* x, double t) const {
+    if constexpr (event_count_v<M> > 0) {
+      Vec<double, n> q, qd;
+      split_state(x, q, qd);
+      return model_.events(q, qd, t);
+    } else {
+      (void)x, (void)t;
+      return {};
+    }
+  }
+  std::string contact_name(int j) const {
+    return report_.constraints.names[static_cast<std::size_t>(holonomic_count_v<M> + j)];
+  }
+  /// An event without an impulse: logs it with the kinetic energy at x.
+  void log_simple(EventKind kind, const std::string& name, double t, const double* x) {
+    EventRecord rec;
+    rec.t = t;
+    rec.kind = kind;
+    rec.name = name;
+    Vec<double, n> q, qd;
+    split_state(x, q, qd);
+    if constexpr (has_kinetic_potential_v<M>) {
+      rec.kinetic_energy_before = rec.kinetic_energy_after = model_.kinetic(q, qd, t);
+    } else {
+      rec.kinetic_energy_before = rec.kinetic_energy_after = std::numeric_limits<double>::quiet_NaN();
+    }
+    report_.events.push_back(rec);
+  }
+  /// After an impact: the energy references move by the energy the impact
+  /// took, so the drift monitors keep measuring integration error only.
+  void shift_reference_energy(const Vec<double, n>& q, const Vec<double, n>& qd, double t, double h_before,
+                              double kinetic_change) {
+    h0_ += energy_function(model_, q, qd, t) - h_before;
+    e0_ += kinetic_change;  // an impulse leaves V unchanged: ΔE = ΔT
+  }
+
   const M& model_;
   const SimulationOptions& opt_;
   Observer& obs_;
   RunReport& report_;
   Workspace<n> ws_{model_size(model_)};
+  std::array<double, unilateral_count_v<M>> restitution_{};
+  std::array<double, unilateral_count_v<M>> approach_max_{};
+  std::array<double, unilateral_count_v<M>> last_impact_{};
+  std::vector<EventSpec> specs_;
+  std::vector<double> event_buf_;
+  bool stopped_ = false;
   ConstraintContext<M>* ctx_ = nullptr;
   [[no_unique_address]] std::conditional_t<has_constraints_v<M>, ConstraintWorkspace<n, constraint_count_v<M>>, None>
       cw_{};
@@ -604,19 +893,23 @@ template <class M, class Observer, class Controlled, class X>
 void run_controlled(Controlled& stepper, FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt,
                     RunState<M, Observer>& rs) {
   namespace odeint = boost::numeric::odeint;
+  constexpr bool events = RunState<M, Observer>::has_events_v;
   double t = opt.t0;
   double dt = opt.dt;
   [[maybe_unused]] X x_prev = x;
-  while (!reached(t, opt.t_end)) {
+  while (!reached(t, opt.t_end) && !rs.stopped()) {
     const double limit = std::min(opt.t_end, rs.next_output_time());
     const bool clamped = t + dt > limit;
     double dt_try = clamped ? limit - t : dt;
     const double t_old = t;
-    if constexpr (unilateral_count_v<M> > 0) x_prev = x;
+    if constexpr (events) x_prev = x;
     if (stepper.try_step(sys, x, t, dt_try) == odeint::success) {
       if (clamped) t = limit;  // land exactly on the output time or t_end
-      if constexpr (unilateral_count_v<M> > 0) {
-        rs.release(t_old, t, x.data(), SubStep<M, X>{sys, x_prev, t_old});  // no state carried between steps
+      if constexpr (events) {
+        // No state is carried between steps except by Bulirsch–Stoer, which restarts.
+        if (rs.handle_events(t_old, x_prev.data(), t, x.data(), SubStep<M, X>{sys, x_prev, t_old})) {
+          if constexpr (requires { stepper.reset(); }) stepper.reset();
+        }
       }
       rs.stabilize(x.data(), t);
       rs.reset_rejections();
@@ -633,18 +926,20 @@ template <class M, class Observer, class X>
 void run_dopri5(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt, RunState<M, Observer>& rs) {
   namespace odeint = boost::numeric::odeint;
   using Controlled = odeint::controlled_runge_kutta<odeint::runge_kutta_dopri5<X>>;
+  constexpr bool events = RunState<M, Observer>::has_events_v;
   Controlled stepper{typename Controlled::error_checker_type(opt.atol, opt.rtol)};
   X dxdt = x;
   X x_old = x;
   X dxdt_old = x;
+  X x_step = x;
   X dxdt_step = x;
   X buf = x;
   double t = opt.t0;
   double dt = opt.dt;
   // Samples between steps and event location need the step's start.
-  const bool dense = opt.output_interval > 0 || unilateral_count_v<M> > 0;
+  const bool dense = opt.output_interval > 0 || events;
   sys(x, dxdt, t);
-  while (!reached(t, opt.t_end)) {
+  while (!reached(t, opt.t_end) && !rs.stopped()) {
     const bool clamped = t + dt > opt.t_end;
     double dt_try = clamped ? opt.t_end - t : dt;
     if (dense) {
@@ -656,17 +951,21 @@ void run_dopri5(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt, Run
       if (clamped) t = opt.t_end;
       rs.reset_rejections();
       const double t_new = t;
+      const X* x_new = &x;
       const X* deriv_new = &dxdt;
       auto interpolate = [&](double to, double* out) {
-        stepper.stepper().calc_state(to, buf, x_old, dxdt_old, t_old, x, *deriv_new, t_new);
+        stepper.stepper().calc_state(to, buf, x_old, dxdt_old, t_old, *x_new, *deriv_new, t_new);
         std::copy(buf.begin(), buf.end(), out);
       };
-      if constexpr (has_constraints_v<M>) {
+      if constexpr (has_constraints_v<M> || events) {
         if (dense) {
-          dxdt_step = dxdt;  // the step's own end derivative, for its dense output
+          // The step's own end point, for its dense output after x moves.
+          x_step = x;
+          dxdt_step = dxdt;
+          x_new = &x_step;
           deriv_new = &dxdt_step;
         }
-        bool changed = rs.release(t_old, t, x.data(), interpolate);
+        bool changed = rs.handle_events(t_old, x_old.data(), t, x.data(), interpolate);
         changed = rs.stabilize(x.data(), t) || changed;
         if (changed) {
           sys(x, dxdt, t);  // FSAL: the moved state needs its own derivative
@@ -685,19 +984,21 @@ void run_dopri5(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt, Run
 template <class M, class Observer, class X>
 void run_rk4(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt, RunState<M, Observer>& rs) {
   namespace odeint = boost::numeric::odeint;
+  constexpr bool events = RunState<M, Observer>::has_events_v;
   odeint::runge_kutta4<X> stepper;
   // Fixed steps of opt.dt; the k-th step ends at t0 + k dt (no accumulated
   // rounding); a step is shortened only to land on an output time or t_end.
   std::uint64_t k = 0;
   double t = opt.t0;
-  while (!reached(t, opt.t_end)) {
+  [[maybe_unused]] X x_prev = x;
+  while (!reached(t, opt.t_end) && !rs.stopped()) {
     const double t_grid = opt.t0 + static_cast<double>(k + 1) * opt.dt;
     const double t_next = std::min({t_grid, opt.t_end, rs.next_output_time()});
     const double t_old = t;
-    [[maybe_unused]] const X x_prev = unilateral_count_v<M> > 0 ? x : X{};
+    if constexpr (events) x_prev = x;
     stepper.do_step(sys, x, t, t_next - t);
     t = t_next;
-    if constexpr (unilateral_count_v<M> > 0) rs.release(t_old, t, x.data(), SubStep<M, X>{sys, x_prev, t_old});
+    if constexpr (events) rs.handle_events(t_old, x_prev.data(), t, x.data(), SubStep<M, X>{sys, x_prev, t_old});
     if (t >= t_grid) ++k;  // a step cut at an event leaves the grid point ahead
     rs.stabilize(x.data(), t);
     rs.accepted(t_old, t, x.data(), [](double, double*) {});
@@ -746,15 +1047,16 @@ void run_rosenbrock4(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt
   Rosenbrock4Stepper stepper(ctx.m, opt.atol, opt.rtol);
   double t = opt.t0;
   double dt = opt.dt;
-  while (!reached(t, opt.t_end)) {
+  while (!reached(t, opt.t_end) && !rs.stopped()) {
     const double limit = std::min(opt.t_end, rs.next_output_time());
     const bool clamped = t + dt > limit;
     double dt_try = clamped ? limit - t : dt;
     const double t_old = t;
-    [[maybe_unused]] const X x_prev = unilateral_count_v<M> > 0 ? x : X{};
+    [[maybe_unused]] const X x_prev = RunState<M, Observer>::has_events_v ? x : X{};
     if (stepper.try_step(stiff, x.data(), t, dt_try)) {
       if (clamped) t = limit;
-      if constexpr (unilateral_count_v<M> > 0) rs.release(t_old, t, x.data(), SubStep<M, X>{sys, x_prev, t_old});
+      if constexpr (RunState<M, Observer>::has_events_v)
+        rs.handle_events(t_old, x_prev.data(), t, x.data(), SubStep<M, X>{sys, x_prev, t_old});
       rs.stabilize(x.data(), t);
       rs.reset_rejections();
       rs.accepted(t_old, t, x.data(), [](double, double*) {});
@@ -826,7 +1128,11 @@ RunReport simulate_impl(const M& model, const State<M::dof>& initial, const Simu
     x[i] = initial.q[i];
     x[size + i] = initial.qd[i];
   }
-  rs.start(initial);
+  {
+    const State<n> start = rs.start(initial);  // impacts at t0 may change the velocities
+    for (int i = 0; i < size; ++i) x[static_cast<std::size_t>(i + size)] = start.qd[i];
+    for (int i = 0; i < size; ++i) x[static_cast<std::size_t>(i)] = start.q[i];
+  }
   try {
     const std::string& m = options.method;
     if (m == "dopri5") {
