@@ -278,7 +278,8 @@ class RunState {
     const std::vector<int> cyclic = cyclic_coordinates(model_, x0, opt_.t0);
     cyclic_.assign(cyclic.begin(), cyclic.end());
     Vec<double, n> p(size_);
-    h0_ = energy_and_momenta(model_, x0.q, x0.qd, opt_.t0, p);
+    h0_ = energy_and_momenta(model_, x0.q, x0.qd, opt_.t0, p);  // after any impact at t0
+    pending_shifts_.clear();
     double scale = std::abs(h0_);
     if constexpr (has_kinetic_potential_v<M>) {
       const double t0 = model_.kinetic(x0.q, x0.qd, opt_.t0);
@@ -425,8 +426,9 @@ class RunState {
       (void)t_old, (void)x_old, (void)t, (void)x, (void)interp;
       return false;
     } else {
-      const double tol_t = event_time_tolerance * std::max(1.0, std::abs(t));
-      auto close_enough = [tol_t](double a, double b) { return std::abs(b - a) <= tol_t; };
+      auto close_enough = [](double a, double b) {
+        return std::abs(b - a) <= event_time_tolerance * std::max(1.0, std::min(std::abs(a), std::abs(b)));
+      };
       // Candidate: kind 0 release, 1 contact (at the step start), 2 contact, 3 watched.
       int best_kind = -1, best_index = -1;
       double best_t = std::numeric_limits<double>::infinity();
@@ -489,26 +491,31 @@ class RunState {
             gaps_at(buf.data(), ts, g, r);
             return r[j];
           };
-          double hi = t;
-          bool crossing = ga[j] >= 0 && gb[j] < 0;
-          if (!crossing && ga[j] >= 0 && gb[j] >= 0 && ra[j] < 0 && rb[j] > 0) {
-            // A dip inside the step: find the gap's minimum (φ̇ = 0), look below zero there.
+          // The bracket [lo, hi] of a closing: φ(lo) > 0 > φ(hi).
+          double lo = t_old, hi = t;
+          bool crossing = ga[j] > 0 && gb[j] < 0;
+          auto rate_root = [&] {
             std::uintmax_t iterations = 100;
             const auto r = boost::math::tools::toms748_solve(rate, t_old, t, ra[j], rb[j], close_enough, iterations);
-            hi = 0.5 * (r.first + r.second);
+            return 0.5 * (r.first + r.second);
+          };
+          if (!crossing && ga[j] >= 0 && gb[j] >= 0 && ra[j] < 0 && rb[j] > 0) {
+            hi = rate_root();  // a dip inside the step: below zero at the gap's minimum?
             crossing = gap(hi) < 0;
+          } else if (!crossing && ga[j] <= 0 && ra[j] > 0 && gb[j] < 0 && rb[j] < 0) {
+            lo = rate_root();  // leaves the contact and comes back within the step
+            crossing = gap(lo) > 0;
           }
           if (crossing) {
-            double tj = t_old;
-            if (ga[j] > 0) {
-              std::uintmax_t iterations = 100;
-              tj = boost::math::tools::toms748_solve(gap, t_old, hi, ga[j], gap(hi), close_enough, iterations).first;
-            }
+            std::uintmax_t iterations = 100;
+            const double tj =
+                boost::math::tools::toms748_solve(gap, lo, hi, gap(lo), gap(hi), close_enough, iterations).first;
             // A slow touch that stays within the tolerance is not an impact.
             if (-rate(tj) <= opt_.contact_touch_speed && gb[j] >= -touch) continue;
             consider(tj, 2, j);  // lower end: φ ≥ 0, just before contact
-          } else if (ga[j] < 0 && gb[j] < -touch && gb[j] < ga[j]) {
-            consider(t_old, 1, j);  // already touching at the step start and pressing in
+          } else if ((ga[j] <= touch && ra[j] < -opt_.contact_touch_speed) ||
+                     (ga[j] < 0 && gb[j] < -touch && gb[j] < ga[j])) {
+            consider(t_old, 1, j);  // touching at the step start and approaching or pressing in
           }
         }
       }
@@ -529,6 +536,18 @@ class RunState {
         }
       }
       if (best_kind < 0) return false;
+      // Guard against an event that changes nothing being found again and again.
+      if (best_t == last_event_time_ && best_t == t_old) {
+        if (++events_without_progress_ > 100) {
+          std::ostringstream os;
+          os.precision(17);
+          os << "event handling made no progress at t = " << best_t << " (more than 100 events at this instant)";
+          throw SimulationError(os.str(), best_t);
+        }
+      } else {
+        events_without_progress_ = 0;
+      }
+      last_event_time_ = best_t;
       if (best_t < t) {
         interp(best_t, buf.data());
         std::copy(buf.begin(), buf.end(), x);
@@ -583,7 +602,7 @@ class RunState {
         contact_gaps(model_, q, qd, t, g, r);
         int j = -1;
         for (int i = 0; i < u; ++i)
-          if (g[i] <= touch && r[i] < -opt_.contact_touch_speed && (j < 0 || r[i] < r[j])) j = i;
+          if ((i == trigger || g[i] <= touch) && r[i] < -opt_.contact_touch_speed && (j < 0 || r[i] < r[j])) j = i;
         if (j < 0) break;
         if (count >= max_impacts) {
           std::ostringstream os;
@@ -634,7 +653,7 @@ class RunState {
       for (int j = 0; j < u; ++j) {
         const std::size_t js = static_cast<std::size_t>(j);
         const ActiveSet bit = ActiveSet{1} << j;
-        const bool resting = g[j] <= touch && r[j] <= opt_.contact_touch_speed;
+        const bool resting = (j == trigger || g[j] <= touch) && r[j] <= opt_.contact_touch_speed;
         if ((active & bit) && !resting) {
           active &= ~bit;
           log_simple(EventKind::release, contact_name(j), t, x);
@@ -664,6 +683,7 @@ class RunState {
   /// Final bookkeeping: sample the end state if not done yet.
   void finish() {
     report_.t_final = last_t_;
+    if constexpr (has_events_v) apply_pending_shifts(last_t_);
     if (opt_.output_interval != 0 && last_emitted_ != last_t_)
       emit(last_t_, last_x_.data(), last_x_.data() + size_);
     report_.energy_drift_final = std::abs(h_last_ - h0_) / report_.energy_scale;
@@ -673,6 +693,7 @@ class RunState {
 
  private:
   void emit(double t, const double* q, const double* qd) {
+    if constexpr (has_events_v) apply_pending_shifts(t);
     Sample<n> s;
     s.t = t;
     s.q.resize(size_);
@@ -853,8 +874,17 @@ class RunState {
   /// took, so the drift monitors keep measuring integration error only.
   void shift_reference_energy(const Vec<double, n>& q, const Vec<double, n>& qd, double t, double h_before,
                               double kinetic_change) {
-    h0_ += energy_function(model_, q, qd, t) - h_before;
-    e0_ += kinetic_change;  // an impulse leaves V unchanged: ΔE = ΔT
+    // Applied by emit() from the event time on: samples interpolated
+    // before the event still compare with the old references.
+    pending_shifts_.push_back({t, energy_function(model_, q, qd, t) - h_before, kinetic_change});
+  }
+  void apply_pending_shifts(double t) {
+    std::size_t k = 0;
+    for (; k < pending_shifts_.size() && pending_shifts_[k][0] <= t; ++k) {
+      h0_ += pending_shifts_[k][1];
+      e0_ += pending_shifts_[k][2];  // an impulse leaves V unchanged: ΔE = ΔT
+    }
+    pending_shifts_.erase(pending_shifts_.begin(), pending_shifts_.begin() + static_cast<std::ptrdiff_t>(k));
   }
 
   const M& model_;
@@ -868,6 +898,9 @@ class RunState {
   std::vector<EventSpec> specs_;
   std::vector<double> event_buf_;
   bool stopped_ = false;
+  std::vector<std::array<double, 3>> pending_shifts_;  ///< (time, Δh, ΔE) of impacts not yet sampled past
+  double last_event_time_ = std::numeric_limits<double>::quiet_NaN();
+  int events_without_progress_ = 0;
   ConstraintContext<M>* ctx_ = nullptr;
   [[no_unique_address]] std::conditional_t<has_constraints_v<M>, ConstraintWorkspace<n, constraint_count_v<M>>, None>
       cw_{};

@@ -1,0 +1,356 @@
+#pragma once
+/// \file impacts.hpp
+/// Smooth spheres that collide: on a line (direct impact, Newton's cradle),
+/// in a plane or in space (oblique impact), a ball against a fixed plane or
+/// wall, and spheres in a box. Each model states its contacts as gap
+/// functions φ ≥ 0 (m) with restitution coefficients, so impacts are resolved
+/// by the general law (impact.hpp); the closed forms of the course notes
+/// (corrected, see below) are here too, so tests and tools can show the
+/// deviation. SI units throughout.
+
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "lagrangian/model.hpp"
+#include "lagrangian/params.hpp"
+
+namespace lagrangian::models {
+
+/// Result of a direct impact of two smooth spheres on a line (velocities
+/// along the line, m/s; impulses N·s; energy J).
+struct DirectImpact {
+  double v1 = 0, v2 = 0;        ///< velocities after impact
+  double impulse_on_1 = 0;      ///< m₁(v₁ − u₁); the impulse on sphere 2 is its negative
+  double impulse_on_2 = 0;      ///< m₂(v₂ − u₂)
+  double kinetic_energy_loss = 0;  ///< T before − T after ≥ 0
+};
+
+/// Direct impact of smooth spheres m₁, m₂ (kg) with velocities u₁, u₂ (m/s)
+/// along the line of centres and restitution e (course notes 1.3):
+///   v₁ = ((m₁ − e m₂) u₁ + (1 + e) m₂ u₂) / (m₁ + m₂)             (1.3.3)
+///   v₂ = ((m₂ − e m₁) u₂ + (1 + e) m₁ u₁) / (m₁ + m₂)             (1.3.4)
+///   m₁(v₁ − u₁) = m₁m₂(1 + e)(u₂ − u₁) / (m₁ + m₂)                 (Cor. 1)
+///   loss = ½ m₁m₂(1 − e²)(u₁ − u₂)² / (m₁ + m₂)                    (1.3.7)
+/// The notes print (1.3.4) with u₂(m₂ + e m₁); with that sign the momentum
+/// m₁v₁ + m₂v₂ would change by 2 e m₁m₂u₂/(m₁ + m₂), so the sign must be
+/// minus (it is what the notes' own derivation, (1.3.1) − m₁·(1.3.2), gives).
+inline DirectImpact direct_impact(double m1, double m2, double u1, double u2, double e) {
+  require_positive("direct_impact", "m1", m1);
+  require_positive("direct_impact", "m2", m2);
+  require_finite("direct_impact", "u1", u1);
+  require_finite("direct_impact", "u2", u2);
+  require_in_range("direct_impact", "e", e, 0.0, 1.0);
+  DirectImpact r;
+  const double m = m1 + m2;
+  // Written as u + Δu with Δu from the impulse, which keeps full relative
+  // accuracy for extreme mass ratios.
+  const double j = (1.0 + e) * (u2 - u1) / m;  // impulse on 1 divided by m₁m₂
+  r.v1 = u1 + m2 * j;
+  r.v2 = u2 - m1 * j;
+  r.impulse_on_1 = m1 * m2 * j;
+  r.impulse_on_2 = -r.impulse_on_1;
+  r.kinetic_energy_loss = 0.5 * m1 * m2 * (1.0 - e * e) * (u1 - u2) * (u1 - u2) / m;
+  return r;
+}
+
+/// Result of an oblique impact of two smooth spheres, in the plane that
+/// holds the common normal and each velocity (speeds m/s, angles rad).
+struct ObliqueImpact {
+  double v1 = 0, v2 = 0;         ///< speeds after impact
+  double theta = 0, phi = 0;     ///< angles of v₁, v₂ with the common normal
+  double v1_normal = 0, v2_normal = 0;          ///< v₁ cos θ, v₂ cos φ
+  double v1_tangential = 0, v2_tangential = 0;  ///< v₁ sin θ = u₁ sin α, v₂ sin φ = u₂ sin β
+  double impulse_on_1 = 0;       ///< along the normal, m₁(v₁ cos θ − u₁ cos α)
+  double kinetic_energy_loss = 0;
+};
+
+/// Oblique impact (course notes 1.4): sphere 1 (m₁, speed u₁ at angle α to
+/// the common normal) meets sphere 2 (m₂, u₂ at angle β):
+///   v₁ cos θ = ((m₁ − e m₂) u₁ cos α + (1 + e) m₂ u₂ cos β) / (m₁ + m₂)   (1.4.5)
+///   v₂ cos φ = ((1 + e) m₁ u₁ cos α + (m₂ − e m₁) u₂ cos β) / (m₁ + m₂)   (1.4.6)
+///   v₁ sin θ = u₁ sin α,  v₂ sin φ = u₂ sin β                          (1.4.3–4)
+///   impulse = m₁m₂(1 + e)(u₂ cos β − u₁ cos α) / (m₁ + m₂)              (1.4.7)
+///   loss = m₁m₂(1 − e²)(u₁ cos α − u₂ cos β)² / (2(m₁ + m₂))            (1.4.1)
+/// The notes print (1.4.6) with v₁ cos α for u₁ cos α (and m₂v₂ cos β for
+/// m₂u₂ cos β in the line before): the velocity after impact cannot appear
+/// on the right; momentum along the normal holds only with u₁.
+inline ObliqueImpact oblique_impact(double m1, double m2, double u1, double u2, double alpha, double beta, double e) {
+  require_finite("oblique_impact", "alpha", alpha);
+  require_finite("oblique_impact", "beta", beta);
+  const DirectImpact d = direct_impact(m1, m2, u1 * std::cos(alpha), u2 * std::cos(beta), e);
+  ObliqueImpact r;
+  r.v1_normal = d.v1;
+  r.v2_normal = d.v2;
+  r.v1_tangential = u1 * std::sin(alpha);
+  r.v2_tangential = u2 * std::sin(beta);
+  r.v1 = std::hypot(r.v1_normal, r.v1_tangential);
+  r.v2 = std::hypot(r.v2_normal, r.v2_tangential);
+  r.theta = std::atan2(r.v1_tangential, r.v1_normal);
+  r.phi = std::atan2(r.v2_tangential, r.v2_normal);
+  r.impulse_on_1 = d.impulse_on_1;
+  r.kinetic_energy_loss = d.kinetic_energy_loss;
+  return r;
+}
+
+/// Velocities of two smooth spheres after they collide, as vectors: the
+/// components along the unit normal n (from sphere 1 to sphere 2) follow
+/// direct_impact(), the tangential components are unchanged.
+template <int D>
+struct SphereVelocities {
+  Eigen::Matrix<double, D, 1> v1, v2;  ///< m/s
+  double impulse_on_2 = 0;             ///< along n (N·s)
+  double kinetic_energy_loss = 0;      ///< J
+};
+template <int D>
+SphereVelocities<D> smooth_spheres_impact(double m1, double m2, const Eigen::Matrix<double, D, 1>& u1,
+                                          const Eigen::Matrix<double, D, 1>& u2,
+                                          const Eigen::Matrix<double, D, 1>& n, double e) {
+  const double a = u1.dot(n), b = u2.dot(n);
+  const DirectImpact d = direct_impact(m1, m2, a, b, e);
+  SphereVelocities<D> r;
+  r.v1 = u1 + (d.v1 - a) * n;
+  r.v2 = u2 + (d.v2 - b) * n;
+  r.impulse_on_2 = d.impulse_on_2;
+  r.kinetic_energy_loss = d.kinetic_energy_loss;
+  return r;
+}
+
+namespace detail {
+inline std::string sphere_name(int i) { return "s" + std::to_string(i + 1); }
+}  // namespace detail
+
+/// N smooth spheres on a line, centres x₁ < x₂ < … < x_N (m), masses m_i
+/// (kg), radii r_i (m); neighbours collide with restitution e.
+///   T = ½ Σ m_i ẋ_i²,  V = 0,
+///   contacts φ_i = x_{i+1} − x_i − r_i − r_{i+1} ≥ 0  ("s1-s2", …).
+/// N = 2 is the direct impact of course notes 1.3; equal touching spheres
+/// are Newton's cradle.
+template <int N>
+struct SpheresOnLine {
+  static_assert(N >= 2 && N <= 64, "SpheresOnLine needs 2 to 64 spheres");
+  static constexpr int dof = N;
+  std::array<double, N> m{}, r{};
+  double e = 1.0;
+  SpheresOnLine(const std::array<double, N>& masses, const std::array<double, N>& radii, double restitution) : e(0) {
+    for (int i = 0; i < N; ++i) {
+      m[static_cast<std::size_t>(i)] = require_positive("SpheresOnLine", "m" + std::to_string(i + 1), masses[static_cast<std::size_t>(i)]);
+      r[static_cast<std::size_t>(i)] = require_nonnegative("SpheresOnLine", "r" + std::to_string(i + 1), radii[static_cast<std::size_t>(i)]);
+    }
+    e = require_in_range("SpheresOnLine", "e", restitution, 0.0, 1.0);
+  }
+  std::string name() const { return "spheres_on_line"; }
+  std::vector<std::string> coordinate_names() const {
+    std::vector<std::string> out;
+    for (int i = 0; i < N; ++i) out.push_back("x" + std::to_string(i + 1));
+    return out;
+  }
+  std::vector<std::string> unilateral_names() const {
+    std::vector<std::string> out;
+    for (int i = 0; i + 1 < N; ++i) out.push_back(detail::sphere_name(i) + "-" + detail::sphere_name(i + 1));
+    return out;
+  }
+  std::array<double, N - 1> restitution() const {
+    std::array<double, N - 1> out;
+    out.fill(e);
+    return out;
+  }
+  template <class S>
+  S kinetic(const Vec<S, N>&, const Vec<S, N>& qd, const S&) const {
+    S t = S(0);
+    for (int i = 0; i < N; ++i) t += 0.5 * m[static_cast<std::size_t>(i)] * qd[i] * qd[i];
+    return t;
+  }
+  template <class S>
+  S potential(const Vec<S, N>&, const S&) const {
+    return S(0);
+  }
+  template <class S>
+  Vec<S, N - 1> unilateral(const Vec<S, N>& q, const S&) const {
+    Vec<S, N - 1> g;
+    for (int i = 0; i + 1 < N; ++i) g[i] = q[i + 1] - q[i] - (r[static_cast<std::size_t>(i)] + r[static_cast<std::size_t>(i + 1)]);
+    return g;
+  }
+};
+
+/// Two smooth spheres free in a plane (D = 2) or in space (D = 3), no
+/// gravity; coordinates (x₁, y₁[, z₁], x₂, y₂[, z₂]) of the centres (m).
+///   T = ½ m₁|ṙ₁|² + ½ m₂|ṙ₂|²,  contact φ = |r₂ − r₁| − (R₁ + R₂) ≥ 0.
+/// The oblique impact of course notes 1.4: the common normal is r₂ − r₁.
+template <int D>
+struct TwoSpheres {
+  static_assert(D == 2 || D == 3, "TwoSpheres is planar (D = 2) or spatial (D = 3)");
+  static constexpr int dof = 2 * D;
+  double m1, m2, r1, r2, e;
+  TwoSpheres(double mass1, double mass2, double radius1, double radius2, double restitution)
+      : m1(require_positive("TwoSpheres", "m1", mass1)),
+        m2(require_positive("TwoSpheres", "m2", mass2)),
+        r1(require_positive("TwoSpheres", "r1", radius1)),
+        r2(require_positive("TwoSpheres", "r2", radius2)),
+        e(require_in_range("TwoSpheres", "e", restitution, 0.0, 1.0)) {}
+  std::string name() const { return D == 2 ? "two_spheres_2d" : "two_spheres_3d"; }
+  std::vector<std::string> coordinate_names() const {
+    const char* axes[] = {"x", "y", "z"};
+    std::vector<std::string> out;
+    for (int b = 1; b <= 2; ++b)
+      for (int k = 0; k < D; ++k) out.push_back(std::string(axes[k]) + std::to_string(b));
+    return out;
+  }
+  std::array<std::string, 1> unilateral_names() const { return {"s1-s2"}; }
+  std::array<double, 1> restitution() const { return {e}; }
+  template <class S>
+  S kinetic(const Vec<S, dof>&, const Vec<S, dof>& qd, const S&) const {
+    S a = S(0), b = S(0);
+    for (int k = 0; k < D; ++k) {
+      a += qd[k] * qd[k];
+      b += qd[D + k] * qd[D + k];
+    }
+    return 0.5 * m1 * a + 0.5 * m2 * b;
+  }
+  template <class S>
+  S potential(const Vec<S, dof>&, const S&) const {
+    return S(0);
+  }
+  template <class S>
+  Vec<S, 1> unilateral(const Vec<S, dof>& q, const S&) const {
+    using std::sqrt;
+    S d2 = S(0);
+    for (int k = 0; k < D; ++k) d2 += (q[D + k] - q[k]) * (q[D + k] - q[k]);
+    return Vec<S, 1>(sqrt(d2) - (r1 + r2));
+  }
+};
+
+/// A smooth ball (mass m, radius R) in uniform gravity g along −z, above a
+/// fixed plane n·r = d (unit normal n pointing to the allowed side, d in m);
+/// coordinates (x, y, z) of the centre (m). With n = (0, 0, 1) the plane is
+/// a floor; with a horizontal n, a wall.
+///   T = ½ m |ṙ|²,  V = m g z,  contact φ = n·r − d − R ≥ 0.
+/// Bounce: v⁺ = v⁻ − (1 + e)(n·v⁻) n. Dropped from rest with its lowest
+/// point at height h above a floor, it lands at t = √(2h/g).
+struct BallAndPlane {
+  static constexpr int dof = 3;
+  double m, R, g, e;
+  std::array<double, 3> n;
+  double d;
+  BallAndPlane(double mass = 1.0, double radius = 0.1, double restitution = 0.5, double gravity = 9.81,
+               std::array<double, 3> normal = {0.0, 0.0, 1.0}, double offset = 0.0)
+      : m(require_positive("BallAndPlane", "m", mass)),
+        R(require_nonnegative("BallAndPlane", "R", radius)),
+        g(require_nonnegative("BallAndPlane", "g", gravity)),
+        e(require_in_range("BallAndPlane", "e", restitution, 0.0, 1.0)),
+        n(normal),
+        d(require_finite("BallAndPlane", "offset", offset)) {
+    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    require_positive("BallAndPlane", "|normal|", len);
+    for (auto& c : n) c /= len;
+  }
+  std::string name() const { return "ball_and_plane"; }
+  std::array<std::string, 3> coordinate_names() const { return {"x", "y", "z"}; }
+  std::array<std::string, 1> unilateral_names() const { return {"ball-plane"}; }
+  std::array<double, 1> restitution() const { return {e}; }
+  template <class S>
+  S kinetic(const Vec<S, 3>&, const Vec<S, 3>& qd, const S&) const {
+    return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1] + qd[2] * qd[2]);
+  }
+  template <class S>
+  S potential(const Vec<S, 3>& q, const S&) const {
+    return m * g * q[2];
+  }
+  template <class S>
+  Vec<S, 1> unilateral(const Vec<S, 3>& q, const S&) const {
+    return Vec<S, 1>(n[0] * q[0] + n[1] * q[1] + n[2] * q[2] - d - R);
+  }
+  /// Time to fall from rest through a height h (m) onto a floor: √(2h/g) (s).
+  double drop_time(double h) const { return std::sqrt(2.0 * h / g); }
+};
+
+/// N smooth discs (spheres moving in a plane) in the box [0, W] × [0, H]
+/// (m), gravity g along −y (0 by default); coordinates (x₁, y₁, …, x_N, y_N).
+///   T = ½ Σ m_i |ṙ_i|²,  V = Σ m_i g y_i,
+///   contacts: each sphere against the four walls (φ = x_i − r_i,
+///   W − x_i − r_i, y_i − r_i, H − y_i − r_i; restitution e_wall) and every
+///   pair (φ = |r_j − r_i| − r_i − r_j; restitution e_pair).
+template <int N>
+struct SpheresInBox {
+  static constexpr int pairs = N * (N - 1) / 2;
+  static constexpr int contacts = 4 * N + pairs;
+  static_assert(N >= 1 && contacts <= 64, "SpheresInBox supports up to 64 contacts (N <= 8)");
+  static constexpr int dof = 2 * N;
+  std::array<double, N> m{}, r{};
+  double W, H, g, e_wall, e_pair;
+  SpheresInBox(const std::array<double, N>& masses, const std::array<double, N>& radii, double width, double height,
+               double restitution_wall, double restitution_pair = 1.0, double gravity = 0.0)
+      : W(require_positive("SpheresInBox", "W", width)),
+        H(require_positive("SpheresInBox", "H", height)),
+        g(require_nonnegative("SpheresInBox", "g", gravity)),
+        e_wall(require_in_range("SpheresInBox", "e_wall", restitution_wall, 0.0, 1.0)),
+        e_pair(require_in_range("SpheresInBox", "e_pair", restitution_pair, 0.0, 1.0)) {
+    for (int i = 0; i < N; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      m[k] = require_positive("SpheresInBox", "m" + std::to_string(i + 1), masses[k]);
+      r[k] = require_positive("SpheresInBox", "r" + std::to_string(i + 1), radii[k]);
+      if (2 * r[k] >= std::min(W, H))
+        throw ParameterError("SpheresInBox: sphere " + std::to_string(i + 1) + " (radius " + std::to_string(r[k]) +
+                             ") does not fit in the box");
+    }
+  }
+  std::string name() const { return "spheres_in_box"; }
+  std::vector<std::string> coordinate_names() const {
+    std::vector<std::string> out;
+    for (int i = 0; i < N; ++i) {
+      out.push_back("x" + std::to_string(i + 1));
+      out.push_back("y" + std::to_string(i + 1));
+    }
+    return out;
+  }
+  std::vector<std::string> unilateral_names() const {
+    std::vector<std::string> out;
+    for (int i = 0; i < N; ++i)
+      for (const char* w : {"left", "right", "bottom", "top"}) out.push_back(detail::sphere_name(i) + "-" + w);
+    for (int i = 0; i < N; ++i)
+      for (int j = i + 1; j < N; ++j) out.push_back(detail::sphere_name(i) + "-" + detail::sphere_name(j));
+    return out;
+  }
+  std::array<double, contacts> restitution() const {
+    std::array<double, contacts> out;
+    for (int k = 0; k < contacts; ++k) out[static_cast<std::size_t>(k)] = k < 4 * N ? e_wall : e_pair;
+    return out;
+  }
+  template <class S>
+  S kinetic(const Vec<S, dof>&, const Vec<S, dof>& qd, const S&) const {
+    S t = S(0);
+    for (int i = 0; i < N; ++i)
+      t += 0.5 * m[static_cast<std::size_t>(i)] * (qd[2 * i] * qd[2 * i] + qd[2 * i + 1] * qd[2 * i + 1]);
+    return t;
+  }
+  template <class S>
+  S potential(const Vec<S, dof>& q, const S&) const {
+    S v = S(0);
+    for (int i = 0; i < N; ++i) v += m[static_cast<std::size_t>(i)] * g * q[2 * i + 1];
+    return v;
+  }
+  template <class S>
+  Vec<S, contacts> unilateral(const Vec<S, dof>& q, const S&) const {
+    using std::sqrt;
+    Vec<S, contacts> phi;
+    for (int i = 0; i < N; ++i) {
+      const double ri = r[static_cast<std::size_t>(i)];
+      phi[4 * i + 0] = q[2 * i] - ri;
+      phi[4 * i + 1] = W - q[2 * i] - ri;
+      phi[4 * i + 2] = q[2 * i + 1] - ri;
+      phi[4 * i + 3] = H - q[2 * i + 1] - ri;
+    }
+    int k = 4 * N;
+    for (int i = 0; i < N; ++i)
+      for (int j = i + 1; j < N; ++j, ++k) {
+        const S dx = q[2 * j] - q[2 * i], dy = q[2 * j + 1] - q[2 * i + 1];
+        phi[k] = sqrt(dx * dx + dy * dy) - (r[static_cast<std::size_t>(i)] + r[static_cast<std::size_t>(j)]);
+      }
+    return phi;
+  }
+};
+
+}  // namespace lagrangian::models
