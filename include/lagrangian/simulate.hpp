@@ -20,7 +20,6 @@
 #include <utility>
 #include <vector>
 
-#include <boost/math/tools/toms748_solve.hpp>
 #include <boost/numeric/odeint/stepper/bulirsch_stoer.hpp>
 #include <boost/numeric/odeint/stepper/controlled_runge_kutta.hpp>
 #include <boost/numeric/odeint/stepper/generation.hpp>
@@ -30,6 +29,7 @@
 #include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
 
 #include "lagrangian/constraints.hpp"
+#include "lagrangian/detail/roots.hpp"
 #include "lagrangian/detail/stiff.hpp"
 #include "lagrangian/dynamics.hpp"
 #include "lagrangian/errors.hpp"
@@ -421,13 +421,21 @@ class RunState {
   /// time order. Truly simultaneous contacts are resolved together by
   /// resolve_contacts().
   template <class Interp>
-  bool handle_events(double t_old, const double* x_old, double& t, double* x, Interp&& interp) {
+  bool handle_events(double t_old, const double* x_old, double& t, double* x, const Interp& interp) {
     if constexpr (!has_events_v) {
       (void)t_old, (void)x_old, (void)t, (void)x, (void)interp;
       return false;
     } else {
-      auto close_enough = [](double a, double b) {
-        return std::abs(b - a) <= event_time_tolerance * std::max(1.0, std::min(std::abs(a), std::abs(b)));
+      return handle_events_erased(t_old, x_old, t, x, interpolator(interp));  // one instantiation per model
+    }
+  }
+  bool handle_events_erased(double t_old, const double* x_old, double& t, double* x, Interpolator interp) {
+    if constexpr (!has_events_v) {
+      (void)t_old, (void)x_old, (void)t, (void)x, (void)interp;
+      return false;
+    } else {
+      auto root = [](const auto& f, double a, double b, double fa, double fb) {
+        return bracket_root(time_function(f), a, b, fa, fb, event_time_tolerance);
       };
       // Candidate: kind 0 release, 1 contact (at the step start), 2 contact, 3 watched.
       int best_kind = -1, best_index = -1;
@@ -461,10 +469,7 @@ class RunState {
             };
             const double fa = f(t_old);
             double tj = t_old;
-            if (fa > 0) {
-              std::uintmax_t iterations = 100;
-              tj = boost::math::tools::toms748_solve(f, t_old, t, fa, lam_end[row], close_enough, iterations).second;
-            }
+            if (fa > 0) tj = root(f, t_old, t, fa, lam_end[row]).second;
             consider(tj, 0, j);  // upper end: λ < 0 from there on
           }
         }
@@ -475,6 +480,13 @@ class RunState {
         const double touch = contact_touch_tolerance(x);
         for (int j = 0; j < unilateral_count_v<M>; ++j) {
           if ((act >> j) & 1u) continue;
+          if (ga[j] < -touch) {
+            std::ostringstream os;
+            os.precision(17);
+            os << "contact " << contact_name(j) << " is penetrated at t = " << t_old << " (gap " << ga[j]
+               << ") without a located closing; the run was stopped";
+            throw SimulationError(os.str(), t_old);
+          }
           auto gap = [&](double ts) {
             if (ts == t) return gb[j];
             if (ts == t_old) return ga[j];
@@ -495,8 +507,7 @@ class RunState {
           double lo = t_old, hi = t;
           bool crossing = ga[j] > 0 && gb[j] < 0;
           auto rate_root = [&] {
-            std::uintmax_t iterations = 100;
-            const auto r = boost::math::tools::toms748_solve(rate, t_old, t, ra[j], rb[j], close_enough, iterations);
+            const auto r = root(rate, t_old, t, ra[j], rb[j]);
             return 0.5 * (r.first + r.second);
           };
           if (!crossing && ga[j] >= 0 && gb[j] >= 0 && ra[j] < 0 && rb[j] > 0) {
@@ -507,9 +518,7 @@ class RunState {
             crossing = gap(lo) > 0;
           }
           if (crossing) {
-            std::uintmax_t iterations = 100;
-            const double tj =
-                boost::math::tools::toms748_solve(gap, lo, hi, gap(lo), gap(hi), close_enough, iterations).first;
+            const double tj = root(gap, lo, hi, gap(lo), gap(hi)).first;
             // A slow touch that stays within the tolerance is not an impact.
             if (-rate(tj) <= opt_.contact_touch_speed && gb[j] >= -touch) continue;
             consider(tj, 2, j);  // lower end: φ ≥ 0, just before contact
@@ -530,9 +539,7 @@ class RunState {
             interp(ts, buf.data());
             return watched_at(buf.data(), ts)[k];
           };
-          std::uintmax_t iterations = 100;
-          consider(boost::math::tools::toms748_solve(f, t_old, t, fa[k], fb[k], close_enough, iterations).second, 3,
-                   k);
+          consider(root(f, t_old, t, fa[k], fb[k]).second, 3, k);
         }
       }
       if (best_kind < 0) return false;
@@ -620,8 +627,11 @@ class RunState {
           throw SimulationError(os.str(), t);
         }
         const double approach = -r[j];
-        const bool zeno = approach <= opt_.zeno_speed_ratio * approach_max_[js] ||
-                          t - last_impact_[js] <= opt_.zeno_min_interval * std::max(1.0, std::abs(t));
+        // An accumulation needs the forces to press the contact shut
+        // (d²φ/dt² < 0 in free motion); free bodies that graze never rest.
+        const bool zeno = (approach <= opt_.zeno_speed_ratio * approach_max_[js] ||
+                           t - last_impact_[js] <= opt_.zeno_min_interval * std::max(1.0, std::abs(t))) &&
+                          gap_acceleration(q, qd, t, j) < 0;
         const double e = zeno ? 0.0 : restitution_[js];
         const double h_before = energy_function(model_, q, qd, t);
         ImpactResult<n> res;
@@ -855,6 +865,26 @@ class RunState {
   std::string contact_name(int j) const {
     return report_.constraints.names[static_cast<std::size_t>(holonomic_count_v<M> + j)];
   }
+  /// d²φ_j/dt² = G_j q̈ + γ_j with q̈ from the current active set (contact j
+  /// itself inactive): negative when the forces press the contact shut.
+  double gap_acceleration(const Vec<double, n>& q, const Vec<double, n>& qd, double t, int j) {
+    if constexpr (unilateral_count_v<M> > 0) {
+      Vec<double, n> qdd;
+      const ActiveSet act = ctx_->active & ~(ActiveSet{1} << j);
+      if (holonomic_count_v<M> + pfaffian_count_v<M> == 0 && (act & unilateral_mask) == 0) {
+        accelerations(model_, ws_, q, qd, t, qdd);
+      } else {
+        constrained_accelerations(model_, ws_, cw_, q, qd, t, qdd, 0.0, act);
+      }
+      const auto cs = constraint_state(model_, q, qd, t);
+      const int row = holonomic_count_v<M> + j;
+      return cs.jacobian.row(row).dot(qdd) + cs.gamma[row];
+    } else {
+      (void)q, (void)qd, (void)t, (void)j;
+      return 0.0;
+    }
+  }
+
   /// An event without an impulse: logs it with the kinetic energy at x.
   void log_simple(EventKind kind, const std::string& name, double t, const double* x) {
     EventRecord rec;
