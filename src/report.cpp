@@ -246,7 +246,7 @@ void RunReport::write_events_csv(const std::string& path) const {
   const std::string partial = path + ".partial";
   std::FILE* f = std::fopen(partial.c_str(), "w");
   if (!f) throw OptionError("cannot write events file '" + partial + "': " + std::strerror(errno));
-  std::fputs("t,kind,name,impulse,approach_speed,separation_speed,ke_before,ke_after\n", f);
+  std::fputs("t,kind,bodies,impulse,approach_speed,separation_speed,ke_before,ke_after\n", f);
   for (const EventRecord& e : events) {
     std::string name = e.name;
     if (name.find_first_of(",\"\n") != std::string::npos) {

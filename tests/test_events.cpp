@@ -1,29 +1,14 @@
 // Located events in runs: impact times, the Zeno accumulation, a box of
 // perfectly elastic spheres, Newton's cradle, an impact at t0. The edge
 // cases are in test_events_edge.cpp.
-#include <gtest/gtest.h>
-
-#include <array>
-#include <cmath>
-#include <cstdio>
-#include <string>
-
-#include "lagrangian/lagrangian.hpp"
-#include "lagrangian/models/impacts.hpp"
+#include "event_helpers.hpp"
 
 namespace {
 
 using namespace lagrangian;
 using namespace lagrangian::models;
-
-constexpr double kEventTime = 1e-12;  // located event times against closed forms (s)
-
-State<3> dropped(double z) {
-  State<3> s;
-  s.q << 0.0, 0.0, z;
-  s.qd.setZero();
-  return s;
-}
+using lagrangian_test::dropped;
+using lagrangian_test::kEventTime;
 
 TEST(Events, ADroppedBallHitsAtTheFreeFallTimeWithEveryStepper) {
   const double g = 9.81, R = 0.1;
@@ -45,6 +30,32 @@ TEST(Events, ADroppedBallHitsAtTheFreeFallTimeWithEveryStepper) {
       EXPECT_NEAR(r.events[0].impulse, 2 * std::sqrt(2 * g * h), 1e-9 * std::sqrt(2 * g * h)) << method;
     }
   }
+}
+
+TEST(Events, ABallThrownAtAWallBouncesOffItByNewtonsLaw) {
+  // Wall x = 2 m (normal −x, through x = 2), ball of radius 0.1 m thrown from
+  // x = 0 at (3, 0.5, 4) m/s: it touches at t = (2 − 0.1)/3 s; then the
+  // normal component reverses with factor e, the others are kept.
+  const double e = 0.7, g = 9.81, R = 0.1;
+  const BallAndPlane wall(0.4, R, e, g, {-1.0, 0.0, 0.0}, -2.0);
+  State<3> s;
+  s.q << 0.0, 0.0, 1.0;
+  s.qd << 3.0, 0.5, 4.0;
+  SimulationOptions o;
+  o.t_end = 1.0;
+  o.output_interval = -1;
+  Recorder<3> rec;
+  const RunReport r = simulate(wall, s, o, rec);
+  ASSERT_EQ(r.impacts, 1u);
+  const double t_hit = (2.0 - R) / 3.0;
+  EXPECT_NEAR(r.events[0].t, t_hit, kEventTime);
+  const auto v = wall.bounce_velocity({3.0, 0.5, 4.0 - g * t_hit});
+  const auto& end = rec.samples.back();
+  EXPECT_NEAR(end.qd[0], v[0], 1e-12);
+  EXPECT_NEAR(end.qd[0], -e * 3.0, 1e-12);
+  EXPECT_NEAR(end.qd[1], v[1], 1e-12);
+  EXPECT_NEAR(end.qd[2], v[2] - g * (1.0 - t_hit), 1e-9);
+  EXPECT_NEAR(end.q[0], 2.0 - R - e * 3.0 * (1.0 - t_hit), 1e-9);
 }
 
 TEST(Events, ZenoBouncesFollowTheGeometricSeriesThenTheBallRests) {
@@ -152,14 +163,17 @@ State<N> cradle_state(double u, double r) {
 
 TEST(Events, NewtonsCradlePassesTheMomentumDownTheRow) {
   const double u = 1.5, r = 0.05, m = 0.2;
-  {
-    const SpheresOnLine<5> cradle({m, m, m, m, m}, {r, r, r, r, r}, 1.0);
+  auto run = [&](double e) {
+    const SpheresOnLine<5> cradle({m, m, m, m, m}, {r, r, r, r, r}, e);
     SimulationOptions o;
     o.t_end = 1.0;
     o.output_interval = -1;
     Recorder<5> rec;
-    const RunReport r5 = simulate(cradle, cradle_state<5>(u, r), o, rec);
-    const auto& end = rec.samples.back();
+    const RunReport report = simulate(cradle, cradle_state<5>(u, r), o, rec);
+    return std::pair{report, rec.samples.back()};
+  };
+  {
+    const auto [r5, end] = run(1.0);
     for (int i = 0; i < 4; ++i) EXPECT_NEAR(end.qd[i], 0.0, 1e-14) << i;
     EXPECT_NEAR(end.qd[4], u, 1e-14);
     EXPECT_EQ(r5.impacts, 4u);  // sequential pairwise: s1-s2, s2-s3, s3-s4, s4-s5
@@ -169,13 +183,7 @@ TEST(Events, NewtonsCradlePassesTheMomentumDownTheRow) {
   }
   {
     // e < 1: momentum is kept, the energy lost is what the impacts logged.
-    const SpheresOnLine<5> cradle({m, m, m, m, m}, {r, r, r, r, r}, 0.8);
-    SimulationOptions o;
-    o.t_end = 1.0;
-    o.output_interval = -1;
-    Recorder<5> rec;
-    const RunReport r5 = simulate(cradle, cradle_state<5>(u, r), o, rec);
-    const auto& end = rec.samples.back();
+    const auto [r5, end] = run(0.8);
     EXPECT_NEAR(m * end.qd.sum(), m * u, 1e-14);
     EXPECT_NEAR(0.5 * m * u * u - end.total_energy, r5.impact_energy_loss, 1e-14);
     EXPECT_GT(r5.impact_energy_loss, 0.01);

@@ -1,29 +1,16 @@
 // Located events in runs, the edge cases: grazing and tangential contacts,
 // watched events, the event log and bad input. (Split from test_events.cpp
 // so the two translation units compile in parallel.)
-#include <gtest/gtest.h>
-
-#include <array>
-#include <cmath>
 #include <fstream>
-#include <string>
 
-#include "lagrangian/lagrangian.hpp"
-#include "lagrangian/models/impacts.hpp"
+#include "event_helpers.hpp"
 
 namespace {
 
 using namespace lagrangian;
 using namespace lagrangian::models;
-
-constexpr double kEventTime = 1e-12;  // located event times against closed forms (s)
-
-State<3> dropped(double z) {
-  State<3> s;
-  s.q << 0.0, 0.0, z;
-  s.qd.setZero();
-  return s;
-}
+using lagrangian_test::dropped;
+using lagrangian_test::kEventTime;
 
 TEST(Events, GrazingImpactsAndTangentialTouchesNeitherCrashNorInventImpacts) {
   // Sphere 1 moves along +x past sphere 2 at rest; offset b of the lines of
@@ -126,7 +113,7 @@ TEST(Events, TheEventLogIsWrittenAsCsv) {
   std::ifstream in(path);
   std::string line;
   std::getline(in, line);
-  EXPECT_EQ(line, "t,kind,name,impulse,approach_speed,separation_speed,ke_before,ke_after");
+  EXPECT_EQ(line, "t,kind,bodies,impulse,approach_speed,separation_speed,ke_before,ke_after");
   std::size_t rows = 0;
   while (std::getline(in, line)) {
     ++rows;

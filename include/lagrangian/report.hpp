@@ -169,7 +169,9 @@ struct RunReport {
   /// complete); throws OptionError naming the path when it cannot.
   void write_json(const std::string& path) const;
   /// Writes the event log as CSV with the header
-  ///   t,kind,name,impulse,approach_speed,separation_speed,ke_before,ke_after
+  ///   t,kind,bodies,impulse,approach_speed,separation_speed,ke_before,ke_after
+  /// where `bodies` is the contact's name (the bodies it joins, e.g. s1-s2) or
+  /// the watched event's name;
   /// (through `<path>.partial`, renamed when complete); throws OptionError
   /// naming the path when it cannot.
   void write_events_csv(const std::string& path) const;

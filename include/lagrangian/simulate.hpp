@@ -487,22 +487,17 @@ class RunState {
                << ") without a located closing; the run was stopped";
             throw SimulationError(os.str(), t_old);
           }
-          auto gap = [&](double ts) {
-            if (ts == t) return gb[j];
-            if (ts == t_old) return ga[j];
+          // φ_j and φ̇_j at a time inside the step.
+          auto gap_rate = [&](double ts) {
+            if (ts == t) return std::pair{gb[j], rb[j]};
+            if (ts == t_old) return std::pair{ga[j], ra[j]};
             interp(ts, buf.data());
             Vec<double, unilateral_count_v<M>> g, r;
             gaps_at(buf.data(), ts, g, r);
-            return g[j];
+            return std::pair{g[j], r[j]};
           };
-          auto rate = [&](double ts) {
-            if (ts == t) return rb[j];
-            if (ts == t_old) return ra[j];
-            interp(ts, buf.data());
-            Vec<double, unilateral_count_v<M>> g, r;
-            gaps_at(buf.data(), ts, g, r);
-            return r[j];
-          };
+          auto gap = [&](double ts) { return gap_rate(ts).first; };
+          auto rate = [&](double ts) { return gap_rate(ts).second; };
           // The bracket [lo, hi] of a closing: φ(lo) > 0 > φ(hi).
           double lo = t_old, hi = t;
           bool crossing = ga[j] > 0 && gb[j] < 0;

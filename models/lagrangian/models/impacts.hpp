@@ -64,8 +64,9 @@ struct ObliqueImpact {
   double theta = 0, phi = 0;     ///< angles of v₁, v₂ with the common normal
   double v1_normal = 0, v2_normal = 0;          ///< v₁ cos θ, v₂ cos φ
   double v1_tangential = 0, v2_tangential = 0;  ///< v₁ sin θ = u₁ sin α, v₂ sin φ = u₂ sin β
-  double impulse_on_1 = 0;       ///< along the normal, m₁(v₁ cos θ − u₁ cos α)
-  double kinetic_energy_loss = 0;
+  double impulse_on_1 = 0;       ///< along the normal, m₁(v₁ cos θ − u₁ cos α) (N·s)
+  double impulse_on_2 = 0;       ///< m₂(v₂ cos φ − u₂ cos β) = −impulse_on_1 (N·s)
+  double kinetic_energy_loss = 0;  ///< J
 };
 
 /// Oblique impact (course notes 1.4): sphere 1 (m₁, speed u₁ at angle α to
@@ -92,6 +93,7 @@ inline ObliqueImpact oblique_impact(double m1, double m2, double u1, double u2, 
   r.theta = std::atan2(r.v1_tangential, r.v1_normal);
   r.phi = std::atan2(r.v2_tangential, r.v2_normal);
   r.impulse_on_1 = d.impulse_on_1;
+  r.impulse_on_2 = d.impulse_on_2;
   r.kinetic_energy_loss = d.kinetic_energy_loss;
   return r;
 }
@@ -228,8 +230,8 @@ struct TwoSpheres {
 /// coordinates (x, y, z) of the centre (m). With n = (0, 0, 1) the plane is
 /// a floor; with a horizontal n, a wall.
 ///   T = ½ m |ṙ|²,  V = m g z,  contact φ = n·r − d − R ≥ 0.
-/// Bounce: v⁺ = v⁻ − (1 + e)(n·v⁻) n. Dropped from rest with its lowest
-/// point at height h above a floor, it lands at t = √(2h/g).
+/// Bounce: v⁺ = v⁻ − (1 + e)(n·v⁻) n (bounce_velocity). Dropped from rest
+/// with its lowest point at height h above a floor, it lands at t = √(2h/g).
 struct BallAndPlane {
   static constexpr int dof = 3;
   double m, R, g, e;
@@ -262,6 +264,13 @@ struct BallAndPlane {
   template <class S>
   Vec<S, 1> unilateral(const Vec<S, 3>& q, const S&) const {
     return Vec<S, 1>(n[0] * q[0] + n[1] * q[1] + n[2] * q[2] - d - R);
+  }
+  /// Velocity after bouncing off the plane with velocity v (m/s):
+  /// v − (1 + e)(n·v) n, the normal part reversed and scaled by e, the
+  /// tangential part unchanged.
+  std::array<double, 3> bounce_velocity(const std::array<double, 3>& v) const {
+    const double vn = n[0] * v[0] + n[1] * v[1] + n[2] * v[2];
+    return {v[0] - (1 + e) * vn * n[0], v[1] - (1 + e) * vn * n[1], v[2] - (1 + e) * vn * n[2]};
   }
   /// Time to fall from rest through a height h (m) onto a floor: √(2h/g) (s).
   double drop_time(double h) const { return std::sqrt(2.0 * h / g); }
