@@ -576,8 +576,15 @@ class RunState {
     }
   }
 
-  /// True once a watched event with action stop has fired.
-  bool stopped() const { return stopped_; }
+  /// True once a watched event with action stop has fired (a compile-time
+  /// false without events, so the loops carry no extra branch).
+  bool stopped() const {
+    if constexpr (has_events_v) {
+      return stopped_;
+    } else {
+      return false;
+    }
+  }
 
   /// Resolves every contact that is touching (|φ| within the touch
   /// tolerance) and approaching faster than contact_touch_speed at (x, t),
