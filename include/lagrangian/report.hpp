@@ -53,7 +53,8 @@ struct SimulationOptions {
   /// Zeno rule: an impact whose approach speed is at most this fraction of
   /// the largest approach speed met so far on the same contact, or that comes
   /// within `zeno_min_interval` of the previous impact there, ends the
-  /// bouncing: it is resolved with e = 0 and the contact becomes a resting
+  /// bouncing when the forces press the contact shut (d²φ/dt² < 0 in free
+  /// motion): it is resolved with e = 0 and the contact becomes a resting
   /// contact (active unilateral constraint). In [0, 1).
   double zeno_speed_ratio = 1e-6;
   /// Shortest time between two impacts on one contact before they count as
