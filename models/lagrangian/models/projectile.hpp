@@ -1,0 +1,131 @@
+#pragma once
+/// \file projectile.hpp
+/// A projectile over flat ground or an inclined plane (course notes 1.5),
+/// with optional linear or quadratic air drag. SI units.
+///
+/// A particle of mass m, coordinates (x, y) (m), y up, gravity g:
+///   T = ½ m (ẋ² + ẏ²),  V = m g y,
+/// launched from the origin with speed u at elevation α above the
+/// horizontal, over a plane through the origin at signed angle β to the
+/// horizontal (β > 0 rises in +x: "up the slope"; β < 0 falls: "down the
+/// slope"; β = 0: flat ground). Watched events: "apex" (ẏ falls through 0,
+/// recorded) and "landing" (y − x tan β falls through 0, stops the run).
+///
+/// Drag, only when declared (Drag::linear or Drag::quadratic), as a
+/// Rayleigh dissipation function:
+///   linear     D = ½ b |v|²     (force −b v, b in kg/s),
+///   quadratic  D = ⅓ c |v|³     (force −c |v| v, c in kg/m).
+
+#include <array>
+#include <cmath>
+#include <string>
+
+#include "lagrangian/impact.hpp"
+#include "lagrangian/model.hpp"
+#include "lagrangian/params.hpp"
+
+namespace lagrangian::models {
+
+/// Air drag on a projectile.
+enum class Drag { none, linear, quadratic };
+
+template <Drag D = Drag::none>
+struct Projectile {
+  static constexpr int dof = 2;
+  static constexpr double kHalfPi = 1.5707963267948966;
+  double m, g, beta, drag;
+  /// m (kg), g (m/s²), plane angle β (rad, |β| < π/2), drag coefficient (b
+  /// in kg/s or c in kg/m; must be 0 for Drag::none).
+  explicit Projectile(double mass = 1.0, double gravity = 9.81, double plane_angle = 0.0, double drag_coefficient = 0.0)
+      : m(require_positive("Projectile", "m", mass)),
+        g(require_positive("Projectile", "g", gravity)),
+        beta(plane_angle),
+        drag(require_nonnegative("Projectile", "drag", drag_coefficient)) {
+    if (!(std::abs(beta) < kHalfPi))
+      lagrangian::detail::parameter_failure("Projectile", "beta", "in (-pi/2, pi/2) rad", beta);
+    if (D == Drag::none && drag != 0)
+      lagrangian::detail::parameter_failure("Projectile", "drag", "0 when no drag is declared (Drag::none)", drag);
+  }
+  std::string name() const {
+    return D == Drag::none ? "projectile" : D == Drag::linear ? "projectile_linear_drag" : "projectile_quadratic_drag";
+  }
+  std::array<std::string, 2> coordinate_names() const { return {"x", "y"}; }
+  static std::string detail_format(double v) { return lagrangian::detail::format_number(v); }
+  template <class S>
+  S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
+    return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1]);
+  }
+  template <class S>
+  S potential(const Vec<S, 2>& q, const S&) const {
+    return m * g * q[1];
+  }
+  template <class S>
+    requires(D != Drag::none)
+  S dissipation(const Vec<S, 2>&, const Vec<S, 2>& qd) const {
+    using std::sqrt;
+    const S v2 = qd[0] * qd[0] + qd[1] * qd[1];
+    if constexpr (D == Drag::linear) {
+      return 0.5 * drag * v2;
+    } else {
+      return drag / 3.0 * v2 * sqrt(v2);
+    }
+  }
+  template <class S>
+  Vec<S, 2> events(const Vec<S, 2>& q, const Vec<S, 2>& qd, const S&) const {
+    return Vec<S, 2>(qd[1], q[1] - q[0] * std::tan(beta));
+  }
+  std::array<EventSpec, 2> event_specs() const {
+    return {EventSpec{"apex", Direction::falling, EventAction::record},
+            EventSpec{"landing", Direction::falling, EventAction::stop}};
+  }
+
+  /// Initial state for a launch from the origin with speed u (m/s) at
+  /// elevation α (rad). Throws ParameterError unless u > 0 and β < α < π/2
+  /// (α = π/2 is allowed on flat ground: straight up), so that it flies.
+  State<2> launch(double u, double alpha) const {
+    require_positive("Projectile", "u", u);
+    require_finite("Projectile", "alpha", alpha);
+    if (!(alpha > beta && alpha <= kHalfPi))
+      lagrangian::detail::parameter_failure("Projectile", "alpha",
+                                            "above the plane (alpha > beta = " + detail_format(beta) +
+                                                ") and at most pi/2, or the projectile does not fly",
+                                            alpha);
+    State<2> s;
+    s.q << 0.0, 0.0;
+    s.qd << u * std::cos(alpha), u * std::sin(alpha);
+    return s;
+  }
+  /// Without drag: time of flight to the plane,
+  ///   T = 2u sin(α − β) / (g cos β)                       (notes 1.5.1; β = 0: 2u sin α / g).
+  double flight_time(double u, double alpha) const { return 2 * u * std::sin(alpha - beta) / (g * std::cos(beta)); }
+  /// Without drag: range along the plane,
+  ///   R = 2u² sin(α − β) cos α / (g cos² β)              (notes 1.5.2; β = 0: u² sin 2α / g).
+  double range(double u, double alpha) const {
+    return 2 * u * u * std::sin(alpha - beta) * std::cos(alpha) / (g * std::cos(beta) * std::cos(beta));
+  }
+  /// Without drag: greatest height above the launch point, H = u² sin²α / (2g).
+  double max_height(double u, double alpha) const {
+    const double s = std::sin(alpha);
+    return u * u * s * s / (2 * g);
+  }
+  /// Without drag: the elevation of greatest range along the plane,
+  /// α* = π/4 + β/2, and that range u² / (g (1 + sin β)).
+  double best_elevation() const { return 0.7853981633974483 + 0.5 * beta; }
+  double max_range(double u) const { return u * u / (g * (1 + std::sin(beta))); }
+  /// With linear drag (k = b/m): the position at time t of the launch (u, α),
+  ///   x = (u cos α / k)(1 − e^{−kt}),  y = ((u sin α + g/k)/k)(1 − e^{−kt}) − g t / k.
+  std::array<double, 2> linear_drag_position(double u, double alpha, double t) const
+    requires(D == Drag::linear)
+  {
+    const double k = drag / m, f = -std::expm1(-k * t);
+    return {u * std::cos(alpha) / k * f, (u * std::sin(alpha) + g / k) / k * f - g * t / k};
+  }
+  /// With quadratic drag: the terminal speed of a vertical fall, √(m g / c) (m/s).
+  double terminal_speed() const
+    requires(D == Drag::quadratic)
+  {
+    return std::sqrt(m * g / drag);
+  }
+};
+
+}  // namespace lagrangian::models
