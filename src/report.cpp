@@ -157,6 +157,27 @@ std::string RunReport::to_json() const {
     os << "}";
   }
   os << "]";
+  os << ",\n  \"has_particles\": " << (has_particles ? "true" : "false");
+  if (has_particles) {
+    auto vec = [&](const char* k, const std::array<double, 3>& v) {
+      os << ",\n  \"" << k << "\": [";
+      for (int i = 0; i < 3; ++i) {
+        if (i) os << ", ";
+        json_number(os, v[static_cast<std::size_t>(i)]);
+      }
+      os << "]";
+    };
+    vec("linear_momentum_initial", linear_momentum_initial);
+    vec("angular_momentum_initial", angular_momentum_initial);
+    const std::pair<const char*, double> pm[] = {{"linear_momentum_drift_max", linear_momentum_drift_max},
+                                                 {"linear_momentum_drift_final", linear_momentum_drift_final},
+                                                 {"angular_momentum_drift_max", angular_momentum_drift_max},
+                                                 {"angular_momentum_drift_final", angular_momentum_drift_final}};
+    for (const auto& [k, v] : pm) {
+      os << ",\n  \"" << k << "\": ";
+      json_number(os, v);
+    }
+  }
   os << ",\n  \"constrained\": " << (constrained ? "true" : "false");
   if (constrained) {
     const ConstraintReport& c = constraints;
@@ -318,6 +339,16 @@ std::string RunReport::summary() const {
   }
   if (!stopped_by.empty()) {
     std::snprintf(buf, sizeof buf, "stopped by event %s at t = %.15g s\n", stopped_by.c_str(), stopped_at);
+    os << buf;
+  }
+  if (has_particles) {
+    const auto& p = linear_momentum_initial;
+    const auto& l = angular_momentum_initial;
+    std::snprintf(buf, sizeof buf, "linear momentum P0 = (%.6g, %.6g, %.6g) kg m/s, drift max %.2e\n", p[0], p[1], p[2],
+                  linear_momentum_drift_max);
+    os << buf;
+    std::snprintf(buf, sizeof buf, "angular momentum L0 = (%.6g, %.6g, %.6g) kg m^2/s, drift max %.2e\n", l[0], l[1],
+                  l[2], angular_momentum_drift_max);
     os << buf;
   }
   for (const auto& m : conserved_momenta) {

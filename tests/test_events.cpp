@@ -180,6 +180,10 @@ TEST(Events, NewtonsCradlePassesTheMomentumDownTheRow) {
     for (std::size_t k = 0; k < 4; ++k) EXPECT_NEAR(r5.events[k].t, 0.3 / u, 1e-12);
     EXPECT_NEAR(end.qd.sum() * m, m * u, 1e-14);
     EXPECT_NEAR(end.total_energy, 0.5 * m * u * u, 1e-14);
+    // The report's momentum monitor: P = m u throughout, across the impacts.
+    ASSERT_TRUE(r5.has_particles);
+    EXPECT_NEAR(r5.linear_momentum_initial[0], m * u, 1e-15);
+    EXPECT_LE(r5.linear_momentum_drift_max, 1e-15);
   }
   {
     // e < 1: momentum is kept, the energy lost is what the impacts logged.

@@ -84,6 +84,14 @@ TEST(TwoBody, RelativeMotionEqualsTheReducedMassProblemOver100Orbits) {
   EXPECT_LE(worst_p, 1e-13);
   EXPECT_LE(worst_l, 1e-11);
   EXPECT_LE(two.total_energy_drift_max, 1e-11);
+  // The run report says the same about P and L (from its own samples).
+  ASSERT_TRUE(two.has_particles);
+  EXPECT_NEAR(two.linear_momentum_initial[0], M * V0.x(), 1e-15);
+  EXPECT_NEAR(two.angular_momentum_initial[2], L0.z(), 1e-15);
+  EXPECT_LE(two.linear_momentum_drift_max, 1e-13);
+  EXPECT_LE(two.angular_momentum_drift_max, 1e-11);
+  EXPECT_NEAR(two.angular_momentum_drift_max, worst_l, 1e-16);
+  EXPECT_FALSE(one.has_particles);
   EXPECT_LE(one.total_energy_drift_max, 1e-11);
 }
 

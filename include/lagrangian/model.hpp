@@ -33,6 +33,7 @@
 
 #include <array>
 #include <concepts>
+#include <iterator>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -141,6 +142,24 @@ inline constexpr bool has_coordinate_names_v = requires(const M& m) {
 template <class M>
 inline constexpr bool has_name_v = requires(const M& m) {
   { m.name() } -> std::convertible_to<std::string>;
+};
+
+/// A point mass of a particle system: its mass (kg) and the indices of the
+/// generalized coordinates that are its Cartesian x, y, z (m); −1 for an
+/// absent axis (planar or linear systems). A model that is a particle system
+/// in Cartesian coordinates may declare
+///   std::vector<Particle> particles() const;   (or any range of Particle)
+/// and its runs report the total linear momentum P = Σ m v and the angular
+/// momentum L = Σ m (r − r₀) × v about a point and their drift.
+struct Particle {
+  double mass = 0;
+  std::array<int, 3> axes{-1, -1, -1};
+};
+
+/// True when the model declares its particles.
+template <class M>
+inline constexpr bool has_particles_v = requires(const M& m) {
+  { *std::begin(m.particles()) } -> std::convertible_to<Particle>;
 };
 
 /// Checks a model and stops compilation with one sentence per missing piece.

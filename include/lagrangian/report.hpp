@@ -2,6 +2,7 @@
 /// \file report.hpp
 /// Options of a run and the report of what it cost and how accurate it was.
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -48,6 +49,10 @@ struct SimulationOptions {
   Stabilization stabilization = Stabilization::projection;  ///< drift control
   double baumgarte_omega = 10.0;        ///< Baumgarte rate ω (1/s), critically damped
   double projection_tolerance = 1e-12;  ///< ‖g‖∞ after projection, relative to 1 + ‖q‖∞
+
+  /// Point r₀ (m) about which the angular momentum of a particle system is
+  /// reported (models that declare particles()).
+  std::array<double, 3> angular_momentum_point{0.0, 0.0, 0.0};
 
   // Contacts (unilateral constraints with restitution) only.
   /// Zeno rule: an impact whose approach speed is at most this fraction of
@@ -149,6 +154,17 @@ struct RunReport {
   double total_energy_drift_max = 0;    ///< max |E − E0| / energy_scale
   double total_energy_drift_final = 0;  ///< |E(t_end) − E0| / energy_scale
   std::vector<MomentumDrift> conserved_momenta;  ///< cyclic coordinates and their momenta
+  /// Particle systems (models that declare particles()): total linear
+  /// momentum P = Σ m v (kg·m/s) and angular momentum L = Σ m (r − r₀) × v
+  /// (kg·m²/s) about SimulationOptions::angular_momentum_point, at t0 and
+  /// their largest and final drift |P(t) − P(t0)|, |L(t) − L(t0)| over the
+  /// samples. Conserved when the external forces (and their moments) vanish;
+  /// impacts with fixed walls change them.
+  bool has_particles = false;
+  std::array<double, 3> linear_momentum_initial{};
+  std::array<double, 3> angular_momentum_initial{};
+  double linear_momentum_drift_max = 0, linear_momentum_drift_final = 0;
+  double angular_momentum_drift_max = 0, angular_momentum_drift_final = 0;
   bool constrained = false;                      ///< the model declares constraints
   ConstraintReport constraints;                  ///< filled when constrained
 

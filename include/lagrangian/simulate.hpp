@@ -274,6 +274,19 @@ class RunState {
     Columns columns{coordinate_names(model_), {}, has_kinetic_potential_v<M>};
     if constexpr (has_constraints_v<M>) start_constraints(x0, columns);
     if constexpr (event_count_v<M> > 0) specs_ = event_specs(model_);
+    if constexpr (has_particles_v<M>) {
+      int k = 0;
+      for (const Particle& part : model_.particles()) {
+        if (!(part.mass > 0) || !std::isfinite(part.mass))
+          throw ParameterError(model_name(model_) + ": particle " + std::to_string(k) + " has mass " +
+                               std::to_string(part.mass) + "; it must be positive and finite");
+        for (int i : part.axes)
+          if (i < -1 || i >= size_)
+            throw ParameterError(model_name(model_) + ": particle " + std::to_string(k) + " names coordinate " +
+                                 std::to_string(i) + ", outside [0, " + std::to_string(size_) + ")");
+        ++k;
+      }
+    }
     if constexpr (has_events_v) event_buf_.assign(static_cast<std::size_t>(2 * size_), 0.0);
     const std::vector<int> cyclic = cyclic_coordinates(model_, x0, opt_.t0);
     cyclic_.assign(cyclic.begin(), cyclic.end());
@@ -725,6 +738,7 @@ class RunState {
           std::max(report_.total_energy_drift_max, std::abs(s.total_energy - e0_) / report_.energy_scale);
     }
     if constexpr (has_constraints_v<M>) sample_constraints(s);
+    if constexpr (has_particles_v<M>) sample_particles(s);
     for (std::size_t k = 0; k < cyclic_.size(); ++k) {
       MomentumDrift& d = report_.conserved_momenta[k];
       d.final_abs_drift = std::abs(p[cyclic_[k]] - d.initial);
@@ -733,6 +747,41 @@ class RunState {
     obs_(s);
     ++report_.samples;
     last_emitted_ = t;
+  }
+
+  /// P = Σ m v and L = Σ m (r − r₀) × v of a particle system at a sample.
+  void sample_particles(const Sample<n>& s) {
+    std::array<double, 3> P{}, L{};
+    const auto& r0 = opt_.angular_momentum_point;
+    for (const Particle& part : model_.particles()) {
+      std::array<double, 3> r{}, v{};
+      for (int a = 0; a < 3; ++a) {
+        const int i = part.axes[static_cast<std::size_t>(a)];
+        if (i >= 0) {
+          r[static_cast<std::size_t>(a)] = s.q[i] - r0[static_cast<std::size_t>(a)];
+          v[static_cast<std::size_t>(a)] = s.qd[i];
+        } else {
+          r[static_cast<std::size_t>(a)] = -r0[static_cast<std::size_t>(a)];
+        }
+      }
+      for (int a = 0; a < 3; ++a) P[static_cast<std::size_t>(a)] += part.mass * v[static_cast<std::size_t>(a)];
+      L[0] += part.mass * (r[1] * v[2] - r[2] * v[1]);
+      L[1] += part.mass * (r[2] * v[0] - r[0] * v[2]);
+      L[2] += part.mass * (r[0] * v[1] - r[1] * v[0]);
+    }
+    if (!report_.has_particles) {
+      report_.has_particles = true;
+      report_.linear_momentum_initial = P;
+      report_.angular_momentum_initial = L;
+    }
+    auto dist = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+      return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+    };
+    report_.linear_momentum_drift_final = dist(P, report_.linear_momentum_initial);
+    report_.angular_momentum_drift_final = dist(L, report_.angular_momentum_initial);
+    report_.linear_momentum_drift_max = std::max(report_.linear_momentum_drift_max, report_.linear_momentum_drift_final);
+    report_.angular_momentum_drift_max =
+        std::max(report_.angular_momentum_drift_max, report_.angular_momentum_drift_final);
   }
 
   void start_constraints(State<n>& x0, Columns& columns) {

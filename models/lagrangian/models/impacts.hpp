@@ -160,6 +160,11 @@ struct SpheresOnLine {
     out.fill(e);
     return out;
   }
+  std::array<Particle, N> particles() const {
+    std::array<Particle, N> out;
+    for (int i = 0; i < N; ++i) out[static_cast<std::size_t>(i)] = {m[static_cast<std::size_t>(i)], {i, -1, -1}};
+    return out;
+  }
   template <class S>
   S kinetic(const Vec<S, N>&, const Vec<S, N>& qd, const S&) const {
     S t = S(0);
@@ -203,6 +208,9 @@ struct TwoSpheres {
   }
   std::array<std::string, 1> unilateral_names() const { return {"s1-s2"}; }
   std::array<double, 1> restitution() const { return {e}; }
+  std::array<Particle, 2> particles() const {
+    return {Particle{m1, {0, 1, D == 3 ? 2 : -1}}, Particle{m2, {D, D + 1, D == 3 ? D + 2 : -1}}};
+  }
   template <class S>
   S kinetic(const Vec<S, dof>&, const Vec<S, dof>& qd, const S&) const {
     S a = S(0), b = S(0);
@@ -253,6 +261,7 @@ struct BallAndPlane {
   std::array<std::string, 3> coordinate_names() const { return {"x", "y", "z"}; }
   std::array<std::string, 1> unilateral_names() const { return {"ball-plane"}; }
   std::array<double, 1> restitution() const { return {e}; }
+  std::array<Particle, 1> particles() const { return {Particle{m, {0, 1, 2}}}; }
   template <class S>
   S kinetic(const Vec<S, 3>&, const Vec<S, 3>& qd, const S&) const {
     return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1] + qd[2] * qd[2]);
@@ -321,6 +330,11 @@ struct SpheresInBox {
       for (const char* w : {"left", "right", "bottom", "top"}) out.push_back(detail::sphere_name(i) + "-" + w);
     for (int i = 0; i < N; ++i)
       for (int j = i + 1; j < N; ++j) out.push_back(detail::sphere_name(i) + "-" + detail::sphere_name(j));
+    return out;
+  }
+  std::array<Particle, N> particles() const {
+    std::array<Particle, N> out;
+    for (int i = 0; i < N; ++i) out[static_cast<std::size_t>(i)] = {m[static_cast<std::size_t>(i)], {2 * i, 2 * i + 1, -1}};
     return out;
   }
   std::array<double, contacts> restitution() const {

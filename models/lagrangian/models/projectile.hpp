@@ -50,6 +50,7 @@ struct Projectile {
     return D == Drag::none ? "projectile" : D == Drag::linear ? "projectile_linear_drag" : "projectile_quadratic_drag";
   }
   std::array<std::string, 2> coordinate_names() const { return {"x", "y"}; }
+  std::array<Particle, 1> particles() const { return {Particle{m, {0, 1, -1}}}; }
   static std::string detail_format(double v) { return lagrangian::detail::format_number(v); }
   template <class S>
   S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {

@@ -57,6 +57,9 @@ struct TwoBody {
   Potential U;
   TwoBody(double mass1, double mass2, Potential potential)
       : m1(require_positive("TwoBody", "m1", mass1)), m2(require_positive("TwoBody", "m2", mass2)), U(potential) {}
+  std::array<Particle, 2> particles() const {
+    return {Particle{m1, {0, 1, D == 3 ? 2 : -1}}, Particle{m2, {D, D + 1, D == 3 ? D + 2 : -1}}};
+  }
   std::string name() const { return "two_body"; }
   std::vector<std::string> coordinate_names() const {
     const char* axes[] = {"x", "y", "z"};
