@@ -6,14 +6,12 @@
 ///  - elevations_to_hit(): the two elevations that pass through a target.
 
 #include <cmath>
-#include <memory>
 #include <sstream>
 #include <string>
 #include <utility>
 
-#include <nlopt.h>
-
 #include "lagrangian/errors.hpp"
+#include "lagrangian/models/detail/minimise_1d.hpp"
 #include "lagrangian/models/projectile.hpp"
 #include "lagrangian/simulate.hpp"
 
@@ -39,29 +37,6 @@ struct ProjectileToX : Projectile<D> {
   std::array<EventSpec, 1> event_specs() const { return {EventSpec{"target_x", Direction::rising, EventAction::stop}}; }
 };
 
-/// Minimises f(α) on [lo, hi] with NLopt's derivative-free BOBYQA to
-/// |Δα| ≤ 1e-12 rad.
-template <class F>
-std::pair<double, double> minimise_1d(F& f, double lo, double hi, double start) {
-  struct Ctx {
-    F* f;
-  } ctx{&f};
-  std::unique_ptr<nlopt_opt_s, decltype(&nlopt_destroy)> opt(nlopt_create(NLOPT_LN_BOBYQA, 1), &nlopt_destroy);
-  nlopt_set_min_objective(
-      opt.get(),
-      [](unsigned, const double* x, double*, void* data) { return (*static_cast<Ctx*>(data)->f)(x[0]); }, &ctx);
-  nlopt_set_lower_bounds1(opt.get(), lo);
-  nlopt_set_upper_bounds1(opt.get(), hi);
-  nlopt_set_xtol_abs1(opt.get(), 1e-12);
-  nlopt_set_maxeval(opt.get(), 500);
-  const double step = 0.25 * (hi - lo);
-  nlopt_set_initial_step(opt.get(), &step);
-  double x = start, fx = 0;
-  const nlopt_result r = nlopt_optimize(opt.get(), &x, &fx);
-  if (r < 0) throw SimulationError("NLopt failed while aiming (code " + std::to_string(static_cast<int>(r)) + ")", 0.0);
-  return {x, fx};
-}
-
 }  // namespace detail
 
 /// The elevation α ∈ (β, π/2) that maximises the simulated range along the
@@ -80,7 +55,7 @@ Aim best_elevation(const Projectile<D>& p, double u, SimulationOptions options =
     return -rec.samples.back().q[0] / std::cos(p.beta);
   };
   const double lo = p.beta + 1e-6, hi = Projectile<D>::kHalfPi - 1e-6;
-  const auto [alpha, f] = detail::minimise_1d(negative_range, lo, hi, p.best_elevation());
+  const auto [alpha, f] = detail::minimise_1d(negative_range, lo, hi, p.best_elevation(), 1e-12);
   return {alpha, -f, evaluations};
 }
 
@@ -115,8 +90,8 @@ std::pair<Aim, Aim> elevations_to_hit(const Projectile<D>& p, double u, double x
   const double split = 0.7853981633974483 + 0.5 * std::atan2(y_target, x_target);
   const double lo = std::max(p.beta, std::atan2(y_target, x_target)) + 1e-9, hi = Projectile<D>::kHalfPi - 1e-9;
   std::pair<Aim, Aim> out;
-  const auto low = detail::minimise_1d(miss2, lo, split, 0.5 * (lo + split));
-  const auto high = detail::minimise_1d(miss2, split, hi, 0.5 * (split + hi));
+  const auto low = detail::minimise_1d(miss2, lo, split, 0.5 * (lo + split), 1e-12);
+  const auto high = detail::minimise_1d(miss2, split, hi, 0.5 * (split + hi), 1e-12);
   out.first = {low.first, std::sqrt(low.second), evaluations};
   out.second = {high.first, std::sqrt(high.second), evaluations};
   const double worst = std::max(out.first.value, out.second.value);

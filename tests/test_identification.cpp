@@ -1,0 +1,89 @@
+// Parameter identification with NLopt: known parameters recovered from
+// synthetic records with seeded Gaussian noise.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "lagrangian/lagrangian.hpp"
+#include "lagrangian/models/identification.hpp"
+
+namespace {
+
+using namespace lagrangian;
+using namespace lagrangian::models;
+
+constexpr double kNoise = 1e-3;  // m, standard deviation of the synthetic record's noise
+
+TEST(Identification, RestitutionFromANoisyBouncingBall) {
+  const double e_true = 0.72, interval = 0.01;
+  const BallAndPlane truth(0.3, 0.05, e_true, 9.81);
+  State<3> x0;
+  x0.q << 0.0, 0.0, 1.05;
+  x0.qd << 0.0, 0.0, 0.0;
+  SimulationOptions o;
+  o.t_end = 2.5;
+  o.output_interval = interval;
+  Recorder<3> rec;
+  simulate(truth, x0, o, rec);
+  std::mt19937_64 rng(42);
+  std::normal_distribution<double> noise(0.0, kNoise);
+  std::vector<double> heights;
+  for (const auto& s : rec.samples) heights.push_back(s.q[2] + noise(rng));
+  const Fit fit = fit_restitution(BallAndPlane(0.3, 0.05, 0.0, 9.81), x0, interval, heights);
+  std::printf("restitution: true %.4f, fitted %.6f, rms residual %.3e m (noise %.1e), %d runs\n", e_true, fit.value,
+              fit.rms_residual, kNoise, fit.evaluations);
+  EXPECT_NEAR(fit.value, e_true, 2e-3);
+  EXPECT_NEAR(fit.rms_residual, kNoise, 0.2 * kNoise);  // the residual is the noise: the model explains the rest
+  // Without noise the fit is exact.
+  std::vector<double> clean;
+  for (const auto& s : rec.samples) clean.push_back(s.q[2]);
+  const Fit exact = fit_restitution(BallAndPlane(0.3, 0.05, 0.0, 9.81), x0, interval, clean);
+  EXPECT_NEAR(exact.value, e_true, 1e-7);
+}
+
+TEST(Identification, DragCoefficientFromANoisyProjectilePath) {
+  const double b_true = 0.035, interval = 0.02;  // kg/s on 0.145 kg
+  const Projectile<Drag::linear> truth(0.145, 9.81, 0.0, b_true);
+  const State<2> x0 = truth.launch(30.0, 0.7);
+  SimulationOptions o;
+  o.t_end = 3.0;
+  o.output_interval = interval;
+  Recorder<2> rec;
+  simulate(truth, x0, o, rec);
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> noise(0.0, kNoise);
+  std::vector<double> xs, ys;
+  for (const auto& s : rec.samples) {
+    xs.push_back(s.q[0] + noise(rng));
+    ys.push_back(s.q[1] + noise(rng));
+  }
+  ASSERT_GT(rec.samples.size(), 100u);
+  const Fit fit = fit_drag(Projectile<Drag::linear>(0.145, 9.81, 0.0, 0.0), x0, interval, xs, ys, 1.0);
+  std::printf("linear drag: true %.5f kg/s, fitted %.7f, rms residual %.3e m, %d runs\n", b_true, fit.value,
+              fit.rms_residual, fit.evaluations);
+  EXPECT_NEAR(fit.value, b_true, 0.01 * b_true);
+  EXPECT_NEAR(fit.rms_residual, std::sqrt(2.0) * kNoise, 0.2 * kNoise);  // two noisy coordinates per sample
+}
+
+TEST(Identification, BadRecordsAreClearErrors) {
+  const BallAndPlane ball(0.3, 0.05, 0.0, 9.81);
+  State<3> x0;
+  x0.q << 0, 0, 1;
+  x0.qd.setZero();
+  EXPECT_THROW(fit_restitution(ball, x0, 0.01, {}), ParameterError);
+  EXPECT_THROW(fit_restitution(ball, x0, -0.01, {1.0, 0.9}), ParameterError);
+  try {
+    fit_restitution(ball, x0, 0.01, {1.0, std::nan(""), 0.8});
+    FAIL() << "no error";
+  } catch (const ParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find("fit_restitution: recorded value 1 is nan"), std::string::npos) << e.what();
+  }
+  const Projectile<Drag::quadratic> p(0.145, 9.81, 0.0, 0.0);
+  EXPECT_THROW(fit_drag(p, p.launch(10.0, 0.5), 0.01, {0.0, 0.1}, {0.0}, 1.0), ParameterError);
+  EXPECT_THROW(fit_drag(p, p.launch(10.0, 0.5), 0.01, {0.0, 0.1}, {0.0, 0.1}, -1.0), ParameterError);
+}
+
+}  // namespace
