@@ -157,6 +157,13 @@ std::string RunReport::to_json() const {
     os << "}";
   }
   os << "]";
+  os << ",\n  \"has_reference\": " << (has_reference ? "true" : "false");
+  if (has_reference) {
+    os << ",\n  \"reference_error_max\": ";
+    json_number(os, reference_error_max);
+    os << ",\n  \"reference_error_final\": ";
+    json_number(os, reference_error_final);
+  }
   os << ",\n  \"has_particles\": " << (has_particles ? "true" : "false");
   if (has_particles) {
     auto vec = [&](const char* k, const std::array<double, 3>& v) {
@@ -339,6 +346,11 @@ std::string RunReport::summary() const {
   }
   if (!stopped_by.empty()) {
     std::snprintf(buf, sizeof buf, "stopped by event %s at t = %.15g s\n", stopped_by.c_str(), stopped_at);
+    os << buf;
+  }
+  if (has_reference) {
+    std::snprintf(buf, sizeof buf, "error against the closed form: max %.2e, final %.2e (units of q)\n",
+                  reference_error_max, reference_error_final);
     os << buf;
   }
   if (has_particles) {

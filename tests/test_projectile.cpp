@@ -111,6 +111,8 @@ TEST(Projectile, LinearDragFollowsItsClosedForm) {
   }
   EXPECT_LE(worst, 1e-10);
   EXPECT_FALSE(r.conservative);
+  ASSERT_TRUE(r.has_reference);
+  EXPECT_NEAR(r.reference_error_max, worst, 1e-15);  // the run measured the same true error itself
   // Shorter than without drag.
   EXPECT_LT(rec.samples.back().q[0], Projectile<>(0.4).range(u, alpha));
 }

@@ -92,6 +92,13 @@ TEST(TwoBody, RelativeMotionEqualsTheReducedMassProblemOver100Orbits) {
   EXPECT_LE(two.angular_momentum_drift_max, 1e-11);
   EXPECT_NEAR(two.angular_momentum_drift_max, worst_l, 1e-16);
   EXPECT_FALSE(one.has_particles);
+  // Both runs measure themselves against the closed form (centre of mass plus Kepler).
+  ASSERT_TRUE(two.has_reference);
+  ASSERT_TRUE(one.has_reference);
+  EXPECT_LE(two.reference_error_max, 1e-9);
+  EXPECT_LE(one.reference_error_max, 1e-9);
+  std::printf("reference error over 100 orbits: two-body %.2e, reduced %.2e\n", two.reference_error_max,
+              one.reference_error_max);
   EXPECT_LE(one.total_energy_drift_max, 1e-11);
 }
 
@@ -151,6 +158,64 @@ TEST(TwoBody, KeplerEquationSolverAndTheCircularOrbit) {
   // Kepler's third law for the two-body problem: P = 2π √(a³ / (G (m₁ + m₂))).
   const KeplerOrbit earth(1.495978707e11, 0.0167, 6.674e-11 * (1.98847e30 + 5.9722e24));
   EXPECT_NEAR(earth.period() / 86400.0, 365.25, 0.1);
+}
+
+TEST(TwoBody, KeplerFromAnyStateMatchesTheOrbitClosedForm) {
+  // kepler_propagate (elements from a state vector) against KeplerOrbit
+  // (from elements), on orbits tilted out of the x-y plane.
+  for (double e : {0.0, 0.3, 0.95}) {
+    const KeplerOrbit orbit(1.7, e, 2.5, 0.4);
+    const Eigen::Matrix3d tilt = (Eigen::AngleAxisd(0.7, V3::UnitX()) * Eigen::AngleAxisd(-0.3, V3::UnitZ())).toRotationMatrix();
+    const auto s0 = orbit.state(0.0);
+    const V3 r0 = tilt * V3(s0[0], s0[1], 0), v0 = tilt * V3(s0[2], s0[3], 0);
+    for (double t : {0.0, 0.3, 1.7, 5.0, 23.0}) {
+      const auto [r, v] = kepler_propagate(2.5, r0, v0, t);
+      const auto s = orbit.state(t);
+      EXPECT_LE((r - tilt * V3(s[0], s[1], 0)).norm(), 1e-12) << e << " " << t;
+      EXPECT_LE((v - tilt * V3(s[2], s[3], 0)).norm(), 1e-11 * V3(s[2], s[3], 0).norm()) << e << " " << t;
+    }
+  }
+  EXPECT_THROW(kepler_propagate(1.0, V3(1, 0, 0), V3(0, 2, 0), 1.0), ParameterError);  // escape speed exceeded
+  EXPECT_THROW(kepler_propagate(1.0, V3(1, 0, 0), V3(0.5, 0, 0), 1.0), ParameterError);  // radial
+}
+
+// Any central force given by its potential, F(r) = −dU/dr: a spring between
+// the bodies, U = ½ κ (r − r_n)² with natural length r_n = 0 (isotropic
+// oscillator): the relative motion has period 2π √(μ/κ) in every direction.
+struct Spring {
+  double kappa;
+  template <class S>
+  S operator()(const S& r) const {
+    return 0.5 * kappa * r * r;
+  }
+};
+
+TEST(TwoBody, AnyCentralForceReducesTheSameWay) {
+  const double m1 = 2.0, m2 = 0.5, kappa = 3.0;
+  const TwoBody<2, Spring> pair(m1, m2, Spring{kappa});
+  const RelativeMotion<2, Spring> reduced(reduced_mass(m1, m2), Spring{kappa});
+  State<4> x0;
+  x0.q << 0.0, 0.0, 1.0, 0.0;
+  x0.qd << 0.0, 0.1, 0.3, 0.7;
+  State<2> r0;
+  r0.q << 1.0, 0.0;
+  r0.qd << 0.3, 0.6;
+  const double period = 2 * std::acos(-1.0) * std::sqrt(reduced.mu / kappa);
+  Recorder<4> rp;
+  Recorder<2> rr;
+  simulate(pair, x0, tight(10 * period, period / 4), rp);
+  simulate(reduced, r0, tight(10 * period, period / 4), rr);
+  ASSERT_EQ(rp.samples.size(), rr.samples.size());
+  for (std::size_t k = 0; k < rp.samples.size(); ++k) {
+    const auto& a = rp.samples[k];
+    const auto& b = rr.samples[k];
+    EXPECT_NEAR(a.q[2] - a.q[0], b.q[0] + (a.t - b.t) * b.qd[0], 1e-11);
+    EXPECT_NEAR(a.q[3] - a.q[1], b.q[1] + (a.t - b.t) * b.qd[1], 1e-11);
+    if (k % 4 == 0) {  // whole periods: back at the start
+      EXPECT_NEAR(b.q[0], 1.0, 1e-10) << b.t;
+      EXPECT_NEAR(b.q[1], 0.0, 1e-10) << b.t;
+    }
+  }
 }
 
 TEST(TwoBody, HydrogenReducedMass) {

@@ -293,4 +293,14 @@ struct State {
   explicit State(int n) : q(Vec<double, N>::Zero(n)), qd(Vec<double, N>::Zero(n)) {}
 };
 
+/// True when the model knows its motion in closed form:
+///   State<n> reference(const State<n>& initial, double t) const;
+/// gives the exact state at time t of the motion that starts from `initial`
+/// at t0 = 0; runs then report their true error against it.
+template <class M>
+inline constexpr bool has_reference_v = requires(const M& m, const State<M::dof>& s) {
+  { m.reference(s, 0.0) } -> std::convertible_to<State<M::dof>>;
+};
+
+
 }  // namespace lagrangian

@@ -161,6 +161,11 @@ struct RunReport {
   /// samples. Conserved when the external forces (and their moments) vanish;
   /// impacts with fixed walls change them.
   bool has_particles = false;
+  /// Models with a closed form (reference()): the largest and the final
+  /// error max_i |q_i(t) − q_i,ref(t)| over the samples (units of q), the
+  /// true error of the run.
+  bool has_reference = false;
+  double reference_error_max = 0, reference_error_final = 0;
   std::array<double, 3> linear_momentum_initial{};
   std::array<double, 3> angular_momentum_initial{};
   double linear_momentum_drift_max = 0, linear_momentum_drift_final = 0;

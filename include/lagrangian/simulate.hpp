@@ -739,6 +739,16 @@ class RunState {
     }
     if constexpr (has_constraints_v<M>) sample_constraints(s);
     if constexpr (has_particles_v<M>) sample_particles(s);
+    if constexpr (has_reference_v<M>) {
+      if (s.t == opt_.t0) {
+        reference_initial_.q = s.q;
+        reference_initial_.qd = s.qd;
+      }
+      const State<n> ref = model_.reference(reference_initial_, s.t - opt_.t0);
+      report_.has_reference = true;
+      report_.reference_error_final = (s.q - ref.q).template lpNorm<Eigen::Infinity>();
+      report_.reference_error_max = std::max(report_.reference_error_max, report_.reference_error_final);
+    }
     for (std::size_t k = 0; k < cyclic_.size(); ++k) {
       MomentumDrift& d = report_.conserved_momenta[k];
       d.final_abs_drift = std::abs(p[cyclic_[k]] - d.initial);
@@ -979,7 +989,8 @@ class RunState {
   std::vector<EventSpec> specs_;
   std::vector<double> event_buf_;
   bool stopped_ = false;
-  std::vector<std::array<double, 3>> pending_shifts_;  ///< (time, Δh, ΔE) of impacts not yet sampled past
+  std::vector<std::array<double, 3>> pending_shifts_;
+  [[no_unique_address]] std::conditional_t<has_reference_v<M>, State<n>, None> reference_initial_{};  ///< (time, Δh, ΔE) of impacts not yet sampled past
   double last_event_time_ = std::numeric_limits<double>::quiet_NaN();
   int events_without_progress_ = 0;
   ConstraintContext<M>* ctx_ = nullptr;

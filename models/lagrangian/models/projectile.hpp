@@ -121,6 +121,26 @@ struct Projectile {
     const double k = drag / m, f = -std::expm1(-k * t);
     return {u * std::cos(alpha) / k * f, (u * std::sin(alpha) + g / k) / k * f - g * t / k};
   }
+  /// The motion in closed form from `initial` (no drag, or linear drag):
+  ///   no drag:  x = x0 + ẋ0 t,  y = y0 + ẏ0 t − g t²/2;
+  ///   linear:   x = x0 + ẋ0 (1 − e^{−kt})/k,  y = y0 + (ẏ0 + g/k)(1 − e^{−kt})/k − g t/k.
+  State<2> reference(const State<2>& initial, double t) const
+    requires(D != Drag::quadratic)
+  {
+    State<2> s;
+    if constexpr (D == Drag::none) {
+      s.q << initial.q[0] + initial.qd[0] * t, initial.q[1] + initial.qd[1] * t - 0.5 * g * t * t;
+      s.qd << initial.qd[0], initial.qd[1] - g * t;
+    } else {
+      const double k = drag / m, f = -std::expm1(-k * t), decay = std::exp(-k * t);
+      s.q << initial.q[0] + initial.qd[0] * f / k, initial.q[1] + (initial.qd[1] + g / k) * f / k - g * t / k;
+      s.qd << initial.qd[0] * decay, (initial.qd[1] + g / k) * decay - g / k;
+    }
+    return s;
+  }
+  /// A default scene: launched at 20 m/s, 45° above the horizontal (or
+  /// halfway between the plane and the vertical when the plane is steeper).
+  State<2> default_state() const { return launch(20.0, std::max(0.7853981633974483, 0.5 * (beta + kHalfPi))); }
   /// With quadratic drag: the terminal speed of a vertical fall, √(m g / c) (m/s).
   double terminal_speed() const
     requires(D == Drag::quadratic)

@@ -16,9 +16,12 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "lagrangian/impact.hpp"
 #include "lagrangian/model.hpp"
@@ -32,6 +35,51 @@ inline double reduced_mass(double m1, double m2) {
   require_positive("reduced_mass", "m1", m1);
   require_positive("reduced_mass", "m2", m2);
   return m1 / (1.0 + m1 / m2);
+}
+
+/// The eccentric anomaly E with E − e sin E = M (Kepler's equation) for
+/// e ∈ [0, 1): Newton's method from E₀ = M (e < 0.8) or π, M reduced to
+/// [0, 2π), to 4 ulp of 2π or 50 iterations.
+inline double solve_kepler(double mean_anomaly, double e) {
+  const double two_pi = 2.0 * std::acos(-1.0);
+  double m = std::fmod(mean_anomaly, two_pi);
+  if (m < 0) m += two_pi;
+  double E = e < 0.8 ? m : std::acos(-1.0);
+  for (int it = 0; it < 50; ++it) {
+    const double step = (E - e * std::sin(E) - m) / (1.0 - e * std::cos(E));
+    E -= step;
+    if (std::abs(step) <= 4 * std::numeric_limits<double>::epsilon() * two_pi) break;
+  }
+  return E;
+}
+
+/// The relative position and velocity (m, m/s) at time t of a bound Kepler
+/// orbit that has r0, v0 at t = 0, gravitational parameter GM (m³/s²): the
+/// orbital elements from the state (h = r × v, eccentricity vector
+/// e = v × h / GM − r̂, a = 1/(2/r − v²/GM)), Kepler's equation for E(t), and
+/// back along the periapsis direction p̂ and q̂ = ĥ × p̂. Throws
+/// ParameterError for an unbound (a ≤ 0) or radial (h = 0) orbit.
+inline std::pair<Eigen::Vector3d, Eigen::Vector3d> kepler_propagate(double gm, const Eigen::Vector3d& r0,
+                                                                    const Eigen::Vector3d& v0, double t) {
+  const double r = r0.norm(), v2 = v0.squaredNorm();
+  const double a = 1.0 / (2.0 / r - v2 / gm);
+  const Eigen::Vector3d h = r0.cross(v0);
+  if (!(a > 0) || !std::isfinite(a))
+    throw ParameterError("kepler_propagate: the orbit is not bound (v^2 >= 2 GM / r); no elliptic closed form");
+  if (!(h.norm() > 1e-14 * r * std::sqrt(v2)))
+    throw ParameterError("kepler_propagate: the orbit is radial (r x v = 0); no elliptic closed form");
+  const Eigen::Vector3d e_vec = v0.cross(h) / gm - r0 / r;
+  double e = e_vec.norm();
+  const Eigen::Vector3d h_hat = h.normalized();
+  Eigen::Vector3d p_hat = e > 1e-12 ? Eigen::Vector3d(e_vec / e) : Eigen::Vector3d(r0 / r);
+  if (e <= 1e-12) e = 0.0;
+  const Eigen::Vector3d q_hat = h_hat.cross(p_hat);
+  const double n = std::sqrt(gm / (a * a * a)), b = std::sqrt(1.0 - e * e);
+  // E at t = 0 from r0 in the perifocal frame: x = a (cos E − e), y = a b sin E.
+  const double E0 = std::atan2(r0.dot(q_hat) / (a * b), r0.dot(p_hat) / a + e);
+  const double E = solve_kepler(E0 - e * std::sin(E0) + n * t, e);
+  const double c = std::cos(E), sn = std::sin(E), d = 1.0 - e * c;
+  return {a * (c - e) * p_hat + a * b * sn * q_hat, (-a * n * sn / d) * p_hat + (a * n * b * c / d) * q_hat};
 }
 
 /// Newtonian gravity between two masses: U(r) = −k/r with k = G m₁ m₂
@@ -84,6 +132,38 @@ struct TwoBody {
     for (int k = 0; k < D; ++k) r2 += (q[D + k] - q[k]) * (q[D + k] - q[k]);
     return U(sqrt(r2));
   }
+  /// Newtonian gravity: the centre of mass moves uniformly and the relative
+  /// coordinate follows the Kepler orbit with GM = k (m₁ + m₂)/(m₁ m₂).
+  State<dof> reference(const State<dof>& initial, double t) const
+    requires std::is_same_v<Potential, NewtonianGravity>
+  {
+    const double M = m1 + m2;
+    Eigen::Vector3d R0 = Eigen::Vector3d::Zero(), V0 = Eigen::Vector3d::Zero();
+    Eigen::Vector3d r0 = Eigen::Vector3d::Zero(), v0 = Eigen::Vector3d::Zero();
+    R0.template head<D>() = (m1 * initial.q.template head<D>() + m2 * initial.q.template tail<D>()) / M;
+    V0.template head<D>() = (m1 * initial.qd.template head<D>() + m2 * initial.qd.template tail<D>()) / M;
+    r0.template head<D>() = initial.q.template tail<D>() - initial.q.template head<D>();
+    v0.template head<D>() = initial.qd.template tail<D>() - initial.qd.template head<D>();
+    const auto [r, v] = kepler_propagate(U.k * M / (m1 * m2), r0, v0, t);
+    const Eigen::Vector3d R = R0 + V0 * t;
+    State<dof> s;
+    s.q << (R - m2 / M * r).template head<D>(), (R + m1 / M * r).template head<D>();
+    s.qd << (V0 - m2 / M * v).template head<D>(), (V0 + m1 / M * v).template head<D>();
+    return s;
+  }
+  /// A default scene: centre of mass at rest at the origin, the bodies at
+  /// periapsis of a relative orbit a = 1 m, e = 0.5.
+  State<dof> default_state() const
+    requires std::is_same_v<Potential, NewtonianGravity>
+  {
+    const double M = m1 + m2, gm = U.k * M / (m1 * m2), rp = 0.5, vp = std::sqrt(gm * 1.5 / 0.5);
+    State<dof> s;
+    s.q[0] = -m2 / M * rp;
+    s.q[D] = m1 / M * rp;
+    s.qd[1] = -m2 / M * vp;
+    s.qd[D + 1] = m1 / M * vp;
+    return s;
+  }
 };
 
 /// Gravitational two-body problem: U = −G m₁ m₂ / r, G in m³/(kg·s²).
@@ -131,6 +211,28 @@ struct RelativeMotion {
     return Vec<S, 1>(rv);
   }
   std::array<EventSpec, 1> event_specs() const { return {EventSpec{"periapsis", Direction::rising}}; }
+  /// Newtonian gravity: the Kepler orbit through `initial` (bound orbits),
+  /// GM = k/μ.
+  State<D> reference(const State<D>& initial, double t) const
+    requires std::is_same_v<Potential, NewtonianGravity>
+  {
+    Eigen::Vector3d r0 = Eigen::Vector3d::Zero(), v0 = Eigen::Vector3d::Zero();
+    r0.template head<D>() = initial.q;
+    v0.template head<D>() = initial.qd;
+    const auto [r, v] = kepler_propagate(U.k / mu, r0, v0, t);
+    State<D> s;
+    s.q = r.template head<D>();
+    s.qd = v.template head<D>();
+    return s;
+  }
+  /// A default scene: periapsis of the orbit a = 1 m, e = 0.5 (GM = k/μ).
+  State<D> default_state() const {
+    const double gm = U.k / mu;
+    State<D> s;
+    s.q[0] = 0.5;
+    s.qd[1] = std::sqrt(gm * 1.5 / 0.5);
+    return s;
+  }
 };
 
 /// The reduced problem of a gravitational pair: μ = m₁m₂/(m₁ + m₂) in
@@ -164,19 +266,7 @@ struct KeplerOrbit {
   double period() const { return 2.0 * std::acos(-1.0) / mean_motion(); }
   /// Eccentric anomaly E at time t: Kepler's equation by Newton's method
   /// from E₀ = M (e < 0.8) or π, to 4 ulp of 2π or 50 iterations.
-  double eccentric_anomaly(double t) const {
-    const double two_pi = 2.0 * std::acos(-1.0);
-    double m = std::fmod(mean_motion() * (t - tp), two_pi);
-    if (m < 0) m += two_pi;
-    double E = e < 0.8 ? m : std::acos(-1.0);
-    for (int it = 0; it < 50; ++it) {
-      const double f = E - e * std::sin(E) - m;
-      const double step = f / (1.0 - e * std::cos(E));
-      E -= step;
-      if (std::abs(step) <= 4 * std::numeric_limits<double>::epsilon() * two_pi) break;
-    }
-    return E;
-  }
+  double eccentric_anomaly(double t) const { return solve_kepler(mean_motion() * (t - tp), e); }
   /// Position (x, y) (m) and velocity (ẋ, ẏ) (m/s) at time t.
   std::array<double, 4> state(double t) const {
     const double E = eccentric_anomaly(t), n = mean_motion();
