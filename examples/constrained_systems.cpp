@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "example_checks.hpp"
 #include "lagrangian/lagrangian.hpp"
 #include "lagrangian/models/constrained.hpp"
 #include "lagrangian/models/pendulums.hpp"
@@ -13,12 +14,7 @@ using namespace lagrangian::models;
 
 namespace {
 
-int failures = 0;
-
-void check(bool ok, const char* what) {
-  std::cout << (ok ? "  ok   " : "  FAIL ") << what << "\n";
-  if (!ok) ++failures;
-}
+using example::check;
 
 template <class M, int N>
 RunReport run(const char* title, const M& model, const State<N>& s, double t_end) {
@@ -127,8 +123,7 @@ int main() try {
     check(r.events.size() == 1 && r.events[0].kind == lagrangian::EventKind::release && std::abs(cos_release - 2.0 / 3.0 * std::cos(theta0)) < 1e-9,
           "leaves the sphere at cos θ = (2/3) cos θ0");
   }
-  std::cout << (failures ? "some checks failed\n" : "all checks passed\n");
-  return failures ? 1 : 0;
+  return example::finish();
 } catch (const std::exception& e) {
   std::cerr << "error: " << e.what() << "\n";
   return 2;

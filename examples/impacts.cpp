@@ -6,19 +6,14 @@
 #include <iostream>
 #include <string>
 
+#include "example_checks.hpp"
 #include "lagrangian/lagrangian.hpp"
 #include "lagrangian/models/impacts.hpp"
 
 using namespace lagrangian;
 using namespace lagrangian::models;
 
-namespace {
-bool all_ok = true;
-void check(bool ok, const std::string& what) {
-  std::cout << (ok ? "  ok   " : "  FAIL ") << what << "\n";
-  all_ok = all_ok && ok;
-}
-}  // namespace
+using example::check;
 
 int main(int argc, char** argv) try {
   const std::string out = argc > 1 ? argv[1] : "";
@@ -92,8 +87,7 @@ int main(int argc, char** argv) try {
   check(std::abs(mb * ce.qd.sum() - mb) < 1e-15 && std::abs(ce.total_energy - 0.5 * mb) < 1e-15,
         "momentum and energy conserved");
 
-  std::cout << (all_ok ? "all checks passed\n" : "SOME CHECKS FAILED\n");
-  return all_ok ? 0 : 1;
+  return example::finish();
 } catch (const std::exception& e) {
   std::cerr << "error: " << e.what() << "\n";
   return 2;

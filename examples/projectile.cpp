@@ -6,19 +6,14 @@
 #include <iostream>
 #include <string>
 
+#include "example_checks.hpp"
 #include "lagrangian/lagrangian.hpp"
 #include "lagrangian/models/projectile_aim.hpp"
 
 using namespace lagrangian;
 using namespace lagrangian::models;
 
-namespace {
-bool all_ok = true;
-void check(bool ok, const std::string& what) {
-  std::cout << (ok ? "  ok   " : "  FAIL ") << what << "\n";
-  all_ok = all_ok && ok;
-}
-}  // namespace
+using example::check;
 
 int main(int argc, char** argv) try {
   const std::string out = argc > 1 ? argv[1] : "";
@@ -70,8 +65,7 @@ int main(int argc, char** argv) try {
                 best.alpha / deg, slope.best_elevation() / deg, best.value, slope.max_range(u));
     check(std::abs(best.alpha - slope.best_elevation()) < 1e-6, "best elevation pi/4 + beta/2");
   }
-  std::cout << (all_ok ? "all checks passed\n" : "SOME CHECKS FAILED\n");
-  return all_ok ? 0 : 1;
+  return example::finish();
 } catch (const std::exception& e) {
   std::cerr << "error: " << e.what() << "\n";
   return 2;

@@ -7,19 +7,14 @@
 #include <iostream>
 #include <string>
 
+#include "example_checks.hpp"
 #include "lagrangian/lagrangian.hpp"
 #include "lagrangian/models/two_body.hpp"
 
 using namespace lagrangian;
 using namespace lagrangian::models;
 
-namespace {
-bool all_ok = true;
-void check(bool ok, const std::string& what) {
-  std::cout << (ok ? "  ok   " : "  FAIL ") << what << "\n";
-  all_ok = all_ok && ok;
-}
-}  // namespace
+using example::check;
 
 int main(int argc, char** argv) try {
   const std::string out = argc > 1 ? argv[1] : "";
@@ -94,8 +89,7 @@ int main(int argc, char** argv) try {
               mu / electron_mass, approx, (mu - approx) / mu);
   check(std::abs((mu - approx) / mu - 2.97e-7) < 1e-9, "the approximation is good to (m_e/m_p)^2 = 3e-7");
 
-  std::cout << (all_ok ? "all checks passed\n" : "SOME CHECKS FAILED\n");
-  return all_ok ? 0 : 1;
+  return example::finish();
 } catch (const std::exception& e) {
   std::cerr << "error: " << e.what() << "\n";
   return 2;

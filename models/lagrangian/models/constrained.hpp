@@ -12,26 +12,11 @@
 #include <string_view>
 
 #include "lagrangian/model.hpp"
+#include "lagrangian/models/detail/particles.hpp"
 #include "lagrangian/params.hpp"
 
 namespace lagrangian::models {
 
-namespace detail {
-/// A particle of mass m in a vertical plane, coordinates (x, y), gravity g
-/// along −y: T = ½ m (ẋ² + ẏ²), V = m g y.
-struct PlanarParticle {
-  double m, g;
-  std::array<std::string_view, 2> coordinate_names() const { return {"x", "y"}; }
-  template <class S>
-  S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
-    return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1]);
-  }
-  template <class S>
-  S potential(const Vec<S, 2>& q, const S&) const {
-    return m * g * q[1];
-  }
-};
-}  // namespace detail
 
 /// Bead of mass m on a straight wire through the origin at angle α to the
 /// horizontal, in a vertical plane; coordinates (x, y).

@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 
 #include "lagrangian/model.hpp"
+#include "lagrangian/models/detail/particles.hpp"
 #include "lagrangian/params.hpp"
 
 namespace lagrangian::models {
@@ -188,38 +189,17 @@ struct SpheresOnLine {
 ///   T = ½ m₁|ṙ₁|² + ½ m₂|ṙ₂|²,  contact φ = |r₂ − r₁| − (R₁ + R₂) ≥ 0.
 /// The oblique impact of course notes 1.4: the common normal is r₂ − r₁.
 template <int D>
-struct TwoSpheres {
-  static_assert(D == 2 || D == 3, "TwoSpheres is planar (D = 2) or spatial (D = 3)");
+struct TwoSpheres : detail::ParticlePair<D> {
   static constexpr int dof = 2 * D;
-  double m1, m2, r1, r2, e;
+  double r1, r2, e;
   TwoSpheres(double mass1, double mass2, double radius1, double radius2, double restitution)
-      : m1(require_positive("TwoSpheres", "m1", mass1)),
-        m2(require_positive("TwoSpheres", "m2", mass2)),
+      : detail::ParticlePair<D>{require_positive("TwoSpheres", "m1", mass1), require_positive("TwoSpheres", "m2", mass2)},
         r1(require_positive("TwoSpheres", "r1", radius1)),
         r2(require_positive("TwoSpheres", "r2", radius2)),
         e(require_in_range("TwoSpheres", "e", restitution, 0.0, 1.0)) {}
   std::string name() const { return D == 2 ? "two_spheres_2d" : "two_spheres_3d"; }
-  std::vector<std::string> coordinate_names() const {
-    const char* axes[] = {"x", "y", "z"};
-    std::vector<std::string> out;
-    for (int b = 1; b <= 2; ++b)
-      for (int k = 0; k < D; ++k) out.push_back(std::string(axes[k]) + std::to_string(b));
-    return out;
-  }
   std::array<std::string, 1> unilateral_names() const { return {"s1-s2"}; }
   std::array<double, 1> restitution() const { return {e}; }
-  std::array<Particle, 2> particles() const {
-    return {Particle{m1, {0, 1, D == 3 ? 2 : -1}}, Particle{m2, {D, D + 1, D == 3 ? D + 2 : -1}}};
-  }
-  template <class S>
-  S kinetic(const Vec<S, dof>&, const Vec<S, dof>& qd, const S&) const {
-    S a = S(0), b = S(0);
-    for (int k = 0; k < D; ++k) {
-      a += qd[k] * qd[k];
-      b += qd[D + k] * qd[D + k];
-    }
-    return 0.5 * m1 * a + 0.5 * m2 * b;
-  }
   template <class S>
   S potential(const Vec<S, dof>&, const S&) const {
     return S(0);

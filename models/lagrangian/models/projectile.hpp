@@ -22,6 +22,7 @@
 
 #include "lagrangian/impact.hpp"
 #include "lagrangian/model.hpp"
+#include "lagrangian/models/detail/particles.hpp"
 #include "lagrangian/params.hpp"
 
 namespace lagrangian::models {
@@ -30,15 +31,14 @@ namespace lagrangian::models {
 enum class Drag { none, linear, quadratic };
 
 template <Drag D = Drag::none>
-struct Projectile {
+struct Projectile : detail::PlanarParticle {
   static constexpr int dof = 2;
   static constexpr double kHalfPi = 1.5707963267948966;
-  double m, g, beta, drag;
+  double beta, drag;
   /// m (kg), g (m/s²), plane angle β (rad, |β| < π/2), drag coefficient (b
   /// in kg/s or c in kg/m; must be 0 for Drag::none).
   explicit Projectile(double mass = 1.0, double gravity = 9.81, double plane_angle = 0.0, double drag_coefficient = 0.0)
-      : m(require_positive("Projectile", "m", mass)),
-        g(require_positive("Projectile", "g", gravity)),
+      : PlanarParticle{require_positive("Projectile", "m", mass), require_positive("Projectile", "g", gravity)},
         beta(plane_angle),
         drag(require_nonnegative("Projectile", "drag", drag_coefficient)) {
     if (!(std::abs(beta) < kHalfPi))
@@ -49,17 +49,7 @@ struct Projectile {
   std::string name() const {
     return D == Drag::none ? "projectile" : D == Drag::linear ? "projectile_linear_drag" : "projectile_quadratic_drag";
   }
-  std::array<std::string, 2> coordinate_names() const { return {"x", "y"}; }
-  std::array<Particle, 1> particles() const { return {Particle{m, {0, 1, -1}}}; }
   static std::string detail_format(double v) { return lagrangian::detail::format_number(v); }
-  template <class S>
-  S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
-    return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1]);
-  }
-  template <class S>
-  S potential(const Vec<S, 2>& q, const S&) const {
-    return m * g * q[1];
-  }
   template <class S>
     requires(D != Drag::none)
   S dissipation(const Vec<S, 2>&, const Vec<S, 2>& qd) const {

@@ -25,6 +25,7 @@
 
 #include "lagrangian/impact.hpp"
 #include "lagrangian/model.hpp"
+#include "lagrangian/models/detail/particles.hpp"
 #include "lagrangian/params.hpp"
 
 namespace lagrangian::models {
@@ -98,33 +99,15 @@ struct NewtonianGravity {
 /// `Potential` is any callable `template <class S> S operator()(const S& r)`
 /// giving U in J (NewtonianGravity by default).
 template <int D, class Potential = NewtonianGravity>
-struct TwoBody {
-  static_assert(D == 2 || D == 3, "TwoBody is planar (D = 2) or spatial (D = 3)");
+struct TwoBody : detail::ParticlePair<D> {
   static constexpr int dof = 2 * D;
-  double m1, m2;
+  using detail::ParticlePair<D>::m1;
+  using detail::ParticlePair<D>::m2;
   Potential U;
   TwoBody(double mass1, double mass2, Potential potential)
-      : m1(require_positive("TwoBody", "m1", mass1)), m2(require_positive("TwoBody", "m2", mass2)), U(potential) {}
-  std::array<Particle, 2> particles() const {
-    return {Particle{m1, {0, 1, D == 3 ? 2 : -1}}, Particle{m2, {D, D + 1, D == 3 ? D + 2 : -1}}};
-  }
+      : detail::ParticlePair<D>{require_positive("TwoBody", "m1", mass1), require_positive("TwoBody", "m2", mass2)},
+        U(potential) {}
   std::string name() const { return "two_body"; }
-  std::vector<std::string> coordinate_names() const {
-    const char* axes[] = {"x", "y", "z"};
-    std::vector<std::string> out;
-    for (int b = 1; b <= 2; ++b)
-      for (int k = 0; k < D; ++k) out.push_back(std::string(axes[k]) + std::to_string(b));
-    return out;
-  }
-  template <class S>
-  S kinetic(const Vec<S, dof>&, const Vec<S, dof>& qd, const S&) const {
-    S a = S(0), b = S(0);
-    for (int k = 0; k < D; ++k) {
-      a += qd[k] * qd[k];
-      b += qd[D + k] * qd[D + k];
-    }
-    return 0.5 * m1 * a + 0.5 * m2 * b;
-  }
   template <class S>
   S potential(const Vec<S, dof>& q, const S&) const {
     using std::sqrt;
