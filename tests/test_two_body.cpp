@@ -218,6 +218,36 @@ TEST(TwoBody, AnyCentralForceReducesTheSameWay) {
   }
 }
 
+// Gravity given as a force law F(r) = −k/r² (the notes' form) moves the
+// bodies exactly as gravity given as the potential −k/r.
+struct InverseSquare {
+  double k;
+  template <class S>
+  S operator()(const S& r) const {
+    return -k / (r * r);
+  }
+};
+
+TEST(TwoBody, AForceLawAndItsPotentialGiveTheSameMotion) {
+  const double m1 = 0.6, m2 = 0.4;
+  const auto by_potential = gravitational_two_body<3>(m1, m2, kG);
+  const TwoBodyForce<3, InverseSquare> by_force(m1, m2, InverseSquare{kG * m1 * m2});
+  const State<6> x0 = by_potential.default_state();
+  const double period = KeplerOrbit(1.0, 0.5, kG * (m1 + m2)).period();
+  Recorder<6> a, b;
+  const RunReport ra = simulate(by_potential, x0, tight(5 * period, period / 10), a);
+  const RunReport rb = simulate(by_force, x0, tight(5 * period, period / 10), b);
+  ASSERT_EQ(a.samples.size(), b.samples.size());
+  for (std::size_t k = 0; k < a.samples.size(); ++k)
+    EXPECT_LE((a.samples[k].q - b.samples[k].q - (a.samples[k].t - b.samples[k].t) * b.samples[k].qd)
+                  .lpNorm<Eigen::Infinity>(),
+              1e-10)
+        << a.samples[k].t;
+  EXPECT_TRUE(ra.conservative);
+  EXPECT_FALSE(rb.conservative);  // a force law is not declared conservative
+  EXPECT_LE(rb.linear_momentum_drift_max, 1e-13);  // internal forces: momentum still conserved
+}
+
 TEST(TwoBody, HydrogenReducedMass) {
   // μ = m_e m_p / (m_e + m_p) ≈ m_e (1 − m_e/m_p); the approximation's
   // relative error is (m_e/m_p)² / (1 + m_e/m_p) ≈ 2.97e-7.

@@ -149,6 +149,42 @@ struct TwoBody : detail::ParticlePair<D> {
   }
 };
 
+/// Two bodies with a central force given by its law F(r) (N; positive
+/// repels, negative attracts) instead of a potential, as in notes 1.6:
+///   T = ½ m₁|ṙ₁|² + ½ m₂|ṙ₂|²,  V = 0,
+///   Q₁ = −F(r) r̂,  Q₂ = +F(r) r̂,  r̂ = (r₂ − r₁)/r.
+/// `Force` is any callable `template <class S> S operator()(const S& r)`.
+/// A conservative F is better given as TwoBody's U (then the energy
+/// function is monitored as a conserved quantity); this form takes any F.
+template <int D, class Force>
+struct TwoBodyForce : detail::ParticlePair<D> {
+  static constexpr int dof = 2 * D;
+  Force F;
+  TwoBodyForce(double mass1, double mass2, Force force)
+      : detail::ParticlePair<D>{require_positive("TwoBodyForce", "m1", mass1),
+                                require_positive("TwoBodyForce", "m2", mass2)},
+        F(force) {}
+  std::string name() const { return "two_body_force"; }
+  template <class S>
+  S potential(const Vec<S, dof>&, const S&) const {
+    return S(0);
+  }
+  template <class S>
+  Vec<S, dof> generalized_forces(const Vec<S, dof>& q, const Vec<S, dof>&, const S&) const {
+    using std::sqrt;
+    S r2 = S(0);
+    for (int k = 0; k < D; ++k) r2 += (q[D + k] - q[k]) * (q[D + k] - q[k]);
+    const S r = sqrt(r2);
+    const S f = F(r) / r;
+    Vec<S, dof> Q;
+    for (int k = 0; k < D; ++k) {
+      Q[k] = -f * (q[D + k] - q[k]);
+      Q[D + k] = f * (q[D + k] - q[k]);
+    }
+    return Q;
+  }
+};
+
 /// Gravitational two-body problem: U = −G m₁ m₂ / r, G in m³/(kg·s²).
 template <int D>
 TwoBody<D> gravitational_two_body(double m1, double m2, double G) {
