@@ -133,6 +133,13 @@ TEST(Projectile, QuadraticDragReachesTheTerminalSpeedAndOnlyDissipates) {
   EXPECT_NEAR(end.qd[0], 0.0, 1e-6);  // the horizontal motion has died away
   for (std::size_t k = 1; k < rec.samples.size(); ++k)
     EXPECT_LT(rec.samples[k].total_energy, rec.samples[k - 1].total_energy);  // drag only takes energy
+  // Dropped from rest (where |v| has no derivative): still the terminal speed.
+  State<2> rest;
+  rest.q << 0.0, 1e4;
+  rest.qd << 0.0, 0.0;
+  Recorder<2> fall;
+  simulate(p, rest, o, fall);
+  EXPECT_NEAR(fall.samples.back().qd[1], -p.terminal_speed(), 1e-9 * p.terminal_speed());
 }
 
 TEST(Projectile, NLoptFindsTheBestElevationOnAnIncline) {

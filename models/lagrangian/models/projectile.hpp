@@ -49,16 +49,17 @@ struct Projectile : detail::PlanarParticle {
   std::string name() const {
     return D == Drag::none ? "projectile" : D == Drag::linear ? "projectile_linear_drag" : "projectile_quadratic_drag";
   }
-  static std::string detail_format(double v) { return lagrangian::detail::format_number(v); }
   template <class S>
     requires(D != Drag::none)
   S dissipation(const Vec<S, 2>&, const Vec<S, 2>& qd) const {
-    using std::sqrt;
+    using std::pow;
     const S v2 = qd[0] * qd[0] + qd[1] * qd[1];
     if constexpr (D == Drag::linear) {
       return 0.5 * drag * v2;
     } else {
-      return drag / 3.0 * v2 * sqrt(v2);
+      // (v²)^{3/2}, not v²·√v²: its derivative 3/2 √v² · 2v stays finite
+      // (zero) at rest, where √'s derivative is infinite.
+      return drag / 3.0 * pow(v2, 1.5);
     }
   }
   template <class S>
@@ -71,14 +72,14 @@ struct Projectile : detail::PlanarParticle {
   }
 
   /// Initial state for a launch from the origin with speed u (m/s) at
-  /// elevation α (rad). Throws ParameterError unless u > 0 and β < α < π/2
-  /// (α = π/2 is allowed on flat ground: straight up), so that it flies.
+  /// elevation α (rad). Throws ParameterError unless u > 0 and β < α ≤ π/2
+  /// (α = π/2: straight up), so that it flies.
   State<2> launch(double u, double alpha) const {
     require_positive("Projectile", "u", u);
     require_finite("Projectile", "alpha", alpha);
     if (!(alpha > beta && alpha <= kHalfPi))
       lagrangian::detail::parameter_failure("Projectile", "alpha",
-                                            "above the plane (alpha > beta = " + detail_format(beta) +
+                                            "above the plane (alpha > beta = " + lagrangian::detail::format_number(beta) +
                                                 ") and at most pi/2, or the projectile does not fly",
                                             alpha);
     State<2> s;
