@@ -1,6 +1,7 @@
 #include "lagrangian/report.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -63,6 +64,13 @@ void json_string(std::ostringstream& os, const std::string& s) {
     }
   }
   os << '"';
+}
+
+/// Number of events of each kind, indexed by EventKind.
+std::array<std::uint64_t, 5> event_counts(const std::vector<EventRecord>& events) {
+  std::array<std::uint64_t, 5> counts{};
+  for (const auto& e : events) ++counts[static_cast<std::size_t>(e.kind)];
+  return counts;
 }
 
 void json_number(std::ostringstream& os, double v) {
@@ -216,10 +224,9 @@ std::string RunReport::to_json() const {
   }
   // Events: counts by kind, the times of stops, and the first few in full
   // (the whole log goes to write_events_csv).
-  std::uint64_t counts[5] = {0, 0, 0, 0, 0};
-  for (const auto& e : events) ++counts[static_cast<int>(e.kind)];
+  const auto counts = event_counts(events);
   os << ",\n  \"events\": {\"count\": " << events.size();
-  for (int k = 0; k < 5; ++k) os << ", \"" << to_string(static_cast<EventKind>(k)) << "\": " << counts[k];
+  for (int k = 0; k < 5; ++k) os << ", \"" << to_string(static_cast<EventKind>(k)) << "\": " << counts[static_cast<std::size_t>(k)];
   os << ", \"impact_energy_loss\": ";
   json_number(os, impact_energy_loss);
   os << ", \"first\": [";
@@ -329,8 +336,7 @@ std::string RunReport::summary() const {
     for (const auto& w : c.warnings) os << "warning: " << w << "\n";
   }
   if (!events.empty()) {
-    std::uint64_t counts[5] = {0, 0, 0, 0, 0};
-    for (const auto& e : events) ++counts[static_cast<int>(e.kind)];
+    const auto counts = event_counts(events);
     std::snprintf(buf, sizeof buf,
                   "events: %zu (%llu impacts, %llu rests, %llu releases, %llu watched); impacts dissipated %.6g J\n",
                   events.size(), static_cast<unsigned long long>(counts[0]),

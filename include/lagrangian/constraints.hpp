@@ -119,6 +119,12 @@ inline constexpr int constraint_count_v = holonomic_count_v<M> + unilateral_coun
 using ActiveSet = std::uint64_t;
 /// Every unilateral constraint active.
 inline constexpr ActiveSet all_active = ~ActiveSet{0};
+namespace detail {
+constexpr ActiveSet low_bits(int count) { return count >= 64 ? ~ActiveSet{0} : (ActiveSet{1} << count) - 1; }
+}  // namespace detail
+/// The bits of a model's unilateral constraints in an ActiveSet.
+template <class M>
+inline constexpr ActiveSet unilateral_mask_v = detail::low_bits(unilateral_count_v<M>);
 /// True when the model declares any constraint.
 template <class M>
 inline constexpr bool has_constraints_v = constraint_count_v<M> > 0;
@@ -277,13 +283,22 @@ struct ConstraintWorkspace {
 
 /// q̈ and λ of a constrained model (see the file comment for the system).
 /// `omega` > 0 adds the Baumgarte term with that rate (1/s); unilateral
-/// constraints not in `active` are left out.
+/// constraints not in `active` are left out. A model whose only constraints
+/// are unilateral, none of them active, takes the unconstrained path (λ = 0).
 template <class M>
 void constrained_accelerations(const M& model, Workspace<M::dof>& ws,
                                ConstraintWorkspace<M::dof, constraint_count_v<M>>& cw, const Vec<double, M::dof>& q,
                                const Vec<double, M::dof>& qd, double t, Vec<double, M::dof>& out,
                                double omega = 0.0, ActiveSet active = all_active) {
   constexpr int mh = position_rows_v<M>;
+  if constexpr (holonomic_count_v<M> + pfaffian_count_v<M> == 0) {
+    if ((active & unilateral_mask_v<M>) == 0) {  // contacts only, none touching: free motion
+      accelerations(model, ws, q, qd, t, out);
+      cw.multipliers.setZero();
+      cw.constraint_forces.setZero();
+      return;
+    }
+  }
   evaluate(model, ws, q, qd, t);
   detail::factor_mass_matrix(ws, q, qd, t);
   auto cs = constraint_state(model, q, qd, t);

@@ -120,8 +120,8 @@ struct EventRecord {
   double impulse = 0;        ///< Λ along +∇φ (N·s for a distance gap); 0 for releases and watched events
   double approach_speed = 0;     ///< −dφ/dt before (m/s for a distance gap); 0 unless impact or rest
   double separation_speed = 0;   ///< dφ/dt after
-  double kinetic_energy_before = 0;  ///< T just before (J)
-  double kinetic_energy_after = 0;   ///< T just after (J)
+  double kinetic_energy_before = 0;  ///< T just before (J); ½ q̇ᵀMq̇ when the model gives L directly
+  double kinetic_energy_after = 0;   ///< T just after (J), likewise
 };
 
 /// What a run did, what it cost and how accurate it was.

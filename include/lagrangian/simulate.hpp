@@ -59,8 +59,6 @@ bool is_autonomous(const M& model, const State<M::dof>& s, double t = 0.0);
 /// the TOMS 748 bracket is narrowed to event_time_tolerance · max(1 s, |t|),
 /// i.e. 1e-12 relative with an absolute floor of 1e-12 s.
 inline constexpr double event_time_tolerance = 1e-12;
-/// Former name of event_time_tolerance.
-inline constexpr double release_time_tolerance = event_time_tolerance;
 
 namespace detail {
 
@@ -187,14 +185,6 @@ struct FirstOrderSystem {
   void evaluate_into(const Vec<double, n>& q, const Vec<double, n>& qd, double t,
                                        Vec<double, n>& qdd) const {
     if constexpr (has_constraints_v<M>) {
-      if constexpr (holonomic_count_v<M> + pfaffian_count_v<M> == 0) {
-        // Contacts only: in free flight the plain equations of motion apply.
-        constexpr ActiveSet mask = (ActiveSet{1} << unilateral_count_v<M>) - 1;
-        if ((constraints->active & mask) == 0) {
-          accelerations(*model, *ws, q, qd, t, qdd);
-          return;
-        }
-      }
       constrained_accelerations(*model, *ws, constraints->cw, q, qd, t, qdd, constraints->omega, constraints->active);
     } else if constexpr (has_explicit_accelerations_v<M>) {
       model->accelerations(q, qd, t, qdd);
@@ -256,7 +246,6 @@ class RunState {
   static constexpr int n = M::dof;
   /// The model declares contacts or watched events (the event code is compiled only then).
   static constexpr bool has_events_v = unilateral_count_v<M> > 0 || event_count_v<M> > 0;
-  static constexpr ActiveSet unilateral_mask = (ActiveSet{1} << unilateral_count_v<M>) - 1;
 
   RunState(const M& model, const SimulationOptions& opt, Observer& obs, RunReport& report)
       : model_(model),
@@ -368,7 +357,7 @@ class RunState {
     } else {
       ConstraintReport& cr = report_.constraints;
       constexpr bool only_contacts = holonomic_count_v<M> + pfaffian_count_v<M> == 0;
-      if (only_contacts && (active() & unilateral_mask) == 0) return false;  // free flight: nothing to hold
+      if (only_contacts && (active() & unilateral_mask_v<M>) == 0) return false;  // free flight: nothing to hold
       Vec<double, n> q, qd;
       split_state(x, q, qd);
       bool changed = false;
@@ -442,151 +431,147 @@ class RunState {
       return handle_events_erased(t_old, x_old, t, x, interpolator(interp));  // one instantiation per model
     }
   }
+  // Instantiated only for models with events (called from handle_events).
   bool handle_events_erased(double t_old, const double* x_old, double& t, double* x, Interpolator interp) {
-    if constexpr (!has_events_v) {
-      (void)t_old, (void)x_old, (void)t, (void)x, (void)interp;
-      return false;
-    } else {
-      auto root = [](const auto& f, double a, double b, double fa, double fb) {
-        return bracket_root(time_function(f), a, b, fa, fb, event_time_tolerance);
-      };
-      // Candidate: kind 0 release, 1 contact (at the step start), 2 contact, 3 watched.
-      int best_kind = -1, best_index = -1;
-      double best_t = std::numeric_limits<double>::infinity();
-      auto consider = [&](double tc, int kind, int index) {
-        if (tc < best_t) {
-          best_t = tc;
-          best_kind = kind;
-          best_index = index;
-        }
-      };
-      std::vector<double>& buf = event_buf_;
-      if constexpr (unilateral_count_v<M> > 0) {
-        const ActiveSet act = ctx_->active;
-        // Lift-off: an active contact whose multiplier is negative at the step end.
-        if ((act & unilateral_mask) != 0) {
-          auto multipliers_at = [&](const double* xs, double ts) {
-            Vec<double, n> q, qd, qdd;
-            split_state(xs, q, qd);
-            constrained_accelerations(model_, ws_, cw_, q, qd, ts, qdd, 0.0, act);
-            return cw_.multipliers;
-          };
-          const auto lam_end = multipliers_at(x, t);
-          for (int j = 0; j < unilateral_count_v<M>; ++j) {
-            const int row = holonomic_count_v<M> + j;
-            if (!((act >> j) & 1u) || !(lam_end[row] < 0)) continue;
-            auto f = [&](double ts) {
-              if (ts == t) return lam_end[row];
-              interp(ts, buf.data());
-              return multipliers_at(buf.data(), ts)[row];
-            };
-            const double fa = f(t_old);
-            double tj = t_old;
-            if (fa > 0) tj = root(f, t_old, t, fa, lam_end[row]).second;
-            consider(tj, 0, j);  // upper end: λ < 0 from there on
-          }
-        }
-        // Closing contacts among the inactive ones.
-        Vec<double, unilateral_count_v<M>> ga, ra, gb, rb;
-        gaps_at(x_old, t_old, ga, ra);
-        gaps_at(x, t, gb, rb);
-        const double touch = contact_touch_tolerance(x);
+    auto root = [](const auto& f, double a, double b, double fa, double fb) {
+      return bracket_root(time_function(f), a, b, fa, fb, event_time_tolerance);
+    };
+    // Candidate: kind 0 release, 1 contact (at the step start), 2 contact, 3 watched.
+    int best_kind = -1, best_index = -1;
+    double best_t = std::numeric_limits<double>::infinity();
+    auto consider = [&](double tc, int kind, int index) {
+      if (tc < best_t) {
+        best_t = tc;
+        best_kind = kind;
+        best_index = index;
+      }
+    };
+    std::vector<double>& buf = event_buf_;
+    if constexpr (unilateral_count_v<M> > 0) {
+      const ActiveSet act = ctx_->active;
+      // Lift-off: an active contact whose multiplier is negative at the step end.
+      if ((act & unilateral_mask_v<M>) != 0) {
+        auto multipliers_at = [&](const double* xs, double ts) {
+          Vec<double, n> q, qd, qdd;
+          split_state(xs, q, qd);
+          constrained_accelerations(model_, ws_, cw_, q, qd, ts, qdd, 0.0, act);
+          return cw_.multipliers;
+        };
+        const auto lam_end = multipliers_at(x, t);
         for (int j = 0; j < unilateral_count_v<M>; ++j) {
-          if ((act >> j) & 1u) continue;
-          if (ga[j] < -touch) {
-            std::ostringstream os;
-            os.precision(17);
-            os << "contact " << contact_name(j) << " is penetrated at t = " << t_old << " (gap " << ga[j]
-               << ") without a located closing; the run was stopped";
-            throw SimulationError(os.str(), t_old);
-          }
-          // φ_j and φ̇_j at a time inside the step.
-          auto gap_rate = [&](double ts) {
-            if (ts == t) return std::pair{gb[j], rb[j]};
-            if (ts == t_old) return std::pair{ga[j], ra[j]};
-            interp(ts, buf.data());
-            Vec<double, unilateral_count_v<M>> g, r;
-            gaps_at(buf.data(), ts, g, r);
-            return std::pair{g[j], r[j]};
-          };
-          auto gap = [&](double ts) { return gap_rate(ts).first; };
-          auto rate = [&](double ts) { return gap_rate(ts).second; };
-          // The bracket [lo, hi] of a closing: φ(lo) > 0 > φ(hi).
-          double lo = t_old, hi = t;
-          bool crossing = ga[j] > 0 && gb[j] < 0;
-          auto rate_root = [&] {
-            const auto r = root(rate, t_old, t, ra[j], rb[j]);
-            return 0.5 * (r.first + r.second);
-          };
-          if (!crossing && ga[j] >= 0 && gb[j] >= 0 && ra[j] < 0 && rb[j] > 0) {
-            hi = rate_root();  // a dip inside the step: below zero at the gap's minimum?
-            crossing = gap(hi) < 0;
-          } else if (!crossing && ga[j] <= 0 && ra[j] > 0 && gb[j] < 0 && rb[j] < 0) {
-            lo = rate_root();  // leaves the contact and comes back within the step
-            crossing = gap(lo) > 0;
-          }
-          if (crossing) {
-            const double tj = root(gap, lo, hi, gap(lo), gap(hi)).first;
-            // A slow touch that stays within the tolerance is not an impact.
-            if (-rate(tj) <= opt_.contact_touch_speed && gb[j] >= -touch) continue;
-            consider(tj, 2, j);  // lower end: φ ≥ 0, just before contact
-          } else if ((ga[j] <= touch && ra[j] < -opt_.contact_touch_speed) ||
-                     (ga[j] < 0 && gb[j] < -touch && gb[j] < ga[j])) {
-            consider(t_old, 1, j);  // touching at the step start and approaching or pressing in
-          }
-        }
-      }
-      if constexpr (event_count_v<M> > 0) {
-        Vec<double, event_count_v<M>> fa = watched_at(x_old, t_old), fb = watched_at(x, t);
-        for (int k = 0; k < event_count_v<M>; ++k) {
-          const Direction d = specs_[static_cast<std::size_t>(k)].direction;
-          const bool falls = fa[k] > 0 && fb[k] <= 0, rises = fa[k] < 0 && fb[k] >= 0;
-          if (!((falls && d != Direction::rising) || (rises && d != Direction::falling))) continue;
+          const int row = holonomic_count_v<M> + j;
+          if (!((act >> j) & 1u) || !(lam_end[row] < 0)) continue;
           auto f = [&](double ts) {
-            if (ts == t) return fb[k];
+            if (ts == t) return lam_end[row];
             interp(ts, buf.data());
-            return watched_at(buf.data(), ts)[k];
+            return multipliers_at(buf.data(), ts)[row];
           };
-          consider(root(f, t_old, t, fa[k], fb[k]).second, 3, k);
+          const double fa = f(t_old);
+          double tj = t_old;
+          if (fa > 0) tj = root(f, t_old, t, fa, lam_end[row]).second;
+          consider(tj, 0, j);  // upper end: λ < 0 from there on
         }
       }
-      if (best_kind < 0) return false;
-      // Guard against an event that changes nothing being found again and again.
-      if (best_t == last_event_time_ && best_t == t_old) {
-        if (++events_without_progress_ > 100) {
+      // Closing contacts among the inactive ones.
+      Vec<double, unilateral_count_v<M>> ga, ra, gb, rb;
+      gaps_at(x_old, t_old, ga, ra);
+      gaps_at(x, t, gb, rb);
+      const double touch = contact_touch_tolerance(x);
+      for (int j = 0; j < unilateral_count_v<M>; ++j) {
+        if ((act >> j) & 1u) continue;
+        if (ga[j] < -touch) {
           std::ostringstream os;
           os.precision(17);
-          os << "event handling made no progress at t = " << best_t << " (more than 100 events at this instant)";
-          throw SimulationError(os.str(), best_t);
+          os << "contact " << contact_name(j) << " is penetrated at t = " << t_old << " (gap " << ga[j]
+             << ") without a located closing; the run was stopped";
+          throw SimulationError(os.str(), t_old);
         }
-      } else {
-        events_without_progress_ = 0;
-      }
-      last_event_time_ = best_t;
-      if (best_t < t) {
-        interp(best_t, buf.data());
-        std::copy(buf.begin(), buf.end(), x);
-        t = best_t;
-      }
-      if (best_kind == 0) {
-        if constexpr (unilateral_count_v<M> > 0) {
-          ctx_->active &= ~(ActiveSet{1} << best_index);
-          log_simple(EventKind::release, contact_name(best_index), t, x);
+        // φ_j and φ̇_j at a time inside the step.
+        auto gap_rate = [&](double ts) {
+          if (ts == t) return std::pair{gb[j], rb[j]};
+          if (ts == t_old) return std::pair{ga[j], ra[j]};
+          interp(ts, buf.data());
+          Vec<double, unilateral_count_v<M>> g, r;
+          gaps_at(buf.data(), ts, g, r);
+          return std::pair{g[j], r[j]};
+        };
+        auto gap = [&](double ts) { return gap_rate(ts).first; };
+        auto rate = [&](double ts) { return gap_rate(ts).second; };
+        // The bracket [lo, hi] of a closing: φ(lo) > 0 > φ(hi).
+        double lo = t_old, hi = t;
+        bool crossing = ga[j] > 0 && gb[j] < 0;
+        auto rate_root = [&] {
+          const auto r = root(rate, t_old, t, ra[j], rb[j]);
+          return 0.5 * (r.first + r.second);
+        };
+        if (!crossing && ga[j] >= 0 && gb[j] >= 0 && ra[j] < 0 && rb[j] > 0) {
+          hi = rate_root();  // a dip inside the step: below zero at the gap's minimum?
+          crossing = gap(hi) < 0;
+        } else if (!crossing && ga[j] <= 0 && ra[j] > 0 && gb[j] < 0 && rb[j] < 0) {
+          lo = rate_root();  // leaves the contact and comes back within the step
+          crossing = gap(lo) > 0;
         }
-      } else if (best_kind == 1 || best_kind == 2) {
-        resolve_contacts(x, t, best_index);
-      } else {
-        const EventSpec& s = specs_[static_cast<std::size_t>(best_index)];
-        log_simple(EventKind::watched, s.name, t, x);
-        if (s.action == EventAction::stop) {
-          log_simple(EventKind::stop, s.name, t, x);
-          stopped_ = true;
-          report_.stopped_at = t;
-          report_.stopped_by = s.name;
+        if (crossing) {
+          const double tj = root(gap, lo, hi, gap(lo), gap(hi)).first;
+          // A slow touch that stays within the tolerance is not an impact.
+          if (-rate(tj) <= opt_.contact_touch_speed && gb[j] >= -touch) continue;
+          consider(tj, 2, j);  // lower end: φ ≥ 0, just before contact
+        } else if ((ga[j] <= touch && ra[j] < -opt_.contact_touch_speed) ||
+                   (ga[j] < 0 && gb[j] < -touch && gb[j] < ga[j])) {
+          consider(t_old, 1, j);  // touching at the step start and approaching or pressing in
         }
       }
-      return true;
     }
+    if constexpr (event_count_v<M> > 0) {
+      Vec<double, event_count_v<M>> fa = watched_at(x_old, t_old), fb = watched_at(x, t);
+      for (int k = 0; k < event_count_v<M>; ++k) {
+        const Direction d = specs_[static_cast<std::size_t>(k)].direction;
+        const bool falls = fa[k] > 0 && fb[k] <= 0, rises = fa[k] < 0 && fb[k] >= 0;
+        if (!((falls && d != Direction::rising) || (rises && d != Direction::falling))) continue;
+        auto f = [&](double ts) {
+          if (ts == t) return fb[k];
+          interp(ts, buf.data());
+          return watched_at(buf.data(), ts)[k];
+        };
+        consider(root(f, t_old, t, fa[k], fb[k]).second, 3, k);
+      }
+    }
+    if (best_kind < 0) return false;
+    // Guard against an event that changes nothing being found again and again.
+    if (best_t == last_event_time_ && best_t == t_old) {
+      if (++events_without_progress_ > 100) {
+        std::ostringstream os;
+        os.precision(17);
+        os << "event handling made no progress at t = " << best_t << " (more than 100 events at this instant)";
+        throw SimulationError(os.str(), best_t);
+      }
+    } else {
+      events_without_progress_ = 0;
+    }
+    last_event_time_ = best_t;
+    if (best_t < t) {
+      interp(best_t, buf.data());
+      std::copy(buf.begin(), buf.end(), x);
+      t = best_t;
+    }
+    if (best_kind == 0) {
+      if constexpr (unilateral_count_v<M> > 0) {
+        ctx_->active &= ~(ActiveSet{1} << best_index);
+        log_simple(EventKind::release, contact_name(best_index), t, x);
+      }
+    } else if (best_kind == 1 || best_kind == 2) {
+      resolve_contacts(x, t, best_index);
+    } else {
+      const EventSpec& s = specs_[static_cast<std::size_t>(best_index)];
+      log_simple(EventKind::watched, s.name, t, x);
+      if (s.action == EventAction::stop) {
+        log_simple(EventKind::stop, s.name, t, x);
+        stopped_ = true;
+        report_.stopped_at = t;
+        report_.stopped_by = s.name;
+      }
+    }
+    return true;
   }
 
   /// True once a watched event with action stop has fired (a compile-time
@@ -838,7 +823,6 @@ class RunState {
               active |= ActiveSet{1} << j;  // resting contact
             }
           }
-          (void)vs;
         }
         if (ctx_) ctx_->active = active;
         if (approaching) {
@@ -931,12 +915,7 @@ class RunState {
   double gap_acceleration(const Vec<double, n>& q, const Vec<double, n>& qd, double t, int j) {
     if constexpr (unilateral_count_v<M> > 0) {
       Vec<double, n> qdd;
-      const ActiveSet act = ctx_->active & ~(ActiveSet{1} << j);
-      if (holonomic_count_v<M> + pfaffian_count_v<M> == 0 && (act & unilateral_mask) == 0) {
-        accelerations(model_, ws_, q, qd, t, qdd);
-      } else {
-        constrained_accelerations(model_, ws_, cw_, q, qd, t, qdd, 0.0, act);
-      }
+      constrained_accelerations(model_, ws_, cw_, q, qd, t, qdd, 0.0, ctx_->active & ~(ActiveSet{1} << j));
       const auto cs = constraint_state(model_, q, qd, t);
       const int row = holonomic_count_v<M> + j;
       return cs.jacobian.row(row).dot(qdd) + cs.gamma[row];
@@ -954,11 +933,8 @@ class RunState {
     rec.name = name;
     Vec<double, n> q, qd;
     split_state(x, q, qd);
-    if constexpr (has_kinetic_potential_v<M>) {
-      rec.kinetic_energy_before = rec.kinetic_energy_after = model_.kinetic(q, qd, t);
-    } else {
-      rec.kinetic_energy_before = rec.kinetic_energy_after = std::numeric_limits<double>::quiet_NaN();
-    }
+    if constexpr (!has_kinetic_potential_v<M>) evaluate(model_, ws_, q, qd, t);  // M for ½ q̇ᵀMq̇
+    rec.kinetic_energy_before = rec.kinetic_energy_after = detail::kinetic_for_log(model_, ws_, q, qd, t);
     report_.events.push_back(rec);
   }
   /// After an impact: the energy references move by the energy the impact
@@ -1255,8 +1231,10 @@ RunReport simulate_impl(const M& model, const State<M::dof>& initial, const Simu
   }
   {
     const State<n> start = rs.start(initial);  // impacts at t0 may change the velocities
-    for (int i = 0; i < size; ++i) x[static_cast<std::size_t>(i + size)] = start.qd[i];
-    for (int i = 0; i < size; ++i) x[static_cast<std::size_t>(i)] = start.q[i];
+    for (int i = 0; i < size; ++i) {
+      x[static_cast<std::size_t>(i)] = start.q[i];
+      x[static_cast<std::size_t>(size + i)] = start.qd[i];
+    }
   }
   try {
     const std::string& m = options.method;

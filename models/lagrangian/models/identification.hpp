@@ -61,6 +61,28 @@ struct ProjectileWithoutLanding : Projectile<D> {
   std::array<EventSpec, 1> event_specs() const { return {EventSpec{"apex", Direction::falling}}; }
 };
 
+/// The common fit: a record of K samples at t_k = k·interval from x0;
+/// `make_model(p)` builds the trial model for parameter p, `misfit2(sample,
+/// k)` is the squared misfit of sample k; J(p) is minimised on [lo, hi].
+template <int N, class MakeModel, class Misfit2>
+Fit fit_record(const State<N>& x0, double interval, std::size_t K, const MakeModel& make_model,
+               const Misfit2& misfit2, double lo, double hi, double start, double xtol) {
+  SimulationOptions o;
+  o.t_end = interval * static_cast<double>(K - 1);
+  o.output_interval = interval;
+  int evaluations = 0;
+  auto cost = [&](double p) {
+    ++evaluations;
+    Recorder<N> rec;
+    simulate(make_model(p), x0, o, rec);
+    double j = 0;
+    for (std::size_t k = 0; k < K && k < rec.samples.size(); ++k) j += misfit2(rec.samples[k], k);
+    return j;
+  };
+  const auto [p, j] = minimise_1d(cost, lo, hi, start, xtol, 300);
+  return {p, std::sqrt(j / static_cast<double>(K)), evaluations};
+}
+
 }  // namespace detail
 
 /// The coefficient of restitution e ∈ [0, 1] of `ball` (its own e is
@@ -70,25 +92,14 @@ struct ProjectileWithoutLanding : Projectile<D> {
 inline Fit fit_restitution(const BallAndPlane& ball, const State<3>& x0, double interval,
                            const std::vector<double>& heights) {
   detail::check_record("fit_restitution", interval, {heights});
-  const std::size_t K = heights.size();
-  SimulationOptions o;
-  o.t_end = interval * static_cast<double>(K - 1);
-  o.output_interval = interval;
-  int evaluations = 0;
-  auto cost = [&](double e) {
-    ++evaluations;
-    const BallAndPlane trial(ball.m, ball.R, e, ball.g, ball.n, ball.d);
-    Recorder<3> rec;
-    simulate(trial, x0, o, rec);
-    double j = 0;
-    for (std::size_t k = 0; k < K && k < rec.samples.size(); ++k) {
-      const double r = rec.samples[k].q[2] - heights[k];
-      j += r * r;
-    }
-    return j;
-  };
-  const auto [e, j] = detail::minimise_1d(cost, 0.0, 1.0, 0.5, 1e-9, 300);
-  return {e, std::sqrt(j / static_cast<double>(K)), evaluations};
+  return detail::fit_record(
+      x0, interval, heights.size(),
+      [&](double e) { return BallAndPlane(ball.m, ball.R, e, ball.g, ball.n, ball.d); },
+      [&](const Sample<3>& s, std::size_t k) {
+        const double r = s.q[2] - heights[k];
+        return r * r;
+      },
+      0.0, 1.0, 0.5, 1e-9);
 }
 
 /// The drag coefficient (b in kg/s for Drag::linear, c in kg/m for
@@ -101,25 +112,16 @@ Fit fit_drag(const Projectile<D>& projectile, const State<2>& x0, double interva
   static_assert(D != Drag::none, "fit_drag needs a projectile with declared drag");
   detail::check_record("fit_drag", interval, {xs, ys});
   require_positive("fit_drag", "max_coefficient", max_coefficient);
-  const std::size_t K = xs.size();
-  SimulationOptions o;
-  o.t_end = interval * static_cast<double>(K - 1);
-  o.output_interval = interval;
-  int evaluations = 0;
-  auto cost = [&](double c) {
-    ++evaluations;
-    const detail::ProjectileWithoutLanding<D> trial{Projectile<D>(projectile.m, projectile.g, projectile.beta, c)};
-    Recorder<2> rec;
-    simulate(trial, x0, o, rec);
-    double j = 0;
-    for (std::size_t k = 0; k < K && k < rec.samples.size(); ++k) {
-      const double rx = rec.samples[k].q[0] - xs[k], ry = rec.samples[k].q[1] - ys[k];
-      j += rx * rx + ry * ry;
-    }
-    return j;
-  };
-  const auto [c, j] = detail::minimise_1d(cost, 0.0, max_coefficient, 0.5 * max_coefficient, 1e-12 * max_coefficient, 300);
-  return {c, std::sqrt(j / static_cast<double>(K)), evaluations};
+  return detail::fit_record(
+      x0, interval, xs.size(),
+      [&](double c) {
+        return detail::ProjectileWithoutLanding<D>{Projectile<D>(projectile.m, projectile.g, projectile.beta, c)};
+      },
+      [&](const Sample<2>& s, std::size_t k) {
+        const double rx = s.q[0] - xs[k], ry = s.q[1] - ys[k];
+        return rx * rx + ry * ry;
+      },
+      0.0, max_coefficient, 0.5 * max_coefficient, 1e-12 * max_coefficient);
 }
 
 }  // namespace lagrangian::models

@@ -83,6 +83,42 @@ inline std::pair<Eigen::Vector3d, Eigen::Vector3d> kepler_propagate(double gm, c
   return {a * (c - e) * p_hat + a * b * sn * q_hat, (-a * n * sn / d) * p_hat + (a * n * b * c / d) * q_hat};
 }
 
+/// A Kepler orbit in closed form, in its own plane with periapsis on +x:
+/// semi-major axis a (m), eccentricity e ∈ [0, 1), gravitational parameter
+/// GM = G (m₁ + m₂) (m³/s²), periapsis passage at t_p (s). The relative
+/// coordinate of a gravitational pair follows it.
+///   n = √(GM/a³),  M = n (t − t_p),  E − e sin E = M  (Kepler's equation),
+///   x = a (cos E − e),  y = a √(1 − e²) sin E,
+///   ẋ = −a n sin E / (1 − e cos E),  ẏ = a n √(1 − e²) cos E / (1 − e cos E),
+///   period P = 2π √(a³/GM).
+struct KeplerOrbit {
+  double a, e, gm, tp;
+  KeplerOrbit(double semi_major_axis, double eccentricity, double gravitational_parameter, double periapsis_time = 0)
+      : a(require_positive("KeplerOrbit", "a", semi_major_axis)),
+        e(eccentricity),
+        gm(require_positive("KeplerOrbit", "GM", gravitational_parameter)),
+        tp(require_finite("KeplerOrbit", "t_p", periapsis_time)) {
+    if (!(e >= 0.0 && e < 1.0)) lagrangian::detail::parameter_failure("KeplerOrbit", "e", "in [0, 1) (a bound orbit)", e);
+  }
+  /// Mean motion n (rad/s).
+  double mean_motion() const { return std::sqrt(gm / (a * a * a)); }
+  /// Orbital period P = 2π √(a³/GM) (s).
+  double period() const { return 2.0 * std::acos(-1.0) / mean_motion(); }
+  /// Eccentric anomaly E at time t: Kepler's equation by Newton's method
+  /// from E₀ = M (e < 0.8) or π, to 4 ulp of 2π or 50 iterations.
+  double eccentric_anomaly(double t) const { return solve_kepler(mean_motion() * (t - tp), e); }
+  /// Position (x, y) (m) and velocity (ẋ, ẏ) (m/s) at time t.
+  std::array<double, 4> state(double t) const {
+    const double E = eccentric_anomaly(t), n = mean_motion();
+    const double c = std::cos(E), s = std::sin(E), b = std::sqrt(1.0 - e * e);
+    const double denom = 1.0 - e * c;
+    return {a * (c - e), a * b * s, -a * n * s / denom, a * n * b * c / denom};
+  }
+  /// Periapsis distance a (1 − e) (m) and speed there √(GM (1 + e) / (a (1 − e))) (m/s).
+  double periapsis_distance() const { return a * (1.0 - e); }
+  double periapsis_speed() const { return std::sqrt(gm * (1.0 + e) / (a * (1.0 - e))); }
+};
+
 /// Newtonian gravity between two masses: U(r) = −k/r with k = G m₁ m₂
 /// (J·m); the force on each body points to the other, |F| = k/r².
 struct NewtonianGravity {
@@ -139,7 +175,9 @@ struct TwoBody : detail::ParticlePair<D> {
   State<dof> default_state() const
     requires std::is_same_v<Potential, NewtonianGravity>
   {
-    const double M = m1 + m2, gm = U.k * M / (m1 * m2), rp = 0.5, vp = std::sqrt(gm * 1.5 / 0.5);
+    const double M = m1 + m2;
+    const KeplerOrbit orbit(1.0, 0.5, U.k * M / (m1 * m2));
+    const double rp = orbit.periapsis_distance(), vp = orbit.periapsis_speed();
     State<dof> s;
     s.q[0] = -m2 / M * rp;
     s.q[D] = m1 / M * rp;
@@ -246,10 +284,10 @@ struct RelativeMotion {
   }
   /// A default scene: periapsis of the orbit a = 1 m, e = 0.5 (GM = k/μ).
   State<D> default_state() const {
-    const double gm = U.k / mu;
+    const KeplerOrbit orbit(1.0, 0.5, U.k / mu);
     State<D> s;
-    s.q[0] = 0.5;
-    s.qd[1] = std::sqrt(gm * 1.5 / 0.5);
+    s.q[0] = orbit.periapsis_distance();
+    s.qd[1] = orbit.periapsis_speed();
     return s;
   }
 };
@@ -261,42 +299,6 @@ RelativeMotion<D> gravitational_relative_motion(double m1, double m2, double G) 
   require_positive("RelativeMotion", "G", G);
   return RelativeMotion<D>(reduced_mass(m1, m2), NewtonianGravity{G * m1 * m2});
 }
-
-/// A Kepler orbit in closed form, in its own plane with periapsis on +x:
-/// semi-major axis a (m), eccentricity e ∈ [0, 1), gravitational parameter
-/// GM = G (m₁ + m₂) (m³/s²), periapsis passage at t_p (s). The relative
-/// coordinate of a gravitational pair follows it.
-///   n = √(GM/a³),  M = n (t − t_p),  E − e sin E = M  (Kepler's equation),
-///   x = a (cos E − e),  y = a √(1 − e²) sin E,
-///   ẋ = −a n sin E / (1 − e cos E),  ẏ = a n √(1 − e²) cos E / (1 − e cos E),
-///   period P = 2π √(a³/GM).
-struct KeplerOrbit {
-  double a, e, gm, tp;
-  KeplerOrbit(double semi_major_axis, double eccentricity, double gravitational_parameter, double periapsis_time = 0)
-      : a(require_positive("KeplerOrbit", "a", semi_major_axis)),
-        e(eccentricity),
-        gm(require_positive("KeplerOrbit", "GM", gravitational_parameter)),
-        tp(require_finite("KeplerOrbit", "t_p", periapsis_time)) {
-    if (!(e >= 0.0 && e < 1.0)) lagrangian::detail::parameter_failure("KeplerOrbit", "e", "in [0, 1) (a bound orbit)", e);
-  }
-  /// Mean motion n (rad/s).
-  double mean_motion() const { return std::sqrt(gm / (a * a * a)); }
-  /// Orbital period P = 2π √(a³/GM) (s).
-  double period() const { return 2.0 * std::acos(-1.0) / mean_motion(); }
-  /// Eccentric anomaly E at time t: Kepler's equation by Newton's method
-  /// from E₀ = M (e < 0.8) or π, to 4 ulp of 2π or 50 iterations.
-  double eccentric_anomaly(double t) const { return solve_kepler(mean_motion() * (t - tp), e); }
-  /// Position (x, y) (m) and velocity (ẋ, ẏ) (m/s) at time t.
-  std::array<double, 4> state(double t) const {
-    const double E = eccentric_anomaly(t), n = mean_motion();
-    const double c = std::cos(E), s = std::sin(E), b = std::sqrt(1.0 - e * e);
-    const double denom = 1.0 - e * c;
-    return {a * (c - e), a * b * s, -a * n * s / denom, a * n * b * c / denom};
-  }
-  /// Periapsis distance a (1 − e) (m) and speed there √(GM (1 + e) / (a (1 − e))) (m/s).
-  double periapsis_distance() const { return a * (1.0 - e); }
-  double periapsis_speed() const { return std::sqrt(gm * (1.0 + e) / (a * (1.0 - e))); }
-};
 
 /// CODATA 2018 masses (kg): electron and proton (NIST, physics.nist.gov/constants).
 inline constexpr double electron_mass = 9.1093837015e-31;
