@@ -1,0 +1,43 @@
+#pragma once
+// Internal: how the scene runner reaches the built-in models.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "lagrangian/report.hpp"
+#include "lagrangian/scene.hpp"
+#include "lagrangian/scene_models.hpp"
+
+namespace lagrangian::scene::detail {
+
+/// Called with the time of every sample a run produces (progress display).
+using SampleTick = std::function<void(double t)>;
+
+/// A built-in model as the scene runner sees it.
+struct ModelEntry {
+  std::string name;  ///< as in builtin_models() (src/scene/model_catalog.cpp)
+  /// Builds the model from spec.parameters (defaults for absent ones) and the
+  /// initial state from spec.q / spec.qd (the model's default state when
+  /// empty), runs simulate() with `options`, writes trajectory CSV to
+  /// `csv_path` when non-empty (committed only on success) and returns the
+  /// report. Bad parameters or state throw SceneError with keys
+  /// "model.parameters.<name>", "model.q", "model.qd".
+  RunReport (*run)(const ModelSpec& spec, const SimulationOptions& options, const std::string& csv_path,
+                   const SampleTick& tick);
+  /// Human-readable inspection at t0: coordinates, DOF report (rank,
+  /// redundant constraints), momenta, cyclic coordinates and conserved
+  /// quantities, declared forces/constraints/contacts.
+  std::string (*inspect)(const ModelSpec& spec, double t0);
+};
+
+void add_pendulum_models(std::vector<ModelEntry>& out);
+void add_constrained_models(std::vector<ModelEntry>& out);
+void add_impact_models(std::vector<ModelEntry>& out);
+void add_orbit_models(std::vector<ModelEntry>& out);  // two-body, Kepler, projectiles
+
+/// Every entry, sorted by name (built once); one per builtin_models() entry.
+const std::vector<ModelEntry>& model_entries();
+const ModelEntry* find_entry(const std::string& name);
+
+}  // namespace lagrangian::scene::detail

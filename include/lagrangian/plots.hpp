@@ -1,0 +1,79 @@
+#pragma once
+/// \file plots.hpp
+/// Plots of a finished run, drawn by gnuplot from the files the run wrote.
+///
+/// make_plots() reads `trajectory.csv` (header
+/// `t,<coordinates...>,<coordinate>_dot...,energy[,total_energy][,lambda_…,Qc_…]`)
+/// and, when it exists, `events.csv`
+/// (`t,kind,bodies,impulse,approach_speed,separation_speed,ke_before,ke_after`),
+/// writes a gnuplot script `<out_dir>/plots.gp` and runs it. The plots are
+///  - `trajectory`:  particle scenes: each body's path projected on the plane
+///                   of the two axes with the largest spread (equal aspect
+///                   ratio), or position against time when the motion is along
+///                   one axis only; generalized models: the configuration-space
+///                   path q₀–q₁ (q₀ against t for one coordinate). Impacts are
+///                   marked at the positions of the bodies involved.
+///  - `coordinates`: every coordinate against t, one panel per unit.
+///  - `energy`:      the relative energy error (E(t) − E(t₀)) / energy_scale.
+///  - `phase`:       phase portraits q against q̇ for up to four coordinates.
+/// each as PNG (1000×700) and SVG, as enabled. Impacts (events of kind
+/// `impact`) are marked on every plot against time by dashed vertical lines.
+///
+/// The script is kept: `cd <out_dir> && gnuplot plots.gp` draws the plots
+/// again, and it is plain gnuplot to adapt. It reads the trajectory file with
+/// `every n`, thinned to about 5000 points per line, so that runs with
+/// millions of samples plot in seconds. Images are written under a
+/// `.partial` name and renamed only when gnuplot succeeded, so a failed
+/// plot never looks complete.
+
+#include <string>
+#include <vector>
+
+namespace lagrangian {
+
+/// What to plot and where.
+struct PlotSpec {
+  std::string title;                      ///< shown in the plot titles (e.g. the scene name)
+  std::string trajectory_csv;             ///< path of the run's trajectory CSV
+  std::string events_csv;                 ///< path of its events CSV; may be empty or not exist
+  std::string out_dir;                    ///< directory for the script and images (created if missing)
+  std::vector<std::string> coordinates;   ///< coordinate names in the CSV's order; empty: read from the header
+  std::vector<std::string> units;         ///< unit of each coordinate ("m", "rad", …); empty: unitless
+  /// A particle of a particle scene: 0-based indices into `coordinates` of
+  /// its Cartesian x, y, z (−1 when absent).
+  struct Body {
+    std::string name;
+    int x = -1, y = -1, z = -1;
+  };
+  std::vector<Body> bodies;               ///< particle scenes; empty for generalized-coordinate models
+  double energy_scale = 1;                ///< J, > 0; the energy error is plotted as (E − E₀)/energy_scale
+  bool png = true;                        ///< write `<name>.png` (pngcairo, 1000×700)
+  bool svg = true;                        ///< write `<name>.svg`
+};
+
+/// What make_plots() did.
+struct PlotResult {
+  bool gnuplot_found = false;       ///< false: nothing was written, see message
+  std::vector<std::string> files;   ///< the images written (paths under out_dir), then the script
+  std::string message;              ///< one line for the user (and any warnings gnuplot printed)
+};
+
+/// True when a program `gnuplot` is on PATH and runs (`gnuplot --version`
+/// exits with status 0).
+bool gnuplot_available();
+
+/// Writes `<out_dir>/plots.gp` and runs gnuplot on it to draw the plots
+/// described in this file's documentation.
+///
+/// Without gnuplot on PATH nothing is written and nothing is thrown: the
+/// result has gnuplot_found = false and the message
+/// "gnuplot not found; install it with: apt-get install gnuplot-nox (plots skipped)".
+///
+/// Throws OptionError naming the path when the trajectory CSV cannot be read
+/// or is malformed (missing columns, no data rows), when the events CSV exists
+/// but cannot be read, when out_dir cannot be created or written, and when
+/// gnuplot exits with a non-zero status (the message then holds its stderr);
+/// in that case no image of this call is left behind.
+PlotResult make_plots(const PlotSpec& spec);
+
+}  // namespace lagrangian

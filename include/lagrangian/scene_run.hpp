@@ -1,0 +1,46 @@
+#pragma once
+/// \file scene_run.hpp
+/// Running and inspecting a scene.
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "lagrangian/report.hpp"
+#include "lagrangian/scene.hpp"
+
+namespace lagrangian::scene {
+
+/// How run() behaves beyond what the scene says.
+struct RunControls {
+  bool write_outputs = true;  ///< write trajectory.csv, events.csv, report.json and plots
+  bool progress = false;      ///< progress bar on stderr (shown only on a terminal, after ~1 s)
+};
+
+/// What a scene run did.
+struct RunResult {
+  RunReport report;                 ///< cost and accuracy (see report.hpp)
+  std::string engine;               ///< "model" (built-in model), "ode" or "event_driven"
+  std::vector<std::string> files;   ///< files written
+  std::string plot_note;            ///< why plots were skipped, if they were
+  /// Particle scenes on the ODE engine: evaluations of each declared effect
+  /// kernel (one per right-hand side). Undeclared kinds do not appear.
+  std::map<std::string, std::uint64_t> effect_evaluations;
+  /// Particle scenes: positions (m) and velocities (m/s) at the end of the
+  /// run, body by body (x, y, z); empty for built-in models.
+  std::vector<double> q_final, qd_final;
+};
+
+/// Validates and runs a scene. Throws SceneError for invalid input
+/// (including an output directory that cannot be written) and
+/// SimulationError when the run fails part-way; on failure no output file
+/// is left looking complete.
+RunResult run(const Scene& scene, const RunControls& controls = {});
+
+/// A human-readable description of the scene at t0: coordinates, degrees of
+/// freedom (rank of the constraints, redundant ones), momenta, cyclic
+/// coordinates and conserved quantities, and the active effects.
+std::string inspect(const Scene& scene);
+
+}  // namespace lagrangian::scene

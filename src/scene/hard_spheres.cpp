@@ -1,0 +1,676 @@
+// Event-driven engine for smooth hard spheres (see hard_spheres.hpp for the
+// equations): per-sphere local times, a binary heap of predicted events with
+// per-sphere impact counters for invalidation, and a cell grid broad phase.
+#include "lagrangian/hard_spheres.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "lagrangian/errors.hpp"
+#include "lagrangian/params.hpp"
+
+namespace lagrangian {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr const char* kAxis[3] = {"x", "y", "z"};
+constexpr const char* kBoxWall[6] = {"wall:x_min", "wall:x_max", "wall:y_min", "wall:y_max", "wall:z_min", "wall:z_max"};
+
+std::string num(double v) { return detail::format_number(v); }
+
+std::string vec(const Eigen::Vector3d& v) { return "(" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + ")"; }
+
+[[noreturn]] void fail(const std::string& what) { throw OptionError("hard spheres: " + what); }
+
+std::string sphere_name(const HardSphereSystem& s, std::size_t i) {
+  return s.spheres[i].name.empty() ? "s" + std::to_string(i + 1) : s.spheres[i].name;
+}
+
+std::string wall_name(const HardSphereSystem& s, std::size_t k) {
+  return s.walls[k].name.empty() ? "wall" + std::to_string(k + 1) : s.walls[k].name;
+}
+
+// A uniform grid over the box whose cells are at least `reach` wide on every
+// axis, so that spheres closer than `reach` are in the same or adjacent cells.
+// The number of cells is capped at ~8 per sphere (wider cells stay correct).
+struct Grid {
+  Eigen::Vector3d lo = Eigen::Vector3d::Zero();
+  Eigen::Vector3d width = Eigen::Vector3d::Ones();
+  std::array<int, 3> n{1, 1, 1};
+
+  std::size_t cells() const { return static_cast<std::size_t>(n[0]) * n[1] * n[2]; }
+  std::size_t index(int x, int y, int z) const {
+    return (static_cast<std::size_t>(z) * n[1] + y) * n[0] + x;
+  }
+  std::size_t index(const std::array<int, 3>& c) const { return index(c[0], c[1], c[2]); }
+  std::array<int, 3> locate(const Eigen::Vector3d& r) const {
+    std::array<int, 3> c{};
+    for (int d = 0; d < 3; ++d) {
+      const double f = std::floor((r[d] - lo[d]) / width[d]);
+      c[d] = static_cast<int>(std::clamp(f, 0.0, static_cast<double>(n[d] - 1)));
+    }
+    return c;
+  }
+};
+
+Grid make_grid(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double reach, std::size_t count, bool single) {
+  Grid g;
+  g.lo = lo;
+  if (!single && reach > 0) {
+    const double cap = 8.0 * static_cast<double>(count) + 64.0;
+    std::array<double, 3> nd{};
+    for (int d = 0; d < 3; ++d)
+      nd[d] = std::clamp(std::floor((hi[d] - lo[d]) / (reach * (1 + 1e-9))), 1.0, cap);
+    const double total = nd[0] * nd[1] * nd[2];
+    if (total > cap) {
+      const double f = std::cbrt(cap / total);
+      for (auto& x : nd) x = std::max(1.0, std::floor(x * f));
+    }
+    while (nd[0] * nd[1] * nd[2] > cap) {
+      auto& big = *std::max_element(nd.begin(), nd.end());
+      big = std::max(1.0, std::floor(big / 2));
+    }
+    for (int d = 0; d < 3; ++d) g.n[d] = static_cast<int>(nd[d]);
+  }
+  for (int d = 0; d < 3; ++d) g.width[d] = (hi[d] - lo[d]) / g.n[d];
+  return g;
+}
+
+double largest_radius(const HardSphereSystem& s) {
+  double r = 0;
+  for (const auto& sp : s.spheres) r = std::max(r, sp.radius);
+  return r;
+}
+
+void check_restitution(const std::string& field, double e) {
+  if (!(e >= 0.0 && e <= 1.0)) fail(field + " must be in [0, 1], got " + num(e));
+}
+
+// ---------------------------------------------------------------------------
+// The engine.
+
+enum Kind : std::uint32_t { kPair = 0, kWall = 1, kCross = 2 };
+
+// A predicted event, 24 bytes. The top two bits of `code` are the kind, the
+// rest the partner b: for pairs the other sphere (a < b), for walls the wall
+// (0–5 the box faces 2·axis + side, 6 + k the extra walls), for crossings
+// 2·axis + (1 if moving up). ca, cb: the spheres' impact counts (mod 2³²)
+// when predicted; the queue is purged at least every 2³⁰ events, so a stale
+// entry never meets a wrapped-around count.
+struct Event {
+  double t;
+  std::uint32_t a, code, ca, cb;
+  Kind kind() const { return static_cast<Kind>(code >> 30); }
+  std::uint32_t b() const { return code & kIndexMask; }
+  static constexpr std::uint32_t kIndexMask = (1u << 30) - 1;
+};
+constexpr std::size_t kMaxSpheres = Event::kIndexMask;
+constexpr std::uint64_t kPurgeEvery = std::uint64_t{1} << 30;
+
+// Heap order: the earliest event on top; ties broken by kind, then spheres,
+// so that the sequence does not depend on the order of insertion.
+struct Later {
+  bool operator()(const Event& x, const Event& y) const {
+    if (x.t != y.t) return x.t > y.t;
+    if ((x.code >> 30) != (y.code >> 30)) return (x.code >> 30) > (y.code >> 30);
+    if (x.a != y.a) return x.a > y.a;
+    return x.code > y.code;
+  }
+};
+
+struct Body {
+  Eigen::Vector3d r0;   // position at tref (m)
+  Eigen::Vector3d v;    // velocity (m/s)
+  double tref;          // reference time of r0 (s)
+  double radius, mass;
+  double last_impact;   // time of the latest impact (s), for the TC model
+  std::uint32_t count;  // impacts so far (mod 2³²)
+  std::array<int, 3> cell;
+  std::int32_t next, prev;  // doubly linked list of the spheres in a cell
+
+  Eigen::Vector3d at(double t) const { return r0 + v * (t - tref); }
+};
+
+struct Plane {
+  Eigen::Vector3d n, p;
+  double e;
+};
+
+class Engine {
+ public:
+  Engine(const HardSphereSystem& sys, const HardSphereOptions& opt)
+      : sys_(sys), opt_(opt), t_end_(opt.t_end), now_(opt.t0), use_grid_(opt.broad_phase == BroadPhase::cell_grid) {
+    const std::size_t n = sys.spheres.size();
+    names_.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) names_.push_back(sphere_name(sys, i));
+    for (std::size_t k = 0; k < sys.walls.size(); ++k) {
+      const auto& w = sys.walls[k];
+      planes_.push_back({w.normal.normalized(), w.point, w.restitution});
+      wall_names_.push_back(wall_name(sys, k));
+    }
+    lo_ = sys.box_min;
+    hi_ = sys.box_max;
+    grid_ = make_grid(lo_, hi_, 2 * largest_radius(sys), n, !use_grid_);
+    head_.assign(grid_.cells(), -1);
+    bodies_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto& s = sys.spheres[i];
+      Body& b = bodies_[i];
+      b.r0 = s.position;
+      b.v = s.velocity;
+      b.tref = opt.t0;
+      b.radius = s.radius;
+      b.mass = s.mass;
+      b.last_impact = -kInf;
+      b.count = 0;
+      b.cell = grid_.locate(s.position);
+      link(static_cast<std::uint32_t>(i));
+    }
+    purge_base_ = 8 * n + 1024;  // entries; ~2.5 of them per sphere are live at 10 % packing
+    purge_at_ = purge_base_;
+    heap_.reserve(purge_base_ + 1);
+  }
+
+  RunReport run(const HardSphereSampler& sampler, std::chrono::steady_clock::time_point start) {
+    RunReport rep;
+    rep.model = "hard spheres (event-driven)";
+    rep.method = "event_driven";
+    rep.adaptive = false;
+    rep.t0 = opt_.t0;
+    rep.t_end = opt_.t_end;
+    rep.coordinates.reserve(3 * names_.size());
+    for (const auto& nm : names_)
+      for (const char* ax : kAxis) rep.coordinates.push_back(nm + "." + ax);
+    bool elastic = sys_.pair_restitution == 1.0 && sys_.box_restitution == 1.0;
+    for (const auto& w : sys_.walls) elastic = elastic && w.restitution == 1.0;
+    rep.conservative = elastic;
+    rep.has_particles = true;
+    if (sampler) {
+      snapshot_ = sys_.spheres;
+      for (std::size_t i = 0; i < snapshot_.size(); ++i) snapshot_[i].name = names_[i];
+    }
+
+    for (std::uint32_t i = 0; i < bodies_.size(); ++i) {
+      predict_walls(i, -1);
+      predict_crossing(i);
+      for_neighbours(i, [&](std::uint32_t j) {
+        if (j > i) predict_pair(i, j);
+      });
+    }
+
+    std::uint64_t processed = 0;
+    std::uint64_t k = 0;
+    double ts = opt_.t0;
+    for (;;) {
+      while (!heap_.empty() && stale(heap_.front())) pop();
+      const double te = heap_.empty() ? kInf : heap_.front().t;
+      if (ts <= te) {
+        sample(ts, sampler, rep);
+        if (ts >= t_end_) break;
+        ++k;
+        ts = sample_time(k);
+        continue;
+      }
+      if (processed >= opt_.max_events)
+        throw SimulationError("hard spheres: more than max_events = " + std::to_string(opt_.max_events) +
+                                  " events (collisions and cell crossings) at t = " + num(te) + " s, before t_end = " +
+                                  num(t_end_) + " s (" + std::to_string(rep.impacts) +
+                                  " impacts so far); raise HardSphereOptions::max_events, or look for an inelastic "
+                                  "collapse (e < 1 with collapse_time = 0)",
+                              te);
+      const Event ev = heap_.front();
+      pop();
+      now_ = ev.t;
+      ++processed;
+      switch (ev.kind()) {
+        case kPair: pair_impact(ev.a, ev.b(), rep); break;
+        case kWall: wall_impact(ev.a, ev.b(), rep); break;
+        case kCross: cross(ev.a, ev.b()); break;
+      }
+      if (processed % kPurgeEvery == 0) purge();
+    }
+
+    rep.steps = processed;  // collisions (pair and wall) plus cell crossings
+    rep.rhs_evaluations = 0;
+    rep.impact_energy_loss = loss_;
+    rep.t_final = t_end_;
+    rep.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return rep;
+  }
+
+ private:
+  // --- cell lists -----------------------------------------------------------
+  void link(std::uint32_t i) {
+    Body& b = bodies_[i];
+    const std::size_t c = grid_.index(b.cell);
+    b.prev = -1;
+    b.next = head_[c];
+    if (b.next >= 0) bodies_[b.next].prev = static_cast<std::int32_t>(i);
+    head_[c] = static_cast<std::int32_t>(i);
+  }
+
+  void unlink(std::uint32_t i) {
+    Body& b = bodies_[i];
+    if (b.prev >= 0)
+      bodies_[b.prev].next = b.next;
+    else
+      head_[grid_.index(b.cell)] = b.next;
+    if (b.next >= 0) bodies_[b.next].prev = b.prev;
+  }
+
+  template <class F>
+  void for_cell(std::size_t c, F&& f) {
+    for (std::int32_t j = head_[c]; j >= 0; j = bodies_[j].next) f(static_cast<std::uint32_t>(j));
+  }
+
+  // Every sphere in the 27 cells around sphere i's (i itself included).
+  template <class F>
+  void for_neighbours(std::uint32_t i, F&& f) {
+    const auto c = bodies_[i].cell;
+    for (int z = std::max(c[2] - 1, 0); z <= std::min(c[2] + 1, grid_.n[2] - 1); ++z)
+      for (int y = std::max(c[1] - 1, 0); y <= std::min(c[1] + 1, grid_.n[1] - 1); ++y)
+        for (int x = std::max(c[0] - 1, 0); x <= std::min(c[0] + 1, grid_.n[0] - 1); ++x) for_cell(grid_.index(x, y, z), f);
+  }
+
+  // --- queue ----------------------------------------------------------------
+  bool stale(const Event& e) const {
+    return e.ca != bodies_[e.a].count || (e.kind() == kPair && e.cb != bodies_[e.b()].count);
+  }
+
+  void pop() {
+    std::pop_heap(heap_.begin(), heap_.end(), Later{});
+    heap_.pop_back();
+  }
+
+  void push(double t, std::uint32_t a, std::uint32_t b, Kind kind) {
+    t = std::max(t, now_);
+    if (!(t < t_end_)) return;  // never reached in this run
+    const std::uint32_t cb = kind == kPair ? bodies_[b].count : 0;
+    heap_.push_back({t, a, (static_cast<std::uint32_t>(kind) << 30) | b, bodies_[a].count, cb});
+    std::push_heap(heap_.begin(), heap_.end(), Later{});
+    if (heap_.size() > purge_at_) purge();
+  }
+
+  // Drops the entries invalidated since they were predicted; the heap's
+  // storage is kept, so the amortized cost per push stays O(1).
+  void purge() {
+    heap_.erase(std::remove_if(heap_.begin(), heap_.end(), [this](const Event& e) { return stale(e); }), heap_.end());
+    std::make_heap(heap_.begin(), heap_.end(), Later{});
+    purge_at_ = std::max(purge_base_, 2 * heap_.size());
+  }
+
+  // --- predictions ------------------------------------------------------------
+  void predict_pair(std::uint32_t i, std::uint32_t j) {
+    const Body& p = bodies_[i];
+    const Body& q = bodies_[j];
+    // Formed at the later reference time: the same numbers whenever the
+    // prediction is made.
+    const double ts = std::max(p.tref, q.tref);
+    const Eigen::Vector3d dv = p.v - q.v;
+    const Eigen::Vector3d dr = p.at(ts) - q.at(ts);
+    const double b = dr.dot(dv);
+    if (b >= 0) return;  // separating or sliding: no contact ahead
+    const double sigma = p.radius + q.radius;
+    const double c = dr.squaredNorm() - sigma * sigma;
+    double t = ts;  // c ≤ 0: touching or overlapping by round-off, approaching: now
+    if (c > 0) {
+      const double d = b * b - dv.squaredNorm() * c;
+      if (d <= 0) return;  // they miss
+      t = ts + c / (std::sqrt(d) - b);
+    }
+    push(t, std::min(i, j), std::max(i, j), kPair);
+  }
+
+  void predict_walls(std::uint32_t i, int skip) {
+    const Body& p = bodies_[i];
+    for (int d = 0; d < 3; ++d) {
+      const double v = p.v[d];
+      if (v > 0 && skip != 2 * d + 1)
+        push(p.tref + (hi_[d] - p.radius - p.r0[d]) / v, i, static_cast<std::uint32_t>(2 * d + 1), kWall);
+      else if (v < 0 && skip != 2 * d)
+        push(p.tref + (lo_[d] + p.radius - p.r0[d]) / v, i, static_cast<std::uint32_t>(2 * d), kWall);
+    }
+    for (std::size_t k = 0; k < planes_.size(); ++k) {
+      if (static_cast<int>(6 + k) == skip) continue;
+      const Plane& w = planes_[k];
+      const double vn = w.n.dot(p.v);
+      if (vn < 0) push(p.tref + (w.n.dot(p.r0 - w.p) - p.radius) / -vn, i, static_cast<std::uint32_t>(6 + k), kWall);
+    }
+  }
+
+  void predict_crossing(std::uint32_t i) {
+    if (!use_grid_) return;
+    const Body& p = bodies_[i];
+    double best = kInf;
+    std::uint32_t code = 0;
+    for (int d = 0; d < 3; ++d) {
+      const double v = p.v[d];
+      double t = kInf;
+      if (v > 0 && p.cell[d] + 1 < grid_.n[d])
+        t = p.tref + (lo_[d] + (p.cell[d] + 1) * grid_.width[d] - p.r0[d]) / v;
+      else if (v < 0 && p.cell[d] > 0)
+        t = p.tref + (lo_[d] + p.cell[d] * grid_.width[d] - p.r0[d]) / v;
+      if (t < best) {
+        best = t;
+        code = static_cast<std::uint32_t>(2 * d + (v > 0 ? 1 : 0));
+      }
+    }
+    if (best < kInf) push(best, i, code, kCross);
+  }
+
+  // Walls, the next cell crossing and all neighbours (but `partner`, which
+  // has just collided with i and is separating).
+  void predict_all(std::uint32_t i, std::int64_t partner, int skip_wall) {
+    predict_walls(i, skip_wall);
+    predict_crossing(i);
+    for_neighbours(i, [&](std::uint32_t j) {
+      if (j != i && static_cast<std::int64_t>(j) != partner) predict_pair(i, j);
+    });
+  }
+
+  // --- events ---------------------------------------------------------------
+  double restitution_now(const Body& p, double e) const {
+    return now_ - p.last_impact < opt_.collapse_time ? 1.0 : e;  // TC model
+  }
+
+  void record(RunReport& rep, std::string name, double impulse, double u, double sep, double loss) {
+    ++rep.impacts;
+    if (rep.events.size() < opt_.max_recorded_events) {
+      EventRecord r;
+      r.t = now_;
+      r.kind = EventKind::impact;
+      r.name = std::move(name);
+      r.impulse = impulse;
+      r.approach_speed = u;
+      r.separation_speed = sep;
+      r.kinetic_energy_before = energy0_ - loss_;
+      r.kinetic_energy_after = energy0_ - loss_ - loss;
+      rep.events.push_back(std::move(r));
+    }
+    loss_ += loss;
+  }
+
+  bool recording(const RunReport& rep) const { return rep.events.size() < opt_.max_recorded_events; }
+
+  void pair_impact(std::uint32_t i, std::uint32_t j, RunReport& rep) {
+    Body& p = bodies_[i];
+    Body& q = bodies_[j];
+    const Eigen::Vector3d ri = p.at(now_), rj = q.at(now_);
+    const Eigen::Vector3d d = ri - rj;
+    const double dist = d.norm();
+    if (!(dist > 0)) return;  // coincident centres: no line of centres
+    const Eigen::Vector3d n = d / dist;
+    const double vn = (p.v - q.v).dot(n);
+    if (vn >= 0) return;  // a graze: nothing changes, the other predictions stand
+    const double e = std::max(restitution_now(p, sys_.pair_restitution), restitution_now(q, sys_.pair_restitution));
+    const double mu = p.mass * q.mass / (p.mass + q.mass);
+    const double u = -vn;
+    const double J = (1 + e) * mu * u;
+    p.r0 = ri;
+    q.r0 = rj;
+    p.tref = q.tref = now_;
+    p.v += (J / p.mass) * n;
+    q.v -= (J / q.mass) * n;
+    ++p.count;
+    ++q.count;
+    p.last_impact = q.last_impact = now_;
+    const double loss = 0.5 * mu * (1 - e * e) * u * u;
+    record(rep, recording(rep) ? names_[i] + "-" + names_[j] : std::string(), J, u, (p.v - q.v).dot(n), loss);
+    predict_all(i, j, -1);
+    predict_all(j, i, -1);
+  }
+
+  void wall_impact(std::uint32_t i, std::uint32_t w, RunReport& rep) {
+    Body& p = bodies_[i];
+    const Eigen::Vector3d r = p.at(now_);
+    double u, sep, e;
+    if (w < 6) {
+      const int d = static_cast<int>(w / 2);
+      const double vn = (w % 2 == 0) ? p.v[d] : -p.v[d];  // along the inward normal
+      if (vn >= 0) return;
+      e = restitution_now(p, sys_.box_restitution);
+      u = -vn;
+      p.v[d] = -e * p.v[d];
+      sep = e * u;
+    } else {
+      const Plane& pl = planes_[w - 6];
+      const double vn = pl.n.dot(p.v);
+      if (vn >= 0) return;
+      e = restitution_now(p, pl.e);
+      u = -vn;
+      p.v -= ((1 + e) * vn) * pl.n;
+      sep = pl.n.dot(p.v);
+    }
+    p.r0 = r;
+    p.tref = now_;
+    ++p.count;
+    p.last_impact = now_;
+    const double loss = 0.5 * p.mass * (1 - e * e) * u * u;
+    std::string name;
+    if (recording(rep)) name = names_[i] + "-" + (w < 6 ? std::string(kBoxWall[w]) : wall_names_[w - 6]);
+    record(rep, std::move(name), (1 + e) * p.mass * u, u, sep, loss);
+    predict_all(i, -1, static_cast<int>(w));
+  }
+
+  void cross(std::uint32_t i, std::uint32_t code) {
+    const int d = static_cast<int>(code / 2);
+    const int step = (code % 2) ? 1 : -1;
+    unlink(i);
+    bodies_[i].cell[d] += step;
+    link(i);
+    // The layer of 9 cells that has come into range.
+    const auto c = bodies_[i].cell;
+    const int layer = c[d] + step;
+    if (layer >= 0 && layer < grid_.n[d]) {
+      const int u = (d + 1) % 3, w = (d + 2) % 3;
+      std::array<int, 3> cc{};
+      cc[d] = layer;
+      for (int a = std::max(c[u] - 1, 0); a <= std::min(c[u] + 1, grid_.n[u] - 1); ++a)
+        for (int b = std::max(c[w] - 1, 0); b <= std::min(c[w] + 1, grid_.n[w] - 1); ++b) {
+          cc[u] = a;
+          cc[w] = b;
+          for_cell(grid_.index(cc), [&](std::uint32_t j) { predict_pair(i, j); });
+        }
+    }
+    predict_crossing(i);
+  }
+
+  // --- samples --------------------------------------------------------------
+  double sample_time(std::uint64_t k) const {
+    if (opt_.output_interval > 0) {
+      const double t = opt_.t0 + static_cast<double>(k) * opt_.output_interval;
+      if (t < t_end_ && t_end_ - t > 1e-9 * opt_.output_interval) return t;
+    }
+    return t_end_;
+  }
+
+  void sample(double t, const HardSphereSampler& sampler, RunReport& rep) {
+    double T = 0;
+    Eigen::Vector3d P = Eigen::Vector3d::Zero(), L = Eigen::Vector3d::Zero();
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      const Body& b = bodies_[i];
+      const Eigen::Vector3d r = b.at(t);
+      T += 0.5 * b.mass * b.v.squaredNorm();
+      P += b.mass * b.v;
+      L += b.mass * (r - opt_.angular_momentum_point).cross(b.v);
+      if (sampler) {
+        snapshot_[i].position = r;
+        snapshot_[i].velocity = b.v;
+      }
+    }
+    if (rep.samples == 0) {
+      energy0_ = T;
+      rep.energy_initial = T;
+      rep.energy_scale = T != 0 ? std::abs(T) : 1.0;
+      P0_ = P;
+      L0_ = L;
+      for (int d = 0; d < 3; ++d) {
+        rep.linear_momentum_initial[d] = P[d];
+        rep.angular_momentum_initial[d] = L[d];
+      }
+    }
+    const double drift = std::abs(T - (energy0_ - loss_)) / rep.energy_scale;
+    const double dp = (P - P0_).norm(), dl = (L - L0_).norm();
+    rep.energy_final = T;
+    rep.energy_drift_final = drift;
+    rep.energy_drift_max = std::max(rep.energy_drift_max, drift);
+    rep.linear_momentum_drift_final = dp;
+    rep.linear_momentum_drift_max = std::max(rep.linear_momentum_drift_max, dp);
+    rep.angular_momentum_drift_final = dl;
+    rep.angular_momentum_drift_max = std::max(rep.angular_momentum_drift_max, dl);
+    ++rep.samples;
+    if (sampler) sampler(t, snapshot_);
+  }
+
+  const HardSphereSystem& sys_;
+  const HardSphereOptions& opt_;
+  double t_end_, now_;
+  bool use_grid_;
+  Eigen::Vector3d lo_, hi_;
+  Grid grid_;
+  std::vector<Body> bodies_;
+  std::vector<std::int32_t> head_;
+  std::vector<Plane> planes_;
+  std::vector<std::string> names_, wall_names_;
+  std::vector<Event> heap_;
+  std::size_t purge_base_ = 0, purge_at_ = 0;
+  std::vector<HardSphere> snapshot_;
+  double energy0_ = 0, loss_ = 0;
+  Eigen::Vector3d P0_ = Eigen::Vector3d::Zero(), L0_ = Eigen::Vector3d::Zero();
+};
+
+}  // namespace
+
+void validate(const HardSphereSystem& sys, const HardSphereOptions& opt) {
+  // Options.
+  if (!std::isfinite(opt.t0)) fail("option 't0' must be finite, got " + num(opt.t0));
+  if (!std::isfinite(opt.t_end)) fail("option 't_end' must be finite, got " + num(opt.t_end));
+  if (!(opt.t_end > opt.t0))
+    fail("option 't_end' must be greater than t0 = " + num(opt.t0) + ", got " + num(opt.t_end));
+  if (!(std::isfinite(opt.output_interval) && opt.output_interval >= 0))
+    fail("option 'output_interval' must be finite and >= 0, got " + num(opt.output_interval));
+  if (opt.max_events == 0) fail("option 'max_events' must be > 0, got 0");
+  if (!(std::isfinite(opt.collapse_time) && opt.collapse_time >= 0))
+    fail("option 'collapse_time' must be finite and >= 0 s, got " + num(opt.collapse_time));
+  if (!opt.angular_momentum_point.allFinite())
+    fail("option 'angular_momentum_point' must be finite, got " + vec(opt.angular_momentum_point));
+
+  // The box and the walls.
+  for (int d = 0; d < 3; ++d) {
+    if (!std::isfinite(sys.box_min[d]) || !std::isfinite(sys.box_max[d]))
+      fail("box corners must be finite, got box_min = " + vec(sys.box_min) + " m, box_max = " + vec(sys.box_max) + " m");
+    if (!(sys.box_max[d] > sys.box_min[d]))
+      fail(std::string("box_max.") + kAxis[d] + " = " + num(sys.box_max[d]) + " m must be greater than box_min." +
+           kAxis[d] + " = " + num(sys.box_min[d]) + " m");
+  }
+  check_restitution("box_restitution", sys.box_restitution);
+  check_restitution("pair_restitution", sys.pair_restitution);
+  for (std::size_t k = 0; k < sys.walls.size(); ++k) {
+    const auto& w = sys.walls[k];
+    const std::string who = "wall \"" + wall_name(sys, k) + "\"";
+    if (!w.point.allFinite()) fail(who + ": point must be finite, got " + vec(w.point) + " m");
+    if (!w.normal.allFinite() || !(w.normal.norm() > 0))
+      fail(who + ": normal must be finite and non-zero, got " + vec(w.normal));
+    check_restitution(who + ": restitution", w.restitution);
+  }
+
+  // The spheres, one by one.
+  const std::size_t n = sys.spheres.size();
+  if (n > kMaxSpheres || sys.walls.size() > kMaxSpheres - 6)
+    fail("at most " + std::to_string(kMaxSpheres) + " spheres and walls are supported, got " + std::to_string(n) +
+         " spheres and " + std::to_string(sys.walls.size()) + " walls");
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& s = sys.spheres[i];
+    const std::string who = "sphere \"" + sphere_name(sys, i) + "\"";
+    if (!(std::isfinite(s.mass) && s.mass > 0)) fail(who + ": mass must be finite and > 0 kg, got " + num(s.mass));
+    if (!(std::isfinite(s.radius) && s.radius > 0))
+      fail(who + ": radius must be finite and > 0 m, got " + num(s.radius));
+    for (int d = 0; d < 3; ++d) {
+      if (!std::isfinite(s.position[d]))
+        fail(who + ": position." + kAxis[d] + " must be finite, got " + num(s.position[d]));
+      if (!std::isfinite(s.velocity[d]))
+        fail(who + ": velocity." + kAxis[d] + " must be finite, got " + num(s.velocity[d]));
+    }
+    for (int d = 0; d < 3; ++d) {
+      const double lo = sys.box_min[d] + s.radius, hi = sys.box_max[d] - s.radius;
+      const double x = s.position[d];
+      if (!(x >= lo && x <= hi))
+        fail(who + " (radius " + num(s.radius) + " m) at " + vec(s.position) + " m is not inside the box: its centre's " +
+             kAxis[d] + " = " + num(x) + " m must lie in [box_min." + kAxis[d] + " + R, box_max." + kAxis[d] +
+             " - R] = [" + num(lo) + ", " + num(hi) + "] m");
+    }
+    for (std::size_t k = 0; k < sys.walls.size(); ++k) {
+      const auto& w = sys.walls[k];
+      const double g = w.normal.normalized().dot(s.position - w.point);
+      if (!(g >= s.radius))
+        fail(who + " (radius " + num(s.radius) + " m) at " + vec(s.position) + " m is not on the open side of wall \"" +
+             wall_name(sys, k) + "\": its distance along the normal n·(r - p) = " + num(g) + " m must be >= R");
+    }
+  }
+
+  // Unique names.
+  std::vector<std::string> names(n);
+  for (std::size_t i = 0; i < n; ++i) names[i] = sphere_name(sys, i);
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return names[a] < names[b]; });
+  for (std::size_t k = 1; k < n; ++k)
+    if (names[order[k]] == names[order[k - 1]]) {
+      const auto a = std::min(order[k], order[k - 1]), b = std::max(order[k], order[k - 1]);
+      fail("spheres " + std::to_string(a + 1) + " and " + std::to_string(b + 1) + " are both named \"" + names[a] +
+           "\"; names must be unique");
+    }
+
+  // No overlaps at t0, looked for on a cell grid (neighbouring cells only).
+  const Grid g = make_grid(sys.box_min, sys.box_max, 2 * largest_radius(sys), n, false);
+  std::vector<std::size_t> cell(n), start(g.cells() + 1, 0), sorted(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    cell[i] = g.index(g.locate(sys.spheres[i].position));
+    ++start[cell[i] + 1];
+  }
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  {
+    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) sorted[fill[cell[i]]++] = i;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& s = sys.spheres[i];
+    const auto c = g.locate(s.position);
+    for (int z = std::max(c[2] - 1, 0); z <= std::min(c[2] + 1, g.n[2] - 1); ++z)
+      for (int y = std::max(c[1] - 1, 0); y <= std::min(c[1] + 1, g.n[1] - 1); ++y)
+        for (int x = std::max(c[0] - 1, 0); x <= std::min(c[0] + 1, g.n[0] - 1); ++x) {
+          const std::size_t cc = g.index(x, y, z);
+          for (std::size_t k = start[cc]; k < start[cc + 1]; ++k) {
+            const std::size_t j = sorted[k];
+            if (j <= i) continue;
+            const auto& o = sys.spheres[j];
+            const double dist = (s.position - o.position).norm();
+            const double sum = s.radius + o.radius;
+            if (dist < sum)
+              fail("spheres \"" + names[i] + "\" and \"" + names[j] + "\" overlap at t0: the distance between their centres " +
+                   num(dist) + " m is less than the sum of their radii " + num(sum) + " m");
+          }
+        }
+  }
+}
+
+RunReport run_hard_spheres(const HardSphereSystem& system, const HardSphereOptions& options,
+                           const HardSphereSampler& sampler) {
+  validate(system, options);
+  const auto start = std::chrono::steady_clock::now();
+  Engine engine(system, options);
+  return engine.run(sampler, start);
+}
+
+}  // namespace lagrangian

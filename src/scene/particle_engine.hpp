@@ -1,0 +1,36 @@
+#pragma once
+// Internal: the ODE engine of particle scenes (bodies in Cartesian
+// coordinates with run-time composed effects, constraints and contacts).
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "lagrangian/detail/scene_registry.hpp"
+#include "lagrangian/report.hpp"
+#include "lagrangian/scene.hpp"
+
+namespace lagrangian::scene::detail {
+
+/// A sample of a particle run: t, positions (3N), velocities (3N), T + V.
+using ParticleSample = std::function<void(double t, const double* q, const double* qd, int n, double energy)>;
+
+struct ParticleRun {
+  RunReport report;
+  std::map<std::string, std::uint64_t> effect_evaluations;
+  std::vector<double> q_final, qd_final;
+};
+
+/// Runs a validated scene whose gas (if any) has been expanded.
+ParticleRun run_particles(const Scene& scene, const ParticleSample& sample, const SampleTick& tick);
+
+/// True when the bodies fly freely between contacts: sphere or box contacts,
+/// a box, and no effect or constraint (the exact event-driven engine applies).
+bool event_driven_eligible(const Scene& scene);
+
+/// Inspection text of a particle scene at t0.
+std::string inspect_particles(const Scene& scene);
+
+}  // namespace lagrangian::scene::detail

@@ -1,0 +1,403 @@
+#pragma once
+// Internal: what the registry translation units share — parameters resolved
+// against the catalog, the initial state, a run with trajectory output and
+// progress ticks, and the inspection text.
+//
+// A registry TU describes each model by a small definition struct
+//
+//   struct SimplePendulumDef {
+//     using Model = models::SimplePendulum;
+//     static constexpr std::string_view name = "simple_pendulum";        // as in the catalog
+//     static constexpr std::string_view type = "models::SimplePendulum"; // for inspect
+//     static Model build(const Parameters& p);                           // may throw ParameterError
+//     static State<Model::dof> initial(const Model& m, double t0);       // the default state
+//     // optional: static std::string_view alias(std::string_view model_parameter);
+//   };
+//
+// and registers it with entry<Def>(). Parameter errors thrown by the model's
+// own validation are re-thrown as SceneError("model.parameters.<name>", …):
+// the model's parameter name is mapped to the registry's by equality, then
+// Def::alias(), then by dropping trailing digits (m1 → m for models built
+// from one shared value); Def::alias("") names the key for messages that do
+// not name a parameter.
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "lagrangian/constraints.hpp"
+#include "lagrangian/detail/scene_registry.hpp"
+#include "lagrangian/dynamics.hpp"
+#include "lagrangian/errors.hpp"
+#include "lagrangian/impact.hpp"
+#include "lagrangian/model.hpp"
+#include "lagrangian/observers.hpp"
+#include "lagrangian/params.hpp"
+#include "lagrangian/scene.hpp"
+#include "lagrangian/scene_models.hpp"
+#include "lagrangian/simulate.hpp"
+
+namespace lagrangian::scene::detail {
+
+// -- non-template helpers (src/scene/registry.cpp) ------------------------------
+
+/// The catalog entry of a built-in model; std::logic_error when the registry
+/// and the catalog disagree (a bug, caught by the tests).
+const ModelInfo& catalog_entry(std::string_view name);
+
+/// A model's parameters: the scene's values where given, the catalog's
+/// defaults otherwise. Unknown names and non-finite values are SceneErrors
+/// keyed "model.parameters.<name>".
+class Parameters {
+ public:
+  Parameters(const ModelInfo& info, const ModelSpec& spec);
+  /// The value of a parameter of the catalog entry (std::logic_error for a
+  /// name the catalog does not list: a registry bug).
+  double operator[](std::string_view name) const;
+  const ModelInfo& info() const { return *info_; }
+  double value(std::size_t i) const { return values_[i]; }
+  bool given(std::size_t i) const { return given_[i]; }
+
+ private:
+  const ModelInfo* info_;
+  std::vector<double> values_;
+  std::vector<bool> given_;
+};
+
+/// Re-throws a model's ParameterError (its message `what`) as a SceneError
+/// keyed by the registry's parameter name; `alias` maps the model's names.
+using ParameterAlias = std::string_view (*)(std::string_view model_parameter);
+[[noreturn]] void throw_parameter_error(const ModelInfo& info, const std::string& what, ParameterAlias alias);
+
+/// Checks spec.q and spec.qd: empty, or one finite value per coordinate.
+/// Throws SceneError "model.q" / "model.qd".
+void check_state_sizes(const ModelInfo& info, const ModelSpec& spec);
+
+/// A number for the inspection text (12 significant digits).
+std::string number(double v);
+/// A list of numbers "[a, b, c]".
+std::string numbers(const double* v, int n);
+/// Rows of cells as aligned columns, each line starting with `indent`.
+std::string columns(const std::vector<std::vector<std::string>>& rows, const std::string& indent = "  ");
+/// The unit of a velocity and of a momentum conjugate to a coordinate of unit `u`.
+std::string velocity_unit(const std::string& u);
+std::string momentum_unit(const std::string& u);
+/// Header lines of the inspection: name, description, type, coordinates, parameters.
+std::string inspect_header(const ModelInfo& info, std::string_view type, const Parameters& p);
+
+// -- building a model and its initial state -------------------------------------
+
+template <class Def>
+ParameterAlias alias_of() {
+  if constexpr (requires(std::string_view s) { Def::alias(s); }) {
+    return &Def::alias;
+  } else {
+    return nullptr;
+  }
+}
+
+/// Calls `make` (a model's constructor or default state); its ParameterError
+/// becomes a SceneError naming the parameter.
+template <class Def, class Make>
+auto with_parameter_keys(const ModelInfo& info, Make&& make) -> decltype(make()) {
+  try {
+    return make();
+  } catch (const ParameterError& e) {
+    throw_parameter_error(info, e.what(), alias_of<Def>());
+  }
+}
+
+/// The initial state: spec.q and spec.qd where given. With neither, the
+/// model's default state; with q alone the system starts at rest (q̇ = 0);
+/// with q̇ alone, from the default q.
+template <int N>
+State<N> initial_state(const ModelInfo& info, const ModelSpec& spec, const State<N>& defaults) {
+  check_state_sizes(info, spec);
+  State<N> s = defaults;
+  if (!spec.q.empty()) {
+    for (int i = 0; i < N; ++i) s.q[i] = spec.q[static_cast<std::size_t>(i)];
+    if (spec.qd.empty()) s.qd.setZero();
+  }
+  if (!spec.qd.empty())
+    for (int i = 0; i < N; ++i) s.qd[i] = spec.qd[static_cast<std::size_t>(i)];
+  return s;
+}
+
+// -- running --------------------------------------------------------------------
+
+/// The observer of a scene run: CSV rows (committed by finish(), which
+/// simulate() calls only on success) and a progress tick per sample.
+template <int N>
+struct SceneObserver {
+  CsvSink* csv = nullptr;
+  const SampleTick* tick = nullptr;
+  void begin(const Columns& c) {
+    if (csv) csv->begin(c);
+  }
+  void operator()(const Sample<N>& s) {
+    if (csv) (*csv)(s);
+    if (tick) (*tick)(s.t);
+  }
+  void finish() {
+    if (csv) csv->finish();
+  }
+};
+
+/// Runs simulate() on a built-in model, writing the trajectory to `csv_path`
+/// when it is not empty (through `<csv_path>.partial`, renamed only when the
+/// run succeeds) and calling tick(t) for every sample. An initial state that
+/// violates the model's constraints is a SceneError keyed "model.q"; a file
+/// that cannot be created is keyed "output.directory".
+template <class M>
+RunReport run_model(const M& model, const State<M::dof>& initial, const SimulationOptions& options,
+                    const std::string& csv_path, const SampleTick& tick) {
+  std::optional<CsvSink> csv;
+  if (!csv_path.empty()) {
+    try {
+      csv.emplace(csv_path);
+    } catch (const SceneError&) {
+      throw;
+    } catch (const OptionError& e) {
+      throw SceneError("output.directory", e.what());
+    }
+  }
+  SceneObserver<M::dof> observer{csv ? &*csv : nullptr, tick ? &tick : nullptr};
+  try {
+    return simulate(model, initial, options, observer);
+  } catch (const ConstraintError& e) {
+    throw SceneError("model.q", std::string("inconsistent initial state: ") + e.what());
+  }
+}
+
+// -- inspection -----------------------------------------------------------------
+
+/// Why the energy function h = p·q̇ − L is not conserved ("" when it is):
+/// the test simulate() applies for RunReport::conservative.
+template <class M>
+std::string energy_not_conserved_because(const M& model, const State<M::dof>& s, double t0) {
+  std::vector<std::string> why;
+  if (has_generalized_forces_v<M>) why.emplace_back("generalized forces Q are declared");
+  if (has_dissipation_v<M>) why.emplace_back("a dissipation function D is declared");
+  if (!is_autonomous(model, s, t0)) why.emplace_back("L depends explicitly on t");
+  if (!lagrangian::detail::constraints_workless(model, s, t0)) why.emplace_back("moving constraints do work");
+  std::string out;
+  for (std::size_t i = 0; i < why.size(); ++i) out += (i ? "; " : "") + why[i];
+  return out;
+}
+
+/// The inspection text of a built-in model at (initial, t0): coordinates,
+/// parameters, state and momenta, constraints and degrees of freedom,
+/// conserved quantities and the declared forces, contacts and events.
+template <class M>
+std::string inspect_model(const M& model, const ModelInfo& info, std::string_view type, const Parameters& params,
+                          const State<M::dof>& s, double t0) {
+  constexpr int n = M::dof;
+  std::ostringstream os;
+  os << inspect_header(info, type, params);
+  const auto names = coordinate_names(model);
+  auto unit = [&](int i) {
+    return static_cast<std::size_t>(i) < info.units.size() ? info.units[static_cast<std::size_t>(i)] : std::string();
+  };
+
+  // State and momenta.
+  const Vec<double, n> p = momenta(model, s.q, s.qd, t0);
+  os << "\nInitial state at t0 = " << number(t0) << " s\n";
+  std::vector<std::vector<std::string>> rows{{"coordinate", "q", "", "qdot", "", "p = dL/dqdot", ""}};
+  for (int i = 0; i < n; ++i)
+    rows.push_back({names[static_cast<std::size_t>(i)], number(s.q[i]), unit(i), number(s.qd[i]),
+                    velocity_unit(unit(i)), number(p[i]), momentum_unit(unit(i))});
+  os << columns(rows);
+
+  // Constraints and degrees of freedom.
+  if constexpr (has_constraints_v<M>) {
+    const DofReport dof = dof_report(model, s, t0);
+    os << "\nConstraints and degrees of freedom\n";
+    std::string redundant = dof.redundant.empty() ? "none" : "";
+    for (std::size_t i = 0; i < dof.redundant.size(); ++i) redundant += (i ? ", " : "") + dof.redundant[i];
+    const std::string nc = std::to_string(dof.coordinates);
+    os << columns({{"coordinates", nc},
+                   {"holonomic constraints", std::to_string(dof.holonomic)},
+                   {"Pfaffian constraints", std::to_string(dof.pfaffian)},
+                   {"unilateral constraints", std::to_string(dof.unilateral), "(contacts; not in the ranks)"},
+                   {"rank of dg/dq", std::to_string(dof.holonomic_rank)},
+                   {"rank of [dg/dq; A]", std::to_string(dof.velocity_rank)},
+                   {"redundant constraints", redundant},
+                   {"degrees of freedom", std::to_string(dof.dof),
+                    "= " + nc + " - " + std::to_string(dof.holonomic_rank) + " (n - rank dg/dq)"},
+                   {"velocity degrees of freedom", std::to_string(dof.velocity_dof),
+                    "= " + nc + " - " + std::to_string(dof.velocity_rank) + " (n - rank [dg/dq; A])"}});
+  }
+
+  // Conserved quantities.
+  os << "\nConserved quantities\n";
+  std::vector<std::vector<std::string>> cons;
+  const std::vector<int> cyclic = cyclic_coordinates(model, s, t0);
+  if (cyclic.empty()) cons.push_back({"cyclic coordinates", "none"});
+  for (std::size_t k = 0; k < cyclic.size(); ++k) {
+    const int i = cyclic[k];
+    const std::string& c = names[static_cast<std::size_t>(i)];
+    cons.push_back({k == 0 ? "cyclic coordinates" : "", c,
+                    "p_" + c + " = " + number(p[i]) + " " + momentum_unit(unit(i)) + " (conserved)"});
+  }
+  const double h = energy_function(model, s.q, s.qd, t0);
+  const std::string why = energy_not_conserved_because(model, s, t0);
+  std::string contact_note;
+  if constexpr (unilateral_count_v<M> > 0 && has_restitution_v<M>) {
+    const auto e = restitution_coefficients(model);
+    bool lossy = false;
+    for (double v : e) lossy = lossy || v < 1.0;
+    if (lossy) contact_note = "; impacts with e < 1 dissipate";
+  }
+  cons.push_back({"energy function h = p.qdot - L", number(h) + " J",
+                  why.empty() ? "conserved" + contact_note : "not conserved: " + why});
+  if constexpr (has_kinetic_potential_v<M>) {
+    const double T = model.kinetic(s.q, s.qd, t0), V = model.potential(s.q, t0);
+    // Natural system: h = T + V at the state and at nearby states.
+    bool natural = true;
+    for (const State<n>& probe : lagrangian::detail::probe_states(s)) {
+      const double tp = model.kinetic(probe.q, probe.qd, t0), vp = model.potential(probe.q, t0);
+      const double hp = energy_function(model, probe.q, probe.qd, t0);
+      natural = natural && std::abs(hp - (tp + vp)) <= 1e-12 * std::max(1.0, std::abs(tp) + std::abs(vp));
+    }
+    cons.push_back({"T + V", number(T + V) + " J",
+                    natural ? "equals h (natural system: T quadratic in qdot)"
+                            : "differs from h (T has terms of degree 0 or 1 in qdot; T = " + number(T) + " J)"});
+  } else {
+    cons.push_back({"T + V", "n/a", "the model gives L directly"});
+  }
+  os << columns(cons);
+
+  // Declared extras.
+  os << "\nDeclared\n";
+  std::vector<std::vector<std::string>> decl;
+  if constexpr (has_generalized_forces_v<M>) {
+    const Vec<double, n> q = model.generalized_forces(s.q, s.qd, t0);
+    decl.push_back({"generalized forces Q", "yes", "Q(t0) = " + numbers(q.data(), n)});
+  } else {
+    decl.push_back({"generalized forces Q", "none"});
+  }
+  if constexpr (has_dissipation_v<M>) {
+    Vec<double, n> qd_force = nonconservative_forces(model, s.q, s.qd, t0);
+    if constexpr (has_generalized_forces_v<M>) qd_force -= model.generalized_forces(s.q, s.qd, t0);
+    decl.push_back({"dissipation D", "yes", "-dD/dqdot at t0 = " + numbers(qd_force.data(), n)});
+  } else {
+    decl.push_back({"dissipation D", "none"});
+  }
+  const std::vector<std::string> cnames = constraint_names(model);
+  auto list = [&](int from, int count) {
+    if (count == 0) return std::string("none");
+    std::string out;
+    for (int i = 0; i < count; ++i) out += (i ? ", " : "") + cnames[static_cast<std::size_t>(from + i)];
+    return out;
+  };
+  constexpr int mh = holonomic_count_v<M>, mu = unilateral_count_v<M>, mp = pfaffian_count_v<M>;
+  decl.push_back({"holonomic constraints", std::to_string(mh), list(0, mh)});
+  decl.push_back({"Pfaffian constraints", std::to_string(mp), list(mh + mu, mp)});
+  decl.push_back({"unilateral constraints", std::to_string(mu), list(mh, mu)});
+  if constexpr (mu > 0) {
+    if constexpr (has_restitution_v<M>) {
+      const auto e = restitution_coefficients(model);
+      std::string text;
+      bool same = true;
+      for (double v : e) same = same && v == e[0];
+      if (same) {
+        text = "e = " + number(e[0]) + " for every contact";
+      } else {
+        for (int j = 0; j < mu; ++j)
+          text += (j ? ", " : "") + cnames[static_cast<std::size_t>(mh + j)] + " " +
+                  number(e[static_cast<std::size_t>(j)]);
+      }
+      decl.push_back({"restitution", "yes", text});
+    } else {
+      decl.push_back({"restitution", "none", "(contacts may rest and release, not be struck)"});
+    }
+  }
+  if constexpr (event_count_v<M> > 0) {
+    const std::vector<EventSpec> specs = event_specs(model);
+    std::string text;
+    for (std::size_t k = 0; k < specs.size(); ++k) {
+      const EventSpec& e = specs[k];
+      text += (k ? ", " : "") + e.name + " (" +
+              (e.direction == Direction::falling  ? "falling"
+               : e.direction == Direction::rising ? "rising"
+                                                  : "either") +
+              ", " + (e.action == EventAction::stop ? "stops the run" : "recorded") + ")";
+    }
+    decl.push_back({"watched events", std::to_string(event_count_v<M>), text});
+  } else {
+    decl.push_back({"watched events", "none"});
+  }
+  if constexpr (has_particles_v<M>) {
+    // P = Σ m v and L = Σ m r × v about the origin, as the runs report them.
+    std::array<double, 3> P{}, L{};
+    int count = 0;
+    for (const Particle& part : model.particles()) {
+      std::array<double, 3> r{}, v{};
+      for (std::size_t a = 0; a < 3; ++a) {
+        const int i = part.axes[a];
+        if (i >= 0) {
+          r[a] = s.q[i];
+          v[a] = s.qd[i];
+        }
+      }
+      for (std::size_t a = 0; a < 3; ++a) P[a] += part.mass * v[a];
+      L[0] += part.mass * (r[1] * v[2] - r[2] * v[1]);
+      L[1] += part.mass * (r[2] * v[0] - r[0] * v[2]);
+      L[2] += part.mass * (r[0] * v[1] - r[1] * v[0]);
+      ++count;
+    }
+    decl.push_back({"particles", std::to_string(count),
+                    "P = " + numbers(P.data(), 3) + " kg*m/s, L = " + numbers(L.data(), 3) +
+                        " kg*m^2/s about the origin"});
+  }
+  decl.push_back({"closed-form reference", has_reference_v<M> ? "yes" : "no",
+                  has_reference_v<M> ? "(runs report their true error)" : ""});
+  os << columns(decl);
+  return os.str();
+}
+
+// -- entries ----------------------------------------------------------------------
+
+template <class Def>
+typename Def::Model build_model(const ModelInfo& info, const Parameters& p) {
+  return with_parameter_keys<Def>(info, [&] { return Def::build(p); });
+}
+
+template <class Def>
+State<Def::Model::dof> default_state(const ModelInfo& info, const typename Def::Model& model, double t0) {
+  return with_parameter_keys<Def>(info, [&] { return Def::initial(model, t0); });
+}
+
+template <class Def>
+RunReport run_entry(const ModelSpec& spec, const SimulationOptions& options, const std::string& csv_path,
+                    const SampleTick& tick) {
+  const ModelInfo& info = catalog_entry(Def::name);
+  const Parameters p(info, spec);
+  const typename Def::Model model = build_model<Def>(info, p);
+  const auto initial = initial_state(info, spec, default_state<Def>(info, model, options.t0));
+  return run_model(model, initial, options, csv_path, tick);
+}
+
+template <class Def>
+std::string inspect_entry(const ModelSpec& spec, double t0) {
+  const ModelInfo& info = catalog_entry(Def::name);
+  const Parameters p(info, spec);
+  const typename Def::Model model = build_model<Def>(info, p);
+  const auto initial = initial_state(info, spec, default_state<Def>(info, model, t0));
+  return inspect_model(model, info, Def::type, p, initial, t0);
+}
+
+/// The registry entry of a model definition.
+template <class Def>
+ModelEntry entry() {
+  return ModelEntry{std::string(Def::name), &run_entry<Def>, &inspect_entry<Def>};
+}
+
+}  // namespace lagrangian::scene::detail

@@ -1,0 +1,115 @@
+// Built-in models of impacts.hpp: smooth spheres colliding on a line, in a
+// plane, with a fixed plane and inside a box (Newton's law of restitution).
+// The default states are the registry's and leave every contact open at t0.
+
+#include <array>
+#include <string_view>
+#include <vector>
+
+#include "lagrangian/models/impacts.hpp"
+#include "registry_common.hpp"
+
+namespace lagrangian::scene::detail {
+namespace {
+
+namespace lm = lagrangian::models;
+
+struct DirectImpactDef {
+  using Model = lm::SpheresOnLine<2>;
+  static constexpr std::string_view name = "direct_impact";
+  static constexpr std::string_view type = "models::SpheresOnLine<2>";
+  static Model build(const Parameters& p) { return Model({p["m1"], p["m2"]}, {p["r1"], p["r2"]}, p["e"]); }
+  /// 0.5 m apart (surface to surface), closing at 1.5 m/s: impact at t = 1/3 s.
+  static State<2> initial(const Model& m, double) {
+    State<2> x;
+    x.q << 0.0, m.r[0] + m.r[1] + 0.5;
+    x.qd << 1.0, -0.5;
+    return x;
+  }
+};
+
+struct NewtonsCradleDef {
+  using Model = lm::SpheresOnLine<5>;
+  static constexpr std::string_view name = "newtons_cradle";
+  static constexpr std::string_view type = "models::SpheresOnLine<5>";
+  static Model build(const Parameters& p) {
+    const double m = p["m"], r = p["r"];
+    return Model({m, m, m, m, m}, {r, r, r, r, r}, p["e"]);
+  }
+  /// Spheres 2–5 touching at rest; sphere 1 0.1 m away, arriving at 1 m/s.
+  static State<5> initial(const Model& m, double) {
+    const double r = m.r[0];
+    State<5> x;
+    x.q << -0.1, 2 * r, 4 * r, 6 * r, 8 * r;
+    x.qd << 1.0, 0.0, 0.0, 0.0, 0.0;
+    return x;
+  }
+};
+
+struct ObliqueImpactDef {
+  using Model = lm::TwoSpheres<2>;
+  static constexpr std::string_view name = "oblique_impact";
+  static constexpr std::string_view type = "models::TwoSpheres<2>";
+  static Model build(const Parameters& p) { return Model(p["m1"], p["m2"], p["r1"], p["r2"], p["e"]); }
+  /// Sphere 1 at the origin moving along +x at 1 m/s; sphere 2 at rest,
+  /// offset sideways by half the sum of the radii: the common normal at
+  /// impact is at 30 degrees to the line of motion.
+  static State<4> initial(const Model& m, double) {
+    const double d = m.r1 + m.r2;
+    State<4> x;
+    x.q << 0.0, 0.0, d + 0.5, 0.5 * d;
+    x.qd << 1.0, 0.0, 0.0, 0.0;
+    return x;
+  }
+};
+
+struct BallAndPlaneDef {
+  using Model = lm::BallAndPlane;
+  static constexpr std::string_view name = "ball_and_plane";
+  static constexpr std::string_view type = "models::BallAndPlane";
+  static Model build(const Parameters& p) {
+    return Model(p["m"], p["R"], p["e"], p["g"], {p["nx"], p["ny"], p["nz"]}, p["offset"]);
+  }
+  static std::string_view alias(std::string_view model_parameter) {
+    return model_parameter == "|normal|" ? "nz" : "";
+  }
+  /// At rest with its surface 1 m from the plane along the normal.
+  static State<3> initial(const Model& m, double) {
+    const double h = m.d + m.R + 1.0;
+    State<3> x;
+    x.q << m.n[0] * h, m.n[1] * h, m.n[2] * h;
+    return x;
+  }
+};
+
+struct SpheresInBoxDef {
+  using Model = lm::SpheresInBox<3>;
+  static constexpr std::string_view name = "spheres_in_box";
+  static constexpr std::string_view type = "models::SpheresInBox<3>";
+  static Model build(const Parameters& p) {
+    const double m = p["m"], r = p["r"];
+    return Model({m, m, m}, {r, r, r}, p["W"], p["H"], p["e_wall"], p["e_pair"], p["g"]);
+  }
+  /// "sphere i (radius …) does not fit in the box" names no parameter.
+  static std::string_view alias(std::string_view model_parameter) { return model_parameter.empty() ? "r" : ""; }
+  /// Centres at (0.2 W, 0.5 H), (0.5 W, 0.3 H), (0.8 W, 0.7 H) with
+  /// velocities (1, 0.5), (-0.7, 0.8), (0.3, -1) m/s.
+  static State<6> initial(const Model& m, double) {
+    State<6> x;
+    x.q << 0.2 * m.W, 0.5 * m.H, 0.5 * m.W, 0.3 * m.H, 0.8 * m.W, 0.7 * m.H;
+    x.qd << 1.0, 0.5, -0.7, 0.8, 0.3, -1.0;
+    return x;
+  }
+};
+
+}  // namespace
+
+void add_impact_models(std::vector<ModelEntry>& out) {
+  out.push_back(entry<DirectImpactDef>());
+  out.push_back(entry<NewtonsCradleDef>());
+  out.push_back(entry<ObliqueImpactDef>());
+  out.push_back(entry<BallAndPlaneDef>());
+  out.push_back(entry<SpheresInBoxDef>());
+}
+
+}  // namespace lagrangian::scene::detail

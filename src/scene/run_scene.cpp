@@ -1,0 +1,278 @@
+// Running and inspecting scenes: chooses the engine once (built-in model,
+// ODE particle engine or the exact event-driven hard-sphere engine), writes
+// the outputs through partial files and makes the plots.
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "lagrangian/detail/scene_registry.hpp"
+#include "lagrangian/hard_spheres.hpp"
+#include "lagrangian/observers.hpp"
+#include "lagrangian/plots.hpp"
+#include "lagrangian/progress.hpp"
+#include "lagrangian/scene_models.hpp"
+#include "lagrangian/scene_run.hpp"
+#include "particle_engine.hpp"
+
+namespace lagrangian::scene {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Creates the output directory and proves it can be written.
+void prepare_directory(const Scene& scene) {
+  const std::string& dir = scene.output.directory;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir))
+    throw SceneError("output.directory", "cannot create directory '" + dir + "': " + ec.message(), scene.source);
+  const fs::path probe = fs::path(dir) / ".lagrangian-write-test";
+  std::FILE* f = std::fopen(probe.c_str(), "w");
+  if (!f)
+    throw SceneError("output.directory", "directory '" + dir + "' is not writable: " + std::strerror(errno),
+                     scene.source);
+  std::fclose(f);
+  fs::remove(probe, ec);
+}
+
+/// Removes what a failed run may have left (final names and partial files).
+void remove_outputs(const std::string& dir) {
+  std::error_code ec;
+  for (const char* name : {"trajectory.csv", "events.csv", "report.json"}) {
+    fs::remove(fs::path(dir) / name, ec);
+    fs::remove(fs::path(dir) / (std::string(name) + ".partial"), ec);
+  }
+}
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", c);
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+/// report.json: the scene, the engine, the effect counts and the run report.
+void write_report(const Scene& scene, const RunResult& r, const std::string& path) {
+  std::ostringstream os;
+  os << "{\n  \"scene\": " << json_string(scene.name) << ",\n  \"engine\": " << json_string(r.engine)
+     << ",\n  \"declared\": [";
+  const auto declared = scene.declared();
+  for (std::size_t k = 0; k < declared.size(); ++k) os << (k ? ", " : "") << json_string(declared[k]);
+  os << "],\n  \"effect_evaluations\": {";
+  std::size_t k = 0;
+  for (const auto& [name, count] : r.effect_evaluations) os << (k++ ? ", " : "") << json_string(name) << ": " << count;
+  os << "},\n  \"report\": " << r.report.to_json() << "\n}\n";
+  const std::string partial = path + ".partial";
+  {
+    std::ofstream f(partial);
+    if (!f) throw OptionError("cannot write '" + partial + "': " + std::strerror(errno));
+    f << os.str();
+    if (!f) throw OptionError("writing '" + partial + "' failed");
+  }
+  std::error_code ec;
+  fs::rename(partial, path, ec);
+  if (ec) throw OptionError("cannot rename '" + partial + "' to '" + path + "': " + ec.message());
+}
+
+SimulationOptions options_of(const RunSpec& run) {
+  SimulationOptions o;
+  o.method = run.method;
+  o.t0 = run.t0;
+  o.t_end = run.t_end;
+  o.dt = run.dt;
+  o.rtol = run.rtol;
+  o.atol = run.atol;
+  o.max_steps = run.max_steps;
+  o.output_interval = run.output_interval;
+  o.stabilization = run.stabilization;
+  o.baumgarte_omega = run.baumgarte_omega;
+  return o;
+}
+
+std::string engine_of(const Scene& scene) {
+  if (scene.model) return "model";
+  if (scene.run.engine == "event_driven" || scene.run.method == "event_driven") return "event_driven";
+  if (scene.run.engine == "ode") return "ode";
+  return detail::event_driven_eligible(scene) ? "event_driven" : "ode";
+}
+
+RunReport run_event_driven(const Scene& scene, CsvSink* csv, Progress& progress, std::vector<double>& q_final,
+                           std::vector<double>& qd_final) {
+  HardSphereSystem sys;
+  for (const Body& b : scene.bodies) sys.spheres.push_back({b.name, b.mass, b.radius, b.position, b.velocity});
+  sys.box_min = scene.box->min;
+  sys.box_max = scene.box->max;
+  sys.box_restitution = scene.box->restitution;
+  sys.pair_restitution = scene.sphere_contacts ? scene.sphere_contacts->restitution : 1.0;
+  for (std::size_t k = 0; k < scene.planes.size(); ++k) {
+    const PlaneContact& p = scene.planes[k];
+    sys.walls.push_back({p.name.empty() ? "plane" + std::to_string(k) : p.name, p.point, p.normal.normalized(),
+                         p.restitution});
+  }
+  HardSphereOptions opt;
+  opt.t0 = scene.run.t0;
+  opt.t_end = scene.run.t_end;
+  opt.output_interval = scene.run.output_interval;
+  const int n = static_cast<int>(sys.spheres.size());
+  Sample<Dynamic> s;
+  s.q.resize(3 * n);
+  s.qd.resize(3 * n);
+  auto sampler = [&](double t, const std::vector<HardSphere>& spheres) {
+    progress.update(t);
+    q_final.resize(static_cast<std::size_t>(3 * n));
+    qd_final.resize(static_cast<std::size_t>(3 * n));
+    for (int i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) {
+        q_final[static_cast<std::size_t>(3 * i + k)] = spheres[static_cast<std::size_t>(i)].position[k];
+        qd_final[static_cast<std::size_t>(3 * i + k)] = spheres[static_cast<std::size_t>(i)].velocity[k];
+      }
+    if (!csv) return;
+    double T = 0;
+    for (int i = 0; i < n; ++i) {
+      const HardSphere& h = spheres[static_cast<std::size_t>(i)];
+      s.q.segment<3>(3 * i) = h.position;
+      s.qd.segment<3>(3 * i) = h.velocity;
+      T += 0.5 * h.mass * h.velocity.squaredNorm();
+    }
+    s.t = t;
+    s.energy = T;
+    s.total_energy = T;
+    (*csv)(s);
+  };
+  return run_hard_spheres(sys, opt, sampler);
+}
+
+PlotSpec plot_spec(const Scene& scene, const RunResult& r) {
+  PlotSpec p;
+  p.title = scene.name;
+  p.out_dir = scene.output.directory;
+  p.trajectory_csv = (fs::path(p.out_dir) / "trajectory.csv").string();
+  p.events_csv = (fs::path(p.out_dir) / "events.csv").string();
+  p.coordinates = r.report.coordinates;
+  p.energy_scale = r.report.energy_scale;
+  p.png = scene.output.png;
+  p.svg = scene.output.svg;
+  if (scene.model) {
+    const ModelInfo* info = find_model(scene.model->name);
+    if (info) p.units = info->units;
+  }
+  if (p.units.size() != p.coordinates.size()) {
+    p.units.assign(p.coordinates.size(), "m");
+  }
+  if (!scene.model) {
+    for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+      const int c = static_cast<int>(3 * i);
+      p.bodies.push_back({scene.bodies[i].name, c, c + 1, c + 2});
+    }
+  }
+  return p;
+}
+
+}  // namespace
+
+RunResult run(const Scene& input, const RunControls& controls) {
+  input.validate();
+  Scene scene = input;
+  scene.expand_gas();
+  RunResult result;
+  result.engine = engine_of(scene);
+  const std::string dir = scene.output.directory;
+  const bool write = controls.write_outputs;
+  if (write) prepare_directory(scene);
+  const std::string traj = (fs::path(dir) / "trajectory.csv").string();
+  Progress progress(scene.run.t0, scene.run.t_end, controls.progress && Progress::stderr_is_terminal());
+  try {
+    if (write) remove_outputs(dir);
+    const bool want_csv = write && scene.output.trajectory;
+    if (result.engine == "model") {
+      const detail::ModelEntry* entry = detail::find_entry(scene.model->name);
+      if (!entry) throw SceneError("model.name", "unknown model '" + scene.model->name + "'", scene.source);
+      result.report = entry->run(*scene.model, options_of(scene.run), want_csv ? traj : std::string(),
+                                 [&progress](double t) { progress.update(t); });
+    } else {
+      std::optional<CsvSink> csv;
+      Columns columns;
+      for (const Body& b : scene.bodies)
+        for (const char* ax : {".x", ".y", ".z"}) columns.coordinates.push_back(b.name + ax);
+      columns.total_energy = false;
+      if (want_csv) {
+        csv.emplace(traj);
+        csv->begin(columns);
+      }
+      if (result.engine == "event_driven") {
+        result.report = run_event_driven(scene, csv ? &*csv : nullptr, progress, result.q_final, result.qd_final);
+      } else {
+        Sample<Dynamic> s;
+        const int dim = 3 * static_cast<int>(scene.bodies.size());
+        s.q.resize(dim);
+        s.qd.resize(dim);
+        auto sample = [&](double t, const double* q, const double* qd, int n, double energy) {
+          if (!csv) return;
+          s.t = t;
+          s.q = Eigen::Map<const Eigen::VectorXd>(q, n);
+          s.qd = Eigen::Map<const Eigen::VectorXd>(qd, n);
+          s.energy = energy;
+          (*csv)(s);
+        };
+        auto run = detail::run_particles(scene, sample, [&progress](double t) { progress.update(t); });
+        result.report = std::move(run.report);
+        result.effect_evaluations = std::move(run.effect_evaluations);
+        result.q_final = std::move(run.q_final);
+        result.qd_final = std::move(run.qd_final);
+      }
+      if (csv) csv->finish();
+    }
+    progress.finish();
+    if (write) {
+      if (scene.output.trajectory) result.files.push_back(traj);
+      const std::string events = (fs::path(dir) / "events.csv").string();
+      result.report.write_events_csv(events);
+      result.files.push_back(events);
+      const std::string json = (fs::path(dir) / "report.json").string();
+      write_report(scene, result, json);
+      result.files.push_back(json);
+    }
+  } catch (...) {
+    progress.finish();
+    if (write) remove_outputs(dir);
+    throw;
+  }
+  if (write && scene.output.trajectory && scene.output.plots && (scene.output.png || scene.output.svg)) {
+    try {
+      const PlotResult pr = make_plots(plot_spec(scene, result));
+      for (const auto& f : pr.files) result.files.push_back(f);
+      if (!pr.gnuplot_found) result.plot_note = pr.message;
+    } catch (const Error& e) {
+      result.plot_note = std::string("plots failed: ") + e.what();
+    }
+  }
+  return result;
+}
+
+std::string inspect(const Scene& input) {
+  input.validate();
+  Scene scene = input;
+  scene.expand_gas();
+  if (scene.model) {
+    const detail::ModelEntry* entry = detail::find_entry(scene.model->name);
+    if (!entry) throw SceneError("model.name", "unknown model '" + scene.model->name + "'", scene.source);
+    return entry->inspect(*scene.model, scene.run.t0);
+  }
+  return detail::inspect_particles(scene);
+}
+
+}  // namespace lagrangian::scene

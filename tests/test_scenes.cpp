@@ -1,0 +1,406 @@
+// Particle scenes on the ODE engine: each effect, constraint and contact kind
+// against a closed form, a conservation law or a second formulation, and the
+// proof that undeclared effects are never evaluated.
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+
+#include <boost/math/special_functions/ellint_1.hpp>
+
+#include <gtest/gtest.h>
+
+#include "lagrangian/models/pendulums.hpp"
+#include "lagrangian/scene.hpp"
+#include "lagrangian/scene_run.hpp"
+#include "lagrangian/simulate.hpp"
+
+namespace {
+
+using namespace lagrangian;
+using namespace lagrangian::scene;
+
+RunControls quiet() {
+  RunControls c;
+  c.write_outputs = false;
+  return c;
+}
+
+Scene base(double t_end, double rtol = 1e-11, double atol = 1e-13) {
+  Scene s;
+  s.name = "test";
+  s.run.t_end = t_end;
+  s.run.rtol = rtol;
+  s.run.atol = atol;
+  s.run.output_interval = 0.0;
+  return s;
+}
+
+Eigen::Vector3d pos(const RunResult& r, int i) {
+  return {r.q_final[3 * i], r.q_final[3 * i + 1], r.q_final[3 * i + 2]};
+}
+Eigen::Vector3d vel(const RunResult& r, int i) {
+  return {r.qd_final[3 * i], r.qd_final[3 * i + 1], r.qd_final[3 * i + 2]};
+}
+
+TEST(Scenes, ProjectileMatchesClosedFormAndOnlyGravityIsEvaluated) {
+  Scene s = base(2.0);
+  s.bodies.push_back({.name = "ball", .mass = 0.2, .position = {0, 0, 1}, .velocity = {10, 0, 10}});
+  s.gravity = UniformGravity{{0, 0, -9.81}};
+  const RunResult r = run(s, quiet());
+  const double t = 2.0;
+  EXPECT_NEAR(pos(r, 0)[0], 10 * t, 1e-11);
+  EXPECT_NEAR(pos(r, 0)[2], 1 + 10 * t - 0.5 * 9.81 * t * t, 1e-11);
+  EXPECT_NEAR(vel(r, 0)[2], 10 - 9.81 * t, 1e-11);
+  EXPECT_EQ(r.engine, "ode");
+  ASSERT_EQ(r.effect_evaluations.size(), 1u);
+  EXPECT_EQ(r.effect_evaluations.at("uniform_gravity"), r.report.rhs_evaluations);
+  EXPECT_GT(r.report.rhs_evaluations, 0u);
+}
+
+TEST(Scenes, EveryDeclaredKindIsEvaluatedAndNoOther) {
+  Scene s = base(0.5, 1e-9, 1e-11);
+  s.bodies.push_back({.name = "a", .mass = 1.0, .radius = 0.1, .position = {0, 0, 1}, .velocity = {0.3, 0, 0}});
+  s.bodies.push_back({.name = "b", .mass = 2.0, .radius = 0.1, .position = {1, 0, 1}, .velocity = {-0.3, 0, 0}});
+  s.bodies.push_back({.name = "c", .mass = 1.0, .position = {0, 1, 0}, .velocity = {0, 0, 0}});
+  s.gravity = UniformGravity{};
+  s.newtonian_gravity = NewtonianGravity{1e-3};
+  s.springs.push_back({.a = "a", .b = "b", .stiffness = 10, .rest_length = 1});
+  s.linear_drag.push_back({.coefficient = 0.01});
+  s.quadratic_drag.push_back({.coefficient = 0.01, .bodies = {"a"}});
+  s.links.push_back({.a = "c", .anchor = {0, 1, 1}});
+  s.sphere_contacts = SphereContacts{0.9, {"a", "b"}};
+  s.planes.push_back({.name = "floor", .point = {0, 0, -5}, .normal = {0, 0, 1}, .restitution = 0.5});
+  const RunResult r = run(s, quiet());
+  for (const char* kind : {"uniform_gravity", "newtonian_gravity", "springs", "linear_drag", "quadratic_drag"})
+    EXPECT_EQ(r.effect_evaluations.at(kind), r.report.rhs_evaluations) << kind;
+  EXPECT_GT(r.effect_evaluations.at("links"), 0u);
+  EXPECT_GT(r.effect_evaluations.at("sphere_contacts"), 0u);
+  EXPECT_GT(r.effect_evaluations.at("plane_contacts"), 0u);
+  EXPECT_EQ(r.effect_evaluations.count("surfaces"), 0u);
+  EXPECT_EQ(r.effect_evaluations.count("box_contacts"), 0u);
+
+  // Springs alone: gravity, drag, constraints and contacts are never visited.
+  Scene t = base(1.0);
+  t.bodies.push_back({.name = "m", .mass = 1.0, .position = {1, 0, 0}});
+  t.springs.push_back({.a = "m", .anchor = {0, 0, 0}, .stiffness = 4.0});
+  const RunResult q = run(t, quiet());
+  ASSERT_EQ(q.effect_evaluations.size(), 1u);
+  EXPECT_EQ(q.effect_evaluations.at("springs"), q.report.rhs_evaluations);
+}
+
+TEST(Scenes, AnchoredSpringIsAHarmonicOscillator) {
+  // x(t) = A cos ωt, ω = √(k/m), for a zero-length spring to the origin.
+  const double k = 4.0, m = 0.25, A = 0.3;
+  const double w = std::sqrt(k / m);
+  const double t_end = 5 * 2 * std::numbers::pi / w + 0.1;
+  Scene s = base(t_end);
+  s.bodies.push_back({.name = "m", .mass = m, .position = {A, 0, 0}, .velocity = {0, 0.1, 0}});
+  s.springs.push_back({.a = "m", .anchor = {0, 0, 0}, .stiffness = k, .rest_length = 0});
+  const RunResult r = run(s, quiet());
+  EXPECT_NEAR(pos(r, 0)[0], A * std::cos(w * t_end), 1e-9);
+  EXPECT_NEAR(pos(r, 0)[1], 0.1 / w * std::sin(w * t_end), 1e-9);
+  EXPECT_LT(r.report.energy_drift_max, 1e-9);
+  EXPECT_TRUE(r.report.conservative);
+}
+
+TEST(Scenes, Rk4ErrorFallsSixteenfoldWhenTheStepHalves) {
+  const double k = 1.0, m = 1.0;
+  auto error = [&](double dt) {
+    Scene s = base(10.0);
+    s.run.method = "rk4";
+    s.run.dt = dt;
+    s.bodies.push_back({.name = "m", .mass = m, .position = {1, 0, 0}});
+    s.springs.push_back({.a = "m", .anchor = {0, 0, 0}, .stiffness = k});
+    const RunResult r = run(s, quiet());
+    return std::abs(pos(r, 0)[0] - std::cos(10.0));
+  };
+  const double e1 = error(0.02), e2 = error(0.01);
+  EXPECT_NEAR(e1 / e2, 16.0, 0.5);
+}
+
+TEST(Scenes, CircularOrbitUnderNewtonianGravity) {
+  // Two bodies on circular orbits about their centre of mass: period
+  // 2π √(d³ / G(m1 + m2)); energy, P and L conserved.
+  const double G = 1.0, m1 = 3.0, m2 = 1.0, d = 2.0;
+  const double M = m1 + m2;
+  const double w = std::sqrt(G * M / (d * d * d));
+  const double r1 = d * m2 / M, r2 = d * m1 / M;
+  const double period = 2 * std::numbers::pi / w;
+  Scene s = base(3 * period);
+  s.newtonian_gravity = NewtonianGravity{G};
+  s.bodies.push_back({.name = "big", .mass = m1, .position = {-r1, 0, 0}, .velocity = {0, -w * r1, 0}});
+  s.bodies.push_back({.name = "small", .mass = m2, .position = {r2, 0, 0}, .velocity = {0, w * r2, 0}});
+  const RunResult r = run(s, quiet());
+  EXPECT_NEAR(pos(r, 1)[0], r2, 1e-8);
+  EXPECT_NEAR(pos(r, 1)[1], 0.0, 1e-8);
+  EXPECT_NEAR(pos(r, 0)[0], -r1, 1e-8);
+  EXPECT_LT(r.report.energy_drift_max, 1e-9);
+  EXPECT_LT(r.report.linear_momentum_drift_max, 1e-10);
+  EXPECT_LT(r.report.angular_momentum_drift_max, 1e-9);
+}
+
+TEST(Scenes, FallWithLinearDragMatchesClosedForm) {
+  // m v̇ = m g − b v: v(t) = v_t + (v0 − v_t) e^{−t/τ}, τ = m/b, v_t = g τ.
+  const double m = 0.5, b = 0.2, g = 9.81, v0 = 3.0, t = 4.0;
+  const double tau = m / b, vt = -g * tau;
+  Scene s = base(t);
+  s.bodies.push_back({.name = "m", .mass = m, .velocity = {0, 0, v0}});
+  s.gravity = UniformGravity{{0, 0, -g}};
+  s.linear_drag.push_back({.coefficient = b});
+  const RunResult r = run(s, quiet());
+  const double z = vt * t + (v0 - vt) * tau * (1 - std::exp(-t / tau));
+  EXPECT_NEAR(vel(r, 0)[2], vt + (v0 - vt) * std::exp(-t / tau), 1e-10);
+  EXPECT_NEAR(pos(r, 0)[2], z, 1e-9);
+  EXPECT_FALSE(r.report.conservative);
+}
+
+TEST(Scenes, FallWithQuadraticDragApproachesTerminalSpeed) {
+  // From rest: v(t) = −v_t tanh(g t / v_t), z(t) = −(v_t²/g) ln cosh(g t / v_t), v_t = √(m g / c).
+  const double m = 0.1, c = 0.02, g = 9.81, t = 3.0;
+  const double vt = std::sqrt(m * g / c);
+  Scene s = base(t);
+  s.bodies.push_back({.name = "m", .mass = m});
+  s.gravity = UniformGravity{{0, 0, -g}};
+  s.quadratic_drag.push_back({.coefficient = c});
+  const RunResult r = run(s, quiet());
+  EXPECT_NEAR(vel(r, 0)[2], -vt * std::tanh(g * t / vt), 1e-9);
+  EXPECT_NEAR(pos(r, 0)[2], -(vt * vt / g) * std::log(std::cosh(g * t / vt)), 1e-9);
+}
+
+TEST(Scenes, LinkPendulumAgreesWithTheGeneralizedCoordinateModel) {
+  // The same pendulum twice: a body on a link (Cartesian, Lagrange
+  // multiplier) and models::SimplePendulum (one angle, AD-derived).
+  const double l = 1.5, m = 0.7, g = 9.81, theta0 = 1.2, t_end = 6.0;
+  Scene s = base(t_end);
+  s.bodies.push_back({.name = "bob", .mass = m, .position = {l * std::sin(theta0), 0, -l * std::cos(theta0)}});
+  s.gravity = UniformGravity{{0, 0, -g}};
+  s.links.push_back({.name = "rod", .a = "bob", .anchor = {0, 0, 0}, .length = l});
+  const RunResult r = run(s, quiet());
+  const double theta_scene = std::atan2(pos(r, 0)[0], -pos(r, 0)[2]);
+
+  models::SimplePendulum p;
+  p.m = m;
+  p.l = l;
+  p.g = g;
+  State<1> x0;
+  x0.q[0] = theta0;
+  SimulationOptions o;
+  o.t_end = t_end;
+  o.rtol = 1e-11;
+  o.atol = 1e-13;
+  Recorder<1> rec;
+  simulate(p, x0, o, rec);
+  EXPECT_NEAR(theta_scene, rec.samples.back().q[0], 1e-8);
+  EXPECT_LT(r.report.constraints.max_position_residual, 1e-10);
+  EXPECT_LT(r.report.energy_drift_max, 1e-9);
+  EXPECT_EQ(r.report.constraints.initial_rank, 1);
+}
+
+TEST(Scenes, DumbbellKeepsItsLengthAndConservesMomenta) {
+  Scene s = base(5.0);
+  s.bodies.push_back({.name = "a", .mass = 1.0, .position = {0, 0, 0}, .velocity = {0, 1, 0.2}});
+  s.bodies.push_back({.name = "b", .mass = 3.0, .position = {1, 0, 0}, .velocity = {0, -0.5, 0}});
+  s.links.push_back({.a = "a", .b = "b"});
+  const RunResult r = run(s, quiet());
+  EXPECT_NEAR((pos(r, 0) - pos(r, 1)).norm(), 1.0, 1e-11);
+  EXPECT_LT(r.report.linear_momentum_drift_max, 1e-11);
+  EXPECT_LT(r.report.angular_momentum_drift_max, 1e-9);
+  EXPECT_LT(r.report.energy_drift_max, 1e-9);
+}
+
+TEST(Scenes, BeadOnASphereKeepsItsVerticalAngularMomentum) {
+  // A spherical pendulum as a surface constraint: E and L_z about the
+  // centre are conserved, the body stays on the sphere.
+  const double R = 1.0;
+  Scene s = base(10.0);
+  s.bodies.push_back({.name = "bead", .mass = 0.3, .position = {R * std::sin(0.8), 0, -R * std::cos(0.8)},
+                      .velocity = {0, 1.1, 0}});
+  s.gravity = UniformGravity{};
+  s.surfaces.push_back({.name = "shell", .body = "bead", .kind = Surface::Kind::sphere, .point = {0, 0, 0},
+                        .radius = R});
+  const RunResult r = run(s, quiet());
+  const Eigen::Vector3d p = pos(r, 0), v = vel(r, 0);
+  EXPECT_NEAR(p.norm(), R, 1e-11);
+  EXPECT_NEAR(p.dot(v), 0.0, 1e-10);
+  const double Lz0 = 0.3 * R * std::sin(0.8) * 1.1;
+  EXPECT_NEAR(0.3 * (p.x() * v.y() - p.y() * v.x()), Lz0, 1e-9);
+  EXPECT_LT(r.report.energy_drift_max, 1e-9);
+}
+
+TEST(Scenes, RedundantConstraintsStillRun) {
+  // The same plane twice: rank 1, one redundant row; the motion in the plane is free flight.
+  Scene s = base(1.0);
+  s.bodies.push_back({.name = "puck", .mass = 1.0, .velocity = {1, 2, 0}});
+  s.gravity = UniformGravity{};
+  s.surfaces.push_back({.body = "puck", .kind = Surface::Kind::plane, .normal = {0, 0, 1}});
+  s.surfaces.push_back({.body = "puck", .kind = Surface::Kind::plane, .normal = {0, 0, 2}});
+  const RunResult r = run(s, quiet());
+  EXPECT_EQ(r.report.constraints.initial_rank, 1);
+  EXPECT_NEAR(pos(r, 0)[0], 1.0, 1e-12);
+  EXPECT_NEAR(pos(r, 0)[1], 2.0, 1e-12);
+  EXPECT_NEAR(pos(r, 0)[2], 0.0, 1e-12);
+  EXPECT_NE(inspect(s).find("redundant constraints: 1"), std::string::npos) << inspect(s);
+}
+
+TEST(Scenes, BouncingBallReboundsWithE2AndComesToRestAtTheZenoTime) {
+  // Dropped from h with e: the n-th rebound rises to e^{2n} h and the
+  // bounces end at t∞ = t_f (1 + e)/(1 − e), t_f = √(2h/g).
+  const double h = 1.0, g = 9.81, e = 0.6, R = 0.05;
+  const double tf = std::sqrt(2 * h / g);
+  const double t_inf = tf * (1 + e) / (1 - e);
+  Scene s = base(t_inf + 0.5);
+  s.bodies.push_back({.name = "ball", .mass = 0.1, .radius = R, .position = {0, 0, h + R}});
+  s.gravity = UniformGravity{{0, 0, -g}};
+  s.planes.push_back({.name = "floor", .point = {0, 0, 0}, .normal = {0, 0, 1}, .restitution = e});
+  const RunResult r = run(s, quiet());
+  ASSERT_GE(r.report.events.size(), 3u);
+  EXPECT_NEAR(r.report.events[0].t, tf, 1e-9);
+  EXPECT_NEAR(r.report.events[0].approach_speed, g * tf, 1e-8);
+  EXPECT_NEAR(r.report.events[0].separation_speed, e * g * tf, 1e-8);
+  EXPECT_NEAR(r.report.events[1].t, tf + 2 * e * tf, 1e-9);
+  // It rests on the floor at the end, at the accumulation time.
+  const auto& last = r.report.events.back();
+  EXPECT_EQ(last.kind, EventKind::rest);
+  // The Zeno rule ends the series at an approach speed u ≤ 1e-6 of the
+  // first; the bounces it skips would have lasted 2 e u / (g (1 − e)).
+  EXPECT_LE(last.approach_speed, 1e-6 * r.report.events[0].approach_speed);
+  EXPECT_NEAR(t_inf - last.t, 2 * e * last.approach_speed / (g * (1 - e)), 1e-9);
+  EXPECT_NEAR(pos(r, 0)[2], R, 1e-10);
+  EXPECT_NEAR(vel(r, 0)[2], 0.0, 1e-10);
+  // Energy lost at the impacts is the whole initial potential energy above rest.
+  EXPECT_NEAR(r.report.impact_energy_loss, 0.1 * g * h, 1e-7);
+}
+
+TEST(Scenes, HeadOnSpheresFollowNewtonsLaw) {
+  const double m1 = 1.0, m2 = 3.0, u1 = 2.0, u2 = -1.0, e = 0.7;
+  Scene s = base(2.0);
+  s.bodies.push_back({.name = "a", .mass = m1, .radius = 0.1, .position = {0, 0, 0}, .velocity = {u1, 0, 0}});
+  s.bodies.push_back({.name = "b", .mass = m2, .radius = 0.2, .position = {1, 0, 0}, .velocity = {u2, 0, 0}});
+  s.sphere_contacts = SphereContacts{e, {}};
+  s.run.engine = "ode";
+  const RunResult r = run(s, quiet());
+  ASSERT_EQ(r.report.impacts, 1u);
+  EXPECT_NEAR(r.report.events[0].t, (1.0 - 0.3) / (u1 - u2), 1e-12);
+  const double v1 = ((m1 - e * m2) * u1 + (1 + e) * m2 * u2) / (m1 + m2);
+  const double v2 = ((m2 - e * m1) * u2 + (1 + e) * m1 * u1) / (m1 + m2);
+  EXPECT_NEAR(vel(r, 0)[0], v1, 1e-12);
+  EXPECT_NEAR(vel(r, 1)[0], v2, 1e-12);
+  EXPECT_LT(r.report.linear_momentum_drift_max, 1e-12);
+}
+
+TEST(Scenes, NewtonsCradlePassesTheMomentumAlong) {
+  // Three touching equal spheres hit by a fourth: sequential pairwise
+  // impacts leave only the last one moving, with the striker's speed.
+  Scene s = base(1.0);
+  const double R = 0.1;
+  s.bodies.push_back({.name = "s0", .mass = 1, .radius = R, .position = {-0.5, 0, 0}, .velocity = {1, 0, 0}});
+  for (int i = 1; i <= 3; ++i)
+    s.bodies.push_back({.name = "s" + std::to_string(i), .mass = 1, .radius = R, .position = {2 * R * (i - 1), 0, 0}});
+  s.sphere_contacts = SphereContacts{1.0, {}};
+  s.run.engine = "ode";
+  const RunResult r = run(s, quiet());
+  EXPECT_NEAR(vel(r, 0)[0], 0.0, 1e-12);
+  EXPECT_NEAR(vel(r, 1)[0], 0.0, 1e-12);
+  EXPECT_NEAR(vel(r, 2)[0], 0.0, 1e-12);
+  EXPECT_NEAR(vel(r, 3)[0], 1.0, 1e-12);
+  EXPECT_EQ(r.report.impacts, 3u);
+}
+
+TEST(Scenes, OdeAndEventDrivenEnginesAgreeOnAGasInABox) {
+  // Two formulations of one system: the ODE engine locating each contact on
+  // the step interpolant, and the exact event-driven engine.
+  Scene s = base(3.0);
+  s.box = BoxContact{{0, 0, 0}, {1, 1, 1}, 1.0};
+  s.sphere_contacts = SphereContacts{1.0, {}};
+  s.gas = GasFill{.count = 8, .mass = 1.0, .radius = 0.08, .speed = 1.0, .seed = 7};
+  s.run.engine = "ode";
+  const RunResult a = run(s, quiet());
+  s.run.engine = "event_driven";
+  const RunResult b = run(s, quiet());
+  EXPECT_EQ(b.engine, "event_driven");
+  ASSERT_GT(a.report.impacts, 20u);
+  const std::size_t n = std::min<std::size_t>(20, std::min(a.report.events.size(), b.report.events.size()));
+  for (std::size_t k = 0; k < n; ++k) {
+    EXPECT_NEAR(a.report.events[k].t, b.report.events[k].t, 1e-8) << k;
+    EXPECT_EQ(a.report.events[k].name.substr(0, 2), b.report.events[k].name.substr(0, 2)) << k;
+  }
+  EXPECT_LT(a.report.energy_drift_max, 1e-9);
+}
+
+TEST(Scenes, OutputDirectoryThatCannotBeWrittenIsABadInput) {
+  Scene s = base(0.1);
+  s.bodies.push_back({.name = "m", .mass = 1});
+  const auto blocker = std::filesystem::temp_directory_path() / "lagrangian_not_a_dir";
+  { std::ofstream(blocker) << "x"; }
+  s.output.directory = (blocker / "out").string();
+  try {
+    run(s);
+    FAIL() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.key(), "output.directory");
+    EXPECT_NE(std::string(e.what()).find(s.output.directory), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(blocker);
+}
+
+TEST(Scenes, AFailedRunLeavesNoOutputThatLooksComplete) {
+  const auto dir = std::filesystem::temp_directory_path() / "lagrangian_failed_run";
+  std::filesystem::remove_all(dir);
+  Scene s = base(10.0);
+  s.bodies.push_back({.name = "m", .mass = 1, .position = {1, 0, 0}});
+  s.springs.push_back({.a = "m", .anchor = {0, 0, 0}, .stiffness = 1});
+  s.run.max_steps = 5;
+  s.output.directory = dir.string();
+  s.output.plots = false;
+  EXPECT_THROW(run(s), SimulationError);
+  for (const char* f : {"trajectory.csv", "events.csv", "report.json", "trajectory.csv.partial"})
+    EXPECT_FALSE(std::filesystem::exists(dir / f)) << f;
+  // The same scene with enough steps writes all three.
+  s.run.max_steps = 1'000'000;
+  const RunResult r = run(s);
+  for (const char* f : {"trajectory.csv", "events.csv", "report.json"}) EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
+  std::ifstream json(dir / "report.json");
+  const std::string text((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("\"effect_evaluations\": {\"springs\": " + std::to_string(r.report.rhs_evaluations)),
+            std::string::npos)
+      << text.substr(0, 400);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(Scenes, NewtonsCradleOnLinksSwingsWithTheLargeAmplitudePeriod) {
+  // Five balls on links, the first released from θ0. Between impacts each
+  // moving ball is a pendulum: the impacts come every half period
+  // T/2 = 2 √(l/g) K(sin(θ0/2)), the first after T/4.
+  const double l = 0.5, g = 9.81, theta0 = 0.3, R = 0.025;
+  Scene s = base(1.5);
+  s.gravity = UniformGravity{{0, 0, -g}};
+  s.sphere_contacts = SphereContacts{1.0, {}};
+  for (int i = 0; i < 5; ++i) {
+    const double ax = 2 * R * i;
+    Eigen::Vector3d r{ax, 0, -l};
+    if (i == 0) r = {ax - l * std::sin(theta0), 0, -l * std::cos(theta0)};
+    s.bodies.push_back({.name = "b" + std::to_string(i + 1), .mass = 0.1, .radius = R, .position = r});
+    s.links.push_back({.a = "b" + std::to_string(i + 1), .anchor = {ax, 0, 0}});
+  }
+  const RunResult r = run(s, quiet());
+  const double K = boost::math::ellint_1(std::sin(theta0 / 2));
+  const double half = 2 * std::sqrt(l / g) * K;
+  ASSERT_EQ(r.report.impacts, 8u);  // two passes of four pairwise impacts in 1.5 s
+  EXPECT_NEAR(r.report.events[0].t, half / 2, 1e-8);
+  EXPECT_NEAR(r.report.events[4].t, 1.5 * half, 1e-8);
+  EXPECT_EQ(r.report.events[0].name, "b1-b2");
+  EXPECT_EQ(r.report.events[3].name, "b4-b5");
+  EXPECT_EQ(r.report.events[4].name, "b4-b5");
+  // Each impact passes the whole momentum on: equal impulses m u.
+  const double u = std::sqrt(2 * g * l * (1 - std::cos(theta0)));
+  for (int k = 0; k < 8; ++k) EXPECT_NEAR(r.report.events[k].impulse, 0.1 * u, 1e-8) << k;
+  EXPECT_LT(r.report.energy_drift_max, 1e-8);
+}
+
+}  // namespace
