@@ -188,7 +188,7 @@ struct Impact {
   double t = 0;
   std::string bodies;
   double ke_before = 0, ke_after = 0;  // kinetic energy just before and after (J), 0 when not given
-  std::vector<double> row;  // trajectory row interpolated at t
+  std::vector<double> row;  // the columns Trajectory::slot names, at time t (interpolated)
 };
 
 struct Trajectory {
@@ -197,10 +197,14 @@ struct Trajectory {
   std::size_t every = 1;            // rows are drawn every `every` (about kPointsPerLine per line)
   std::vector<double> first, last;  // first and last rows
   std::vector<double> lo, hi;       // finite minimum and maximum of every column
+  std::vector<std::size_t> slot;    // per column: its index in Impact::row, or npos
+  bool kept(std::size_t col) const { return slot.at(col) != std::string::npos; }
+  // Column `col` of the trajectory at an impact.
+  double at(const Impact& imp, std::size_t col) const { return imp.row.at(slot.at(col)); }
 };
 
-std::vector<Impact> read_impacts(const std::string& path, std::size_t& total) {
-  total = 0;
+// All impacts of the events file, in time order (none if it does not exist).
+std::vector<Impact> read_impacts(const std::string& path) {
   std::vector<Impact> impacts;
   if (path.empty()) return impacts;
   std::error_code ec;
@@ -241,15 +245,17 @@ std::vector<Impact> read_impacts(const std::string& path, std::size_t& total) {
   }
   if (in.failed()) throw OptionError("reading events file '" + path + "' failed");
   std::stable_sort(impacts.begin(), impacts.end(), [](const Impact& a, const Impact& b) { return a.t < b.t; });
-  total = impacts.size();
-  if (impacts.size() > kMaxImpactMarks) {  // keep an even selection, the first and the last
-    std::vector<Impact> kept;
-    const double step = static_cast<double>(impacts.size() - 1) / static_cast<double>(kMaxImpactMarks - 1);
-    for (std::size_t k = 0; k < kMaxImpactMarks; ++k)
-      kept.push_back(std::move(impacts[static_cast<std::size_t>(std::llround(k * step))]));
-    impacts = std::move(kept);
-  }
   return impacts;
+}
+
+// At most kMaxImpactMarks of `impacts`, evenly chosen (the first and the last kept).
+std::vector<Impact> thinned(const std::vector<Impact>& impacts) {
+  if (impacts.size() <= kMaxImpactMarks) return impacts;
+  std::vector<Impact> kept;
+  const double step = static_cast<double>(impacts.size() - 1) / static_cast<double>(kMaxImpactMarks - 1);
+  for (std::size_t k = 0; k < kMaxImpactMarks; ++k)
+    kept.push_back(impacts[static_cast<std::size_t>(std::llround(static_cast<double>(k) * step))]);
+  return kept;
 }
 
 // Number of data lines (non-empty lines after the header) of a file.
@@ -291,9 +297,11 @@ std::size_t count_data_lines(const std::string& path) {
 
 // Reads the trajectory: header, row count, and — over the rows gnuplot will
 // draw (every `every`-th, and the last) — the column ranges; the first and
-// last rows; the rows at the impact times (from the rows around each). Other rows are only checked for their field count and
+// last rows; at the impact times (from the rows around each), t and the
+// columns named in at_impacts (all columns when it is empty). Other rows are only checked for their field count and
 // time, so that files of millions of rows read quickly.
-Trajectory read_trajectory(const std::string& path, std::vector<Impact>& impacts) {
+Trajectory read_trajectory(const std::string& path, std::vector<Impact>& impacts,
+                           const std::vector<std::string>& at_impacts) {
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw OptionError("cannot read trajectory file '" + path + "': it is a directory");
   LineReader in(path);
@@ -318,6 +326,20 @@ Trajectory read_trajectory(const std::string& path, std::vector<Impact>& impacts
     for (std::size_t k = 1; k < ncol; ++k)
       if (const auto it = index.find(tr.header[k] + "_dot"); it != index.end()) rate[k] = it->second;
   }
+  // The columns kept at the impacts (t and those named in at_impacts).
+  tr.slot.assign(ncol, std::string::npos);
+  std::vector<std::size_t> kept = {0};
+  tr.slot[0] = 0;
+  for (std::size_t k = 1; k < ncol; ++k)
+    if (at_impacts.empty() || std::find(at_impacts.begin(), at_impacts.end(), tr.header[k]) != at_impacts.end()) {
+      tr.slot[k] = kept.size();
+      kept.push_back(k);
+    }
+  auto keep = [&](const std::vector<double>& full) {
+    std::vector<double> r;
+    for (std::size_t k : kept) r.push_back(full[k]);
+    return r;
+  };
   tr.lo.assign(ncol, std::numeric_limits<double>::infinity());
   tr.hi.assign(ncol, -std::numeric_limits<double>::infinity());
   std::vector<double> cur(ncol), prev(ncol);
@@ -377,18 +399,18 @@ Trajectory read_trajectory(const std::string& path, std::vector<Impact>& impacts
           // it to the impact time (error O(dt²)); the mean of both is taken.
           // Other columns are interpolated linearly.
           const double w = (imp.t - t_prev) / (t - t_prev);
-          imp.row.resize(ncol);
-          for (std::size_t k = 0; k < ncol; ++k) {
+          imp.row.clear();
+          for (std::size_t k : kept) {
             if (rate[k] != std::string::npos) {
               const double from_before = prev[k] + prev[rate[k]] * (imp.t - t_prev);
               const double from_after = cur[k] - cur[rate[k]] * (t - imp.t);
-              imp.row[k] = 0.5 * (from_before + from_after);
+              imp.row.push_back(0.5 * (from_before + from_after));
             } else {
-              imp.row[k] = prev[k] + w * (cur[k] - prev[k]);
+              imp.row.push_back(prev[k] + w * (cur[k] - prev[k]));
             }
           }
         } else {
-          imp.row = cur;
+          imp.row = keep(cur);
         }
       }
     }
@@ -398,7 +420,7 @@ Trajectory read_trajectory(const std::string& path, std::vector<Impact>& impacts
   if (in.failed()) throw OptionError("reading trajectory file '" + path + "' failed");
   if (tr.rows != total_rows || tr.last.empty())
     throw OptionError("trajectory file '" + path + "' changed while it was read");
-  for (std::size_t k = next_impact; k < impacts.size(); ++k) impacts[k].row = tr.last;
+  for (std::size_t k = next_impact; k < impacts.size(); ++k) impacts[k].row = keep(tr.last);
   return tr;
 }
 
@@ -506,36 +528,98 @@ struct Columns {
 
 class ScriptWriter {
  public:
+  // `impacts`: all impacts of the run; `times`: those marked on the plots
+  // against time; `positions`: those marked on the trajectory (rows filled).
   ScriptWriter(const PlotSpec& spec, const Trajectory& tr, const Columns& cols, const std::vector<Impact>& impacts,
-               std::size_t impacts_total, std::vector<std::string> coords, std::vector<std::string> units,
-               std::string data_path)
+               const std::vector<Impact>& times, const std::vector<Impact>& positions,
+               std::vector<std::string> coords, std::vector<std::string> units, std::string data_path)
       : spec_(spec),
         tr_(tr),
         cols_(cols),
-        impacts_(impacts),
-        impacts_total_(impacts_total),
+        impacts_(times),
+        positions_(positions),
+        impacts_total_(impacts.size()),
         coords_(std::move(coords)),
         units_(std::move(units)),
         data_path_(std::move(data_path)) {
     every_ = tr_.every;
-    for (const Impact& imp : impacts_)
+    for (const Impact& imp : impacts)
       if (imp.ke_before - imp.ke_after > 1e-9 * std::abs(imp.ke_before)) impacts_lose_energy_ = true;
   }
 
   std::string write() {
-    preamble();
     trajectory();
     coordinates();
     energy();
     phase();
-    return os_.str();
+    std::ostringstream head;
+    preamble(head);
+    write_blocks(head);
+    return head.str() + os_.str();
   }
 
  private:
-  // Column reference for a using spec (1-based).
-  static std::string c(std::size_t col) { return std::to_string(col + 1); }
-  // Rows 0, n, 2n, … of the trajectory: point 0 of the file is its header.
-  std::string data() const { return "data every n::1"; }
+  // ---- the data the plots read
+  //
+  // gnuplot reads the whole file for every line it draws, and twice (PNG and
+  // SVG): with millions of rows or thousands of columns that is slow. So the
+  // script first copies what the plots use — every n-th row, only the
+  // columns needed — into data blocks $rows1, $rows2, … (at most
+  // kBlockColumns columns each: t, then the quantities), reading the file
+  // once per block; the plots then read the blocks from memory.
+  static constexpr std::size_t kBlockColumns = 14;  // the most `with table` writes
+
+  struct Quantity {
+    std::string expr;   // gnuplot expression on the file's columns
+    std::string label;  // for the comment
+  };
+  Quantity column_q(std::size_t col) const { return {"column(" + std::to_string(col + 1) + ")", tr_.header[col]}; }
+
+  // "$rowsB using a:b" for quantities placed together in one block (with
+  // with_t, "$rowsB using 1:a" for one quantity against t).
+  std::string source(const std::vector<Quantity>& qs, bool with_t = false) {
+    auto find_in = [&](std::size_t b, const Quantity& q) -> int {
+      for (std::size_t k = 0; k < blocks_[b].size(); ++k)
+        if (blocks_[b][k].expr == q.expr) return static_cast<int>(k) + 2;  // column 1 is t
+      return 0;
+    };
+    std::size_t block = blocks_.size();
+    for (std::size_t b = 0; b < blocks_.size() && block == blocks_.size(); ++b) {
+      bool all = true;
+      for (const Quantity& q : qs) all = all && find_in(b, q);
+      if (all) block = b;
+    }
+    if (block == blocks_.size()) {  // add the missing ones to the last block, or open a new one
+      if (!blocks_.empty()) {
+        std::size_t missing = 0;
+        for (const Quantity& q : qs) missing += find_in(blocks_.size() - 1, q) ? 0 : 1;
+        if (blocks_.back().size() + missing <= kBlockColumns - 1) block = blocks_.size() - 1;
+      }
+      if (block == blocks_.size()) blocks_.emplace_back();
+      for (const Quantity& q : qs)
+        if (!find_in(block, q)) blocks_[block].push_back(q);
+    }
+    std::string out = "$rows" + std::to_string(block + 1) + " using " + (with_t ? "1" : "");
+    for (std::size_t k = 0; k < qs.size(); ++k)
+      out += (with_t || k ? ":" : "") + std::to_string(find_in(block, qs[k]));
+    return out;
+  }
+
+  void write_blocks(std::ostringstream& os) const {
+    os << "# The data the plots use: every n-th row of the trajectory, only the columns\n"
+       << "# needed, read once per block below into memory (column 1 of each block is t).\n"
+       << "# Values are written with 12 significant digits.\n"
+       << "g(x) = sprintf('%.12g', x)\n"
+       << "set datafile separator comma\n";
+    for (std::size_t b = 0; b < blocks_.size(); ++b) {
+      os << "set table $rows" << b + 1 << "    # t";
+      for (const Quantity& q : blocks_[b]) os << ", " << q.label;
+      os << "\nplot data every n::1 using (g(column(1)))";  // point 0 of the file is its header
+      for (const Quantity& q : blocks_[b]) os << ":(g(" << q.expr << "))";
+      os << " with table\nunset table\n";
+    }
+    os << "set datafile separator whitespace\n\n";
+  }
   double t0() const { return tr_.first[0]; }
   double t1() const { return tr_.last[0]; }
   std::pair<double, double> time_range() const {
@@ -550,9 +634,18 @@ class ScriptWriter {
     return padded(lo, hi);
   }
   double spread(std::size_t col) const { return tr_.hi[col] >= tr_.lo[col] ? tr_.hi[col] - tr_.lo[col] : 0.0; }
+  // Does coordinate i (or its rate) vary, beyond rounding, compared with the
+  // others of its unit? (A body at rest may jitter by 1e-17 m.)
+  bool varies(std::size_t i, bool rate) const {
+    const auto& cols = rate ? cols_.qd : cols_.q;
+    double largest = 0;
+    for (std::size_t j = 0; j < coords_.size(); ++j)
+      if (units_[j] == units_[i]) largest = std::max(largest, spread(cols[j]));
+    return spread(cols[i]) > 1e-9 * largest;
+  }
 
-  void preamble() {
-    os_ << "# Plots of the run" << (spec_.title.empty() ? "" : " " + gp_str(spec_.title))
+  void preamble(std::ostringstream& os) const {
+    os << "# Plots of the run" << (spec_.title.empty() ? "" : " " + gp_str(spec_.title))
         << ", written by lagrangian::make_plots.\n"
         << "# Draw them again with:   cd <this directory> && gnuplot plots.gp\n"
         << "# Set before the script with -e: formats (default below), suffix (added to each\n"
@@ -564,16 +657,16 @@ class ScriptWriter {
         << " points per line\n"
         << "E0 = " << num(tr_.first[cols_.energy]) << "    # energy at t0 (J)\n";
     if (cols_.total_energy)
-      os_ << "Etot0 = " << num(tr_.first[cols_.total_energy]) << "    # T + V at t0 (J)\n";
-    os_ << "Escale = " << num(spec_.energy_scale) << "    # energy scale (J)\n\n";
+      os << "Etot0 = " << num(tr_.first[cols_.total_energy]) << "    # T + V at t0 (J)\n";
+    os << "Escale = " << num(spec_.energy_scale) << "    # energy scale (J)\n\n";
 
-    os_ << "# Colours (the Tableau 10 palette) and the settings every plot starts from.\n";
+    os << "# Colours (the Tableau 10 palette) and the settings every plot starts from.\n";
     static const char* palette[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
                                     "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
     for (int i = 0; i < 10; ++i)
-      os_ << "set linetype " << i + 1 << " lc rgb '" << palette[i] << "' lw 1.5 pt 7 ps 0.8\n";
-    os_ << "set linetype cycle 10\n"
-        << "setup = \"set encoding utf8; set datafile separator comma; "
+      os << "set linetype " << i + 1 << " lc rgb '" << palette[i] << "' lw 1.5 pt 7 ps 0.8\n";
+    os << "set linetype cycle 10\n"
+        << "setup = \"set encoding utf8; "
            "set grid lc rgb '#d9d9d9' lw 1 dt 1; set key noautotitle spacing 1.2; set tics front\"\n"
         << "png_terminal = \"set terminal pngcairo size 1000,700 noenhanced font 'Sans,11' linewidth 1 "
            "background rgb 'white'\"\n"
@@ -582,12 +675,12 @@ class ScriptWriter {
 
     // Impact times and, per plot, the impact points: inline data blocks.
     if (!impacts_.empty()) {
-      os_ << "# Impacts (events of kind 'impact')";
+      os << "# Impacts (events of kind 'impact')";
       if (impacts_total_ > impacts_.size())
-        os_ << ": " << impacts_.size() << " of " << impacts_total_ << ", evenly chosen";
-      os_ << ".\n$impacts << EOD\nt\n";
-      for (const Impact& imp : impacts_) os_ << num(imp.t) << "\n";
-      os_ << "EOD\n\n";
+        os << ": " << impacts_.size() << " of " << impacts_total_ << ", evenly chosen";
+      os << ".\n$impacts << EOD\n# t (s)\n";
+      for (const Impact& imp : impacts_) os << num(imp.t) << "\n";
+      os << "EOD\n\n";
     }
   }
 
@@ -625,10 +718,10 @@ class ScriptWriter {
 
   // Dashed vertical lines at the impact times (needs `set y2range [0:1]`).
   // Many impacts: a short tick each along the top edge instead (a rug).
-  std::string impact_lines(bool with_title, std::string title = "impact") const {
+  std::string impact_lines(bool with_title) const {
     if (impacts_.empty()) return {};
     const bool rug = impacts_.size() > kMaxImpactLines;
-    if (rug) title += " (ticks)";
+    const std::string title = rug ? "impact (ticks)" : "impact";
     return std::string(", \\\n       $impacts using 1:") + (rug ? "(0.965):(0):(0.035)" : "(0):(0):(1)") +
            " axes x1y2 with vectors nohead " + (rug ? "lw 1 lc rgb '#60000000' " : "dt 2 lw 1 lc rgb '#707070' ") +
            (with_title ? "title " + gp_str(title) : std::string("notitle"));
@@ -642,7 +735,7 @@ class ScriptWriter {
     if (!impacts_.empty()) os_ << "  set y2range [0:1]; unset y2tics\n";
   }
 
-  // Body names the plot legend can show: at most kLegendBodies.
+  // 1. Particle paths, or the path in configuration space.
   void trajectory() {
     os_ << "# 1. Trajectory\n";
     if (!spec_.bodies.empty()) {
@@ -723,25 +816,27 @@ class ScriptWriter {
     }
 
     // Start points and impact points.
-    os_ << "$start << EOD\nh,v,lt\n";
+    os_ << "$start << EOD\n# h v linetype\n";
     for (std::size_t k = 0; k < drawable.size(); ++k) {
       const double h = av >= 0 ? tr_.first[hcols[k]] : tr_.first[0];
       const double v = av >= 0 ? tr_.first[vcols[k]] : tr_.first[hcols[k]];
-      os_ << num(h) << "," << num(v) << "," << (drawable[k] % 10) + 1 << "\n";
+      os_ << num(h) << " " << num(v) << " " << (drawable[k] % 10) + 1 << "\n";
     }
     os_ << "EOD\n";
     std::size_t marks = 0;
     std::ostringstream pts;
-    for (const Impact& imp : impacts_) {
+    for (const Impact& imp : positions_) {
       for (std::size_t k = 0; k < drawable.size(); ++k) {
-        if (!names_body(imp.bodies, bodies[drawable[k]].name)) continue;
-        const double h = av >= 0 ? imp.row[hcols[k]] : imp.t;
-        const double v = av >= 0 ? imp.row[vcols[k]] : imp.row[hcols[k]];
-        pts << num(h) << "," << num(v) << "\n";
+        if (!names_body(imp.bodies, bodies[drawable[k]].name) || !tr_.kept(hcols[k]) ||
+            (av >= 0 && !tr_.kept(vcols[k])))
+          continue;
+        const double h = av >= 0 ? tr_.at(imp, hcols[k]) : imp.t;
+        const double v = av >= 0 ? tr_.at(imp, vcols[k]) : tr_.at(imp, hcols[k]);
+        pts << num(h) << " " << num(v) << "\n";
         ++marks;
       }
     }
-    if (marks) os_ << "$impact_points << EOD\nh,v\n" << pts.str() << "EOD\n";
+    if (marks) os_ << "$impact_points << EOD\n# h v\n" << pts.str() << "EOD\n";
 
     std::pair<double, double> hr, vr;
     if (av >= 0) {
@@ -769,9 +864,9 @@ class ScriptWriter {
     os_ << (legend ? "  set key outside right top\n" : "  unset key\n");
     os_ << "  plot ";
     for (std::size_t k = 0; k < drawable.size(); ++k) {
-      const std::string x = av >= 0 ? c(hcols[k]) : "1";
-      const std::string y = av >= 0 ? c(vcols[k]) : c(hcols[k]);
-      os_ << (k ? ", \\\n       " : "") << data() << " using " << x << ":" << y << " with lines lt " << (drawable[k] % 10) + 1
+      const std::string src =
+          av >= 0 ? source({column_q(hcols[k]), column_q(vcols[k])}) : source({column_q(hcols[k])}, true);
+      os_ << (k ? ", \\\n       " : "") << src << " with lines lt " << (drawable[k] % 10) + 1
           << " lw " << (legend ? "2" : "1") << " title " << gp_str(bodies[drawable[k]].name);
     }
     // Black under the coloured points: the legend shows a neutral "start".
@@ -788,10 +883,10 @@ class ScriptWriter {
     const bool two = n >= 2;
     const std::size_t ch = two ? cols_.q[0] : 0, cv = two ? cols_.q[1] : cols_.q[0];
     const std::string uh = two ? units_[0] : "s", uv = two ? units_[1] : units_[0];
-    os_ << "$start << EOD\nh,v\n" << num(tr_.first[ch]) << "," << num(tr_.first[cv]) << "\nEOD\n";
-    if (!impacts_.empty()) {
-      os_ << "$impact_points << EOD\nh,v\n";
-      for (const Impact& imp : impacts_) os_ << num(imp.row[ch]) << "," << num(imp.row[cv]) << "\n";
+    os_ << "$start << EOD\n# h v\n" << num(tr_.first[ch]) << " " << num(tr_.first[cv]) << "\nEOD\n";
+    if (!positions_.empty()) {
+      os_ << "$impact_points << EOD\n# h v\n";
+      for (const Impact& imp : positions_) os_ << num(tr_.at(imp, ch)) << " " << num(tr_.at(imp, cv)) << "\n";
       os_ << "EOD\n";
     }
     auto hr = two ? col_range({ch}) : time_range();
@@ -813,10 +908,12 @@ class ScriptWriter {
     if (equal) os_ << "  set size ratio -1    # equal scales on both axes\n";
     os_ << "  set xrange " << range(hr) << "\n  set yrange " << range(vr) << "\n"
         << "  set key outside right top\n"
-        << "  plot " << data() << " using " << c(ch) << ":" << c(cv) << " with lines lt 1 lw 1.5 title "
+        << "  plot " << (two ? source({column_q(ch), column_q(cv)}) : source({column_q(cv)}, true))
+        << " with lines lt 1 lw 1.5 title "
         << gp_str(two ? "path" : coords_[0]) << ", \\\n"
         << "       $start using 1:2 with points pt 7 ps 1.2 lc rgb 'black' title 'start'";
-    if (!impacts_.empty()) os_ << ", \\\n       $impact_points using 1:2 " << impact_point_style(impacts_.size());
+    if (!positions_.empty())
+      os_ << ", \\\n       $impact_points using 1:2 " << impact_point_style(positions_.size());
     os_ << "\n";
     end_plot();
   }
@@ -833,7 +930,7 @@ class ScriptWriter {
     const double top = 0.90, bottom = 0.09;
     os_ << "# 2. Coordinates against time, one panel per unit\n";
     begin_plot("coordinates");
-    os_ << "  set multiplot layout " << panels << ",1 margins 0.10,0.84," << bottom << "," << top
+    os_ << "  set multiplot layout " << panels << ",1 margins 0.10,0.80," << bottom << "," << top
         << " spacing 0,0.035 title " << gp_str(titled(spec_.title, "coordinates against time")) << "\n"
         << "  set xrange " << range(time_range()) << "\n";
     impact_axis();
@@ -841,11 +938,17 @@ class ScriptWriter {
       const std::string& unit = unit_order[p];
       std::vector<std::size_t> members = groups[unit];
       const std::size_t total = members.size();
+      std::string shown;  // legend title when not all are drawn
       if (members.size() > kMaxLinesPerPanel) {
-        // Those that move first: a constant coordinate says little.
-        std::stable_partition(members.begin(), members.end(), [&](std::size_t i) { return spread(cols_.q[i]) > 0; });
-        members.resize(kMaxLinesPerPanel);
-        std::sort(members.begin(), members.end());
+        // Too many for one panel: those that move (a constant coordinate
+        // says little), at most kMaxLinesPerPanel.
+        std::vector<std::size_t> moving;
+        for (std::size_t i : members)
+          if (varies(i, false)) moving.push_back(i);
+        if (!moving.empty()) members = moving;
+        if (members.size() > kMaxLinesPerPanel) members.resize(kMaxLinesPerPanel);
+        shown = std::to_string(members.size()) + " of " + std::to_string(total) +
+                (moving.empty() || moving.size() > kMaxLinesPerPanel ? "" : " (moving)");
       }
       std::vector<std::string> names;
       std::vector<std::size_t> cols;
@@ -864,15 +967,11 @@ class ScriptWriter {
       if (members.size() == 1 && !(p == 0 && !impacts_.empty())) {
         os_ << "  unset key\n";
       } else {
-        os_ << "  set key outside right top title "
-            << gp_str(total > members.size()
-                          ? std::to_string(members.size()) + " of " + std::to_string(total)
-                          : std::string())
-            << "\n";
+        os_ << "  set key outside right top title " << gp_str(shown) << "\n";
       }
       os_ << "  plot ";
       for (std::size_t k = 0; k < members.size(); ++k)
-        os_ << (k ? ", \\\n       " : "") << data() << " using 1:" << c(cols[k]) << " with lines "
+        os_ << (k ? ", \\\n       " : "") << source({column_q(cols[k])}, true) << " with lines "
             << line_style(members[k], k) << " title " << gp_str(names[k]);
       os_ << impact_lines(p == 0) << "\n";
     }
@@ -910,11 +1009,14 @@ class ScriptWriter {
         << "  set yrange " << range(yr) << "\n"
         << "  set key outside right top\n";
     impact_axis();
-    os_ << "  plot " << data() << " using 1:((column(" << cols_.energy + 1 << ") - E0)/Escale) with lines lt 1 title "
+    const std::string h_err = "(column(" + std::to_string(cols_.energy + 1) + ") - E0)/Escale";
+    os_ << "  plot " << source({{h_err, "(energy - E0)/Escale"}}, true) << " with lines lt 1 title "
         << (cols_.total_energy ? "'h = p·q̇ − L'" : "'energy'");
-    if (cols_.total_energy)
-      os_ << ", \\\n       " << data() << " using 1:((column(" << cols_.total_energy + 1
-          << ") - Etot0)/Escale) with lines lt 2 dt 2 title 'T + V'";
+    if (cols_.total_energy) {
+      const std::string e_err = "(column(" + std::to_string(cols_.total_energy + 1) + ") - Etot0)/Escale";
+      os_ << ", \\\n       " << source({{e_err, "(total_energy - Etot0)/Escale"}}, true)
+          << " with lines lt 2 dt 2 title 'T + V'";
+    }
     // With e < 1 the steps at the impacts are the energy they took, not error.
     os_ << impact_lines(true) << "\n";
     end_plot();
@@ -925,10 +1027,10 @@ class ScriptWriter {
     // else those that move at all, else the first ones.
     std::vector<std::size_t> chosen;
     for (std::size_t i = 0; i < coords_.size() && chosen.size() < kMaxPhasePanels; ++i)
-      if (spread(cols_.qd[i]) > 0) chosen.push_back(i);
+      if (varies(i, true)) chosen.push_back(i);
     if (chosen.empty())
       for (std::size_t i = 0; i < coords_.size() && chosen.size() < kMaxPhasePanels; ++i)
-        if (spread(cols_.q[i]) > 0) chosen.push_back(i);
+        if (varies(i, false)) chosen.push_back(i);
     if (chosen.empty())
       for (std::size_t i = 0; i < std::min<std::size_t>(kMaxPhasePanels, coords_.size()); ++i) chosen.push_back(i);
     if (chosen.empty()) return;
@@ -949,7 +1051,7 @@ class ScriptWriter {
           << "  set ylabel " << gp_str(with_unit(coords_[i] + "_dot", rate_unit(units_[i]))) << "\n"
           << "  set xrange " << range(col_range({cols_.q[i]})) << "\n"
           << "  set yrange " << range(col_range({cols_.qd[i]})) << "\n"
-          << "  plot " << data() << " using " << c(cols_.q[i]) << ":" << c(cols_.qd[i]) << " with lines "
+          << "  plot " << source({column_q(cols_.q[i]), column_q(cols_.qd[i])}) << " with lines "
           << line_style(i, k, false) << "\n";
     }
     os_ << "  unset multiplot\n";
@@ -959,12 +1061,14 @@ class ScriptWriter {
   const PlotSpec& spec_;
   const Trajectory& tr_;
   const Columns& cols_;
-  const std::vector<Impact>& impacts_;
+  const std::vector<Impact>& impacts_;    // marked against time
+  const std::vector<Impact>& positions_;  // marked on the trajectory
   std::size_t impacts_total_;
   std::vector<std::string> coords_, units_;
   std::string data_path_;
   std::size_t every_ = 1;
   bool impacts_lose_energy_ = false;
+  std::vector<std::vector<Quantity>> blocks_;  // what each data block $rows<k> holds after t
   std::ostringstream os_;
 };
 
@@ -1027,9 +1131,40 @@ PlotResult make_plots(const PlotSpec& spec) {
   if (spec.out_dir.empty()) throw OptionError("plots: out_dir is empty");
 
   // Inputs.
-  std::size_t impacts_total = 0;
-  std::vector<Impact> impacts = read_impacts(spec.events_csv, impacts_total);
-  const Trajectory tr = read_trajectory(spec.trajectory_csv, impacts);
+  const std::vector<Impact> impacts = read_impacts(spec.events_csv);
+  const std::vector<Impact> times = thinned(impacts);
+  std::vector<Impact> positions;  // those the trajectory plot marks: of the bodies it draws
+  if (spec.bodies.size() > kMaxBodiesUnlabelled) {
+    for (const Impact& imp : impacts)
+      for (std::size_t b = 0; b < kLegendBodies; ++b)
+        if (names_body(imp.bodies, spec.bodies[b].name)) {
+          positions.push_back(imp);
+          break;
+        }
+    positions = thinned(positions);
+  } else {
+    positions = times;
+  }
+  // The coordinates the trajectory plot may need at the impacts.
+  std::vector<std::string> at_impacts;
+  if (!spec.coordinates.empty()) {
+    const auto add = [&](int idx) {
+      if (idx >= 0 && idx < static_cast<int>(spec.coordinates.size()))
+        at_impacts.push_back(spec.coordinates[static_cast<std::size_t>(idx)]);
+    };
+    if (spec.bodies.empty()) {
+      add(0);
+      add(1);
+    }
+    const std::size_t drawn =
+        spec.bodies.size() > kMaxBodiesUnlabelled ? kLegendBodies : spec.bodies.size();
+    for (std::size_t b = 0; b < drawn; ++b) {
+      add(spec.bodies[b].x);
+      add(spec.bodies[b].y);
+      add(spec.bodies[b].z);
+    }
+  }
+  Trajectory tr = read_trajectory(spec.trajectory_csv, positions, at_impacts);
 
   std::unordered_map<std::string, std::size_t> index;
   for (std::size_t k = 0; k < tr.header.size(); ++k) index.emplace(tr.header[k], k);
@@ -1070,7 +1205,8 @@ PlotResult make_plots(const PlotSpec& spec) {
   if (ec || !fs::is_directory(spec.out_dir))
     throw OptionError("cannot create plot directory '" + spec.out_dir + "'" + (ec ? ": " + ec.message() : ""));
   const fs::path dir = fs::absolute(spec.out_dir).lexically_normal();
-  ScriptWriter writer(spec, tr, cols, impacts, impacts_total, coords, units, script_path(spec.trajectory_csv, dir));
+  ScriptWriter writer(spec, tr, cols, impacts, times, positions, coords, units,
+                      script_path(spec.trajectory_csv, dir));
   const fs::path script = dir / "plots.gp";
   write_file(script, writer.write());
 

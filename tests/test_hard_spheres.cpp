@@ -312,7 +312,8 @@ TEST(HardSpheres, ElasticGasConservesEnergyAndKeepsSpheresApartAndInside) {
   EXPECT_EQ(rep.samples, 1001u);
   EXPECT_GT(rep.steps, rep.impacts);  // cell crossings are events too
   std::printf("[ measured ] 200-sphere elastic gas: %llu impacts (%.0f per sphere), %llu events; "
-              "|T - T0|/T0 max %.2e; max overlap (sigma - d)/sigma %.2e; max excursion %.2e of L\n",
+              "|T - T0|/T0 max %.2e; over the samples max (sigma - d)/sigma %.2e, max excursion %.2e of L "
+              "(negative: none)\n",
               static_cast<unsigned long long>(rep.impacts), per_sphere, static_cast<unsigned long long>(rep.steps),
               drift, worst.overlap, worst.outside);
 }
@@ -573,8 +574,8 @@ TEST(HardSpheres, InelasticCollapseIsStoppedByTheTcModel) {
   const Geometry g = geometry(sys, f.spheres);
   EXPECT_LT(g.overlap, 1e-9);
   EXPECT_LT(g.outside, 1e-9);
-  std::printf("[ measured ] crushed sphere: %llu impacts with t_c = 1 ns (none without the guard: "
-              "max_events exceeded); heavy sphere leaves at %.6f m/s\n",
+  std::printf("[ measured ] crushed sphere: %llu impacts with t_c = 1 ns (without the guard: SimulationError "
+              "after max_events = 10000); heavy sphere leaves at %.6f m/s\n",
               static_cast<unsigned long long>(f.report.impacts), f.spheres[0].velocity.x());
 }
 

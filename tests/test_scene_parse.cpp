@@ -648,7 +648,7 @@ TEST(SceneErrors, EventDrivenEngineNeedsFreeFlightInABox) {
 }
 
 TEST(SceneErrors, UnreadableFile) {
-  const fs::path dir = fs::temp_directory_path() / "lagrangian_test_scene_parse";
+  const fs::path dir = fs::temp_directory_path() / "lagrangian_test_scene_parse_unreadable";
   fs::create_directories(dir);
   const std::string missing = (dir / "no_such_scene.toml").string();
   try {

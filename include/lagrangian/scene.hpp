@@ -58,14 +58,16 @@ struct Body {
 /// Spheres placed at random in the box (the course notes' gas molecules in a
 /// container): `count` spheres of one mass and radius, at the sites of a
 /// cubic lattice filling the box (so none overlap), with speed `speed` in
-/// directions drawn uniformly on the sphere from a seeded generator. Needs a
-/// box contact. Bodies are named <prefix>1, <prefix>2, …
+/// directions drawn uniformly on the sphere from a seeded generator, then
+/// shifted to zero total momentum and rescaled to rms speed `speed`
+/// (docs/scenes.md). Needs a box contact. Bodies are named <prefix>1,
+/// <prefix>2, …
 struct GasFill {
   static constexpr int max_count = 10'000'000;  ///< largest accepted `count`
   int count = 0;                  ///< number of spheres, in [1, max_count]
   double mass = 1.0;              ///< kg, > 0
   double radius = 0.01;           ///< m, > 0
-  double speed = 1.0;             ///< |ṙ(t0)| (m/s), ≥ 0
+  double speed = 1.0;             ///< rms of |ṙ(t0)| (m/s), ≥ 0
   std::uint64_t seed = 1;         ///< random seed (same seed, same gas)
   std::string prefix = "m";       ///< body name prefix
 };
@@ -254,6 +256,9 @@ struct Scene {
 /// A scene value is invalid: the message is
 ///   "<file>:<line>: <key>: <what is wrong>" (scene files) or
 ///   "scene: <key>: <what is wrong>" (scenes built in C++).
+/// Without a line for the key (nor for any parent) it is
+/// "<file>: <key>: <what is wrong>"; with an empty key (TOML syntax errors,
+/// unreadable files) the "<key>: " part is left out.
 class SceneError : public OptionError {
  public:
   SceneError(const std::string& key, const std::string& what, const SourceMap& source = {});

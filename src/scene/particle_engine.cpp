@@ -11,6 +11,7 @@
 #include "particle_engine.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -18,6 +19,7 @@
 #include <numeric>
 #include <sstream>
 #include <unordered_map>
+#include <utility>
 
 #include <Eigen/Dense>
 #include <boost/numeric/odeint/stepper/bulirsch_stoer.hpp>
@@ -46,14 +48,18 @@ void add(double* p, int i, const Vector3d& f) {
 }
 
 // -- force kernels -------------------------------------------------------------
+//
+// Each declared effect kind is one kernel. A kernel adds its accelerations
+// a = F/m (m/s²) to the right-hand side; its evaluations are counted. The
+// kernels are concrete types called directly (no virtual call) from a
+// right-hand side instantiated for the set of declared kinds (see
+// System::select_rhs); the virtual functions below serve reports only.
 
 struct Kernel {
   explicit Kernel(const char* k) : kind(k) {}
   virtual ~Kernel() = default;
   const char* kind;
   std::uint64_t evaluations = 0;
-  /// Adds this effect's forces (N) to F.
-  virtual void add_forces(const double* r, const double* v, double* F) = 0;
   /// Its potential energy (J); 0 for dissipative kernels.
   virtual double potential(const double*) const { return 0.0; }
   virtual bool dissipative() const { return false; }
@@ -61,13 +67,32 @@ struct Kernel {
   virtual bool external() const { return true; }
 };
 
+/// F_i = m_i g, so a_i = g; V = −Σ m_i g·r_i.
 struct GravityKernel final : Kernel {
   GravityKernel(const std::vector<double>& m, Vector3d g_) : Kernel("uniform_gravity"), mass(m), g(g_) {}
   std::vector<double> mass;
   Vector3d g;
-  void add_forces(const double*, const double*, double* F) override {
+  void add(const double*, const double*, double* a) {
     ++evaluations;
-    for (std::size_t i = 0; i < mass.size(); ++i) add(F, static_cast<int>(i), mass[i] * g);
+    const int n = static_cast<int>(mass.size());
+    for (int i = 0; i < n; ++i) {
+      a[3 * i] += g[0];
+      a[3 * i + 1] += g[1];
+      a[3 * i + 2] += g[2];
+    }
+  }
+  /// The first kernel of a right-hand side: writes ṙ = v and a = g.
+  void start(const double* v, double* dr, double* a, int dim) {
+    ++evaluations;
+    const double g0 = g[0], g1 = g[1], g2 = g[2];
+    for (int i = 0; i < dim; i += 3) {
+      dr[i] = v[i];
+      dr[i + 1] = v[i + 1];
+      dr[i + 2] = v[i + 2];
+      a[i] = g0;
+      a[i + 1] = g1;
+      a[i + 2] = g2;
+    }
   }
   double potential(const double* r) const override {
     double V = 0;
@@ -76,42 +101,47 @@ struct GravityKernel final : Kernel {
   }
 };
 
+/// F_i = −G m_i m_j (r_i − r_j)/|r_i − r_j|³ for every pair; V = −G m_i m_j/|r_i − r_j|.
 struct NewtonKernel final : Kernel {
   NewtonKernel(const std::vector<double>& m, double G_) : Kernel("newtonian_gravity"), mass(m), G(G_) {}
   std::vector<double> mass;
   double G;
-  void add_forces(const double* r, const double*, double* F) override {
+  void add(const double* r, const double*, double* a) {
     ++evaluations;
     const int n = static_cast<int>(mass.size());
     for (int i = 0; i < n; ++i)
       for (int j = i + 1; j < n; ++j) {
         const Vector3d d = at(r, i) - at(r, j);
         const double d2 = d.squaredNorm();
-        const Vector3d f = (-G * mass[i] * mass[j] / (d2 * std::sqrt(d2))) * d;
-        add(F, i, f);
-        add(F, j, -f);
+        const Vector3d f = (-G / (d2 * std::sqrt(d2))) * d;  // per unit mass of each
+        add3(a, i, mass[static_cast<std::size_t>(j)] * f);
+        add3(a, j, -mass[static_cast<std::size_t>(i)] * f);
       }
   }
   double potential(const double* r) const override {
     double V = 0;
     const int n = static_cast<int>(mass.size());
     for (int i = 0; i < n; ++i)
-      for (int j = i + 1; j < n; ++j) V -= G * mass[i] * mass[j] / (at(r, i) - at(r, j)).norm();
+      for (int j = i + 1; j < n; ++j)
+        V -= G * mass[static_cast<std::size_t>(i)] * mass[static_cast<std::size_t>(j)] / (at(r, i) - at(r, j)).norm();
     return V;
   }
   bool external() const override { return false; }
+  static void add3(double* a, int i, const Vector3d& f) { lagrangian::scene::detail::add(a, i, f); }
 };
 
 struct SpringData {
   int a, b;  // b = -1: anchored
   Vector3d anchor;
   double k, L0;
+  double inv_ma, inv_mb;  // 1/m of each end (0 for an anchor)
 };
 
+/// F_a = −k (l − L₀) d/l, d = r_a − r_b, l = |d|; V = ½ k (l − L₀)².
 struct SpringKernel final : Kernel {
   explicit SpringKernel(std::vector<SpringData> s) : Kernel("springs"), springs(std::move(s)) {}
   std::vector<SpringData> springs;
-  void add_forces(const double* r, const double*, double* F) override {
+  void add(const double* r, const double*, double* acc) {
     ++evaluations;
     for (const auto& s : springs) {
       const Vector3d d = at(r, s.a) - (s.b >= 0 ? at(r, s.b) : s.anchor);
@@ -122,8 +152,8 @@ struct SpringKernel final : Kernel {
         const double l = d.norm();
         f = (-s.k * (l - s.L0) / l) * d;  // l = 0 gives NaN, caught as a non-finite state
       }
-      add(F, s.a, f);
-      if (s.b >= 0) add(F, s.b, -f);
+      lagrangian::scene::detail::add(acc, s.a, s.inv_ma * f);
+      if (s.b >= 0) lagrangian::scene::detail::add(acc, s.b, -s.inv_mb * f);
     }
   }
   double potential(const double* r) const override {
@@ -139,27 +169,29 @@ struct SpringKernel final : Kernel {
   }
 };
 
+/// F = −b v (Rayleigh D = ½ b |v|²).
 struct LinearDragKernel final : Kernel {
-  LinearDragKernel(std::vector<int> b, std::vector<double> c) : Kernel("linear_drag"), body(std::move(b)), coeff(std::move(c)) {}
+  LinearDragKernel(std::vector<int> b, std::vector<double> c) : Kernel("linear_drag"), body(std::move(b)), rate(std::move(c)) {}
   std::vector<int> body;
-  std::vector<double> coeff;  // b (kg/s) per entry
-  void add_forces(const double*, const double* v, double* F) override {
+  std::vector<double> rate;  // b/m (1/s) per entry
+  void add(const double*, const double* v, double* a) {
     ++evaluations;
-    for (std::size_t k = 0; k < body.size(); ++k) add(F, body[k], -coeff[k] * at(v, body[k]));
+    for (std::size_t k = 0; k < body.size(); ++k) lagrangian::scene::detail::add(a, body[k], -rate[k] * at(v, body[k]));
   }
   bool dissipative() const override { return true; }
 };
 
+/// F = −c |v| v (D = ⅓ c |v|³).
 struct QuadraticDragKernel final : Kernel {
   QuadraticDragKernel(std::vector<int> b, std::vector<double> c)
-      : Kernel("quadratic_drag"), body(std::move(b)), coeff(std::move(c)) {}
+      : Kernel("quadratic_drag"), body(std::move(b)), rate(std::move(c)) {}
   std::vector<int> body;
-  std::vector<double> coeff;  // c (kg/m) per entry
-  void add_forces(const double*, const double* v, double* F) override {
+  std::vector<double> rate;  // c/m (1/m) per entry
+  void add(const double*, const double* v, double* a) {
     ++evaluations;
     for (std::size_t k = 0; k < body.size(); ++k) {
       const Vector3d u = at(v, body[k]);
-      add(F, body[k], -coeff[k] * u.norm() * u);
+      lagrangian::scene::detail::add(a, body[k], -rate[k] * u.norm() * u);
     }
   }
   bool dissipative() const override { return true; }
@@ -307,26 +339,39 @@ class System {
     };
 
     // Only the declared effects become kernels.
-    if (scene.gravity) kernels_.push_back(std::make_unique<GravityKernel>(mass_, scene.gravity->g));
-    if (scene.newtonian_gravity) kernels_.push_back(std::make_unique<NewtonKernel>(mass_, scene.newtonian_gravity->G));
+    auto inv = [&](int i) { return i < 0 ? 0.0 : 1.0 / mass_[static_cast<std::size_t>(i)]; };
+    if (scene.gravity) {
+      kernels_.push_back(std::make_unique<GravityKernel>(mass_, scene.gravity->g));
+      gravity_ = static_cast<GravityKernel*>(kernels_.back().get());
+    }
+    if (scene.newtonian_gravity) {
+      kernels_.push_back(std::make_unique<NewtonKernel>(mass_, scene.newtonian_gravity->G));
+      newton_ = static_cast<NewtonKernel*>(kernels_.back().get());
+    }
     if (!scene.springs.empty()) {
       std::vector<SpringData> s;
-      for (const auto& sp : scene.springs) s.push_back({body(sp.a), body(sp.b), sp.anchor, sp.stiffness, sp.rest_length});
+      for (const auto& sp : scene.springs) {
+        const int a = body(sp.a), b = body(sp.b);
+        s.push_back({a, b, sp.anchor, sp.stiffness, sp.rest_length, inv(a), inv(b)});
+      }
       kernels_.push_back(std::make_unique<SpringKernel>(std::move(s)));
+      springs_ = static_cast<SpringKernel*>(kernels_.back().get());
     }
     if (!scene.linear_drag.empty()) {
       std::vector<int> b;
       std::vector<double> c;
       for (const auto& d : scene.linear_drag)
-        for (int i : members(d.bodies)) b.push_back(i), c.push_back(d.coefficient);
+        for (int i : members(d.bodies)) b.push_back(i), c.push_back(d.coefficient * inv(i));
       kernels_.push_back(std::make_unique<LinearDragKernel>(std::move(b), std::move(c)));
+      linear_drag_ = static_cast<LinearDragKernel*>(kernels_.back().get());
     }
     if (!scene.quadratic_drag.empty()) {
       std::vector<int> b;
       std::vector<double> c;
       for (const auto& d : scene.quadratic_drag)
-        for (int i : members(d.bodies)) b.push_back(i), c.push_back(d.coefficient);
+        for (int i : members(d.bodies)) b.push_back(i), c.push_back(d.coefficient * inv(i));
       kernels_.push_back(std::make_unique<QuadraticDragKernel>(std::move(b), std::move(c)));
+      quadratic_drag_ = static_cast<QuadraticDragKernel*>(kernels_.back().get());
     }
 
     for (std::size_t k = 0; k < scene.links.size(); ++k) {
@@ -396,9 +441,8 @@ class System {
     }
     has_contacts_ = has_pairs_ || !wall_contacts_.empty();
     constrained_ = fixed_rows_ > 0 || has_contacts_;  // contacts may come to rest
-    F_.resize(dim_);
-    a_.resize(dim_);
     resize_rows();
+    select_rhs();
   }
 
   int bodies() const { return n_; }
@@ -415,25 +459,53 @@ class System {
   }
   const std::vector<Row>& rows() const { return rows_; }
   int fixed_rows() const { return fixed_rows_; }
-  std::uint64_t* rhs_counter = nullptr;
+  std::uint64_t rhs_evaluations = 0;
   double omega = 0;  // Baumgarte rate (1/s); 0: none
   std::uint64_t constraint_solves = 0, contact_sweeps = 0, pair_candidates = 0;
 
-  /// ẋ = [v; a].
-  void rhs(const double* x, double* dx, double t) {
-    (void)t;
-    if (rhs_counter) ++*rhs_counter;
+  /// ẋ = [v; a], through the right-hand side composed for this scene.
+  void rhs(const double* x, double* dx, double t) { rhs_fn_(*this, x, dx, t); }
+
+  /// The right-hand side for one set of declared kinds (bits: uniform
+  /// gravity, Newtonian gravity, springs, linear drag, quadratic drag) and
+  /// with or without constraint rows. Undeclared kinds are not in the code.
+  template <unsigned Kinds, bool Constrained>
+  static void rhs_for(System& s, const double* x, double* dx, double) {
+    ++s.rhs_evaluations;
+    const int dim = s.dim_;
     const double* r = x;
-    const double* v = x + dim_;
-    F_.setZero();
-    for (auto& k : kernels_) k->add_forces(r, v, F_.data());
-    if (constrained_ && !rows_.empty()) {
-      solve_constrained(r, v);
+    const double* v = x + dim;
+    double* a = dx + dim;
+    if constexpr ((Kinds & 1u) != 0) {
+      s.gravity_->start(v, dx, a, dim);  // ṙ = v and a = g in one pass
     } else {
-      a_ = F_.cwiseProduct(inv_mass3_);
+      for (int i = 0; i < dim; ++i) {
+        dx[i] = v[i];
+        a[i] = 0.0;
+      }
     }
-    std::copy(v, v + dim_, dx);
-    std::copy(a_.data(), a_.data() + dim_, dx + dim_);
+    if constexpr ((Kinds & 2u) != 0) s.newton_->add(r, v, a);
+    if constexpr ((Kinds & 4u) != 0) s.springs_->add(r, v, a);
+    if constexpr ((Kinds & 8u) != 0) s.linear_drag_->add(r, v, a);
+    if constexpr ((Kinds & 16u) != 0) s.quadratic_drag_->add(r, v, a);
+    if constexpr (Constrained) s.constrain(r, v, a);
+  }
+
+  using RhsFn = void (*)(System&, const double*, double*, double);
+  template <unsigned... K>
+  static constexpr std::array<RhsFn, 64> rhs_table(std::integer_sequence<unsigned, K...>) {
+    return {rhs_for<(K >> 1), (K & 1u) != 0>...};
+  }
+  /// Chooses the right-hand side once, from what the scene declares.
+  void select_rhs() {
+    unsigned kinds = 0;
+    if (gravity_) kinds |= 1u;
+    if (newton_) kinds |= 2u;
+    if (springs_) kinds |= 4u;
+    if (linear_drag_) kinds |= 8u;
+    if (quadratic_drag_) kinds |= 16u;
+    static constexpr auto table = rhs_table(std::make_integer_sequence<unsigned, 64>{});
+    rhs_fn_ = table[(kinds << 1) | (constrained_ ? 1u : 0u)];
   }
 
   /// Multipliers of the last constrained right-hand side.
@@ -485,7 +557,9 @@ class System {
     cod_.compute(S_);
   }
 
-  void solve_constrained(const double* r, const double* v) {
+  /// a ← a + M⁻¹Cᵀλ with S λ = −(C a + γ + b), a the unconstrained accelerations.
+  void constrain(const double* r, const double* v, double* a) {
+    if (rows_.empty()) return;  // contacts only, none resting now
     ++constraint_solves;
     assemble(r);
     Eigen::Map<const Eigen::VectorXd> vv(v, dim_);
@@ -495,10 +569,10 @@ class System {
       if (omega > 0) b += 2 * omega * C_.row(k).dot(vv) + omega * omega * row.value(r);
       rhs_m_[k] = -b;
     }
-    rhs_m_.noalias() -= MinvCt_.transpose() * F_;
+    Eigen::Map<Eigen::VectorXd> acc(a, dim_);
+    rhs_m_.noalias() -= C_ * acc;
     lambda_ = cod_.solve(rhs_m_);
-    a_ = F_.cwiseProduct(inv_mass3_);
-    a_.noalias() += MinvCt_ * lambda_;
+    acc.noalias() += MinvCt_ * lambda_;
   }
 
   double position_residual(const double* r) const {
@@ -715,7 +789,13 @@ class System {
   std::unordered_map<std::uint64_t, Contact> pairs_;
   std::vector<Contact*> rest_contacts_;
   std::vector<Span> spans_;
-  Eigen::VectorXd F_, a_, rhs_m_, lambda_;
+  Eigen::VectorXd rhs_m_, lambda_;
+  GravityKernel* gravity_ = nullptr;
+  NewtonKernel* newton_ = nullptr;
+  SpringKernel* springs_ = nullptr;
+  LinearDragKernel* linear_drag_ = nullptr;
+  QuadraticDragKernel* quadratic_drag_ = nullptr;
+  RhsFn rhs_fn_ = nullptr;
   Eigen::MatrixXd C_, MinvCt_, S_;
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_;
 };
@@ -845,18 +925,18 @@ class Runner {
   ParticleRun go() {
     const auto wall_start = std::chrono::steady_clock::now();
     const int dim = sys_.dim();
+    fixed_step_ = run_.method == "rk4";
     RunReport& rep = out_.report;
     rep.model = scene_.name;
     for (const auto& nm : sys_.names())
       for (const char* ax : {".x", ".y", ".z"}) rep.coordinates.push_back(nm + ax);
     rep.method = run_.method;
-    rep.adaptive = run_.method != "rk4";
+    rep.adaptive = !fixed_step_;
     rep.rtol = run_.rtol;
     rep.atol = run_.atol;
     rep.dt = run_.dt;
     rep.t0 = run_.t0;
     rep.t_end = run_.t_end;
-    sys_.rhs_counter = &rep.rhs_evaluations;
     if (run_.stabilization == Stabilization::baumgarte) sys_.omega = run_.baumgarte_omega;
 
     x_.assign(static_cast<std::size_t>(2 * dim), 0.0);
@@ -906,7 +986,7 @@ class Runner {
       double dt_try;
       bool clamped;
       const double grid = run_.t0 + static_cast<double>(k_grid + 1) * run_.dt;
-      if (run_.method == "rk4") {
+      if (fixed_step_) {
         dt_try = std::min(grid, limit) - t;
         clamped = true;
       } else {
@@ -930,7 +1010,7 @@ class Runner {
         dt = dt_try;
         continue;
       }
-      if (clamped) t = run_.method == "rk4" ? t_old + dt_try : limit;
+      if (clamped) t = fixed_step_ ? t_old + dt_try : limit;
       ++rep.steps;
       check_finite(t);
       bool moved = false;
@@ -938,7 +1018,7 @@ class Runner {
         moved = handle_contacts(t_old, t);
         if (moved) stepper_->reset();
       }
-      if (run_.method == "rk4" && t >= grid - 1e-15 * std::max(1.0, std::abs(grid))) ++k_grid;
+      if (fixed_step_ && t >= grid - 1e-15 * std::max(1.0, std::abs(grid))) ++k_grid;
       if (!sys_.rows().empty() && run_.stabilization == Stabilization::projection) {
         const auto ps = std::chrono::steady_clock::now();
         const int it = sys_.project(x_.data(), 1e-12);
@@ -962,8 +1042,8 @@ class Runner {
         while (next_output_ <= t + 1e-12 * std::max(1.0, std::abs(t))) next_output_ += run_.output_interval;
       }
       if (tick_) tick_(t);
-      if (run_.method != "rk4") dt = clamped ? std::max(dt, dt_try) : dt_try;
-      if (run_.method == "rk4") dt = run_.dt;
+      if (!fixed_step_) dt = clamped ? std::max(dt, dt_try) : dt_try;
+      if (fixed_step_) dt = run_.dt;
     }
     if (rep.samples == 0 || last_sample_t_ != t) observe(t);
     rep.t_final = t;
@@ -974,6 +1054,7 @@ class Runner {
       rep.constraints.final_position_residual = sys_.position_residual(x_.data());
       rep.constraints.final_velocity_residual = sys_.velocity_residual(x_.data());
     }
+    rep.rhs_evaluations = sys_.rhs_evaluations;
     out_.q_final.assign(x_.begin(), x_.begin() + dim);
     out_.qd_final.assign(x_.begin() + dim, x_.end());
     out_.effect_evaluations = sys_.counts();
@@ -1212,12 +1293,23 @@ class Runner {
   X x_, xprev_, f0_, f1_;
   std::vector<Contact*> cand_;
   double E0_ = 0, shift_ = 0;
+  bool fixed_step_ = false;  // rk4: steps on the grid t0 + k dt
   bool f_cached_ = false;  // f1_ holds the derivative at the current state
   Vector3d P0_ = Vector3d::Zero(), L0_ = Vector3d::Zero();
   double next_output_ = 0, last_sample_t_ = std::numeric_limits<double>::quiet_NaN();
 };
 
 }  // namespace
+
+struct ComposedRhs::Impl {
+  explicit Impl(const Scene& s) : system(s) {}
+  System system;
+};
+ComposedRhs::ComposedRhs(const Scene& scene) : impl_(std::make_unique<Impl>(scene)) {}
+ComposedRhs::~ComposedRhs() = default;
+int ComposedRhs::size() const { return 2 * impl_->system.dim(); }
+void ComposedRhs::operator()(const double* x, double* dx, double t) { impl_->system.rhs(x, dx, t); }
+std::uint64_t ComposedRhs::evaluations() const { return impl_->system.rhs_evaluations; }
 
 ParticleRun run_particles(const Scene& scene, const ParticleSample& sample, const SampleTick& tick) {
   Runner runner(scene, sample, tick);

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,23 @@ struct ParticleRun {
   RunReport report;
   std::map<std::string, std::uint64_t> effect_evaluations;
   std::vector<double> q_final, qd_final;
+};
+
+/// The right-hand side ẋ = [v; a] a particle scene composes when it is built
+/// (for benchmarks: the same code the ODE engine calls).
+class ComposedRhs {
+ public:
+  explicit ComposedRhs(const Scene& scene);
+  ~ComposedRhs();
+  ComposedRhs(const ComposedRhs&) = delete;
+  ComposedRhs& operator=(const ComposedRhs&) = delete;
+  int size() const;  ///< 6N
+  void operator()(const double* x, double* dx, double t);
+  std::uint64_t evaluations() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
 };
 
 /// Runs a validated scene whose gas (if any) has been expanded.

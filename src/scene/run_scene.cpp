@@ -194,15 +194,18 @@ RunResult run(const Scene& input, const RunControls& controls) {
   const bool write = controls.write_outputs;
   if (write) prepare_directory(scene);
   const std::string traj = (fs::path(dir) / "trajectory.csv").string();
-  Progress progress(scene.run.t0, scene.run.t_end, controls.progress && Progress::stderr_is_terminal());
+  const bool show_progress = controls.progress && Progress::stderr_is_terminal();
+  Progress progress(scene.run.t0, scene.run.t_end, show_progress);
+  // Without a progress bar the engines get no per-step callback at all.
+  const detail::SampleTick tick = show_progress ? detail::SampleTick([&progress](double t) { progress.update(t); })
+                                                : detail::SampleTick();
   try {
     if (write) remove_outputs(dir);
     const bool want_csv = write && scene.output.trajectory;
     if (result.engine == "model") {
       const detail::ModelEntry* entry = detail::find_entry(scene.model->name);
       if (!entry) throw SceneError("model.name", "unknown model '" + scene.model->name + "'", scene.source);
-      result.report = entry->run(*scene.model, options_of(scene.run), want_csv ? traj : std::string(),
-                                 [&progress](double t) { progress.update(t); });
+      result.report = entry->run(*scene.model, options_of(scene.run), want_csv ? traj : std::string(), tick);
     } else {
       std::optional<CsvSink> csv;
       Columns columns;
@@ -228,7 +231,7 @@ RunResult run(const Scene& input, const RunControls& controls) {
           s.energy = energy;
           (*csv)(s);
         };
-        auto run = detail::run_particles(scene, sample, [&progress](double t) { progress.update(t); });
+        auto run = detail::run_particles(scene, sample, tick);
         result.report = std::move(run.report);
         result.effect_evaluations = std::move(run.effect_evaluations);
         result.q_final = std::move(run.q_final);
