@@ -1,0 +1,96 @@
+#!/usr/bin/env bash
+# The `lagrangian` command as a user meets it: exit codes (0 ok, 1 run
+# failed, 2 bad input), the files a run writes, and the one-line errors.
+# Usage: run_cli.sh LAGRANGIAN_BINARY SOURCE_DIR WORK_DIR
+set -uo pipefail
+bin=$1
+src=$2
+work=$3
+rm -rf "$work"
+mkdir -p "$work"
+fails=0
+
+expect() {  # expect CODE PATTERN -- command...
+  local code=$1 pattern=$2
+  shift 3
+  local out
+  out=$("$@" 2>&1)
+  local rc=$?
+  if [ "$rc" -ne "$code" ]; then
+    echo "FAIL: '$*' exited $rc, expected $code"; echo "$out" | head -20; fails=$((fails + 1)); return
+  fi
+  if [ -n "$pattern" ] && ! grep -qE -- "$pattern" <<<"$out"; then
+    echo "FAIL: '$*' output lacks /$pattern/"; echo "$out" | head -20; fails=$((fails + 1)); return
+  fi
+  echo "ok: $* -> $rc"
+}
+
+# Help on every command.
+expect 0 "run.*inspect.*list|Subcommands" -- "$bin" --help
+expect 0 "--t-end" -- "$bin" run --help
+expect 0 "scene" -- "$bin" inspect --help
+expect 0 "" -- "$bin" list --help
+
+# list: built-in models and example scenes.
+expect 0 "double_pendulum" -- "$bin" list
+expect 0 "bouncing_ball.toml" -- "$bin" list
+
+# A run writes its files and prints a summary with the cost and the accuracy.
+expect 0 "RHS evaluations.*wall" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --out "$work/ball" --no-plots
+for f in trajectory.csv events.csv report.json; do
+  [ -s "$work/ball/$f" ] || { echo "FAIL: $work/ball/$f missing"; fails=$((fails + 1)); }
+done
+grep -q '"engine": "ode"' "$work/ball/report.json" || { echo "FAIL: report.json lacks the engine"; fails=$((fails + 1)); }
+head -1 "$work/ball/trajectory.csv" | grep -q '^t,ball.x,ball.y,ball.z,ball.x_dot' || { echo "FAIL: trajectory header"; fails=$((fails + 1)); }
+# Overrides from the command line.
+expect 0 "t = 0 .. 0.5 s" -- "$bin" run "$src/examples/scenes/link_pendulum.toml" --out "$work/pend" --t-end 0.5 --method rk4 --no-plots
+expect 0 "closed form" -- "$bin" run "$src/examples/scenes/kepler.toml" --out "$work/kepler" --rtol 1e-8 --atol 1e-10 --no-plots
+# Quiet in a pipe: no progress bar characters on stderr.
+"$bin" run "$src/examples/scenes/bouncing_ball.toml" --out "$work/quiet" --no-plots 2>"$work/stderr.txt" >/dev/null
+[ ! -s "$work/stderr.txt" ] || { echo "FAIL: stderr not empty in a pipe"; cat "$work/stderr.txt"; fails=$((fails + 1)); }
+
+# inspect: DOF and conserved quantities.
+expect 0 "DOF +4 = 6 coordinates" -- "$bin" inspect "$src/examples/scenes/double_pendulum_links.toml"
+expect 0 "rank" -- "$bin" inspect "$src/examples/scenes/cartesian_double_pendulum.toml"
+
+# Bad input: exit 2 with a one-line error naming the file, the line and the key.
+cat > "$work/typo.toml" <<'TOML'
+[[bodies]]
+name = "ball"
+mas = 1.0
+TOML
+expect 2 "typo.toml:3: bodies\[0\]\.mas: .*did you mean 'mass'" -- "$bin" run "$work/typo.toml" --out "$work/typo"
+[ ! -e "$work/typo/report.json" ] || { echo "FAIL: a bad scene left report.json"; fails=$((fails + 1)); }
+expect 2 "cannot|No such|not found|unreadable" -- "$bin" run "$work/does_not_exist.toml"
+expect 2 "--rtol" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --rtol -1 --out "$work/x"
+expect 2 "--t-end" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --t-end -3 --out "$work/x"
+expect 2 "did you mean 'dopri5'" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --method dopri --out "$work/x"
+expect 2 "" -- "$bin" run
+expect 2 "" -- "$bin" frobnicate
+touch "$work/blocker"
+expect 2 "output.directory" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --out "$work/blocker/sub"
+
+# A run that fails part-way: exit 1, no output that looks complete.
+cat > "$work/short.toml" <<'TOML'
+[run]
+t_end = 10.0
+max_steps = 3
+[[bodies]]
+name = "m"
+mass = 1.0
+position = [1.0, 0.0, 0.0]
+[[springs]]
+a = "m"
+anchor = [0.0, 0.0, 0.0]
+stiffness = 1.0
+TOML
+expect 1 "max_steps" -- "$bin" run "$work/short.toml" --out "$work/short"
+for f in trajectory.csv events.csv report.json trajectory.csv.partial; do
+  [ ! -e "$work/short/$f" ] || { echo "FAIL: failed run left $f"; fails=$((fails + 1)); }
+done
+
+if [ "$fails" -ne 0 ]; then
+  echo "$fails CLI check(s) failed"
+  exit 1
+fi
+echo "all CLI checks passed"
