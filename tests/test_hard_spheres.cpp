@@ -2,7 +2,7 @@
 // oblique impacts, a sphere bouncing in a box), conservation laws in a gas,
 // an independent all-pairs event-driven reference (the cell grid must miss
 // no collision), the energy bookkeeping of inelastic impacts, the inelastic
-// collapse guard, and the validation messages.
+// collapse guard, allocations per event, and the validation messages.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <new>
 #include <random>
 #include <string>
 #include <vector>

@@ -39,10 +39,10 @@
 /// time, e.g. a sphere trapped between two others or against a wall) is
 /// avoided with the TC model of S. Luding and S. McNamara, "How to handle the
 /// inelastic collapse of a dissipative hard-sphere gas with the TC model",
-/// Granular Matter 1, 113 (1998): a collision that comes within
-/// HardSphereOptions::collapse_time of the previous impact of either sphere
-/// is elastic (e = 1). Runs whose restitution coefficients are all 1 are not
-/// affected.
+/// Granular Matter 1, 113 (1998): a collision (with a sphere or a wall) that
+/// comes within HardSphereOptions::collapse_time of the previous impact of
+/// either sphere is elastic (e = 1). Runs whose restitution coefficients are
+/// all 1 are not affected.
 ///
 /// **Event queue and broad phase** (the scheme of D. C. Rapaport, "The Art of
 /// Molecular Dynamics Simulation", 2nd ed., Cambridge 2004, ch. 14, and
@@ -52,14 +52,16 @@
 /// taken part in; an event records the counts of its spheres when it was
 /// predicted and is dropped, when it comes up, if one of them has changed.
 /// The box is divided into a grid of cells no narrower than the largest
-/// diameter; a sphere's possible partners are looked for only in the 27 cells
-/// around its own, and moving from one cell to the next is an event that
-/// looks for partners in the layer of 9 cells that has come into range. Per
+/// diameter (and at most ~8 cells per sphere); a sphere's possible partners
+/// are looked for only in the 27 cells around its own, and moving from one
+/// cell to the next is an event that looks for partners in the layer of 9
+/// cells that has come into range. Per
 /// collision the work is then O(1) candidates plus O(log H) for the heap of
 /// H entries, so a gas of N spheres costs O(N log N) per unit simulated time.
 /// Stale entries are left in the heap until they come up, and purged in one
 /// pass when the heap outgrows max(8 N + 1024, twice its size after the
-/// last purge); its storage is reserved up front, so events allocate nothing.
+/// last purge); its storage is reserved up front (and grows geometrically
+/// if it must), so processing an event allocates nothing.
 ///
 /// Units: SI throughout (m, kg, s, m/s, J, N·s).
 

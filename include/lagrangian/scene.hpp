@@ -264,9 +264,12 @@ class SceneError : public OptionError {
   SceneError(const std::string& key, const std::string& what, const SourceMap& source = {});
   const std::string& key() const noexcept { return key_; }
   int line() const noexcept { return line_; }
+  /// What is wrong, without the file, line and key.
+  const std::string& message() const noexcept { return message_; }
 
  private:
   std::string key_;
+  std::string message_;
   int line_ = 0;
 };
 

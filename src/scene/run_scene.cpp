@@ -205,7 +205,13 @@ RunResult run(const Scene& input, const RunControls& controls) {
     if (result.engine == "model") {
       const detail::ModelEntry* entry = detail::find_entry(scene.model->name);
       if (!entry) throw SceneError("model.name", "unknown model '" + scene.model->name + "'", scene.source);
-      result.report = entry->run(*scene.model, options_of(scene.run), want_csv ? traj : std::string(), tick);
+      try {
+        result.report = entry->run(*scene.model, options_of(scene.run), want_csv ? traj : std::string(), tick);
+      } catch (const SceneError& e) {
+        if (!e.key().empty() && e.line() == 0 && !scene.source.file.empty())
+          throw SceneError(e.key(), e.message(), scene.source);  // point at the scene file's line
+        throw;
+      }
     } else {
       std::optional<CsvSink> csv;
       Columns columns;
@@ -273,7 +279,13 @@ std::string inspect(const Scene& input) {
   if (scene.model) {
     const detail::ModelEntry* entry = detail::find_entry(scene.model->name);
     if (!entry) throw SceneError("model.name", "unknown model '" + scene.model->name + "'", scene.source);
-    return entry->inspect(*scene.model, scene.run.t0);
+    try {
+      return entry->inspect(*scene.model, scene.run.t0);
+    } catch (const SceneError& e) {
+      if (!e.key().empty() && e.line() == 0 && !scene.source.file.empty())
+        throw SceneError(e.key(), e.message(), scene.source);
+      throw;
+    }
   }
   return detail::inspect_particles(scene);
 }

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <map>
 #include <numbers>
 #include <random>
 #include <set>
@@ -288,7 +289,10 @@ std::string scene_message(const std::string& key, const std::string& what, const
 }  // namespace
 
 SceneError::SceneError(const std::string& key, const std::string& what, const SourceMap& source)
-    : OptionError(scene_message(key, what, source, source.line_of(key))), key_(key), line_(source.line_of(key)) {}
+    : OptionError(scene_message(key, what, source, source.line_of(key))),
+      key_(key),
+      message_(what),
+      line_(source.line_of(key)) {}
 
 std::string nearest(const std::string& word, const std::vector<std::string>& candidates) {
   constexpr std::size_t kMaxCells = 1u << 16;  // long words get no hint rather than a slow one
@@ -717,6 +721,73 @@ class Validator {
 
   static bool overlapping(double d, double sum) { return d < sum * (1.0 - 1e-12); }
 
+  /// Finds a pair of overlapping spheres among `set` in time linear in its
+  /// size for usual scenes: spheres are sorted into grids by size class
+  /// (radius in [2^k, 2^(k+1)), cells of 2^(k+2)), and each sphere looks only
+  /// at the few cells around it in its own class and in every larger one.
+  /// Point masses overlap nothing but the inside of spheres.
+  void check_pairs(const std::vector<BodyRef>& set) const {
+    using Key = std::array<std::int64_t, 3>;
+    struct KeyHash {
+      std::size_t operator()(const Key& k) const noexcept {
+        std::uint64_t h = 0x9e3779b97f4a7c15ull;
+        for (const auto v : k) h = (h ^ static_cast<std::uint64_t>(v)) * 0xff51afd7ed558ccdull;
+        return static_cast<std::size_t>(h ^ (h >> 29));
+      }
+    };
+    struct Level {
+      double cell = 0;
+      double rmax = 0;
+      std::unordered_map<Key, std::vector<std::size_t>, KeyHash> cells;
+    };
+    // Cell index along one axis; far cells are lumped (2^50 keeps the
+    // arithmetic exact, so a neighbourhood is at most 4 cells wide).
+    auto cell_of = [](double x, double cell) {
+      return static_cast<std::int64_t>(std::clamp(std::floor(x / cell), -0x1p50, 0x1p50));
+    };
+    std::vector<Vec3> p(set.size());
+    std::vector<double> r(set.size());
+    for (std::size_t i = 0; i < set.size(); ++i) {
+      p[i] = position(set[i]);
+      r[i] = radius(set[i]);
+    }
+    std::map<int, Level> levels;
+    for (std::size_t i = 0; i < set.size(); ++i) {
+      if (!(r[i] > 0)) continue;
+      const int k = std::ilogb(r[i]);
+      Level& L = levels[k];
+      L.cell = std::ldexp(1.0, k + 2);
+      L.rmax = std::max(L.rmax, r[i]);
+      L.cells[{cell_of(p[i].x(), L.cell), cell_of(p[i].y(), L.cell), cell_of(p[i].z(), L.cell)}].push_back(i);
+    }
+    for (std::size_t i = 0; i < set.size(); ++i) {
+      const bool point = !(r[i] > 0);
+      const int own = point ? 0 : std::ilogb(r[i]);
+      for (auto it = point ? levels.begin() : levels.find(own); it != levels.end(); ++it) {
+        const Level& L = it->second;
+        const bool same = !point && it->first == own;
+        const double reach = r[i] + L.rmax;
+        Key lo, hi;
+        for (int a = 0; a < 3; ++a) {
+          lo[static_cast<std::size_t>(a)] = cell_of(p[i][a] - reach, L.cell);
+          hi[static_cast<std::size_t>(a)] = cell_of(p[i][a] + reach, L.cell);
+        }
+        for (std::int64_t cx = lo[0]; cx <= hi[0]; ++cx)
+          for (std::int64_t cy = lo[1]; cy <= hi[1]; ++cy)
+            for (std::int64_t cz = lo[2]; cz <= hi[2]; ++cz) {
+              const auto found = L.cells.find({cx, cy, cz});
+              if (found == L.cells.end()) continue;
+              for (const std::size_t j : found->second) {
+                if (same && j >= i) continue;                   // each pair once, from its later sphere
+                if (set[i].gas && set[j].gas) continue;        // lattice sites never overlap
+                const double d = (p[i] - p[j]).norm();
+                if (overlapping(d, r[i] + r[j])) overlap_failure(set[std::min(i, j)], set[std::max(i, j)], d);
+              }
+            }
+      }
+    }
+  }
+
   void check_overlaps() const {
     if (!s_.sphere_contacts) return;
     // The spheres that collide with each other.
@@ -732,40 +803,8 @@ class Validator {
         if (r && seen.insert({r->gas, r->index}).second) set.push_back(*r);
       }
     }
-    // Pairs among explicit bodies and listed molecules: sweep along the axis
-    // of largest spread so that only neighbours along it are compared.
-    if (set.size() > 1) {
-      Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-      for (const auto& r : set) {
-        lo = lo.cwiseMin(position(r));
-        hi = hi.cwiseMax(position(r));
-      }
-      int axis = 0;
-      (hi - lo).maxCoeff(&axis);
-      std::vector<std::size_t> order(set.size());
-      for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-      std::stable_sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) {
-        return position(set[i])[axis] - radius(set[i]) < position(set[j])[axis] - radius(set[j]);
-      });
-      std::vector<std::size_t> active;
-      for (const std::size_t i : order) {
-        const Vec3 pi = position(set[i]);
-        const double ri = radius(set[i]);
-        std::size_t kept = 0;
-        for (const std::size_t j : active) {
-          if (position(set[j])[axis] + radius(set[j]) < pi[axis] - ri) continue;  // left behind for good
-          active[kept++] = j;
-          if (set[i].gas && set[j].gas) continue;  // lattice sites never overlap
-          const double d = (pi - position(set[j])).norm();
-          if (overlapping(d, ri + radius(set[j]))) {
-            const bool i_later = i > j;
-            overlap_failure(set[i_later ? j : i], set[i_later ? i : j], d);
-          }
-        }
-        active.resize(kept);
-        active.push_back(i);
-      }
-    }
+    // Pairs among explicit bodies and listed molecules.
+    if (set.size() > 1) check_pairs(set);
     // Every molecule collides: compare each explicit body with the nearest
     // lattice site of each block of filled sites.
     if (all_gas) {

@@ -61,6 +61,14 @@ mas = 1.0
 TOML
 expect 2 "typo.toml:3: bodies\[0\]\.mas: .*did you mean 'mass'" -- "$bin" run "$work/typo.toml" --out "$work/typo"
 [ ! -e "$work/typo/report.json" ] || { echo "FAIL: a bad scene left report.json"; fails=$((fails + 1)); }
+# A model parameter the model itself rejects, at its line in the file.
+cat > "$work/badparam.toml" <<'TOML'
+[model]
+name = "simple_pendulum"
+[model.parameters]
+l = -1.0
+TOML
+expect 2 "badparam.toml:4: model.parameters.l: .*-1" -- "$bin" run "$work/badparam.toml" --out "$work/badparam"
 expect 2 "cannot|No such|not found|unreadable" -- "$bin" run "$work/does_not_exist.toml"
 expect 2 "--rtol" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --rtol -1 --out "$work/x"
 expect 2 "--t-end" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --t-end -3 --out "$work/x"
