@@ -643,8 +643,14 @@ TEST(SceneErrors, EventDrivenEngineNeedsFreeFlightInABox) {
   expect_error(kOneBody + "[run]\nengine = \"event_driven\"\n", 5, "run.engine", {"needs [contacts.box]"});
   expect_error(kOneBody + box + "[[links]]\na = \"ball\"\nanchor = [0, 0, 0.5]\n[run]\nmethod = \"event_driven\"\n",
                11, "run.method", {"links"});
-  EXPECT_NO_THROW(parse_scene(kOneBody + box + "[contacts.spheres]\n[[contacts.planes]]\npoint = [0, 0, -1]\n"
-                                               "[run]\nengine = \"event_driven\"\n"));
+  // It makes every pair of spheres collide, so the scene must declare that, and its bodies are spheres.
+  expect_error(kOneBody + "radius = 0.1\n" + box + "[run]\nengine = \"event_driven\"\n", 9, "run.engine",
+               {"[contacts.spheres]"});
+  expect_error(kOneBody + box + "[contacts.spheres]\n[run]\nengine = \"event_driven\"\n", 1, "bodies[0].radius",
+               {"radius must be > 0", "got 0"});
+  EXPECT_NO_THROW(parse_scene(kOneBody + "radius = 0.1\n" + box +
+                              "[contacts.spheres]\n[[contacts.planes]]\npoint = [0, 0, -1]\n"
+                              "[run]\nengine = \"event_driven\"\n"));
 }
 
 TEST(SceneErrors, UnreadableFile) {

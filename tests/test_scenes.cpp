@@ -404,3 +404,32 @@ TEST(Scenes, NewtonsCradleOnLinksSwingsWithTheLargeAmplitudePeriod) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Scenes, TheEventDrivenEngineNeedsSphereContactsDeclared) {
+  // It makes every pair collide, so a scene must say that they do.
+  Scene s = base(1.0);
+  s.box = BoxContact{{0, 0, 0}, {1, 1, 1}, 1.0};
+  s.bodies.push_back({.name = "a", .mass = 1, .radius = 0.1, .position = {0.2, 0.5, 0.5}, .velocity = {1, 0, 0}});
+  s.bodies.push_back({.name = "b", .mass = 1, .radius = 0.1, .position = {0.8, 0.5, 0.5}});
+  s.run.engine = "event_driven";
+  try {
+    run(s, quiet());
+    FAIL() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.key(), "run.engine");
+    EXPECT_NE(std::string(e.what()).find("[contacts.spheres]"), std::string::npos) << e.what();
+  }
+  // Without sphere contacts, "auto" runs them on the ODE engine: they pass through each other.
+  s.run.engine = "auto";
+  const RunResult r = run(s, quiet());
+  EXPECT_EQ(r.engine, "ode");
+  // a passes through b, meets the wall x = 1 − R at t = 0.7 and is back at x = 0.6 at t = 1.
+  EXPECT_EQ(r.report.impacts, 1u);
+  EXPECT_NEAR(r.report.events[0].t, 0.7, 1e-12);
+  EXPECT_NEAR(pos(r, 0)[0], 0.6, 1e-10);
+  EXPECT_NEAR(pos(r, 1)[0], 0.8, 1e-15);
+}
+
+}  // namespace

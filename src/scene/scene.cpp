@@ -16,6 +16,7 @@
 #include <unordered_map>
 
 #include "lagrangian/scene_models.hpp"
+#include "text.hpp"
 
 namespace lagrangian::scene {
 
@@ -23,6 +24,9 @@ namespace lagrangian::scene {
 
 namespace detail {
 namespace {
+
+std::string quote_text(std::string_view s, char quote = '\'') { return text::quoted(s, quote); }
+using text::join;
 
 constexpr std::int64_t kMaxGasCount = GasFill::max_count;
 
@@ -76,37 +80,7 @@ std::string format_vec(const Vec3& v) {
   return "[" + format_value(v.x()) + ", " + format_value(v.y()) + ", " + format_value(v.z()) + "]";
 }
 
-std::string quote_text(const std::string& s, char quote = '\'') {
-  constexpr std::size_t kMax = 80;
-  std::string out(1, quote);
-  std::size_t n = 0;
-  for (const char c : s) {
-    if (++n > kMax) {
-      out += "...";
-      break;
-    }
-    const auto u = static_cast<unsigned char>(c);
-    if (c == quote || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (u < 0x20 || u == 0x7f) {
-      static const char* hex = "0123456789abcdef";
-      out += "\\x";
-      out += hex[u >> 4];
-      out += hex[u & 15];
-    } else {
-      out += c;
-    }
-  }
-  out += quote;
-  return out;
-}
 
-std::string join(const std::vector<std::string>& items) {
-  std::string out;
-  for (const auto& s : items) out += (out.empty() ? "" : ", ") + s;
-  return out;
-}
 
 std::string unknown_hint(const std::string& word, const std::vector<std::string>& candidates) {
   const std::string near = nearest(word, candidates);
@@ -677,6 +651,14 @@ class Validator {
       fail(key, "the event-driven engine needs free flight between contacts, but the scene declares " +
                     detail::join(other) + " (remove them or use engine = \"ode\")");
     if (!s_.box) fail(key, "the event-driven engine needs [contacts.box] to hold the bodies");
+    // It makes every pair of spheres collide: say so in the scene.
+    if (!s_.sphere_contacts || !s_.sphere_contacts->bodies.empty())
+      fail(key, "the event-driven engine makes every pair of spheres collide: it needs [contacts.spheres] "
+                "without a 'bodies' list (or use engine = \"ode\")");
+    for (std::size_t i = 0; i < s_.bodies.size(); ++i)
+      if (!(s_.bodies[i].radius > 0))
+        fail("bodies[" + std::to_string(i) + "].radius",
+             "the event-driven engine moves spheres: radius must be > 0, got " + format_value(s_.bodies[i].radius));
   }
 
   // -- the initial state --

@@ -19,10 +19,14 @@
 
 #include "lagrangian/scene.hpp"
 #include "lagrangian/scene_io.hpp"
+#include "text.hpp"
 
 namespace lagrangian::scene {
 
 namespace {
+
+std::string quote_text(std::string_view s, char quote = '"') { return text::quoted(s, quote); }
+using text::join;
 
 std::string format_value(double v) {
   if (std::isnan(v)) return "nan";
@@ -32,37 +36,7 @@ std::string format_value(double v) {
   return std::string(buf, r.ptr);
 }
 
-/// s in double quotes, escaped, cut after 80 characters.
-std::string quote_text(std::string_view s, char quote = '"') {
-  std::string out(1, quote);
-  std::size_t n = 0;
-  for (const char c : s) {
-    if (++n > 80) {
-      out += "...";
-      break;
-    }
-    const auto u = static_cast<unsigned char>(c);
-    if (c == quote || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (u < 0x20 || u == 0x7f) {
-      static const char* hex = "0123456789abcdef";
-      out += "\\x";
-      out += hex[u >> 4];
-      out += hex[u & 15];
-    } else {
-      out += c;
-    }
-  }
-  out += quote;
-  return out;
-}
 
-std::string join(const std::vector<std::string>& items) {
-  std::string out;
-  for (const auto& s : items) out += (out.empty() ? "" : ", ") + s;
-  return out;
-}
 
 std::string type_name(const toml::node& n) {
   std::ostringstream os;
