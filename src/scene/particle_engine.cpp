@@ -1214,6 +1214,11 @@ class Runner {
               if (t_hit - t < 1e-15 * std::max(1.0, std::abs(t))) t = t_hit;
               h = d;
             } else {
+              ++out_.report.rejected_steps;
+              if (!(d > 1e-14 * std::max(1.0, std::abs(t))))
+                throw SimulationError("run stopped: step size underflow while moving to a contact at " +
+                                          describe(sys_, x_, t),
+                                      t);
               h = d;
               t = t_before;
             }
@@ -1243,7 +1248,11 @@ class Runner {
     const RunSpec& run = run_;
     (void)run;
     const double touch = 1e-9;
-    for (int it = 0; it < 1000 * static_cast<int>(near.size() + 1); ++it) {
+    for (int it = 0;; ++it) {
+      if (it > 1000 * static_cast<int>(near.size() + 1))
+        throw SimulationError("run stopped: simultaneous impacts at t = " + std::to_string(t) +
+                                  " s did not settle after " + std::to_string(it) + " pairwise impacts",
+                              t);
       Contact* fastest = nullptr;
       double u_max = touch;
       for (Contact* c : near) {
