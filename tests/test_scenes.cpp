@@ -321,10 +321,16 @@ TEST(Scenes, OdeAndEventDrivenEnginesAgreeOnAGasInABox) {
   const RunResult b = run(s, quiet());
   EXPECT_EQ(b.engine, "event_driven");
   ASSERT_GT(a.report.impacts, 20u);
-  const std::size_t n = std::min<std::size_t>(20, std::min(a.report.events.size(), b.report.events.size()));
+  // The same impacts (bodies and walls) at the same times. A gas is chaotic:
+  // each sphere–sphere impact multiplies a difference by about the mean free
+  // path over the radius, so the two runs drift apart later (1e-16 s for the
+  // first wall impacts, 1e-9 s by the 16th event, 1e-4 s by the 65th).
+  const std::size_t n = std::min<std::size_t>(16, std::min(a.report.events.size(), b.report.events.size()));
+  ASSERT_EQ(n, 16u);
   for (std::size_t k = 0; k < n; ++k) {
     EXPECT_NEAR(a.report.events[k].t, b.report.events[k].t, 1e-8) << k;
-    EXPECT_EQ(a.report.events[k].name.substr(0, 2), b.report.events[k].name.substr(0, 2)) << k;
+    EXPECT_EQ(a.report.events[k].name, b.report.events[k].name) << k;
+    EXPECT_NEAR(a.report.events[k].impulse, b.report.events[k].impulse, 1e-8) << k;
   }
   EXPECT_LT(a.report.energy_drift_max, 1e-9);
 }

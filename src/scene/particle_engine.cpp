@@ -434,7 +434,7 @@ class System {
             c.p = side == 0 ? scene.box->min : scene.box->max;
             c.R = radius_[static_cast<std::size_t>(i)];
             c.e = scene.box->restitution;
-            c.name = names_[static_cast<std::size_t>(i)] + "-box:" + axis[k] + (side == 0 ? "_min" : "_max");
+            c.name = names_[static_cast<std::size_t>(i)] + "-wall:" + axis[k] + (side == 0 ? "_min" : "_max");
             wall_contacts_.push_back(c);
           }
       has_box_ = true;
