@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "lagrangian/detail/text_output.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/params.hpp"
 
@@ -37,12 +38,7 @@ std::vector<std::string> stepper_names() {
   return {"rk4", "dopri5", "cash_karp54", "fehlberg78", "bulirsch_stoer", "rosenbrock4"};
 }
 
-namespace {
-
-[[noreturn]] void option_failure(const std::string& field, const std::string& condition, double value) {
-  throw OptionError("simulation option '" + field + "' must be " + condition + ", got " +
-                    detail::format_number(value));
-}
+namespace detail {
 
 void json_string(std::ostringstream& os, const std::string& s) {
   os << '"';
@@ -65,6 +61,29 @@ void json_string(std::ostringstream& os, const std::string& s) {
   }
   os << '"';
 }
+
+void write_text_file(const std::string& path, const std::string& text, const std::string& what) {
+  const std::string partial = path + ".partial";
+  std::FILE* f = std::fopen(partial.c_str(), "w");
+  if (!f) throw OptionError("cannot write " + what + " '" + partial + "': " + std::strerror(errno));
+  const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  if (std::fclose(f) != 0 || !ok) {
+    std::remove(partial.c_str());
+    throw OptionError("writing " + what + " '" + partial + "' failed");
+  }
+  if (std::rename(partial.c_str(), path.c_str()) != 0)
+    throw OptionError("cannot rename '" + partial + "' to '" + path + "': " + std::strerror(errno));
+}
+
+}  // namespace detail
+
+namespace {
+
+[[noreturn]] void option_failure(const std::string& field, const std::string& condition, double value) {
+  throw OptionError("simulation option '" + field + "' must be " + condition + ", got " +
+                    detail::format_number(value));
+}
+
 
 /// Number of events of each kind, indexed by EventKind.
 std::array<std::uint64_t, 5> event_counts(const std::vector<EventRecord>& events) {
@@ -115,14 +134,14 @@ void SimulationOptions::validate() const {
 std::string RunReport::to_json() const {
   std::ostringstream os;
   os << "{\n  \"model\": ";
-  json_string(os, model);
+  detail::json_string(os, model);
   os << ",\n  \"coordinates\": [";
   for (std::size_t i = 0; i < coordinates.size(); ++i) {
     if (i) os << ", ";
-    json_string(os, coordinates[i]);
+    detail::json_string(os, coordinates[i]);
   }
   os << "],\n  \"method\": ";
-  json_string(os, method);
+  detail::json_string(os, method);
   os << ",\n  \"adaptive\": " << (adaptive ? "true" : "false");
   const std::pair<const char*, double> numbers[] = {
       {"rtol", rtol}, {"atol", atol}, {"dt", dt}, {"t0", t0}, {"t_end", t_end}, {"wall_time_s", wall_time_s}};
@@ -155,7 +174,7 @@ std::string RunReport::to_json() const {
   for (std::size_t i = 0; i < conserved_momenta.size(); ++i) {
     const auto& m = conserved_momenta[i];
     os << (i ? ", " : "") << "{\"coordinate\": ";
-    json_string(os, m.coordinate);
+    detail::json_string(os, m.coordinate);
     os << ", \"initial\": ";
     json_number(os, m.initial);
     os << ", \"max_abs_drift\": ";
@@ -199,10 +218,10 @@ std::string RunReport::to_json() const {
     os << ",\n  \"constraints\": {\"names\": [";
     for (std::size_t i = 0; i < c.names.size(); ++i) {
       if (i) os << ", ";
-      json_string(os, c.names[i]);
+      detail::json_string(os, c.names[i]);
     }
     os << "], \"stabilization\": ";
-    json_string(os, c.stabilization);
+    detail::json_string(os, c.stabilization);
     const std::pair<const char*, double> nums[] = {{"baumgarte_omega", c.baumgarte_omega},
                                                    {"max_position_residual", c.max_position_residual},
                                                    {"max_velocity_residual", c.max_velocity_residual},
@@ -218,7 +237,7 @@ std::string RunReport::to_json() const {
        << ", \"min_rank\": " << c.min_rank << ", \"warnings\": [";
     for (std::size_t i = 0; i < c.warnings.size(); ++i) {
       if (i) os << ", ";
-      json_string(os, c.warnings[i]);
+      detail::json_string(os, c.warnings[i]);
     }
     os << "]}";
   }
@@ -236,9 +255,9 @@ std::string RunReport::to_json() const {
     os << (i ? ", " : "") << "{\"t\": ";
     json_number(os, e.t);
     os << ", \"kind\": ";
-    json_string(os, to_string(e.kind));
+    detail::json_string(os, to_string(e.kind));
     os << ", \"name\": ";
-    json_string(os, e.name);
+    detail::json_string(os, e.name);
     const std::pair<const char*, double> f[] = {{"impulse", e.impulse},
                                                 {"approach_speed", e.approach_speed},
                                                 {"separation_speed", e.separation_speed},
@@ -257,24 +276,14 @@ std::string RunReport::to_json() const {
   if (stopped_by.empty()) {
     os << "null";
   } else {
-    json_string(os, stopped_by);
+    detail::json_string(os, stopped_by);
   }
   os << "\n}\n";
   return os.str();
 }
 
 void RunReport::write_json(const std::string& path) const {
-  const std::string partial = path + ".partial";
-  std::FILE* f = std::fopen(partial.c_str(), "w");
-  if (!f) throw OptionError("cannot write report file '" + partial + "': " + std::strerror(errno));
-  const std::string text = to_json();
-  const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-  if (std::fclose(f) != 0 || !ok) {
-    std::remove(partial.c_str());
-    throw OptionError("writing report file '" + partial + "' failed");
-  }
-  if (std::rename(partial.c_str(), path.c_str()) != 0)
-    throw OptionError("cannot rename '" + partial + "' to '" + path + "': " + std::strerror(errno));
+  detail::write_text_file(path, to_json(), "report file");
 }
 
 void RunReport::write_events_csv(const std::string& path) const {

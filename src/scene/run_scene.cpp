@@ -6,10 +6,10 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "lagrangian/detail/scene_registry.hpp"
+#include "lagrangian/detail/text_output.hpp"
 #include "lagrangian/hard_spheres.hpp"
 #include "lagrangian/observers.hpp"
 #include "lagrangian/plots.hpp"
@@ -48,44 +48,28 @@ void remove_outputs(const std::string& dir) {
   }
 }
 
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", c);
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
-
 /// report.json: the scene, the engine, the effect counts and the run report.
 void write_report(const Scene& scene, const RunResult& r, const std::string& path) {
   std::ostringstream os;
-  os << "{\n  \"scene\": " << json_string(scene.name) << ",\n  \"engine\": " << json_string(r.engine)
-     << ",\n  \"declared\": [";
+  os << "{\n  \"scene\": ";
+  lagrangian::detail::json_string(os, scene.name);
+  os << ",\n  \"engine\": ";
+  lagrangian::detail::json_string(os, r.engine);
+  os << ",\n  \"declared\": [";
   const auto declared = scene.declared();
-  for (std::size_t k = 0; k < declared.size(); ++k) os << (k ? ", " : "") << json_string(declared[k]);
+  for (std::size_t k = 0; k < declared.size(); ++k) {
+    if (k) os << ", ";
+    lagrangian::detail::json_string(os, declared[k]);
+  }
   os << "],\n  \"effect_evaluations\": {";
   std::size_t k = 0;
-  for (const auto& [name, count] : r.effect_evaluations) os << (k++ ? ", " : "") << json_string(name) << ": " << count;
-  os << "},\n  \"report\": " << r.report.to_json() << "\n}\n";
-  const std::string partial = path + ".partial";
-  {
-    std::ofstream f(partial);
-    if (!f) throw OptionError("cannot write '" + partial + "': " + std::strerror(errno));
-    f << os.str();
-    if (!f) throw OptionError("writing '" + partial + "' failed");
+  for (const auto& [name, count] : r.effect_evaluations) {
+    if (k++) os << ", ";
+    lagrangian::detail::json_string(os, name);
+    os << ": " << count;
   }
-  std::error_code ec;
-  fs::rename(partial, path, ec);
-  if (ec) throw OptionError("cannot rename '" + partial + "' to '" + path + "': " + ec.message());
+  os << "},\n  \"report\": " << r.report.to_json() << "\n}\n";
+  lagrangian::detail::write_text_file(path, os.str(), "report file");
 }
 
 SimulationOptions options_of(const RunSpec& run) {
