@@ -30,6 +30,7 @@
 #include <boost/numeric/odeint/stepper/runge_kutta_dopri5.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
 
+#include "lagrangian/constraints.hpp"
 #include "lagrangian/detail/roots.hpp"
 #include "lagrangian/detail/stiff.hpp"
 #include "lagrangian/errors.hpp"
@@ -63,8 +64,6 @@ struct Kernel {
   /// Its potential energy (J); 0 for dissipative kernels.
   virtual double potential(const double*) const { return 0.0; }
   virtual bool dissipative() const { return false; }
-  /// True when the kernel acts on the bodies from outside (changes P).
-  virtual bool external() const { return true; }
 };
 
 /// F_i = m_i g, so a_i = g; V = −Σ m_i g·r_i.
@@ -126,7 +125,6 @@ struct NewtonKernel final : Kernel {
         V -= G * mass[static_cast<std::size_t>(i)] * mass[static_cast<std::size_t>(j)] / (at(r, i) - at(r, j)).norm();
     return V;
   }
-  bool external() const override { return false; }
   static void add3(double* a, int i, const Vector3d& f) { lagrangian::scene::detail::add(a, i, f); }
 };
 
@@ -163,9 +161,6 @@ struct SpringKernel final : Kernel {
       V += 0.5 * s.k * (l - s.L0) * (l - s.L0);
     }
     return V;
-  }
-  bool external() const override {
-    return std::any_of(springs.begin(), springs.end(), [](const SpringData& s) { return s.b < 0; });
   }
 };
 
@@ -208,7 +203,6 @@ struct Row {
   Vector3d p = Vector3d::Zero(), n = Vector3d::Zero();
   double length = 0;  // link L, sphere ρ, contact R or R_a + R_b
   std::string name;
-  int contact = -1;  // resting rows: index of the contact
 
   Vector3d d(const double* r) const { return at(r, a) - (b >= 0 ? at(r, b) : p); }
   double value(const double* r) const {
@@ -249,6 +243,18 @@ struct Row {
     return 0;
   }
 };
+
+/// C = ∂g/∂r of the rows (rows × dim): each row's gradient on body a and its
+/// negative on body b.
+void jacobian(const std::vector<Row>& rows, const double* r, int dim, Eigen::MatrixXd& C) {
+  C.setZero(static_cast<Eigen::Index>(rows.size()), dim);
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const auto row = static_cast<Eigen::Index>(k);
+    const Vector3d g = rows[k].grad(r);
+    C.block<1, 3>(row, 3 * rows[k].a) += g.transpose();
+    if (rows[k].b >= 0) C.block<1, 3>(row, 3 * rows[k].b) -= g.transpose();
+  }
+}
 
 // -- contacts ------------------------------------------------------------------
 
@@ -449,19 +455,15 @@ class System {
   int dim() const { return dim_; }
   const std::vector<std::string>& names() const { return names_; }
   const std::vector<double>& mass() const { return mass_; }
-  bool constrained() const { return constrained_; }
   bool has_contacts() const { return has_contacts_; }
   bool dissipative() const {
     return std::any_of(kernels_.begin(), kernels_.end(), [](const auto& k) { return k->dissipative(); });
-  }
-  bool external_forces() const {
-    return std::any_of(kernels_.begin(), kernels_.end(), [](const auto& k) { return k->external(); });
   }
   const std::vector<Row>& rows() const { return rows_; }
   int fixed_rows() const { return fixed_rows_; }
   std::uint64_t rhs_evaluations = 0;
   double omega = 0;  // Baumgarte rate (1/s); 0: none
-  std::uint64_t constraint_solves = 0, contact_sweeps = 0, pair_candidates = 0;
+  std::uint64_t constraint_solves = 0, contact_sweeps = 0;
 
   /// ẋ = [v; a], through the right-hand side composed for this scene.
   void rhs(const double* x, double* dx, double t) { rhs_fn_(*this, x, dx, t); }
@@ -508,8 +510,6 @@ class System {
     rhs_fn_ = table[(kinds << 1) | (constrained_ ? 1u : 0u)];
   }
 
-  /// Multipliers of the last constrained right-hand side.
-  const Eigen::VectorXd& multipliers() const { return lambda_; }
 
   double kinetic(const double* x) const {
     double T = 0;
@@ -545,13 +545,7 @@ class System {
   }
 
   void assemble(const double* r) {
-    C_.setZero();
-    for (int k = 0; k < static_cast<int>(rows_.size()); ++k) {
-      const Row& row = rows_[static_cast<std::size_t>(k)];
-      const Vector3d g = row.grad(r);
-      C_.block<1, 3>(k, 3 * row.a) += g.transpose();
-      if (row.b >= 0) C_.block<1, 3>(k, 3 * row.b) -= g.transpose();
-    }
+    jacobian(rows_, r, dim_, C_);
     MinvCt_ = inv_mass3_.asDiagonal() * C_.transpose();
     S_.noalias() = C_ * MinvCt_;
     cod_.compute(S_);
@@ -582,7 +576,7 @@ class System {
   }
   double velocity_residual(const double* x) {
     if (rows_.empty()) return 0;
-    assemble(x);
+    jacobian(rows_, x, dim_, C_);  // C only: no factorisation for a residual
     Eigen::Map<const Eigen::VectorXd> vv(x + dim_, dim_);
     return (C_ * vv).lpNorm<Eigen::Infinity>();
   }
@@ -632,7 +626,6 @@ class System {
     std::sort(spans_.begin(), spans_.end(), [](const Span& a, const Span& b) { return a.lo < b.lo; });
     for (std::size_t p = 0; p < spans_.size(); ++p)
       for (std::size_t q = p + 1; q < spans_.size() && spans_[q].lo <= spans_[p].hi; ++q) {
-        ++pair_candidates;
         Contact& c = pair_contact(spans_[p].body, spans_[q].body);
         if (!c.resting) out.push_back(&c);
       }
@@ -734,7 +727,7 @@ class System {
     if (changed) resize_rows();
   }
 
-  void make_resting(Contact& c, int contact_id) {
+  void make_resting(Contact& c) {
     c.resting = true;
     Row row;
     row.kind = c.pair ? Row::Kind::rest_spheres : Row::Kind::rest_plane;
@@ -744,7 +737,6 @@ class System {
     row.n = c.n;
     row.length = c.R;
     row.name = c.name;
-    row.contact = contact_id;
     rest_contacts_.push_back(&c);
     rows_.push_back(row);
     resize_rows();
@@ -1074,20 +1066,9 @@ class Runner {
   }
 
   int rank(const double* x) {
-    const auto& rows = sys_.rows();
-    if (rows.empty()) return 0;
-    Eigen::MatrixXd C = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(rows.size()), sys_.dim());
-    for (std::size_t k = 0; k < rows.size(); ++k) {
-      const Vector3d g = rows[k].grad(x);
-      C.block<1, 3>(static_cast<Eigen::Index>(k), 3 * rows[k].a) += g.transpose();
-      if (rows[k].b >= 0) C.block<1, 3>(static_cast<Eigen::Index>(k), 3 * rows[k].b) -= g.transpose();
-    }
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(C);
-    const auto& s = svd.singularValues();
-    int r = 0;
-    for (Eigen::Index i = 0; i < s.size(); ++i)
-      if (s[i] > 1e-10 * s[0]) ++r;
-    return r;
+    Eigen::MatrixXd C;
+    jacobian(sys_.rows(), x, sys_.dim(), C);
+    return lagrangian::detail::numeric_rank(C);
   }
 
   void check_finite(double t) {
@@ -1138,101 +1119,94 @@ class Runner {
   /// Finds the first contact closing in [t0, t1] on the step's interpolant,
   /// moves the state back to that time and resolves the impacts there.
   bool handle_contacts(double t0, double& t1) {
-    bool changed = false;
-    for (int round = 0; round < 64; ++round) {
-      sys_.rhs(x_.data(), f1_.data(), t1);
-      const int dim = sys_.dim();
-      StepPath path{t0, t1 - t0, xprev_.data(), xprev_.data() + dim, f0_.data() + dim,
-                    x_.data(),  x_.data() + dim,  f1_.data() + dim};
-      if (!(path.h > 0)) return changed;
-      sys_.candidates(path, cand_);
-      double t_hit = std::numeric_limits<double>::infinity();
-      Contact* first = nullptr;
-      for (Contact* c : cand_) {
-        double rate0 = 0, rate1 = 0;
-        const double g0 = gap_on_path(*c, path, t0, &rate0);
-        const double g1 = gap_on_path(*c, path, t1, &rate1);
-        double lo = t0, hi = t1, glo = g0, ghi = g1;
-        // The extremum of the gap inside the step, where its rate vanishes.
-        auto extremum = [&]() {
-          auto rate = [&](double t) {
-            double r = 0;
-            gap_on_path(*c, path, t, &r);
-            return r;
-          };
-          const auto fr = lagrangian::detail::time_function(rate);
-          const auto br = lagrangian::detail::bracket_root(fr, t0, t1, rate0, rate1, 1e-13);
-          return 0.5 * (br.first + br.second);
+    sys_.rhs(x_.data(), f1_.data(), t1);
+    const int dim = sys_.dim();
+    StepPath path{t0, t1 - t0, xprev_.data(), xprev_.data() + dim, f0_.data() + dim,
+                  x_.data(),  x_.data() + dim,  f1_.data() + dim};
+    if (!(path.h > 0)) return false;
+    sys_.candidates(path, cand_);
+    double t_hit = std::numeric_limits<double>::infinity();
+    Contact* first = nullptr;
+    for (Contact* c : cand_) {
+      double rate0 = 0, rate1 = 0;
+      const double g0 = gap_on_path(*c, path, t0, &rate0);
+      const double g1 = gap_on_path(*c, path, t1, &rate1);
+      double lo = t0, hi = t1, glo = g0, ghi = g1;
+      // The extremum of the gap inside the step, where its rate vanishes.
+      auto extremum = [&]() {
+        auto rate = [&](double t) {
+          double r = 0;
+          gap_on_path(*c, path, t, &r);
+          return r;
         };
-        if (g1 < 0 && g0 > 0) {
-          // a crossing
-        } else if (g1 < 0 && rate0 > 0 && rate1 < 0) {
-          // leaving a touch (e.g. just after an impact), rising, then falling through
-          const double tm = extremum();
-          const double gm = gap_on_path(*c, path, tm);
-          if (gm <= 0) continue;
-          lo = tm;
-          glo = gm;
-        } else if (g0 > 0 && g1 > 0 && rate0 < 0 && rate1 > 0) {
-          // a dip below zero and back inside the step
-          const double tm = extremum();
-          const double gm = gap_on_path(*c, path, tm);
-          if (gm >= 0) continue;
-          hi = tm;
-          ghi = gm;
-        } else {
-          continue;
-        }
-        if (lo >= t_hit) continue;
-        auto gap = [&](double t) { return gap_on_path(*c, path, t); };
-        const auto fg = lagrangian::detail::time_function(gap);
-        const auto br = lagrangian::detail::bracket_root(fg, lo, hi, glo, ghi, 1e-13);
-        const double tc = br.first;  // the contact is still open at the bracket's left end
-        if (tc < t_hit) {
-          t_hit = tc;
-          first = c;
-        }
+        const auto fr = lagrangian::detail::time_function(rate);
+        const auto br = lagrangian::detail::bracket_root(fr, t0, t1, rate0, rate1, 1e-13);
+        return 0.5 * (br.first + br.second);
+      };
+      if (g1 < 0 && g0 > 0) {
+        // a crossing
+      } else if (g1 < 0 && rate0 > 0 && rate1 < 0) {
+        // leaving a touch (e.g. just after an impact), rising, then falling through
+        const double tm = extremum();
+        const double gm = gap_on_path(*c, path, tm);
+        if (gm <= 0) continue;
+        lo = tm;
+        glo = gm;
+      } else if (g0 > 0 && g1 > 0 && rate0 < 0 && rate1 > 0) {
+        // a dip below zero and back inside the step
+        const double tm = extremum();
+        const double gm = gap_on_path(*c, path, tm);
+        if (gm >= 0) continue;
+        hi = tm;
+        ghi = gm;
+      } else {
+        continue;
       }
-      if (!first) return changed;
-      // Redo the step up to the contact time.
-      x_ = xprev_;
-      stepper_->reset();
-      double t = t0;
-      double h = t_hit - t0;
-      while (t < t_hit && h > 0) {
-        double dt_try = t_hit - t;
-        if (stepper_->try_step(x_, t, dt_try)) {
-          t = t_hit;
-        } else {
-          ++out_.report.rejected_steps;
-          h = dt_try;
-          // A shortened re-step: take smaller pieces.
-          while (t < t_hit) {
-            double d = std::min(h, t_hit - t);
-            const double t_before = t;
-            if (stepper_->try_step(x_, t, d)) {
-              if (t_hit - t < 1e-15 * std::max(1.0, std::abs(t))) t = t_hit;
-              h = d;
-            } else {
-              ++out_.report.rejected_steps;
-              if (!(d > 1e-14 * std::max(1.0, std::abs(t))))
-                throw SimulationError("run stopped: step size underflow while moving to a contact at " +
-                                          describe(sys_, x_, t),
-                                      t);
-              h = d;
-              t = t_before;
-            }
+      if (lo >= t_hit) continue;
+      auto gap = [&](double t) { return gap_on_path(*c, path, t); };
+      const auto fg = lagrangian::detail::time_function(gap);
+      const auto br = lagrangian::detail::bracket_root(fg, lo, hi, glo, ghi, 1e-13);
+      const double tc = br.first;  // the contact is still open at the bracket's left end
+      if (tc < t_hit) {
+        t_hit = tc;
+        first = c;
+      }
+    }
+    if (!first) return false;
+    // Redo the step up to the contact time.
+    x_ = xprev_;
+    stepper_->reset();
+    double t = t0;
+    double h = t_hit - t0;
+    while (t < t_hit && h > 0) {
+      double dt_try = t_hit - t;
+      if (stepper_->try_step(x_, t, dt_try)) {
+        t = t_hit;
+      } else {
+        ++out_.report.rejected_steps;
+        h = dt_try;
+        // A shortened re-step: take smaller pieces.
+        while (t < t_hit) {
+          double d = std::min(h, t_hit - t);
+          const double t_before = t;
+          if (stepper_->try_step(x_, t, d)) {
+            if (t_hit - t < 1e-15 * std::max(1.0, std::abs(t))) t = t_hit;
+            h = d;
+          } else {
+            ++out_.report.rejected_steps;
+            if (!(d > 1e-14 * std::max(1.0, std::abs(t))))
+              throw SimulationError("run stopped: step size underflow while moving to a contact at " +
+                                        describe(sys_, x_, t),
+                                    t);
+            h = d;
+            t = t_before;
           }
         }
       }
-      t1 = t_hit;
-      resolve_at(t1, first);
-      changed = true;
-      // Continue scanning the rest of the original step from the contact
-      // time is unnecessary: the loop's next step starts here.
-      return changed;
     }
-    return changed;
+    t1 = t_hit;
+    resolve_at(t1, first);
+    return true;  // the next step starts at the contact time
   }
 
   /// Resolves every contact that is closed and approaching at t, fastest
@@ -1245,8 +1219,6 @@ class Runner {
     std::vector<Contact*> near;
     sys_.near_contacts(x_.data(), tol, near);
     if (located && std::find(near.begin(), near.end(), located) == near.end()) near.push_back(located);
-    const RunSpec& run = run_;
-    (void)run;
     const double touch = 1e-9;
     for (int it = 0;; ++it) {
       if (it > 1000 * static_cast<int>(near.size() + 1))
@@ -1277,7 +1249,7 @@ class Runner {
       c.last_impact = t;
       const double u_out = c.rate(x_.data(), x_.data() + dim);
       log_event(t, accumulating ? EventKind::rest : EventKind::impact, c.name, J, u_max, u_out, T_before, T_after);
-      if (accumulating && sys_.pressed(x_.data(), c)) sys_.make_resting(c, 0);
+      if (accumulating && sys_.pressed(x_.data(), c)) sys_.make_resting(c);
       sys_.wake_approaching(x_.data(), touch, near);
     }
     // Slow touches pressed shut become resting contacts too.
@@ -1285,7 +1257,7 @@ class Runner {
       if (c->resting) continue;
       const double u = -c->rate(x_.data(), x_.data() + dim);
       if (std::abs(u) <= touch && c->gap(x_.data()) <= tol && sys_.pressed(x_.data(), *c)) {
-        sys_.make_resting(*c, 0);
+        sys_.make_resting(*c);
         log_event(t, EventKind::rest, c->name, 0, std::max(u, 0.0), 0, sys_.kinetic(x_.data()),
                   sys_.kinetic(x_.data()));
       }
@@ -1326,10 +1298,11 @@ ParticleRun run_particles(const Scene& scene, const ParticleSample& sample, cons
 }
 
 bool event_driven_eligible(const Scene& scene) {
-  return !scene.model && scene.box && !scene.gravity && !scene.newtonian_gravity && scene.springs.empty() &&
-         scene.linear_drag.empty() && scene.quadratic_drag.empty() && scene.links.empty() && scene.surfaces.empty() &&
-         std::all_of(scene.bodies.begin(), scene.bodies.end(), [](const Body& b) { return b.radius > 0; }) &&
-         scene.sphere_contacts && scene.sphere_contacts->bodies.empty();
+  // The conditions Scene::validate() demands of engine = "event_driven".
+  if (scene.model || !scene.box || !scene.sphere_contacts || !scene.sphere_contacts->bodies.empty()) return false;
+  for (const auto& kind : scene.declared())
+    if (kind != "sphere_contacts" && kind != "plane_contacts" && kind != "box_contacts") return false;
+  return std::all_of(scene.bodies.begin(), scene.bodies.end(), [](const Body& b) { return b.radius > 0; });
 }
 
 std::string inspect_particles(const Scene& scene) {
@@ -1361,18 +1334,9 @@ std::string inspect_particles(const Scene& scene) {
       x[static_cast<std::size_t>(3 * i + k)] = scene.bodies[static_cast<std::size_t>(i)].position[k];
       x[static_cast<std::size_t>(3 * n + 3 * i + k)] = scene.bodies[static_cast<std::size_t>(i)].velocity[k];
     }
-  int rank = 0;
-  if (!rows.empty()) {
-    Eigen::MatrixXd C = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(rows.size()), 3 * n);
-    for (std::size_t k = 0; k < rows.size(); ++k) {
-      const Vector3d g = rows[k].grad(x.data());
-      C.block<1, 3>(static_cast<Eigen::Index>(k), 3 * rows[k].a) += g.transpose();
-      if (rows[k].b >= 0) C.block<1, 3>(static_cast<Eigen::Index>(k), 3 * rows[k].b) -= g.transpose();
-    }
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(C);
-    for (Eigen::Index i = 0; i < svd.singularValues().size(); ++i)
-      if (svd.singularValues()[i] > 1e-10 * svd.singularValues()[0]) ++rank;
-  }
+  Eigen::MatrixXd C;
+  jacobian(rows, x.data(), 3 * n, C);
+  const int rank = lagrangian::detail::numeric_rank(C);
   os << "constraints  " << rows.size() << " holonomic";
   if (!rows.empty()) {
     os << " (";
