@@ -248,7 +248,7 @@ ConstraintState<M::dof, constraint_count_v<M>> constraint_state(const M& model, 
                               " is not affine in the velocities (A(q, t) qd + a(q, t) is required)");
       }
       cs.velocity[mpos + i] = phi[i].v;
-      for (int k = 0; k < n; ++k) cs.jacobian(mpos + i, k) = phi[i].level >= 1 ? phi[i].gv[k] : 0.0;
+      for (int k = 0; k < n; ++k) cs.jacobian(mpos + i, k) = phi[i].grad_qd(k);
       cs.gamma[mpos + i] = phi[i].d;  // ∂φ/∂q q̇ + ∂φ/∂t at fixed q̇
     }
   }

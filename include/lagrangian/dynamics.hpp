@@ -91,7 +91,9 @@ std::string describe_state(const Vec<double, N>& q, const Vec<double, N>& qd, do
 template <class M, class S>
 S lagrangian_of(const M& model, const Vec<S, M::dof>& q, const Vec<S, M::dof>& qd, const S& t) {
   if constexpr (has_kinetic_for<M, S> && has_potential_for<M, S>) {
-    return S(model.kinetic(q, qd, t)) - S(model.potential(q, t));
+    S l = S(model.kinetic(q, qd, t));  // L = T − V, without a copy of T
+    l -= S(model.potential(q, t));
+    return l;
   } else {
     return S(model.lagrangian(q, qd, t));
   }
@@ -111,14 +113,13 @@ void eom_pass_blocks(const M& model, Workspace<M::dof>& ws, const Vec<double, M:
   for (int a = 0; a < blocks; ++a) {
     for (int b = a; b < blocks; ++b) {
       for (int k = 0; k < n; ++k) {
-        qj[k] = J(q[k]);
-        qj[k].d = qd[k];  // the path direction moves every coordinate
+        qj[k] = J::moving(q[k], qd[k]);  // the path direction moves every coordinate
         qdj[k] = J(qd[k]);
       }
       auto seed = [&](int block, int offset) {
         for (int k = block * kBlock; k < std::min(n, (block + 1) * kBlock); ++k) {
           const int local = offset + k - block * kBlock;
-          qj[k].gq[local] = 1.0;
+          qj[k] = J::position(q[k], qd[k], local);
           qdj[k] = J::velocity(qd[k], local);
         }
       };
@@ -129,9 +130,9 @@ void eom_pass_blocks(const M& model, Workspace<M::dof>& ws, const Vec<double, M:
       for (int i = a * kBlock; i < std::min(n, (a + 1) * kBlock); ++i) {
         const int li = i - a * kBlock;
         if (b == a) {
-          ws.dL_dq[i] = l.gq[li];
-          ws.momenta[i] = l.level >= 1 ? l.gv[li] : 0.0;
-          ws.mixed[i] = l.level >= 1 ? l.c[li] : 0.0;
+          ws.dL_dq[i] = l.grad_q(li);
+          ws.momenta[i] = l.grad_qd(li);
+          ws.mixed[i] = l.mixed(li);
         }
         const int offset = b == a ? 0 : kBlock;
         for (int j = b * kBlock; j < std::min(n, (b + 1) * kBlock); ++j) {
@@ -159,17 +160,14 @@ LAGRANGIAN_FLATTEN void eom_pass(const M& model, Workspace<M::dof>& ws, const Ve
       qj[k] = J::position(q[k], qd[k], k);
       qdj[k] = J::velocity(qd[k], k);
     }
-    const J l = lagrangian_of(model, qj, qdj, J::time(t));
+    J l = lagrangian_of(model, qj, qdj, J::time(t));
     ws.lagrangian = l.v;
     for (int i = 0; i < n; ++i) {
-      ws.dL_dq[i] = l.gq[i];
-      ws.momenta[i] = l.level >= 1 ? l.gv[i] : 0.0;
-      ws.mixed[i] = l.level >= 1 ? l.c[i] : 0.0;
-      for (int j = i; j < n; ++j) {
-        ws.mass(i, j) = l.hess(i, j);
-        ws.mass(j, i) = ws.mass(i, j);
-      }
+      ws.dL_dq[i] = l.grad_q(i);
+      ws.momenta[i] = l.grad_qd(i);
+      ws.mixed[i] = l.mixed(i);
     }
+    l.hessian_to(ws.mass);
   }
 }
 
