@@ -292,7 +292,8 @@ TEST(EomJet, EveryPartMatchesSecondOrderJetLargerSystem) { eom::check_parts_agai
 // The memoised sine and cosine return exactly what <cmath> returns, however
 // the arguments repeat and collide in the memo.
 TEST(EomJet, MemoisedSinCosAreBitIdentical) {
-  using E = lagrangian::ad::EomJet<3>;
+  using E = lagrangian::ad::EomJet<6>;
+  static_assert(E::memoize_trig);
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(-10.0, 10.0);
   std::vector<double> xs(200);

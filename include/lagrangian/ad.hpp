@@ -325,6 +325,10 @@ class EomJet {
   /// Pending rank-one terms a number holds before it sums them into its
   /// dense rows.
   static constexpr int lazy_terms = kSparse ? 4 : 0;
+  /// sin and cos of a number keep their last few results per thread (see
+  /// detail::sin_cos): worth it where many angles are each taken more than
+  /// once (T and V of a chain), a small cost on a miss otherwise.
+  static constexpr bool memoize_trig = kSparse;
   using value_type = double;
 
   // (No default member initialisers: results of operations set exactly the
@@ -823,31 +827,19 @@ class EomJet {
           f[np++] = t.f;
         }
       }
-      flush_pieces(np, x, y, f, std::make_integer_sequence<int, 2 * lazy_terms + 1>{});
-      nterms_ = 0;
-    }
-  }
-  template <int... P>
-  constexpr void flush_pieces(int np, const std::array<const double*, 2 * lazy_terms>& x,
-                              const std::array<const double*, 2 * lazy_terms>& y,
-                              const std::array<double, 2 * lazy_terms>& f, std::integer_sequence<int, P...>) {
-    ((np == P ? add_pieces<P>(x, y, f) : void()), ...);
-  }
-  template <int P>
-  constexpr void add_pieces(const std::array<const double*, 2 * lazy_terms>& x,
-                            const std::array<const double*, 2 * lazy_terms>& y,
-                            const std::array<double, 2 * lazy_terms>& f) {
-    if constexpr (P > 0)
       for (int i = lo_; i < hi_; ++i) {
-        double c[P];
-        for (int p = 0; p < P; ++p) c[p] = f[p] * x[p][i];
         double* row = H_.data() + i * N;
         double acc[N];  // local: provably apart from the pieces' vectors
         for (int j = 0; j < N; ++j) acc[j] = row[j];
-        for (int p = 0; p < P; ++p)
-          for (int j = 0; j < N; ++j) acc[j] += c[p] * y[p][j];
+        for (int p = 0; p < np; ++p) {
+          const double c = f[p] * x[p][i];
+          const double* yp = y[p];
+          for (int j = 0; j < N; ++j) acc[j] += c * yp[j];
+        }
         for (int j = 0; j < N; ++j) row[j] = acc[j];
       }
+      nterms_ = 0;
+    }
   }
   /// A free slot for a pending term (flushing the pending terms when every
   /// slot is taken). The term's supports must lie inside [lo_, hi_).
@@ -1096,12 +1088,18 @@ LAGRANGIAN_AD_UNARY(acosh, acosh(x), T(1) / sqrt(x * x - T(1)), -x / ((x * x - T
 LAGRANGIAN_AD_UNARY(atanh, atanh(x), T(1) / (T(1) - x * x), T(2) * x / ((T(1) - x * x) * (T(1) - x * x)))
 #undef LAGRANGIAN_AD_UNARY
 
+template <class J>
+inline constexpr bool memoize_trig_v = false;
+template <int N>
+inline constexpr bool memoize_trig_v<EomJet<N>> = EomJet<N>::memoize_trig;
+
 namespace detail {
 /// sin x and cos x, evaluated once (g++ fuses the two calls into sincos).
-/// For the Euler–Lagrange pass (EomJet) the last few results are kept per
-/// thread: model code takes sin and cos of the same angle, in T and again
-/// in V, and a hit returns the very same numbers a call would, so results
-/// are unchanged bit for bit. The key is the argument's exact value.
+/// With `memo` (the Euler–Lagrange pass of systems with more than four
+/// coordinates) the last few results are kept per thread: model code takes
+/// sin and cos of the same angle, in T and again in V, and a hit returns the
+/// very same numbers a call would, so results are unchanged bit for bit.
+/// The key is the argument's exact value.
 template <class T>
 inline void sin_cos(const T& x, T& s, T& c, bool memo) {
   using std::cos;
@@ -1140,13 +1138,13 @@ inline void sin_cos(const T& x, T& s, T& c, bool memo) {
 template <ADNumber J>
 constexpr J sin(const J& a) {
   typename J::value_type s, c;
-  detail::sin_cos(a.v, s, c, detail::is_eom_jet<J>::value);
+  detail::sin_cos(a.v, s, c, memoize_trig_v<J>);
   return chain(a, s, c, -s);
 }
 template <ADNumber J>
 constexpr J cos(const J& a) {
   typename J::value_type s, c;
-  detail::sin_cos(a.v, s, c, detail::is_eom_jet<J>::value);
+  detail::sin_cos(a.v, s, c, memoize_trig_v<J>);
   return chain(a, c, -s, -c);
 }
 template <ADNumber J>
