@@ -24,8 +24,8 @@ run() {  # run NAME SCENE [OPTIONS...]
 }
 
 run projectile        examples/scenes/projectile.toml
-run kepler_e05        bench/scenes/kepler_e05_100_orbits.toml
-run kepler_e09        bench/scenes/kepler_e09_100_orbits.toml
+run kepler_e05        bench/scenes/kepler_e05_100_orbits.toml --dt 0.01:0.0001
+run kepler_e09        bench/scenes/kepler_e09_100_orbits.toml --dt 0.01:0.0001
 run double_pendulum_5 bench/scenes/double_pendulum_chaotic.toml
 run double_pendulum_20 bench/scenes/double_pendulum_chaotic.toml --t-end 20
 run bouncing_ball     examples/scenes/bouncing_ball.toml

@@ -3,8 +3,10 @@
 /// What accuracy costs in time: work-precision data for a scene.
 ///
 /// bench() runs a scene once per (stepper, tolerance) — fixed-step steppers
-/// once per step size — times each run `repeat` times and keeps the median,
-/// measures its error and writes the table and the diagrams:
+/// once per step size — measures its error, times it in `repeat` passes over
+/// all configurations and keeps the median (interleaved passes spread a burst
+/// of load from other programs over many configurations), and writes the
+/// table and the diagrams:
 ///
 ///  - `work_precision.csv`: comment lines starting with `#` (the scene, the
 ///    error measure, the reference, the machine), then the header

@@ -401,47 +401,67 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
     }
   }
 
-  int succeeded = 0;
-  for (const Config& c : configs) {
-    BenchPoint p;
+  // Timing: `repeat` passes over all configurations (rather than the
+  // repeats of one configuration back to back), so that a burst of load from
+  // other programs falls on many configurations a little instead of on a few
+  // entirely; the median per configuration is kept. The first pass also
+  // measures the accuracy (runs are deterministic).
+  std::vector<BenchPoint> points(configs.size());
+  std::vector<std::vector<double>> times(configs.size());
+  std::vector<Scene> scenes;
+  for (std::size_t i = 0; i < configs.size(); ++i) {
+    const Config& c = configs[i];
+    BenchPoint& p = points[i];
     p.method = c.method;
     p.adaptive = is_adaptive(c.method);
     p.rtol = c.rtol;
     p.atol = c.atol;
     p.dt = c.dt;
-    const Scene s = configured(scene, c.method, p.adaptive ? c.rtol : scene.run.rtol,
-                               p.adaptive ? c.atol : scene.run.atol, c.dt);
-    std::vector<double> times;
-    try {
-      for (int k = 0; k < options.repeat; ++k) {
-        const RunResult r = run_quiet(s);
-        times.push_back(r.report.wall_time_s);
-        if (k > 0) continue;
-        const RunReport& rep = r.report;
-        p.steps = rep.steps;
-        p.rejected_steps = rep.rejected_steps;
-        p.rhs_evaluations = rep.rhs_evaluations;
-        p.t_final = rep.t_final;
-        p.error = result.closed_form ? rep.reference_error_final : state_difference(r.q_final, reference.q_final);
-        p.energy_drift = rep.conservative ? rep.energy_drift_max : kNaN;
-        p.momentum_drift = momentum_drift(scene, rep);
-        p.constraint_residual = rep.constrained ? rep.constraints.max_position_residual : kNaN;
-        if (!std::isfinite(p.error)) throw SimulationError("the error is not finite", rep.t_final);
+    scenes.push_back(configured(scene, c.method, p.adaptive ? c.rtol : scene.run.rtol,
+                                p.adaptive ? c.atol : scene.run.atol, c.dt));
+  }
+  for (int pass = 0; pass < options.repeat; ++pass) {
+    for (std::size_t i = 0; i < configs.size(); ++i) {
+      BenchPoint& p = points[i];
+      if (!p.ok()) continue;
+      try {
+        const RunResult r = run_quiet(scenes[i]);
+        times[i].push_back(r.report.wall_time_s);
+        if (pass == 0) {
+          const RunReport& rep = r.report;
+          p.steps = rep.steps;
+          p.rejected_steps = rep.rejected_steps;
+          p.rhs_evaluations = rep.rhs_evaluations;
+          p.t_final = rep.t_final;
+          p.error = result.closed_form ? rep.reference_error_final : state_difference(r.q_final, reference.q_final);
+          p.energy_drift = rep.conservative ? rep.energy_drift_max : kNaN;
+          p.momentum_drift = momentum_drift(scene, rep);
+          p.constraint_residual = rep.constrained ? rep.constraints.max_position_residual : kNaN;
+          p.resolved = result.closed_form || p.error > 2 * result.reference_accuracy;
+          if (!std::isfinite(p.error)) throw SimulationError("the error is not finite", rep.t_final);
+        }
+      } catch (const SimulationError& e) {
+        p.status = std::string("failed: ") + e.what();
       }
-      std::sort(times.begin(), times.end());
-      const std::size_t n = times.size();
-      p.wall_time_s = n % 2 ? times[n / 2] : 0.5 * (times[n / 2 - 1] + times[n / 2]);
-      p.wall_time_min_s = times.front();
-      p.wall_time_max_s = times.back();
-      p.repeats = static_cast<int>(n);
-      p.resolved = result.closed_form || p.error > 2 * result.reference_accuracy;
-      ++succeeded;
-    } catch (const SimulationError& e) {
-      p.status = std::string("failed: ") + e.what();
-      p.repeats = static_cast<int>(times.size());
+      if (pass == 0)
+        say(p.method + (p.adaptive ? " rtol " + fmt(p.rtol, "%.3g") : " dt " + fmt(p.dt, "%.3g")) + ": " +
+            (p.ok() ? "error " + fmt(p.error, "%.2e") + ", " + fmt(1e3 * times[i].back(), "%.4g") + " ms" : p.status));
     }
-    say(c.method + (p.adaptive ? " rtol " + fmt(c.rtol, "%.3g") : " dt " + fmt(c.dt, "%.3g")) + ": " +
-        (p.ok() ? "error " + fmt(p.error, "%.2e") + ", " + fmt(1e3 * p.wall_time_s, "%.4g") + " ms" : p.status));
+    if (pass > 0) say("timing pass " + std::to_string(pass + 1) + " of " + std::to_string(options.repeat) + " done");
+  }
+  int succeeded = 0;
+  for (std::size_t i = 0; i < configs.size(); ++i) {
+    BenchPoint& p = points[i];
+    std::vector<double>& t = times[i];
+    p.repeats = static_cast<int>(t.size());
+    if (p.ok()) {
+      std::sort(t.begin(), t.end());
+      const std::size_t n = t.size();
+      p.wall_time_s = n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
+      p.wall_time_min_s = t.front();
+      p.wall_time_max_s = t.back();
+      ++succeeded;
+    }
     result.points.push_back(std::move(p));
   }
   result.machine = machine_description(load_before);
