@@ -93,7 +93,8 @@ void run_simulate(benchmark::State& st, const Model& p, const char* method) {
 }
 
 void BM_Simulate_HandRHS_Dopri5_DoublePendulum(benchmark::State& st) {
-  run_simulate(st, bench::HandDoublePendulum{}, "dopri5");
+  const bench::HandDoublePendulum model;
+  run_simulate(st, model, "dopri5");
 }
 BENCHMARK(BM_Simulate_HandRHS_Dopri5_DoublePendulum)->Unit(benchmark::kMillisecond);
 
@@ -103,7 +104,8 @@ void BM_Simulate_AD_Dopri5_DoublePendulum(benchmark::State& st) {
 BENCHMARK(BM_Simulate_AD_Dopri5_DoublePendulum)->Unit(benchmark::kMillisecond);
 
 void BM_Simulate_HandRHS_Fehlberg78_DoublePendulum(benchmark::State& st) {
-  run_simulate(st, bench::HandDoublePendulum{}, "fehlberg78");
+  const bench::HandDoublePendulum model;
+  run_simulate(st, model, "fehlberg78");
 }
 BENCHMARK(BM_Simulate_HandRHS_Fehlberg78_DoublePendulum)->Unit(benchmark::kMillisecond);
 
@@ -113,7 +115,8 @@ void BM_Simulate_AD_Fehlberg78_DoublePendulum(benchmark::State& st) {
 BENCHMARK(BM_Simulate_AD_Fehlberg78_DoublePendulum)->Unit(benchmark::kMillisecond);
 
 void BM_Simulate_HandRHS_Rk4_DoublePendulum(benchmark::State& st) {
-  run_simulate(st, bench::HandDoublePendulum{}, "rk4");
+  const bench::HandDoublePendulum model;
+  run_simulate(st, model, "rk4");
 }
 BENCHMARK(BM_Simulate_HandRHS_Rk4_DoublePendulum)->Unit(benchmark::kMillisecond);
 
