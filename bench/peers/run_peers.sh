@@ -44,13 +44,17 @@ echo "compile time (g++ -O2, one file): $(awk "BEGIN { printf \"%.2f\", $end - $
 echo "== 4. simulate() vs raw Boost.Odeint, hand-coded right-hand side"
 "$root/build/bench/bench_simulate" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
   --benchmark_min_time=0.5 2>&1 | tee "$out/odeint.txt" | grep -E "median|^Run on" || true
-awk '/_median/ { name = $1; sub(/_median$/, "", name); t[name] = $2 }
+# Ratios of the medians, by wall time and by CPU time (the CPU time is the
+# steadier of the two on a machine shared with other programs).
+awk '/_median/ { name = $1; sub(/_median$/, "", name); wall[name] = $2; cpu[name] = $4 }
      END {
        split("Dopri5 Fehlberg78 Rk4", s, " ")
        for (i = 1; i <= 3; ++i) {
-         raw = t["BM_RawOdeint_" s[i] "_DoublePendulum"]; hand = t["BM_Simulate_HandRHS_" s[i] "_DoublePendulum"]
-         ad = t["BM_Simulate_AD_" s[i] "_DoublePendulum"]
-         if (raw > 0) printf "%-10s raw %.3f ms, simulate(hand q\x27\x27) %.3f ms (%.2fx), simulate(AD) %.3f ms (%.2fx)\n", s[i], raw, hand, hand / raw, ad, ad / raw
+         raw = "BM_RawOdeint_" s[i] "_DoublePendulum"; hand = "BM_Simulate_HandRHS_" s[i] "_DoublePendulum"
+         ad = "BM_Simulate_AD_" s[i] "_DoublePendulum"
+         if (wall[raw] > 0)
+           printf "%-10s raw %.3f ms (cpu %.3f), simulate(hand q\x27\x27) %.3f ms (%.2fx; cpu %.2fx), simulate(AD) %.3f ms (%.2fx; cpu %.2fx)\n",
+             s[i], wall[raw], cpu[raw], wall[hand], wall[hand] / wall[raw], cpu[hand] / cpu[raw], wall[ad], wall[ad] / wall[raw], cpu[ad] / cpu[raw]
        }
      }' "$out/odeint.txt" | tee "$out/odeint_ratios.txt"
 echo "peers: results in $out (peers.txt, scipy.csv, peers_*.png, derive.txt, odeint_ratios.txt)"
