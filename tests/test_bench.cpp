@@ -13,10 +13,14 @@
 #include <string>
 #include <vector>
 
+#include <stdlib.h>
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include "lagrangian/bench.hpp"
 #include "lagrangian/errors.hpp"
+#include "lagrangian/plots.hpp"
 #include "lagrangian/scene.hpp"
 
 namespace {
@@ -27,9 +31,9 @@ namespace fs = std::filesystem;
 
 struct TempDir {
   fs::path path;
-  TempDir() {
+  explicit TempDir(const std::string& tag = "out") {
     path = fs::temp_directory_path() / ("lagrangian_bench_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" + tag);
     fs::remove_all(path);
   }
   ~TempDir() {
@@ -307,6 +311,60 @@ TEST(Bench, BadOptionsNameTheFieldAndTheValue) {
   o = BenchOptions{};
   o.tolerance_tight = 1e-17;
   EXPECT_NE(message([&] { o.validate(); }).find("tolerances"), std::string::npos);
+}
+
+// The diagrams: error against wall time and against RHS evaluations, and the
+// energy drift of a conservative system, log–log, one line per stepper, the
+// error measure on the axis and under the plot.
+TEST(Bench, DiagramsShowOneLinePerStepperOnLogAxes) {
+  if (!lagrangian::gnuplot_available()) GTEST_SKIP() << "gnuplot is not installed";
+  TempDir dir;
+  BenchOptions o = quiet_options(dir, {"dopri5", "fehlberg78", "rk4"});
+  o.plots = true;
+  o.tolerance_loose = 1e-4;
+  o.tolerance_tight = 1e-6;
+  o.dt_large = 1e-2;
+  o.dt_small = 1e-3;
+  const BenchResult r = bench(kepler(1), o);
+  EXPECT_TRUE(r.plot_note.empty()) << r.plot_note;
+  for (const char* name : {"work_precision_time", "work_precision_rhs", "work_precision_energy"})
+    for (const char* ext : {".png", ".svg"}) {
+      const fs::path f = dir.path / (std::string(name) + ext);
+      EXPECT_TRUE(fs::exists(f) && fs::file_size(f) > 0) << f;
+    }
+  const std::string gp = read(dir.path / "bench.gp");
+  EXPECT_NE(gp.find("set logscale xy"), std::string::npos);
+  EXPECT_NE(gp.find("error against the closed form at t_end"), std::string::npos);
+  EXPECT_NE(gp.find("right-hand-side evaluations"), std::string::npos);
+  for (const char* m : {"'dopri5'", "'fehlberg78'", "'rk4'"}) EXPECT_NE(gp.find(m), std::string::npos) << m;
+  const std::string svg = read(dir.path / "work_precision_time.svg");
+  EXPECT_NE(svg.find("fehlberg78"), std::string::npos);  // the legend
+}
+
+// Without gnuplot the bench still writes its table and says why there are
+// no diagrams.
+TEST(Bench, WithoutGnuplotTheTableIsWrittenAndTheNoteSaysWhy) {
+  TempDir dir;
+  TempDir empty_bin("bin");
+  fs::create_directories(empty_bin.path);
+  const char* old = std::getenv("PATH");
+  const std::string saved = old ? old : "";
+  ::setenv("PATH", empty_bin.path.c_str(), 1);
+  BenchOptions o = quiet_options(dir, {"dopri5"});
+  o.plots = true;
+  o.tolerance_loose = 1e-4;
+  o.tolerance_tight = 1e-5;
+  BenchResult r;
+  try {
+    r = bench(kepler(1), o);
+  } catch (...) {
+    ::setenv("PATH", saved.c_str(), 1);
+    throw;
+  }
+  ::setenv("PATH", saved.c_str(), 1);
+  EXPECT_NE(r.plot_note.find("gnuplot not found"), std::string::npos) << r.plot_note;
+  EXPECT_TRUE(fs::exists(dir.path / "work_precision.csv"));
+  EXPECT_FALSE(fs::exists(dir.path / "work_precision_time.png"));
 }
 
 }  // namespace

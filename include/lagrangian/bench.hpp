@@ -44,6 +44,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "lagrangian/scene.hpp"
@@ -63,7 +64,7 @@ struct BenchOptions {
   double dt_large = 0, dt_small = 0;
   int repeat = 3;                  ///< timed runs per configuration (median kept), ≥ 1
   double reference_tolerance = 1e-15;  ///< rtol = atol of the reference run (no closed form)
-  std::string out_dir = "bench";   ///< where the CSV, JSON, script and diagrams go
+  std::string out_dir = "out/bench";  ///< where the CSV, JSON, script and diagrams go
   bool plots = true;               ///< draw the diagrams (gnuplot; skipped with a note without it)
   bool png = true, svg = true;
   /// Called after each configuration with a line for the user (progress); may be empty.

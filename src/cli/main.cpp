@@ -187,7 +187,7 @@ int main(int argc, char** argv) {
   bench->add_option("--reference-tol", reference_tol, "rtol = atol of the reference run (default 1e-15)");
   bench->add_option("--t-end", t_end, "end time (s), overrides run.t_end");
   bench->add_option("--stabilization", stabilization, "constraint drift control: none, baumgarte or projection");
-  bench->add_option("--out", out_dir, "output directory (default bench/<scene file name>)");
+  bench->add_option("--out", out_dir, "output directory (default out/bench/<scene file name>)");
   bench->add_flag("--no-plots", no_plots, "do not draw the diagrams");
   bench->add_flag("-q,--quiet", quiet, "print only errors");
 
@@ -259,7 +259,7 @@ int main(int argc, char** argv) {
       if (repeat) bench_opt.repeat = *repeat;
       if (per_decade) bench_opt.per_decade = *per_decade;
       if (reference_tol) bench_opt.reference_tolerance = *reference_tol;
-      bench_opt.out_dir = out_dir ? *out_dir : "bench/" + fs::path(scene_path).stem().string();
+      bench_opt.out_dir = out_dir ? *out_dir : "out/bench/" + fs::path(scene_path).stem().string();
       bench_opt.plots = !no_plots;
       bench_opt.png = scene.output.png;
       bench_opt.svg = scene.output.svg;
