@@ -1,12 +1,18 @@
 // The simulate() driver against raw Boost.Odeint with the same hand-coded
 // right-hand side, stepper and tolerances; and the full AD-derived run.
+// Double pendulum from θ1 = θ2 = 2 rad at rest, t ∈ [0, 20] s, with dopri5
+// and fehlberg78 (rtol 1e-10, atol 1e-12) and rk4 (dt = 1 ms): the same
+// steps in both loops (counted), so the ratio is the driver's overhead.
 #include <benchmark/benchmark.h>
 
 #include <array>
 
 #include <boost/numeric/odeint/integrate/integrate_adaptive.hpp>
+#include <boost/numeric/odeint/integrate/integrate_n_steps.hpp>
 #include <boost/numeric/odeint/stepper/controlled_runge_kutta.hpp>
+#include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_dopri5.hpp>
+#include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
 
 #include "hand_coded.hpp"
 #include "lagrangian/simulate.hpp"
@@ -22,32 +28,56 @@ lagrangian::State<2> initial() {
   return s;
 }
 
-void BM_RawOdeint_Dopri5_DoublePendulum(benchmark::State& st) {
+using X = std::array<double, 4>;
+
+/// ẋ = [q̇; q̈] with the hand-coded q̈.
+struct HandRhs {
+  const bench::HandDoublePendulum* p;
+  void operator()(const X& x, X& dxdt, double) const {
+    dxdt[0] = x[2];
+    dxdt[1] = x[3];
+    bench::double_pendulum_qdd(*p, x.data(), x.data() + 2, dxdt.data() + 2);
+  }
+};
+
+template <class Stepper>
+void raw_adaptive(benchmark::State& st) {
   const bench::HandDoublePendulum p;
-  using X = std::array<double, 4>;
   std::size_t steps = 0;
   for (auto _ : st) {
     X x = {2.0, 2.0, 0.0, 0.0};
-    using Controlled = odeint::controlled_runge_kutta<odeint::runge_kutta_dopri5<X>>;
-    Controlled stepper{Controlled::error_checker_type(kAtol, kRtol)};
-    steps = odeint::integrate_adaptive(
-        stepper,
-        [&p](const X& x, X& dxdt, double) {
-          dxdt[0] = x[2];
-          dxdt[1] = x[3];
-          bench::double_pendulum_qdd(p, x.data(), x.data() + 2, dxdt.data() + 2);
-        },
-        x, 0.0, kTEnd, kDt);
+    using Controlled = odeint::controlled_runge_kutta<Stepper>;
+    Controlled stepper{typename Controlled::error_checker_type(kAtol, kRtol)};
+    steps = odeint::integrate_adaptive(stepper, HandRhs{&p}, x, 0.0, kTEnd, kDt);
     benchmark::DoNotOptimize(x);
   }
   st.counters["steps"] = static_cast<double>(steps);
 }
+
+void BM_RawOdeint_Dopri5_DoublePendulum(benchmark::State& st) { raw_adaptive<odeint::runge_kutta_dopri5<X>>(st); }
 BENCHMARK(BM_RawOdeint_Dopri5_DoublePendulum)->Unit(benchmark::kMillisecond);
 
+void BM_RawOdeint_Fehlberg78_DoublePendulum(benchmark::State& st) {
+  raw_adaptive<odeint::runge_kutta_fehlberg78<X>>(st);
+}
+BENCHMARK(BM_RawOdeint_Fehlberg78_DoublePendulum)->Unit(benchmark::kMillisecond);
+
+void BM_RawOdeint_Rk4_DoublePendulum(benchmark::State& st) {
+  const bench::HandDoublePendulum p;
+  const auto n = static_cast<std::size_t>(kTEnd / kDt + 0.5);
+  for (auto _ : st) {
+    X x = {2.0, 2.0, 0.0, 0.0};
+    odeint::integrate_n_steps(odeint::runge_kutta4<X>{}, HandRhs{&p}, x, 0.0, kDt, n);
+    benchmark::DoNotOptimize(x);
+  }
+  st.counters["steps"] = static_cast<double>(n);
+}
+BENCHMARK(BM_RawOdeint_Rk4_DoublePendulum)->Unit(benchmark::kMillisecond);
+
 template <class Model>
-void run_simulate(benchmark::State& st, const Model& p) {
+void run_simulate(benchmark::State& st, const Model& p, const char* method) {
   lagrangian::SimulationOptions o;
-  o.method = "dopri5";
+  o.method = method;
   o.t_end = kTEnd;
   o.rtol = kRtol;
   o.atol = kAtol;
@@ -64,14 +94,36 @@ void run_simulate(benchmark::State& st, const Model& p) {
 
 void BM_Simulate_HandRHS_Dopri5_DoublePendulum(benchmark::State& st) {
   const bench::HandDoublePendulum model;
-  run_simulate(st, model);
+  run_simulate(st, model, "dopri5");
 }
 BENCHMARK(BM_Simulate_HandRHS_Dopri5_DoublePendulum)->Unit(benchmark::kMillisecond);
 
 void BM_Simulate_AD_Dopri5_DoublePendulum(benchmark::State& st) {
-  run_simulate(st, lagrangian::models::DoublePendulum{});
+  run_simulate(st, lagrangian::models::DoublePendulum{}, "dopri5");
 }
 BENCHMARK(BM_Simulate_AD_Dopri5_DoublePendulum)->Unit(benchmark::kMillisecond);
+
+void BM_Simulate_HandRHS_Fehlberg78_DoublePendulum(benchmark::State& st) {
+  const bench::HandDoublePendulum model;
+  run_simulate(st, model, "fehlberg78");
+}
+BENCHMARK(BM_Simulate_HandRHS_Fehlberg78_DoublePendulum)->Unit(benchmark::kMillisecond);
+
+void BM_Simulate_AD_Fehlberg78_DoublePendulum(benchmark::State& st) {
+  run_simulate(st, lagrangian::models::DoublePendulum{}, "fehlberg78");
+}
+BENCHMARK(BM_Simulate_AD_Fehlberg78_DoublePendulum)->Unit(benchmark::kMillisecond);
+
+void BM_Simulate_HandRHS_Rk4_DoublePendulum(benchmark::State& st) {
+  const bench::HandDoublePendulum model;
+  run_simulate(st, model, "rk4");
+}
+BENCHMARK(BM_Simulate_HandRHS_Rk4_DoublePendulum)->Unit(benchmark::kMillisecond);
+
+void BM_Simulate_AD_Rk4_DoublePendulum(benchmark::State& st) {
+  run_simulate(st, lagrangian::models::DoublePendulum{}, "rk4");
+}
+BENCHMARK(BM_Simulate_AD_Rk4_DoublePendulum)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -518,6 +518,24 @@ std::string trim(std::string s) {
   return s.substr(i);
 }
 
+// Colours (the Tableau 10 palette), the settings every plot starts from
+// (`setup`) and the two terminals (`png_terminal`, `svg_terminal`) at
+// width × height pixels.
+void write_styles(std::ostream& os, int width, int height) {
+  os << "# Colours (the Tableau 10 palette) and the settings every plot starts from.\n";
+  static const char* palette[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
+                                  "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
+  for (int i = 0; i < 10; ++i) os << "set linetype " << i + 1 << " lc rgb '" << palette[i] << "' lw 1.5 pt 7 ps 0.8\n";
+  const std::string size = std::to_string(width) + "," + std::to_string(height);
+  os << "set linetype cycle 10\n"
+     << "setup = \"set encoding utf8; "
+        "set grid lc rgb '#d9d9d9' lw 1 dt 1; set key noautotitle spacing 1.2; set tics front\"\n"
+     << "png_terminal = \"set terminal pngcairo size " << size
+     << " noenhanced font 'Sans,11' linewidth 1 background rgb 'white'\"\n"
+     << "svg_terminal = \"set terminal svg size " << size
+     << " noenhanced dynamic font 'Sans,12' linewidth 1 background rgb 'white'\"\n\n";
+}
+
 // ---------------------------------------------------------------- the script
 
 struct Columns {
@@ -660,18 +678,7 @@ class ScriptWriter {
       os << "Etot0 = " << num(tr_.first[cols_.total_energy]) << "    # T + V at t0 (J)\n";
     os << "Escale = " << num(spec_.energy_scale) << "    # energy scale (J)\n\n";
 
-    os << "# Colours (the Tableau 10 palette) and the settings every plot starts from.\n";
-    static const char* palette[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
-                                    "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
-    for (int i = 0; i < 10; ++i)
-      os << "set linetype " << i + 1 << " lc rgb '" << palette[i] << "' lw 1.5 pt 7 ps 0.8\n";
-    os << "set linetype cycle 10\n"
-        << "setup = \"set encoding utf8; "
-           "set grid lc rgb '#d9d9d9' lw 1 dt 1; set key noautotitle spacing 1.2; set tics front\"\n"
-        << "png_terminal = \"set terminal pngcairo size 1000,700 noenhanced font 'Sans,11' linewidth 1 "
-           "background rgb 'white'\"\n"
-        << "svg_terminal = \"set terminal svg size 1000,700 noenhanced dynamic font 'Sans,12' linewidth 1 "
-           "background rgb 'white'\"\n\n";
+    write_styles(os, 1000, 700);
 
     // Impact times and, per plot, the impact points: inline data blocks.
     if (!impacts_.empty()) {
@@ -1097,30 +1104,103 @@ void write_file(const fs::path& path, const std::string& text) {
     throw OptionError("cannot rename '" + partial + "' to '" + path.string() + "': " + std::strerror(errno));
 }
 
-}  // namespace
 
-bool gnuplot_available() {
+// Runs gnuplot on `script` in `dir`; the script writes each image as
+// <name>.partial.<ext> (its variable `suffix`), renamed here only when
+// gnuplot succeeded. Fills result.files (images, then the script) and
+// result.message; on failure removes every image of this call and throws.
+void run_script(const std::string& exe, const fs::path& dir, const fs::path& script,
+                const std::vector<std::string>& names, bool png, bool svg, PlotResult& result) {
+  std::vector<std::string> exts;
+  if (png) exts.push_back("png");
+  if (svg) exts.push_back("svg");
+  std::vector<std::pair<fs::path, fs::path>> outputs;  // partial, final
+  for (const std::string& name : names)
+    for (const std::string& ext : exts)
+      outputs.emplace_back(dir / (name + ".partial." + ext), dir / (name + "." + ext));
+  auto remove_outputs = [&] {
+    for (const auto& [partial, final_path] : outputs) {
+      std::error_code ignore;
+      fs::remove(partial, ignore);
+      fs::remove(final_path, ignore);
+    }
+  };
+  remove_outputs();  // images of an earlier run would not match this one
+  const ProcessResult run = run_process(exe, {"-e", "suffix = '.partial'", script.filename().string()}, dir.string());
+  const std::string err = trim(run.err);
+  if (run.status != 0) {
+    remove_outputs();
+    throw OptionError("gnuplot failed on '" + script.string() + "' (exit status " + std::to_string(run.status) +
+                      ")" + (err.empty() ? "" : ":\n" + err));
+  }
+  for (const auto& [partial, final_path] : outputs) {
+    std::error_code e1;
+    const auto size = fs::file_size(partial, e1);
+    if (e1 || size == 0) {
+      remove_outputs();
+      throw OptionError("gnuplot did not write '" + partial.string() + "' (script '" + script.string() + "')" +
+                        (err.empty() ? "" : ":\n" + err));
+    }
+    fs::rename(partial, final_path, e1);
+    if (e1) {
+      remove_outputs();
+      throw OptionError("cannot rename '" + partial.string() + "' to '" + final_path.string() + "': " + e1.message());
+    }
+    result.files.push_back(final_path.string());
+  }
+  result.files.push_back(script.string());
+  result.message = "wrote " + std::to_string(outputs.size()) + " plots and the script " +
+                   script.filename().string() + " to '" + dir.string() + "'";
+  if (!err.empty()) result.message += "; gnuplot said: " + err;
+}
+
+/// gnuplot is on PATH and runs: its path, else "".
+std::string working_gnuplot() {
   const std::string exe = find_on_path("gnuplot");
-  if (exe.empty()) return false;
+  if (exe.empty()) return {};
   try {
-    return run_process(exe, {"--version"}, "").status == 0;
+    return run_process(exe, {"--version"}, "").status == 0 ? exe : std::string();
   } catch (const OptionError&) {
-    return false;
+    return {};
   }
 }
 
-PlotResult make_plots(const PlotSpec& spec) {
-  PlotResult result;
-  const std::string exe = find_on_path("gnuplot");
-  if (exe.empty() || run_process(exe, {"--version"}, "").status != 0) {
+/// gnuplot's path when it runs and an image format is enabled; otherwise ""
+/// with result.message saying why nothing will be drawn.
+std::string gnuplot_for(bool png, bool svg, PlotResult& result) {
+  const std::string exe = working_gnuplot();
+  if (exe.empty()) {
     result.message = kNotFound;
-    return result;
+    return {};
   }
   result.gnuplot_found = true;
-  if (!spec.png && !spec.svg) {
+  if (!png && !svg) {
     result.message = "plots skipped: neither png nor svg is enabled";
-    return result;
+    return {};
   }
+  return exe;
+}
+
+/// Creates `out_dir` and returns it absolute.
+fs::path plot_directory(const std::string& out_dir) {
+  if (out_dir.empty()) throw OptionError("plots: out_dir is empty");
+  if (out_dir.find_first_of("\n\r") != std::string::npos)
+    throw OptionError("plots: a path contains a line break: '" + out_dir + "'");
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  if (ec || !fs::is_directory(out_dir))
+    throw OptionError("cannot create plot directory '" + out_dir + "'" + (ec ? ": " + ec.message() : ""));
+  return fs::absolute(out_dir).lexically_normal();
+}
+
+}  // namespace
+
+bool gnuplot_available() { return !working_gnuplot().empty(); }
+
+PlotResult make_plots(const PlotSpec& spec) {
+  PlotResult result;
+  const std::string exe = gnuplot_for(spec.png, spec.svg, result);
+  if (exe.empty()) return result;
 
   // Check the spec.
   if (!(spec.energy_scale > 0) || !std::isfinite(spec.energy_scale))
@@ -1200,57 +1280,99 @@ PlotResult make_plots(const PlotSpec& spec) {
                           std::to_string(coords.size()));
 
   // Output directory and script.
-  std::error_code ec;
-  fs::create_directories(spec.out_dir, ec);
-  if (ec || !fs::is_directory(spec.out_dir))
-    throw OptionError("cannot create plot directory '" + spec.out_dir + "'" + (ec ? ": " + ec.message() : ""));
-  const fs::path dir = fs::absolute(spec.out_dir).lexically_normal();
+  const fs::path dir = plot_directory(spec.out_dir);
   ScriptWriter writer(spec, tr, cols, impacts, times, positions, coords, units,
                       script_path(spec.trajectory_csv, dir));
   const fs::path script = dir / "plots.gp";
   write_file(script, writer.write());
 
-  // Run it; images appear as <name>.partial.<ext> and are renamed on success.
-  std::vector<std::string> exts;
-  if (spec.png) exts.push_back("png");
-  if (spec.svg) exts.push_back("svg");
-  std::vector<std::pair<fs::path, fs::path>> outputs;  // partial, final
-  for (const char* name : kPlotNames)
-    for (const std::string& ext : exts)
-      outputs.emplace_back(dir / (std::string(name) + ".partial." + ext), dir / (std::string(name) + "." + ext));
-  auto remove_outputs = [&] {
-    for (const auto& [partial, final_path] : outputs) {
-      std::error_code ignore;
-      fs::remove(partial, ignore);
-      fs::remove(final_path, ignore);
+  std::vector<std::string> names(std::begin(kPlotNames), std::end(kPlotNames));
+  run_script(exe, dir, script, names, spec.png, spec.svg, result);
+  return result;
+}
+
+
+PlotResult make_work_precision_plots(const WorkPrecisionPlotSpec& spec) {
+  PlotResult result;
+  const std::string exe = gnuplot_for(spec.png, spec.svg, result);
+  if (exe.empty()) return result;
+  const fs::path dir = plot_directory(spec.out_dir);
+
+  // One data block per series: wall time, RHS evaluations, error, energy
+  // drift; rows whose value is not positive and finite hold NaN there, which
+  // gnuplot leaves out (log axes).
+  auto positive = [](double v) { return std::isfinite(v) && v > 0 ? num(v) : std::string("NaN"); };
+  std::ostringstream os;
+  os << "# Work-precision diagrams, written by lagrangian::make_work_precision_plots.\n"
+     << "# Run with: gnuplot bench.gp   (images <name>.png / .svg; `suffix` goes between\n"
+     << "# the image name and the extension; lagrangian uses '.partial' and renames).\n"
+     << "if (!exists('suffix')) suffix = ''\n\n";
+  write_styles(os, 800, 560);
+  bool any_energy = false;
+  for (std::size_t k = 0; k < spec.series.size(); ++k) {
+    const WorkPrecisionSeries& sr = spec.series[k];
+    const std::size_t n = sr.error.size();
+    if (sr.wall_time_s.size() != n || sr.rhs_evaluations.size() != n || sr.energy_drift.size() != n)
+      throw OptionError("plots: series '" + sr.name + "' has columns of different lengths");
+    os << "# " << sr.name << ": wall time (s), RHS evaluations, error, relative energy drift\n"
+       << "$s" << k << " << EOD\n";
+    for (std::size_t i = 0; i < n; ++i) {
+      os << positive(sr.wall_time_s[i]) << " " << positive(sr.rhs_evaluations[i]) << " " << positive(sr.error[i])
+         << " " << positive(sr.energy_drift[i]) << "\n";
+      any_energy = any_energy || (std::isfinite(sr.energy_drift[i]) && sr.energy_drift[i] > 0);
     }
+    os << "EOD\n";
+  }
+  std::string formats;
+  if (spec.png) formats = "png";
+  if (spec.svg) formats += formats.empty() ? "svg" : " svg";
+  os << "\nformats = '" << formats << "'\n";
+
+  struct Diagram {
+    const char* name;
+    const char* what;
+    const char* xlabel;
+    const char* ylabel;  // empty: spec.error_label
+    int x, y;            // columns of the data blocks
   };
-  remove_outputs();  // images of an earlier run would not match this one
-  const ProcessResult run = run_process(exe, {"-e", "suffix = '.partial'", "plots.gp"}, dir.string());
-  const std::string err = trim(run.err);
-  if (run.status != 0) {
-    remove_outputs();
-    throw OptionError("gnuplot failed on '" + script.string() + "' (exit status " + std::to_string(run.status) +
-                      ")" + (err.empty() ? "" : ":\n" + err));
-  }
-  for (const auto& [partial, final_path] : outputs) {
-    std::error_code e1;
-    const auto size = fs::file_size(partial, e1);
-    if (e1 || size == 0) {
-      remove_outputs();
-      throw OptionError("gnuplot did not write '" + partial.string() + "' (script '" + script.string() + "')" +
-                        (err.empty() ? "" : ":\n" + err));
+  std::vector<Diagram> diagrams{{"work_precision_time", "error against wall time", "wall time (s)", "", 1, 3},
+                                {"work_precision_rhs", "error against right-hand-side evaluations",
+                                 "right-hand-side evaluations", "", 2, 3}};
+  if (any_energy)
+    diagrams.push_back({"work_precision_energy", "relative energy drift against wall time", "wall time (s)",
+                        "max |E(t) - E(t0)| / E scale", 1, 4});
+  std::vector<std::string> names;
+  for (const Diagram& d : diagrams) {
+    names.emplace_back(d.name);
+    os << "\n# " << d.what << "\n"
+       << "do for [fmt in formats] {\n"
+       << "  reset\n"
+       << "  eval setup\n"
+       << "  if (fmt eq 'png') { eval png_terminal } else { eval svg_terminal }\n"
+       << "  set output '" << d.name << "'.suffix.'.'.fmt\n"
+       << "  set logscale xy\n"
+       << "  set format x '%.0e'; set format y '%.0e'\n"
+       << "  set title " << gp_str(spec.title + ": " + d.what) << "\n"
+       << "  set xlabel " << gp_str(d.xlabel) << "\n"
+       << "  set ylabel " << gp_str(*d.ylabel ? std::string(d.ylabel) : spec.error_label) << "\n"
+       << "  set key outside right top\n"
+       << "  set bmargin 6\n";
+    if (!spec.note.empty()) os << "  set label 1 " << gp_str(spec.note) << " at screen 0.01, 0.025 font ',9'\n";
+    os << "  plot ";
+    bool first = true;
+    for (std::size_t k = 0; k < spec.series.size(); ++k) {
+      os << (first ? "" : ", \\\n       ") << "$s" << k << " using " << d.x << ":" << d.y << " with linespoints lt "
+         << k % 10 + 1 << " title " << gp_str(spec.series[k].name);
+      first = false;
     }
-    fs::rename(partial, final_path, e1);
-    if (e1) {
-      remove_outputs();
-      throw OptionError("cannot rename '" + partial.string() + "' to '" + final_path.string() + "': " + e1.message());
-    }
-    result.files.push_back(final_path.string());
+    if (d.y == 3 && spec.reference_accuracy > 0)
+      os << (first ? "" : ", \\\n       ") << num(spec.reference_accuracy)
+         << " with lines dt 2 lc rgb '#707070' title 'reference accuracy'";
+    os << "\n  set output\n}\n";
   }
-  result.files.push_back(script.string());
-  result.message = "wrote " + std::to_string(outputs.size()) + " plots and the script plots.gp to '" + dir.string() + "'";
-  if (!err.empty()) result.message += "; gnuplot said: " + err;
+  const fs::path script = dir / "bench.gp";
+  write_file(script, os.str());
+  run_script(exe, dir, script, names, spec.png, spec.svg, result);
   return result;
 }
 

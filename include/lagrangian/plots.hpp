@@ -81,4 +81,38 @@ bool gnuplot_available();
 /// in that case no image of this call is left behind.
 PlotResult make_plots(const PlotSpec& spec);
 
+/// One line of a work-precision diagram: the runs of one stepper, from the
+/// loosest tolerance (or largest step) to the tightest.
+struct WorkPrecisionSeries {
+  std::string name;                    ///< the stepper, shown in the legend
+  std::vector<double> wall_time_s;     ///< wall time of each run (s), > 0
+  std::vector<double> rhs_evaluations; ///< right-hand-side evaluations of each run
+  std::vector<double> error;           ///< the error measure of each run; non-positive values are not drawn
+  std::vector<double> energy_drift;    ///< relative energy drift of each run; NaN: not measured
+};
+
+/// What make_work_precision_plots() draws and where.
+struct WorkPrecisionPlotSpec {
+  std::string title;                   ///< e.g. the scene's name
+  std::string error_label;             ///< y-axis label: what the error is
+  std::string note;                    ///< one line under the plot (how the error was measured, the machine)
+  std::string out_dir;                 ///< directory for `bench.gp` and the images (created if missing)
+  double reference_accuracy = 0;       ///< > 0: drawn as a dashed line (errors below it are not resolved)
+  std::vector<WorkPrecisionSeries> series;
+  bool png = true;                     ///< write `<name>.png` (pngcairo, 800×560)
+  bool svg = true;                     ///< write `<name>.svg`
+};
+
+/// Writes `<out_dir>/bench.gp` and runs gnuplot on it to draw, log–log, one
+/// line per series:
+///  - `work_precision_time`:   error against wall time;
+///  - `work_precision_rhs`:    error against right-hand-side evaluations;
+///  - `work_precision_energy`: relative energy drift against wall time (only
+///    when some series has a measured drift).
+/// Without gnuplot nothing is written and the result says so, as for
+/// make_plots(); images are written under `.partial` names and renamed only
+/// when gnuplot succeeded. Throws OptionError when out_dir cannot be written
+/// or gnuplot fails, leaving no image of this call behind.
+PlotResult make_work_precision_plots(const WorkPrecisionPlotSpec& spec);
+
 }  // namespace lagrangian

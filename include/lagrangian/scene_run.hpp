@@ -27,8 +27,10 @@ struct RunResult {
   /// Particle scenes on the ODE engine: evaluations of each declared effect
   /// kernel (one per right-hand side). Undeclared kinds do not appear.
   std::map<std::string, std::uint64_t> effect_evaluations;
-  /// Particle scenes: positions (m) and velocities (m/s) at the end of the
-  /// run, body by body (x, y, z); empty for built-in models.
+  /// The state the run ended in: particle scenes, positions (m) and
+  /// velocities (m/s) body by body (x, y, z); built-in models, the
+  /// generalized coordinates q and rates q̇ in the model's order (units as in
+  /// `lagrangian list` / inspect).
   std::vector<double> q_final, qd_final;
 };
 

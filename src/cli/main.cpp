@@ -1,4 +1,4 @@
-// The `lagrangian` command: run, inspect and list scenes.
+// The `lagrangian` command: run, inspect, bench and list scenes.
 //
 // Exit codes: 0 success; 1 the run failed part-way (non-finite state, step
 // size underflow, max_steps, an output that could not be written); 2 bad
@@ -11,11 +11,14 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <sstream>
+#include <tuple>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "lagrangian/bench.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/report.hpp"
 #include "lagrangian/scene.hpp"
@@ -81,6 +84,57 @@ int list(const char* argv0) {
   return kOk;
 }
 
+void print_progress(const std::string& line) { std::cerr << "  " << line << "\n"; }
+
+/// The note on plots and the files written (quiet: only a plot failure, on stderr).
+void print_outputs(const std::string& plot_note, const std::vector<std::string>& files, bool quiet) {
+  if (!quiet) {
+    if (!plot_note.empty()) std::cout << "note: " << plot_note << "\n";
+    std::cout << "wrote:";
+    for (const auto& f : files) std::cout << " " << f;
+    std::cout << "\n";
+  } else if (!plot_note.empty() && plot_note.rfind("plots failed", 0) == 0) {
+    std::cerr << "lagrangian: " << plot_note << "\n";
+  }
+}
+
+/// Runs `body` (which returns the exit code) and turns what it throws into
+/// a one-line message and the exit code: bad input 2, "<what> failed" 1.
+template <class Body>
+int guarded(const std::string& what, Body&& body) {
+  try {
+    return body();
+  } catch (const scene::SceneError& e) {
+    std::cerr << "lagrangian: " << e.what() << "\n";
+    return kBadInput;
+  } catch (const SimulationError& e) {
+    std::cerr << "lagrangian: " << what << " failed at t = " << e.time() << " s: " << e.what() << "\n";
+    return kRunFailed;
+  } catch (const ParameterError& e) {
+    std::cerr << "lagrangian: " << e.what() << "\n";
+    return kBadInput;
+  } catch (const OptionError& e) {
+    std::cerr << "lagrangian: " << e.what() << "\n";
+    return kBadInput;
+  } catch (const Error& e) {
+    std::cerr << "lagrangian: " << what << " failed: " << e.what() << "\n";
+    return kRunFailed;
+  } catch (const std::exception& e) {
+    std::cerr << "lagrangian: " << what << " failed: " << e.what() << "\n";
+    return kRunFailed;
+  }
+}
+
+int run_bench(const scene::Scene& scene, scene::BenchOptions options, bool quiet) {
+  if (!quiet) options.progress = &print_progress;
+  return guarded("bench", [&] {
+    const scene::BenchResult r = scene::bench(scene, options);
+    if (!quiet) std::cout << r.table();
+    print_outputs(r.plot_note, r.files, quiet);
+    return kOk;
+  });
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -115,6 +169,28 @@ int main(int argc, char** argv) {
 
   CLI::App* lst = app.add_subcommand("list", "List the built-in models and the example scenes.");
 
+  scene::BenchOptions bench_opt;
+  std::optional<std::string> methods_text, tolerances_text, dt_text, stabilization;
+  std::optional<int> repeat, per_decade;
+  std::optional<double> reference_tol;
+  CLI::App* bench = app.add_subcommand(
+      "bench", "Work-precision bench of a scene: runs it with each stepper at each tolerance, measures the error "
+               "(against the model's closed form, or a tight reference run) and the median wall time, and writes "
+               "work_precision.csv, bench.json and diagrams (error against wall time and against RHS evaluations).");
+  bench->add_option("scene", scene_path, "scene file (TOML)")->required();
+  bench->add_option("--methods", methods_text,
+                    "comma-separated steppers (default dopri5,cash_karp54,fehlberg78,bulirsch_stoer,rk4)");
+  bench->add_option("--tolerances", tolerances_text, "LOOSE:TIGHT rtol = atol range (default 1e-3:1e-13)");
+  bench->add_option("--per-decade", per_decade, "tolerances (and rk4 step sizes) per decade (default 1)");
+  bench->add_option("--dt", dt_text, "LARGE:SMALL step sizes of rk4 in s (default span/100:span/1e5)");
+  bench->add_option("--repeat", repeat, "timed runs per configuration; the median is kept (default 3)");
+  bench->add_option("--reference-tol", reference_tol, "rtol = atol of the reference run (default 1e-15)");
+  bench->add_option("--t-end", t_end, "end time (s), overrides run.t_end");
+  bench->add_option("--stabilization", stabilization, "constraint drift control: none, baumgarte or projection");
+  bench->add_option("--out", out_dir, "output directory (default out/bench/<scene file name>)");
+  bench->add_flag("--no-plots", no_plots, "do not draw the diagrams");
+  bench->add_flag("-q,--quiet", quiet, "print only errors");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -127,13 +203,13 @@ int main(int argc, char** argv) {
   scene::Scene scene;
   try {
     scene = scene::load_scene(scene_path);
+    if (t_end) {  // run and bench
+      if (!std::isfinite(*t_end) || !(*t_end > scene.run.t0))
+        throw BadInput{"command line: --t-end: must be finite and > t0 = " + std::to_string(scene.run.t0) +
+                       " s, got " + std::to_string(*t_end)};
+      scene.run.t_end = *t_end;
+    }
     if (run->parsed()) {
-      if (t_end) {
-        if (!std::isfinite(*t_end) || !(*t_end > scene.run.t0))
-          throw BadInput{"command line: --t-end: must be finite and > t0 = " + std::to_string(scene.run.t0) +
-                         " s, got " + std::to_string(*t_end)};
-        scene.run.t_end = *t_end;
-      }
       if (rtol) {
         check_positive("--rtol", *rtol);
         scene.run.rtol = *rtol;
@@ -157,6 +233,51 @@ int main(int argc, char** argv) {
       if (out_dir) scene.output.directory = *out_dir;
       if (no_plots) scene.output.plots = false;
     }
+    if (bench->parsed()) {
+      if (stabilization) {
+        if (*stabilization == "none") scene.run.stabilization = Stabilization::none;
+        else if (*stabilization == "baumgarte") scene.run.stabilization = Stabilization::baumgarte;
+        else if (*stabilization == "projection") scene.run.stabilization = Stabilization::projection;
+        else
+          throw BadInput{"command line: --stabilization: must be none, baumgarte or projection, got '" +
+                         *stabilization + "'"};
+      }
+      try {
+        if (methods_text) {
+          bench_opt.methods.clear();
+          std::string item;
+          std::istringstream in(*methods_text);
+          while (std::getline(in, item, ',')) bench_opt.methods.push_back(item);
+        }
+        if (tolerances_text)
+          std::tie(bench_opt.tolerance_loose, bench_opt.tolerance_tight) =
+              scene::parse_range("--tolerances", *tolerances_text);
+        if (dt_text) std::tie(bench_opt.dt_large, bench_opt.dt_small) = scene::parse_range("--dt", *dt_text);
+      } catch (const OptionError& e) {
+        throw BadInput{std::string("command line: ") + e.what()};
+      }
+      if (repeat) bench_opt.repeat = *repeat;
+      if (per_decade) bench_opt.per_decade = *per_decade;
+      if (reference_tol) bench_opt.reference_tolerance = *reference_tol;
+      bench_opt.out_dir = out_dir ? *out_dir : "out/bench/" + fs::path(scene_path).stem().string();
+      bench_opt.plots = !no_plots;
+      bench_opt.png = scene.output.png;
+      bench_opt.svg = scene.output.svg;
+      try {
+        bench_opt.validate();
+      } catch (const OptionError& e) {
+        const std::string what = e.what();
+        // Name the command-line option the field comes from.
+        const std::string flag = what.rfind("methods", 0) == 0       ? "--methods"
+                                 : what.rfind("tolerances", 0) == 0  ? "--tolerances"
+                                 : what.rfind("per_decade", 0) == 0  ? "--per-decade"
+                                 : what.rfind("dt", 0) == 0          ? "--dt"
+                                 : what.rfind("repeat", 0) == 0      ? "--repeat"
+                                 : what.rfind("reference_tolerance", 0) == 0 ? "--reference-tol"
+                                                                             : "--out";
+        throw BadInput{"command line: " + flag + what.substr(what.find(':'))};
+      }
+    }
   } catch (const BadInput& e) {
     std::cerr << "lagrangian: " << e.message << "\n";
     return kBadInput;
@@ -178,7 +299,9 @@ int main(int argc, char** argv) {
     }
   }
 
-  try {
+  if (bench->parsed()) return run_bench(scene, bench_opt, quiet);
+
+  return guarded("run", [&] {
     scene::RunControls controls;
     controls.progress = !quiet;
     const scene::RunResult r = scene::run(scene, controls);
@@ -189,31 +312,8 @@ int main(int argc, char** argv) {
         for (const auto& [name, count] : r.effect_evaluations) std::cout << " " << name << " " << count << ";";
         std::cout << "\n";
       }
-      if (!r.plot_note.empty()) std::cout << "note: " << r.plot_note << "\n";
-      std::cout << "wrote:";
-      for (const auto& f : r.files) std::cout << " " << f;
-      std::cout << "\n";
-    } else if (!r.plot_note.empty() && r.plot_note.rfind("plots failed", 0) == 0) {
-      std::cerr << "lagrangian: " << r.plot_note << "\n";
     }
+    print_outputs(r.plot_note, r.files, quiet);
     return kOk;
-  } catch (const scene::SceneError& e) {
-    std::cerr << "lagrangian: " << e.what() << "\n";
-    return kBadInput;
-  } catch (const SimulationError& e) {
-    std::cerr << "lagrangian: run failed at t = " << e.time() << " s: " << e.what() << "\n";
-    return kRunFailed;
-  } catch (const ParameterError& e) {
-    std::cerr << "lagrangian: " << e.what() << "\n";
-    return kBadInput;
-  } catch (const OptionError& e) {
-    std::cerr << "lagrangian: " << e.what() << "\n";
-    return kBadInput;
-  } catch (const Error& e) {
-    std::cerr << "lagrangian: run failed: " << e.what() << "\n";
-    return kRunFailed;
-  } catch (const std::exception& e) {
-    std::cerr << "lagrangian: run failed: " << e.what() << "\n";
-    return kRunFailed;
-  }
+  });
 }

@@ -138,12 +138,18 @@ template <int N>
 struct SceneObserver {
   CsvSink* csv = nullptr;
   const SampleTick* tick = nullptr;
+  FinalState* final_state = nullptr;
   void begin(const Columns& c) {
     if (csv) csv->begin(c);
   }
   void operator()(const Sample<N>& s) {
     if (csv) (*csv)(s);
     if (tick) (*tick)(s.t);
+    if (final_state) {
+      final_state->t = s.t;
+      final_state->q.assign(s.q.data(), s.q.data() + s.q.size());
+      final_state->qd.assign(s.qd.data(), s.qd.data() + s.qd.size());
+    }
   }
   void finish() {
     if (csv) csv->finish();
@@ -152,12 +158,13 @@ struct SceneObserver {
 
 /// Runs simulate() on a built-in model, writing the trajectory to `csv_path`
 /// when it is not empty (through `<csv_path>.partial`, renamed only when the
-/// run succeeds) and calling tick(t) for every sample. An initial state that
+/// run succeeds), calling tick(t) for every sample and keeping the last
+/// sample in `*final_state` when given. An initial state that
 /// violates the model's constraints is a SceneError keyed "model.q"; a file
 /// that cannot be created is keyed "output.directory".
 template <class M>
 RunReport run_model(const M& model, const State<M::dof>& initial, const SimulationOptions& options,
-                    const std::string& csv_path, const SampleTick& tick) {
+                    const std::string& csv_path, const SampleTick& tick, FinalState* final_state = nullptr) {
   std::optional<CsvSink> csv;
   if (!csv_path.empty()) {
     try {
@@ -168,7 +175,7 @@ RunReport run_model(const M& model, const State<M::dof>& initial, const Simulati
       throw SceneError("output.directory", e.what());
     }
   }
-  SceneObserver<M::dof> observer{csv ? &*csv : nullptr, tick ? &tick : nullptr};
+  SceneObserver<M::dof> observer{csv ? &*csv : nullptr, tick ? &tick : nullptr, final_state};
   try {
     return simulate(model, initial, options, observer);
   } catch (const ConstraintError& e) {
@@ -377,12 +384,12 @@ State<Def::Model::dof> default_state(const ModelInfo& info, const typename Def::
 
 template <class Def>
 RunReport run_entry(const ModelSpec& spec, const SimulationOptions& options, const std::string& csv_path,
-                    const SampleTick& tick) {
+                    const SampleTick& tick, FinalState* final_state) {
   const ModelInfo& info = catalog_entry(Def::name);
   const Parameters p(info, spec);
   const typename Def::Model model = build_model<Def>(info, p);
   const auto initial = initial_state(info, spec, default_state<Def>(info, model, options.t0));
-  return run_model(model, initial, options, csv_path, tick);
+  return run_model(model, initial, options, csv_path, tick, final_state);
 }
 
 template <class Def>

@@ -190,7 +190,11 @@ RunResult run(const Scene& input, const RunControls& controls) {
       const detail::ModelEntry* entry = detail::find_entry(scene.model->name);
       if (!entry) throw SceneError("model.name", "unknown model '" + scene.model->name + "'", scene.source);
       try {
-        result.report = entry->run(*scene.model, options_of(scene.run), want_csv ? traj : std::string(), tick);
+        detail::FinalState last;
+        result.report =
+            entry->run(*scene.model, options_of(scene.run), want_csv ? traj : std::string(), tick, &last);
+        result.q_final = std::move(last.q);
+        result.qd_final = std::move(last.qd);
       } catch (const SceneError& e) {
         if (!e.key().empty() && e.line() == 0 && !scene.source.file.empty())
           throw SceneError(e.key(), e.message(), scene.source);  // point at the scene file's line

@@ -97,6 +97,37 @@ for f in trajectory.csv events.csv report.json trajectory.csv.partial; do
   [ ! -e "$work/short/$f" ] || { echo "FAIL: failed run left $f"; fails=$((fails + 1)); }
 done
 
+# bench: work-precision table, JSON and diagrams; one-line errors naming the option.
+expect 0 "" -- "$bin" bench "$src/examples/scenes/kepler.toml" --t-end 6.283185307179586 \
+  --methods dopri5,rk4 --tolerances 1e-4:1e-6 --dt 0.1:0.01 --repeat 2 --out "$work/bench" -q
+[ -s "$work/bench/work_precision.csv" ] || { echo "FAIL: bench wrote no work_precision.csv"; fails=$((fails + 1)); }
+[ -s "$work/bench/bench.json" ] || { echo "FAIL: bench wrote no bench.json"; fails=$((fails + 1)); }
+grep -q '^method,adaptive,rtol,atol,dt,status,error,wall_time_s' "$work/bench/work_precision.csv" ||
+  { echo "FAIL: work_precision.csv header"; fails=$((fails + 1)); }
+rows=$(grep -c '^dopri5,1,\|^rk4,0,' "$work/bench/work_precision.csv")
+[ "$rows" -eq 5 ] || { echo "FAIL: work_precision.csv has $rows rows, expected 5"; fails=$((fails + 1)); }
+grep -q '^# machine\|machine: ' "$work/bench/work_precision.csv" || { echo "FAIL: the table does not note the machine"; fails=$((fails + 1)); }
+if command -v gnuplot >/dev/null 2>&1; then
+  for f in work_precision_time.png work_precision_rhs.png work_precision_time.svg bench.gp; do
+    [ -s "$work/bench/$f" ] || { echo "FAIL: bench did not draw $f"; fails=$((fails + 1)); }
+  done
+fi
+expect 0 "error: .*reference run" -- "$bin" bench "$src/examples/scenes/double_pendulum.toml" --t-end 1 \
+  --methods dopri5 --tolerances 1e-4:1e-5 --repeat 1 --out "$work/bench_ref" --no-plots
+expect 2 "--methods: unknown stepper 'dopri'; did you mean 'dopri5'" -- "$bin" bench "$src/examples/scenes/kepler.toml" --methods dopri --out "$work/x"
+expect 2 "--tolerances: 'abc' is not a number, got '1e-3:abc'" -- "$bin" bench "$src/examples/scenes/kepler.toml" --tolerances 1e-3:abc --out "$work/x"
+expect 2 "--tolerances: .*loosest first.*1e-13:1e-3" -- "$bin" bench "$src/examples/scenes/kepler.toml" --tolerances 1e-13:1e-3 --out "$work/x"
+expect 2 "--tolerances: .*positive" -- "$bin" bench "$src/examples/scenes/kepler.toml" --tolerances 0:-1 --out "$work/x"
+expect 2 "--repeat: must be in \[1, 1000\], got 0" -- "$bin" bench "$src/examples/scenes/kepler.toml" --repeat 0 --out "$work/x"
+expect 2 "--dt: .*loosest first|--dt: .*larger" -- "$bin" bench "$src/examples/scenes/kepler.toml" --dt 1e-4:1e-2 --out "$work/x"
+[ "$(ls -A "$work/x" 2>/dev/null | wc -l)" -eq 0 ] || { echo "FAIL: bad bench input wrote files"; fails=$((fails + 1)); }
+# A bench whose runs all fail: exit 1, no table left (not even an earlier one).
+cp -r "$work/bench" "$work/bench_fail"
+expect 1 "bench failed" -- "$bin" bench "$work/short.toml" --methods dopri5 --tolerances 1e-4:1e-5 --repeat 1 --out "$work/bench_fail" -q
+for f in work_precision.csv bench.json work_precision.csv.partial work_precision_time.png; do
+  [ ! -e "$work/bench_fail/$f" ] || { echo "FAIL: failed bench left $f"; fails=$((fails + 1)); }
+done
+
 if [ "$fails" -ne 0 ]; then
   echo "$fails CLI check(s) failed"
   exit 1

@@ -14,21 +14,35 @@ namespace lagrangian::scene::detail {
 /// Called with the time of every sample a run produces (progress display).
 using SampleTick = std::function<void(double t)>;
 
+/// The state a run ended in (the last sample): generalized coordinates and
+/// their rates in the model's order, at time t (s).
+struct FinalState {
+  double t = 0;
+  std::vector<double> q, qd;
+};
+
 /// A built-in model as the scene runner sees it.
 struct ModelEntry {
   std::string name;  ///< as in builtin_models() (src/scene/model_catalog.cpp)
   /// Builds the model from spec.parameters (defaults for absent ones) and the
   /// initial state from spec.q / spec.qd (the model's default state when
   /// empty), runs simulate() with `options`, writes trajectory CSV to
-  /// `csv_path` when non-empty (committed only on success) and returns the
-  /// report. Bad parameters or state throw SceneError with keys
+  /// `csv_path` when non-empty (committed only on success), stores the last
+  /// sample in `*final_state` when given, and returns the report. Bad
+  /// parameters or state throw SceneError with keys
   /// "model.parameters.<name>", "model.q", "model.qd".
-  RunReport (*run)(const ModelSpec& spec, const SimulationOptions& options, const std::string& csv_path,
-                   const SampleTick& tick);
+  RunReport (*run_fn)(const ModelSpec& spec, const SimulationOptions& options, const std::string& csv_path,
+                      const SampleTick& tick, FinalState* final_state);
   /// Human-readable inspection at t0: coordinates, DOF report (rank,
   /// redundant constraints), momenta, cyclic coordinates and conserved
   /// quantities, declared forces/constraints/contacts.
   std::string (*inspect)(const ModelSpec& spec, double t0);
+
+  /// Runs the model (see run_fn).
+  RunReport run(const ModelSpec& spec, const SimulationOptions& options, const std::string& csv_path,
+                const SampleTick& tick, FinalState* final_state = nullptr) const {
+    return run_fn(spec, options, csv_path, tick, final_state);
+  }
 };
 
 void add_pendulum_models(std::vector<ModelEntry>& out);

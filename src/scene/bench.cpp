@@ -1,0 +1,520 @@
+// Work-precision benches of a scene: runs per stepper and tolerance, their
+// error against a closed form or a reference run, the medians of their wall
+// times, and the table, JSON and diagrams (see include/lagrangian/bench.hpp).
+
+#include "lagrangian/bench.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <thread>
+
+#include "lagrangian/detail/text_output.hpp"
+#include "lagrangian/errors.hpp"
+#include "lagrangian/plots.hpp"
+#include "lagrangian/report.hpp"
+#include "lagrangian/scene_run.hpp"
+
+namespace lagrangian::scene {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr const char* kReferenceMethod = "fehlberg78";
+/// Everything a bench writes (removed before a bench starts and when it fails).
+constexpr const char* kOutputs[] = {"work_precision.csv",        "bench.json",                "bench.gp",
+                                    "work_precision_time.png",   "work_precision_time.svg",   "work_precision_rhs.png",
+                                    "work_precision_rhs.svg",    "work_precision_energy.png", "work_precision_energy.svg"};
+
+std::string fmt(double v, const char* format = "%.6g") {
+  if (!std::isfinite(v)) return "nan";
+  char buf[48];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+std::string json_number(double v) {
+  if (!std::isfinite(v)) return "null";
+  return fmt(v, "%.17g");
+}
+
+bool is_adaptive(const std::string& method) { return method != "rk4"; }
+
+/// loose, …, tight: `per_decade` values per decade, each rounded to three
+/// significant digits (1e-3, 3.16e-4, 1e-4 … for two per decade).
+std::vector<double> grid(double loose, double tight, int per_decade) {
+  const double decades = std::log10(loose / tight);
+  const int count = std::max(0, static_cast<int>(std::lround(decades * per_decade)));
+  std::vector<double> out;
+  for (int k = 0; k <= count; ++k) {
+    const double v = count == 0 ? loose : loose * std::pow(tight / loose, static_cast<double>(k) / count);
+    out.push_back(std::stod(fmt(v, "%.3g")));
+  }
+  return out;
+}
+
+std::string read_first_line_with(const char* path, const std::string& key) {
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind(key, 0) == 0) {
+      const auto colon = line.find(':');
+      if (colon == std::string::npos) return {};
+      std::string v = line.substr(colon + 1);
+      while (!v.empty() && v.front() == ' ') v.erase(v.begin());
+      return v;
+    }
+  return {};
+}
+
+std::string load_average() {
+  std::ifstream in("/proc/loadavg");
+  double one = kNaN;
+  in >> one;
+  return fmt(one, "%.2f");
+}
+
+/// CPU, cores, compiler and build, the load average and the date (UTC).
+std::string machine_description(const std::string& load_before) {
+  std::string cpu = read_first_line_with("/proc/cpuinfo", "model name");
+  if (cpu.empty()) cpu = "unknown CPU";
+  const std::time_t now = std::time(nullptr);
+  char date[32];
+  std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+  std::string out = cpu + ", " + std::to_string(std::thread::hardware_concurrency()) + " hardware threads; ";
+#if defined(__clang__)
+  out += "clang " __clang_version__;
+#elif defined(__GNUC__)
+  out += "g++ " __VERSION__;
+#endif
+#ifdef NDEBUG
+  out += " (optimised build)";
+#else
+  out += " (assertions on: not an optimised build)";
+#endif
+  out += "; load average " + load_before + " before, " + load_average() + " after; " + date;
+  return out;
+}
+
+/// Particle scenes whose forces are all internal (between bodies): total
+/// linear and angular momentum are conserved.
+bool internal_forces_only(const Scene& scene) {
+  if (scene.model) return false;
+  if (scene.gravity || !scene.linear_drag.empty() || !scene.quadratic_drag.empty() || !scene.surfaces.empty() ||
+      !scene.planes.empty() || scene.box)
+    return false;
+  for (const Spring& s : scene.springs)
+    if (s.b.empty()) return false;
+  for (const Link& l : scene.links)
+    if (l.b.empty()) return false;
+  return true;
+}
+
+/// The scene set up for one bench run: method, tolerances, step, samples at
+/// the ends only, no outputs, the ODE engine for particle scenes.
+Scene configured(const Scene& scene, const std::string& method, double rtol, double atol, double dt) {
+  Scene s = scene;
+  s.run.method = method;
+  s.run.rtol = rtol;
+  s.run.atol = atol;
+  s.run.dt = dt;
+  s.run.output_interval = s.run.t_end - s.run.t0;
+  if (!s.model) s.run.engine = "ode";
+  s.output.plots = false;
+  s.output.trajectory = false;
+  return s;
+}
+
+RunResult run_quiet(const Scene& s) {
+  RunControls controls;
+  controls.write_outputs = false;
+  controls.progress = false;
+  return run(s, controls);
+}
+
+double state_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size() || a.empty()) return kNaN;
+  double e = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) e = std::max(e, std::abs(a[i] - b[i]));
+  return e;
+}
+
+double momentum_drift(const Scene& scene, const RunReport& r) {
+  double d = kNaN;
+  for (const MomentumDrift& m : r.conserved_momenta) d = std::isnan(d) ? m.max_abs_drift : std::max(d, m.max_abs_drift);
+  if (r.has_particles && internal_forces_only(scene)) {
+    const double p = std::max(r.linear_momentum_drift_max, r.angular_momentum_drift_max);
+    d = std::isnan(d) ? p : std::max(d, p);
+  }
+  return d;
+}
+
+void remove_outputs(const fs::path& dir) {
+  std::error_code ec;
+  for (const char* name : kOutputs) {
+    fs::remove(dir / name, ec);
+    fs::remove(dir / (std::string(name) + ".partial"), ec);
+  }
+}
+
+std::string csv_text(const Scene& scene, const BenchResult& r) {
+  std::ostringstream os;
+  os << "# work-precision data of scene '" << scene.name << "' (lagrangian bench)\n"
+     << "# error: " << r.error_measure << "\n";
+  if (!r.reference.empty())
+    os << "# reference: " << r.reference << "\n";
+  os << "# wall_time_s: median of the repeats; machine: " << r.machine << "\n"
+     << "method,adaptive,rtol,atol,dt,status,error,wall_time_s,wall_time_min_s,wall_time_max_s,repeats,steps,"
+        "rejected_steps,rhs_evaluations,energy_drift,momentum_drift,constraint_residual,t_final,resolved\n";
+  for (const BenchPoint& p : r.points) {
+    std::string status = p.status;
+    std::replace(status.begin(), status.end(), ',', ';');
+    std::replace(status.begin(), status.end(), '\n', ' ');
+    const bool ok = p.ok();
+    os << p.method << "," << (p.adaptive ? 1 : 0) << "," << (p.adaptive ? fmt(p.rtol, "%.3g") : "") << ","
+       << (p.adaptive ? fmt(p.atol, "%.3g") : "") << "," << (p.adaptive ? "" : fmt(p.dt, "%.6g")) << "," << status
+       << "," << (ok ? fmt(p.error, "%.6e") : "") << "," << (ok ? fmt(p.wall_time_s, "%.6e") : "") << ","
+       << (ok ? fmt(p.wall_time_min_s, "%.6e") : "") << "," << (ok ? fmt(p.wall_time_max_s, "%.6e") : "") << ","
+       << p.repeats << "," << p.steps << "," << p.rejected_steps << "," << p.rhs_evaluations << ","
+       << (ok && std::isfinite(p.energy_drift) ? fmt(p.energy_drift, "%.6e") : "") << ","
+       << (ok && std::isfinite(p.momentum_drift) ? fmt(p.momentum_drift, "%.6e") : "") << ","
+       << (ok && std::isfinite(p.constraint_residual) ? fmt(p.constraint_residual, "%.6e") : "") << ","
+       << (ok ? fmt(p.t_final, "%.12g") : "") << "," << (p.resolved ? 1 : 0) << "\n";
+  }
+  return os.str();
+}
+
+std::string json_text(const Scene& scene, const BenchOptions& o, const BenchResult& r) {
+  using lagrangian::detail::json_string;
+  std::ostringstream os;
+  os << "{\n  \"scene\": ";
+  json_string(os, scene.name);
+  os << ",\n  \"engine\": ";
+  json_string(os, r.engine);
+  os << ",\n  \"t0\": " << json_number(scene.run.t0) << ", \"t_end\": " << json_number(scene.run.t_end);
+  os << ",\n  \"closed_form\": " << (r.closed_form ? "true" : "false") << ",\n  \"error_measure\": ";
+  json_string(os, r.error_measure);
+  os << ",\n  \"reference\": ";
+  json_string(os, r.reference);
+  os << ",\n  \"reference_accuracy\": " << json_number(r.reference_accuracy)
+     << ",\n  \"reference_time_s\": " << json_number(r.reference_time_s);
+  for (const auto& [key, v] : {std::pair{"reference_q", &r.reference_q}, std::pair{"reference_qd", &r.reference_qd}}) {
+    os << ",\n  \"" << key << "\": [";
+    for (std::size_t k = 0; k < v->size(); ++k) os << (k ? ", " : "") << json_number((*v)[k]);
+    os << "]";
+  }
+  os << ",\n  \"machine\": ";
+  json_string(os, r.machine);
+  os << ",\n  \"settings\": {\"methods\": [";
+  for (std::size_t k = 0; k < o.methods.size(); ++k) {
+    if (k) os << ", ";
+    json_string(os, o.methods[k]);
+  }
+  os << "], \"tolerance_loose\": " << json_number(o.tolerance_loose)
+     << ", \"tolerance_tight\": " << json_number(o.tolerance_tight) << ", \"per_decade\": " << o.per_decade
+     << ", \"repeat\": " << o.repeat << ", \"reference_tolerance\": " << json_number(o.reference_tolerance)
+     << "},\n  \"points\": [";
+  for (std::size_t k = 0; k < r.points.size(); ++k) {
+    const BenchPoint& p = r.points[k];
+    os << (k ? ",\n" : "\n") << "    {\"method\": ";
+    json_string(os, p.method);
+    os << ", \"adaptive\": " << (p.adaptive ? "true" : "false") << ", \"rtol\": " << json_number(p.rtol)
+       << ", \"atol\": " << json_number(p.atol) << ", \"dt\": " << json_number(p.dt) << ", \"status\": ";
+    json_string(os, p.status);
+    const bool ok = p.ok();
+    os << ", \"error\": " << json_number(ok ? p.error : kNaN)
+       << ", \"wall_time_s\": " << json_number(ok ? p.wall_time_s : kNaN)
+       << ", \"wall_time_min_s\": " << json_number(ok ? p.wall_time_min_s : kNaN)
+       << ", \"wall_time_max_s\": " << json_number(ok ? p.wall_time_max_s : kNaN) << ", \"repeats\": " << p.repeats
+       << ", \"steps\": " << p.steps << ", \"rejected_steps\": " << p.rejected_steps
+       << ", \"rhs_evaluations\": " << p.rhs_evaluations
+       << ", \"energy_drift\": " << json_number(ok ? p.energy_drift : kNaN)
+       << ", \"momentum_drift\": " << json_number(ok ? p.momentum_drift : kNaN)
+       << ", \"constraint_residual\": " << json_number(ok ? p.constraint_residual : kNaN)
+       << ", \"t_final\": " << json_number(ok ? p.t_final : kNaN)
+       << ", \"resolved\": " << (p.resolved ? "true" : "false") << "}";
+  }
+  os << "\n  ]\n}\n";
+  return os.str();
+}
+
+}  // namespace
+
+std::pair<double, double> parse_range(const std::string& option, const std::string& text) {
+  const auto colon = text.find(':');
+  auto fail = [&](const std::string& why) -> std::pair<double, double> {
+    throw OptionError(option + ": " + why + ", got '" + text + "'");
+  };
+  if (colon == std::string::npos) return fail("expected LOOSE:TIGHT, e.g. 1e-3:1e-13");
+  auto parse = [&](const std::string& part) {
+    std::size_t used = 0;
+    double v = kNaN;
+    try {
+      v = std::stod(part, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (part.empty() || used != part.size()) fail("'" + part + "' is not a number");
+    if (!std::isfinite(v) || !(v > 0)) fail("both ends must be positive finite numbers");
+    return v;
+  };
+  const double a = parse(text.substr(0, colon)), b = parse(text.substr(colon + 1));
+  if (!(a > b)) return fail("the first value must be the larger (loosest first)");
+  return {a, b};
+}
+
+void BenchOptions::validate() const {
+  if (methods.empty()) throw OptionError("methods: none given");
+  const auto names = stepper_names();
+  for (const std::string& m : methods) {
+    if (std::find(names.begin(), names.end(), m) == names.end()) {
+      const std::string near = nearest(m, names);
+      throw OptionError("methods: unknown stepper '" + m + "'" +
+                        (near.empty() ? std::string() : "; did you mean '" + near + "'?"));
+    }
+    if (std::count(methods.begin(), methods.end(), m) > 1) throw OptionError("methods: '" + m + "' given twice");
+  }
+  if (!(tolerance_tight >= 1e-15) || !(tolerance_loose > tolerance_tight) || !(tolerance_loose < 1) ||
+      !std::isfinite(tolerance_loose))
+    throw OptionError("tolerances: need 1 > loose > tight >= 1e-15, got " + fmt(tolerance_loose) + ":" +
+                      fmt(tolerance_tight));
+  if (per_decade < 1 || per_decade > 10) throw OptionError("per_decade: must be in [1, 10], got " + std::to_string(per_decade));
+  if (dt_large != 0 || dt_small != 0)
+    if (!(dt_small > 0) || !(dt_large > dt_small) || !std::isfinite(dt_large))
+      throw OptionError("dt: need large > small > 0, got " + fmt(dt_large) + ":" + fmt(dt_small));
+  if (repeat < 1 || repeat > 1000) throw OptionError("repeat: must be in [1, 1000], got " + std::to_string(repeat));
+  if (!(reference_tolerance >= 1e-16) || !(reference_tolerance < 1e-6))
+    throw OptionError("reference_tolerance: must be in [1e-16, 1e-6), got " + fmt(reference_tolerance));
+  if (out_dir.empty()) throw OptionError("out_dir: empty");
+}
+
+std::string BenchResult::table() const {
+  std::ostringstream os;
+  os << "scene " << scene << " — engine " << engine << "\n"
+     << "error: " << error_measure << "\n";
+  if (!reference.empty()) os << "reference: " << reference << "\n";
+  char line[256];
+  std::snprintf(line, sizeof line, "%-15s %9s %9s %12s %12s %10s %12s %10s %10s %10s\n", "method", "rtol", "dt",
+                "error", "time (ms)", "steps", "RHS", "E drift", "p drift", "residual");
+  os << line;
+  for (const BenchPoint& p : points) {
+    if (!p.ok()) {
+      std::snprintf(line, sizeof line, "%-15s %9s %9s  %s\n", p.method.c_str(),
+                    p.adaptive ? fmt(p.rtol, "%.3g").c_str() : "-", p.adaptive ? "-" : fmt(p.dt, "%.3g").c_str(),
+                    p.status.c_str());
+      os << line;
+      continue;
+    }
+    auto opt = [](double v) { return std::isfinite(v) ? fmt(v, "%.2e") : std::string("-"); };
+    std::snprintf(line, sizeof line, "%-15s %9s %9s %12s %12s %10llu %12llu %10s %10s %10s%s\n", p.method.c_str(),
+                  p.adaptive ? fmt(p.rtol, "%.3g").c_str() : "-", p.adaptive ? "-" : fmt(p.dt, "%.3g").c_str(),
+                  fmt(p.error, "%.3e").c_str(), fmt(1e3 * p.wall_time_s, "%.4g").c_str(),
+                  static_cast<unsigned long long>(p.steps), static_cast<unsigned long long>(p.rhs_evaluations),
+                  opt(p.energy_drift).c_str(), opt(p.momentum_drift).c_str(), opt(p.constraint_residual).c_str(),
+                  p.resolved ? "" : "  (below the reference's accuracy)");
+    os << line;
+  }
+  os << "time: median of the repeats; machine: " << machine << "\n";
+  return os.str();
+}
+
+BenchResult bench(const Scene& input, const BenchOptions& options) {
+  options.validate();
+  input.validate();
+  Scene scene = input;
+  scene.expand_gas();
+  const std::string load_before = load_average();
+  const double span = scene.run.t_end - scene.run.t0;
+
+  BenchResult result;
+  result.scene = scene.name;
+  result.engine = scene.model ? "model" : "ode";
+  const fs::path dir = options.out_dir;
+  {
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec || !fs::is_directory(dir))
+      throw OptionError("out: cannot create directory '" + options.out_dir + "'" + (ec ? ": " + ec.message() : ""));
+  }
+  remove_outputs(dir);
+
+  // The reference: the model's closed form, or a tight run checked against a
+  // run at 10× its tolerance. A failing reference run is retried 10× looser,
+  // down to 1e-11.
+  auto say = [&](const std::string& line) {
+    if (options.progress) options.progress(line);
+  };
+  RunResult reference;
+  double tol = options.reference_tolerance;
+  for (;;) {
+    try {
+      reference = run_quiet(configured(scene, kReferenceMethod, tol, tol, scene.run.dt));
+      break;
+    } catch (const SimulationError&) {
+      if (tol * 10 > 1e-11) throw;
+      tol *= 10;
+    }
+  }
+  result.closed_form = reference.report.has_reference;
+  if (result.closed_form) {
+    result.error_measure =
+        "max_i |q_i(t_end) - q_i(t_end) of the closed form| (true error, units of q: " +
+        std::string(scene.model ? "the model's coordinates" : "m") + ")";
+  } else {
+    say("reference: " + std::string(kReferenceMethod) + " at rtol = atol = " + fmt(tol, "%.0e"));
+    result.reference_time_s = reference.report.wall_time_s;
+    result.reference_q = reference.q_final;
+    result.reference_qd = reference.qd_final;
+    const RunResult check = run_quiet(configured(scene, kReferenceMethod, 10 * tol, 10 * tol, scene.run.dt));
+    result.reference_accuracy = state_difference(reference.q_final, check.q_final);
+    if (!std::isfinite(result.reference_accuracy))
+      throw SimulationError("bench: the reference runs ended in states of different sizes", scene.run.t_end);
+    result.error_measure = std::string("max_i |q_i(t_end) - q_i,ref(t_end)| against a reference run (units of q: ") +
+                           (scene.model ? "the model's coordinates" : "m, positions") + ")";
+    result.reference = std::string(kReferenceMethod) + " at rtol = atol = " + fmt(tol, "%.0e") + " (" +
+                       std::to_string(reference.report.steps) + " steps); its error is estimated as " +
+                       fmt(result.reference_accuracy, "%.1e") + " by comparison with a run at " +
+                       fmt(10 * tol, "%.0e");
+  }
+
+  // The configurations.
+  struct Config {
+    std::string method;
+    double rtol, atol, dt;
+  };
+  std::vector<Config> configs;
+  const std::vector<double> tols = grid(options.tolerance_loose, options.tolerance_tight, options.per_decade);
+  const double dt_large = options.dt_large > 0 ? options.dt_large : span / 100;
+  const double dt_small = options.dt_small > 0 ? options.dt_small : span / 1e5;
+  const std::vector<double> dts = grid(dt_large, dt_small, options.per_decade);
+  for (const std::string& m : options.methods) {
+    if (is_adaptive(m)) {
+      for (double t : tols) configs.push_back({m, t, t, scene.run.dt});
+    } else {
+      for (double h : dts) configs.push_back({m, 0, 0, h});
+    }
+  }
+
+  // Timing: `repeat` passes over all configurations (rather than the
+  // repeats of one configuration back to back), so that a burst of load from
+  // other programs falls on many configurations a little instead of on a few
+  // entirely; the median per configuration is kept. The first pass also
+  // measures the accuracy (runs are deterministic).
+  std::vector<BenchPoint> points(configs.size());
+  std::vector<std::vector<double>> times(configs.size());
+  std::vector<Scene> scenes;
+  for (std::size_t i = 0; i < configs.size(); ++i) {
+    const Config& c = configs[i];
+    BenchPoint& p = points[i];
+    p.method = c.method;
+    p.adaptive = is_adaptive(c.method);
+    p.rtol = c.rtol;
+    p.atol = c.atol;
+    p.dt = c.dt;
+    scenes.push_back(configured(scene, c.method, p.adaptive ? c.rtol : scene.run.rtol,
+                                p.adaptive ? c.atol : scene.run.atol, c.dt));
+  }
+  for (int pass = 0; pass < options.repeat; ++pass) {
+    for (std::size_t i = 0; i < configs.size(); ++i) {
+      BenchPoint& p = points[i];
+      if (!p.ok()) continue;
+      try {
+        const RunResult r = run_quiet(scenes[i]);
+        times[i].push_back(r.report.wall_time_s);
+        if (pass == 0) {
+          const RunReport& rep = r.report;
+          p.steps = rep.steps;
+          p.rejected_steps = rep.rejected_steps;
+          p.rhs_evaluations = rep.rhs_evaluations;
+          p.t_final = rep.t_final;
+          p.error = result.closed_form ? rep.reference_error_final : state_difference(r.q_final, reference.q_final);
+          p.energy_drift = rep.conservative ? rep.energy_drift_max : kNaN;
+          p.momentum_drift = momentum_drift(scene, rep);
+          p.constraint_residual = rep.constrained ? rep.constraints.max_position_residual : kNaN;
+          p.resolved = result.closed_form || p.error > 2 * result.reference_accuracy;
+          if (!std::isfinite(p.error)) throw SimulationError("the error is not finite", rep.t_final);
+        }
+      } catch (const SimulationError& e) {
+        p.status = std::string("failed: ") + e.what();
+      }
+      if (pass == 0)
+        say(p.method + (p.adaptive ? " rtol " + fmt(p.rtol, "%.3g") : " dt " + fmt(p.dt, "%.3g")) + ": " +
+            (p.ok() ? "error " + fmt(p.error, "%.2e") + ", " + fmt(1e3 * times[i].back(), "%.4g") + " ms" : p.status));
+    }
+    if (pass > 0) say("timing pass " + std::to_string(pass + 1) + " of " + std::to_string(options.repeat) + " done");
+  }
+  int succeeded = 0;
+  for (std::size_t i = 0; i < configs.size(); ++i) {
+    BenchPoint& p = points[i];
+    std::vector<double>& t = times[i];
+    p.repeats = static_cast<int>(t.size());
+    if (p.ok()) {
+      std::sort(t.begin(), t.end());
+      const std::size_t n = t.size();
+      p.wall_time_s = n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
+      p.wall_time_min_s = t.front();
+      p.wall_time_max_s = t.back();
+      ++succeeded;
+    }
+    result.points.push_back(std::move(p));
+  }
+  result.machine = machine_description(load_before);
+  if (succeeded == 0) throw SimulationError("bench: every run failed (see the messages above)", scene.run.t0);
+
+  // Outputs: the table, the JSON, then the diagrams.
+  try {
+    const std::string csv = (dir / "work_precision.csv").string();
+    lagrangian::detail::write_text_file(csv, csv_text(scene, result), "work-precision table");
+    result.files.push_back(csv);
+    const std::string json = (dir / "bench.json").string();
+    lagrangian::detail::write_text_file(json, json_text(scene, options, result), "bench report");
+    result.files.push_back(json);
+  } catch (...) {
+    remove_outputs(dir);
+    throw;
+  }
+  if (options.plots) {
+    WorkPrecisionPlotSpec plot;
+    plot.title = scene.name;
+    plot.error_label = result.closed_form ? "error against the closed form at t_end"
+                                          : "error against the reference run at t_end";
+    plot.note = (result.closed_form ? std::string("error: max_i |q_i - q_i,exact| at t = ")
+                                    : std::string("error: max_i |q_i - q_i,ref| at t = ")) +
+                fmt(scene.run.t_end, "%.6g") + " s" +
+                (result.closed_form ? "" : "; reference: " + std::string(kReferenceMethod) + " at " + fmt(tol, "%.0e")) +
+                "; time: median of " + std::to_string(options.repeat) + "; " +
+                read_first_line_with("/proc/cpuinfo", "model name");
+    plot.reference_accuracy = result.reference_accuracy;
+    plot.out_dir = options.out_dir;
+    plot.png = options.png;
+    plot.svg = options.svg;
+    for (const std::string& m : options.methods) {
+      WorkPrecisionSeries sr;
+      sr.name = m;
+      for (const BenchPoint& p : result.points) {
+        if (p.method != m || !p.ok()) continue;
+        sr.wall_time_s.push_back(p.wall_time_s);
+        sr.rhs_evaluations.push_back(static_cast<double>(p.rhs_evaluations));
+        sr.error.push_back(p.error);
+        sr.energy_drift.push_back(p.energy_drift);
+      }
+      plot.series.push_back(std::move(sr));
+    }
+    try {
+      const PlotResult pr = make_work_precision_plots(plot);
+      for (const auto& f : pr.files) result.files.push_back(f);
+      if (!pr.gnuplot_found) result.plot_note = pr.message;
+    } catch (const Error& e) {
+      result.plot_note = std::string("plots failed: ") + e.what();
+    }
+  }
+  return result;
+}
+
+}  // namespace lagrangian::scene
