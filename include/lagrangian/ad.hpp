@@ -46,6 +46,15 @@ struct is_jet : std::false_type {};
 template <class T, int N, int O>
 struct is_jet<Jet<T, N, O>> : std::true_type {};
 
+/// Keeps a cold helper out of the flattened Euler–Lagrange pass (dynamics.hpp
+/// inlines everything else into it): the pass stays small enough to compile
+/// quickly, at the price of a call where the helper is rarely needed.
+#if defined(__GNUC__)
+#define LAGRANGIAN_COLD __attribute__((noinline))
+#else
+#define LAGRANGIAN_COLD
+#endif
+
 /// Index of h_ij (i <= j) in packed upper-triangular storage of an N×N matrix.
 constexpr int packed(int i, int j, int n) { return i * n - (i * (i - 1)) / 2 + (j - i); }
 }  // namespace detail
@@ -414,7 +423,7 @@ class EomJet {
   constexpr void hessian_to(Matrix& m) {
     m.setZero();
     if (level < 2 || (!dense_ && nterms_ == 0)) return;
-    flush();
+    if constexpr (lazy_terms > 0) flush();  // (small systems hold no pending terms)
     for (int i = lo_; i < hi_; ++i)
       for (int j = 0; j < N; ++j) m(i, j) = H_[i * N + j];
   }
@@ -603,7 +612,7 @@ class EomJet {
 
   /// f(a, b) from the value, first and second partials (rare functions:
   /// both arguments are first brought to dense storage).
-  friend constexpr EomJet chain2(EomJet a, EomJet b, double f0, double fa, double fb, double faa, double fab,
+  LAGRANGIAN_COLD friend constexpr EomJet chain2(EomJet a, EomJet b, double f0, double fa, double fb, double faa, double fab,
                                  double fbb) {
     const int L = (a.level == 0 && b.level == 0) ? 0 : 2;
     a.convert(kDense);
@@ -810,7 +819,7 @@ class EomJet {
   /// Sums the pending terms into the dense rows: as P rank-one pieces
   /// f_p x_p y_pᵀ (a square is one piece, a symmetric term two), each row
   /// i gets Σ_p (f_p x_p,i) y_p in one branch-free pass of fixed length.
-  constexpr void flush() {
+  LAGRANGIAN_COLD constexpr void flush() {
     ensure_dense();
     if constexpr (lazy_terms > 0) {
       std::array<const double*, 2 * lazy_terms> x{}, y{};
