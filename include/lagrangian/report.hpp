@@ -20,7 +20,21 @@ namespace lagrangian {
 ///  - "rosenbrock4":    linearly implicit Rosenbrock 4(3) for stiff problems;
 ///                      its Jacobian ∂f/∂x is formed by central finite
 ///                      differences of the AD-derived right-hand side.
+///  - "variational":    variational integrator (variational.hpp), fixed step
+///                      `dt`, any Lagrangian, holonomic constraints held by
+///                      discrete multipliers; implicit (Newton, AD Jacobian).
+///  - "symplectic_rkn_sb3a_mclachlan": Odeint's 4th-order symplectic
+///                      Runge–Kutta–Nyström (McLachlan), fixed step `dt`.
+///  - "velocity_verlet": Odeint's velocity Verlet, 2nd order, fixed step `dt`.
+///    The last two need a separable model, L = ½ q̇ᵀMq̇ − V(q) with constant
+///    M, no constraints and no forces (detected, or declared by the model
+///    with `static constexpr bool separable = true;`); otherwise simulate()
+///    refuses them with an OptionError saying why.
 std::vector<std::string> stepper_names();
+
+/// True for the steppers with a fixed step `dt` (rk4, variational, the
+/// symplectic ones).
+bool fixed_step_method(const std::string& method);
 
 /// How constraint drift is controlled during a run of a constrained model.
 enum class Stabilization {
@@ -49,6 +63,14 @@ struct SimulationOptions {
   Stabilization stabilization = Stabilization::projection;  ///< drift control
   double baumgarte_omega = 10.0;        ///< Baumgarte rate ω (1/s), critically damped
   double projection_tolerance = 1e-12;  ///< ‖g‖∞ after projection, relative to 1 + ‖q‖∞
+
+  // The variational integrator only (method "variational").
+  /// Discrete Lagrangian: "midpoint" or "trapezoidal" (see discrete.hpp).
+  std::string discrete_rule = "midpoint";
+  /// Newton's method stops when ‖Δq‖∞ ≤ newton_tolerance · (1 + ‖q‖∞).
+  double newton_tolerance = 1e-12;
+  /// A step whose Newton solve needs more iterations fails (SimulationError).
+  int newton_max_iterations = 50;
 
   /// Point r₀ (m) about which the angular momentum of a particle system is
   /// reported (models that declare particles()).
@@ -135,7 +157,8 @@ struct RunReport {
 
   std::uint64_t steps = 0;            ///< accepted steps
   std::uint64_t rejected_steps = 0;   ///< steps rejected by the error control
-  std::uint64_t rhs_evaluations = 0;  ///< evaluations of q̈ (including those for Jacobians)
+  std::uint64_t rhs_evaluations = 0;  ///< evaluations of q̈ (including those for Jacobians); variational: of L on AD numbers
+  std::uint64_t newton_iterations = 0;  ///< Newton iterations of implicit steps (variational)
   std::uint64_t samples = 0;          ///< samples sent to the observer
   double wall_time_s = 0;             ///< wall-clock time of the integration (s)
 
