@@ -165,7 +165,14 @@ std::string RunReport::to_json() const {
   }
   os << ",\n  \"steps\": " << steps << ",\n  \"rejected_steps\": " << rejected_steps
      << ",\n  \"rhs_evaluations\": " << rhs_evaluations << ",\n  \"newton_iterations\": " << newton_iterations
-     << ",\n  \"samples\": " << samples;
+     << ",\n  \"samples\": " << samples << ",\n  \"stiffness_rho\": ";
+  json_number(os, stiffness_rho);
+  os << ",\n  \"warnings\": [";
+  for (std::size_t i = 0; i < warnings.size(); ++i) {
+    os << (i ? ", " : "");
+    detail::json_string(os, warnings[i]);
+  }
+  os << "]";
   os << ",\n  \"conservative\": " << (conservative ? "true" : "false");
   const std::pair<const char*, double> energy[] = {{"energy_scale", energy_scale},
                                                    {"energy_initial", energy_initial},
@@ -380,6 +387,7 @@ std::string RunReport::summary() const {
       }
     }
   }
+  for (const auto& w : warnings) os << "warning: " << w << "\n";
   if (!stopped_by.empty()) {
     std::snprintf(buf, sizeof buf, "stopped by event %s at t = %.15g s\n", stopped_by.c_str(), stopped_at);
     os << buf;

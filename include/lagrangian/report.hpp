@@ -205,6 +205,14 @@ struct RunReport {
   double stopped_at = std::numeric_limits<double>::quiet_NaN();
   std::string stopped_by;           ///< name of that event; empty when none
   double t_final = 0;               ///< time the run ended (t_end, or stopped_at) (s)
+  /// Explicit adaptive steppers: the largest |eigenvalue| ρ of ∂f/∂x at the
+  /// end of the run (1/s), estimated by power iteration on (∂f/∂x)² with
+  /// finite differences of f; 0 when not estimated. When the step size at
+  /// the end times ρ exceeds 1 the steps were limited by stability, not accuracy
+  /// (a stiff problem) and `warnings` says so.
+  double stiffness_rho = 0;
+  /// Run-level warnings (e.g. an explicit stepper on a stiff problem).
+  std::vector<std::string> warnings;
 
   /// The report as a JSON object (numbers with 17 significant digits; NaN as null).
   std::string to_json() const;

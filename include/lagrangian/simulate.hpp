@@ -332,6 +332,7 @@ class RunState {
   template <class Interp>
   void accepted(double t_old, double t, const double* x, Interp&& interpolate) {
     ++report_.steps;
+    recent_steps_[report_.steps % 2] = t - t_old;
     for (int i = 0; i < 2 * size_; ++i) {
       if (!std::isfinite(x[i])) {
         std::ostringstream os;
@@ -709,6 +710,9 @@ class RunState {
     }
   }
   void reset_rejections() { consecutive_rejections_ = 0; }
+  /// The larger of the last two accepted step sizes (s): the step size at
+  /// the end of the run even when the last step was cut short to end on t_end.
+  double recent_step() const { return std::max(recent_steps_[0], recent_steps_[1]); }
 
   /// Final bookkeeping: sample the end state if not done yet.
   void finish() {
@@ -996,6 +1000,7 @@ class RunState {
   double h0_ = 0, e0_ = 0, h_last_ = 0, e_last_ = 0;
   std::uint64_t next_output_index_ = 1;
   std::uint64_t consecutive_rejections_ = 0;
+  std::array<double, 2> recent_steps_{};
   double last_emitted_ = std::numeric_limits<double>::quiet_NaN();
   double last_t_ = 0;
   int size_;
@@ -1321,6 +1326,61 @@ void run_symplectic(const M& model, Workspace<M::dof>& ws, X& x, const Simulatio
 
 namespace detail {
 
+/// Estimates ρ, the largest |eigenvalue| of J = ∂f/∂x at x (1/s), as
+/// √(‖J²v‖/‖v‖) after 20 power iterations on J² (J² turns a pair of
+/// oscillatory eigenvalues ±iω into the real −ω², so the iteration settles);
+/// J v by central differences of f. Sets report.stiffness_rho and warns when
+/// the step size h at the end satisfies h ρ > 1 (steps limited by stability:
+/// an explicit Runge–Kutta method is stable only for h ρ below a few units).
+template <class M, class X>
+void check_stiffness(FirstOrderSystem<M> sys, const X& x, double t, double step, RunReport& report) {
+  std::uint64_t scratch = 0;
+  sys.evaluations = &scratch;  // not counted as the run's work
+  const std::size_t size = x.size();
+  X v = x, w = x, xp = x, xm = x, fp = x, fm = x;
+  for (std::size_t i = 0; i < size; ++i) v[i] = 1.0 + 0.1 * static_cast<double>(i % 7);
+  double xnorm = 0;
+  for (double c : x) xnorm = std::max(xnorm, std::abs(c));
+  auto norm = [](const X& a) {
+    double s = 0;
+    for (double c : a) s += c * c;
+    return std::sqrt(s);
+  };
+  auto apply = [&](const X& in, X& out) {
+    const double eps = 1e-6 * (1.0 + xnorm) / std::max(norm(in), 1e-300);
+    for (std::size_t i = 0; i < size; ++i) {
+      xp[i] = x[i] + eps * in[i];
+      xm[i] = x[i] - eps * in[i];
+    }
+    sys(xp, fp, t);
+    sys(xm, fm, t);
+    for (std::size_t i = 0; i < size; ++i) out[i] = (fp[i] - fm[i]) / (2 * eps);
+  };
+  double rho2 = 0;
+  try {
+    for (int it = 0; it < 20; ++it) {
+      const double nv = norm(v);
+      if (!(nv > 0) || !std::isfinite(nv)) return;
+      for (auto& c : v) c /= nv;
+      apply(v, w);
+      apply(w, v);
+      rho2 = norm(v);
+    }
+  } catch (const std::exception&) {
+    return;  // a diagnostic only: a state where f cannot be evaluated gives none
+  }
+  if (!std::isfinite(rho2)) return;
+  report.stiffness_rho = std::sqrt(rho2);
+  if (step * report.stiffness_rho > 1.0) {
+    std::ostringstream os;
+    os.precision(3);
+    os << "stiff problem: the " << report.steps << " steps (" << step << " s at the end) were limited by stability, "
+       << "not accuracy (largest |eigenvalue| of df/dx about " << report.stiffness_rho << " 1/s, step x rho = "
+       << step * report.stiffness_rho << "); method rosenbrock4 needs far fewer steps";
+    report.warnings.push_back(os.str());
+  }
+}
+
 /// Throws OptionError when the chosen method cannot run this model: the
 /// variational integrator without a compile-time dof or with Pfaffian or
 /// unilateral constraints; the symplectic steppers on a model that is not
@@ -1437,6 +1497,7 @@ RunReport simulate_impl(const M& model, const State<M::dof>& initial, const Simu
     throw SimulationError(std::string("run stopped: ") + e.what(), std::numeric_limits<double>::quiet_NaN());
   }
   rs.finish();
+  if (report.adaptive && options.method != "rosenbrock4") check_stiffness(sys, x, report.t_final, rs.recent_step(), report);
   report.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return report;
 }
