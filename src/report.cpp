@@ -256,7 +256,8 @@ std::string RunReport::to_json() const {
     }
     os << ", \"projections\": " << c.projections << ", \"projection_iterations\": " << c.projection_iterations
        << ", \"extra_rhs_evaluations\": " << c.extra_rhs_evaluations << ", \"initial_rank\": " << c.initial_rank
-       << ", \"min_rank\": " << c.min_rank << ", \"warnings\": [";
+       << ", \"min_rank\": " << c.min_rank << ", \"min_conditioning\": " << detail::format_number(c.min_conditioning)
+       << ", \"min_conditioning_time\": " << detail::format_number(c.min_conditioning_time) << ", \"warnings\": [";
     for (std::size_t i = 0; i < c.warnings.size(); ++i) {
       if (i) os << ", ";
       detail::json_string(os, c.warnings[i]);

@@ -119,6 +119,11 @@ struct ConstraintReport {
   double stabilization_time_s = 0;       ///< wall time spent projecting (s)
   int initial_rank = 0;                  ///< rank of the constraint Jacobian at t0
   int min_rank = 0;                      ///< smallest rank met at the samples
+  /// Smallest σ_r/σ_1 over accepted steps and samples, σ the singular values of the
+  /// bilateral constraint Jacobian and r its rank at t0: near 0 when the
+  /// run passed close to a singular configuration (1 when unconstrained).
+  double min_conditioning = 1;
+  double min_conditioning_time = 0;      ///< when min_conditioning was met (s)
   std::vector<std::string> warnings;     ///< rank drops (singular configurations) with their times
 };
 

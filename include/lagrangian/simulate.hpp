@@ -412,6 +412,7 @@ class RunState {
           throw SimulationError(os.str(), t);
         }
       }
+      if constexpr (holonomic_count_v<M> + pfaffian_count_v<M> > 0) monitor_conditioning(cs, t);
       drop_inactive<M>(cs, active());
       const double pos = position_rows_v<M> > 0
                              ? cs.position.head(position_rows_v<M>).template lpNorm<Eigen::Infinity>()
@@ -422,6 +423,32 @@ class RunState {
       cr.final_position_residual = pos;
       cr.final_velocity_residual = vel;
       return changed;
+    }
+  }
+  /// Tracks σ_r/σ_1 of the bilateral constraint Jacobian (r = rank at t0)
+  /// at accepted steps and samples, and warns once when it falls below
+  /// 1e-3: a singular configuration is near (the multipliers grow without
+  /// bound there, and the motion may switch assembly branches).
+  template <class CS>
+  void monitor_conditioning(CS cs, double t) {
+    ConstraintReport& cr = report_.constraints;
+    drop_inactive<M>(cs, ActiveSet{0});
+    std::vector<double>& sv = singular_values_;
+    detail::numeric_rank(cs.jacobian, &sv);
+    const int r = cr.initial_rank;
+    if (r < 1 || sv.empty() || !(sv[0] > 0)) return;
+    const double ratio = static_cast<std::size_t>(r) <= sv.size() ? sv[static_cast<std::size_t>(r - 1)] / sv[0] : 0.0;
+    if (ratio < cr.min_conditioning) {
+      cr.min_conditioning = ratio;
+      cr.min_conditioning_time = t;
+    }
+    if (ratio < 1e-3 && !warned_conditioning_) {
+      warned_conditioning_ = true;
+      std::ostringstream os;
+      os.precision(6);
+      os << "near-singular configuration at t = " << t << ": the constraint Jacobian's singular values fall to "
+         << ratio << " of the largest (rank " << r << " at t0); multipliers may be large there";
+      cr.warnings.push_back(os.str());
     }
   }
   void extra_rhs_evaluation() {
@@ -894,6 +921,7 @@ class RunState {
       s.multipliers = cw_.multipliers;
       s.constraint_forces = cw_.constraint_forces;
       auto cs = constraint_state(model_, s.q, s.qd, s.t);
+      if constexpr (holonomic_count_v<M> + pfaffian_count_v<M> > 0) monitor_conditioning(cs, s.t);
       drop_inactive<M>(cs, ActiveSet{0});  // rank of the bilateral constraints
       const int rank = detail::numeric_rank(cs.jacobian);
       ConstraintReport& cr = report_.constraints;
@@ -1001,6 +1029,8 @@ class RunState {
   std::uint64_t next_output_index_ = 1;
   std::uint64_t consecutive_rejections_ = 0;
   std::array<double, 2> recent_steps_{};
+  std::vector<double> singular_values_;
+  bool warned_conditioning_ = false;
   double last_emitted_ = std::numeric_limits<double>::quiet_NaN();
   double last_t_ = 0;
   int size_;
