@@ -8,6 +8,7 @@
 #include <string>
 
 #include "lagrangian/discrete.hpp"
+#include "lagrangian/fpe.hpp"
 #include "lagrangian/lagrangian.hpp"
 #include "lagrangian/models/pendulums.hpp"
 
@@ -231,6 +232,26 @@ TEST(Variational, OptionsAreChecked) {
   o.newton_tolerance = 1e-12;
   o.newton_max_iterations = 0;
   EXPECT_THROW(simulate(model, x0, o), OptionError);
+}
+
+}  // namespace
+
+namespace {
+
+// The FE_INVALID trap stops the program where the first NaN is made.
+TEST(FloatingPointTrapDeathTest, FirstNaNRaisesSigfpe) {
+  if (!lagrangian::FloatingPointTrap::supported) GTEST_SKIP() << "no feenableexcept";
+  volatile double zero = 0.0;
+  EXPECT_DEATH(
+      {
+        const lagrangian::FloatingPointTrap trap;
+        volatile double nan = zero / zero;
+        (void)nan;
+      },
+      "");
+  // Outside the scope the same operation is quiet.
+  volatile double quiet = zero / zero;
+  EXPECT_TRUE(std::isnan(quiet));
 }
 
 }  // namespace

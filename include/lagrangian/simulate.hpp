@@ -35,6 +35,7 @@
 #include "lagrangian/detail/stiff.hpp"
 #include "lagrangian/dynamics.hpp"
 #include "lagrangian/errors.hpp"
+#include "lagrangian/fpe.hpp"
 #include "lagrangian/impact.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/observers.hpp"
@@ -1439,6 +1440,9 @@ RunReport simulate_impl(const M& model, const State<M::dof>& initial, const Simu
   check_model<M>();
   constexpr int n = M::dof;
   namespace odeint = boost::numeric::odeint;
+#if defined(LAGRANGIAN_TRAP_FE_INVALID) && LAGRANGIAN_TRAP_FE_INVALID
+  const FloatingPointTrap trap;  // debug builds: the first NaN raises SIGFPE where it is made
+#endif
   const auto wall_start = std::chrono::steady_clock::now();
   options.validate();
   const int size = model_size(model);
