@@ -35,7 +35,14 @@ const char* to_string(EventKind k) {
 }
 
 std::vector<std::string> stepper_names() {
-  return {"rk4", "dopri5", "cash_karp54", "fehlberg78", "bulirsch_stoer", "rosenbrock4"};
+  return {"rk4",         "dopri5",      "cash_karp54",
+          "fehlberg78",  "bulirsch_stoer", "rosenbrock4",
+          "variational", "symplectic_rkn_sb3a_mclachlan", "velocity_verlet"};
+}
+
+bool fixed_step_method(const std::string& method) {
+  return method == "rk4" || method == "variational" || method == "symplectic_rkn_sb3a_mclachlan" ||
+         method == "velocity_verlet";
 }
 
 namespace detail {
@@ -124,6 +131,13 @@ void SimulationOptions::validate() const {
     option_failure("baumgarte_omega", "positive and finite", baumgarte_omega);
   if (!std::isfinite(projection_tolerance) || !(projection_tolerance > 0))
     option_failure("projection_tolerance", "positive and finite", projection_tolerance);
+  if (discrete_rule != "midpoint" && discrete_rule != "trapezoidal")
+    throw OptionError("simulation option 'discrete_rule' is '" + discrete_rule +
+                      "'; choose one of: midpoint, trapezoidal");
+  if (!std::isfinite(newton_tolerance) || !(newton_tolerance > 0) || !(newton_tolerance < 1))
+    option_failure("newton_tolerance", "in (0, 1)", newton_tolerance);
+  if (newton_max_iterations < 1)
+    option_failure("newton_max_iterations", "at least 1", static_cast<double>(newton_max_iterations));
   if (!(zeno_speed_ratio >= 0 && zeno_speed_ratio < 1)) option_failure("zeno_speed_ratio", "in [0, 1)", zeno_speed_ratio);
   if (!std::isfinite(zeno_min_interval) || !(zeno_min_interval >= 0))
     option_failure("zeno_min_interval", "non-negative and finite", zeno_min_interval);
@@ -150,7 +164,15 @@ std::string RunReport::to_json() const {
     json_number(os, v);
   }
   os << ",\n  \"steps\": " << steps << ",\n  \"rejected_steps\": " << rejected_steps
-     << ",\n  \"rhs_evaluations\": " << rhs_evaluations << ",\n  \"samples\": " << samples;
+     << ",\n  \"rhs_evaluations\": " << rhs_evaluations << ",\n  \"newton_iterations\": " << newton_iterations
+     << ",\n  \"samples\": " << samples << ",\n  \"stiffness_rho\": ";
+  json_number(os, stiffness_rho);
+  os << ",\n  \"warnings\": [";
+  for (std::size_t i = 0; i < warnings.size(); ++i) {
+    os << (i ? ", " : "");
+    detail::json_string(os, warnings[i]);
+  }
+  os << "]";
   os << ",\n  \"conservative\": " << (conservative ? "true" : "false");
   const std::pair<const char*, double> energy[] = {{"energy_scale", energy_scale},
                                                    {"energy_initial", energy_initial},
@@ -234,7 +256,8 @@ std::string RunReport::to_json() const {
     }
     os << ", \"projections\": " << c.projections << ", \"projection_iterations\": " << c.projection_iterations
        << ", \"extra_rhs_evaluations\": " << c.extra_rhs_evaluations << ", \"initial_rank\": " << c.initial_rank
-       << ", \"min_rank\": " << c.min_rank << ", \"warnings\": [";
+       << ", \"min_rank\": " << c.min_rank << ", \"min_conditioning\": " << detail::format_number(c.min_conditioning)
+       << ", \"min_conditioning_time\": " << detail::format_number(c.min_conditioning_time) << ", \"warnings\": [";
     for (std::size_t i = 0; i < c.warnings.size(); ++i) {
       if (i) os << ", ";
       detail::json_string(os, c.warnings[i]);
@@ -324,6 +347,12 @@ std::string RunReport::summary() const {
                 t0, t_final, static_cast<unsigned long long>(steps), static_cast<unsigned long long>(rejected_steps),
                 static_cast<unsigned long long>(rhs_evaluations), wall_time_s * 1e3);
   os << buf;
+  if (newton_iterations > 0) {
+    std::snprintf(buf, sizeof buf, "implicit steps: %llu Newton iterations (%.2f per step)\n",
+                  static_cast<unsigned long long>(newton_iterations),
+                  steps ? static_cast<double>(newton_iterations) / static_cast<double>(steps) : 0.0);
+    os << buf;
+  }
   std::snprintf(buf, sizeof buf, "energy function h: %.12g J, relative drift max %.2e, final %.2e%s\n", energy_initial,
                 energy_drift_max, energy_drift_final,
                 conservative ? "" : " (not conserved: forces, dissipation or explicit time dependence)");
@@ -359,6 +388,7 @@ std::string RunReport::summary() const {
       }
     }
   }
+  for (const auto& w : warnings) os << "warning: " << w << "\n";
   if (!stopped_by.empty()) {
     std::snprintf(buf, sizeof buf, "stopped by event %s at t = %.15g s\n", stopped_by.c_str(), stopped_at);
     os << buf;

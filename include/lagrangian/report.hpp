@@ -20,7 +20,21 @@ namespace lagrangian {
 ///  - "rosenbrock4":    linearly implicit Rosenbrock 4(3) for stiff problems;
 ///                      its Jacobian ∂f/∂x is formed by central finite
 ///                      differences of the AD-derived right-hand side.
+///  - "variational":    variational integrator (variational.hpp), fixed step
+///                      `dt`, any Lagrangian, holonomic constraints held by
+///                      discrete multipliers; implicit (Newton, AD Jacobian).
+///  - "symplectic_rkn_sb3a_mclachlan": Odeint's 4th-order symplectic
+///                      Runge–Kutta–Nyström (McLachlan), fixed step `dt`.
+///  - "velocity_verlet": Odeint's velocity Verlet, 2nd order, fixed step `dt`.
+///    The last two need a separable model, L = ½ q̇ᵀMq̇ − V(q) with constant
+///    M, no constraints and no forces (detected, or declared by the model
+///    with `static constexpr bool separable = true;`); otherwise simulate()
+///    refuses them with an OptionError saying why.
 std::vector<std::string> stepper_names();
+
+/// True for the steppers with a fixed step `dt` (rk4, variational, the
+/// symplectic ones).
+bool fixed_step_method(const std::string& method);
 
 /// How constraint drift is controlled during a run of a constrained model.
 enum class Stabilization {
@@ -49,6 +63,14 @@ struct SimulationOptions {
   Stabilization stabilization = Stabilization::projection;  ///< drift control
   double baumgarte_omega = 10.0;        ///< Baumgarte rate ω (1/s), critically damped
   double projection_tolerance = 1e-12;  ///< ‖g‖∞ after projection, relative to 1 + ‖q‖∞
+
+  // The variational integrator only (method "variational").
+  /// Discrete Lagrangian: "midpoint" or "trapezoidal" (see discrete.hpp).
+  std::string discrete_rule = "midpoint";
+  /// Newton's method stops when ‖Δq‖∞ ≤ newton_tolerance · (1 + ‖q‖∞).
+  double newton_tolerance = 1e-12;
+  /// A step whose Newton solve needs more iterations fails (SimulationError).
+  int newton_max_iterations = 50;
 
   /// Point r₀ (m) about which the angular momentum of a particle system is
   /// reported (models that declare particles()).
@@ -97,6 +119,11 @@ struct ConstraintReport {
   double stabilization_time_s = 0;       ///< wall time spent projecting (s)
   int initial_rank = 0;                  ///< rank of the constraint Jacobian at t0
   int min_rank = 0;                      ///< smallest rank met at the samples
+  /// Smallest σ_r/σ_1 over accepted steps and samples, σ the singular values of the
+  /// bilateral constraint Jacobian and r its rank at t0: near 0 when the
+  /// run passed close to a singular configuration (1 when unconstrained).
+  double min_conditioning = 1;
+  double min_conditioning_time = 0;      ///< when min_conditioning was met (s)
   std::vector<std::string> warnings;     ///< rank drops (singular configurations) with their times
 };
 
@@ -135,7 +162,8 @@ struct RunReport {
 
   std::uint64_t steps = 0;            ///< accepted steps
   std::uint64_t rejected_steps = 0;   ///< steps rejected by the error control
-  std::uint64_t rhs_evaluations = 0;  ///< evaluations of q̈ (including those for Jacobians)
+  std::uint64_t rhs_evaluations = 0;  ///< evaluations of q̈ (including those for Jacobians); variational: of L on AD numbers
+  std::uint64_t newton_iterations = 0;  ///< Newton iterations of implicit steps (variational)
   std::uint64_t samples = 0;          ///< samples sent to the observer
   double wall_time_s = 0;             ///< wall-clock time of the integration (s)
 
@@ -182,6 +210,14 @@ struct RunReport {
   double stopped_at = std::numeric_limits<double>::quiet_NaN();
   std::string stopped_by;           ///< name of that event; empty when none
   double t_final = 0;               ///< time the run ended (t_end, or stopped_at) (s)
+  /// Explicit adaptive steppers: the largest |eigenvalue| ρ of ∂f/∂x at the
+  /// end of the run (1/s), estimated by power iteration on (∂f/∂x)² with
+  /// finite differences of f; 0 when not estimated. When the step size at
+  /// the end times ρ exceeds 1 the steps were limited by stability, not accuracy
+  /// (a stiff problem) and `warnings` says so.
+  double stiffness_rho = 0;
+  /// Run-level warnings (e.g. an explicit stepper on a stiff problem).
+  std::vector<std::string> warnings;
 
   /// The report as a JSON object (numbers with 17 significant digits; NaN as null).
   std::string to_json() const;

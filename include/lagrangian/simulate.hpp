@@ -27,16 +27,20 @@
 #include <boost/numeric/odeint/stepper/runge_kutta_cash_karp54.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_dopri5.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
+#include <boost/numeric/odeint/stepper/symplectic_rkn_sb3a_mclachlan.hpp>
+#include <boost/numeric/odeint/stepper/velocity_verlet.hpp>
 
 #include "lagrangian/constraints.hpp"
 #include "lagrangian/detail/roots.hpp"
 #include "lagrangian/detail/stiff.hpp"
 #include "lagrangian/dynamics.hpp"
 #include "lagrangian/errors.hpp"
+#include "lagrangian/fpe.hpp"
 #include "lagrangian/impact.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/observers.hpp"
 #include "lagrangian/report.hpp"
+#include "lagrangian/variational.hpp"
 
 namespace lagrangian {
 
@@ -54,6 +58,22 @@ std::vector<int> cyclic_coordinates(const M& model, const State<M::dof>& s, doub
 /// later times (sampled check, same caveat as cyclic_coordinates()).
 template <class M>
 bool is_autonomous(const M& model, const State<M::dof>& s, double t = 0.0);
+
+/// True when the model declares `static constexpr bool separable`.
+template <class M>
+concept declares_separable = requires {
+  { M::separable } -> std::convertible_to<bool>;
+};
+
+/// Why the model is not separable, or an empty string when it is: the
+/// symplectic steppers need L = ½ q̇ᵀ M q̇ − V(q) with a constant mass matrix
+/// M, no constraints, no generalized forces or dissipation and ∂L/∂t = 0.
+/// A model may declare `static constexpr bool separable = true;` (trusted)
+/// or `false`; otherwise the property is checked at the given state and at
+/// three nearby states (M equal to 1e-12 relative, p = M q̇ to 1e-12
+/// relative: no velocity-linear terms; sampled, like cyclic_coordinates()).
+template <class M>
+std::string separability_problem(const M& model, const State<M::dof>& s, double t = 0.0);
 
 /// Time tolerance of located events (impacts, lift-offs, watched events):
 /// the TOMS 748 bracket is narrowed to event_time_tolerance · max(1 s, |t|),
@@ -331,6 +351,7 @@ class RunState {
   template <class Interp>
   void accepted(double t_old, double t, const double* x, Interp&& interpolate) {
     ++report_.steps;
+    recent_steps_[report_.steps % 2] = t - t_old;
     for (int i = 0; i < 2 * size_; ++i) {
       if (!std::isfinite(x[i])) {
         std::ostringstream os;
@@ -367,10 +388,11 @@ class RunState {
 
   /// Constrained models: projection (when chosen) and residual monitoring
   /// after an accepted step ending at t with state x; true when x changed.
-  bool stabilize(double* x, double t) {
+  bool stabilize(double* x, double t, bool allow_projection = true) {
     if constexpr (!has_constraints_v<M>) {
       (void)x;
       (void)t;
+      (void)allow_projection;
       return false;
     } else {
       ConstraintReport& cr = report_.constraints;
@@ -379,7 +401,7 @@ class RunState {
       Vec<double, n> q, qd;
       split_state(x, q, qd);
       bool changed = false;
-      if (opt_.stabilization == Stabilization::projection) {
+      if (allow_projection && opt_.stabilization == Stabilization::projection) {
         const auto start = std::chrono::steady_clock::now();
         try {
           cr.projection_iterations += static_cast<std::uint64_t>(
@@ -409,6 +431,7 @@ class RunState {
           throw SimulationError(os.str(), t);
         }
       }
+      if constexpr (holonomic_count_v<M> + pfaffian_count_v<M> > 0) monitor_conditioning(cs, t);
       drop_inactive<M>(cs, active());
       const double pos = position_rows_v<M> > 0
                              ? cs.position.head(position_rows_v<M>).template lpNorm<Eigen::Infinity>()
@@ -419,6 +442,32 @@ class RunState {
       cr.final_position_residual = pos;
       cr.final_velocity_residual = vel;
       return changed;
+    }
+  }
+  /// Tracks σ_r/σ_1 of the bilateral constraint Jacobian (r = rank at t0)
+  /// at accepted steps and samples, and warns once when it falls below
+  /// 1e-3: a singular configuration is near (the multipliers grow without
+  /// bound there, and the motion may switch assembly branches).
+  template <class CS>
+  void monitor_conditioning(CS cs, double t) {
+    ConstraintReport& cr = report_.constraints;
+    drop_inactive<M>(cs, ActiveSet{0});
+    std::vector<double>& sv = singular_values_;
+    detail::numeric_rank(cs.jacobian, &sv);
+    const int r = cr.initial_rank;
+    if (r < 1 || sv.empty() || !(sv[0] > 0)) return;
+    const double ratio = static_cast<std::size_t>(r) <= sv.size() ? sv[static_cast<std::size_t>(r - 1)] / sv[0] : 0.0;
+    if (ratio < cr.min_conditioning) {
+      cr.min_conditioning = ratio;
+      cr.min_conditioning_time = t;
+    }
+    if (ratio < 1e-3 && !warned_conditioning_) {
+      warned_conditioning_ = true;
+      std::ostringstream os;
+      os.precision(6);
+      os << "near-singular configuration at t = " << t << ": the constraint Jacobian's singular values fall to "
+         << ratio << " of the largest (rank " << r << " at t0); multipliers may be large there";
+      cr.warnings.push_back(os.str());
     }
   }
   void extra_rhs_evaluation() {
@@ -707,6 +756,9 @@ class RunState {
     }
   }
   void reset_rejections() { consecutive_rejections_ = 0; }
+  /// The larger of the last two accepted step sizes (s): the step size at
+  /// the end of the run even when the last step was cut short to end on t_end.
+  double recent_step() const { return std::max(recent_steps_[0], recent_steps_[1]); }
 
   /// Final bookkeeping: sample the end state if not done yet.
   void finish() {
@@ -888,6 +940,7 @@ class RunState {
       s.multipliers = cw_.multipliers;
       s.constraint_forces = cw_.constraint_forces;
       auto cs = constraint_state(model_, s.q, s.qd, s.t);
+      if constexpr (holonomic_count_v<M> + pfaffian_count_v<M> > 0) monitor_conditioning(cs, s.t);
       drop_inactive<M>(cs, ActiveSet{0});  // rank of the bilateral constraints
       const int rank = detail::numeric_rank(cs.jacobian);
       ConstraintReport& cr = report_.constraints;
@@ -994,6 +1047,9 @@ class RunState {
   double h0_ = 0, e0_ = 0, h_last_ = 0, e_last_ = 0;
   std::uint64_t next_output_index_ = 1;
   std::uint64_t consecutive_rejections_ = 0;
+  std::array<double, 2> recent_steps_{};
+  std::vector<double> singular_values_;
+  bool warned_conditioning_ = false;
   double last_emitted_ = std::numeric_limits<double>::quiet_NaN();
   double last_t_ = 0;
   int size_;
@@ -1187,9 +1243,213 @@ void run_rosenbrock4(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt
   }
 }
 
+
+/// Cubic Hermite interpolation of [q; q̇] inside a fixed step from (t0, x0)
+/// to (t1, x1) (2n values each): q from its end values and slopes q̇, q̇ as
+/// the derivative of that cubic. Used only for samples between steps.
+inline void hermite_state(double t0, const double* x0, double t1, const double* x1, int size, double t, double* out) {
+  const double h = t1 - t0;
+  const double s = (t - t0) / h;
+  const double h00 = 2 * s * s * s - 3 * s * s + 1, h10 = s * s * s - 2 * s * s + s;
+  const double h01 = -2 * s * s * s + 3 * s * s, h11 = s * s * s - s * s;
+  const double d00 = (6 * s * s - 6 * s) / h, d10 = 3 * s * s - 4 * s + 1;
+  const double d01 = (-6 * s * s + 6 * s) / h, d11 = 3 * s * s - 2 * s;
+  for (int i = 0; i < size; ++i) {
+    const double q0 = x0[i], v0 = x0[size + i], q1 = x1[i], v1 = x1[size + i];
+    out[i] = h00 * q0 + h10 * h * v0 + h01 * q1 + h11 * h * v1;
+    out[size + i] = d00 * q0 + d10 * v0 + d01 * q1 + d11 * v1;
+  }
+}
+
+/// Fixed-step loop shared by the variational and symplectic steppers: the
+/// k-th step ends at t0 + k dt (no accumulated rounding); the last step is
+/// shortened to end on t_end. `advance(t, h, x)` takes one step of h from t
+/// and writes the new [q; q̇] into x. Samples between steps are interpolated
+/// (hermite_state); projection is never applied (these methods keep the
+/// constraints themselves), residuals are still monitored.
+template <class M, class Observer, class X, class Advance>
+void run_fixed_grid(X& x, const SimulationOptions& opt, RunState<M, Observer>& rs, Advance&& advance) {
+  std::uint64_t k = 0;
+  double t = opt.t0;
+  X x_old = x;
+  const int size = static_cast<int>(x.size() / 2);
+  while (!reached(t, opt.t_end) && !rs.stopped()) {
+    const double t_grid = opt.t0 + static_cast<double>(k + 1) * opt.dt;
+    const double t_next = reached(t_grid, opt.t_end) || t_grid > opt.t_end ? opt.t_end : t_grid;
+    const double t_old = t;
+    x_old = x;
+    advance(t, t_next - t, x);
+    t = t_next;
+    ++k;
+    rs.stabilize(x.data(), t, false);
+    rs.accepted(t_old, t, x.data(),
+                [&](double to, double* out) { hermite_state(t_old, x_old.data(), t, x.data(), size, to, out); });
+  }
+}
+
+/// The variational integrator (variational.hpp) at fixed step opt.dt.
+template <class M, class Observer, class X>
+void run_variational(const M& model, X& x, const SimulationOptions& opt, RunState<M, Observer>& rs,
+                     RunReport& report) {
+  if constexpr (!variational_supported_v<M>) {
+    (void)model, (void)x, (void)opt, (void)rs, (void)report;
+    throw OptionError("unreachable: variational refused earlier");
+  } else {
+    constexpr int n = M::dof;
+    State<n> s;
+    split_state(x.data(), s.q, s.qd);
+    VariationalIntegrator<M> vi(model, s, opt.t0, discrete_rule_from_string(opt.discrete_rule),
+                                NewtonSettings{opt.newton_tolerance, opt.newton_max_iterations});
+    auto count = [&] {
+      report.newton_iterations = vi.newton_iterations();
+      report.rhs_evaluations = vi.lagrangian_evaluations();
+    };
+    try {
+      run_fixed_grid(x, opt, rs, [&](double, double h, X& xs) {
+        vi.step(h);
+        for (int i = 0; i < n; ++i) {
+          xs[static_cast<std::size_t>(i)] = vi.q()[i];
+          xs[static_cast<std::size_t>(n + i)] = vi.qd()[i];
+        }
+      });
+    } catch (const DynamicsError& e) {
+      count();
+      throw SimulationError(std::string("run stopped: ") + e.what(), vi.t());
+    }
+    count();
+  }
+}
+
+/// Odeint's symplectic_rkn_sb3a_mclachlan or velocity_verlet on q̈ = a(q)
+/// for a separable model (checked before the run), at fixed step opt.dt.
+/// The pair (q, q̇) is integrated; with a constant M, (q, M q̇) is canonical,
+/// so the map is symplectic.
+template <class M, class Observer, class X>
+void run_symplectic(const M& model, Workspace<M::dof>& ws, X& x, const SimulationOptions& opt,
+                    RunState<M, Observer>& rs, RunReport& report) {
+  namespace odeint = boost::numeric::odeint;
+  using V = std::vector<double>;
+  const int size = static_cast<int>(x.size() / 2);
+  V q(static_cast<std::size_t>(size)), v(static_cast<std::size_t>(size));
+  Vec<double, M::dof> qv(size), zero = Vec<double, M::dof>::Zero(size), acc(size);
+  auto acceleration = [&](const V& qin, V& a, double t) {
+    for (int i = 0; i < size; ++i) qv[i] = qin[static_cast<std::size_t>(i)];
+    accelerations(model, ws, qv, zero, t, acc);  // separable: q̈ does not depend on q̇
+    for (int i = 0; i < size; ++i) a[static_cast<std::size_t>(i)] = acc[i];
+    ++report.rhs_evaluations;
+  };
+  auto unpack = [&](const X& xs) {
+    for (int i = 0; i < size; ++i) {
+      q[static_cast<std::size_t>(i)] = xs[static_cast<std::size_t>(i)];
+      v[static_cast<std::size_t>(i)] = xs[static_cast<std::size_t>(size + i)];
+    }
+  };
+  auto pack = [&](X& xs) {
+    for (int i = 0; i < size; ++i) {
+      xs[static_cast<std::size_t>(i)] = q[static_cast<std::size_t>(i)];
+      xs[static_cast<std::size_t>(size + i)] = v[static_cast<std::size_t>(i)];
+    }
+  };
+  unpack(x);
+  if (opt.method == "velocity_verlet") {
+    odeint::velocity_verlet<V> stepper;
+    auto sys = [&](const V& qin, const V&, V& a, double t) { acceleration(qin, a, t); };
+    run_fixed_grid(x, opt, rs, [&](double t, double h, X& xs) {
+      stepper.do_step(sys, std::make_pair(std::ref(q), std::ref(v)), t, h);
+      pack(xs);
+    });
+  } else {
+    odeint::symplectic_rkn_sb3a_mclachlan<V> stepper;
+    double t_now = opt.t0;  // the momentum function of odeint's RKN steppers gets no time
+    auto coordinate_rate = [](const V& vin, V& dqdt) { dqdt = vin; };
+    auto momentum_rate = [&](const V& qin, V& dvdt) { acceleration(qin, dvdt, t_now); };
+    run_fixed_grid(x, opt, rs, [&](double t, double h, X& xs) {
+      t_now = t;
+      stepper.do_step(std::make_pair(coordinate_rate, momentum_rate), std::make_pair(std::ref(q), std::ref(v)), t, h);
+      pack(xs);
+    });
+  }
+}
+
 }  // namespace detail
 
 namespace detail {
+
+/// Estimates ρ, the largest |eigenvalue| of J = ∂f/∂x at x (1/s), as
+/// √(‖J²v‖/‖v‖) after 20 power iterations on J² (J² turns a pair of
+/// oscillatory eigenvalues ±iω into the real −ω², so the iteration settles);
+/// J v by central differences of f. Sets report.stiffness_rho and warns when
+/// the step size h at the end satisfies h ρ > 1 (steps limited by stability:
+/// an explicit Runge–Kutta method is stable only for h ρ below a few units).
+template <class M, class X>
+void check_stiffness(FirstOrderSystem<M> sys, const X& x, double t, double step, RunReport& report) {
+  std::uint64_t scratch = 0;
+  sys.evaluations = &scratch;  // not counted as the run's work
+  const std::size_t size = x.size();
+  X v = x, w = x, xp = x, xm = x, fp = x, fm = x;
+  for (std::size_t i = 0; i < size; ++i) v[i] = 1.0 + 0.1 * static_cast<double>(i % 7);
+  double xnorm = 0;
+  for (double c : x) xnorm = std::max(xnorm, std::abs(c));
+  auto norm = [](const X& a) {
+    double s = 0;
+    for (double c : a) s += c * c;
+    return std::sqrt(s);
+  };
+  auto apply = [&](const X& in, X& out) {
+    const double eps = 1e-6 * (1.0 + xnorm) / std::max(norm(in), 1e-300);
+    for (std::size_t i = 0; i < size; ++i) {
+      xp[i] = x[i] + eps * in[i];
+      xm[i] = x[i] - eps * in[i];
+    }
+    sys(xp, fp, t);
+    sys(xm, fm, t);
+    for (std::size_t i = 0; i < size; ++i) out[i] = (fp[i] - fm[i]) / (2 * eps);
+  };
+  double rho2 = 0;
+  try {
+    for (int it = 0; it < 20; ++it) {
+      const double nv = norm(v);
+      if (!(nv > 0) || !std::isfinite(nv)) return;
+      for (auto& c : v) c /= nv;
+      apply(v, w);
+      apply(w, v);
+      rho2 = norm(v);
+    }
+  } catch (const std::exception&) {
+    return;  // a diagnostic only: a state where f cannot be evaluated gives none
+  }
+  if (!std::isfinite(rho2)) return;
+  report.stiffness_rho = std::sqrt(rho2);
+  if (step * report.stiffness_rho > 1.0) {
+    std::ostringstream os;
+    os.precision(3);
+    os << "stiff problem: the " << report.steps << " steps (" << step << " s at the end) were limited by stability, "
+       << "not accuracy (largest |eigenvalue| of df/dx about " << report.stiffness_rho << " 1/s, step x rho = "
+       << step * report.stiffness_rho << "); method rosenbrock4 needs far fewer steps";
+    report.warnings.push_back(os.str());
+  }
+}
+
+/// Throws OptionError when the chosen method cannot run this model: the
+/// variational integrator without a compile-time dof or with Pfaffian or
+/// unilateral constraints; the symplectic steppers on a model that is not
+/// separable (separability_problem()).
+template <class M>
+void refuse_unsuited_method(const M& model, const State<M::dof>& initial, const SimulationOptions& options) {
+  const std::string& m = options.method;
+  if (m == "variational" && !variational_supported_v<M>) {
+    throw OptionError(
+        "method 'variational' cannot run model " + model_name(model) +
+        ": it needs a compile-time number of coordinates and supports holonomic constraints only (no Pfaffian or "
+        "unilateral constraints, no contacts); use dopri5 or fehlberg78");
+  }
+  if (m == "symplectic_rkn_sb3a_mclachlan" || m == "velocity_verlet") {
+    const std::string why = separability_problem(model, initial, options.t0);
+    if (!why.empty())
+      throw OptionError("method '" + m + "' needs a separable model (L = 1/2 qd^T M qd - V(q), constant M); model " +
+                        model_name(model) + " is not: " + why + "; use variational, dopri5 or fehlberg78");
+  }
+}
 
 /// The body of simulate(), compiled once per model (the observer is erased).
 template <class M>
@@ -1198,6 +1458,9 @@ RunReport simulate_impl(const M& model, const State<M::dof>& initial, const Simu
   check_model<M>();
   constexpr int n = M::dof;
   namespace odeint = boost::numeric::odeint;
+#if defined(LAGRANGIAN_TRAP_FE_INVALID) && LAGRANGIAN_TRAP_FE_INVALID
+  const FloatingPointTrap trap;  // debug builds: the first NaN raises SIGFPE where it is made
+#endif
   const auto wall_start = std::chrono::steady_clock::now();
   options.validate();
   const int size = model_size(model);
@@ -1215,11 +1478,13 @@ RunReport simulate_impl(const M& model, const State<M::dof>& initial, const Simu
     }
   }
 
+  refuse_unsuited_method(model, initial, options);
+
   RunReport report;
   report.model = model_name(model);
   report.coordinates = names;
   report.method = options.method;
-  report.adaptive = options.method != "rk4";
+  report.adaptive = !fixed_step_method(options.method);
   report.rtol = options.rtol;
   report.atol = options.atol;
   report.dt = options.dt;
@@ -1273,6 +1538,10 @@ RunReport simulate_impl(const M& model, const State<M::dof>& initial, const Simu
       run_controlled(stepper, sys, x, options, rs);
     } else if (m == "rosenbrock4") {
       run_rosenbrock4(sys, x, options, rs);
+    } else if (m == "variational") {
+      run_variational(model, x, options, rs, report);
+    } else if (m == "symplectic_rkn_sb3a_mclachlan" || m == "velocity_verlet") {
+      run_symplectic(model, ws, x, options, rs, report);
     } else {
       throw OptionError("unreachable: unknown method '" + m + "'");
     }
@@ -1280,6 +1549,7 @@ RunReport simulate_impl(const M& model, const State<M::dof>& initial, const Simu
     throw SimulationError(std::string("run stopped: ") + e.what(), std::numeric_limits<double>::quiet_NaN());
   }
   rs.finish();
+  if (report.adaptive && options.method != "rosenbrock4") check_stiffness(sys, x, report.t_final, rs.recent_step(), report);
   report.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return report;
 }
@@ -1332,6 +1602,40 @@ std::vector<int> cyclic_coordinates(const M& model, const State<M::dof>& s, doub
   for (int i = 0; i < size; ++i)
     if (cyclic[static_cast<std::size_t>(i)]) out.push_back(i);
   return out;
+}
+
+template <class M>
+std::string separability_problem(const M& model, const State<M::dof>& s, double t) {
+  check_model<M>();
+  if constexpr (declares_separable<M>) {
+    (void)s, (void)t;
+    return M::separable ? std::string() : model_name(model) + " declares separable = false";
+  } else if constexpr (has_constraints_v<M>) {
+    (void)model, (void)s, (void)t;
+    return "it has constraints";
+  } else if constexpr (has_generalized_forces_v<M> || has_dissipation_v<M>) {
+    (void)model, (void)s, (void)t;
+    return "it has generalized forces or dissipation";
+  } else {
+    if (!is_autonomous(model, s, t)) return "L depends explicitly on time";
+    const auto m0 = mass_matrix(model, s.q, s.qd, t);
+    const double scale = m0.template lpNorm<Eigen::Infinity>();
+    for (const State<M::dof>& p : detail::probe_states(s)) {
+      const auto mp = mass_matrix(model, p.q, p.qd, t);
+      if ((mp - m0).template lpNorm<Eigen::Infinity>() > 1e-12 * scale) {
+        std::ostringstream os;
+        os.precision(6);
+        os << "the mass matrix d2L/dqd2 depends on the state (entry max change "
+           << (mp - m0).template lpNorm<Eigen::Infinity>() << " of " << scale << ")";
+        return os.str();
+      }
+      const auto mom = momenta(model, p.q, p.qd, t);
+      const auto expected = (m0 * p.qd).eval();
+      if ((mom - expected).template lpNorm<Eigen::Infinity>() > 1e-12 * (1.0 + expected.template lpNorm<Eigen::Infinity>()))
+        return "the momenta dL/dqd are not M qd (terms linear in the velocities)";
+    }
+    return {};
+  }
 }
 
 template <class M>

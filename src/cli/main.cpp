@@ -155,7 +155,8 @@ int main(int argc, char** argv) {
   run->add_option("scene", scene_path, "scene file (TOML, see docs/scenes.md)")->required();
   run->add_option("--t-end", t_end, "end time (s), overrides run.t_end");
   run->add_option("--method", method,
-                  "stepper: rk4, dopri5, cash_karp54, fehlberg78, bulirsch_stoer, rosenbrock4 or event_driven");
+                  "stepper: rk4, dopri5, cash_karp54, fehlberg78, bulirsch_stoer, rosenbrock4, variational, "
+                  "symplectic_rkn_sb3a_mclachlan, velocity_verlet or event_driven");
   run->add_option("--rtol", rtol, "relative tolerance, overrides run.rtol");
   run->add_option("--atol", atol, "absolute tolerance, overrides run.atol");
   run->add_option("--out", out_dir, "output directory, overrides output.directory");

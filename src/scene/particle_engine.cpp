@@ -884,6 +884,10 @@ std::unique_ptr<Stepper> make_stepper(const std::string& method, System& sys, co
     return std::make_unique<OdeintStepper<C>>(rhs, C(run.atol, run.rtol));
   }
   if (method == "rosenbrock4") return std::make_unique<StiffStepper>(&sys, 2 * sys.dim(), run.atol, run.rtol);
+  if (method == "variational" || method == "symplectic_rkn_sb3a_mclachlan" || method == "velocity_verlet")
+    throw OptionError("run.method: '" + method +
+                      "' runs built-in models (model = ...) only; a scene of bodies runs with rk4, dopri5, "
+                      "cash_karp54, fehlberg78, bulirsch_stoer or rosenbrock4");
   throw OptionError("run.method: unknown stepper '" + method + "' for a particle scene");
 }
 

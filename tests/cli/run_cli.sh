@@ -45,6 +45,9 @@ head -1 "$work/ball/trajectory.csv" | grep -q '^t,ball.x,ball.y,ball.z,ball.x_do
 # Overrides from the command line.
 expect 0 "t = 0 .. 0.5 s" -- "$bin" run "$src/examples/scenes/link_pendulum.toml" --out "$work/pend" --t-end 0.5 --method rk4 --no-plots
 expect 0 "closed form" -- "$bin" run "$src/examples/scenes/kepler.toml" --out "$work/kepler" --rtol 1e-8 --atol 1e-10 --no-plots
+# The structure-preserving steppers by name; refused with the reason where they do not apply.
+expect 0 "Newton iterations" -- "$bin" run "$src/examples/scenes/double_pendulum.toml" --out "$work/dpv" --t-end 2 --method variational --no-plots
+expect 2 "needs a separable model.*mass matrix" -- "$bin" run "$src/examples/scenes/double_pendulum.toml" --out "$work/dps" --method velocity_verlet --no-plots
 # Quiet in a pipe: no progress bar characters on stderr.
 "$bin" run "$src/examples/scenes/bouncing_ball.toml" --out "$work/quiet" --no-plots 2>"$work/stderr.txt" >/dev/null
 [ ! -s "$work/stderr.txt" ] || { echo "FAIL: stderr not empty in a pipe"; cat "$work/stderr.txt"; fails=$((fails + 1)); }
