@@ -24,6 +24,8 @@ run() {  # run NAME SCENE [OPTIONS...]
 }
 
 run projectile        examples/scenes/projectile.toml
+run harmonic_oscillator examples/scenes/harmonic_oscillator.toml
+run pendulum_large    bench/scenes/pendulum_large_amplitude.toml
 run kepler_e05        bench/scenes/kepler_e05_100_orbits.toml --dt 0.01:0.0001
 run kepler_e09        bench/scenes/kepler_e09_100_orbits.toml --dt 0.01:0.0001
 run double_pendulum_5 bench/scenes/double_pendulum_chaotic.toml

@@ -174,7 +174,7 @@ TEST(SceneModels, EveryCatalogEntryHasExactlyOneRegistryEntryAndViceVersa) {
                              [](const auto& a, const auto& b) { return a.name < b.name; }));
   EXPECT_EQ(scene::find_model("no_such_model"), nullptr);
   EXPECT_EQ(find_entry("no_such_model"), nullptr);
-  EXPECT_EQ(catalog.size(), 24u);
+  EXPECT_EQ(catalog.size(), 25u);
 }
 
 TEST(SceneModels, CatalogDefaultsAreTheModelsOwnDefaults) {
@@ -183,6 +183,11 @@ TEST(SceneModels, CatalogDefaultsAreTheModelsOwnDefaults) {
     EXPECT_EQ(catalog_default("simple_pendulum", "m"), d.m);
     EXPECT_EQ(catalog_default("simple_pendulum", "l"), d.l);
     EXPECT_EQ(catalog_default("simple_pendulum", "g"), d.g);
+  }
+  {
+    const lm::HarmonicOscillator d{};
+    EXPECT_EQ(catalog_default("harmonic_oscillator", "m"), d.m);
+    EXPECT_EQ(catalog_default("harmonic_oscillator", "k"), d.k);
   }
   {
     const lm::DoublePendulum d{};

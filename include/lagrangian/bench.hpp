@@ -24,7 +24,8 @@
 /// scenes): e = max_i |q_i(t_end) − q_i,ref(t_end)| in the units of q. The
 /// reference q_ref is
 ///  - the model's closed form when it has one (`reference()`: projectile,
-///    projectile with linear drag, Kepler, two bodies) — the true error;
+///    projectile with linear drag, Kepler, two bodies, harmonic oscillator,
+///    simple pendulum at any amplitude) — the true error;
 ///  - otherwise a reference run of the same scene with fehlberg78 at
 ///    rtol = atol = `reference_tolerance`, whose own accuracy is estimated by
 ///    comparing it with a second run at 10× that tolerance (the difference

@@ -26,6 +26,11 @@ std::vector<ModelInfo> make_catalog() {
                {{"m", 1.0, "kg", "mass of the bob"},
                 {"l", 1.0, "m", "length of the rod"},
                 {"g", 9.81, "m/s^2", "acceleration of gravity"}}});
+  c.push_back({"harmonic_oscillator",
+               "Harmonic oscillator: mass on a linear spring, x from the rest position (closed form)",
+               {"x"},
+               {"m"},
+               {{"m", 1.0, "kg", "mass"}, {"k", 1.0, "N/m", "spring stiffness"}}});
   c.push_back({"double_pendulum",
                "Double pendulum: two point masses on massless rods, angles from the downward vertical",
                {"theta1", "theta2"},

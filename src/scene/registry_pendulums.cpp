@@ -1,5 +1,5 @@
-// Built-in models of pendulums.hpp: pendulums and a central force in polar
-// coordinates. These models have no default state of their own; the states
+// Built-in models of pendulums.hpp: pendulums, a central force in polar
+// coordinates and the harmonic oscillator. These models have no default state of their own; the states
 // below are the registry's (documented in docs/models.md).
 
 #include <array>
@@ -28,6 +28,15 @@ struct SimplePendulumDef {
   static constexpr std::string_view type = "models::SimplePendulum";
   static Model build(const Parameters& p) { return Model(p["m"], p["l"], p["g"]); }
   static State<1> initial(const Model&, double) { return at_rest<1>({0.5}); }
+};
+
+struct HarmonicOscillatorDef {
+  using Model = lm::HarmonicOscillator;
+  static constexpr std::string_view name = "harmonic_oscillator";
+  static constexpr std::string_view type = "models::HarmonicOscillator";
+  static Model build(const Parameters& p) { return Model(p["m"], p["k"]); }
+  /// Stretched 0.1 m, at rest.
+  static State<1> initial(const Model&, double) { return at_rest<1>({0.1}); }
 };
 
 struct DoublePendulumDef {
@@ -125,6 +134,7 @@ void add_pendulum_models(std::vector<ModelEntry>& out) {
   out.push_back(entry<CartPendulumDef>());
   out.push_back(entry<DrivenPendulumDef>());
   out.push_back(entry<PendulumChain3Def>());
+  out.push_back(entry<HarmonicOscillatorDef>());
 }
 
 }  // namespace lagrangian::scene::detail

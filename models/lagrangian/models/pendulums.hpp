@@ -1,13 +1,17 @@
 #pragma once
 /// \file pendulums.hpp
-/// Pendulum-family and central-force models in generalized coordinates.
+/// Pendulum-family, central-force and oscillator models in generalized coordinates.
 /// SI units throughout: masses in kg, lengths in m, g in m/s², angles in rad,
 /// stiffness in N/m, energies in J. Angles θ are measured from the downward
 /// vertical unless stated otherwise.
 
 #include <array>
+#include <cmath>
 #include <string>
 #include <string_view>
+
+#include <boost/math/special_functions/ellint_1.hpp>
+#include <boost/math/special_functions/jacobi_elliptic.hpp>
 
 #include "lagrangian/model.hpp"
 #include "lagrangian/params.hpp"
@@ -33,6 +37,100 @@ struct SimplePendulum {
   S potential(const Vec<S, 1>& q, const S&) const {
     using std::cos;
     return -m * g * l * cos(q[0]);
+  }
+  /// The exact motion from `initial` (any amplitude), with ω0 = √(g/l) (1/s)
+  /// and the modulus k ≥ 0 fixed by the energy,
+  ///   k² = (θ̇0 / 2ω0)² + sin²(θ0/2)   (k² = (h + m g l) / (2 m g l)).
+  /// Libration (k < 1, the bob swings below the top, amplitude θmax = 2 asin k):
+  ///   sin(θ/2) = k sn(ω0 t + u0 | k),  cos(θ/2) = dn(…),  θ̇ = 2 k ω0 cn(…),
+  ///   u0 = F(φ0 | k) with sn u0 = sin φ0, cn u0 = cos φ0:
+  ///   φ0 = atan2(sin(θ0/2), θ̇0/(2ω0)); period 4 K(k)/ω0.
+  /// Rotation (k > 1, the bob goes over the top in the direction s = sign θ̇0):
+  ///   θ/2 = s am(k ω0 t + v0 | 1/k),  θ̇ = 2 s k ω0 dn(…),  v0 = F(s θ0/2 | 1/k).
+  /// Separatrix (k = 1): θ/2 = s gd(ω0 t + w0), θ̇ = 2 s ω0 sech(ω0 t + w0),
+  ///   w0 = asinh(tan(s θ0/2)) (θ0 taken in [−π, π)); at rest at the top, θ stays.
+  /// Modulus convention of Boost.Math (k, not m = k²); t in s from the start.
+  State<1> reference(const State<1>& initial, double t) const {
+    constexpr double pi = 3.141592653589793;
+    const double theta0 = initial.q[0], rate0 = initial.qd[0];
+    State<1> s;
+    if (g == 0.0) {  // no restoring torque: uniform rotation
+      s.q[0] = theta0 + rate0 * t;
+      s.qd[0] = rate0;
+      return s;
+    }
+    const double w0 = std::sqrt(g / l);
+    // θ0 = 2π n + θr with θr in [−π, π): the motion is the same up to 2π n.
+    const double turns = std::round(theta0 / (2 * pi));
+    const double half = 0.5 * (theta0 - 2 * pi * turns), c = 0.5 * rate0 / w0;
+    const double k2 = c * c + std::sin(half) * std::sin(half);
+    if (k2 < 1.0) {
+      const double k = std::sqrt(k2);
+      const double u = w0 * t + boost::math::ellint_1(k, std::atan2(std::sin(half), c));
+      double cn = 0;
+      const double sn = boost::math::jacobi_elliptic(k, u, &cn, static_cast<double*>(nullptr));
+      // dn = √(1 − k² sn²) > 0 computed here: Boost's dn is off by up to 1e-3
+      // at odd multiples of K (the turning points; Boost 1.74 measured).
+      const double dn = std::sqrt(1 - k2 * sn * sn);
+      s.q[0] = 2 * pi * turns + 2 * std::atan2(k * sn, dn);
+      s.qd[0] = 2 * k * w0 * cn;
+      return s;
+    }
+    const double dir = rate0 < 0 ? -1.0 : 1.0;
+    if (k2 > 1.0) {
+      const double k = std::sqrt(k2), mod = 1 / k;
+      const double u = k * w0 * t + boost::math::ellint_1(mod, dir * 0.5 * theta0);
+      // am(u) = am(v) + jπ with v = u − 2K j in [−K, K], where cn(v) ≥ 0.
+      const double period = 2 * boost::math::ellint_1(mod);
+      const double j = std::round(u / period), v = u - period * j;
+      double cn = 0;
+      const double sn = boost::math::jacobi_elliptic(mod, v, &cn, static_cast<double*>(nullptr));
+      const double dn = std::sqrt(1 - mod * mod * sn * sn);  // as above
+      s.q[0] = 2 * dir * (std::atan2(sn, cn) + pi * j);
+      s.qd[0] = 2 * dir * k * w0 * dn;
+      return s;
+    }
+    if (rate0 == 0.0) {  // at rest at the top (unstable equilibrium)
+      s.q[0] = theta0;
+      s.qd[0] = 0.0;
+      return s;
+    }
+    const double w = w0 * t + std::asinh(std::tan(dir * half));
+    s.q[0] = 2 * pi * turns + 2 * dir * std::atan(std::sinh(w));
+    s.qd[0] = 2 * dir * w0 / std::cosh(w);
+    return s;
+  }
+};
+
+/// Harmonic oscillator: a mass m on a linear spring of stiffness k, coordinate
+/// x (m) from the spring's rest position.
+///   T = ½ m ẋ²,  V = ½ k x²,  ẍ = −ω² x with ω = √(k/m) (rad/s), period 2π/ω.
+struct HarmonicOscillator {
+  static constexpr int dof = 1;
+  double m, k;
+  explicit HarmonicOscillator(double mass = 1.0, double stiffness = 1.0)
+      : m(require_positive("HarmonicOscillator", "m", mass)),
+        k(require_positive("HarmonicOscillator", "k", stiffness)) {}
+  std::string name() const { return "harmonic_oscillator"; }
+  std::array<std::string_view, 1> coordinate_names() const { return {"x"}; }
+  /// Angular frequency ω = √(k/m) (rad/s).
+  double omega() const { return std::sqrt(k / m); }
+  template <class S>
+  S kinetic(const Vec<S, 1>&, const Vec<S, 1>& qd, const S&) const {
+    return 0.5 * m * qd[0] * qd[0];
+  }
+  template <class S>
+  S potential(const Vec<S, 1>& q, const S&) const {
+    return 0.5 * k * q[0] * q[0];
+  }
+  /// The exact motion from `initial`:
+  ///   x = x0 cos ωt + (ẋ0/ω) sin ωt,  ẋ = −x0 ω sin ωt + ẋ0 cos ωt.
+  State<1> reference(const State<1>& initial, double t) const {
+    const double w = omega(), c = std::cos(w * t), sn = std::sin(w * t);
+    State<1> s;
+    s.q[0] = initial.q[0] * c + initial.qd[0] / w * sn;
+    s.qd[0] = -initial.q[0] * w * sn + initial.qd[0] * c;
+    return s;
   }
 };
 
