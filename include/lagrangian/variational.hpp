@@ -44,9 +44,9 @@
 #include <string>
 
 #include <Eigen/Core>
-#include <Eigen/QR>
 
 #include "lagrangian/constraints.hpp"
+#include "lagrangian/detail/kkt.hpp"
 #include "lagrangian/discrete.hpp"
 #include "lagrangian/dynamics.hpp"
 #include "lagrangian/errors.hpp"
@@ -108,39 +108,52 @@ class VariationalIntegrator {
   using Kkt = Eigen::Matrix<double, n + m, n + m>;
   using KktVec = Vec<double, n + m>;
 
+  /// Newton's method on a saddle-point system F(x, y) = 0 in x ∈ Rⁿ and
+  /// the multipliers y ∈ Rᵐ: `assemble(x, y, K, F)` fills the residual F and
+  /// its Jacobian K = ∂F/∂(x, y) at the iterate. Stops when the update of x
+  /// satisfies ‖Δx‖∞ ≤ tolerance · (1 + ‖x‖∞); fails with a DynamicsError
+  /// naming `what` on a non-finite iterate or after max_iterations.
+  template <class Assemble>
+  void newton(Vec<double, n>& x, Vec<double, m>& y, double h, const char* what, Assemble&& assemble) {
+    double last = 0;
+    for (int it = 0; it < newton_.max_iterations; ++it) {
+      Kkt k = Kkt::Zero();
+      KktVec f;
+      assemble(x, y, k, f);
+      ++evaluations_;
+      ++iterations_;
+      const KktVec dz = solve(k, f, x, t_ + h, what);
+      x -= dz.template head<n>();
+      if constexpr (m > 0) y -= dz.template tail<m>();
+      last = dz.template head<n>().template lpNorm<Eigen::Infinity>();
+      if (!x.allFinite()) fail(what, "gave a non-finite iterate", h, last);
+      if (last <= newton_.tolerance * (1.0 + x.template lpNorm<Eigen::Infinity>())) return;
+    }
+    fail(what, "did not converge", h, last);
+  }
+
+  /// q_{k+1} and λ from (1), starting at q_k + h q̇_k.
   Vec<double, n> solve_positions(double h) {
     const double t1 = t_ + h;
     Vec<double, n> q1 = q_ + h * qd_;
-    [[maybe_unused]] Vec<double, m> lambda = Vec<double, m>::Zero();
+    Vec<double, m> lambda = Vec<double, m>::Zero();
     [[maybe_unused]] Eigen::Matrix<double, m, n> g0;
     if constexpr (m > 0) g0 = constraint_state(model_, q_, Vec<double, n>::Zero().eval(), t_).jacobian;
-    double last = 0;
-    for (int it = 0; it < newton_.max_iterations; ++it) {
-      const DiscreteLagrangian<n> dl = discrete_lagrangian_derivatives(model_, q_, q1, t_, h, rule_);
-      ++evaluations_;
-      ++iterations_;
-      Kkt k = Kkt::Zero();
-      KktVec f;
-      k.template topLeftCorner<n, n>() = dl.d12;
-      f.template head<n>() = p_ + dl.d1;
-      if constexpr (m > 0) {
-        const auto cs = constraint_state(model_, q1, Vec<double, n>::Zero().eval(), t1);
-        f.template head<n>() += g0.transpose() * lambda;
-        f.template tail<m>() = cs.position;
-        k.template topRightCorner<n, m>() = g0.transpose();
-        k.template bottomLeftCorner<m, n>() = cs.jacobian;
-      }
-      const KktVec dz = solve(k, f, q1, t1, "discrete Euler-Lagrange equations");
-      q1 -= dz.template head<n>();
-      if constexpr (m > 0) lambda -= dz.template tail<m>();
-      last = dz.template head<n>().template lpNorm<Eigen::Infinity>();
-      if (!q1.allFinite()) fail("the discrete Euler-Lagrange equations gave a non-finite q", h, last);
-      if (last <= newton_.tolerance * (1.0 + q1.template lpNorm<Eigen::Infinity>())) {
-        if constexpr (m > 0) impulse_ = g0.transpose() * lambda;
-        return q1;
-      }
-    }
-    fail("the discrete Euler-Lagrange equations did not converge", h, last);
+    newton(q1, lambda, h, "discrete Euler-Lagrange equations",
+           [&](const Vec<double, n>& x, const Vec<double, m>& y, Kkt& k, KktVec& f) {
+             const DiscreteLagrangian<n> dl = discrete_lagrangian_derivatives(model_, q_, x, t_, h, rule_);
+             k.template topLeftCorner<n, n>() = dl.d12;
+             f.template head<n>() = p_ + dl.d1;
+             if constexpr (m > 0) {
+               const auto cs = constraint_state(model_, x, Vec<double, n>::Zero().eval(), t1);
+               f.template head<n>() += g0.transpose() * y;
+               f.template tail<m>() = cs.position;
+               k.template topRightCorner<n, m>() = g0.transpose();
+               k.template bottomLeftCorner<m, n>() = cs.jacobian;
+             }
+           });
+    if constexpr (m > 0) impulse_ = g0.transpose() * lambda;
+    return q1;
   }
 
   /// p_{k+1} from D2 L_d (and μ), q̇_{k+1} from the Legendre transform.
@@ -155,69 +168,55 @@ class VariationalIntegrator {
     Vec<double, n> p_hat = p_ + dl.d1 + dl.d2;
     if constexpr (m > 0) p_hat += impulse_;
     Vec<double, n> v = (q1 - q_) / h;
-    [[maybe_unused]] Vec<double, m> mu = Vec<double, m>::Zero();
-    Workspace<n> ws;
-    double last = 0;
-    for (int it = 0; it < newton_.max_iterations; ++it) {
-      detail::eom_pass(model_, ws, q1, v, t1);
-      ++evaluations_;
-      ++iterations_;
-      Kkt k = Kkt::Zero();
-      KktVec f;
-      k.template topLeftCorner<n, n>() = ws.mass;
-      f.template head<n>() = ws.momenta - p_hat;
-      if constexpr (m > 0) {
-        const auto cs = constraint_state(model_, q1, v, t1);
-        f.template head<n>() -= cs.jacobian.transpose() * mu;
-        f.template tail<m>() = cs.velocity;
-        k.template topRightCorner<n, m>() = -cs.jacobian.transpose();
-        k.template bottomLeftCorner<m, n>() = cs.jacobian;
-      }
-      const KktVec dz = solve(k, f, q1, t1, "Legendre transform");
-      v -= dz.template head<n>();
-      if constexpr (m > 0) mu -= dz.template tail<m>();
-      last = dz.template head<n>().template lpNorm<Eigen::Infinity>();
-      if (!v.allFinite()) fail("the Legendre transform gave a non-finite velocity", h, last);
-      if (last <= newton_.tolerance * (1.0 + v.template lpNorm<Eigen::Infinity>())) {
-        if constexpr (m > 0) {
-          const auto cs = constraint_state(model_, q1, v, t1);
-          p_ = p_hat + cs.jacobian.transpose() * mu;
-        } else {
-          p_ = p_hat;
-        }
-        qd_ = v;
-        return;
-      }
+    Vec<double, m> mu = Vec<double, m>::Zero();
+    newton(v, mu, h, "Legendre transform p = dL/dqd",
+           [&](const Vec<double, n>& x, const Vec<double, m>& y, Kkt& k, KktVec& f) {
+             detail::eom_pass(model_, ws_, q1, x, t1);
+             k.template topLeftCorner<n, n>() = ws_.mass;
+             f.template head<n>() = ws_.momenta - p_hat;
+             if constexpr (m > 0) {
+               const auto cs = constraint_state(model_, q1, x, t1);
+               f.template head<n>() -= cs.jacobian.transpose() * y;
+               f.template tail<m>() = cs.velocity;
+               k.template topRightCorner<n, m>() = -cs.jacobian.transpose();
+               k.template bottomLeftCorner<m, n>() = cs.jacobian;
+             }
+           });
+    if constexpr (m > 0) {
+      p_ = p_hat + constraint_state(model_, q1, v, t1).jacobian.transpose() * mu;
+    } else {
+      p_ = p_hat;
     }
-    fail("the Legendre transform p = dL/dqd did not converge", h, last);
+    qd_ = v;
   }
 
-  KktVec solve(const Kkt& k, const KktVec& f, const Vec<double, n>& q1, double t1, const char* what) const {
+  KktVec solve(const Kkt& k, const KktVec& f, const Vec<double, n>& x, double t1, const char* what) {
     if (!k.allFinite() || !f.allFinite()) {
       std::ostringstream os;
       os.precision(17);
-      os << "variational step: non-finite Jacobian or residual of the " << what << " at t = " << t1 << " (q = ["
-         << q1.transpose() << "]) from " << detail::describe_state(q_, qd_, t_);
+      os << "variational step: non-finite Jacobian or residual of the " << what << " at t = " << t1 << " (iterate ["
+         << x.transpose() << "]) from " << detail::describe_state(q_, qd_, t_);
       throw DynamicsError(os.str());
     }
-    Eigen::CompleteOrthogonalDecomposition<Kkt> cod(k);
-    if (cod.rank() < n) {
+    const int rank = kkt_.factorize(k.data());
+    if (rank < n) {
       std::ostringstream os;
       os.precision(17);
-      os << "variational step: the Jacobian of the " << what << " is singular (rank " << cod.rank() << " of "
-         << n + m << ") at " << detail::describe_state(q_, qd_, t_)
-         << "; the mass matrix is singular or the step is too large";
+      os << "variational step: the Jacobian of the " << what << " is singular (rank " << rank << " of " << n + m
+         << ") at " << detail::describe_state(q_, qd_, t_) << "; the mass matrix is singular or the step is too large";
       throw DynamicsError(os.str());
     }
-    return cod.solve(f);
+    KktVec z;
+    kkt_.solve(f.data(), z.data());
+    return z;
   }
 
-  [[noreturn]] void fail(const char* what, double h, double last) const {
+  [[noreturn]] void fail(const char* what, const char* how, double h, double last) const {
     std::ostringstream os;
     os.precision(17);
-    os << "variational step of h = " << h << " s failed: " << what << " after at most " << newton_.max_iterations
-       << " Newton iterations (last update " << last << ", tolerance " << newton_.tolerance << ") from "
-       << detail::describe_state(q_, qd_, t_) << "; try a smaller dt";
+    os << "variational step of h = " << h << " s failed: the " << what << " " << how << " after at most "
+       << newton_.max_iterations << " Newton iterations (last update " << last << ", tolerance "
+       << newton_.tolerance << ") from " << detail::describe_state(q_, qd_, t_) << "; try a smaller dt";
     throw DynamicsError(os.str());
   }
 
@@ -227,6 +226,8 @@ class VariationalIntegrator {
   Vec<double, n> q_, qd_, p_;
   double t_;
   std::uint64_t iterations_ = 0, evaluations_ = 0;
+  Workspace<n> ws_;                          ///< the Legendre transform's pass over L
+  detail::KktSolver kkt_{n + m};             ///< the Newton steps' saddle-point solves
   [[maybe_unused]] Vec<double, n> impulse_ = Vec<double, n>::Zero();  ///< G(q_k)ᵀλ of the last position solve
 };
 

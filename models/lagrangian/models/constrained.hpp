@@ -11,6 +11,7 @@
 #include <string>
 #include <string_view>
 
+#include "lagrangian/detail/compiled_models.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/models/detail/particles.hpp"
 #include "lagrangian/params.hpp"
@@ -224,3 +225,18 @@ struct ParticleOffSphere : detail::PlanarParticle {
 };
 
 }  // namespace lagrangian::models
+
+// simulate() for these models is compiled once, in the library
+// (src/models/); see lagrangian/detail/compiled_models.hpp.
+#define LAGRANGIAN_CONSTRAINED_MODELS_A(X) \
+  X(lagrangian::models::BeadOnWire) \
+  X(lagrangian::models::BeadOnRotatingWire) \
+  X(lagrangian::models::CartesianPendulum) \
+  X(lagrangian::models::ParticleOnSphere)
+LAGRANGIAN_CONSTRAINED_MODELS_A(LAGRANGIAN_EXTERN_SIMULATE)
+#define LAGRANGIAN_CONSTRAINED_MODELS_B(X) \
+  X(lagrangian::models::AtwoodMachine) \
+  X(lagrangian::models::CartesianDoublePendulum) \
+  X(lagrangian::models::KnifeEdge) \
+  X(lagrangian::models::ParticleOffSphere)
+LAGRANGIAN_CONSTRAINED_MODELS_B(LAGRANGIAN_EXTERN_SIMULATE)

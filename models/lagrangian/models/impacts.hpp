@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 
+#include "lagrangian/detail/compiled_models.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/models/detail/particles.hpp"
 #include "lagrangian/params.hpp"
@@ -357,3 +358,13 @@ struct SpheresInBox {
 };
 
 }  // namespace lagrangian::models
+
+// simulate() for these models is compiled once, in the library
+// (src/models/); see lagrangian/detail/compiled_models.hpp.
+#define LAGRANGIAN_IMPACT_MODELS(X) \
+  X(lagrangian::models::SpheresOnLine<2>) \
+  X(lagrangian::models::SpheresOnLine<5>) \
+  X(lagrangian::models::TwoSpheres<2>) \
+  X(lagrangian::models::BallAndPlane) \
+  X(lagrangian::models::SpheresInBox<3>)
+LAGRANGIAN_IMPACT_MODELS(LAGRANGIAN_EXTERN_SIMULATE)

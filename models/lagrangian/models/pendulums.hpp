@@ -13,6 +13,7 @@
 #include <boost/math/special_functions/ellint_1.hpp>
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
 
+#include "lagrangian/detail/compiled_models.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/params.hpp"
 
@@ -366,3 +367,20 @@ struct PendulumChain {
 };
 
 }  // namespace lagrangian::models
+
+// simulate() for these models is compiled once, in the library
+// (src/models/); see lagrangian/detail/compiled_models.hpp.
+#define LAGRANGIAN_PENDULUM_MODELS_A(X) \
+  X(lagrangian::models::SimplePendulum) \
+  X(lagrangian::models::HarmonicOscillator) \
+  X(lagrangian::models::DoublePendulum) \
+  X(lagrangian::models::SphericalPendulum) \
+  X(lagrangian::models::ElasticPendulum)
+LAGRANGIAN_PENDULUM_MODELS_A(LAGRANGIAN_EXTERN_SIMULATE)
+#define LAGRANGIAN_PENDULUM_MODELS_B(X) \
+  X(lagrangian::models::BeadOnRotatingHoop) \
+  X(lagrangian::models::KeplerPolar) \
+  X(lagrangian::models::CartPendulum) \
+  X(lagrangian::models::DrivenPendulum) \
+  X(lagrangian::models::PendulumChain<3>)
+LAGRANGIAN_PENDULUM_MODELS_B(LAGRANGIAN_EXTERN_SIMULATE)

@@ -21,6 +21,7 @@
 #include <string>
 
 #include "lagrangian/impact.hpp"
+#include "lagrangian/detail/compiled_models.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/models/detail/particles.hpp"
 #include "lagrangian/params.hpp"
@@ -141,3 +142,11 @@ struct Projectile : detail::PlanarParticle {
 };
 
 }  // namespace lagrangian::models
+
+// simulate() for these models is compiled once, in the library
+// (src/models/); see lagrangian/detail/compiled_models.hpp.
+#define LAGRANGIAN_PROJECTILE_MODELS(X) \
+  X(lagrangian::models::Projectile<lagrangian::models::Drag::none>) \
+  X(lagrangian::models::Projectile<lagrangian::models::Drag::linear>) \
+  X(lagrangian::models::Projectile<lagrangian::models::Drag::quadratic>)
+LAGRANGIAN_PROJECTILE_MODELS(LAGRANGIAN_EXTERN_SIMULATE)

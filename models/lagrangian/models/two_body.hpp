@@ -24,6 +24,7 @@
 #include <Eigen/Geometry>
 
 #include "lagrangian/impact.hpp"
+#include "lagrangian/detail/compiled_models.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/models/detail/particles.hpp"
 #include "lagrangian/params.hpp"
@@ -305,3 +306,10 @@ inline constexpr double electron_mass = 9.1093837015e-31;
 inline constexpr double proton_mass = 1.67262192369e-27;
 
 }  // namespace lagrangian::models
+
+// simulate() for these models is compiled once, in the library
+// (src/models/); see lagrangian/detail/compiled_models.hpp.
+#define LAGRANGIAN_TWO_BODY_MODELS(X) \
+  X(lagrangian::models::TwoBody<2>) \
+  X(lagrangian::models::RelativeMotion<2>)
+LAGRANGIAN_TWO_BODY_MODELS(LAGRANGIAN_EXTERN_SIMULATE)

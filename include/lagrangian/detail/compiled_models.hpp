@@ -1,0 +1,38 @@
+#pragma once
+// simulate() compiled once, in the library, for the built-in models.
+//
+// simulate_impl<M> (simulate.hpp) holds every stepper loop, the variational
+// integrator and the symplectic steppers; instantiating it costs 20-30 s of
+// compile time per model type. The model headers (models/lagrangian/models/)
+// declare it `extern` for their concrete models with
+// LAGRANGIAN_EXTERN_SIMULATE, and src/models/*.cpp instantiate it once with
+// LAGRANGIAN_INSTANTIATE_SIMULATE, so a program that simulates a built-in
+// model links the library's copy instead of compiling its own. Models that
+// are not listed (a user's, PendulumChain<6>, ...) are compiled where they
+// are used, as before. With LAGRANGIAN_TRAP_FE_INVALID the declarations are
+// dropped: every program then compiles its own copy, with the trap.
+#include "lagrangian/model.hpp"
+#include "lagrangian/report.hpp"
+
+namespace lagrangian::detail {
+
+template <int N>
+struct ObserverRef;
+
+template <class M>
+RunReport simulate_impl(const M& model, const State<M::dof>& initial, const SimulationOptions& options,
+                        ObserverRef<M::dof> observer);
+
+}  // namespace lagrangian::detail
+
+#define LAGRANGIAN_SIMULATE_SIGNATURE(...)                                                                   \
+  ::lagrangian::RunReport lagrangian::detail::simulate_impl<__VA_ARGS__>(                                  \
+      const __VA_ARGS__&, const ::lagrangian::State<__VA_ARGS__::dof>&, const ::lagrangian::SimulationOptions&, \
+      ::lagrangian::detail::ObserverRef<__VA_ARGS__::dof>)
+
+#if defined(LAGRANGIAN_TRAP_FE_INVALID) && LAGRANGIAN_TRAP_FE_INVALID
+#define LAGRANGIAN_EXTERN_SIMULATE(...)
+#else
+#define LAGRANGIAN_EXTERN_SIMULATE(...) extern template LAGRANGIAN_SIMULATE_SIGNATURE(__VA_ARGS__);
+#endif
+#define LAGRANGIAN_INSTANTIATE_SIMULATE(...) template LAGRANGIAN_SIMULATE_SIGNATURE(__VA_ARGS__);

@@ -1,0 +1,6 @@
+// simulate() compiled for the built-in models listed in lagrangian/models/constrained.hpp
+// (see lagrangian/detail/compiled_models.hpp).
+#include "lagrangian/models/constrained.hpp"
+#include "lagrangian/simulate.hpp"
+
+LAGRANGIAN_CONSTRAINED_MODELS_A(LAGRANGIAN_INSTANTIATE_SIMULATE)

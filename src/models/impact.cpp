@@ -1,0 +1,6 @@
+// simulate() compiled for the built-in models listed in lagrangian/models/impacts.hpp
+// (see lagrangian/detail/compiled_models.hpp).
+#include "lagrangian/models/impacts.hpp"
+#include "lagrangian/simulate.hpp"
+
+LAGRANGIAN_IMPACT_MODELS(LAGRANGIAN_INSTANTIATE_SIMULATE)

@@ -1,0 +1,6 @@
+// simulate() compiled for the built-in models listed in lagrangian/models/two_body.hpp
+// (see lagrangian/detail/compiled_models.hpp).
+#include "lagrangian/models/two_body.hpp"
+#include "lagrangian/simulate.hpp"
+
+LAGRANGIAN_TWO_BODY_MODELS(LAGRANGIAN_INSTANTIATE_SIMULATE)
