@@ -1016,7 +1016,9 @@ SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
       (void)inspect(s);
     } catch (const SceneError& e) {
       const std::string m = e.message();
-      if (m.find("unknown key") != std::string::npos || m.find("has no parameter") != std::string::npos) throw;
+      if (m.find("unknown key") != std::string::npos || m.find("unknown parameter") != std::string::npos ||
+          m.find("has no parameter") != std::string::npos)
+        throw;
     } catch (const OptionError& e) {
       const std::string m = e.what();
       if (m.rfind("--vary", 0) == 0 || m.rfind("--set", 0) == 0) {
