@@ -32,7 +32,7 @@
 /// curve per plotted column for a 1-D grid, a heat map for a 2-D grid.
 ///
 /// Parallel: `threads` workers pull point indices from an atomic counter,
-/// each with its own copy of the document; with `ranks` > 1 (MPI, see the
+/// each parsing its own copy of the document; with `ranks` > 1 (MPI, see the
 /// `lagrangian-mpi` program) rank r runs the points i with i mod ranks = r
 /// and `gather` brings the results to rank 0, which alone writes files. The
 /// CSV is the same byte for byte for any number of threads and ranks (the

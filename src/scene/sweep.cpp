@@ -541,7 +541,9 @@ void assign(toml::table& root, const std::string& option, const std::string& key
 /// Everything a worker needs to build the scene of a point.
 struct Plan {
   std::string file;
-  toml::table document;
+  /// The scene file's text, parsed again for every point: a parsed document
+  /// keeps the source lines that error messages cite, a copy of one does not.
+  std::string text;
   std::vector<std::vector<PathPart>> vary_paths;  // empty for variables
   std::vector<std::vector<PathPart>> set_paths;
   std::vector<Expression> set_expressions;
@@ -604,8 +606,8 @@ void first_times(const std::string& path, const SweepOptions& o, SweepRecord& re
 SweepRecord run_point(const Plan& plan, const SweepOptions& o, std::uint64_t index, const std::string& work_dir) {
   SweepRecord rec;
   rec.values = point_values(o, index);
-  toml::table doc = plan.document;  // the worker's own copy
   try {
+    toml::table doc = toml::parse(plan.text, plan.file);  // the worker's own document
     Scene scene = point_scene(plan, o, doc, rec.values);
     RunControls controls;
     controls.write_outputs = !o.first_times.empty();
@@ -988,7 +990,7 @@ SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
     std::ifstream in(scene_path, std::ios::binary);
     std::ostringstream text;
     text << in.rdbuf();
-    plan.document = toml::parse(text.str(), scene_path);
+    plan.text = text.str();
   }
   for (std::size_t k = 0; k < o.vary.size(); ++k) {
     if (o.vary[k].variable()) {
@@ -1009,7 +1011,7 @@ SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
   // scene does not write). Values that are merely invalid fail their run.
   const std::uint64_t n = point_count(o);
   {
-    toml::table doc = plan.document;
+    toml::table doc = toml::parse(plan.text, plan.file);
     std::vector<double> values = point_values(o, 0);
     try {
       const Scene s = point_scene(plan, o, doc, values);
