@@ -146,34 +146,18 @@ class Parser {
     }
     return false;
   }
-  void sum() {
-    product();
+  /// operand ((op1 | op2) operand)*, left-associative.
+  void chain(void (Parser::*operand)(), char op1, int code1, char op2, int code2) {
+    (this->*operand)();
     for (;;) {
-      if (eat('+')) {
-        product();
-        out_.emplace_back(kAdd, 0);
-      } else if (eat('-')) {
-        product();
-        out_.emplace_back(kSub, 0);
-      } else {
-        return;
-      }
+      const int code = eat(op1) ? code1 : eat(op2) ? code2 : -1;
+      if (code < 0) return;
+      (this->*operand)();
+      out_.emplace_back(code, 0);
     }
   }
-  void product() {
-    unary();
-    for (;;) {
-      if (eat('*')) {
-        unary();
-        out_.emplace_back(kMul, 0);
-      } else if (eat('/')) {
-        unary();
-        out_.emplace_back(kDiv, 0);
-      } else {
-        return;
-      }
-    }
-  }
+  void sum() { chain(&Parser::product, '+', kAdd, '-', kSub); }
+  void product() { chain(&Parser::unary, '*', kMul, '/', kDiv); }
   void unary() {
     if (eat('-')) {
       unary();

@@ -16,20 +16,8 @@ fails=0
 scene=$src/examples/sweeps/ke_loss.toml
 flip=$src/examples/sweeps/flip_map.toml
 
-expect() {  # expect CODE PATTERN -- command...
-  local code=$1 pattern=$2
-  shift 3
-  local out
-  out=$("$@" 2>&1)
-  local rc=$?
-  if [ "$rc" -ne "$code" ]; then
-    echo "FAIL: '$*' exited $rc, expected $code"; echo "$out" | head -20; fails=$((fails + 1)); return
-  fi
-  if [ -n "$pattern" ] && ! grep -qE -- "$pattern" <<<"$out"; then
-    echo "FAIL: '$*' output lacks /$pattern/"; echo "$out" | head -20; fails=$((fails + 1)); return
-  fi
-  echo "ok: $* -> $rc"
-}
+# shellcheck source=expect.sh
+source "$(dirname "$0")/expect.sh"
 
 expect 0 "--vary.*--monte-carlo" -- "$bin" sweep --help
 
