@@ -8,6 +8,8 @@
 
 #include <mpi.h>
 
+#include <iostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -17,8 +19,29 @@
 
 namespace {
 
+bool reached_gather = false;
+
+/// Whether every rank reached the gather: each rank says whether it did
+/// (`ok`); returns the first rank that did not, or -1. A rank that stopped
+/// early (a scene file missing on its node, an output directory rank 0
+/// cannot create) calls this instead of the gather, so that no rank waits
+/// for it forever.
+int first_failed_rank(bool ok) {
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const int mine = ok ? 1 : 0;
+  std::vector<int> all(static_cast<std::size_t>(size));
+  MPI_Allgather(&mine, 1, MPI_INT, all.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  for (int r = 0; r < size; ++r)
+    if (all[static_cast<std::size_t>(r)] == 0) return r;
+  return -1;
+}
+
 /// Every rank's text, concatenated in rank order, on rank 0 (empty elsewhere).
 std::string gather_to_root(const std::string& mine) {
+  reached_gather = true;
+  if (const int failed = first_failed_rank(true); failed >= 0)
+    throw std::runtime_error("rank " + std::to_string(failed) + " stopped before the results were gathered");
   int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);
@@ -55,13 +78,20 @@ int main(int argc, char** argv) {
   int code = 0;
   try {
     app.parse(argc, argv);
-    code = sweep.run(rank, size, &gather_to_root);
   } catch (const CLI::ParseError& e) {
-    code = rank == 0 ? app.exit(e) : (e.get_exit_code() == 0 ? 0 : 2);
-    if (code != 0) code = 2;
+    // The same command line on every rank: all stop here, only rank 0 speaks.
+    code = rank == 0 ? app.exit(e) : e.get_exit_code();
+    MPI_Finalize();
+    return code == 0 ? 0 : 2;
   }
-  // Every rank reaches here (bad input is found alike on every rank, before
-  // any collective call), so the ranks agree on the exit code.
+  code = sweep.run(rank, size, &gather_to_root);
+  if (!reached_gather && size > 1) {
+    // This rank stopped before the gather. When rank 0 stopped too (bad
+    // input stops every rank alike) rank 0 has said why; otherwise this rank
+    // says which it is and why.
+    const int failed = first_failed_rank(false);
+    if (failed != 0) std::cerr << "lagrangian-mpi: rank " << rank << ": " << sweep.error() << "\n";
+  }
   MPI_Finalize();
   return code;
 }

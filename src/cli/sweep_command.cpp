@@ -57,6 +57,12 @@ CLI::App* SweepCommand::add(CLI::App& app) {
   return c;
 }
 
+int SweepCommand::fail(bool speak, const std::string& message, int code) {
+  error_ = message;
+  if (speak) std::cerr << "lagrangian: " << message << "\n";
+  return code;
+}
+
 int SweepCommand::run(int rank, int ranks, std::function<std::string(const std::string&)> gather) {
   const bool speak = rank == 0;
   scene::SweepOptions o;
@@ -83,8 +89,7 @@ int SweepCommand::run(int rank, int ranks, std::function<std::string(const std::
     o.gather = std::move(gather);
     o.validate();
   } catch (const Error& e) {
-    if (speak) std::cerr << "lagrangian: command line: " << e.what() << "\n";
-    return kBadInput;
+    return fail(speak, std::string("command line: ") + e.what(), kBadInput);
   }
   try {
     // The scene's own format (png, svg) for the plots.
@@ -112,17 +117,13 @@ int SweepCommand::run(int rank, int ranks, std::function<std::string(const std::
     }
     return kOk;
   } catch (const SimulationError& e) {
-    if (speak) std::cerr << "lagrangian: sweep failed: " << e.what() << "\n";
-    return kRunFailed;
+    return fail(speak, std::string("sweep failed: ") + e.what(), kRunFailed);
   } catch (const OptionError& e) {  // SceneError too: bad input
-    if (speak) std::cerr << "lagrangian: " << e.what() << "\n";
-    return kBadInput;
+    return fail(speak, e.what(), kBadInput);
   } catch (const ParameterError& e) {
-    if (speak) std::cerr << "lagrangian: " << e.what() << "\n";
-    return kBadInput;
+    return fail(speak, e.what(), kBadInput);
   } catch (const std::exception& e) {
-    if (speak) std::cerr << "lagrangian: sweep failed: " << e.what() << "\n";
-    return kRunFailed;
+    return fail(speak, std::string("sweep failed: ") + e.what(), kRunFailed);
   }
 }
 

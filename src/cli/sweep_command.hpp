@@ -21,6 +21,8 @@ class SweepCommand {
   /// the exit code: 0 every run succeeded, 1 some runs failed (their rows
   /// say why) or the sweep failed, 2 bad input.
   int run(int rank = 0, int ranks = 1, std::function<std::string(const std::string&)> gather = {});
+  /// The message of the error that ended run(), if one did (printed there on rank 0 only).
+  const std::string& error() const { return error_; }
 
  private:
   std::string scene_path_;
@@ -30,6 +32,8 @@ class SweepCommand {
   std::optional<int> threads_;
   std::optional<std::string> outputs_, plot_, out_dir_;
   bool no_plots_ = false, quiet_ = false;
+  std::string error_;
+  int fail(bool speak, const std::string& message, int code);
 };
 
 }  // namespace lagrangian::cli

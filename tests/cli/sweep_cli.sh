@@ -62,6 +62,9 @@ if [ -n "$mpi_bin" ]; then
   expect 0 "" -- "$mpiexec" -np 2 "$mpi_bin" "${mc[@]}" --threads 2 --out "$work/mcr2"
   cmp "$work/mc1/sweep.csv" "$work/mcr2/sweep.csv" || { echo "FAIL: Monte Carlo on 2 ranks differs"; fails=$((fails + 1)); }
   expect 2 "--threads: must be >= 1, got 0" -- "$mpiexec" -np 2 "$mpi_bin" sweep "$scene" --vary model.parameters.e=0:1:3 --threads 0
+  # Rank 0 cannot write its output directory while rank 1 can run: no rank waits forever.
+  touch "$work/blocker"
+  expect 2 "--out: cannot create the directory" -- timeout 120 "$mpiexec" -np 2 "$mpi_bin" sweep "$scene" --vary model.parameters.e=0:1:3 --out "$work/blocker/x"
   ls "$work"/r2/.work-rank* >/dev/null 2>&1 && { echo "FAIL: a rank left its work directory"; fails=$((fails + 1)); }
 else
   echo "skipped: the MPI comparison (lagrangian-mpi not built)"
