@@ -92,6 +92,10 @@ int main(int argc, char** argv) {
     const int failed = first_failed_rank(false);
     if (failed != 0) std::cerr << "lagrangian-mpi: rank " << rank << ": " << sweep.error() << "\n";
   }
+  // One exit code for all ranks (mpirun reports the first to exit): the
+  // worst — 2 bad input over 1 failed over 0.
+  int worst = code;
+  MPI_Allreduce(&code, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
   MPI_Finalize();
-  return code;
+  return worst;
 }
