@@ -27,6 +27,7 @@
 #include "lagrangian/progress.hpp"
 #include "lagrangian/scene.hpp"
 #include "lagrangian/scene_io.hpp"
+#include "lagrangian/scene_models.hpp"
 #include "lagrangian/scene_run.hpp"
 #include "text.hpp"
 #include "toml_document.hpp"
@@ -132,8 +133,8 @@ class Parser {
   std::size_t pos_ = 0;
 
   [[noreturn]] void fail(const std::string& why) const {
-    throw OptionError(what_ + ": cannot read the expression " + q(s_) + ": " + why + " at character " +
-                      std::to_string(pos_ + 1));
+    throw OptionError(what_ + ": cannot read the expression " + q(s_) + " at character " + std::to_string(pos_ + 1) +
+                      ": " + why);
   }
   void skip() {
     while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_]))) ++pos_;
@@ -553,7 +554,28 @@ Scene point_scene(const Plan& plan, const SweepOptions& o, toml::table& doc, std
   return detail::scene_from_document(doc, plan.file);
 }
 
-/// Rows of a trajectory.csv: header names and values.
+/// Names a --first-time expression may use for `scene`: t, the coordinates
+/// and their rates as in trajectory.csv, energy and total_energy.
+std::vector<std::string> trajectory_names(const Scene& scene) {
+  std::vector<std::string> coords;
+  if (scene.model) {
+    if (const ModelInfo* info = find_model(scene.model->name)) coords = info->coordinates;
+  } else {
+    Scene expanded = scene;
+    expanded.expand_gas();
+    for (const Body& b : expanded.bodies)
+      for (const char* axis : {".x", ".y", ".z"}) coords.push_back(b.name + axis);
+  }
+  std::vector<std::string> names{"t"};
+  names.insert(names.end(), coords.begin(), coords.end());
+  for (const auto& c : coords) names.push_back(c + "_dot");
+  names.emplace_back("energy");
+  names.emplace_back("total_energy");
+  return names;
+}
+
+/// The first times of the --first-time expressions from the run's
+/// trajectory.csv (see FirstTimeSpec).
 void first_times(const std::string& path, const SweepOptions& o, SweepRecord& rec) {
   std::ifstream in(path);
   std::string line;
@@ -999,6 +1021,8 @@ SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
     std::vector<double> values = point_values(o, 0);
     try {
       const Scene s = point_scene(plan, o, doc, values);
+      for (const FirstTimeSpec& f : o.first_times)  // names checked here, against the scene's coordinates
+        Expression(f.expression, trajectory_names(s), "--first-time " + f.name);
       (void)inspect(s);
     } catch (const SceneError& e) {
       const std::string m = e.message();
@@ -1007,7 +1031,7 @@ SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
         throw;
     } catch (const OptionError& e) {
       const std::string m = e.what();
-      if (m.rfind("--vary", 0) == 0 || m.rfind("--set", 0) == 0) {
+      if (m.rfind("--vary", 0) == 0 || m.rfind("--set", 0) == 0 || m.rfind("--first-time", 0) == 0) {
         if (m.find("gives NaN") == std::string::npos && m.find("infinite value") == std::string::npos) throw;
       }
     } catch (const Error&) {

@@ -33,6 +33,7 @@ expect 2 "ke_loss.toml:[0-9]+: run.rtoll: unknown key 'rtoll'; did you mean 'rto
 expect 2 "model.parameters.ee: unknown parameter 'ee'.*did you mean 'e'" -- "$bin" sweep "$scene" --vary model.parameters.ee=0:1:2 --out "$work/x"
 expect 2 "--vary model.q\[5\]: index 5 is out of range" -- "$bin" sweep "$scene" --vary 'model.q[5]=0:1:2' --out "$work/x"
 expect 2 "--set model.qd\[0\]: .*unknown name 'alpah'; did you mean 'alpha'" -- "$bin" sweep "$scene" --vary alpha=0:1:2 --set 'model.qd[0]=alpah' --out "$work/x"
+expect 2 "--first-time flip: .*unknown name 'theta3'; did you mean 'theta1'" -- "$bin" sweep "$flip" --vary 'model.q[0]=0:1:2' --first-time 'flip=abs(theta3)-pi' --out "$work/x"
 expect 2 "--output: unknown column group 'energie'; did you mean 'energy'" -- "$bin" sweep "$scene" --vary model.parameters.e=0:1:2 --output final,energie
 [ ! -e "$work/x/sweep.csv" ] || { echo "FAIL: bad input left sweep.csv"; fails=$((fails + 1)); }
 
