@@ -236,6 +236,31 @@ TEST(SweepExamples, KineticEnergyLossMatchesHalfMuOneMinusESquaredVrelSquared) {
   }
 }
 
+TEST(SweepExamples, MonteCarloKineticEnergyLossFollowsTheClosedFormPointByPointAndOnAverage) {
+  SweepOptions o;
+  o.vary = {parse_vary("model.parameters.e=uniform:0:1"), parse_vary("model.parameters.m2=normal:2:0.1")};
+  o.monte_carlo = 400;
+  o.seed = 2026;
+  o.out_dir = out_dir("mc");
+  o.plots = false;
+  o.threads = 2;
+  const SweepResult r = sweep(kSweeps + "ke_loss.toml", o);
+  ASSERT_EQ(r.records.size(), 400u);
+  ASSERT_EQ(r.failed, 0u);
+  double sum = 0;
+  for (std::size_t i = 0; i < r.records.size(); ++i) {
+    const SweepRecord& rec = r.records[i];
+    EXPECT_EQ(rec.values, point_values(o, i));  // the run used point i's draws
+    const double e = rec.values[0], m2 = rec.values[1], mu = m2 / (1 + m2);
+    EXPECT_NEAR(rec.impact_energy_loss, 0.5 * mu * (1 - e * e) * 2.25, 1e-12);
+    sum += rec.impact_energy_loss;
+  }
+  // E[ΔKE] over e ~ U(0, 1): ½ μ v_rel² E[1 − e²] = ½ μ v_rel² · 2/3, with μ at
+  // m2 ≈ 2 (the spread of m2 moves μ by well under the tolerance); the
+  // standard error of the mean of 400 draws is about 0.75 · 0.3 / 20 ≈ 0.011.
+  EXPECT_NEAR(sum / 400, 0.5 * (2.0 / 3.0) * 2.25 * (2.0 / 3.0), 0.05);
+}
+
 TEST(SweepExamples, DoublePendulumNeverFlipsWhereEnergyForbidsIt) {
   SweepOptions o;
   o.vary = {parse_vary("model.q[0]=-3:3:9"), parse_vary("model.q[1]=-3:3:9")};
