@@ -1377,6 +1377,16 @@ PlotResult make_work_precision_plots(const WorkPrecisionPlotSpec& spec) {
   return result;
 }
 
+void collect_plots(const std::function<PlotResult()>& make, std::vector<std::string>& files, std::string& note) {
+  try {
+    const PlotResult pr = make();
+    files.insert(files.end(), pr.files.begin(), pr.files.end());
+    if (!pr.gnuplot_found) note = pr.message;
+  } catch (const Error& e) {
+    note = std::string("plots failed: ") + e.what();
+  }
+}
+
 PlotResult make_sweep_plots(const SweepPlotSpec& spec) {
   PlotResult result;
   const std::size_t dims = spec.axes.size();

@@ -44,15 +44,33 @@ std::string slurp(const std::string& path) {
   return os.str();
 }
 
-/// The launch-angle sweep of a projectile scene: α in degrees, u = 20 m/s.
-SweepOptions launch_sweep(double from, double to, int count, const std::string& name) {
+/// A sweep of `vary` on two threads into a fresh directory, without plots.
+SweepOptions options(const std::string& name, std::vector<VarySpec> vary) {
   SweepOptions o;
-  o.vary = {parse_vary("alpha=" + std::to_string(from) + ":" + std::to_string(to) + ":" + std::to_string(count))};
-  o.set = {parse_set("model.qd[0]=20*cos(alpha*pi/180)"), parse_set("model.qd[1]=20*sin(alpha*pi/180)")};
+  o.vary = std::move(vary);
   o.out_dir = out_dir(name);
   o.plots = false;
   o.threads = 2;
   return o;
+}
+
+/// The launch-angle sweep of a projectile scene: α in degrees, u = 20 m/s.
+SweepOptions launch_sweep(double from, double to, int count, const std::string& name) {
+  SweepOptions o = options(
+      name, {parse_vary("alpha=" + std::to_string(from) + ":" + std::to_string(to) + ":" + std::to_string(count))});
+  o.set = {parse_set("model.qd[0]=20*cos(alpha*pi/180)"), parse_set("model.qd[1]=20*sin(alpha*pi/180)")};
+  return o;
+}
+
+/// A run of ke_loss.toml (m1 = 1 kg at 1 m/s, m2 at −0.5 m/s, v_rel = 1.5
+/// m/s) with values (e, m2): ΔKE = ½ μ (1 − e²) v_rel² and the momentum kept.
+void expect_impact_closed_form(const SweepRecord& rec) {
+  ASSERT_TRUE(rec.ok()) << rec.status;
+  const double m1 = 1, v_rel = 1.5, e = rec.values[0], m2 = rec.values[1];
+  const double mu = m1 * m2 / (m1 + m2);
+  EXPECT_NEAR(rec.impact_energy_loss, 0.5 * mu * (1 - e * e) * v_rel * v_rel, 1e-12) << "e " << e << " m2 " << m2;
+  // Momentum kept: m1 v1 + m2 v2 = 1·1 + m2·(−0.5).
+  EXPECT_NEAR(m1 * rec.qd[0] + m2 * rec.qd[1], 1.0 - 0.5 * m2, 1e-12);
 }
 
 std::size_t column(const SweepResult& r, const std::string& name) {
@@ -218,32 +236,19 @@ TEST(SweepExamples, RangeUpAnInclinePeaksAt45DegreesPlusHalfTheSlope) {
 }
 
 TEST(SweepExamples, KineticEnergyLossMatchesHalfMuOneMinusESquaredVrelSquared) {
-  SweepOptions o;
-  o.vary = {parse_vary("model.parameters.e=0:1:11"), parse_vary("model.parameters.m2=0.25:4:6")};
-  o.out_dir = out_dir("ke");
-  o.plots = false;
-  o.threads = 2;
-  const SweepResult r = sweep(kSweeps + "ke_loss.toml", o);
+  const SweepResult r = sweep(
+      kSweeps + "ke_loss.toml",
+      options("ke", {parse_vary("model.parameters.e=0:1:11"), parse_vary("model.parameters.m2=0.25:4:6")}));
   ASSERT_EQ(r.records.size(), 66u);
   ASSERT_EQ(r.failed, 0u);
-  const double m1 = 1, v_rel = 1.5;
-  for (const SweepRecord& rec : r.records) {
-    const double e = rec.values[0], m2 = rec.values[1];
-    const double mu = m1 * m2 / (m1 + m2);
-    EXPECT_NEAR(rec.impact_energy_loss, 0.5 * mu * (1 - e * e) * v_rel * v_rel, 1e-12) << "e " << e << " m2 " << m2;
-    // Momentum kept: m1 v1 + m2 v2 = 1·1 + m2·(−0.5).
-    EXPECT_NEAR(m1 * rec.qd[0] + m2 * rec.qd[1], 1.0 - 0.5 * m2, 1e-12);
-  }
+  for (const SweepRecord& rec : r.records) expect_impact_closed_form(rec);
 }
 
 TEST(SweepExamples, MonteCarloKineticEnergyLossFollowsTheClosedFormPointByPointAndOnAverage) {
-  SweepOptions o;
-  o.vary = {parse_vary("model.parameters.e=uniform:0:1"), parse_vary("model.parameters.m2=normal:2:0.1")};
+  SweepOptions o =
+      options("mc", {parse_vary("model.parameters.e=uniform:0:1"), parse_vary("model.parameters.m2=normal:2:0.1")});
   o.monte_carlo = 400;
   o.seed = 2026;
-  o.out_dir = out_dir("mc");
-  o.plots = false;
-  o.threads = 2;
   const SweepResult r = sweep(kSweeps + "ke_loss.toml", o);
   ASSERT_EQ(r.records.size(), 400u);
   ASSERT_EQ(r.failed, 0u);
@@ -251,8 +256,7 @@ TEST(SweepExamples, MonteCarloKineticEnergyLossFollowsTheClosedFormPointByPointA
   for (std::size_t i = 0; i < r.records.size(); ++i) {
     const SweepRecord& rec = r.records[i];
     EXPECT_EQ(rec.values, point_values(o, i));  // the run used point i's draws
-    const double e = rec.values[0], m2 = rec.values[1], mu = m2 / (1 + m2);
-    EXPECT_NEAR(rec.impact_energy_loss, 0.5 * mu * (1 - e * e) * 2.25, 1e-12);
+    expect_impact_closed_form(rec);
     sum += rec.impact_energy_loss;
   }
   // E[ΔKE] over e ~ U(0, 1): ½ μ v_rel² E[1 − e²] = ½ μ v_rel² · 2/3, with μ at
@@ -262,12 +266,8 @@ TEST(SweepExamples, MonteCarloKineticEnergyLossFollowsTheClosedFormPointByPointA
 }
 
 TEST(SweepExamples, DoublePendulumNeverFlipsWhereEnergyForbidsIt) {
-  SweepOptions o;
-  o.vary = {parse_vary("model.q[0]=-3:3:9"), parse_vary("model.q[1]=-3:3:9")};
+  SweepOptions o = options("flip", {parse_vary("model.q[0]=-3:3:9"), parse_vary("model.q[1]=-3:3:9")});
   o.first_times = {parse_first_time("flip=max(abs(theta1),abs(theta2))-pi")};
-  o.out_dir = out_dir("flip");
-  o.plots = false;
-  o.threads = 2;
   const SweepResult r = sweep(kSweeps + "flip_map.toml", o);
   ASSERT_EQ(r.failed, 0u);
   int forbidden = 0, flipped = 0;

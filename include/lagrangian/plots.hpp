@@ -31,6 +31,7 @@
 /// failed plot never looks complete. Written for gnuplot 5.4 with the
 /// pngcairo and svg terminals (Debian's gnuplot-nox).
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -114,6 +115,12 @@ struct WorkPrecisionPlotSpec {
 /// when gnuplot succeeded. Throws OptionError when out_dir cannot be written
 /// or gnuplot fails, leaving no image of this call behind.
 PlotResult make_work_precision_plots(const WorkPrecisionPlotSpec& spec);
+
+/// Calls `make` (a call of one of the make_*plots functions) for a command
+/// whose plots must not fail it: appends the images and script to `files`;
+/// sets `note` to the message when gnuplot is missing and to "plots failed:
+/// <why>" when `make` throws an Error.
+void collect_plots(const std::function<PlotResult()>& make, std::vector<std::string>& files, std::string& note);
 
 /// What make_sweep_plots() draws: the results of a sweep along one key (a
 /// curve per series) or two keys (a heat map per series).

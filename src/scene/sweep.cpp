@@ -974,13 +974,7 @@ void plot(const SweepOptions& o, const Table& t, const std::string& scene_name, 
     for (auto& s : spec.series)
       for (std::size_t a = 0; a < axes.size(); ++a) s.x[i][a] = values[axes[a]];
   }
-  try {
-    const PlotResult pr = make_sweep_plots(spec);
-    for (const auto& f : pr.files) result.files.push_back(f);
-    if (!pr.gnuplot_found) result.plot_note = pr.message;
-  } catch (const Error& e) {
-    result.plot_note = std::string("plots failed: ") + e.what();
-  }
+  collect_plots([&] { return make_sweep_plots(spec); }, result.files, result.plot_note);
 }
 
 }  // namespace
