@@ -74,7 +74,8 @@ std::pair<std::string, std::string> key_and_value(const std::string& option, con
 
 bool is_name(const std::string& s) {
   if (s.empty() || std::isdigit(static_cast<unsigned char>(s[0]))) return false;
-  return std::all_of(s.begin(), s.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+  return std::all_of(s.begin(), s.end(),
+                     [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
 }
 
 // -- expressions ------------------------------------------------------------------
@@ -379,7 +380,8 @@ void SweepOptions::validate() const {
                         (near.empty() ? "; expected some of: " + text::join(groups) : "; did you mean '" + near + "'?"));
     }
   if (out_dir.empty()) throw OptionError("--out: the output directory is empty");
-  if (ranks < 1 || rank < 0 || rank >= ranks) throw OptionError("sweep: rank " + std::to_string(rank) + " of " + std::to_string(ranks));
+  if (ranks < 1 || rank < 0 || rank >= ranks)
+    throw OptionError("sweep: rank " + std::to_string(rank) + " of " + std::to_string(ranks));
   if (ranks > 1 && !gather) throw OptionError("sweep: several ranks need a gather function");
 }
 
@@ -1038,7 +1040,8 @@ SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
   for (std::uint64_t i = static_cast<std::uint64_t>(o.rank); i < n; i += static_cast<std::uint64_t>(o.ranks))
     mine.push_back(i);
   int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  threads = static_cast<int>(std::min<std::uint64_t>(static_cast<std::uint64_t>(threads), std::max<std::size_t>(1, mine.size())));
+  threads = static_cast<int>(
+      std::min<std::uint64_t>(static_cast<std::uint64_t>(threads), std::max<std::size_t>(1, mine.size())));
 
   const fs::path out_dir = o.out_dir;
   const fs::path csv_path = out_dir / "sweep.csv";
