@@ -937,6 +937,11 @@ void plot(const SweepOptions& o, const Table& t, const std::string& scene_name, 
     return;
   }
   std::vector<std::string> columns = o.plot_columns.empty() ? default_plot_columns(t) : o.plot_columns;
+  if (columns.empty()) {
+    result.plot_note = "nothing plotted: no default column (t_final, q_*, impact_energy_loss, first_*, t_*) varies "
+                       "across the points; name columns with --plot";
+    return;
+  }
   SweepPlotSpec spec;
   spec.title = scene_name;
   spec.out_dir = o.out_dir;
