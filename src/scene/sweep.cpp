@@ -474,9 +474,10 @@ std::string type_of(const toml::node& n) {
   return os.str();
 }
 
-/// Writes `value` at `path` in `root`: integers stay integers when the value
-/// is integral; missing tables and keys are created (the reader refuses
-/// unknown ones with its own message), missing array elements are not.
+/// Writes `value` at `path` in `root`: an integral value is an integer where
+/// the file has an integer or no value; missing tables and keys are created
+/// (the reader refuses unknown ones with its own message), missing array
+/// elements are not.
 void assign(toml::table& root, const std::string& option, const std::string& key, const std::vector<PathPart>& path,
             double value) {
   toml::node* cur = &root;
@@ -485,7 +486,9 @@ void assign(toml::table& root, const std::string& option, const std::string& key
   auto numeric = [&](const toml::node* old, auto&& put) {
     if (old && !old->is_number())
       fail("the scene has " + where + " = " + type_of(*old) + ", not a number; only numbers can be varied");
-    if (old && old->is_integer() && std::nearbyint(value) == value && std::abs(value) < 9.2e18)
+    // Integral values go in as TOML integers where the file has an integer or
+    // nothing (the reader takes an integer for a float key, not the reverse).
+    if ((!old || old->is_integer()) && std::nearbyint(value) == value && std::abs(value) < 9.2e18)
       put(toml::value<std::int64_t>(static_cast<std::int64_t>(value)));
     else
       put(toml::value<double>(value));

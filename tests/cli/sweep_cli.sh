@@ -37,6 +37,8 @@ expect 2 "--first-time flip: .*unknown name 'theta3'; did you mean 'theta1'" -- 
 expect 2 "--output: unknown column group 'energie'; did you mean 'energy'" -- "$bin" sweep "$scene" --vary model.parameters.e=0:1:2 --output final,energie
 [ ! -e "$work/x/sweep.csv" ] || { echo "FAIL: bad input left sweep.csv"; fails=$((fails + 1)); }
 
+# An integer key the scene does not write (run.max_steps): integral values go in as integers.
+expect 0 "3 runs \(0 failed\)" -- "$bin" sweep "$scene" --vary run.max_steps=1000:3000:3 --out "$work/int" --no-plots
 # A failed run is a row with its message; the others run; exit 1.
 expect 1 "1 of 3 runs failed" -- "$bin" sweep "$scene" --vary model.parameters.e=0.5:1.5:3 --out "$work/failed" --no-plots
 grep -q '^2,1.5,"*failed: .*model.parameters.e' "$work/failed/sweep.csv" || { echo "FAIL: no failed row"; cat "$work/failed/sweep.csv"; fails=$((fails + 1)); }
