@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -1376,4 +1377,81 @@ PlotResult make_work_precision_plots(const WorkPrecisionPlotSpec& spec) {
   return result;
 }
 
+void collect_plots(const std::function<PlotResult()>& make, std::vector<std::string>& files, std::string& note) {
+  try {
+    const PlotResult pr = make();
+    files.insert(files.end(), pr.files.begin(), pr.files.end());
+    if (!pr.gnuplot_found) note = pr.message;
+  } catch (const Error& e) {
+    note = std::string("plots failed: ") + e.what();
+  }
+}
+
+PlotResult make_sweep_plots(const SweepPlotSpec& spec) {
+  PlotResult result;
+  const std::size_t dims = spec.axes.size();
+  if (dims < 1 || dims > 2 || spec.axis_counts.size() != dims)
+    throw OptionError("plots: a sweep plot needs one or two axes, got " + std::to_string(dims));
+  const std::string exe = gnuplot_for(spec.png, spec.svg, result);
+  if (exe.empty()) return result;
+  const fs::path dir = plot_directory(spec.out_dir);
+  auto value = [](double v) { return std::isfinite(v) ? num(v) : std::string("NaN"); };
+  auto file_name = [](const std::string& name) {
+    std::string out = "sweep_";
+    for (char c : name) out += std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' ? c : '_';
+    return out;
+  };
+  std::ostringstream os;
+  os << "# Sweep plots, written by lagrangian::make_sweep_plots.\n"
+     << "# Run with: gnuplot sweep.gp   (images sweep_<column>.png / .svg; `suffix` goes between\n"
+     << "# the image name and the extension; lagrangian uses '.partial' and renames).\n"
+     << "if (!exists('suffix')) suffix = ''\n\n";
+  write_styles(os, 800, 560);
+  std::string formats;
+  if (spec.png) formats = "png";
+  if (spec.svg) formats += formats.empty() ? "svg" : " svg";
+  os << "\nformats = '" << formats << "'\n";
+  std::vector<std::string> names;
+  for (std::size_t k = 0; k < spec.series.size(); ++k) {
+    const SweepPlotSpec::Series& s = spec.series[k];
+    if (s.x.size() != s.y.size()) throw OptionError("plots: series '" + s.name + "' has columns of different lengths");
+    os << "\n$d" << k << " << EOD\n";
+    for (std::size_t i = 0; i < s.y.size(); ++i) {
+      if (s.x[i].size() != dims) throw OptionError("plots: series '" + s.name + "' has a point with the wrong axes");
+      if (dims == 2 && i > 0 && spec.axis_counts[1] > 0 && i % static_cast<std::size_t>(spec.axis_counts[1]) == 0)
+        os << "\n";  // a new row of the grid
+      for (double x : s.x[i]) os << value(x) << " ";
+      os << value(s.y[i]) << "\n";
+    }
+    os << "EOD\n";
+    const std::string name = file_name(s.name);
+    names.push_back(name);
+    os << "do for [fmt in formats] {\n"
+       << "  reset\n"
+       << "  eval setup\n"
+       << "  if (fmt eq 'png') { eval png_terminal } else { eval svg_terminal }\n"
+       << "  set output '" << name << "'.suffix.'.'.fmt\n"
+       << "  set title " << gp_str(spec.title + ": " + s.name) << "\n"
+       << "  set xlabel " << gp_str(spec.axes[0]) << "\n";
+    if (spec.log_axes.size() > 0 && spec.log_axes[0]) os << "  set logscale x\n";
+    if (dims == 1) {
+      os << "  set ylabel " << gp_str(s.name) << "\n"
+         << "  plot $d" << k << " using 1:2 with linespoints lt 1 notitle\n";
+    } else {
+      if (spec.log_axes.size() > 1 && spec.log_axes[1]) os << "  set logscale y\n";
+      os << "  set ylabel " << gp_str(spec.axes[1]) << "\n"
+         << "  set cblabel " << gp_str(s.name) << "\n"
+         << "  set palette rgbformulae 33,13,10\n"
+         << "  set autoscale fix\n"
+         << "  plot $d" << k << " using 1:2:3 with image notitle\n";
+    }
+    os << "  set output\n}\n";
+  }
+  const fs::path script = dir / "sweep.gp";
+  write_file(script, os.str());
+  run_script(exe, dir, script, names, spec.png, spec.svg, result);
+  return result;
+}
+
 }  // namespace lagrangian
+

@@ -92,7 +92,9 @@ void Progress::draw(double t, Clock::time_point now) {
   line.append(static_cast<std::size_t>(filled), '#');
   line.append(static_cast<std::size_t>(kBarWidth - filled), ' ');
   char buf[160];
-  std::snprintf(buf, sizeof buf, "] %3d%%  t = %.4g s", static_cast<int>(f * 100), t);
+  std::snprintf(buf, sizeof buf, "] %3d%%  ", static_cast<int>(f * 100));
+  line += buf;
+  std::snprintf(buf, sizeof buf, format_, t);
   line += buf;
   if (f > 0 && f < 1) line += "  ETA " + format_duration(elapsed * (1 - f) / f);
   line += "\x1b[K";  // clear the rest of a longer previous line

@@ -31,6 +31,7 @@
 /// failed plot never looks complete. Written for gnuplot 5.4 with the
 /// pngcairo and svg terminals (Debian's gnuplot-nox).
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -114,5 +115,40 @@ struct WorkPrecisionPlotSpec {
 /// when gnuplot succeeded. Throws OptionError when out_dir cannot be written
 /// or gnuplot fails, leaving no image of this call behind.
 PlotResult make_work_precision_plots(const WorkPrecisionPlotSpec& spec);
+
+/// Calls `make` (a call of one of the make_*plots functions) for a command
+/// whose plots must not fail it: appends the images and script to `files`;
+/// sets `note` to the message when gnuplot is missing and to "plots failed:
+/// <why>" when `make` throws an Error.
+void collect_plots(const std::function<PlotResult()>& make, std::vector<std::string>& files, std::string& note);
+
+/// What make_sweep_plots() draws: the results of a sweep along one key (a
+/// curve per series) or two keys (a heat map per series).
+struct SweepPlotSpec {
+  std::string title;                   ///< e.g. the scene's name
+  std::string out_dir;                 ///< directory for `sweep.gp` and the images (created if missing)
+  std::vector<std::string> axes;       ///< the varied keys (1 or 2), axis labels
+  std::vector<int> axis_counts;        ///< grid points along each axis; the points run with the first axis slowest
+  std::vector<bool> log_axes;          ///< logarithmic grid along the axis
+  /// One plotted column: x[i] holds point i's values along the axes, y[i]
+  /// the column's value (NaN: a failed run or no value; not drawn).
+  struct Series {
+    std::string name;
+    std::vector<std::vector<double>> x;
+    std::vector<double> y;
+  };
+  std::vector<Series> series;
+  bool png = true;                     ///< write `sweep_<name>.png` (pngcairo, 800×560)
+  bool svg = false;                    ///< write `sweep_<name>.svg`
+};
+
+/// Writes `<out_dir>/sweep.gp` and runs gnuplot on it: for a sweep along one
+/// key, `sweep_<name>` is the series against the key (lines and points);
+/// along two keys, a heat map (`with image`) over the grid. Names are made
+/// file-safe (characters other than letters, digits, '_' and '-' become
+/// '_'). Without gnuplot nothing is written and the result says so, as for
+/// make_plots(); images go through `.partial` names. Throws OptionError when
+/// out_dir cannot be written or gnuplot fails, leaving no image behind.
+PlotResult make_sweep_plots(const SweepPlotSpec& spec);
 
 }  // namespace lagrangian

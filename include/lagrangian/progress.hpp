@@ -32,6 +32,10 @@ class Progress {
   void update(double t);
   /// Clears the line if it was drawn; later updates draw nothing.
   void finish();
+  /// How the position is shown after the percentage: printf format with one
+  /// %g-style conversion of the value passed to update() (default
+  /// "t = %.4g s"; a sweep shows "run %.0f").
+  void set_format(const char* format) { format_ = format; }
 
   /// True when stderr is a terminal (isatty), TERM is not "dumb" and the
   /// environment variable CI is not set.
@@ -49,6 +53,7 @@ class Progress {
   Clock::time_point last_draw_;
   std::uint32_t calls_ = 0;   ///< calls since the clock was last read
   std::uint32_t stride_ = 1;  ///< calls between clock reads
+  const char* format_ = "t = %.4g s";
 };
 
 }  // namespace lagrangian

@@ -1,4 +1,4 @@
-// The `lagrangian` command: run, inspect, bench and list scenes.
+// The `lagrangian` command: run, inspect, bench, sweep and list scenes.
 //
 // Exit codes: 0 success; 1 the run failed part-way (non-finite state, step
 // size underflow, max_steps, an output that could not be written); 2 bad
@@ -25,6 +25,7 @@
 #include "lagrangian/scene_io.hpp"
 #include "lagrangian/scene_models.hpp"
 #include "lagrangian/scene_run.hpp"
+#include "sweep_command.hpp"
 
 namespace fs = std::filesystem;
 using namespace lagrangian;
@@ -192,6 +193,9 @@ int main(int argc, char** argv) {
   bench->add_flag("--no-plots", no_plots, "do not draw the diagrams");
   bench->add_flag("-q,--quiet", quiet, "print only errors");
 
+  cli::SweepCommand sweep_command;
+  CLI::App* sweep = sweep_command.add(app);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -200,6 +204,7 @@ int main(int argc, char** argv) {
   }
 
   if (lst->parsed()) return list(argv[0]);
+  if (sweep->parsed()) return sweep_command.run();
 
   scene::Scene scene;
   try {

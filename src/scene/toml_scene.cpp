@@ -20,6 +20,7 @@
 #include "lagrangian/scene.hpp"
 #include "lagrangian/scene_io.hpp"
 #include "text.hpp"
+#include "toml_document.hpp"
 
 namespace lagrangian::scene {
 
@@ -497,6 +498,14 @@ Scene parse_scene(std::string_view text, const std::string& file) {
     if (e.source().begin.column > 0) what += " (column " + std::to_string(e.source().begin.column) + ")";
     throw SceneError("", what, where);
   }
+  Reader(scene).read(root);
+  scene.validate();
+  return scene;
+}
+
+Scene detail::scene_from_document(const toml::table& root, const std::string& file) {
+  Scene scene;
+  scene.source.file = file;
   Reader(scene).read(root);
   scene.validate();
   return scene;

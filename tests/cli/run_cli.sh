@@ -10,20 +10,8 @@ rm -rf "$work"
 mkdir -p "$work"
 fails=0
 
-expect() {  # expect CODE PATTERN -- command...
-  local code=$1 pattern=$2
-  shift 3
-  local out
-  out=$("$@" 2>&1)
-  local rc=$?
-  if [ "$rc" -ne "$code" ]; then
-    echo "FAIL: '$*' exited $rc, expected $code"; echo "$out" | head -20; fails=$((fails + 1)); return
-  fi
-  if [ -n "$pattern" ] && ! grep -qE -- "$pattern" <<<"$out"; then
-    echo "FAIL: '$*' output lacks /$pattern/"; echo "$out" | head -20; fails=$((fails + 1)); return
-  fi
-  echo "ok: $* -> $rc"
-}
+# shellcheck source=expect.sh
+source "$(dirname "$0")/expect.sh"
 
 # Help on every command.
 expect 0 "run.*inspect.*list|Subcommands" -- "$bin" --help

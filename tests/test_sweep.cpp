@@ -1,0 +1,346 @@
+// Sweeps: the options and points, and the example sweeps against closed forms
+// derived here by hand (not taken from the code under test):
+//  - range on flat ground and up an incline of angle β, launch (u, α):
+//      time of flight T = 2u sin(α − β)/(g cos β) (from u sin α T − g T²/2 = u cos α T tan β),
+//      landing x = u cos α T, greatest range along the plane at α = π/4 + β/2;
+//  - kinetic energy lost in a direct impact with restitution e:
+//      ΔKE = ½ μ (1 − e²) v_rel², μ = m1 m2/(m1 + m2);
+//  - the double pendulum released from rest cannot flip where
+//      2 cos θ1 + cos θ2 > 1 (energy below the lowest upright state).
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numeric>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "lagrangian/errors.hpp"
+#include "lagrangian/scene.hpp"
+#include "lagrangian/sweep.hpp"
+
+namespace fs = std::filesystem;
+using namespace lagrangian;
+using namespace lagrangian::scene;
+
+namespace {
+
+constexpr double kPi = 3.141592653589793;
+const std::string kSweeps = std::string(LAGRANGIAN_SOURCE_DIR) + "/examples/sweeps/";
+
+std::string out_dir(const std::string& name) {
+  const fs::path p = fs::path(testing::TempDir()) / ("lagrangian_sweep_" + name);
+  fs::remove_all(p);
+  return p.string();
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::ostringstream os;
+  os << in.rdbuf();
+  return os.str();
+}
+
+/// A sweep of `vary` on two threads into a fresh directory, without plots.
+SweepOptions options(const std::string& name, std::vector<VarySpec> vary) {
+  SweepOptions o;
+  o.vary = std::move(vary);
+  o.out_dir = out_dir(name);
+  o.plots = false;
+  o.threads = 2;
+  return o;
+}
+
+/// The launch-angle sweep of a projectile scene: α in degrees, u = 20 m/s.
+SweepOptions launch_sweep(double from, double to, int count, const std::string& name) {
+  SweepOptions o = options(
+      name, {parse_vary("alpha=" + std::to_string(from) + ":" + std::to_string(to) + ":" + std::to_string(count))});
+  o.set = {parse_set("model.qd[0]=20*cos(alpha*pi/180)"), parse_set("model.qd[1]=20*sin(alpha*pi/180)")};
+  return o;
+}
+
+/// A run of ke_loss.toml (m1 = 1 kg at 1 m/s, m2 at −0.5 m/s, v_rel = 1.5
+/// m/s) with values (e, m2): ΔKE = ½ μ (1 − e²) v_rel² and the momentum kept.
+void expect_impact_closed_form(const SweepRecord& rec) {
+  ASSERT_TRUE(rec.ok()) << rec.status;
+  const double m1 = 1, v_rel = 1.5, e = rec.values[0], m2 = rec.values[1];
+  const double mu = m1 * m2 / (m1 + m2);
+  EXPECT_NEAR(rec.impact_energy_loss, 0.5 * mu * (1 - e * e) * v_rel * v_rel, 1e-12) << "e " << e << " m2 " << m2;
+  // Momentum kept: m1 v1 + m2 v2 = 1·1 + m2·(−0.5).
+  EXPECT_NEAR(m1 * rec.qd[0] + m2 * rec.qd[1], 1.0 - 0.5 * m2, 1e-12);
+}
+
+std::size_t column(const SweepResult& r, const std::string& name) {
+  const auto it = std::find(r.header.begin(), r.header.end(), name);
+  EXPECT_NE(it, r.header.end()) << "no column " << name;
+  return static_cast<std::size_t>(it - r.header.begin());
+}
+
+/// Checks every point's landing x against the hand-derived closed form and
+/// the argmax of the range along the plane against π/4 + β/2.
+void check_range(const SweepResult& r, double beta, double best_degrees) {
+  const double u = 20, g = 9.81;
+  ASSERT_EQ(r.failed, 0u);
+  EXPECT_EQ(column(r, "alpha"), 1u);
+  EXPECT_EQ(column(r, "status"), 4u);
+  EXPECT_GT(column(r, "q_x"), 4u);
+  double best_range = -1, best_alpha = 0;
+  for (const SweepRecord& rec : r.records) {
+    ASSERT_TRUE(rec.ok()) << rec.status;
+    const double alpha = rec.values[0] * kPi / 180;
+    const double flight = 2 * u * std::sin(alpha - beta) / (g * std::cos(beta));
+    const double x = u * std::cos(alpha) * flight;
+    EXPECT_NEAR(rec.q[0], x, 1e-8 * (1 + x)) << "alpha = " << rec.values[0];
+    EXPECT_NEAR(rec.t_final, flight, 1e-9) << "alpha = " << rec.values[0];
+    ASSERT_EQ(rec.events.count("stop"), 1u);  // landing ended the run
+    const double along = std::hypot(rec.q[0], rec.q[1]);
+    if (along > best_range) {
+      best_range = along;
+      best_alpha = rec.values[0];
+    }
+  }
+  EXPECT_DOUBLE_EQ(best_alpha, best_degrees);
+  EXPECT_NEAR(best_range, u * u / (g * (1 + std::sin(beta))), 1e-7);
+}
+
+}  // namespace
+
+TEST(SweepOptions, ParsesGridsAndDistributions) {
+  VarySpec v = parse_vary("model.parameters.e=0:1:5");
+  EXPECT_EQ(v.key, "model.parameters.e");
+  EXPECT_FALSE(v.variable());
+  EXPECT_EQ(v.count, 5);
+  EXPECT_DOUBLE_EQ(v.grid_value(1), 0.25);
+  EXPECT_EQ(v.grid_value(4), 1.0);
+  v = parse_vary("run.rtol=1e-3:1e-1:3:log");
+  EXPECT_NEAR(v.grid_value(1), 1e-2, 1e-17);
+  v = parse_vary("x=3:1:3");  // descending grids are allowed
+  EXPECT_TRUE(v.variable());
+  EXPECT_EQ(v.grid_value(1), 2.0);
+  v = parse_vary("bodies[0].velocity[2]=normal:1:0.5");
+  EXPECT_EQ(v.kind, VarySpec::Kind::normal);
+  EXPECT_FALSE(v.grid());
+}
+
+TEST(SweepOptions, MalformedVaryNamesTheOptionAndTheValue) {
+  for (const char* bad : {"model.parameters.e", "model.parameters.e=0:1:0", "model.parameters.e=0:x:3",
+                          "model.parameters.e=0:1", "model.parameters.e=0:1:2.5", "e=uniform:2:1",
+                          "e=normal:0:0", "e=1e-3:0:3:log", "=0:1:3", "a b=0:1:2", "e=0:1:3:lin"}) {
+    try {
+      parse_vary(bad);
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const OptionError& e) {
+      const std::string m = e.what();
+      EXPECT_EQ(m.rfind("--vary", 0), 0u) << m;
+    }
+  }
+  EXPECT_THROW(parse_set("model.qd[0]"), OptionError);
+  EXPECT_THROW(parse_set("alpha=3"), OptionError);  // not a scene key
+}
+
+TEST(SweepOptions, InconsistentCombinationsAreRefused) {
+  SweepOptions o;
+  o.vary = {parse_vary("e=uniform:0:1")};
+  EXPECT_THROW(o.validate(), OptionError);  // a distribution without --monte-carlo
+  o.monte_carlo = 10;
+  EXPECT_NO_THROW(o.validate());
+  o.vary.push_back(parse_vary("f=0:1:3"));
+  EXPECT_THROW(o.validate(), OptionError);  // a grid in a Monte Carlo sweep
+  o = SweepOptions{};
+  EXPECT_THROW(o.validate(), OptionError);  // nothing varied
+  o.vary = {parse_vary("e=0:1:3")};
+  o.outputs = {"final", "energie"};
+  try {
+    o.validate();
+    ADD_FAILURE();
+  } catch (const OptionError& e) {
+    EXPECT_NE(std::string(e.what()).find("did you mean 'energy'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SweepExpression, EvaluatesArithmeticAndFunctions) {
+  const std::vector<std::string> names{"a", "b"};
+  const double v[] = {2.0, 3.0};
+  EXPECT_DOUBLE_EQ(Expression("a + b * 2 ^ 2", names, "t").evaluate(v), 14.0);
+  EXPECT_DOUBLE_EQ(Expression("-a^2", names, "t").evaluate(v), -4.0);
+  EXPECT_DOUBLE_EQ(Expression("(a - b) / 4", names, "t").evaluate(v), -0.25);
+  EXPECT_DOUBLE_EQ(Expression("max(abs(-a), b) - min(a, b)", names, "t").evaluate(v), 1.0);
+  EXPECT_NEAR(Expression("20*cos(60*pi/180)", names, "t").evaluate(v), 10.0, 1e-13);
+  EXPECT_DOUBLE_EQ(Expression("atan2(0, -1)", names, "t").evaluate(v), kPi);
+  EXPECT_THROW(Expression("a +", names, "t"), OptionError);
+  EXPECT_THROW(Expression("sine(a)", names, "t"), OptionError);
+  try {
+    Expression("alpah * 2", {"alpha"}, "--set x.y");
+    ADD_FAILURE();
+  } catch (const OptionError& e) {
+    EXPECT_NE(std::string(e.what()).find("did you mean 'alpha'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SweepPoints, GridRunsTheFirstKeySlowest) {
+  SweepOptions o;
+  o.vary = {parse_vary("a=0:1:2"), parse_vary("b=10:30:3")};
+  ASSERT_EQ(point_count(o), 6u);
+  EXPECT_EQ(point_values(o, 0), (std::vector<double>{0, 10}));
+  EXPECT_EQ(point_values(o, 2), (std::vector<double>{0, 30}));
+  EXPECT_EQ(point_values(o, 4), (std::vector<double>{1, 20}));
+}
+
+TEST(SweepPoints, MonteCarloDrawsDependOnSeedAndIndexOnly) {
+  SweepOptions o;
+  o.vary = {parse_vary("u=uniform:2:5"), parse_vary("n=normal:1:0.5")};
+  o.monte_carlo = 20000;
+  o.seed = 42;
+  const std::vector<double> p7 = point_values(o, 7);
+  EXPECT_EQ(point_values(o, 7), p7);  // again: the same
+  o.seed = 43;
+  EXPECT_NE(point_values(o, 7), p7);
+  o.seed = 42;
+  // The uniforms lie in [2, 5) with mean 3.5 and variance 9/12; the normals
+  // have mean 1 and standard deviation 0.5 (within 5 standard errors).
+  double su = 0, su2 = 0, sn = 0, sn2 = 0;
+  const double n = static_cast<double>(o.monte_carlo);
+  for (std::uint64_t i = 0; i < o.monte_carlo; ++i) {
+    const auto v = point_values(o, i);
+    ASSERT_GE(v[0], 2.0);
+    ASSERT_LT(v[0], 5.0);
+    su += v[0];
+    su2 += v[0] * v[0];
+    sn += v[1];
+    sn2 += v[1] * v[1];
+  }
+  EXPECT_NEAR(su / n, 3.5, 5 * std::sqrt(0.75 / n));
+  EXPECT_NEAR(su2 / n - (su / n) * (su / n), 0.75, 0.03);
+  EXPECT_NEAR(sn / n, 1.0, 5 * 0.5 / std::sqrt(n));
+  EXPECT_NEAR(std::sqrt(sn2 / n - (sn / n) * (sn / n)), 0.5, 0.015);
+  // splitmix64 of consecutive indices: distinct seeds.
+  EXPECT_NE(point_seed(42, 0), point_seed(42, 1));
+}
+
+TEST(SweepExamples, RangeOnFlatGroundMatchesTheClosedFormAndPeaksAt45Degrees) {
+  const SweepResult r = sweep(kSweeps + "range_flat.toml", launch_sweep(5, 85, 33, "flat"));
+  ASSERT_EQ(r.records.size(), 33u);
+  check_range(r, 0.0, 45.0);
+}
+
+TEST(SweepExamples, RangeUpAnInclinePeaksAt45DegreesPlusHalfTheSlope) {
+  const double beta = 20 * kPi / 180;
+  const SweepResult r = sweep(kSweeps + "range_incline.toml", launch_sweep(21, 89, 35, "incline"));
+  ASSERT_EQ(r.records.size(), 35u);
+  check_range(r, beta, 55.0);
+  // Landed on the plane: y = x tan β.
+  for (const SweepRecord& rec : r.records) EXPECT_NEAR(rec.q[1], rec.q[0] * std::tan(beta), 1e-8);
+}
+
+TEST(SweepExamples, KineticEnergyLossMatchesHalfMuOneMinusESquaredVrelSquared) {
+  const SweepResult r = sweep(
+      kSweeps + "ke_loss.toml",
+      options("ke", {parse_vary("model.parameters.e=0:1:11"), parse_vary("model.parameters.m2=0.25:4:6")}));
+  ASSERT_EQ(r.records.size(), 66u);
+  ASSERT_EQ(r.failed, 0u);
+  for (const SweepRecord& rec : r.records) expect_impact_closed_form(rec);
+}
+
+TEST(SweepExamples, MonteCarloKineticEnergyLossFollowsTheClosedFormPointByPointAndOnAverage) {
+  SweepOptions o =
+      options("mc", {parse_vary("model.parameters.e=uniform:0:1"), parse_vary("model.parameters.m2=normal:2:0.1")});
+  o.monte_carlo = 400;
+  o.seed = 2026;
+  const SweepResult r = sweep(kSweeps + "ke_loss.toml", o);
+  ASSERT_EQ(r.records.size(), 400u);
+  ASSERT_EQ(r.failed, 0u);
+  double sum = 0;
+  for (std::size_t i = 0; i < r.records.size(); ++i) {
+    const SweepRecord& rec = r.records[i];
+    EXPECT_EQ(rec.values, point_values(o, i));  // the run used point i's draws
+    expect_impact_closed_form(rec);
+    sum += rec.impact_energy_loss;
+  }
+  // E[ΔKE] over e ~ U(0, 1): ½ μ v_rel² E[1 − e²] = ½ μ v_rel² · 2/3, with μ at
+  // m2 ≈ 2 (the spread of m2 moves μ by well under the tolerance); the
+  // standard error of the mean of 400 draws is about 0.75 · 0.3 / 20 ≈ 0.011.
+  EXPECT_NEAR(sum / 400, 0.5 * (2.0 / 3.0) * 2.25 * (2.0 / 3.0), 0.05);
+}
+
+TEST(SweepExamples, DoublePendulumNeverFlipsWhereEnergyForbidsIt) {
+  SweepOptions o = options("flip", {parse_vary("model.q[0]=-3:3:9"), parse_vary("model.q[1]=-3:3:9")});
+  o.first_times = {parse_first_time("flip=max(abs(theta1),abs(theta2))-pi")};
+  const SweepResult r = sweep(kSweeps + "flip_map.toml", o);
+  ASSERT_EQ(r.failed, 0u);
+  int forbidden = 0, flipped = 0;
+  for (const SweepRecord& rec : r.records) {
+    const double t1 = rec.values[0], t2 = rec.values[1];
+    ASSERT_EQ(rec.first_times.size(), 1u);
+    if (2 * std::cos(t1) + std::cos(t2) > 1) {
+      ++forbidden;
+      EXPECT_TRUE(std::isnan(rec.first_times[0])) << t1 << " " << t2 << " flipped at " << rec.first_times[0];
+      EXPECT_LT(std::max(std::abs(rec.q[0]), std::abs(rec.q[1])), kPi);
+    } else if (!std::isnan(rec.first_times[0])) {
+      ++flipped;
+      EXPECT_GT(rec.first_times[0], 0.0);
+      EXPECT_LE(rec.first_times[0], 10.0);
+    }
+  }
+  EXPECT_GT(forbidden, 5);
+  EXPECT_GT(flipped, 5);
+  // Started upright with θ1 = ±3 and θ2 = ±3 the pendulum flips almost at once.
+  EXPECT_LT(r.records.front().first_times[0], 1.0);
+}
+
+TEST(SweepParallel, TheTableIsTheSameForOneAndTwoThreads) {
+  SweepOptions o;
+  o.vary = {parse_vary("model.q[0]=-2.5:2.5:5"), parse_vary("model.q[1]=-2:2:4")};
+  o.plots = false;
+  o.threads = 1;
+  const std::string dir1 = out_dir("t1"), dir2 = out_dir("t2");
+  o.out_dir = dir1;
+  sweep(kSweeps + "flip_map.toml", o);
+  o.threads = 2;
+  o.out_dir = dir2;
+  sweep(kSweeps + "flip_map.toml", o);
+  const std::string one = slurp(dir1 + "/sweep.csv"), two = slurp(dir2 + "/sweep.csv");
+  EXPECT_GT(one.size(), 1000u);
+  EXPECT_EQ(one, two);
+}
+
+TEST(SweepFailures, AFailedRunIsARowAndTheSweepGoesOn) {
+  SweepOptions o;
+  o.vary = {parse_vary("model.parameters.e=0.5:1.5:3")};  // e = 1.5 is out of [0, 1]
+  o.out_dir = out_dir("fail");
+  o.plots = false;
+  const SweepResult r = sweep(kSweeps + "ke_loss.toml", o);
+  ASSERT_EQ(r.records.size(), 3u);
+  EXPECT_EQ(r.failed, 1u);
+  EXPECT_TRUE(r.records[0].ok());
+  EXPECT_TRUE(r.records[1].ok());
+  EXPECT_FALSE(r.records[2].ok());
+  EXPECT_NE(r.records[2].status.find("model.parameters.e"), std::string::npos) << r.records[2].status;
+  const std::string csv = slurp(o.out_dir + "/sweep.csv");
+  const auto row = csv.find("\n2,1.5,");
+  ASSERT_NE(row, std::string::npos) << csv;
+  const std::string status = csv.substr(row + 7, 9);  // quoted when the message has a comma
+  EXPECT_TRUE(status.rfind("failed: ", 0) == 0 || status.rfind("\"failed: ", 0) == 0) << csv;
+  EXPECT_FALSE(fs::exists(o.out_dir + "/sweep.csv.partial"));
+}
+
+TEST(SweepFailures, AnUnknownKeyIsBadInputWithTheScenesMessage) {
+  SweepOptions o;
+  o.vary = {parse_vary("run.rtoll=1e-8:1e-6:2")};
+  o.out_dir = out_dir("unknown");
+  o.plots = false;
+  try {
+    sweep(kSweeps + "ke_loss.toml", o);
+    ADD_FAILURE();
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.key(), "run.rtoll");
+    EXPECT_NE(e.message().find("did you mean 'rtol'"), std::string::npos) << e.what();
+  }
+  o.vary = {parse_vary("model.parameters.ee=0:1:2")};
+  EXPECT_THROW(sweep(kSweeps + "ke_loss.toml", o), SceneError);
+  o.vary = {parse_vary("model.q[5]=0:1:2")};  // the scene's q has 2 elements
+  EXPECT_THROW(sweep(kSweeps + "ke_loss.toml", o), OptionError);
+  EXPECT_FALSE(fs::exists(o.out_dir + "/sweep.csv"));
+}
