@@ -30,9 +30,13 @@ std::string num(double v, int digits = 10) {
   return buf;
 }
 
+/// "[a, b, …]"; entries below 1e-13 of the largest (round-off, as the
+/// -1.5e-33 a converged angle may carry) are printed as 0.
 std::string vec(const Eigen::VectorXd& v, int digits = 10) {
+  const double big = v.size() ? v.cwiseAbs().maxCoeff() : 0.0;
   std::string out = "[";
-  for (int i = 0; i < v.size(); ++i) out += (i ? ", " : "") + num(v[i], digits);
+  for (int i = 0; i < v.size(); ++i)
+    out += (i ? ", " : "") + num(std::abs(v[i]) <= 1e-13 * big ? 0.0 : v[i], digits);
   return out + "]";
 }
 
@@ -97,8 +101,10 @@ std::string format_modes(const Modes& md, const std::vector<std::string>& names,
     out += line + vec(md.shapes.col(j), 6) + "\n";
   }
   out += "  linear model: state [xi; xidot] with q = q* + Z xi, xidot = A x, eigenvalues of A:";
+  const double zbig = md.state_eigenvalues.size() ? md.state_eigenvalues.cwiseAbs().maxCoeff() : 0.0;
   for (int i = 0; i < md.state_eigenvalues.size(); ++i) {
-    const std::complex<double> z = md.state_eigenvalues[i];
+    std::complex<double> z = md.state_eigenvalues[i];
+    if (std::abs(z.real()) <= 1e-12 * zbig) z.real(0.0);  // round-off of a purely imaginary pair
     out += (i ? ", " : " ") + num(z.real(), 6) + (z.imag() < 0 ? " - " : " + ") + num(std::abs(z.imag()), 8) + "i";
   }
   return out + "\n";
