@@ -358,21 +358,12 @@ int main(int argc, char** argv) {
     bvp_req.plots = !no_plots;
     bvp_req.png = scene.output.png;
     bvp_req.svg = scene.output.svg;
-    try {
+    return guarded("solve-bvp", [&] {
       const scene::BvpRun r = scene::solve_bvp(scene, bvp_req);
       if (!quiet) std::cout << "scene " << scene.name << "\n" << r.summary();
       print_outputs(r.plot_note, r.files, quiet);
       return kOk;
-    } catch (const OptionError& e) {  // SceneError is an OptionError
-      std::cerr << "lagrangian: " << e.what() << "\n";
-      return kBadInput;
-    } catch (const ParameterError& e) {
-      std::cerr << "lagrangian: " << e.what() << "\n";
-      return kBadInput;
-    } catch (const Error& e) {
-      std::cerr << "lagrangian: solve-bvp failed: " << e.what() << "\n";
-      return kRunFailed;
-    }
+    });
   }
 
   if (insp->parsed()) {
