@@ -211,3 +211,34 @@ TEST(StationaryAction, BadInputAndUnsuitedModelsAreRefused) {
     EXPECT_NE(std::string(e.what()).find("dissipation"), std::string::npos);
   }
 }
+
+TEST(StationaryAction, MinimiserAgreesBelowHalfPeriodAndRunsAwayBeyond) {
+  // L-BFGS on S_d finds the same path where the action is a minimum; beyond
+  // half a period S_d is unbounded below and the minimiser does not stop at
+  // the stationary path that Newton's method finds.
+  const lm::HarmonicOscillator ho(1.0, 4.0);  // ω = 2, half period π/2
+  BvpOptions opt;
+  opt.steps = 100;
+  const Vec<double, 1> a(0.2), b(0.5);
+  const double below = 0.8 * kPi / 2, beyond = 1.6 * kPi / 2;
+  const BvpResult r1 = solve_bvp(ho, a, b, 0.0, below, opt);
+  const ActionMinimum m1 = minimise_action(ho, a, b, 0.0, below, opt);
+  EXPECT_TRUE(m1.converged) << m1.nlopt_result << " residual " << m1.residual;
+  EXPECT_LT((m1.q - r1.q).cwiseAbs().maxCoeff(), 1e-8);
+  EXPECT_NEAR(m1.action, r1.action, 1e-12 * (1 + std::abs(r1.action)));
+  const BvpResult r2 = solve_bvp(ho, a, b, 0.0, beyond, opt);
+  const ActionMinimum m2 = minimise_action(ho, a, b, 0.0, beyond, opt);
+  EXPECT_FALSE(m2.converged);
+  EXPECT_TRUE(!std::isfinite(m2.action) || m2.action < r2.action - 1.0) << m2.action << " vs " << r2.action;
+  std::printf("L-BFGS below half a period: %d evaluations, max difference %.2e; beyond: result %d after %d "
+              "evaluations, action %.4g (stationary %.4g), residual %.3g\n",
+              m1.evaluations, (m1.q - r1.q).cwiseAbs().maxCoeff(), m2.nlopt_result, m2.evaluations, m2.action,
+              r2.action, m2.residual);
+  // The projectile: the minimiser's parabola is Newton's.
+  const lm::Projectile<> proj(1.0, 9.81);
+  const Eigen::Vector2d p0(0, 0), p1(30, 5);
+  const BvpResult rp = solve_bvp(proj, p0, p1, 0.0, 2.5, opt);
+  const ActionMinimum mp = minimise_action(proj, p0, p1, 0.0, 2.5, opt);
+  EXPECT_TRUE(mp.converged);
+  EXPECT_LT((mp.q - rp.q).cwiseAbs().maxCoeff(), 1e-7);
+}

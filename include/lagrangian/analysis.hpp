@@ -175,6 +175,16 @@ struct BvpOptions {
   int max_dense_eigen = 2000;
 };
 
+/// What minimise_action() found.
+struct ActionMinimum {
+  Eigen::MatrixXd q;          ///< (K+1)×n: the last iterate q_0 … q_K
+  double action = 0;          ///< S_d there (J·s)
+  double residual = 0;        ///< ‖∇S_d‖∞ there: zero only at a stationary path
+  int evaluations = 0;        ///< evaluations of S_d and its gradient
+  int nlopt_result = 0;       ///< NLopt's return code (> 0: it reports success)
+  bool converged = false;     ///< NLopt reports success, the action is finite and the residual ≤ 1e-8 (1 + ‖p‖∞)
+};
+
 /// A path of stationary discrete action.
 struct BvpResult {
   std::vector<double> t;           ///< t_0 … t_K (s)
@@ -802,6 +812,101 @@ BvpResult solve_bvp(const M& model, const Vec<double, M::dof>& a, const Vec<doub
     out.qd.row(k) = v.transpose();
     out.energy[static_cast<std::size_t>(k)] = energy_function(model, qk, v, tk);
   }
+  return out;
+}
+
+namespace detail {
+
+template <class M>
+struct ActionProblem {
+  const M* model;
+  Vec<double, M::dof> a, b;
+  double t0, h;
+  int K;
+  DiscreteRule rule;
+  int evaluations = 0;
+};
+
+/// S_d(q_1 … q_{K−1}) and its gradient, the DEL residuals D2 L_d + D1 L_d.
+template <class M>
+double action_objective(unsigned, const double* x, double* grad, void* data) {
+  auto& p = *static_cast<ActionProblem<M>*>(data);
+  constexpr int n = M::dof;
+  ++p.evaluations;
+  auto node = [&](int k) -> Vec<double, n> {
+    if (k == 0) return p.a;
+    if (k == p.K) return p.b;
+    return Eigen::Map<const Vec<double, n>>(x + (k - 1) * n);
+  };
+  double s = 0;
+  if (grad) std::fill(grad, grad + (p.K - 1) * n, 0.0);
+  for (int k = 0; k < p.K; ++k) {
+    const auto d = discrete_lagrangian_derivatives(*p.model, node(k), node(k + 1), p.t0 + k * p.h, p.h, p.rule);
+    s += d.value;
+    if (!grad) continue;
+    for (int i = 0; i < n; ++i) {
+      if (k > 0) grad[(k - 1) * n + i] += d.d1[i];
+      if (k + 1 < p.K) grad[k * n + i] += d.d2[i];
+    }
+  }
+  return s;
+}
+
+}  // namespace detail
+
+/// The discrete action minimised over the interior points by NLopt's
+/// LD_LBFGS from the straight line (gradient: the discrete Euler–Lagrange
+/// residuals). Where the action has a minimum this is the path solve_bvp()
+/// finds; beyond a conjugate point S_d has no minimum (it is unbounded below
+/// along the negative directions of its Hessian for an oscillator) and the
+/// minimiser runs away: ActionMinimum::converged is false and the action is
+/// below that of the stationary path. Meant for comparison; solve_bvp() is
+/// the solver. Same input checks and refusals as solve_bvp().
+template <class M>
+ActionMinimum minimise_action(const M& model, const Vec<double, M::dof>& a, const Vec<double, M::dof>& b, double t0,
+                              double t1, const BvpOptions& options = {}) {
+  check_model<M>();
+  detail::require_static_size<M>();
+  detail::refuse_for_bvp(model);
+  constexpr int n = M::dof;
+  const int K = options.steps;
+  if (!a.allFinite() || !b.allFinite()) throw OptionError("minimise action: end points are not finite");
+  if (!std::isfinite(t0) || !std::isfinite(t1) || !(t1 > t0))
+    throw OptionError("minimise action: time: need finite t0 < t1");
+  if (K < 2) throw OptionError("minimise action: steps: need at least 2, got " + std::to_string(K));
+  detail::ActionProblem<M> problem{&model, a, b, t0, (t1 - t0) / K, K, options.rule};
+  const int N = (K - 1) * n;
+  std::vector<double> x(static_cast<std::size_t>(N));
+  for (int k = 1; k < K; ++k)
+    for (int i = 0; i < n; ++i) {
+      const double s = static_cast<double>(k) / K;
+      x[static_cast<std::size_t>((k - 1) * n + i)] = (1 - s) * a[i] + s * b[i];
+    }
+  std::unique_ptr<nlopt_opt_s, decltype(&nlopt_destroy)> opt(nlopt_create(NLOPT_LD_LBFGS, static_cast<unsigned>(N)),
+                                                             &nlopt_destroy);
+  nlopt_set_min_objective(opt.get(), &detail::action_objective<M>, &problem);
+  nlopt_set_xtol_rel(opt.get(), 1e-14);
+  nlopt_set_ftol_rel(opt.get(), 0.0);
+  nlopt_set_maxeval(opt.get(), 20000);
+  double f = 0;
+  ActionMinimum out;
+  out.nlopt_result = static_cast<int>(nlopt_optimize(opt.get(), x.data(), &f));
+  out.evaluations = problem.evaluations;
+  out.q.resize(K + 1, n);
+  out.q.row(0) = a.transpose();
+  out.q.row(K) = b.transpose();
+  for (int k = 1; k < K; ++k)
+    for (int i = 0; i < n; ++i) out.q(k, i) = x[static_cast<std::size_t>((k - 1) * n + i)];
+  std::vector<double> g(static_cast<std::size_t>(N));
+  out.action = detail::action_objective<M>(static_cast<unsigned>(N), x.data(), g.data(), &problem);
+  double gmax = 0, pmax = 0;
+  for (double v : g) gmax = std::max(gmax, std::abs(v));
+  const auto d0 = discrete_lagrangian_derivatives(model, a, Vec<double, n>(out.q.row(1).transpose()), t0,
+                                                  (t1 - t0) / K, options.rule);
+  pmax = d0.d1.template lpNorm<Eigen::Infinity>();
+  out.residual = gmax;
+  out.converged = out.nlopt_result > 0 && std::isfinite(out.action) && std::isfinite(gmax) &&
+                  gmax <= 1e-8 * (1.0 + pmax);
   return out;
 }
 
