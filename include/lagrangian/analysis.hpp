@@ -808,7 +808,15 @@ BvpResult solve_bvp(const M& model, const Vec<double, M::dof>& a, const Vec<doub
     const Vec<double, n> zero = Vec<double, n>::Zero();
     const Mat<double, n> Mk = mass_matrix(model, qk, zero, tk);
     const Vec<double, n> p0 = momenta(model, qk, zero, tk);
-    const Vec<double, n> v = Eigen::LLT<Mat<double, n>>(Mk).solve(pk - p0);
+    const Eigen::LLT<Mat<double, n>> llt(Mk);
+    const Vec<double, n> v = llt.solve(pk - p0);
+    if (llt.info() != Eigen::Success || !v.allFinite()) {
+      std::ostringstream os;
+      os.precision(17);
+      os << "stationary action: the path was found, but the mass matrix is singular at node " << k << " ("
+         << detail::describe_state(qk, zero, tk) << "), so the velocities there cannot be recovered from the momenta";
+      throw AnalysisError(os.str());
+    }
     out.qd.row(k) = v.transpose();
     out.energy[static_cast<std::size_t>(k)] = energy_function(model, qk, v, tk);
   }
