@@ -242,3 +242,16 @@ TEST(StationaryAction, MinimiserAgreesBelowHalfPeriodAndRunsAwayBeyond) {
   EXPECT_TRUE(mp.converged);
   EXPECT_LT((mp.q - rp.q).cwiseAbs().maxCoeff(), 1e-7);
 }
+
+TEST(StationaryAction, SingularMassMatrixOnThePathIsAnErrorNotNaN) {
+  // The spherical pendulum at θ = 0: M = diag(m l², 0), φ̇ cannot be recovered.
+  const lm::SphericalPendulum sp;
+  BvpOptions opt;
+  opt.steps = 20;
+  try {
+    solve_bvp(sp, Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(0.5, 0.0), 0.0, 1.0, opt);
+    FAIL() << "no error";
+  } catch (const AnalysisError& e) {
+    EXPECT_NE(std::string(e.what()).find("mass matrix is singular at node 0"), std::string::npos) << e.what();
+  }
+}
