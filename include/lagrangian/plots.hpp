@@ -34,6 +34,8 @@
 #include <string>
 #include <vector>
 
+#include "lagrangian/errors.hpp"
+
 namespace lagrangian {
 
 /// What to plot and where.
@@ -114,5 +116,20 @@ struct WorkPrecisionPlotSpec {
 /// when gnuplot succeeded. Throws OptionError when out_dir cannot be written
 /// or gnuplot fails, leaving no image of this call behind.
 PlotResult make_work_precision_plots(const WorkPrecisionPlotSpec& spec);
+
+/// Calls `draw` (make_plots or make_work_precision_plots with its spec),
+/// appends the images it wrote to `files` and returns the note for the user:
+/// empty when the plots were drawn, the gnuplot-not-found message, or
+/// "plots failed: …" when `draw` threw (plots never fail a run).
+template <class Draw>
+std::string draw_plots(Draw&& draw, std::vector<std::string>& files) {
+  try {
+    const PlotResult pr = draw();
+    files.insert(files.end(), pr.files.begin(), pr.files.end());
+    return pr.gnuplot_found ? std::string() : pr.message;
+  } catch (const Error& e) {
+    return std::string("plots failed: ") + e.what();
+  }
+}
 
 }  // namespace lagrangian

@@ -146,13 +146,7 @@ BvpRun solve_bvp(const Scene& scene, const BvpRequest& request) {
       p.energy_scale = scale > 0 ? scale : 1.0;
       p.png = request.png;
       p.svg = request.svg;
-      try {
-        const PlotResult pr = make_plots(p);
-        for (const auto& f : pr.files) run.files.push_back(f);
-        if (!pr.gnuplot_found) run.plot_note = pr.message;
-      } catch (const Error& e) {
-        run.plot_note = std::string("plots failed: ") + e.what();
-      }
+      run.plot_note = draw_plots([&] { return make_plots(p); }, run.files);
     }
   }
   return run;

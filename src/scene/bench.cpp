@@ -506,13 +506,7 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
       }
       plot.series.push_back(std::move(sr));
     }
-    try {
-      const PlotResult pr = make_work_precision_plots(plot);
-      for (const auto& f : pr.files) result.files.push_back(f);
-      if (!pr.gnuplot_found) result.plot_note = pr.message;
-    } catch (const Error& e) {
-      result.plot_note = std::string("plots failed: ") + e.what();
-    }
+    result.plot_note = draw_plots([&] { return make_work_precision_plots(plot); }, result.files);
   }
   return result;
 }

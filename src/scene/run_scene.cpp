@@ -249,13 +249,7 @@ RunResult run(const Scene& input, const RunControls& controls) {
     throw;
   }
   if (write && scene.output.trajectory && scene.output.plots && (scene.output.png || scene.output.svg)) {
-    try {
-      const PlotResult pr = make_plots(plot_spec(scene, result));
-      for (const auto& f : pr.files) result.files.push_back(f);
-      if (!pr.gnuplot_found) result.plot_note = pr.message;
-    } catch (const Error& e) {
-      result.plot_note = std::string("plots failed: ") + e.what();
-    }
+    result.plot_note = draw_plots([&] { return make_plots(plot_spec(scene, result)); }, result.files);
   }
   return result;
 }
