@@ -35,6 +35,8 @@
 #include <string>
 #include <vector>
 
+#include "lagrangian/errors.hpp"
+
 namespace lagrangian {
 
 /// What to plot and where.

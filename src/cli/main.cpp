@@ -22,6 +22,7 @@
 #include "lagrangian/errors.hpp"
 #include "lagrangian/report.hpp"
 #include "lagrangian/scene.hpp"
+#include "lagrangian/scene_analysis.hpp"
 #include "lagrangian/scene_io.hpp"
 #include "lagrangian/scene_models.hpp"
 #include "lagrangian/scene_run.hpp"
@@ -55,6 +56,26 @@ struct BadInput {
 void check_positive(const char* flag, double v) {
   if (!(v > 0) || !std::isfinite(v))
     throw BadInput{std::string("command line: ") + flag + ": must be a positive finite number, got " + std::to_string(v)};
+}
+
+/// A comma-separated list of numbers given to `flag`; BadInput naming it otherwise.
+std::vector<double> parse_numbers(const char* flag, const std::string& text) {
+  std::vector<double> out;
+  std::string item;
+  std::istringstream in(text);
+  while (std::getline(in, item, ',')) {
+    const char* begin = item.c_str();
+    char* end = nullptr;
+    const double v = std::strtod(begin, &end);
+    while (end && *end == ' ') ++end;
+    if (item.empty() || end == begin || *end != '\0')
+      throw BadInput{std::string("command line: ") + flag + ": '" + item + "' is not a number (in '" + text + "')"};
+    if (!std::isfinite(v))
+      throw BadInput{std::string("command line: ") + flag + ": '" + item + "' is not finite (in '" + text + "')"};
+    out.push_back(v);
+  }
+  if (out.empty()) throw BadInput{std::string("command line: ") + flag + ": no values in '" + text + "'"};
+  return out;
 }
 
 int list(const char* argv0) {
@@ -168,8 +189,31 @@ int main(int argc, char** argv) {
       "inspect", "Describe a scene at t0: coordinates, degrees of freedom (rank, redundant constraints), momenta, "
                  "cyclic coordinates and conserved quantities, active effects.");
   insp->add_option("scene", scene_path, "scene file (TOML)")->required();
+  scene::AnalysisRequest analysis;
+  insp->add_flag("--equilibria", analysis.equilibria,
+                 "find equilibria (minima by NLopt, saddles and maxima by Newton's method) and say which are stable");
+  insp->add_flag("--modes", analysis.modes, "normal modes (frequencies and shapes) about each stable equilibrium");
+  insp->add_flag("--at-initial-state", analysis.modes_at_initial,
+                 "with --modes: linearise about the scene's initial configuration instead");
+  insp->add_option("--starts", analysis.starts, "starts of the equilibrium search (default 16)");
 
   CLI::App* lst = app.add_subcommand("list", "List the built-in models and the example scenes.");
+
+  std::string bvp_from, bvp_to, bvp_time;
+  scene::BvpRequest bvp_req;
+  CLI::App* bvp = app.add_subcommand(
+      "solve-bvp", "Boundary-value problem by stationary action: the path of the scene's model from q(t0) = FROM to "
+                   "q(t1) = TO that makes the discrete action stationary (Newton's method); writes bvp_path.csv and "
+                   "plots, and says whether the action is a minimum there.");
+  bvp->add_option("scene", scene_path, "scene file (TOML) naming a built-in model")->required();
+  bvp->add_option("--from", bvp_from, "q(t0): comma-separated, one value per coordinate")->required();
+  bvp->add_option("--to", bvp_to, "q(t1): comma-separated, one value per coordinate")->required();
+  bvp->add_option("--time", bvp_time, "T (from the scene's t0) or t0:t1, in s")->required();
+  bvp->add_option("--steps", bvp_req.steps, "number of time steps K (default 200)");
+  bvp->add_option("--rule", bvp_req.rule, "discrete Lagrangian: midpoint (default) or trapezoidal");
+  bvp->add_option("--out", out_dir, "output directory (default out/bvp/<scene file name>)");
+  bvp->add_flag("--no-plots", no_plots, "do not make plots");
+  bvp->add_flag("-q,--quiet", quiet, "print only errors");
 
   scene::BenchOptions bench_opt;
   std::optional<std::string> methods_text, tolerances_text, dt_text, stabilization;
@@ -292,9 +336,48 @@ int main(int argc, char** argv) {
     return kBadInput;
   }
 
+  if (bvp->parsed()) {
+    try {
+      bvp_req.from = parse_numbers("--from", bvp_from);
+      bvp_req.to = parse_numbers("--to", bvp_to);
+      const auto colon = bvp_time.find(':');
+      if (colon == std::string::npos) {
+        const std::vector<double> T = parse_numbers("--time", bvp_time);
+        if (T.size() != 1 || !(T[0] > 0))
+          throw BadInput{"command line: --time: must be a positive duration T or t0:t1, got '" + bvp_time + "'"};
+        bvp_req.t0 = scene.run.t0;
+        bvp_req.t1 = scene.run.t0 + T[0];
+      } else {
+        const std::vector<double> a = parse_numbers("--time", bvp_time.substr(0, colon));
+        const std::vector<double> b = parse_numbers("--time", bvp_time.substr(colon + 1));
+        if (a.size() != 1 || b.size() != 1 || !(b[0] > a[0]))
+          throw BadInput{"command line: --time: need t0:t1 with t1 > t0, got '" + bvp_time + "'"};
+        bvp_req.t0 = a[0];
+        bvp_req.t1 = b[0];
+      }
+    } catch (const BadInput& e) {
+      std::cerr << "lagrangian: " << e.message << "\n";
+      return kBadInput;
+    }
+    bvp_req.out_dir = out_dir ? *out_dir : "out/bvp/" + fs::path(scene_path).stem().string();
+    bvp_req.plots = !no_plots;
+    bvp_req.png = scene.output.png;
+    bvp_req.svg = scene.output.svg;
+    return guarded("solve-bvp", [&] {
+      const scene::BvpRun r = scene::solve_bvp(scene, bvp_req);
+      if (!quiet) std::cout << "scene " << scene.name << "\n" << r.summary();
+      print_outputs(r.plot_note, r.files, quiet);
+      return kOk;
+    });
+  }
+
   if (insp->parsed()) {
     try {
-      std::cout << scene::inspect(scene);
+      if (analysis.modes_at_initial && !analysis.modes)
+        throw OptionError("command line: --at-initial-state: only with --modes");
+      const std::string analysed =
+          analysis.equilibria || analysis.modes ? scene::analyse(scene, analysis) : std::string();
+      std::cout << scene::inspect(scene) << analysed;
       return kOk;
     } catch (const SimulationError& e) {
       std::cerr << "lagrangian: " << e.what() << "\n";

@@ -43,6 +43,7 @@
 #include "lagrangian/scene.hpp"
 #include "lagrangian/scene_models.hpp"
 #include "lagrangian/simulate.hpp"
+#include "registry_analysis.hpp"
 
 namespace lagrangian::scene::detail {
 
@@ -401,10 +402,28 @@ std::string inspect_entry(const ModelSpec& spec, double t0) {
   return inspect_model(model, info, Def::type, p, initial, t0);
 }
 
+template <class Def>
+std::string analyse_entry(const ModelSpec& spec, double t0, const AnalysisRequest& request) {
+  const ModelInfo& info = catalog_entry(Def::name);
+  const Parameters p(info, spec);
+  const typename Def::Model model = build_model<Def>(info, p);
+  const auto initial = initial_state(info, spec, default_state<Def>(info, model, t0));
+  return analyse_model(model, info, initial, t0, request);
+}
+
+template <class Def>
+BvpResult bvp_entry(const ModelSpec& spec, const BvpRequest& request, DiscreteRule rule) {
+  const ModelInfo& info = catalog_entry(Def::name);
+  const Parameters p(info, spec);
+  const typename Def::Model model = build_model<Def>(info, p);
+  return solve_model_bvp(model, info, request, rule);
+}
+
 /// The registry entry of a model definition.
 template <class Def>
 ModelEntry entry() {
-  return ModelEntry{std::string(Def::name), &run_entry<Def>, &inspect_entry<Def>};
+  return ModelEntry{std::string(Def::name), &run_entry<Def>, &inspect_entry<Def>, &analyse_entry<Def>,
+                    &bvp_entry<Def>};
 }
 
 }  // namespace lagrangian::scene::detail

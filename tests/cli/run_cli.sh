@@ -119,6 +119,49 @@ for f in work_precision.csv bench.json work_precision.csv.partial work_precision
   [ ! -e "$work/bench_fail/$f" ] || { echo "FAIL: failed bench left $f"; fails=$((fails + 1)); }
 done
 
+# inspect --equilibria --modes: the double pendulum's four equilibria and its two
+# normal modes, w^2 = (g/l)(2 -+ sqrt 2), w = 2.3971994 and 5.7873513 rad/s (m = l = 1).
+expect 0 "#4 .*maximum" -- "$bin" inspect "$src/examples/scenes/double_pendulum.toml" --equilibria
+expect 0 "2\.39719939.*5\.78735129|2\.39719939[^$]*" -- "$bin" inspect "$src/examples/scenes/double_pendulum.toml" --modes
+out=$("$bin" inspect "$src/examples/scenes/double_pendulum.toml" --equilibria --modes 2>&1)
+for w in 2.39719939 5.78735129; do
+  grep -q "$w" <<<"$out" || { echo "FAIL: double pendulum mode $w rad/s missing"; fails=$((fails + 1)); }
+done
+[ "$(grep -c '(stable)' <<<"$out")" -eq 1 ] || { echo "FAIL: expected one stable equilibrium"; fails=$((fails + 1)); }
+# The bead on a hoop spun beyond sqrt(g/R): two stable equilibria at +-acos(g/(w^2 R)) = +-0.99441 rad.
+expect 0 "0\.99440.*minimum \(stable\)" -- "$bin" inspect "$src/examples/scenes/bead_on_rotating_hoop.toml" --equilibria
+expect 0 "not an equilibrium" -- "$bin" inspect "$src/examples/scenes/double_pendulum.toml" --modes --at-initial-state
+expect 0 "degenerate|minimum" -- "$bin" inspect "$src/examples/scenes/cartesian_double_pendulum.toml" --equilibria --modes
+expect 2 "--equilibria: .*particle scene" -- "$bin" inspect "$src/examples/scenes/bouncing_ball.toml" --equilibria
+expect 2 "unilateral" -- "$bin" inspect "$src/examples/scenes/newtons_cradle_model.toml" --equilibria
+expect 2 "--starts: must be at least 1, got 0" -- "$bin" inspect "$src/examples/scenes/double_pendulum.toml" --equilibria --starts 0
+expect 2 "--at-initial-state: only with --modes" -- "$bin" inspect "$src/examples/scenes/double_pendulum.toml" --at-initial-state
+
+# solve-bvp: the harmonic oscillator (w = 2 rad/s, half period pi/2 s).
+ho="$src/examples/scenes/harmonic_oscillator.toml"
+expect 0 "local minimum of the action" -- "$bin" solve-bvp "$ho" --from 0.1 --to 0.2 --time 1 --out "$work/bvp" --no-plots
+[ -s "$work/bvp/bvp_path.csv" ] || { echo "FAIL: bvp_path.csv missing"; fails=$((fails + 1)); }
+head -1 "$work/bvp/bvp_path.csv" | grep -q '^t,x,x_dot,energy$' || { echo "FAIL: bvp_path.csv header"; fails=$((fails + 1)); }
+[ "$(wc -l < "$work/bvp/bvp_path.csv")" -eq 202 ] || { echo "FAIL: bvp_path.csv should have 201 rows"; fails=$((fails + 1)); }
+expect 0 "saddle point of the action.*1 negative eigenvalue" -- "$bin" solve-bvp "$ho" --from 0.1 --to 0.2 --time 0:2 --steps 100 --out "$work/bvp2" --no-plots
+if command -v gnuplot >/dev/null 2>&1; then
+  expect 0 "wrote:.*coordinates" -- "$bin" solve-bvp "$ho" --from 0.1 --to 0.2 --time 1 --out "$work/bvp_plot"
+  [ -s "$work/bvp_plot/coordinates.png" ] || { echo "FAIL: solve-bvp drew no plot"; fails=$((fails + 1)); }
+fi
+# Exactly half a period: singular, exit 1, nothing left that looks complete.
+expect 1 "singular" -- "$bin" solve-bvp "$ho" --from 0.1 --to 0.2 --time 1.5707963267948966 --out "$work/bvp_sing"
+[ ! -e "$work/bvp_sing/bvp_path.csv" ] || { echo "FAIL: a singular problem left bvp_path.csv"; fails=$((fails + 1)); }
+expect 2 "--from: 2 values given; model 'harmonic_oscillator' has 1 coordinate" -- "$bin" solve-bvp "$ho" --from 0.1,0.2 --to 0.2 --time 1 --out "$work/x"
+expect 2 "--from: 'abc' is not a number" -- "$bin" solve-bvp "$ho" --from abc --to 0.2 --time 1 --out "$work/x"
+expect 2 "--to: 'nan' is not finite" -- "$bin" solve-bvp "$ho" --from 0.1 --to nan --time 1 --out "$work/x"
+expect 2 "--time: must be a positive duration" -- "$bin" solve-bvp "$ho" --from 0.1 --to 0.2 --time -1 --out "$work/x"
+expect 2 "--time: need t0:t1 with t1 > t0" -- "$bin" solve-bvp "$ho" --from 0.1 --to 0.2 --time 2:1 --out "$work/x"
+expect 2 "--steps: must be in 2 .. 100000, got 1" -- "$bin" solve-bvp "$ho" --from 0.1 --to 0.2 --time 1 --steps 1 --out "$work/x"
+expect 2 "solve-bvp: .*particle scene" -- "$bin" solve-bvp "$src/examples/scenes/bouncing_ball.toml" --from 0 --to 1 --time 1 --out "$work/x"
+expect 2 "declares constraints" -- "$bin" solve-bvp "$src/examples/scenes/cartesian_double_pendulum.toml" --from 0,-1,0,-2 --to 0.1,-1,0.1,-2 --time 1 --out "$work/x"
+expect 2 "dissipation" -- "$bin" solve-bvp "$src/examples/scenes/projectile_linear_drag.toml" --from 0,0 --to 10,0 --time 1 --out "$work/x"
+[ ! -e "$work/x/bvp_path.csv" ] || { echo "FAIL: bad solve-bvp input wrote bvp_path.csv"; fails=$((fails + 1)); }
+
 if [ "$fails" -ne 0 ]; then
   echo "$fails CLI check(s) failed"
   exit 1

@@ -5,8 +5,10 @@
 #include <string>
 #include <vector>
 
+#include "lagrangian/discrete.hpp"
 #include "lagrangian/report.hpp"
 #include "lagrangian/scene.hpp"
+#include "lagrangian/scene_analysis.hpp"
 #include "lagrangian/scene_models.hpp"
 
 namespace lagrangian::scene::detail {
@@ -37,6 +39,10 @@ struct ModelEntry {
   /// redundant constraints), momenta, cyclic coordinates and conserved
   /// quantities, declared forces/constraints/contacts.
   std::string (*inspect)(const ModelSpec& spec, double t0);
+  /// Equilibria and normal modes at t0 (scene_analysis.hpp), as text.
+  std::string (*analyse)(const ModelSpec& spec, double t0, const AnalysisRequest& request);
+  /// The stationary-action boundary-value problem (request.from/to/t0/t1/steps).
+  BvpResult (*bvp)(const ModelSpec& spec, const BvpRequest& request, DiscreteRule rule);
 
   /// Runs the model (see run_fn).
   RunReport run(const ModelSpec& spec, const SimulationOptions& options, const std::string& csv_path,

@@ -1,0 +1,190 @@
+// Equilibria, normal modes and stationary-action boundary-value problems of a
+// scene's built-in model (scene_analysis.hpp): dispatch through the registry,
+// the path written as CSV through a partial file, and its plots.
+
+#include "lagrangian/scene_analysis.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "lagrangian/detail/scene_registry.hpp"
+#include "lagrangian/errors.hpp"
+#include "lagrangian/plots.hpp"
+#include "lagrangian/scene_models.hpp"
+
+namespace lagrangian::scene {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The registry entry of a built-in-model scene; OptionError naming `option` for particle scenes.
+const detail::ModelEntry& model_entry(const Scene& input, const std::string& option) {
+  input.validate();
+  if (!input.model)
+    throw OptionError(option + ": works on scenes of a built-in model ([model]); '" + input.name +
+                      "' is a particle scene (bodies), which has no generalized-coordinate model to analyse");
+  const detail::ModelEntry* entry = detail::find_entry(input.model->name);
+  if (!entry) throw SceneError("model.name", "unknown model '" + input.model->name + "'", input.source);
+  return *entry;
+}
+
+std::string g17(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+std::string g10(double v) {
+  if (v == 0.0) v = 0.0;
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
+/// Writes the path as `<dir>/bvp_path.csv` through `bvp_path.csv.partial`.
+std::string write_path_csv(const std::string& dir, const BvpRun& run) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir))
+    throw OptionError("--out: cannot create directory '" + dir + "': " + ec.message());
+  const fs::path path = fs::path(dir) / "bvp_path.csv";
+  const fs::path partial = fs::path(dir) / "bvp_path.csv.partial";
+  fs::remove(path, ec);
+  {
+    std::ofstream out(partial);
+    if (!out) throw OptionError("--out: cannot write '" + partial.string() + "'");
+    out << "t";
+    for (const auto& c : run.coordinates) out << "," << c;
+    for (const auto& c : run.coordinates) out << "," << c << "_dot";
+    out << ",energy\n";
+    const BvpResult& r = run.result;
+    for (std::size_t k = 0; k < r.t.size(); ++k) {
+      const int row = static_cast<int>(k);
+      out << g17(r.t[k]);
+      for (int i = 0; i < r.q.cols(); ++i) out << "," << g17(r.q(row, i));
+      for (int i = 0; i < r.qd.cols(); ++i) out << "," << g17(r.qd(row, i));
+      out << "," << g17(r.energy[k]) << "\n";
+    }
+    out.flush();
+    if (!out) {
+      out.close();
+      fs::remove(partial, ec);
+      throw OptionError("--out: writing '" + partial.string() + "' failed");
+    }
+  }
+  fs::rename(partial, path, ec);
+  if (ec) {
+    fs::remove(partial, ec);
+    throw OptionError("--out: cannot rename '" + partial.string() + "' to '" + path.string() + "'");
+  }
+  return path.string();
+}
+
+}  // namespace
+
+std::string analyse(const Scene& scene, const AnalysisRequest& request) {
+  if (request.starts < 1) throw OptionError("--starts: must be at least 1, got " + std::to_string(request.starts));
+  if (request.starts > 10000) throw OptionError("--starts: at most 10000, got " + std::to_string(request.starts));
+  const detail::ModelEntry& entry = model_entry(scene, request.equilibria ? "--equilibria" : "--modes");
+  try {
+    return entry.analyse(*scene.model, scene.run.t0, request);
+  } catch (const SceneError& e) {
+    if (!e.key().empty() && e.line() == 0 && !scene.source.file.empty())
+      throw SceneError(e.key(), e.message(), scene.source);
+    throw;
+  }
+}
+
+BvpRun solve_bvp(const Scene& scene, const BvpRequest& request) {
+  const detail::ModelEntry& entry = model_entry(scene, "solve-bvp");
+  for (std::size_t i = 0; i < request.from.size(); ++i)
+    if (!std::isfinite(request.from[i]))
+      throw OptionError("--from: value " + std::to_string(i) + " is " + g10(request.from[i]) + "; it must be finite");
+  for (std::size_t i = 0; i < request.to.size(); ++i)
+    if (!std::isfinite(request.to[i]))
+      throw OptionError("--to: value " + std::to_string(i) + " is " + g10(request.to[i]) + "; it must be finite");
+  if (!std::isfinite(request.t0) || !std::isfinite(request.t1) || !(request.t1 > request.t0))
+    throw OptionError("--time: need finite t0 < t1, got t0 = " + g10(request.t0) + " s, t1 = " + g10(request.t1) +
+                      " s");
+  if (request.steps < 2 || request.steps > 100000)
+    throw OptionError("--steps: must be in 2 .. 100000, got " + std::to_string(request.steps));
+  DiscreteRule rule;
+  try {
+    rule = discrete_rule_from_string(request.rule);
+  } catch (const std::invalid_argument& e) {
+    throw OptionError(std::string("--rule: ") + e.what());
+  }
+  BvpRun run;
+  const ModelInfo* info = find_model(scene.model->name);
+  if (info) {
+    run.coordinates = info->coordinates;
+    run.units = info->units;
+  }
+  try {
+    run.result = entry.bvp(*scene.model, request, rule);
+  } catch (const SceneError& e) {
+    if (!e.key().empty() && e.line() == 0 && !scene.source.file.empty())
+      throw SceneError(e.key(), e.message(), scene.source);
+    throw;
+  }
+  if (!request.out_dir.empty()) {
+    const std::string csv = write_path_csv(request.out_dir, run);
+    run.files.push_back(csv);
+    if (request.plots && (request.png || request.svg)) {
+      PlotSpec p;
+      p.title = scene.name + ": path of stationary action";
+      p.trajectory_csv = csv;
+      p.out_dir = request.out_dir;
+      p.coordinates = run.coordinates;
+      p.units = run.units;
+      double scale = 0;
+      for (double e : run.result.energy) scale = std::max(scale, std::abs(e));
+      p.energy_scale = scale > 0 ? scale : 1.0;
+      p.png = request.png;
+      p.svg = request.svg;
+      collect_plots([&] { return make_plots(p); }, run.files, run.plot_note);
+    }
+  }
+  return run;
+}
+
+std::string BvpRun::summary() const {
+  const BvpResult& r = result;
+  const int K = static_cast<int>(r.t.size()) - 1;
+  std::string out = "path of stationary discrete action, t = " + g10(r.t.front()) + " .. " + g10(r.t.back()) +
+                    " s, " + std::to_string(K) + " steps (h = " + g10((r.t.back() - r.t.front()) / K) + " s)\n";
+  out += "Newton iterations " + std::to_string(r.iterations) + ", residual of the discrete Euler-Lagrange equations " +
+         g10(r.residual) + "\n";
+  out += "action S = " + g10(r.action) + " J*s; ";
+  if (r.negative_eigenvalues == 0) {
+    out += "a local minimum of the action (Hessian positive definite";
+  } else {
+    out += "a saddle point of the action, not a minimum: the Hessian has " + std::to_string(r.negative_eigenvalues) +
+           " negative eigenvalue" + (r.negative_eigenvalues == 1 ? "" : "s") +
+           " (the time span passes a conjugate point; a minimiser would not find this path";
+  }
+  if (r.eigenvalues_computed) out += "; lowest eigenvalue " + g10(r.lowest_eigenvalue);
+  out += ")\n";
+  auto row = [&](const char* label, int k) {
+    std::string s = std::string(label) + " qdot = [";
+    for (int i = 0; i < r.qd.cols(); ++i) s += (i ? ", " : "") + g10(r.qd(k, i));
+    s += "], p = [";
+    for (int i = 0; i < r.p.cols(); ++i) s += (i ? ", " : "") + g10(r.p(k, i));
+    return s + "]\n";
+  };
+  out += row("start:", 0);
+  out += row("end:  ", K);
+  double lo = r.energy.front(), hi = r.energy.front();
+  for (double e : r.energy) {
+    lo = std::min(lo, e);
+    hi = std::max(hi, e);
+  }
+  out += "energy function h along the path: " + g10(r.energy.front()) + " J (spread " + g10(hi - lo) + " J)\n";
+  return out;
+}
+
+}  // namespace lagrangian::scene

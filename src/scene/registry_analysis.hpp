@@ -1,0 +1,138 @@
+#pragma once
+// Internal: the analyses (analysis.hpp) of a built-in model, reached through
+// the registry like run and inspect. Only the models that suit an analysis
+// instantiate it; the others refuse with the reason.
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <cstdio>
+
+#include "lagrangian/analysis.hpp"
+#include "lagrangian/detail/scene_registry.hpp"
+#include "lagrangian/scene_analysis.hpp"
+#include "lagrangian/simulate.hpp"
+
+namespace lagrangian::scene::detail {
+
+/// Halton radical inverse of i in base b, in [0, 1).
+inline double halton(int i, int b) {
+  double f = 1, r = 0;
+  for (int k = i; k > 0; k /= b) {
+    f /= b;
+    r += f * (k % b);
+  }
+  return r;
+}
+
+/// The starts of the equilibrium search (see AnalysisRequest::starts).
+inline std::vector<Eigen::VectorXd> equilibrium_starts(const Eigen::VectorXd& q0, const std::vector<std::string>& units,
+                                                       int count) {
+  static constexpr int primes[] = {2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53};
+  constexpr double pi = 3.141592653589793;
+  std::vector<Eigen::VectorXd> starts{q0};
+  for (int s = 1; s < count; ++s) {
+    Eigen::VectorXd q(q0.size());
+    for (int i = 0; i < q.size(); ++i) {
+      const double u = halton(s, primes[i % 16]);
+      const bool angle = static_cast<std::size_t>(i) < units.size() && units[static_cast<std::size_t>(i)] == "rad";
+      q[i] = angle ? -pi + 2 * pi * u : q0[i] + std::max(1.0, 2 * std::abs(q0[i])) * (2 * u - 1);
+    }
+    starts.push_back(q);
+  }
+  return starts;
+}
+
+inline std::vector<double> periods_of(const std::vector<std::string>& units) {
+  std::vector<double> p;
+  for (const auto& u : units) p.push_back(u == "rad" ? 6.283185307179586 : 0.0);
+  return p;
+}
+
+template <class M>
+std::string analyse_model(const M& model, const ModelInfo& info, const State<M::dof>& initial, double t0,
+                          const AnalysisRequest& request) {
+  constexpr int n = M::dof;
+  if constexpr (pfaffian_count_v<M> > 0 || unilateral_count_v<M> > 0 || has_generalized_forces_v<M>) {
+    (void)model;
+    (void)initial;
+    (void)t0;
+    (void)request;
+    throw AnalysisError("model '" + info.name + "': equilibria and modes need a model without " +
+                        (pfaffian_count_v<M> > 0   ? std::string("Pfaffian constraints")
+                         : unilateral_count_v<M> > 0 ? std::string("unilateral constraints (contacts)")
+                                                     : std::string("generalized forces")) +
+                        "; this one declares them");
+  } else {
+    const std::vector<std::string> names = coordinate_names(model);
+    std::string out;
+    if (has_dissipation_v<M>)
+      out += "note: the model declares a dissipation function; it does not move equilibria, and the modes below are "
+             "those of the undamped system\n";
+    if (!is_autonomous(model, initial, t0)) {
+      char when[40];
+      std::snprintf(when, sizeof when, "%.12g", t0);
+      out += "note: L depends explicitly on t; equilibria and modes are those of the system frozen at t0 = " +
+             std::string(when) + " s\n";
+    }
+    std::vector<Equilibrium> eq;
+    if (request.equilibria || (request.modes && !request.modes_at_initial)) {
+      EquilibriumOptions opt;
+      opt.t = t0;
+      opt.periods = periods_of(info.units);
+      opt.starts = equilibrium_starts(initial.q, info.units, request.starts);
+      eq = find_equilibria(model, opt);
+      if (request.equilibria) {
+        out += "\n" + format_equilibria(eq, names, info.units);
+        out += "  (from " + std::to_string(request.starts) +
+               " starts: minimisation finds minima, Newton's method on dU/dq = G^T lambda also saddles and maxima)\n";
+      }
+    }
+    if (request.modes) {
+      std::vector<Vec<double, n>> about;
+      if (request.modes_at_initial) {
+        about.push_back(initial.q);
+      } else {
+        for (const Equilibrium& e : eq)
+          if (e.stable || e.kind == EquilibriumKind::degenerate) about.push_back(e.q);
+        if (about.empty()) out += "\nNo stable equilibrium found: no normal modes (use --at-initial-state)\n";
+      }
+      for (const auto& q : about) out += "\n" + format_modes(small_oscillations(model, q, t0), names, info.units);
+    }
+    return out;
+  }
+}
+
+template <class M>
+BvpResult solve_model_bvp(const M& model, const ModelInfo& info, const BvpRequest& request, DiscreteRule rule) {
+  constexpr int n = M::dof;
+  if constexpr (has_constraints_v<M> || has_generalized_forces_v<M> || has_dissipation_v<M>) {
+    (void)model;
+    (void)request;
+    (void)rule;
+    throw OptionError("solve-bvp: model '" + info.name + "' declares " +
+                      (has_constraints_v<M>         ? std::string("constraints")
+                       : has_generalized_forces_v<M> ? std::string("generalized forces")
+                                                     : std::string("a dissipation function")) +
+                      "; boundary-value problems by stationary action are solved for unconstrained conservative "
+                      "models only");
+  } else {
+    const std::string coords = std::to_string(n) + (n == 1 ? " coordinate" : " coordinates");
+    auto vec = [&](const std::vector<double>& v, const char* flag) {
+      if (v.size() != static_cast<std::size_t>(n))
+        throw OptionError(std::string("command line: ") + flag + ": " + std::to_string(v.size()) +
+                          " values given; model '" + info.name + "' has " + coords);
+      Vec<double, n> out;
+      for (int i = 0; i < n; ++i) out[i] = v[static_cast<std::size_t>(i)];
+      return out;
+    };
+    BvpOptions opt;
+    opt.steps = request.steps;
+    opt.rule = rule;
+    return lagrangian::solve_bvp(model, vec(request.from, "--from"), vec(request.to, "--to"), request.t0, request.t1,
+                                 opt);
+  }
+}
+
+}  // namespace lagrangian::scene::detail
