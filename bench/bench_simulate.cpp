@@ -42,7 +42,8 @@ struct HandRhs {
 
 template <class Stepper>
 void raw_adaptive(benchmark::State& st) {
-  const bench::HandDoublePendulum p;
+  bench::HandDoublePendulum p;
+  benchmark::DoNotOptimize(p);  // parameters from memory, as in simulate(): not compile-time constants
   std::size_t steps = 0;
   for (auto _ : st) {
     X x = {2.0, 2.0, 0.0, 0.0};
@@ -63,7 +64,8 @@ void BM_RawOdeint_Fehlberg78_DoublePendulum(benchmark::State& st) {
 BENCHMARK(BM_RawOdeint_Fehlberg78_DoublePendulum)->Unit(benchmark::kMillisecond);
 
 void BM_RawOdeint_Rk4_DoublePendulum(benchmark::State& st) {
-  const bench::HandDoublePendulum p;
+  bench::HandDoublePendulum p;
+  benchmark::DoNotOptimize(p);  // parameters from memory, as in simulate(): not compile-time constants
   const auto n = static_cast<std::size_t>(kTEnd / kDt + 0.5);
   for (auto _ : st) {
     X x = {2.0, 2.0, 0.0, 0.0};

@@ -372,4 +372,66 @@ TEST(Simulate, ModelSuppliedAccelerationsAgreeWithAD) {
   EXPECT_LE((hand.samples.back().q - ad.samples.back().q).norm(), 1e-9);
 }
 
+/// The harmonic oscillator with its q̈ = −(k/m) x supplied by the model: the
+/// run loops are then flattened (simulate.hpp, flat_loop_v).
+struct HandOscillator : lagrangian::models::HarmonicOscillator {
+  using HarmonicOscillator::HarmonicOscillator;
+  void accelerations(const lagrangian::Vec<double, 1>& q, const lagrangian::Vec<double, 1>&, double,
+                     lagrangian::Vec<double, 1>& qdd) const {
+    qdd[0] = -(k / m) * q[0];
+  }
+};
+
+/// Samples land on t0 + k Δt, on the ends only, or on every step, for every
+/// stepper, through both kinds of run loop (AD q̈, and the flattened loop of a
+/// model that supplies q̈), each against x = x0 cos ωt + (v0/ω) sin ωt.
+template <class Model>
+void expect_samples_on_the_grid(const Model& model) {
+  const double w = model.omega(), t0 = 0.3, t_end = 5.3;
+  State<1> x0;
+  x0.q[0] = 0.7;
+  x0.qd[0] = -0.3;
+  const auto exact = [&](double t) {
+    return x0.q[0] * std::cos(w * (t - t0)) + x0.qd[0] / w * std::sin(w * (t - t0));
+  };
+  for (const std::string& method : stepper_names()) {
+    const bool second_order = method == "variational" || method == "velocity_verlet";
+    const double bound = method == "rosenbrock4" ? 1e-6 : second_order ? 2e-5 : 1e-7;
+    SimulationOptions o = options(method, t_end);
+    o.t0 = t0;
+    o.dt = 1e-3;
+    o.output_interval = 0.25;
+    Recorder<1> grid;
+    RunReport r = simulate(model, x0, o, grid);
+    ASSERT_EQ(grid.samples.size(), 21u) << method;  // t0, t0 + 0.25, …, t_end
+    for (std::size_t i = 0; i < grid.samples.size(); ++i) {
+      const double t = t0 + 0.25 * static_cast<double>(i);
+      EXPECT_NEAR(grid.samples[i].t, t, 1e-12 * (1 + t)) << method << " sample " << i;
+      EXPECT_NEAR(grid.samples[i].q[0], exact(grid.samples[i].t), bound) << method << " sample " << i;
+    }
+    EXPECT_EQ(r.samples, 21u) << method;
+
+    o.output_interval = -1;  // the two ends only
+    Recorder<1> ends;
+    r = simulate(model, x0, o, ends);
+    ASSERT_EQ(ends.samples.size(), 2u) << method;
+    EXPECT_EQ(ends.samples.front().t, t0) << method;
+    EXPECT_EQ(ends.samples.back().t, t_end) << method;
+    EXPECT_NEAR(ends.samples.back().q[0], exact(t_end), bound) << method;
+
+    o.output_interval = 0;  // every accepted step
+    Recorder<1> every;
+    r = simulate(model, x0, o, every);
+    EXPECT_EQ(every.samples.size(), r.steps + 1) << method;
+    EXPECT_EQ(every.samples.back().t, t_end) << method;
+  }
+}
+
+TEST(Simulate, SamplesOnTheOutputGridWithEveryStepperAndBothLoops) {
+  static_assert(!lagrangian::detail::flat_loop_v<lagrangian::models::HarmonicOscillator>);
+  static_assert(lagrangian::detail::flat_loop_v<HandOscillator>);
+  expect_samples_on_the_grid(lagrangian::models::HarmonicOscillator(0.5, 2.0));
+  expect_samples_on_the_grid(HandOscillator(0.5, 2.0));
+}
+
 }  // namespace

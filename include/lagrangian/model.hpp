@@ -17,6 +17,9 @@
 /// Every function is a template on the scalar type S so that the same code
 /// runs on `double` and on AD scalars. Write ordinary C++: `S x = 0`, `auto`
 /// locals, `pow`, `abs`, `using std::cos; cos(x)` all work.
+/// The functions must depend only on their arguments and the model's state:
+/// simulate() may evaluate a copy of a trivially copyable model (so that its
+/// parameters stay in registers through the run loop).
 ///
 /// \code
 /// struct Pendulum {

@@ -206,8 +206,7 @@ struct FirstOrderSystem {
     }
     ++*evaluations;
   }
-  void evaluate_into(const Vec<double, n>& q, const Vec<double, n>& qd, double t,
-                                       Vec<double, n>& qdd) const {
+  void evaluate_into(const Vec<double, n>& q, const Vec<double, n>& qd, double t, Vec<double, n>& qdd) const {
     if constexpr (has_constraints_v<M>) {
       constrained_accelerations(*model, *ws, constraints->cw, q, qd, t, qdd, constraints->omega, constraints->active);
     } else if constexpr (has_explicit_accelerations_v<M>) {
@@ -223,8 +222,9 @@ struct FirstOrderSystem {
 /// compiler otherwise left it an out-of-line call from each stage, with the
 /// state passed through memory: 13 % more instructions than Odeint's own
 /// loop with the same hand-coded q̈ (docs/performance.md); likewise for rk4
-/// (22 % more before, 11 % after). Not for dopri5:
-/// there the larger stage code stops the step itself being inlined (+5 %).
+/// (22 % more before, 11 % after). Not for dopri5 with an AD model: there
+/// the larger stage code stopped the step itself being inlined (+5 %). (A
+/// flattened loop, flat_loop_v below, inlines the plain system as well.)
 template <class M>
 struct InlinedSystem {
   FirstOrderSystem<M> sys;
@@ -232,6 +232,35 @@ struct InlinedSystem {
   [[gnu::always_inline]] inline void operator()(const X& x, DX& dxdt, double t) const {
     sys.evaluate(x, dxdt, t);
   }
+};
+
+/// A copy of the model in the run loop's own frame, which `sys` then points
+/// to, for models that are trivially copyable and small. Stores to the state
+/// and the stages cannot alias a local object, so the compiler may keep the
+/// model's parameters in registers across the right-hand-side calls that it
+/// inlines instead of reloading them after every store (as it does for a
+/// hand-written Odeint system held by value). Other models are used in place.
+template <class M>
+class LoopModel {
+ public:
+  static constexpr bool copied = std::is_trivially_copyable_v<M> && sizeof(M) <= 512;
+  explicit LoopModel(FirstOrderSystem<M>& sys) : copy_(init(sys)) {
+    if constexpr (copied) sys.model = &copy_;
+  }
+  LoopModel(const LoopModel&) = delete;
+  LoopModel& operator=(const LoopModel&) = delete;
+
+ private:
+  using Copy = std::conditional_t<copied, M, None>;
+  static Copy init(const FirstOrderSystem<M>& sys) {
+    if constexpr (copied) {
+      return *sys.model;
+    } else {
+      (void)sys;
+      return None{};
+    }
+  }
+  Copy copy_;
 };
 
 /// The state inside an accepted step for steppers without dense output:
@@ -311,8 +340,7 @@ class RunState {
         obs_(obs),
         report_(report),
         size_(model_size(model)),
-        buf_(make_buffer<n>(size_)),
-        last_x_(make_buffer<n>(size_)) {}
+        buf_(make_buffer<n>(size_)) {}
 
   /// Sets up the monitors and emits the first sample. Contacts that touch
   /// and approach at t0 are resolved first (impacts at t0); the state the
@@ -354,56 +382,33 @@ class RunState {
     for (int i : cyclic_) report_.conserved_momenta.push_back({columns.coordinates[static_cast<std::size_t>(i)], p[i], 0, 0});
     if (obs_.begin) obs_.begin(obs_.object, columns);
     next_output_index_ = 1;
+    update_next_output();
     last_t_ = opt_.t0;
     emit(opt_.t0, x0.q.data(), x0.qd.data());
     return x0;
   }
 
   /// Next time a sample is due (infinity when sampling every step or never).
-  double next_output_time() const {
-    if (opt_.output_interval <= 0) return std::numeric_limits<double>::infinity();
-    return opt_.t0 + static_cast<double>(next_output_index_) * opt_.output_interval;
-  }
+  double next_output_time() const { return next_output_; }
 
   /// Called after every accepted step ending at t with state x (2n values).
   /// `interpolate(t_out, buffer)` fills the state at an earlier time when the
   /// stepper has dense output; otherwise steps end on output times.
+  ///
+  /// Inlined into the stepper loops: one combined test per step (state
+  /// finite, max_steps not reached, no sample due); all else, including the
+  /// errors, is in accepted_slow().
   template <class Interp>
-  void accepted(double t_old, double t, const double* x, Interp&& interpolate) {
+  [[gnu::always_inline]] inline void accepted(double t_old, double t, const double* x, Interp&& interpolate) {
     ++report_.steps;
     recent_steps_[report_.steps % 2] = t - t_old;
-    for (int i = 0; i < 2 * size_; ++i) {
-      if (!std::isfinite(x[i])) {
-        std::ostringstream os;
-        os.precision(17);
-        os << "non-finite state after the step from t = " << t_old << " to t = " << t << ": x = [";
-        for (int k = 0; k < 2 * size_; ++k) os << (k ? ", " : "") << x[k];
-        os << "] (q then qd); the run was stopped";
-        throw SimulationError(os.str(), t);
-      }
-    }
-    if (report_.steps > opt_.max_steps) {
-      std::ostringstream os;
-      os << "max_steps = " << opt_.max_steps << " reached at t = " << t << " before t_end = " << opt_.t_end;
-      throw SimulationError(os.str(), t);
-    }
-    if (opt_.output_interval == 0) {
-      emit(t, x, x + size_);
-    } else if (opt_.output_interval > 0) {
-      const double tol = 1e-12 * std::max(std::abs(t), opt_.output_interval);
-      for (double to = next_output_time(); to <= t + tol && to <= opt_.t_end + tol; to = next_output_time()) {
-        ++next_output_index_;
-        if (std::abs(to - t) <= tol) {
-          emit(t, x, x + size_);
-          last_emitted_ = t;
-        } else {
-          interpolate(to, buf_.data());
-          emit(to, buf_.data(), buf_.data() + size_);
-        }
-      }
-    }
     last_t_ = t;
-    if (opt_.output_interval != 0) std::copy(x, x + 2 * size_, last_x_.begin());
+    // No sample is due while t + tol < next output time, with the tolerance
+    // of accepted_slow(), tol = 1e-12 max(|t|, Δt_out) ≤ 1e-12 (|t| + Δt_out).
+    const bool quiet = all_finite(x) & (report_.steps <= opt_.max_steps) &
+                       (sample_due_ > t + 1e-12 * std::abs(t) + sample_slack_);
+    if (!quiet) [[unlikely]]
+      accepted_slow(t_old, t, x, interpolate);
   }
 
   /// Constrained models: projection (when chosen) and residual monitoring
@@ -781,11 +786,11 @@ class RunState {
   double recent_step() const { return std::max(recent_steps_[0], recent_steps_[1]); }
 
   /// Final bookkeeping: sample the end state if not done yet.
-  void finish() {
+  /// x: the state at the end of the last accepted step (2n values).
+  void finish(const double* x) {
     report_.t_final = last_t_;
     if constexpr (has_events_v) apply_pending_shifts(last_t_);
-    if (opt_.output_interval != 0 && last_emitted_ != last_t_)
-      emit(last_t_, last_x_.data(), last_x_.data() + size_);
+    if (opt_.output_interval != 0 && last_emitted_ != last_t_) emit(last_t_, x, x + size_);
     report_.energy_drift_final = std::abs(h_last_ - h0_) / report_.energy_scale;
     if (report_.has_total_energy) report_.total_energy_drift_final = std::abs(e_last_ - e0_) / report_.energy_scale;
     report_.energy_final = h_last_;
@@ -1066,6 +1071,59 @@ class RunState {
   std::vector<int> cyclic_;
   double h0_ = 0, e0_ = 0, h_last_ = 0, e_last_ = 0;
   std::uint64_t next_output_index_ = 1;
+  double next_output_ = std::numeric_limits<double>::infinity();  ///< t0 + next_output_index_ · output_interval
+  /// sample_due_: the time from which accepted() must look for due samples
+  /// (−∞ when sampling every step, +∞ when sampling only the ends).
+  double sample_due_ = std::numeric_limits<double>::infinity();
+  double sample_slack_ = 0;  ///< 1e-12 Δt_out (s)
+  void update_next_output() {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    const double dt_out = opt_.output_interval;
+    next_output_ = dt_out > 0 ? opt_.t0 + static_cast<double>(next_output_index_) * dt_out : inf;
+    sample_due_ = dt_out > 0 ? next_output_ : dt_out == 0 ? -inf : inf;
+    sample_slack_ = dt_out > 0 ? 1e-12 * dt_out : 0.0;
+  }
+  template <class Interp>
+  [[gnu::noinline]] void accepted_slow(double t_old, double t, const double* x, Interp& interpolate) {
+    if (!all_finite(x)) throw_non_finite(t_old, t, x);
+    if (report_.steps > opt_.max_steps) throw_max_steps(t);
+    if (opt_.output_interval == 0) {
+      emit(t, x, x + size_);
+    } else if (opt_.output_interval > 0) {
+      const double tol = 1e-12 * std::max(std::abs(t), opt_.output_interval);
+      for (double to = next_output_time(); to <= t + tol && to <= opt_.t_end + tol; to = next_output_time()) {
+        ++next_output_index_;
+        update_next_output();
+        if (std::abs(to - t) <= tol) {
+          emit(t, x, x + size_);
+        } else {
+          interpolate(to, buf_.data());
+          emit(to, buf_.data(), buf_.data() + size_);
+        }
+      }
+    }
+  }
+  [[noreturn, gnu::cold, gnu::noinline]] void throw_non_finite(double t_old, double t, const double* x) const {
+    std::ostringstream os;
+    os.precision(17);
+    os << "non-finite state after the step from t = " << t_old << " to t = " << t << ": x = [";
+    for (int k = 0; k < 2 * size_; ++k) os << (k ? ", " : "") << x[k];
+    os << "] (q then qd); the run was stopped";
+    throw SimulationError(os.str(), t);
+  }
+  [[noreturn, gnu::cold, gnu::noinline]] void throw_max_steps(double t) const {
+    std::ostringstream os;
+    os << "max_steps = " << opt_.max_steps << " reached at t = " << t << " before t_end = " << opt_.t_end;
+    throw SimulationError(os.str(), t);
+  }
+  /// All 2n state values finite (the loop's length is known at compile time
+  /// for fixed-size models).
+  bool all_finite(const double* x) const {
+    const int count = n == Dynamic ? 2 * size_ : 2 * n;
+    bool finite = true;
+    for (int i = 0; i < count; ++i) finite = finite && std::isfinite(x[i]);
+    return finite;
+  }
   std::uint64_t consecutive_rejections_ = 0;
   std::array<double, 2> recent_steps_{};
   std::vector<double> singular_values_;
@@ -1074,7 +1132,6 @@ class RunState {
   double last_t_ = 0;
   int size_;
   StateBuffer<n> buf_;
-  StateBuffer<n> last_x_;
 };
 
 /// True when t has reached t_end up to rounding.
@@ -1082,15 +1139,67 @@ inline bool reached(double t, double t_end) {
   return t_end - t <= 4.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(t), std::abs(t_end));
 }
 
+/// The explicit Runge–Kutta loops (dopri5, rk4, cash_karp54, fehlberg78,
+/// Bulirsch–Stoer) run in a function of their own, which works on its own
+/// copies of the state, the stepper and (LoopModel) the model: the compiler
+/// then knows that no store in the loop can change the model's parameters or
+/// the stepper's coefficients, and keeps them out of the loop, as it does for
+/// a hand-written Odeint program. For models that supply q̈ themselves and
+/// have no constraints or events, every call in that function is inlined
+/// (flatten), the model's `accelerations` in every stage included, whatever
+/// the compiler's budget for inlining in the translation unit has left; the
+/// rarely taken paths (samples, errors) are marked noinline and stay calls.
+/// The instructions per run against raw Odeint with the same hand-coded q̈
+/// are in docs/performance.md.
+template <class M>
+inline constexpr bool flat_loop_v =
+    has_explicit_accelerations_v<M> && !has_constraints_v<M> && unilateral_count_v<M> == 0 && event_count_v<M> == 0;
+
+template <class Loop>
+[[gnu::noinline]] void run_loop(const Loop& loop) {
+  loop();
+}
+
+template <class Loop>
+[[gnu::noinline, gnu::flatten]] void run_loop_flat(const Loop& loop) {
+  loop();
+}
+
+template <class M, class Loop>
+void run_out_of_line(const Loop& loop) {
+  if constexpr (flat_loop_v<M>) {
+    run_loop_flat(loop);
+  } else {
+    run_loop(loop);
+  }
+}
+
+/// Odeint's controlled stepper `Controlled` with the run's tolerances.
+/// (Its constructor copies a default-constructed stepper whose scratch arrays
+/// are not initialised yet; g++ warns of that copy once it is inlined.)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+template <class Controlled>
+Controlled make_controlled(const SimulationOptions& opt) {
+  if constexpr (requires { typename Controlled::error_checker_type; }) {
+    return Controlled{typename Controlled::error_checker_type(opt.atol, opt.rtol)};
+  } else {
+    return Controlled(opt.atol, opt.rtol);  // Bulirsch–Stoer
+  }
+}
+#pragma GCC diagnostic pop
+
 /// Loop for an Odeint controlled stepper without dense output: steps are
 /// shortened to land on output times and on t_end.
-template <class M, class Observer, class Controlled, class X>
-void run_controlled(Controlled& stepper, FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt,
-                    RunState<M, Observer>& rs) {
+template <class Controlled, class M, class Observer, class X>
+void run_controlled(FirstOrderSystem<M> sys, X& x_io, const SimulationOptions& opt, RunState<M, Observer>& rs) {
   namespace odeint = boost::numeric::odeint;
   constexpr bool events = RunState<M, Observer>::has_events_v;
+  Controlled stepper = make_controlled<Controlled>(opt);
+  X x = x_io;
   double t = opt.t0;
   double dt = opt.dt;
+  const LoopModel<M> loop_model(sys);
   [[maybe_unused]] X x_prev = x;
   while (!reached(t, opt.t_end) && !rs.stopped()) {
     const double limit = std::min(opt.t_end, rs.next_output_time());
@@ -1115,14 +1224,17 @@ void run_controlled(Controlled& stepper, FirstOrderSystem<M> sys, X& x, const Si
       dt = dt_try;
     }
   }
+  x_io = x;
 }
 
 template <class M, class Observer, class X>
-void run_dopri5(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt, RunState<M, Observer>& rs) {
+void run_dopri5(FirstOrderSystem<M> sys, X& x_io, const SimulationOptions& opt, RunState<M, Observer>& rs) {
+  X x = x_io;
   namespace odeint = boost::numeric::odeint;
   using Controlled = odeint::controlled_runge_kutta<odeint::runge_kutta_dopri5<X>>;
   constexpr bool events = RunState<M, Observer>::has_events_v;
   Controlled stepper{typename Controlled::error_checker_type(opt.atol, opt.rtol)};
+  const LoopModel<M> loop_model(sys);
   X dxdt = x;
   X x_old = x;
   X dxdt_old = x;
@@ -1174,13 +1286,16 @@ void run_dopri5(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt, Run
       dt = dt_try;
     }
   }
+  x_io = x;
 }
 
 template <class M, class Observer, class X>
-void run_rk4(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt, RunState<M, Observer>& rs) {
+void run_rk4(FirstOrderSystem<M> sys, X& x_io, const SimulationOptions& opt, RunState<M, Observer>& rs) {
+  X x = x_io;
   namespace odeint = boost::numeric::odeint;
   constexpr bool events = RunState<M, Observer>::has_events_v;
   odeint::runge_kutta4<X> stepper;
+  const LoopModel<M> loop_model(sys);
   // Fixed steps of opt.dt; the k-th step ends at t0 + k dt (no accumulated
   // rounding); a step is shortened only to land on an output time or t_end.
   std::uint64_t k = 0;
@@ -1191,13 +1306,14 @@ void run_rk4(FirstOrderSystem<M> sys, X& x, const SimulationOptions& opt, RunSta
     const double t_next = std::min({t_grid, opt.t_end, rs.next_output_time()});
     const double t_old = t;
     if constexpr (events) x_prev = x;
-    stepper.do_step(InlinedSystem<M>{sys}, x, t, t_next - t);  // 1.22× → 1.11× raw Odeint's instructions
+    stepper.do_step(InlinedSystem<M>{sys}, x, t, t_next - t);
     t = t_next;
     if constexpr (events) rs.handle_events(t_old, x_prev.data(), t, x.data(), SubStep<M, X>{sys, x_prev, t_old, opt.rtol, opt.atol});
     if (t >= t_grid) ++k;  // a step cut at an event leaves the grid point ahead
     rs.stabilize(x.data(), t);
     rs.accepted(t_old, t, x.data(), [](double, double*) {});
   }
+  x_io = x;
 }
 
 /// The stiff path: odeint's rosenbrock4 (see detail/stiff.hpp). Its Jacobian
@@ -1542,20 +1658,17 @@ RunReport simulate_impl(const M& model, const State<M::dof>& initial, const Simu
   try {
     const std::string& m = options.method;
     if (m == "dopri5") {
-      run_dopri5(sys, x, options, rs);
+      run_out_of_line<M>([&] { run_dopri5(sys, x, options, rs); });
     } else if (m == "rk4") {
-      run_rk4(sys, x, options, rs);
+      run_out_of_line<M>([&] { run_rk4(sys, x, options, rs); });
     } else if (m == "cash_karp54") {
       using Controlled = odeint::controlled_runge_kutta<odeint::runge_kutta_cash_karp54<X>>;
-      Controlled stepper{typename Controlled::error_checker_type(options.atol, options.rtol)};
-      run_controlled(stepper, sys, x, options, rs);
+      run_out_of_line<M>([&] { run_controlled<Controlled>(sys, x, options, rs); });
     } else if (m == "fehlberg78") {
       using Controlled = odeint::controlled_runge_kutta<odeint::runge_kutta_fehlberg78<X>>;
-      Controlled stepper{typename Controlled::error_checker_type(options.atol, options.rtol)};
-      run_controlled(stepper, sys, x, options, rs);
+      run_out_of_line<M>([&] { run_controlled<Controlled>(sys, x, options, rs); });
     } else if (m == "bulirsch_stoer") {
-      odeint::bulirsch_stoer<X> stepper(options.atol, options.rtol);
-      run_controlled(stepper, sys, x, options, rs);
+      run_out_of_line<M>([&] { run_controlled<odeint::bulirsch_stoer<X>>(sys, x, options, rs); });
     } else if (m == "rosenbrock4") {
       run_rosenbrock4(sys, x, options, rs);
     } else if (m == "variational") {
@@ -1568,7 +1681,7 @@ RunReport simulate_impl(const M& model, const State<M::dof>& initial, const Simu
   } catch (const DynamicsError& e) {
     throw SimulationError(std::string("run stopped: ") + e.what(), std::numeric_limits<double>::quiet_NaN());
   }
-  rs.finish();
+  rs.finish(x.data());
   if (report.adaptive && options.method != "rosenbrock4") check_stiffness(sys, x, report.t_final, rs.recent_step(), report);
   report.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return report;
