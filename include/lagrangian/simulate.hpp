@@ -405,9 +405,10 @@ class RunState {
     last_t_ = t;
     // No sample is due while t + tol < next output time, with the tolerance
     // of accepted_slow(), tol = 1e-12 max(|t|, Δt_out) ≤ 1e-12 (|t| + Δt_out).
-    const bool quiet = all_finite(x) & (report_.steps <= opt_.max_steps) &
-                       (sample_due_ > t + 1e-12 * std::abs(t) + sample_slack_);
-    if (!quiet) [[unlikely]]
+    const bool finite = all_finite(x);
+    const bool within = report_.steps <= opt_.max_steps;
+    const bool no_sample = sample_due_ > t + 1e-12 * std::abs(t) + sample_slack_;
+    if (!(finite & within & no_sample)) [[unlikely]]
       accepted_slow(t_old, t, x, interpolate);
   }
 
