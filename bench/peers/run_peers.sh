@@ -49,12 +49,14 @@ echo "== 4. simulate() vs raw Boost.Odeint, hand-coded right-hand side"
 awk '/_median/ { name = $1; sub(/_median$/, "", name); wall[name] = $2; cpu[name] = $4 }
      END {
        split("Dopri5 Fehlberg78 Rk4", s, " ")
+       split("DoublePendulum Oscillator", y, " ")
+       for (j = 1; j <= 2; ++j)
        for (i = 1; i <= 3; ++i) {
-         raw = "BM_RawOdeint_" s[i] "_DoublePendulum"; hand = "BM_Simulate_HandRHS_" s[i] "_DoublePendulum"
-         ad = "BM_Simulate_AD_" s[i] "_DoublePendulum"
+         raw = "BM_RawOdeint_" s[i] "_" y[j]; hand = "BM_Simulate_HandRHS_" s[i] "_" y[j]
+         ad = "BM_Simulate_AD_" s[i] "_" y[j]
          if (wall[raw] > 0)
-           printf "%-10s raw %.3f ms (cpu %.3f), simulate(hand q\x27\x27) %.3f ms (%.2fx; cpu %.2fx), simulate(AD) %.3f ms (%.2fx; cpu %.2fx)\n",
-             s[i], wall[raw], cpu[raw], wall[hand], wall[hand] / wall[raw], cpu[hand] / cpu[raw], wall[ad], wall[ad] / wall[raw], cpu[ad] / cpu[raw]
+           printf "%-14s %-10s raw %.3f ms (cpu %.3f), simulate(hand q\x27\x27) %.3f ms (%.2fx; cpu %.2fx), simulate(AD) %.3f ms (%.2fx; cpu %.2fx)\n",
+             y[j], s[i], wall[raw], cpu[raw], wall[hand], wall[hand] / wall[raw], cpu[hand] / cpu[raw], wall[ad], wall[ad] / wall[raw], cpu[ad] / cpu[raw]
        }
      }' "$out/odeint.txt" | tee "$out/odeint_ratios.txt"
 echo "peers: results in $out (peers.txt, scipy.csv, peers_*.png, derive.txt, odeint_ratios.txt)"
