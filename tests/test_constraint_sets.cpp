@@ -5,7 +5,6 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <numbers>
 #include <string>
 
 #include "constrained_helpers.hpp"
@@ -17,7 +16,6 @@ namespace {
 
 using namespace lagrangian;
 using namespace lagrangian::models;
-constexpr double kPi = std::numbers::pi;
 
 using test_helpers::pendulum_cartesian_state;
 
