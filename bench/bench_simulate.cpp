@@ -24,13 +24,8 @@ namespace {
 namespace odeint = boost::numeric::odeint;
 constexpr double kRtol = 1e-10, kAtol = 1e-12, kTEnd = 20.0, kDt = 1e-3;
 
-lagrangian::State<2> initial() {
-  lagrangian::State<2> s;
-  s.q << 2.0, 2.0;
-  return s;
-}
-
-using X = std::array<double, 4>;
+using X = std::array<double, 4>;   // double pendulum: [θ1, θ2, θ̇1, θ̇2]
+using X1 = std::array<double, 2>;  // oscillator: [x, ẋ]
 
 /// ẋ = [q̇; q̈] with the hand-coded q̈.
 struct HandRhs {
@@ -41,93 +36,6 @@ struct HandRhs {
     bench::double_pendulum_qdd(*p, x.data(), x.data() + 2, dxdt.data() + 2);
   }
 };
-
-template <class Stepper>
-void raw_adaptive(benchmark::State& st) {
-  bench::HandDoublePendulum p;
-  benchmark::DoNotOptimize(p);  // parameters from memory, as in simulate(): not compile-time constants
-  std::size_t steps = 0;
-  for (auto _ : st) {
-    X x = {2.0, 2.0, 0.0, 0.0};
-    using Controlled = odeint::controlled_runge_kutta<Stepper>;
-    Controlled stepper{typename Controlled::error_checker_type(kAtol, kRtol)};
-    steps = odeint::integrate_adaptive(stepper, HandRhs{&p}, x, 0.0, kTEnd, kDt);
-    benchmark::DoNotOptimize(x);
-  }
-  st.counters["steps"] = static_cast<double>(steps);
-}
-
-void BM_RawOdeint_Dopri5_DoublePendulum(benchmark::State& st) { raw_adaptive<odeint::runge_kutta_dopri5<X>>(st); }
-BENCHMARK(BM_RawOdeint_Dopri5_DoublePendulum)->Unit(benchmark::kMillisecond);
-
-void BM_RawOdeint_Fehlberg78_DoublePendulum(benchmark::State& st) {
-  raw_adaptive<odeint::runge_kutta_fehlberg78<X>>(st);
-}
-BENCHMARK(BM_RawOdeint_Fehlberg78_DoublePendulum)->Unit(benchmark::kMillisecond);
-
-void BM_RawOdeint_Rk4_DoublePendulum(benchmark::State& st) {
-  bench::HandDoublePendulum p;
-  benchmark::DoNotOptimize(p);  // parameters from memory, as in simulate(): not compile-time constants
-  const auto n = static_cast<std::size_t>(kTEnd / kDt + 0.5);
-  for (auto _ : st) {
-    X x = {2.0, 2.0, 0.0, 0.0};
-    odeint::integrate_n_steps(odeint::runge_kutta4<X>{}, HandRhs{&p}, x, 0.0, kDt, n);
-    benchmark::DoNotOptimize(x);
-  }
-  st.counters["steps"] = static_cast<double>(n);
-}
-BENCHMARK(BM_RawOdeint_Rk4_DoublePendulum)->Unit(benchmark::kMillisecond);
-
-template <class Model>
-void run_simulate(benchmark::State& st, const Model& p, const char* method) {
-  lagrangian::SimulationOptions o;
-  o.method = method;
-  o.t_end = kTEnd;
-  o.rtol = kRtol;
-  o.atol = kAtol;
-  o.dt = kDt;
-  o.output_interval = -1;  // first and last state only, as the raw loop
-  lagrangian::RunReport r;
-  for (auto _ : st) {
-    r = lagrangian::simulate(p, initial(), o);
-    benchmark::DoNotOptimize(r.steps);
-  }
-  st.counters["steps"] = static_cast<double>(r.steps);
-  st.counters["rejected"] = static_cast<double>(r.rejected_steps);
-}
-
-void BM_Simulate_HandRHS_Dopri5_DoublePendulum(benchmark::State& st) {
-  const bench::HandDoublePendulum model;
-  run_simulate(st, model, "dopri5");
-}
-BENCHMARK(BM_Simulate_HandRHS_Dopri5_DoublePendulum)->Unit(benchmark::kMillisecond);
-
-void BM_Simulate_AD_Dopri5_DoublePendulum(benchmark::State& st) {
-  run_simulate(st, lagrangian::models::DoublePendulum{}, "dopri5");
-}
-BENCHMARK(BM_Simulate_AD_Dopri5_DoublePendulum)->Unit(benchmark::kMillisecond);
-
-void BM_Simulate_HandRHS_Fehlberg78_DoublePendulum(benchmark::State& st) {
-  const bench::HandDoublePendulum model;
-  run_simulate(st, model, "fehlberg78");
-}
-BENCHMARK(BM_Simulate_HandRHS_Fehlberg78_DoublePendulum)->Unit(benchmark::kMillisecond);
-
-void BM_Simulate_AD_Fehlberg78_DoublePendulum(benchmark::State& st) {
-  run_simulate(st, lagrangian::models::DoublePendulum{}, "fehlberg78");
-}
-BENCHMARK(BM_Simulate_AD_Fehlberg78_DoublePendulum)->Unit(benchmark::kMillisecond);
-
-void BM_Simulate_HandRHS_Rk4_DoublePendulum(benchmark::State& st) {
-  const bench::HandDoublePendulum model;
-  run_simulate(st, model, "rk4");
-}
-BENCHMARK(BM_Simulate_HandRHS_Rk4_DoublePendulum)->Unit(benchmark::kMillisecond);
-
-void BM_Simulate_AD_Rk4_DoublePendulum(benchmark::State& st) {
-  run_simulate(st, lagrangian::models::DoublePendulum{}, "rk4");
-}
-BENCHMARK(BM_Simulate_AD_Rk4_DoublePendulum)->Unit(benchmark::kMillisecond);
 
 // The worst case for the driver: a right-hand side of one multiply. The
 // harmonic oscillator m ẍ = −k x (m = 0.5 kg, k = 2 N/m) from x = 0.7 m,
@@ -142,8 +50,6 @@ struct HandOscillator : lagrangian::models::HarmonicOscillator {
   }
 };
 
-using X1 = std::array<double, 2>;
-
 struct OscillatorRhs {
   const HandOscillator* p;
   void operator()(const X1& x, X1& dxdt, double) const {
@@ -152,92 +58,119 @@ struct OscillatorRhs {
   }
 };
 
-template <class Stepper>
-void raw_oscillator(benchmark::State& st) {
-  HandOscillator p(0.5, 2.0);
-  benchmark::DoNotOptimize(p);
+/// The two systems: the hand-coded model and Odeint system, the AD model,
+/// and the initial state as Odeint's x and as simulate()'s State.
+struct DoublePendulumCase {
+  using Hand = bench::HandDoublePendulum;
+  using Rhs = HandRhs;
+  static Hand hand() { return Hand(); }
+  static lagrangian::models::DoublePendulum ad() { return lagrangian::models::DoublePendulum{}; }
+  static X x0() { return {2.0, 2.0, 0.0, 0.0}; }
+};
+
+struct OscillatorCase {
+  using Hand = HandOscillator;
+  using Rhs = OscillatorRhs;
+  static Hand hand() { return Hand(0.5, 2.0); }
+  static lagrangian::models::HarmonicOscillator ad() { return lagrangian::models::HarmonicOscillator(0.5, 2.0); }
+  static X1 x0() { return {0.7, -0.3}; }
+};
+
+/// Raw Odeint: integrate_adaptive with the controlled Stepper, or rk4's
+/// integrate_n_steps, on the hand-coded system.
+template <class Case, class Stepper>
+void raw_adaptive(benchmark::State& st) {
+  auto p = Case::hand();
+  benchmark::DoNotOptimize(p);  // parameters from memory, as in simulate(): not compile-time constants
   std::size_t steps = 0;
   for (auto _ : st) {
-    X1 x = {0.7, -0.3};
+    auto x = Case::x0();
     using Controlled = odeint::controlled_runge_kutta<Stepper>;
     Controlled stepper{typename Controlled::error_checker_type(kAtol, kRtol)};
-    steps = odeint::integrate_adaptive(stepper, OscillatorRhs{&p}, x, 0.0, kTEnd, kDt);
+    steps = odeint::integrate_adaptive(stepper, typename Case::Rhs{&p}, x, 0.0, kTEnd, kDt);
     benchmark::DoNotOptimize(x);
   }
   st.counters["steps"] = static_cast<double>(steps);
 }
 
-void BM_RawOdeint_Dopri5_Oscillator(benchmark::State& st) { raw_oscillator<odeint::runge_kutta_dopri5<X1>>(st); }
-BENCHMARK(BM_RawOdeint_Dopri5_Oscillator)->Unit(benchmark::kMillisecond);
-
-void BM_RawOdeint_Fehlberg78_Oscillator(benchmark::State& st) {
-  raw_oscillator<odeint::runge_kutta_fehlberg78<X1>>(st);
-}
-BENCHMARK(BM_RawOdeint_Fehlberg78_Oscillator)->Unit(benchmark::kMillisecond);
-
-void BM_RawOdeint_Rk4_Oscillator(benchmark::State& st) {
-  HandOscillator p(0.5, 2.0);
-  benchmark::DoNotOptimize(p);
+template <class Case>
+void raw_rk4(benchmark::State& st) {
+  auto p = Case::hand();
+  benchmark::DoNotOptimize(p);  // parameters from memory, as in simulate(): not compile-time constants
+  using XC = decltype(Case::x0());
   const auto n = static_cast<std::size_t>(kTEnd / kDt + 0.5);
   for (auto _ : st) {
-    X1 x = {0.7, -0.3};
-    odeint::integrate_n_steps(odeint::runge_kutta4<X1>{}, OscillatorRhs{&p}, x, 0.0, kDt, n);
+    XC x = Case::x0();
+    odeint::integrate_n_steps(odeint::runge_kutta4<XC>{}, typename Case::Rhs{&p}, x, 0.0, kDt, n);
     benchmark::DoNotOptimize(x);
   }
   st.counters["steps"] = static_cast<double>(n);
 }
-BENCHMARK(BM_RawOdeint_Rk4_Oscillator)->Unit(benchmark::kMillisecond);
 
-template <class Model>
-void simulate_oscillator(benchmark::State& st, const Model& p, const char* method) {
+/// simulate() from the same initial state, samples only at the two ends.
+template <class Case, class Model>
+void run_simulate(benchmark::State& st, const Model& model, const char* method) {
   lagrangian::SimulationOptions o;
   o.method = method;
   o.t_end = kTEnd;
   o.rtol = kRtol;
   o.atol = kAtol;
   o.dt = kDt;
-  o.output_interval = -1;
-  lagrangian::State<1> s;
-  s.q[0] = 0.7;
-  s.qd[0] = -0.3;
+  o.output_interval = -1;  // first and last state only, as the raw loop
+  constexpr int n = Model::dof;
+  const auto x0 = Case::x0();
+  lagrangian::State<n> s;
+  for (int i = 0; i < n; ++i) {
+    s.q[i] = x0[static_cast<std::size_t>(i)];
+    s.qd[i] = x0[static_cast<std::size_t>(n + i)];
+  }
   lagrangian::RunReport r;
   for (auto _ : st) {
-    r = lagrangian::simulate(p, s, o);
+    r = lagrangian::simulate(model, s, o);
     benchmark::DoNotOptimize(r.steps);
   }
   st.counters["steps"] = static_cast<double>(r.steps);
   st.counters["rejected"] = static_cast<double>(r.rejected_steps);
 }
 
-void BM_Simulate_HandRHS_Dopri5_Oscillator(benchmark::State& st) {
-  simulate_oscillator(st, HandOscillator(0.5, 2.0), "dopri5");
+template <class Case>
+void hand_simulate(benchmark::State& st, const char* method) {
+  run_simulate<Case>(st, Case::hand(), method);
 }
-BENCHMARK(BM_Simulate_HandRHS_Dopri5_Oscillator)->Unit(benchmark::kMillisecond);
 
-void BM_Simulate_AD_Dopri5_Oscillator(benchmark::State& st) {
-  simulate_oscillator(st, lagrangian::models::HarmonicOscillator(0.5, 2.0), "dopri5");
+template <class Case>
+void ad_simulate(benchmark::State& st, const char* method) {
+  run_simulate<Case>(st, Case::ad(), method);
 }
-BENCHMARK(BM_Simulate_AD_Dopri5_Oscillator)->Unit(benchmark::kMillisecond);
 
-void BM_Simulate_HandRHS_Fehlberg78_Oscillator(benchmark::State& st) {
-  simulate_oscillator(st, HandOscillator(0.5, 2.0), "fehlberg78");
-}
-BENCHMARK(BM_Simulate_HandRHS_Fehlberg78_Oscillator)->Unit(benchmark::kMillisecond);
+// Benchmark names: BM_{RawOdeint,Simulate_HandRHS,Simulate_AD}_{Dopri5,Fehlberg78,Rk4}_{DoublePendulum,Oscillator}
+// (scripts/count-instructions and bench/peers/run_peers.sh select them by name).
+#define LAGRANGIAN_DRIVER_BENCHMARKS(System, Case, Xs)                                                      \
+  void BM_RawOdeint_Dopri5_##System(benchmark::State& st) {                                                \
+    raw_adaptive<Case, odeint::runge_kutta_dopri5<Xs>>(st);                                               \
+  }                                                                                                         \
+  void BM_RawOdeint_Fehlberg78_##System(benchmark::State& st) {                                            \
+    raw_adaptive<Case, odeint::runge_kutta_fehlberg78<Xs>>(st);                                           \
+  }                                                                                                         \
+  void BM_RawOdeint_Rk4_##System(benchmark::State& st) { raw_rk4<Case>(st); }                               \
+  void BM_Simulate_HandRHS_Dopri5_##System(benchmark::State& st) { hand_simulate<Case>(st, "dopri5"); }      \
+  void BM_Simulate_AD_Dopri5_##System(benchmark::State& st) { ad_simulate<Case>(st, "dopri5"); }            \
+  void BM_Simulate_HandRHS_Fehlberg78_##System(benchmark::State& st) { hand_simulate<Case>(st, "fehlberg78"); } \
+  void BM_Simulate_AD_Fehlberg78_##System(benchmark::State& st) { ad_simulate<Case>(st, "fehlberg78"); }    \
+  void BM_Simulate_HandRHS_Rk4_##System(benchmark::State& st) { hand_simulate<Case>(st, "rk4"); }            \
+  void BM_Simulate_AD_Rk4_##System(benchmark::State& st) { ad_simulate<Case>(st, "rk4"); }                  \
+  BENCHMARK(BM_RawOdeint_Dopri5_##System)->Unit(benchmark::kMillisecond);                                  \
+  BENCHMARK(BM_RawOdeint_Fehlberg78_##System)->Unit(benchmark::kMillisecond);                              \
+  BENCHMARK(BM_RawOdeint_Rk4_##System)->Unit(benchmark::kMillisecond);                                     \
+  BENCHMARK(BM_Simulate_HandRHS_Dopri5_##System)->Unit(benchmark::kMillisecond);                           \
+  BENCHMARK(BM_Simulate_AD_Dopri5_##System)->Unit(benchmark::kMillisecond);                                \
+  BENCHMARK(BM_Simulate_HandRHS_Fehlberg78_##System)->Unit(benchmark::kMillisecond);                       \
+  BENCHMARK(BM_Simulate_AD_Fehlberg78_##System)->Unit(benchmark::kMillisecond);                            \
+  BENCHMARK(BM_Simulate_HandRHS_Rk4_##System)->Unit(benchmark::kMillisecond);                              \
+  BENCHMARK(BM_Simulate_AD_Rk4_##System)->Unit(benchmark::kMillisecond)
 
-void BM_Simulate_AD_Fehlberg78_Oscillator(benchmark::State& st) {
-  simulate_oscillator(st, lagrangian::models::HarmonicOscillator(0.5, 2.0), "fehlberg78");
-}
-BENCHMARK(BM_Simulate_AD_Fehlberg78_Oscillator)->Unit(benchmark::kMillisecond);
-
-void BM_Simulate_HandRHS_Rk4_Oscillator(benchmark::State& st) {
-  simulate_oscillator(st, HandOscillator(0.5, 2.0), "rk4");
-}
-BENCHMARK(BM_Simulate_HandRHS_Rk4_Oscillator)->Unit(benchmark::kMillisecond);
-
-void BM_Simulate_AD_Rk4_Oscillator(benchmark::State& st) {
-  simulate_oscillator(st, lagrangian::models::HarmonicOscillator(0.5, 2.0), "rk4");
-}
-BENCHMARK(BM_Simulate_AD_Rk4_Oscillator)->Unit(benchmark::kMillisecond);
+LAGRANGIAN_DRIVER_BENCHMARKS(DoublePendulum, DoublePendulumCase, X);
+LAGRANGIAN_DRIVER_BENCHMARKS(Oscillator, OscillatorCase, X1);
 
 }  // namespace
 
