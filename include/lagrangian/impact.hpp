@@ -53,6 +53,11 @@
 
 namespace lagrangian {
 
+/// Time tolerance of located events (impacts, lift-offs, watched events):
+/// the TOMS 748 bracket is narrowed to event_time_tolerance · max(1 s, |t|),
+/// i.e. 1e-12 relative with an absolute floor of 1e-12 s.
+inline constexpr double event_time_tolerance = 1e-12;
+
 /// Which zero crossings of a watched function count.
 enum class Direction {
   falling,  ///< from positive to negative

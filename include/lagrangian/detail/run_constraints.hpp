@@ -1,0 +1,216 @@
+#pragma once
+// RunState's members for constrained models: consistency and rank at t0,
+// projection or monitoring after each step, conditioning of the constraint
+// Jacobian, multipliers at samples. Included by run_state.hpp.
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "lagrangian/constraints.hpp"
+#include "lagrangian/detail/run_state.hpp"
+#include "lagrangian/errors.hpp"
+
+namespace lagrangian::detail {
+
+/// Constrained models: projection (when chosen) and residual monitoring
+/// after an accepted step ending at t with state x; true when x changed.
+template <class M, class Observer>
+bool RunState<M, Observer>::stabilize(double* x, double t, bool allow_projection) {
+  if constexpr (!has_constraints_v<M>) {
+    (void)x;
+    (void)t;
+    (void)allow_projection;
+    return false;
+  } else {
+    ConstraintReport& cr = report_.constraints;
+    constexpr bool only_contacts = holonomic_count_v<M> + pfaffian_count_v<M> == 0;
+    if (only_contacts && (active() & unilateral_mask_v<M>) == 0) return false;  // free flight: nothing to hold
+    Vec<double, n> q, qd;
+    split_state(x, q, qd);
+    bool changed = false;
+    if (allow_projection && opt_.stabilization == Stabilization::projection) {
+      const auto start = std::chrono::steady_clock::now();
+      try {
+        cr.projection_iterations += static_cast<std::uint64_t>(
+            project_positions(model_, q, t, opt_.projection_tolerance, 20, active()));
+      } catch (const ConstraintError& e) {
+        throw SimulationError(std::string("projection failed: ") + e.what(), t);
+      }
+      project_velocities(model_, ws_, q, qd, t, active());
+      ++cr.projections;
+      for (int i = 0; i < n; ++i) {
+        changed = changed || x[i] != q[i] || x[n + i] != qd[i];
+        x[i] = q[i];
+        x[n + i] = qd[i];
+      }
+      cr.stabilization_time_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+    auto cs = constraint_state(model_, q, qd, t);
+    for (int j = 0; j < unilateral_count_v<M>; ++j) {
+      const int row = holonomic_count_v<M> + j;
+      if (!((active() >> j) & 1u) && cs.position[row] < -1e-9 * (1.0 + q.template lpNorm<Eigen::Infinity>())) {
+        std::ostringstream os;
+        os.precision(17);
+        os << "unilateral constraint " << cr.names[static_cast<std::size_t>(row)] << " is violated at t = " << t
+           << " (g = " << cs.position[row]
+           << ") without a located contact event; the step passed through the contact (try a smaller dt or "
+              "tighter tolerances)";
+        throw SimulationError(os.str(), t);
+      }
+    }
+    if constexpr (holonomic_count_v<M> + pfaffian_count_v<M> > 0) monitor_conditioning(cs, t);
+    drop_inactive<M>(cs, active());
+    const double pos = position_rows_v<M> > 0
+                           ? cs.position.head(position_rows_v<M>).template lpNorm<Eigen::Infinity>()
+                           : 0.0;
+    const double vel = cs.velocity.template lpNorm<Eigen::Infinity>();
+    cr.max_position_residual = std::max(cr.max_position_residual, pos);
+    cr.max_velocity_residual = std::max(cr.max_velocity_residual, vel);
+    cr.final_position_residual = pos;
+    cr.final_velocity_residual = vel;
+    return changed;
+  }
+}
+
+/// Tracks σ_r/σ_1 of the bilateral constraint Jacobian (r = rank at t0)
+/// at accepted steps and samples, and warns once when it falls below
+/// 1e-3: a singular configuration is near (the multipliers grow without
+/// bound there, and the motion may switch assembly branches).
+template <class M, class Observer>
+template <class CS>
+void RunState<M, Observer>::monitor_conditioning(CS cs, double t) {
+  ConstraintReport& cr = report_.constraints;
+  drop_inactive<M>(cs, ActiveSet{0});
+  std::vector<double>& sv = singular_values_;
+  detail::numeric_rank(cs.jacobian, &sv);
+  const int r = cr.initial_rank;
+  if (r < 1 || sv.empty() || !(sv[0] > 0)) return;
+  const double ratio = static_cast<std::size_t>(r) <= sv.size() ? sv[static_cast<std::size_t>(r - 1)] / sv[0] : 0.0;
+  if (ratio < cr.min_conditioning) {
+    cr.min_conditioning = ratio;
+    cr.min_conditioning_time = t;
+  }
+  if (ratio < 1e-3 && !warned_conditioning_) {
+    warned_conditioning_ = true;
+    std::ostringstream os;
+    os.precision(6);
+    os << "near-singular configuration at t = " << t << ": the constraint Jacobian's singular values fall to "
+       << ratio << " of the largest (rank " << r << " at t0); multipliers may be large there";
+    cr.warnings.push_back(os.str());
+  }
+}
+
+template <class M, class Observer>
+void RunState<M, Observer>::start_constraints(State<n>& x0, Columns& columns) {
+  if constexpr (has_constraints_v<M>) {
+    ConstraintReport& cr = report_.constraints;
+    report_.constrained = true;
+    cr.names = constraint_names(model_);
+    columns.constraints = cr.names;
+    cr.stabilization = to_string(opt_.stabilization);
+    cr.baumgarte_omega = opt_.stabilization == Stabilization::baumgarte ? opt_.baumgarte_omega : 0.0;
+    const DofReport dof = dof_report(model_, x0, opt_.t0);
+    cr.initial_rank = cr.min_rank = dof.velocity_rank;
+    if constexpr (M::dof == Dynamic) static_assert(M::dof != Dynamic, "constraints need a compile-time dof");
+    // Full rank leaves no motion unless the constraints themselves move (a
+    // prescribed, rheonomic motion with 0 degrees of freedom).
+    if (dof.holonomic_rank >= n && constraints_workless(model_, x0, opt_.t0))
+      throw ConstraintError("the holonomic constraints fix all " + std::to_string(n) +
+                            " coordinates (rank " + std::to_string(dof.holonomic_rank) + "): no motion is left");
+    for (const auto& r : dof.redundant)
+      cr.warnings.push_back("constraint " + r + " is redundant at t0 (its Jacobian row depends on earlier rows)");
+    auto cs = constraint_state(model_, x0.q, x0.qd, opt_.t0);
+    const double qs = 1.0 + x0.q.template lpNorm<Eigen::Infinity>();
+    const double vs = 1.0 + x0.qd.template lpNorm<Eigen::Infinity>();
+    ActiveSet active = 0;
+    if constexpr (unilateral_count_v<M> > 0) {
+      restitution_ = restitution_coefficients(model_);
+      approach_max_.fill(0.0);
+      last_impact_.fill(-std::numeric_limits<double>::infinity());
+      bool approaching = false;
+      for (int j = 0; j < unilateral_count_v<M>; ++j) {
+        const int row = holonomic_count_v<M> + j;
+        const double g = cs.position[row], gd = cs.velocity[row];
+        if (g < -1e-9 * qs) {
+          std::ostringstream os;
+          os.precision(17);
+          os << "unilateral constraint " << cr.names[static_cast<std::size_t>(row)] << " is violated at t0: g = " << g
+             << " (the bodies overlap); start on or outside the admissible side";
+          throw ConstraintError(os.str());
+        }
+        if (std::abs(g) <= 1e-9 * qs) {
+          if (gd < -opt_.contact_touch_speed) {
+            approaching = true;  // an impact at t0
+          } else if (gd <= opt_.contact_touch_speed) {
+            active |= ActiveSet{1} << j;  // resting contact
+          }
+        }
+      }
+      if (ctx_) ctx_->active = active;
+      if (approaching) {
+        if constexpr (!has_restitution_v<M>) {
+          throw ConstraintError("a unilateral constraint is approached at t0 (an impact) but the model declares no "
+                                "restitution(); start at rest relative to it, or declare restitution()");
+        }
+        StateBuffer<n> xb = make_buffer<n>(size_);
+        for (int i = 0; i < size_; ++i) {
+          xb[static_cast<std::size_t>(i)] = x0.q[i];
+          xb[static_cast<std::size_t>(size_ + i)] = x0.qd[i];
+        }
+        for (int j = 0; j < unilateral_count_v<M>; ++j) {
+          const int row = holonomic_count_v<M> + j;
+          if (std::abs(cs.position[row]) <= 1e-9 * qs && cs.velocity[row] < -opt_.contact_touch_speed) {
+            resolve_contacts(xb.data(), opt_.t0, j);
+            break;
+          }
+        }
+        split_state(xb.data(), x0.q, x0.qd);
+        active = ctx_ ? ctx_->active : active;
+        cs = constraint_state(model_, x0.q, x0.qd, opt_.t0);
+      }
+    }
+    if (ctx_) ctx_->active = active;
+    drop_inactive<M>(cs, active);
+    for (int i = 0; i < constraint_count_v<M>; ++i) {
+      const bool holo = i < position_rows_v<M>;
+      if ((holo && !(std::abs(cs.position[i]) <= 1e-9 * qs)) || !(std::abs(cs.velocity[i]) <= 1e-9 * vs)) {
+        std::ostringstream os;
+        os.precision(17);
+        os << "initial state violates constraint " << cr.names[static_cast<std::size_t>(i)] << ": "
+           << (holo ? "g = " : "") << (holo ? cs.position[i] : 0.0) << (holo ? ", " : "")
+           << "velocity residual = " << cs.velocity[i]
+           << "; use consistent_initial_state() to find the nearest consistent state";
+        throw ConstraintError(os.str());
+      }
+    }
+  }
+}
+
+template <class M, class Observer>
+void RunState<M, Observer>::sample_constraints(Sample<n>& s) {
+  if constexpr (has_constraints_v<M>) {
+    Vec<double, n> qdd;
+    constrained_accelerations(model_, ws_, cw_, s.q, s.qd, s.t, qdd, 0.0, active());
+    s.multipliers = cw_.multipliers;
+    s.constraint_forces = cw_.constraint_forces;
+    auto cs = constraint_state(model_, s.q, s.qd, s.t);
+    if constexpr (holonomic_count_v<M> + pfaffian_count_v<M> > 0) monitor_conditioning(cs, s.t);
+    drop_inactive<M>(cs, ActiveSet{0});  // rank of the bilateral constraints
+    const int rank = detail::numeric_rank(cs.jacobian);
+    ConstraintReport& cr = report_.constraints;
+    if (rank < cr.min_rank) {
+      std::ostringstream os;
+      os.precision(10);
+      os << "rank of the constraint Jacobian dropped from " << cr.initial_rank << " to " << rank << " at t = " << s.t
+         << " (singular configuration)";
+      cr.warnings.push_back(os.str());
+      cr.min_rank = rank;
+    }
+  }
+}
+
+}  // namespace lagrangian::detail

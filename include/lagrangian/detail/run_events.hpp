@@ -1,0 +1,277 @@
+#pragma once
+// RunState's members for events: location of contacts closing, lift-offs
+// and watched events inside a step, and the sequential resolution of
+// impacts with the Zeno rule. Included by run_state.hpp.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "lagrangian/detail/roots.hpp"
+#include "lagrangian/detail/run_state.hpp"
+#include "lagrangian/errors.hpp"
+#include "lagrangian/impact.hpp"
+
+namespace lagrangian::detail {
+
+// Instantiated only for models with events (called from handle_events).
+template <class M, class Observer>
+bool RunState<M, Observer>::handle_events_erased(double t_old, const double* x_old, double& t, double* x, Interpolator interp) {
+  auto root = [](const auto& f, double a, double b, double fa, double fb) {
+    return bracket_root(time_function(f), a, b, fa, fb, event_time_tolerance);
+  };
+  // Candidate: kind 0 release, 1 contact (at the step start), 2 contact, 3 watched.
+  int best_kind = -1, best_index = -1;
+  double best_t = std::numeric_limits<double>::infinity();
+  auto consider = [&](double tc, int kind, int index) {
+    if (tc < best_t) {
+      best_t = tc;
+      best_kind = kind;
+      best_index = index;
+    }
+  };
+  std::vector<double>& buf = event_buf_;
+  if constexpr (unilateral_count_v<M> > 0) {
+    const ActiveSet act = ctx_->active;
+    // Lift-off: an active contact whose multiplier is negative at the step end.
+    if ((act & unilateral_mask_v<M>) != 0) {
+      auto multipliers_at = [&](const double* xs, double ts) {
+        Vec<double, n> q, qd, qdd;
+        split_state(xs, q, qd);
+        constrained_accelerations(model_, ws_, cw_, q, qd, ts, qdd, 0.0, act);
+        return cw_.multipliers;
+      };
+      const auto lam_end = multipliers_at(x, t);
+      for (int j = 0; j < unilateral_count_v<M>; ++j) {
+        const int row = holonomic_count_v<M> + j;
+        if (!((act >> j) & 1u) || !(lam_end[row] < 0)) continue;
+        auto f = [&](double ts) {
+          if (ts == t) return lam_end[row];
+          interp(ts, buf.data());
+          return multipliers_at(buf.data(), ts)[row];
+        };
+        const double fa = f(t_old);
+        double tj = t_old;
+        if (fa > 0) tj = root(f, t_old, t, fa, lam_end[row]).second;
+        consider(tj, 0, j);  // upper end: λ < 0 from there on
+      }
+    }
+    // Closing contacts among the inactive ones.
+    Vec<double, unilateral_count_v<M>> ga, ra, gb, rb;
+    gaps_at(x_old, t_old, ga, ra);
+    gaps_at(x, t, gb, rb);
+    const double touch = contact_touch_tolerance(x);
+    for (int j = 0; j < unilateral_count_v<M>; ++j) {
+      if ((act >> j) & 1u) continue;
+      if (ga[j] < -touch) {
+        std::ostringstream os;
+        os.precision(17);
+        os << "contact " << contact_name(j) << " is penetrated at t = " << t_old << " (gap " << ga[j]
+           << ") without a located closing; the run was stopped";
+        throw SimulationError(os.str(), t_old);
+      }
+      // φ_j and φ̇_j at a time inside the step.
+      auto gap_rate = [&](double ts) {
+        if (ts == t) return std::pair{gb[j], rb[j]};
+        if (ts == t_old) return std::pair{ga[j], ra[j]};
+        interp(ts, buf.data());
+        Vec<double, unilateral_count_v<M>> g, r;
+        gaps_at(buf.data(), ts, g, r);
+        return std::pair{g[j], r[j]};
+      };
+      auto gap = [&](double ts) { return gap_rate(ts).first; };
+      auto rate = [&](double ts) { return gap_rate(ts).second; };
+      // The bracket [lo, hi] of a closing: φ(lo) > 0 > φ(hi).
+      double lo = t_old, hi = t;
+      bool crossing = ga[j] > 0 && gb[j] < 0;
+      auto rate_root = [&] {
+        const auto r = root(rate, t_old, t, ra[j], rb[j]);
+        return 0.5 * (r.first + r.second);
+      };
+      if (!crossing && ga[j] >= 0 && gb[j] >= 0 && ra[j] < 0 && rb[j] > 0) {
+        hi = rate_root();  // a dip inside the step: below zero at the gap's minimum?
+        crossing = gap(hi) < 0;
+      } else if (!crossing && ga[j] <= 0 && ra[j] > 0 && gb[j] < 0 && rb[j] < 0) {
+        lo = rate_root();  // leaves the contact and comes back within the step
+        crossing = gap(lo) > 0;
+      }
+      if (crossing) {
+        const double tj = root(gap, lo, hi, gap(lo), gap(hi)).first;
+        // A slow touch that stays within the tolerance is not an impact.
+        if (-rate(tj) <= opt_.contact_touch_speed && gb[j] >= -touch) continue;
+        consider(tj, 2, j);  // lower end: φ ≥ 0, just before contact
+      } else if ((ga[j] <= touch && ra[j] < -opt_.contact_touch_speed) ||
+                 (ga[j] < 0 && gb[j] < -touch && gb[j] < ga[j])) {
+        consider(t_old, 1, j);  // touching at the step start and approaching or pressing in
+      }
+    }
+  }
+  if constexpr (event_count_v<M> > 0) {
+    Vec<double, event_count_v<M>> fa = watched_at(x_old, t_old), fb = watched_at(x, t);
+    for (int k = 0; k < event_count_v<M>; ++k) {
+      const Direction d = specs_[static_cast<std::size_t>(k)].direction;
+      const bool falls = fa[k] > 0 && fb[k] <= 0, rises = fa[k] < 0 && fb[k] >= 0;
+      if (!((falls && d != Direction::rising) || (rises && d != Direction::falling))) continue;
+      auto f = [&](double ts) {
+        if (ts == t) return fb[k];
+        interp(ts, buf.data());
+        return watched_at(buf.data(), ts)[k];
+      };
+      consider(root(f, t_old, t, fa[k], fb[k]).second, 3, k);
+    }
+  }
+  if (best_kind < 0) return false;
+  // Guard against an event that changes nothing being found again and again.
+  if (best_t == last_event_time_ && best_t == t_old) {
+    if (++events_without_progress_ > 100) {
+      std::ostringstream os;
+      os.precision(17);
+      os << "event handling made no progress at t = " << best_t << " (more than 100 events at this instant)";
+      throw SimulationError(os.str(), best_t);
+    }
+  } else {
+    events_without_progress_ = 0;
+  }
+  last_event_time_ = best_t;
+  if (best_t < t) {
+    interp(best_t, buf.data());
+    std::copy(buf.begin(), buf.end(), x);
+    t = best_t;
+  }
+  if (best_kind == 0) {
+    if constexpr (unilateral_count_v<M> > 0) {
+      ctx_->active &= ~(ActiveSet{1} << best_index);
+      log_simple(EventKind::release, contact_name(best_index), t, x);
+    }
+  } else if (best_kind == 1 || best_kind == 2) {
+    resolve_contacts(x, t, best_index);
+  } else {
+    const EventSpec& s = specs_[static_cast<std::size_t>(best_index)];
+    log_simple(EventKind::watched, s.name, t, x);
+    if (s.action == EventAction::stop) {
+      log_simple(EventKind::stop, s.name, t, x);
+      stopped_ = true;
+      report_.stopped_at = t;
+      report_.stopped_by = s.name;
+    }
+  }
+  return true;
+}
+
+/// Resolves every contact that is touching (|φ| within the touch
+/// tolerance) and approaching faster than contact_touch_speed at (x, t),
+/// one pair at a time: the one approaching fastest first, by Newton's law
+/// of restitution (apply_impact), until none approaches (the sequential
+/// rule for simultaneous impacts; each step conserves momentum, and kinetic
+/// energy when e = 1). Zeno accumulations are resolved plastically (see
+/// SimulationOptions::zeno_speed_ratio). Afterwards the contacts that took
+/// part (and `trigger`) are resting (active) when they do not separate,
+/// and active contacts that separate are released.
+template <class M, class Observer>
+void RunState<M, Observer>::resolve_contacts(double* x, double t, int trigger) {
+  if constexpr (unilateral_count_v<M> > 0) {
+    constexpr int u = unilateral_count_v<M>;
+    Vec<double, n> q, qd;
+    split_state(x, q, qd);
+    const double touch = contact_touch_tolerance(x);
+    Vec<double, u> g, r;
+    std::array<bool, u> involved{};
+    std::array<bool, u> rested{};
+    involved[static_cast<std::size_t>(trigger)] = true;
+    const int max_impacts = 1000 * u;
+    int count = 0;
+    for (;; ++count) {
+      contact_gaps(model_, q, qd, t, g, r);
+      int j = -1;
+      for (int i = 0; i < u; ++i)
+        if ((i == trigger || g[i] <= touch) && r[i] < -opt_.contact_touch_speed && (j < 0 || r[i] < r[j])) j = i;
+      if (j < 0) break;
+      if (count >= max_impacts) {
+        std::ostringstream os;
+        os.precision(17);
+        os << "simultaneous impacts at t = " << t << " did not settle after " << max_impacts
+           << " pairwise impacts (contact " << contact_name(j) << " still approaching at " << -r[j] << ")";
+        throw SimulationError(os.str(), t);
+      }
+      const std::size_t js = static_cast<std::size_t>(j);
+      if constexpr (!has_restitution_v<M>) {
+        std::ostringstream os;
+        os.precision(17);
+        os << "contact " << contact_name(j) << " closed at t = " << t << " with approach speed " << -r[j]
+           << "; the model declares no restitution(), so the impact cannot be resolved";
+        throw SimulationError(os.str(), t);
+      }
+      const double approach = -r[j];
+      // An accumulation needs the forces to press the contact shut
+      // (d²φ/dt² < 0 in free motion); free bodies that graze never rest.
+      const bool zeno = (approach <= opt_.zeno_speed_ratio * approach_max_[js] ||
+                         t - last_impact_[js] <= opt_.zeno_min_interval * std::max(1.0, std::abs(t))) &&
+                        gap_acceleration(q, qd, t, j) < 0;
+      const double e = zeno ? 0.0 : restitution_[js];
+      const double h_before = energy_function(model_, q, qd, t);
+      ImpactResult<n> res;
+      try {
+        res = apply_impact(model_, ws_, q, qd, t, j, e);
+      } catch (const DynamicsError& err) {
+        throw SimulationError(std::string("impact failed: ") + err.what(), t);
+      }
+      approach_max_[js] = std::max(approach_max_[js], approach);
+      last_impact_[js] = t;
+      involved[js] = true;
+      rested[js] = zeno;
+      EventRecord rec;
+      rec.t = t;
+      rec.kind = zeno ? EventKind::rest : EventKind::impact;
+      rec.name = contact_name(j);
+      rec.impulse = res.impulse;
+      rec.approach_speed = res.approach_speed;
+      rec.separation_speed = res.separation_speed;
+      rec.kinetic_energy_before = res.kinetic_energy_before;
+      rec.kinetic_energy_after = res.kinetic_energy_after;
+      report_.events.push_back(rec);
+      if (!zeno) ++report_.impacts;
+      report_.impact_energy_loss += res.kinetic_energy_before - res.kinetic_energy_after;
+      shift_reference_energy(q, qd, t, h_before, res.kinetic_energy_after - res.kinetic_energy_before);
+    }
+    contact_gaps(model_, q, qd, t, g, r);
+    ActiveSet& active = ctx_->active;
+    for (int j = 0; j < u; ++j) {
+      const std::size_t js = static_cast<std::size_t>(j);
+      const ActiveSet bit = ActiveSet{1} << j;
+      const bool resting = (j == trigger || g[j] <= touch) && r[j] <= opt_.contact_touch_speed;
+      if ((active & bit) && !resting) {
+        active &= ~bit;
+        log_simple(EventKind::release, contact_name(j), t, x);
+      } else if (!(active & bit) && involved[js] && resting) {
+        active |= bit;
+        if (!rested[js]) log_simple(EventKind::rest, contact_name(j), t, x);
+      }
+    }
+    for (int i = 0; i < n; ++i) x[n + i] = qd[i];
+  } else {
+    (void)x, (void)t, (void)trigger;
+  }
+}
+
+/// d²φ_j/dt² = G_j q̈ + γ_j with q̈ from the current active set (contact j
+/// itself inactive): negative when the forces press the contact shut.
+template <class M, class Observer>
+double RunState<M, Observer>::gap_acceleration(const Vec<double, n>& q, const Vec<double, n>& qd, double t, int j) {
+  if constexpr (unilateral_count_v<M> > 0) {
+    Vec<double, n> qdd;
+    constrained_accelerations(model_, ws_, cw_, q, qd, t, qdd, 0.0, ctx_->active & ~(ActiveSet{1} << j));
+    const auto cs = constraint_state(model_, q, qd, t);
+    const int row = holonomic_count_v<M> + j;
+    return cs.jacobian.row(row).dot(qdd) + cs.gamma[row];
+  } else {
+    (void)q, (void)qd, (void)t, (void)j;
+    return 0.0;
+  }
+}
+
+}  // namespace lagrangian::detail
