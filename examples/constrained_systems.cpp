@@ -56,7 +56,7 @@ int main() try {
     s.q << std::sin(th), 0.0, -std::cos(th);
     s.qd << 0.0, std::sin(th) * phd, 0.0;
     const RunReport r = run("particle on a sphere", ParticleOnSphere{}, s, 5.0);
-    check(dof_report(ParticleOnSphere{}, s).dof == 2, "3 coordinates − 1 constraint = 2 DOF");
+    check(dof_report(ParticleOnSphere{}, s).degrees_of_freedom == 2, "3 coordinates − 1 constraint = 2 DOF");
     check(r.total_energy_drift_max < 1e-8, "energy conserved");
     State<2> a;
     a.q << th, 0.0;
@@ -89,7 +89,7 @@ int main() try {
     State<4> s;
     s.q << std::sin(1.0), -std::cos(1.0), std::sin(1.0) + std::sin(2.0), -std::cos(1.0) - std::cos(2.0);
     const RunReport r = run("double pendulum, Cartesian", CartesianDoublePendulum{}, s, 5.0);
-    check(dof_report(CartesianDoublePendulum{}, s).dof == 2, "2 degrees of freedom");
+    check(dof_report(CartesianDoublePendulum{}, s).degrees_of_freedom == 2, "2 degrees of freedom");
     check(r.total_energy_drift_max < 1e-8, "energy conserved");
   }
   {  // Knife edge: 3 configuration but 2 velocity degrees of freedom.
@@ -97,7 +97,7 @@ int main() try {
     s.qd << 1.0, 0.0, 0.5;
     const RunReport r = run("knife edge (nonholonomic)", KnifeEdge{}, s, 5.0);
     const DofReport d = dof_report(KnifeEdge{}, s);
-    check(d.dof == 3 && d.velocity_dof == 2, "DOF 3, velocity DOF 2");
+    check(d.degrees_of_freedom == 3 && d.velocity_degrees_of_freedom == 2, "DOF 3, velocity DOF 2");
     check(r.conserved_momenta.size() == 1 && r.conserved_momenta[0].coordinate == "phi",
           "p_phi conserved; p_x, p_y are not (the constraint acts on x, y)");
   }

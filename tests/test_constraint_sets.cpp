@@ -20,27 +20,52 @@ using namespace lagrangian::models;
 using test_helpers::pendulum_cartesian_state;
 
 TEST(Constraints, DegreesOfFreedom) {
-  EXPECT_EQ(dof_report(BeadOnWire{}, State<2>{}).dof, 1);
+  EXPECT_EQ(dof_report(BeadOnWire{}, State<2>{}).degrees_of_freedom, 1);
   State<3> on_sphere;
   on_sphere.q << 0.0, 0.0, -1.0;
   const DofReport sphere = dof_report(ParticleOnSphere{}, on_sphere);
-  EXPECT_EQ(sphere.dof, 2);
+  EXPECT_EQ(sphere.degrees_of_freedom, 2);
   EXPECT_TRUE(sphere.redundant.empty());
   // N = 3 free particles: 3N coordinates, no constraints.
   const auto free3 = make_model<9>(
       "three_particles", {"x1", "y1", "z1", "x2", "y2", "z2", "x3", "y3", "z3"},
       [](const auto&, const auto& qd, const auto&) { return 0.5 * qd.squaredNorm(); },
       [](const auto& q, const auto&) { return 0 * q[0]; });
-  EXPECT_EQ(dof_report(free3, State<9>{}).dof, 9);
+  EXPECT_EQ(dof_report(free3, State<9>{}).degrees_of_freedom, 9);
   State<4> dp;
   dp.q << 0.6, -0.8, 1.4, -1.4;
   const DofReport cdp = dof_report(CartesianDoublePendulum{}, dp);
-  EXPECT_EQ(cdp.dof, 2);
+  EXPECT_EQ(cdp.degrees_of_freedom, 2);
   EXPECT_EQ(cdp.holonomic_rank, 2);
   State<3> ke;
   const DofReport knife = dof_report(KnifeEdge{}, ke);
-  EXPECT_EQ(knife.dof, 3);
+  EXPECT_EQ(knife.degrees_of_freedom, 3);
+  EXPECT_EQ(knife.velocity_degrees_of_freedom, 2);
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wdeprecated-declarations"
+  EXPECT_EQ(knife.dof, 3);  // the old spellings still work
   EXPECT_EQ(knife.velocity_dof, 2);
+#pragma GCC diagnostic pop
+}
+
+TEST(Constraints, ConvenienceFormNeedsNoHandSpelledWorkspace) {
+  // A bob of mass m on a rod of length l passing the bottom (0, −l) at speed
+  // v: q̈ = (0, v²/l), the centripetal acceleration, and the rod's tension
+  // T = m (g + v²/l) along −r̂, i.e. λ = −T for g = |r| − l.
+  const double m = 2.0, l = 1.5, g = 9.81, v = 3.0;
+  const CartesianPendulum model(m, l, g);
+  Vec<double, 2> q(0.0, -l), qd(v, 0.0);
+  Vec<double, 1> lambda;
+  const Vec<double, 2> qdd = constrained_accelerations(model, q, qd, 0.0, &lambda);
+  EXPECT_NEAR(qdd[0], 0.0, 1e-12);
+  EXPECT_NEAR(qdd[1], v * v / l, 1e-12);
+  EXPECT_NEAR(lambda[0], -m * (g + v * v / l), 1e-11);
+  // The same through the explicit workspaces.
+  Workspace<2> ws;
+  ConstraintWorkspaceFor<CartesianPendulum> cw;
+  Vec<double, 2> out;
+  constrained_accelerations(model, ws, cw, q, qd, 0.0, out);
+  EXPECT_EQ(out, qdd);
 }
 
 // The rod constraint stated twice (the second a scaled copy) and a third,
@@ -60,7 +85,7 @@ TEST(Constraints, RedundantConstraintsAreNamed) {
   s.q << std::sqrt(0.75), -0.5;
   const DofReport d = dof_report(RedundantPendulum(), s);
   EXPECT_EQ(d.holonomic_rank, 2);
-  EXPECT_EQ(d.dof, 0);
+  EXPECT_EQ(d.degrees_of_freedom, 0);
   ASSERT_EQ(d.redundant.size(), 1u);
   EXPECT_EQ(d.redundant[0], "rod_again");
 }

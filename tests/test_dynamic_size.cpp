@@ -8,58 +8,20 @@
 
 #include "lagrangian/lagrangian.hpp"
 #include "lagrangian/models/pendulums.hpp"
+#include "runtime_chain.hpp"
 
 namespace {
 
 using namespace lagrangian;
 
-/// The N-link chain of models::PendulumChain with N chosen at run time, plus
-/// an optional linear damping D = ½ c Σ θ̇ᵢ².
-struct RuntimeChain {
-  static constexpr int dof = Dynamic;
-  int n;
-  double m = 1.0, l = 1.0, g = 9.81, c = 0.0;
-  int size() const { return n; }
-  template <class S>
-  S kinetic(const Vec<S, Dynamic>& q, const Vec<S, Dynamic>& qd, const S&) const {
-    using std::cos;
-    using std::sin;
-    S vx = 0, vy = 0, T = 0;
-    for (int k = 0; k < n; ++k) {
-      vx += l * cos(q[k]) * qd[k];
-      vy += l * sin(q[k]) * qd[k];
-      T += 0.5 * m * (vx * vx + vy * vy);
-    }
-    return T;
-  }
-  template <class S>
-  S potential(const Vec<S, Dynamic>& q, const S&) const {
-    using std::cos;
-    S y = 0, V = 0;
-    for (int k = 0; k < n; ++k) {
-      y -= l * cos(q[k]);
-      V += m * g * y;
-    }
-    return V;
-  }
-  template <class S>
-  S dissipation(const Vec<S, Dynamic>&, const Vec<S, Dynamic>& qd) const {
-    S d = 0;
-    for (int k = 0; k < n; ++k) d += 0.5 * c * qd[k] * qd[k];
-    return d;
-  }
-};
+using test_models::RuntimeChain;
 
 template <int N>
 void compare_with_fixed(std::mt19937_64& rng) {
   const models::PendulumChain<N> fixed(1.0, 1.0, 9.81);
   const RuntimeChain dyn{N};
-  std::uniform_real_distribution<double> u(-1.5, 1.5);
-  Vec<double, N> q, qd;
-  for (int i = 0; i < N; ++i) {
-    q[i] = u(rng);
-    qd[i] = u(rng);
-  }
+  const State<N> s = test_models::random_chain_state<N>(rng);
+  const Vec<double, N> q = s.q, qd = s.qd;
   const Eigen::VectorXd qx = q, qdx = qd;
   const double scale = accelerations(fixed, q, qd).template lpNorm<Eigen::Infinity>();
   EXPECT_LE((accelerations(dyn, qx, qdx) - accelerations(fixed, q, qd)).template lpNorm<Eigen::Infinity>(),

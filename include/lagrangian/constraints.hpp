@@ -70,11 +70,38 @@ template <class M>
 concept has_unilateral_c = requires(const M& m, const Vec<double, M::dof>& q, double t) {
   { m.unilateral(q, t) };
 };
+/// True when R is a column vector with a number of rows known at compile time.
+template <class R>
+concept fixed_column = requires {
+  { R::RowsAtCompileTime } -> std::convertible_to<int>;
+  { R::ColsAtCompileTime } -> std::convertible_to<int>;
+} && R::ColsAtCompileTime == 1 && R::RowsAtCompileTime >= 1;
+
+/// Rows of a constraint function's result R; a result that is not a
+/// fixed-size column vector stops compilation with one sentence and counts
+/// as no rows, so nothing else is compiled for it.
+template <class R, int kind>
+constexpr int rows_of() {
+  static_assert(fixed_column<R> || kind != 0,
+                "lagrangian: holonomic(q, t) must return lagrangian::Vec<S, m> with a compile-time m, one entry per "
+                "constraint (also for a single constraint: Vec<S, 1>), not a scalar or a run-time sized vector");
+  static_assert(fixed_column<R> || kind != 1,
+                "lagrangian: unilateral(q, t) must return lagrangian::Vec<S, u> with a compile-time u, one entry per "
+                "contact (also for a single contact: Vec<S, 1>), not a scalar or a run-time sized vector");
+  static_assert(fixed_column<R> || kind != 2,
+                "lagrangian: pfaffian(q, qd, t) must return lagrangian::Vec<S, k> with a compile-time k, one entry per "
+                "constraint (also for a single constraint: Vec<S, 1>), not a scalar or a run-time sized vector");
+  if constexpr (fixed_column<R>) {
+    return R::RowsAtCompileTime;
+  } else {
+    return 0;
+  }
+}
 template <class M>
 constexpr int unilateral_rows() {
   if constexpr (has_unilateral_c<M>) {
     using R = std::decay_t<decltype(std::declval<const M&>().unilateral(std::declval<const Vec<double, M::dof>&>(), 0.0))>;
-    return R::RowsAtCompileTime;
+    return rows_of<R, 1>();
   } else {
     return 0;
   }
@@ -83,7 +110,7 @@ template <class M>
 constexpr int holonomic_rows() {
   if constexpr (has_holonomic_c<M>) {
     using R = std::decay_t<decltype(std::declval<const M&>().holonomic(std::declval<const Vec<double, M::dof>&>(), 0.0))>;
-    return R::RowsAtCompileTime;
+    return rows_of<R, 0>();
   } else {
     return 0;
   }
@@ -93,7 +120,7 @@ constexpr int pfaffian_rows() {
   if constexpr (has_pfaffian_c<M>) {
     using R = std::decay_t<decltype(std::declval<const M&>().pfaffian(std::declval<const Vec<double, M::dof>&>(),
                                                                       std::declval<const Vec<double, M::dof>&>(), 0.0))>;
-    return R::RowsAtCompileTime;
+    return rows_of<R, 2>();
   } else {
     return 0;
   }
@@ -281,13 +308,17 @@ struct ConstraintWorkspace {
   Vec<double, N> constraint_forces;     ///< Cᵀ λ
 };
 
+/// The ConstraintWorkspace of model M (its n coordinates and all its constraint rows).
+template <class M>
+using ConstraintWorkspaceFor = ConstraintWorkspace<M::dof, constraint_count_v<M>>;
+
 /// q̈ and λ of a constrained model (see the file comment for the system).
 /// `omega` > 0 adds the Baumgarte term with that rate (1/s); unilateral
 /// constraints not in `active` are left out. A model whose only constraints
 /// are unilateral, none of them active, takes the unconstrained path (λ = 0).
 template <class M>
 void constrained_accelerations(const M& model, Workspace<M::dof>& ws,
-                               ConstraintWorkspace<M::dof, constraint_count_v<M>>& cw, const Vec<double, M::dof>& q,
+                               ConstraintWorkspaceFor<M>& cw, const Vec<double, M::dof>& q,
                                const Vec<double, M::dof>& qd, double t, Vec<double, M::dof>& out,
                                double omega = 0.0, ActiveSet active = all_active) {
   constexpr int mh = position_rows_v<M>;
@@ -322,6 +353,27 @@ void constrained_accelerations(const M& model, Workspace<M::dof>& ws,
   out = free + cw.minv_ct * cw.multipliers;
 }
 
+/// Convenience form of constrained_accelerations() that allocates its own
+/// workspaces and returns q̈, every constraint row active, no stabilisation;
+/// the multipliers λ go to `*multipliers` when it is given. For repeated
+/// calls keep a Workspace and a ConstraintWorkspaceFor<M> and use the form above.
+template <class M>
+  requires has_constraints_v<M>
+Vec<double, M::dof> constrained_accelerations(const M& model, const Vec<double, M::dof>& q,
+                                              const Vec<double, M::dof>& qd, double t = 0.0,
+                                              Vec<double, constraint_count_v<M>>* multipliers = nullptr) {
+  Workspace<M::dof> ws(static_cast<int>(q.size()));
+  ConstraintWorkspaceFor<M> cw;
+  Vec<double, M::dof> qdd(q.size());
+  constrained_accelerations(model, ws, cw, q, qd, t, qdd);
+  if (multipliers) *multipliers = cw.multipliers;
+  return qdd;
+}
+
+// The deprecated members are copied by the implicit constructors; the
+// pragma keeps that from warning (a use of them by name still warns).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wdeprecated-declarations"
 /// What the constraint Jacobians say about the degrees of freedom at a state.
 struct DofReport {
   int coordinates = 0;            ///< n
@@ -330,8 +382,12 @@ struct DofReport {
   int unilateral = 0;             ///< unilateral constraints declared (not counted in the ranks)
   int holonomic_rank = 0;         ///< rank of G = ∂g/∂q (SVD, rank_tolerance)
   int velocity_rank = 0;          ///< rank of [G; A]
-  int dof = 0;                    ///< configuration degrees of freedom n − rank G
-  int velocity_dof = 0;           ///< velocity degrees of freedom n − rank [G; A]
+  int degrees_of_freedom = 0;           ///< configuration degrees of freedom n − rank G
+  int velocity_degrees_of_freedom = 0;  ///< velocity degrees of freedom n − rank [G; A]
+  /// The same as degrees_of_freedom (a model's `dof` is its number of coordinates).
+  [[deprecated("use degrees_of_freedom")]] int dof = 0;
+  /// The same as velocity_degrees_of_freedom.
+  [[deprecated("use velocity_degrees_of_freedom")]] int velocity_dof = 0;
   std::vector<std::string> redundant;  ///< constraints whose rows depend on earlier ones
   std::vector<double> singular_values;  ///< of [G; A], descending
   /// A few lines for a terminal.
@@ -339,7 +395,7 @@ struct DofReport {
     std::ostringstream os;
     os << "coordinates " << coordinates << ", holonomic constraints " << holonomic << " (rank " << holonomic_rank
        << "), Pfaffian constraints " << pfaffian << "\n";
-    os << "degrees of freedom " << dof << " (velocity " << velocity_dof << ")\n";
+    os << "degrees of freedom " << degrees_of_freedom << " (velocity " << velocity_degrees_of_freedom << ")\n";
     if (!redundant.empty()) {
       os << "redundant:";
       for (const auto& r : redundant) os << " " << r;
@@ -348,6 +404,7 @@ struct DofReport {
     return os.str();
   }
 };
+#pragma GCC diagnostic pop
 
 namespace detail {
 template <class Mtx>
@@ -391,8 +448,13 @@ DofReport dof_report(const M& model, const State<M::dof>& s, double t = 0.0) {
       rank = next;
     }
   }
-  r.dof = r.coordinates - r.holonomic_rank;
-  r.velocity_dof = r.coordinates - r.velocity_rank;
+  r.degrees_of_freedom = r.coordinates - r.holonomic_rank;
+  r.velocity_degrees_of_freedom = r.coordinates - r.velocity_rank;
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wdeprecated-declarations"
+  r.dof = r.degrees_of_freedom;  // the old spellings, kept working
+  r.velocity_dof = r.velocity_degrees_of_freedom;
+#pragma GCC diagnostic pop
   return r;
 }
 

@@ -94,12 +94,17 @@ S lagrangian_of(const M& model, const Vec<S, M::dof>& q, const Vec<S, M::dof>& q
     S l = S(model.kinetic(q, qd, t));  // L = T − V, without a copy of T
     l -= S(model.potential(q, t));
     return l;
-  } else {
+  } else if constexpr (has_lagrangian_for<M, S>) {
     return S(model.lagrangian(q, qd, t));
+  } else {
+    // Not a model for S: check_model<M>() has stopped compilation with its
+    // sentence already; nothing more is said here.
+    (void)model, (void)q, (void)qd, (void)t;
+    return S(0.0);
   }
 }
 
-/// Run-time sized models: the same quantities from passes over pairs of
+/// Run-time sized and large models (uses_block_passes): the same quantities from passes over pairs of
 /// coordinate blocks (a, b), each seeding the 2·kBlock directions of the two
 /// blocks; the pass (a, b) gives the M entries of rows a × columns b, the
 /// pass (a, a) also ∂L/∂q, p and the mixed term of block a.
@@ -109,7 +114,11 @@ void eom_pass_blocks(const M& model, Workspace<M::dof>& ws, const Vec<double, M:
   using J = ad::EomJet<2 * kBlock>;
   const int n = static_cast<int>(q.size());
   const int blocks = (n + kBlock - 1) / kBlock;
-  Vec<J, Dynamic> qj(n), qdj(n);
+  Vec<J, M::dof> qj, qdj;
+  if constexpr (M::dof == Dynamic) {
+    qj.resize(n);
+    qdj.resize(n);
+  }
   for (int a = 0; a < blocks; ++a) {
     for (int b = a; b < blocks; ++b) {
       for (int k = 0; k < n; ++k) {
@@ -150,7 +159,7 @@ template <class M>
 LAGRANGIAN_FLATTEN void eom_pass(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q,
                                  const Vec<double, M::dof>& qd, double t) {
   constexpr int n = M::dof;
-  if constexpr (n == Dynamic) {
+  if constexpr (uses_block_passes<M>) {
     eom_pass_blocks(model, ws, q, qd, t);
   } else {
     using J = ad::EomJet<n>;
@@ -291,7 +300,7 @@ Vec<double, M::dof> momenta(const M& model, const Vec<double, M::dof>& q, const 
                             double t = 0.0) {
   check_model<M>();
   constexpr int n = M::dof;
-  if constexpr (n == Dynamic) {
+  if constexpr (detail::uses_block_passes<M>) {
     Workspace<n> ws(static_cast<int>(q.size()));
     detail::eom_pass(model, ws, q, qd, t);
     return ws.momenta;

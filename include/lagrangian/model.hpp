@@ -70,11 +70,21 @@ concept declares_dof = requires {
                       }));
 
 /// Coordinates per block in the block-wise derivative passes used for
-/// run-time sized models (each pass seeds two blocks).
+/// run-time sized models and large fixed-size ones (each pass seeds two blocks).
 inline constexpr int kBlock = 4;
-/// Number of AD directions for a model: n, or two blocks when n is dynamic.
+/// Largest fixed n whose equations of motion come from one pass with
+/// ad::EomJet<n>. Such a number holds an n × n velocity Hessian, so a
+/// vector of n of them grows as n³ (Eigen refuses fixed-size objects above
+/// 128 kB on the stack: n = 40 needs about 0.5 MB) and its compile time as
+/// n²; larger models take the block passes with ad::EomJet<2 kBlock>, whose
+/// size and compile time do not depend on n.
+inline constexpr int kMaxSinglePassDof = 12;
+/// True when a model's derivatives come from passes over pairs of coordinate blocks.
 template <class M>
-inline constexpr int ad_directions = M::dof > 0 ? M::dof : 2 * kBlock;
+inline constexpr bool uses_block_passes = M::dof == Dynamic || M::dof > kMaxSinglePassDof;
+/// Number of AD directions for a model: n, or two blocks for block passes.
+template <class M>
+inline constexpr int ad_directions = uses_block_passes<M> ? 2 * kBlock : M::dof;
 
 template <class M, class S>
 concept has_kinetic_for = requires(const M& m, const Vec<S, M::dof>& q, const S& t) {
@@ -282,6 +292,40 @@ template <int N, class K, class V, class F, class D, class NewDissipation>
 LambdaModel<N, K, V, F, NewDissipation> with_dissipation(LambdaModel<N, K, V, F, D> m, NewDissipation d) {
   return {std::move(m.model_name), std::move(m.names), std::move(m.kinetic_fn), std::move(m.potential_fn),
           std::move(m.forces_fn), std::move(d)};
+}
+
+/// True when the model opts in to the structure-preserving method of
+/// simulate() that is compiled per model: `variational`, the variational
+/// integrator, which works on L itself (a second-order AD pass over the
+/// discrete Lagrangian, fixed-size Newton solves), about 60 % of a model's
+/// compile time and growing as (2n)² (docs/performance.md); so it is
+/// compiled for a model only when the model asks for it. Every other method
+/// runs in the driver compiled once in the library and needs no opt-in (the
+/// symplectic steppers included: they need only q̈). Three ways:
+/// \code
+/// struct MyModel { static constexpr bool structure_preserving = true; ... };
+/// auto m = lagrangian::with_structure_preserving(make_model<1>(...));
+/// template <> inline constexpr bool lagrangian::structure_preserving_v<Other> = true;
+/// \endcode
+/// The built-in models opt in inside the library (detail/compiled_models.hpp).
+/// Choosing one of these methods for a model that did not opt in is an
+/// OptionError that says how to opt in.
+template <class M>
+inline constexpr bool structure_preserving_v = requires { requires M::structure_preserving; };
+
+/// A model M that opts in to the structure-preserving methods; see
+/// with_structure_preserving().
+template <class M>
+struct StructurePreserving : M {
+  static constexpr bool structure_preserving = true;
+  explicit StructurePreserving(M model) : M(std::move(model)) {}
+};
+
+/// The model, opted in to the structure-preserving methods of simulate()
+/// (see structure_preserving_v).
+template <class M>
+StructurePreserving<M> with_structure_preserving(M model) {
+  return StructurePreserving<M>(std::move(model));
 }
 
 /// A state of a model with n coordinates: positions q and velocities q̇,

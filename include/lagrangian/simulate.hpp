@@ -1,12 +1,16 @@
 #pragma once
 /// \file simulate.hpp
-/// Integration of the AD-derived equations of motion with Boost.Odeint.
+/// Integration of the AD-derived equations of motion of a model.
 ///
 /// The state is x = [q; q̇] (length 2n) and the first-order system is
 ///   ẋ = [q̇; q̈(q, q̇, t)],
-/// with q̈ from accelerations(). `simulate` drives an Odeint stepper chosen by
-/// name, sends samples to an observer, watches the energy function and the
-/// momenta of cyclic coordinates, and returns a RunReport.
+/// with q̈ from accelerations(). `simulate` hands the model, as a System
+/// (detail/model_system.hpp), to the driver compiled once in the library
+/// (integrate.hpp), which runs the Boost.Odeint stepper chosen by name,
+/// sends samples to an observer, watches the energy function and the
+/// momenta of cyclic coordinates, and returns a RunReport. Per model only
+/// the model's own derivatives are compiled, and the variational integrator
+/// for models that opt in to it (structure_preserving_v in model.hpp).
 
 #include <chrono>
 #include <cmath>
@@ -14,18 +18,15 @@
 #include <sstream>
 #include <string>
 #include <type_traits>
+#include <vector>
 
 #include "lagrangian/constraints.hpp"
-#include "lagrangian/detail/first_order_system.hpp"
-#include "lagrangian/detail/fixed_grid_loops.hpp"
+#include "lagrangian/detail/model_system.hpp"
 #include "lagrangian/detail/observer_ref.hpp"
-#include "lagrangian/detail/rk_loops.hpp"
-#include "lagrangian/detail/rosenbrock_loop.hpp"
-#include "lagrangian/detail/run_state.hpp"
-#include "lagrangian/detail/stiffness_check.hpp"
 #include "lagrangian/dynamics.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/fpe.hpp"
+#include "lagrangian/integrate.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/observers.hpp"
 #include "lagrangian/properties.hpp"
@@ -43,6 +44,12 @@ namespace detail {
 template <class M>
 void refuse_unsuited_method(const M& model, const State<M::dof>& initial, const SimulationOptions& options) {
   const std::string& m = options.method;
+  if (m == "variational" && !structure_preserving_v<M>) {
+    throw OptionError("method '" + m + "' is compiled only for models that opt in to the structure-preserving methods, "
+                      "and model " + model_name(model) +
+                      " does not: declare 'static constexpr bool structure_preserving = true;' in the model, or pass "
+                      "lagrangian::with_structure_preserving(model) (see structure_preserving_v in model.hpp)");
+  }
   if (m == "variational" && !variational_supported_v<M>) {
     throw OptionError(
         "method 'variational' cannot run model " + model_name(model) +
@@ -57,13 +64,14 @@ void refuse_unsuited_method(const M& model, const State<M::dof>& initial, const 
   }
 }
 
-/// The body of simulate(), compiled once per model (the observer is erased).
+/// The body of simulate(), compiled once per model (the observer is erased):
+/// checks the input, fills the report's header, and runs the model's
+/// ModelSystem through the driver (integrate.hpp).
 template <class M>
 RunReport simulate_impl(const M& model, const State<M::dof>& initial, const SimulationOptions& options,
                         ObserverRef<M::dof> observer) {
   check_model<M>();
   constexpr int n = M::dof;
-  namespace odeint = boost::numeric::odeint;
 #if defined(LAGRANGIAN_TRAP_FE_INVALID) && LAGRANGIAN_TRAP_FE_INVALID
   const FloatingPointTrap trap;  // debug builds: the first NaN raises SIGFPE where it is made
 #endif
@@ -100,59 +108,18 @@ RunReport simulate_impl(const M& model, const State<M::dof>& initial, const Simu
                         is_autonomous(model, initial, options.t0) &&
                         constraints_workless(model, initial, options.t0);
 
-  Workspace<n> ws(size);
-  if constexpr (!has_constraints_v<M>)
+  if constexpr (!has_constraints_v<M>) {
+    Workspace<n> ws(size);
     accelerations(model, ws, initial.q, initial.qd, options.t0);  // a singular M at t0 is an input error
+  }
 
-  RunState<M> rs(model, options, observer, report);
-  FirstOrderSystem<M> sys{&model, &ws, &report.rhs_evaluations};
-  [[maybe_unused]] std::conditional_t<has_constraints_v<M>, ConstraintContext<M>, None> constraint_context{};
-  if constexpr (has_constraints_v<M>) {
-    constraint_context.omega = options.stabilization == Stabilization::baumgarte ? options.baumgarte_omega : 0.0;
-    sys.constraints = &constraint_context;
-    rs.attach(&constraint_context);
-  }
-  using X = StateBuffer<n>;
-  X x = make_buffer<n>(size);
+  ModelSystem<M> system(model, options, observer, report);
+  std::vector<double> x(static_cast<std::size_t>(2 * size));
   for (int i = 0; i < size; ++i) {
-    x[i] = initial.q[i];
-    x[size + i] = initial.qd[i];
+    x[static_cast<std::size_t>(i)] = initial.q[i];
+    x[static_cast<std::size_t>(size + i)] = initial.qd[i];
   }
-  {
-    const State<n> start = rs.start(initial);  // impacts at t0 may change the velocities
-    for (int i = 0; i < size; ++i) {
-      x[static_cast<std::size_t>(i)] = start.q[i];
-      x[static_cast<std::size_t>(size + i)] = start.qd[i];
-    }
-  }
-  try {
-    const std::string& m = options.method;
-    if (m == "dopri5") {
-      run_out_of_line<M>([&] { run_dopri5(sys, x, options, rs); });
-    } else if (m == "rk4") {
-      run_out_of_line<M>([&] { run_rk4(sys, x, options, rs); });
-    } else if (m == "cash_karp54") {
-      using Controlled = odeint::controlled_runge_kutta<odeint::runge_kutta_cash_karp54<X>>;
-      run_out_of_line<M>([&] { run_controlled<Controlled>(sys, x, options, rs); });
-    } else if (m == "fehlberg78") {
-      using Controlled = odeint::controlled_runge_kutta<odeint::runge_kutta_fehlberg78<X>>;
-      run_out_of_line<M>([&] { run_controlled<Controlled>(sys, x, options, rs); });
-    } else if (m == "bulirsch_stoer") {
-      run_out_of_line<M>([&] { run_controlled<odeint::bulirsch_stoer<X>>(sys, x, options, rs); });
-    } else if (m == "rosenbrock4") {
-      run_rosenbrock4(sys, x, options, rs);
-    } else if (m == "variational") {
-      run_variational(model, x, options, rs, report);
-    } else if (m == "symplectic_rkn_sb3a_mclachlan" || m == "velocity_verlet") {
-      run_symplectic(model, ws, x, options, rs, report);
-    } else {
-      throw OptionError("unreachable: unknown method '" + m + "'");
-    }
-  } catch (const DynamicsError& e) {
-    throw SimulationError(std::string("run stopped: ") + e.what(), std::numeric_limits<double>::quiet_NaN());
-  }
-  rs.finish(x.data());
-  if (report.adaptive && options.method != "rosenbrock4") check_stiffness(sys, x, report.t_final, rs.recent_step(), report);
+  integrate(system, x, options, report);
   report.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return report;
 }

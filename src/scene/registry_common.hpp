@@ -237,9 +237,9 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
                    {"rank of dg/dq", std::to_string(dof.holonomic_rank)},
                    {"rank of [dg/dq; A]", std::to_string(dof.velocity_rank)},
                    {"redundant constraints", redundant},
-                   {"degrees of freedom", std::to_string(dof.dof),
+                   {"degrees of freedom", std::to_string(dof.degrees_of_freedom),
                     "= " + nc + " - " + std::to_string(dof.holonomic_rank) + " (n - rank dg/dq)"},
-                   {"velocity degrees of freedom", std::to_string(dof.velocity_dof),
+                   {"velocity degrees of freedom", std::to_string(dof.velocity_degrees_of_freedom),
                     "= " + nc + " - " + std::to_string(dof.velocity_rank) + " (n - rank [dg/dq; A])"}});
   }
 

@@ -26,6 +26,7 @@ using namespace lagrangian;
 /// when all links are collinear (θ1 = θ2 = θ3 = 0 or the crank at π).
 struct FourBar {
   static constexpr int dof = 3;
+  static constexpr bool structure_preserving = true;  // runs with method variational
   double m = 1.0, l1 = 1.0, l2 = 2.0, l3 = 1.0, d = 2.0;
   std::string name() const { return "four_bar"; }
   std::array<std::string, 2> holonomic_names() const { return {"loop_x", "loop_y"}; }
@@ -99,6 +100,7 @@ TEST(StabilityLinkages, FourBarThroughTheSingularPose) {
 
 /// The Cartesian pendulum with its rod declared twice.
 struct DoubledRod : models::CartesianPendulum {
+  static constexpr bool structure_preserving = true;  // runs with method variational
   std::array<std::string, 2> holonomic_names() const { return {"rod", "rod_again"}; }
   template <class S>
   Vec<S, 2> holonomic(const Vec<S, 2>& q, const S& t) const {

@@ -19,6 +19,7 @@ using namespace lagrangian;
 ///   T = ½ (ẋ1² + ẋ2²),  V = ½ k_s x1² + ½ k (x2 − x1)².
 struct StiffSprings {
   static constexpr int dof = 2;
+  static constexpr bool structure_preserving = true;  // runs with the symplectic steppers
   double ks = 1e8, k = 1.0;
   std::string name() const { return "stiff_springs"; }
   template <class S>

@@ -9,8 +9,13 @@
 // LAGRANGIAN_INSTANTIATE_SIMULATE, so a program that simulates a built-in
 // model links the library's copy instead of compiling its own. Models that
 // are not listed (a user's, PendulumChain<6>, ...) are compiled where they
-// are used, as before. With LAGRANGIAN_TRAP_FE_INVALID the declarations are
-// dropped: every program then compiles its own copy, with the trap.
+// are used. With LAGRANGIAN_TRAP_FE_INVALID the declarations are dropped:
+// every program then compiles its own copy, with the trap.
+//
+// LAGRANGIAN_BUILT_IN_MODEL also opts each listed model in to the
+// structure-preserving methods (structure_preserving_v, model.hpp): their
+// code is compiled once here, so scenes and the CLI keep the run-time choice
+// of method for every built-in model at no cost to a user's build.
 #include "lagrangian/model.hpp"
 #include "lagrangian/report.hpp"
 
@@ -35,4 +40,10 @@ RunReport simulate_impl(const M& model, const State<M::dof>& initial, const Simu
 #else
 #define LAGRANGIAN_EXTERN_SIMULATE(...) extern template LAGRANGIAN_SIMULATE_SIGNATURE(__VA_ARGS__);
 #endif
+#define LAGRANGIAN_OPT_IN_STRUCTURE_PRESERVING(...) \
+  template <>                                       \
+  inline constexpr bool lagrangian::structure_preserving_v<__VA_ARGS__> = true;
+#define LAGRANGIAN_BUILT_IN_MODEL(...)                  \
+  LAGRANGIAN_OPT_IN_STRUCTURE_PRESERVING(__VA_ARGS__) \
+  LAGRANGIAN_EXTERN_SIMULATE(__VA_ARGS__)
 #define LAGRANGIAN_INSTANTIATE_SIMULATE(...) template LAGRANGIAN_SIMULATE_SIGNATURE(__VA_ARGS__);

@@ -1,7 +1,7 @@
 #pragma once
-// RunState's members for constrained models: consistency and rank at t0,
+// ModelSystem's members for constrained models: consistency and rank at t0,
 // projection or monitoring after each step, conditioning of the constraint
-// Jacobian, multipliers at samples. Included by run_state.hpp.
+// Jacobian, multipliers at samples. Included by model_system.hpp.
 
 #include <chrono>
 #include <cmath>
@@ -11,15 +11,15 @@
 #include <vector>
 
 #include "lagrangian/constraints.hpp"
-#include "lagrangian/detail/run_state.hpp"
+#include "lagrangian/detail/model_system.hpp"
 #include "lagrangian/errors.hpp"
 
 namespace lagrangian::detail {
 
 /// Constrained models: projection (when chosen) and residual monitoring
 /// after an accepted step ending at t with state x; true when x changed.
-template <class M, class Observer>
-bool RunState<M, Observer>::stabilize(double* x, double t, bool allow_projection) {
+template <class M>
+bool ModelSystem<M>::stabilize(double* x, double t, bool allow_projection) {
   if constexpr (!has_constraints_v<M>) {
     (void)x;
     (void)t;
@@ -80,9 +80,9 @@ bool RunState<M, Observer>::stabilize(double* x, double t, bool allow_projection
 /// at accepted steps and samples, and warns once when it falls below
 /// 1e-3: a singular configuration is near (the multipliers grow without
 /// bound there, and the motion may switch assembly branches).
-template <class M, class Observer>
+template <class M>
 template <class CS>
-void RunState<M, Observer>::monitor_conditioning(CS cs, double t) {
+void ModelSystem<M>::monitor_conditioning(CS cs, double t) {
   ConstraintReport& cr = report_.constraints;
   drop_inactive<M>(cs, ActiveSet{0});
   std::vector<double>& sv = singular_values_;
@@ -104,8 +104,8 @@ void RunState<M, Observer>::monitor_conditioning(CS cs, double t) {
   }
 }
 
-template <class M, class Observer>
-void RunState<M, Observer>::start_constraints(State<n>& x0, Columns& columns) {
+template <class M>
+void ModelSystem<M>::start_constraints(State<n>& x0, Columns& columns) {
   if constexpr (has_constraints_v<M>) {
     ConstraintReport& cr = report_.constraints;
     report_.constrained = true;
@@ -190,8 +190,8 @@ void RunState<M, Observer>::start_constraints(State<n>& x0, Columns& columns) {
   }
 }
 
-template <class M, class Observer>
-void RunState<M, Observer>::sample_constraints(Sample<n>& s) {
+template <class M>
+void ModelSystem<M>::sample_constraints(Sample<n>& s) {
   if constexpr (has_constraints_v<M>) {
     Vec<double, n> qdd;
     constrained_accelerations(model_, ws_, cw_, s.q, s.qd, s.t, qdd, 0.0, active());

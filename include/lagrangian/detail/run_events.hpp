@@ -1,7 +1,7 @@
 #pragma once
-// RunState's members for events: location of contacts closing, lift-offs
+// ModelSystem's members for events: location of contacts closing, lift-offs
 // and watched events inside a step, and the sequential resolution of
-// impacts with the Zeno rule. Included by run_state.hpp.
+// impacts with the Zeno rule. Included by model_system.hpp.
 
 #include <algorithm>
 #include <array>
@@ -13,15 +13,14 @@
 #include <vector>
 
 #include "lagrangian/detail/roots.hpp"
-#include "lagrangian/detail/run_state.hpp"
+#include "lagrangian/detail/model_system.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/impact.hpp"
 
 namespace lagrangian::detail {
 
-// Instantiated only for models with events (called from handle_events).
-template <class M, class Observer>
-bool RunState<M, Observer>::handle_events_erased(double t_old, const double* x_old, double& t, double* x, Interpolator interp) {
+template <class M>
+bool ModelSystem<M>::locate_events(double t_old, const double* x_old, double& t, double* x, const StepInterpolant& interp) {
   auto root = [](const auto& f, double a, double b, double fa, double fb) {
     return bracket_root(time_function(f), a, b, fa, fb, event_time_tolerance);
   };
@@ -172,8 +171,8 @@ bool RunState<M, Observer>::handle_events_erased(double t_old, const double* x_o
 /// SimulationOptions::zeno_speed_ratio). Afterwards the contacts that took
 /// part (and `trigger`) are resting (active) when they do not separate,
 /// and active contacts that separate are released.
-template <class M, class Observer>
-void RunState<M, Observer>::resolve_contacts(double* x, double t, int trigger) {
+template <class M>
+void ModelSystem<M>::resolve_contacts(double* x, double t, int trigger) {
   if constexpr (unilateral_count_v<M> > 0) {
     constexpr int u = unilateral_count_v<M>;
     Vec<double, n> q, qd;
@@ -260,8 +259,8 @@ void RunState<M, Observer>::resolve_contacts(double* x, double t, int trigger) {
 
 /// d²φ_j/dt² = G_j q̈ + γ_j with q̈ from the current active set (contact j
 /// itself inactive): negative when the forces press the contact shut.
-template <class M, class Observer>
-double RunState<M, Observer>::gap_acceleration(const Vec<double, n>& q, const Vec<double, n>& qd, double t, int j) {
+template <class M>
+double ModelSystem<M>::gap_acceleration(const Vec<double, n>& q, const Vec<double, n>& qd, double t, int j) {
   if constexpr (unilateral_count_v<M> > 0) {
     Vec<double, n> qdd;
     constrained_accelerations(model_, ws_, cw_, q, qd, t, qdd, 0.0, ctx_->active & ~(ActiveSet{1} << j));

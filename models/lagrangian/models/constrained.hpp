@@ -233,10 +233,10 @@ struct ParticleOffSphere : detail::PlanarParticle {
   X(lagrangian::models::BeadOnRotatingWire) \
   X(lagrangian::models::CartesianPendulum) \
   X(lagrangian::models::ParticleOnSphere)
-LAGRANGIAN_CONSTRAINED_MODELS_A(LAGRANGIAN_EXTERN_SIMULATE)
+LAGRANGIAN_CONSTRAINED_MODELS_A(LAGRANGIAN_BUILT_IN_MODEL)
 #define LAGRANGIAN_CONSTRAINED_MODELS_B(X) \
   X(lagrangian::models::AtwoodMachine) \
   X(lagrangian::models::CartesianDoublePendulum) \
   X(lagrangian::models::KnifeEdge) \
   X(lagrangian::models::ParticleOffSphere)
-LAGRANGIAN_CONSTRAINED_MODELS_B(LAGRANGIAN_EXTERN_SIMULATE)
+LAGRANGIAN_CONSTRAINED_MODELS_B(LAGRANGIAN_BUILT_IN_MODEL)

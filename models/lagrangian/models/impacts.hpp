@@ -367,4 +367,4 @@ struct SpheresInBox {
   X(lagrangian::models::TwoSpheres<2>) \
   X(lagrangian::models::BallAndPlane) \
   X(lagrangian::models::SpheresInBox<3>)
-LAGRANGIAN_IMPACT_MODELS(LAGRANGIAN_EXTERN_SIMULATE)
+LAGRANGIAN_IMPACT_MODELS(LAGRANGIAN_BUILT_IN_MODEL)

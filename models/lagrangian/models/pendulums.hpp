@@ -376,11 +376,11 @@ struct PendulumChain {
   X(lagrangian::models::DoublePendulum) \
   X(lagrangian::models::SphericalPendulum) \
   X(lagrangian::models::ElasticPendulum)
-LAGRANGIAN_PENDULUM_MODELS_A(LAGRANGIAN_EXTERN_SIMULATE)
+LAGRANGIAN_PENDULUM_MODELS_A(LAGRANGIAN_BUILT_IN_MODEL)
 #define LAGRANGIAN_PENDULUM_MODELS_B(X) \
   X(lagrangian::models::BeadOnRotatingHoop) \
   X(lagrangian::models::KeplerPolar) \
   X(lagrangian::models::CartPendulum) \
   X(lagrangian::models::DrivenPendulum) \
   X(lagrangian::models::PendulumChain<3>)
-LAGRANGIAN_PENDULUM_MODELS_B(LAGRANGIAN_EXTERN_SIMULATE)
+LAGRANGIAN_PENDULUM_MODELS_B(LAGRANGIAN_BUILT_IN_MODEL)

@@ -149,4 +149,4 @@ struct Projectile : detail::PlanarParticle {
   X(lagrangian::models::Projectile<lagrangian::models::Drag::none>) \
   X(lagrangian::models::Projectile<lagrangian::models::Drag::linear>) \
   X(lagrangian::models::Projectile<lagrangian::models::Drag::quadratic>)
-LAGRANGIAN_PROJECTILE_MODELS(LAGRANGIAN_EXTERN_SIMULATE)
+LAGRANGIAN_PROJECTILE_MODELS(LAGRANGIAN_BUILT_IN_MODEL)

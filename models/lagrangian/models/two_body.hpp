@@ -312,4 +312,4 @@ inline constexpr double proton_mass = 1.67262192369e-27;
 #define LAGRANGIAN_TWO_BODY_MODELS(X) \
   X(lagrangian::models::TwoBody<2>) \
   X(lagrangian::models::RelativeMotion<2>)
-LAGRANGIAN_TWO_BODY_MODELS(LAGRANGIAN_EXTERN_SIMULATE)
+LAGRANGIAN_TWO_BODY_MODELS(LAGRANGIAN_BUILT_IN_MODEL)

@@ -1,45 +1,38 @@
-#pragma once
 // The stiffness diagnostic of a finished run.
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <exception>
 #include <sstream>
 
-#include "lagrangian/detail/first_order_system.hpp"
-#include "lagrangian/report.hpp"
+#include "loops.hpp"
 
 namespace lagrangian::detail {
 
-/// Estimates ρ, the largest |eigenvalue| of J = ∂f/∂x at x (1/s), as
-/// √(‖J²v‖/‖v‖) after 20 power iterations on J² (J² turns a pair of
-/// oscillatory eigenvalues ±iω into the real −ω², so the iteration settles);
-/// J v by central differences of f. Sets report.stiffness_rho and warns when
-/// the step size h at the end satisfies h ρ > 1 (steps limited by stability:
-/// an explicit Runge–Kutta method is stable only for h ρ below a few units).
-template <class M, class X>
-void check_stiffness(FirstOrderSystem<M> sys, const X& x, double t, double step, RunReport& report) {
-  std::uint64_t scratch = 0;
-  sys.evaluations = &scratch;  // not counted as the run's work
+/// ρ ≈ √(‖J²v‖/‖v‖) after 20 power iterations on J² (J² turns a pair of
+/// oscillatory eigenvalues ±iω into the real −ω², so the iteration
+/// settles); J v by central differences of f. The warning is given when the
+/// step size h at the end satisfies h ρ > 1 (steps limited by stability: an
+/// explicit Runge–Kutta method is stable only for h ρ below a few units).
+void check_stiffness(const System& system, const StateVector& x, double t, double step, RunReport& report) {
   const std::size_t size = x.size();
-  X v = x, w = x, xp = x, xm = x, fp = x, fm = x;
+  StateVector v = x, w = x, xp = x, xm = x, fp = x, fm = x;
   for (std::size_t i = 0; i < size; ++i) v[i] = 1.0 + 0.1 * static_cast<double>(i % 7);
   double xnorm = 0;
   for (double c : x) xnorm = std::max(xnorm, std::abs(c));
-  auto norm = [](const X& a) {
+  auto norm = [](const StateVector& a) {
     double s = 0;
     for (double c : a) s += c * c;
     return std::sqrt(s);
   };
-  auto apply = [&](const X& in, X& out) {
+  auto apply = [&](const StateVector& in, StateVector& out) {  // not counted as the run's work
     const double eps = 1e-6 * (1.0 + xnorm) / std::max(norm(in), 1e-300);
     for (std::size_t i = 0; i < size; ++i) {
       xp[i] = x[i] + eps * in[i];
       xm[i] = x[i] - eps * in[i];
     }
-    sys(xp, fp, t);
-    sys(xm, fm, t);
+    system.rhs(xp.data(), fp.data(), t);
+    system.rhs(xm.data(), fm.data(), t);
     for (std::size_t i = 0; i < size; ++i) out[i] = (fp[i] - fm[i]) / (2 * eps);
   };
   double rho2 = 0;

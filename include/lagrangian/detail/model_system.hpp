@@ -1,0 +1,446 @@
+#pragma once
+// ModelSystem: a Model as the System the driver runs (system.hpp), the only
+// per-model part of simulate(): the right-hand side, the monitors reported
+// at samples, constraint stabilisation, and the model's contacts and events.
+// Its constraint and event members are defined in run_constraints.hpp and
+// run_events.hpp.
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <optional>
+#include <type_traits>
+#include <vector>
+
+#include "lagrangian/constraints.hpp"
+#include "lagrangian/detail/observer_ref.hpp"
+#include "lagrangian/detail/roots.hpp"
+#include "lagrangian/dynamics.hpp"
+#include "lagrangian/errors.hpp"
+#include "lagrangian/impact.hpp"
+#include "lagrangian/model.hpp"
+#include "lagrangian/properties.hpp"
+#include "lagrangian/report.hpp"
+#include "lagrangian/system.hpp"
+#include "lagrangian/variational.hpp"
+
+namespace lagrangian::detail {
+
+/// Storage of the first-order state x = [q; q̇]: a fixed array, or a vector
+/// for run-time sized models.
+template <int N>
+struct state_buffer {
+  using type = std::array<double, 2 * N>;
+};
+template <>
+struct state_buffer<Dynamic> {
+  using type = std::vector<double>;
+};
+template <int N>
+using StateBuffer = typename state_buffer<N>::type;
+
+template <int N>
+StateBuffer<N> make_buffer(int n) {
+  if constexpr (N == Dynamic) {
+    return StateBuffer<N>(static_cast<std::size_t>(2 * n), 0.0);
+  } else {
+    (void)n;
+    return StateBuffer<N>{};
+  }
+}
+
+/// h = p·q̇ − L, with p returned too.
+template <class M>
+double energy_and_momenta(const M& model, const Vec<double, M::dof>& q, const Vec<double, M::dof>& qd, double t,
+                          Vec<double, M::dof>& p) {
+  p = momenta(model, q, qd, t);
+  return p.dot(qd) - lagrangian_value(model, q, qd, t);
+}
+
+/// Splits x = [q; q̇] (2n values) into q and q̇.
+template <int N>
+void split_state(const double* x, Vec<double, N>& q, Vec<double, N>& qd) {
+  const auto n = q.size();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    q[i] = x[i];
+    qd[i] = x[n + i];
+  }
+}
+
+/// Per-run state of a constrained model's right-hand side.
+template <class M>
+struct ConstraintContext {
+  ConstraintWorkspace<M::dof, constraint_count_v<M>> cw;
+  double omega = 0;               ///< Baumgarte rate (1/s), 0 when not stabilising that way
+  ActiveSet active = all_active;  ///< unilateral constraints in contact
+};
+
+
+/// A Model as a System: x = [q; q̇], ẋ = [q̇; q̈(q, q̇, t)] with q̈ from
+/// accelerations() (or the model's own, or constrained_accelerations() with
+/// its constraints), and at every sample the energy function
+/// h = p·q̇ − L, the total energy T + V when the model has both, the momenta
+/// of its cyclic coordinates, constraint residuals, particle momenta and
+/// the model's reference solution, into the run's report and observer.
+template <class M>
+class ModelSystem final : public System {
+ public:
+  static constexpr int n = M::dof;
+  /// The model declares contacts or watched events (the event code is compiled only then).
+  static constexpr bool has_events_v = unilateral_count_v<M> > 0 || event_count_v<M> > 0;
+  using Observer = ObserverRef<n>;
+
+  ModelSystem(const M& model, const SimulationOptions& opt, Observer obs, RunReport& report)
+      : model_(model), opt_(opt), obs_(obs), report_(report), size_(model_size(model)) {
+    if constexpr (has_constraints_v<M>) {
+      context_.omega = opt.stabilization == Stabilization::baumgarte ? opt.baumgarte_omega : 0.0;
+      ctx_ = &context_;
+    }
+  }
+  ModelSystem(const ModelSystem&) = delete;
+  ModelSystem& operator=(const ModelSystem&) = delete;
+
+  int coordinate_count() const override { return size_; }
+
+  void rhs(const double* x, double* dxdt, double t) const override {
+    if constexpr (n == Dynamic) {
+      split_state(x, rhs_ws_.scratch_q, rhs_ws_.scratch_qd);
+      accelerations_into(rhs_ws_.scratch_q, rhs_ws_.scratch_qd, t, rhs_ws_.scratch_qdd);
+      for (int i = 0; i < size_; ++i) {
+        dxdt[i] = x[size_ + i];
+        dxdt[size_ + i] = rhs_ws_.scratch_qdd[i];
+      }
+    } else {
+      Vec<double, n> q, qd, qdd;
+      split_state(x, q, qd);
+      accelerations_into(q, qd, t, qdd);
+      for (int i = 0; i < n; ++i) {
+        dxdt[i] = qd[i];
+        dxdt[n + i] = qdd[i];
+      }
+    }
+  }
+
+  /// Sets up the monitors. Contacts that touch and approach at t0 are
+  /// resolved first (impacts at t0), which may change x.
+  void start(double* x, double t0) override {
+    State<n> x0(size_);
+    split_state(x, x0.q, x0.qd);
+    Columns columns{coordinate_names(model_), {}, has_kinetic_potential_v<M>};
+    if constexpr (has_constraints_v<M>) start_constraints(x0, columns);
+    if constexpr (event_count_v<M> > 0) specs_ = event_specs(model_);
+    if constexpr (has_particles_v<M>) {
+      int k = 0;
+      for (const Particle& part : model_.particles()) {
+        if (!(part.mass > 0) || !std::isfinite(part.mass))
+          throw ParameterError(model_name(model_) + ": particle " + std::to_string(k) + " has mass " +
+                               std::to_string(part.mass) + "; it must be positive and finite");
+        for (int i : part.axes)
+          if (i < -1 || i >= size_)
+            throw ParameterError(model_name(model_) + ": particle " + std::to_string(k) + " names coordinate " +
+                                 std::to_string(i) + ", outside [0, " + std::to_string(size_) + ")");
+        ++k;
+      }
+    }
+    if constexpr (has_events_v) event_buf_.assign(static_cast<std::size_t>(2 * size_), 0.0);
+    const std::vector<int> cyclic = cyclic_coordinates(model_, x0, t0);
+    cyclic_.assign(cyclic.begin(), cyclic.end());
+    Vec<double, n> p(size_);
+    h0_ = energy_and_momenta(model_, x0.q, x0.qd, t0, p);  // after any impact at t0
+    pending_shifts_.clear();
+    double scale = std::abs(h0_);
+    if constexpr (has_kinetic_potential_v<M>) {
+      const double kinetic0 = model_.kinetic(x0.q, x0.qd, t0);
+      const double potential0 = model_.potential(x0.q, t0);
+      e0_ = kinetic0 + potential0;
+      scale = std::max(scale, std::abs(kinetic0) + std::abs(potential0));
+      report_.has_total_energy = true;
+      report_.total_energy_initial = e0_;
+    }
+    report_.energy_scale = scale > 0 && std::isfinite(scale) ? scale : 1.0;
+    report_.energy_initial = h0_;
+    for (int i : cyclic_) report_.conserved_momenta.push_back({columns.coordinates[static_cast<std::size_t>(i)], p[i], 0, 0});
+    if (obs_.begin) obs_.begin(obs_.object, columns);
+    for (int i = 0; i < size_; ++i) {
+      x[i] = x0.q[i];
+      x[size_ + i] = x0.qd[i];
+    }
+  }
+
+  void sample(double t, const double* x) override {
+    if constexpr (has_events_v) apply_pending_shifts(t);
+    Sample<n> s;
+    s.t = t;
+    s.q.resize(size_);
+    s.qd.resize(size_);
+    split_state(x, s.q, s.qd);
+    Vec<double, n> p(size_);
+    s.energy = energy_and_momenta(model_, s.q, s.qd, t, p);
+    h_last_ = s.energy;
+    report_.energy_drift_max = std::max(report_.energy_drift_max, std::abs(s.energy - h0_) / report_.energy_scale);
+    if constexpr (has_kinetic_potential_v<M>) {
+      s.total_energy = model_.kinetic(s.q, s.qd, t) + model_.potential(s.q, t);
+      e_last_ = s.total_energy;
+      report_.total_energy_drift_max =
+          std::max(report_.total_energy_drift_max, std::abs(s.total_energy - e0_) / report_.energy_scale);
+    }
+    if constexpr (has_constraints_v<M>) sample_constraints(s);
+    if constexpr (has_particles_v<M>) sample_particles(s);
+    if constexpr (has_reference_v<M>) {
+      if (s.t == opt_.t0) {
+        reference_initial_.q = s.q;
+        reference_initial_.qd = s.qd;
+      }
+      const State<n> ref = model_.reference(reference_initial_, s.t - opt_.t0);
+      report_.has_reference = true;
+      report_.reference_error_final = (s.q - ref.q).template lpNorm<Eigen::Infinity>();
+      report_.reference_error_max = std::max(report_.reference_error_max, report_.reference_error_final);
+    }
+    for (std::size_t k = 0; k < cyclic_.size(); ++k) {
+      MomentumDrift& d = report_.conserved_momenta[k];
+      d.final_abs_drift = std::abs(p[cyclic_[k]] - d.initial);
+      d.max_abs_drift = std::max(d.max_abs_drift, d.final_abs_drift);
+    }
+    obs_(s);
+  }
+
+  void finish(double t, const double* x, bool sample_end) override {
+    if constexpr (has_events_v) apply_pending_shifts(t);
+    if (sample_end) sample(t, x);
+    report_.energy_drift_final = std::abs(h_last_ - h0_) / report_.energy_scale;
+    if (report_.has_total_energy) report_.total_energy_drift_final = std::abs(e_last_ - e0_) / report_.energy_scale;
+    report_.energy_final = h_last_;
+  }
+
+  bool has_constraints() const override { return has_constraints_v<M>; }
+  /// Constrained models: projection (when chosen) and residual monitoring
+  /// after an accepted step ending at t with state x; true when x changed.
+  bool stabilize(double* x, double t, bool allow_projection) override;
+  void extra_rhs_evaluation() override {
+    if constexpr (has_constraints_v<M>) ++report_.constraints.extra_rhs_evaluations;
+  }
+
+  bool has_events() const override { return has_events_v; }
+  /// Events in the step just taken from (t_old, x_old) to (t, x): lift-off
+  /// of resting contacts (their multiplier turns negative), contacts closing
+  /// (the gap φ falls through zero, or dips below zero and back inside the
+  /// step), and watched event functions crossing zero in their direction.
+  /// Each crossing is located with Boost.Math's TOMS 748 on the step's
+  /// continuous extension `interp` (dopri5's dense output, or a Fehlberg 7(8)
+  /// sub-step from the step's start), the bracket narrowed to
+  /// event_time_tolerance · max(1 s, |t|). The earliest event is applied:
+  /// the step end moves to it (t and x are overwritten) and true is
+  /// returned, so the caller restarts its stepper there; later events in
+  /// the step are found by the following steps, so events are handled in
+  /// time order. Truly simultaneous contacts are resolved together by
+  /// resolve_contacts().
+  bool handle_events(double t_old, const double* x_old, double& t, double* x,
+                     const StepInterpolant& interp) override {
+    if constexpr (!has_events_v) {
+      (void)t_old, (void)x_old, (void)t, (void)x, (void)interp;
+      return false;
+    } else {
+      return locate_events(t_old, x_old, t, x, interp);
+    }
+  }
+  bool stopped() const override { return stopped_; }
+
+  /// The variational integrator (variational.hpp), for models that opted in
+  /// to the structure-preserving methods; built at the first step from x.
+  void variational_step(double t, double h, double* x) override {
+    if constexpr (structure_preserving_v<M> && variational_supported_v<M>) {
+      if (!variational_) {
+        State<n> s;
+        split_state(x, s.q, s.qd);
+        variational_.emplace(model_, s, t, discrete_rule_from_string(opt_.discrete_rule),
+                             NewtonSettings{opt_.newton_tolerance, opt_.newton_max_iterations});
+      }
+      VariationalIntegrator<M>& vi = *variational_;
+      try {
+        vi.step(h);
+      } catch (...) {
+        count_variational_work();
+        throw;
+      }
+      count_variational_work();
+      for (int i = 0; i < n; ++i) {
+        x[i] = vi.q()[i];
+        x[n + i] = vi.qd()[i];
+      }
+    } else {
+      System::variational_step(t, h, x);
+    }
+  }
+
+ private:
+  void accelerations_into(const Vec<double, n>& q, const Vec<double, n>& qd, double t, Vec<double, n>& qdd) const {
+    if constexpr (has_constraints_v<M>) {
+      constrained_accelerations(model_, rhs_ws_, ctx_->cw, q, qd, t, qdd, ctx_->omega, ctx_->active);
+    } else if constexpr (has_explicit_accelerations_v<M>) {
+      model_.accelerations(q, qd, t, qdd);
+    } else {
+      accelerations(model_, rhs_ws_, q, qd, t, qdd);
+    }
+  }
+  void count_variational_work() {
+    if constexpr (structure_preserving_v<M> && variational_supported_v<M>) {
+      report_.newton_iterations = variational_->newton_iterations();
+      report_.rhs_evaluations = variational_->lagrangian_evaluations();
+    }
+  }
+  ActiveSet active() const { return ctx_ ? ctx_->active : all_active; }
+  // Instantiated only for models with events (called from handle_events).
+  bool locate_events(double t_old, const double* x_old, double& t, double* x, const StepInterpolant& interp);
+  /// Resolves every contact that is touching (|φ| within the touch
+  /// tolerance) and approaching faster than contact_touch_speed at (x, t),
+  /// one pair at a time: the one approaching fastest first, by Newton's law
+  /// of restitution (apply_impact), until none approaches (the sequential
+  /// rule for simultaneous impacts; each step conserves momentum, and kinetic
+  /// energy when e = 1). Zeno accumulations are resolved plastically (see
+  /// SimulationOptions::zeno_speed_ratio). Afterwards the contacts that took
+  /// part (and `trigger`) are resting (active) when they do not separate,
+  /// and active contacts that separate are released.
+  void resolve_contacts(double* x, double t, int trigger);
+  /// Tracks σ_r/σ_1 of the bilateral constraint Jacobian (r = rank at t0)
+  /// at accepted steps and samples, and warns once when it falls below
+  /// 1e-3: a singular configuration is near (the multipliers grow without
+  /// bound there, and the motion may switch assembly branches).
+  template <class CS>
+  void monitor_conditioning(CS cs, double t);
+
+  /// P = Σ m v and L = Σ m (r − r₀) × v of a particle system at a sample.
+  void sample_particles(const Sample<n>& s) {
+    std::array<double, 3> P{}, L{};
+    const auto& r0 = opt_.angular_momentum_point;
+    for (const Particle& part : model_.particles()) {
+      std::array<double, 3> r{}, v{};
+      for (int a = 0; a < 3; ++a) {
+        const int i = part.axes[static_cast<std::size_t>(a)];
+        if (i >= 0) {
+          r[static_cast<std::size_t>(a)] = s.q[i] - r0[static_cast<std::size_t>(a)];
+          v[static_cast<std::size_t>(a)] = s.qd[i];
+        } else {
+          r[static_cast<std::size_t>(a)] = -r0[static_cast<std::size_t>(a)];
+        }
+      }
+      for (int a = 0; a < 3; ++a) P[static_cast<std::size_t>(a)] += part.mass * v[static_cast<std::size_t>(a)];
+      L[0] += part.mass * (r[1] * v[2] - r[2] * v[1]);
+      L[1] += part.mass * (r[2] * v[0] - r[0] * v[2]);
+      L[2] += part.mass * (r[0] * v[1] - r[1] * v[0]);
+    }
+    if (!report_.has_particles) {
+      report_.has_particles = true;
+      report_.linear_momentum_initial = P;
+      report_.angular_momentum_initial = L;
+    }
+    auto dist = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+      return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+    };
+    report_.linear_momentum_drift_final = dist(P, report_.linear_momentum_initial);
+    report_.angular_momentum_drift_final = dist(L, report_.angular_momentum_initial);
+    report_.linear_momentum_drift_max = std::max(report_.linear_momentum_drift_max, report_.linear_momentum_drift_final);
+    report_.angular_momentum_drift_max =
+        std::max(report_.angular_momentum_drift_max, report_.angular_momentum_drift_final);
+  }
+
+  void start_constraints(State<n>& x0, Columns& columns);
+  void sample_constraints(Sample<n>& s);
+
+  /// Gaps within this of zero count as touching: 1e-9 (1 + ‖q‖∞).
+  double contact_touch_tolerance(const double* x) const {
+    double qmax = 0;
+    for (int i = 0; i < size_; ++i) qmax = std::max(qmax, std::abs(x[i]));
+    return 1e-9 * (1.0 + qmax);
+  }
+  template <class G>
+  void gaps_at(const double* x, double t, G& g, G& r) const {
+    Vec<double, n> q, qd;
+    split_state(x, q, qd);
+    contact_gaps(model_, q, qd, t, g, r);
+  }
+  Vec<double, event_count_v<M>> watched_at(const double* x, double t) const {
+    if constexpr (event_count_v<M> > 0) {
+      Vec<double, n> q, qd;
+      split_state(x, q, qd);
+      return model_.events(q, qd, t);
+    } else {
+      (void)x, (void)t;
+      return {};
+    }
+  }
+  std::string contact_name(int j) const {
+    return report_.constraints.names[static_cast<std::size_t>(holonomic_count_v<M> + j)];
+  }
+  /// d²φ_j/dt² = G_j q̈ + γ_j with q̈ from the current active set (contact j
+  /// itself inactive): negative when the forces press the contact shut.
+  double gap_acceleration(const Vec<double, n>& q, const Vec<double, n>& qd, double t, int j);
+
+  /// An event without an impulse: logs it with the kinetic energy at x.
+  void log_simple(EventKind kind, const std::string& name, double t, const double* x) {
+    EventRecord rec;
+    rec.t = t;
+    rec.kind = kind;
+    rec.name = name;
+    Vec<double, n> q, qd;
+    split_state(x, q, qd);
+    if constexpr (!has_kinetic_potential_v<M>) evaluate(model_, ws_, q, qd, t);  // M for ½ q̇ᵀMq̇
+    rec.kinetic_energy_before = rec.kinetic_energy_after = detail::kinetic_for_log(model_, ws_, q, qd, t);
+    report_.events.push_back(rec);
+  }
+  /// After an impact: the energy references move by the energy the impact
+  /// took, so the drift monitors keep measuring integration error only.
+  void shift_reference_energy(const Vec<double, n>& q, const Vec<double, n>& qd, double t, double h_before,
+                              double kinetic_change) {
+    // Applied by emit() from the event time on: samples interpolated
+    // before the event still compare with the old references.
+    pending_shifts_.push_back({t, energy_function(model_, q, qd, t) - h_before, kinetic_change});
+  }
+  void apply_pending_shifts(double t) {
+    std::size_t k = 0;
+    for (; k < pending_shifts_.size() && pending_shifts_[k][0] <= t; ++k) {
+      h0_ += pending_shifts_[k][1];
+      e0_ += pending_shifts_[k][2];  // an impulse leaves V unchanged: ΔE = ΔT
+    }
+    pending_shifts_.erase(pending_shifts_.begin(), pending_shifts_.begin() + static_cast<std::ptrdiff_t>(k));
+  }
+
+  const M& model_;
+  const SimulationOptions& opt_;
+  Observer obs_;
+  RunReport& report_;
+  int size_;
+  mutable Workspace<n> rhs_ws_{model_size(model_)};  ///< the right-hand side's
+  Workspace<n> ws_{model_size(model_)};              ///< monitors' and events'
+  [[no_unique_address]] std::conditional_t<has_constraints_v<M>, ConstraintContext<M>, None> context_{};
+  ConstraintContext<M>* ctx_ = nullptr;  ///< &context_ for constrained models
+  std::array<double, unilateral_count_v<M>> restitution_{};
+  std::array<double, unilateral_count_v<M>> approach_max_{};
+  std::array<double, unilateral_count_v<M>> last_impact_{};
+  std::vector<EventSpec> specs_;
+  std::vector<double> event_buf_;
+  bool stopped_ = false;
+  /// (time, Δh, ΔE) of impacts not yet sampled past
+  std::vector<std::array<double, 3>> pending_shifts_;
+  [[no_unique_address]] std::conditional_t<has_reference_v<M>, State<n>, None> reference_initial_{};
+  double last_event_time_ = std::numeric_limits<double>::quiet_NaN();
+  int events_without_progress_ = 0;
+  [[no_unique_address]] std::conditional_t<has_constraints_v<M>, ConstraintWorkspace<n, constraint_count_v<M>>, None>
+      cw_{};
+  std::vector<int> cyclic_;
+  double h0_ = 0, e0_ = 0, h_last_ = 0, e_last_ = 0;
+  std::vector<double> singular_values_;
+  bool warned_conditioning_ = false;
+  [[no_unique_address]] std::conditional_t<structure_preserving_v<M> && variational_supported_v<M>,
+                                           std::optional<VariationalIntegrator<M>>, None>
+      variational_;
+};
+
+}  // namespace lagrangian::detail
+
+#include "lagrangian/detail/run_constraints.hpp"  // IWYU pragma: export
+#include "lagrangian/detail/run_events.hpp"  // IWYU pragma: export

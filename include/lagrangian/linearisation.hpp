@@ -1,0 +1,193 @@
+#pragma once
+/// \file linearisation.hpp
+/// L about rest, the ground of the analyses (analysis.hpp): the effective
+/// potential U(q) = −L(q, q̇ = 0, t) (J) with its gradient and Hessian, the
+/// second-order expansion of L about (q, 0), the holonomic constraints with
+/// their Jacobian and Hessians, and the tangent space of the constraint
+/// manifold. AnalysisError is the error of every analysis.
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <Eigen/QR>
+#include <Eigen/SVD>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <nlopt.h>
+
+#include "lagrangian/ad.hpp"
+#include "lagrangian/constraints.hpp"
+#include "lagrangian/discrete.hpp"
+#include "lagrangian/dynamics.hpp"
+#include "lagrangian/errors.hpp"
+#include "lagrangian/model.hpp"
+
+namespace lagrangian {
+
+/// An analysis cannot be done: the model does not suit it (non-conservative
+/// forces for a stationary-action problem, Pfaffian constraints for
+/// equilibria), a boundary-value problem is singular, Newton's method did not
+/// converge. The message says which and gives the numbers.
+class AnalysisError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// U(q) = −L(q, 0, t), its gradient and Hessian, by one second-order Jet pass.
+struct PotentialDerivatives {
+  double value = 0;
+  Eigen::VectorXd gradient;
+  Eigen::MatrixXd hessian;
+};
+
+/// The second-order expansion of L about (q, q̇ = 0): M, K = −∂²L/∂q²,
+/// C = ∂²L/∂q̇∂q and ∂L/∂q, from one pass with ad::Jet<double, 2n, 2>.
+struct QuadraticLagrangian {
+  Eigen::MatrixXd mass;       ///< M = ∂²L/∂q̇² (kg, kg·m²)
+  Eigen::MatrixXd stiffness;  ///< K = −∂²L/∂q² = ∇²U
+  Eigen::MatrixXd mixed;      ///< C_ij = ∂²L/∂q̇_i∂q_j
+  Eigen::VectorXd force;      ///< ∂L/∂q = −∇U
+  double potential = 0;       ///< U = −L(q, 0)
+};
+
+namespace detail {
+
+template <class M>
+void require_static_size() {
+  static_assert(M::dof != Dynamic, "lagrangian: the analyses need a compile-time number of coordinates");
+}
+
+/// Wraps periodic coordinates into [−P/2, P/2).
+inline void wrap_periodic(Eigen::VectorXd& q, const std::vector<double>& periods) {
+  for (int i = 0; i < q.size() && static_cast<std::size_t>(i) < periods.size(); ++i) {
+    const double p = periods[static_cast<std::size_t>(i)];
+    if (p > 0) {
+      q[i] -= p * std::floor(q[i] / p + 0.5);
+      if (q[i] >= 0.5 * p) q[i] -= p;
+    }
+  }
+}
+
+/// Orthonormal basis of the null space of G (m×n), by SVD; the identity for m = 0.
+Eigen::MatrixXd tangent_basis(const Eigen::MatrixXd& G, int n);
+
+}  // namespace detail
+
+/// U, ∇U and ∇²U at q (U = −L(q, 0, t), J), by ad::Jet<double, n, 2>.
+template <class M>
+PotentialDerivatives potential_derivatives(const M& model, const Vec<double, M::dof>& q, double t = 0.0) {
+  check_model<M>();
+  detail::require_static_size<M>();
+  constexpr int n = M::dof;
+  using J = ad::Jet<double, n, 2>;
+  Vec<J, n> qj, zero;
+  for (int k = 0; k < n; ++k) {
+    qj[k] = J::variable(q[k], k);
+    zero[k] = J(0.0);
+  }
+  const J l = detail::lagrangian_of(model, qj, zero, J(t));
+  PotentialDerivatives d;
+  d.value = -l.v;
+  d.gradient.resize(n);
+  d.hessian.resize(n, n);
+  for (int i = 0; i < n; ++i) {
+    d.gradient[i] = -l.g[i];
+    for (int j = 0; j < n; ++j) d.hessian(i, j) = -l.hess(i, j);
+  }
+  return d;
+}
+
+/// The second-order expansion of L about (q, 0) (see QuadraticLagrangian).
+template <class M>
+QuadraticLagrangian quadratic_lagrangian(const M& model, const Vec<double, M::dof>& q, double t = 0.0) {
+  check_model<M>();
+  detail::require_static_size<M>();
+  constexpr int n = M::dof;
+  using J = ad::Jet<double, 2 * n, 2>;
+  Vec<J, n> qj, qdj;
+  for (int k = 0; k < n; ++k) {
+    qj[k] = J::variable(q[k], k);
+    qdj[k] = J::variable(0.0, n + k);
+  }
+  const J l = detail::lagrangian_of(model, qj, qdj, J(t));
+  QuadraticLagrangian r;
+  r.potential = -l.v;
+  r.mass.resize(n, n);
+  r.stiffness.resize(n, n);
+  r.mixed.resize(n, n);
+  r.force.resize(n);
+  for (int i = 0; i < n; ++i) {
+    r.force[i] = l.g[i];
+    for (int j = 0; j < n; ++j) {
+      r.mass(i, j) = l.hess(n + i, n + j);
+      r.stiffness(i, j) = -l.hess(i, j);
+      r.mixed(i, j) = l.hess(n + i, j);
+    }
+  }
+  return r;
+}
+
+namespace detail {
+
+/// g(q, t), G = ∂g/∂q and the Hessians ∇²g_i of the holonomic constraints.
+struct HolonomicDerivatives {
+  Eigen::VectorXd value;
+  Eigen::MatrixXd jacobian;
+  std::vector<Eigen::MatrixXd> hessians;
+};
+
+template <class M>
+HolonomicDerivatives holonomic_derivatives(const M& model, const Vec<double, M::dof>& q, double t) {
+  constexpr int n = M::dof;
+  constexpr int m = holonomic_count_v<M>;
+  HolonomicDerivatives d;
+  d.value.resize(m);
+  d.jacobian.resize(m, n);
+  if constexpr (m > 0) {
+    using J = ad::Jet<double, n, 2>;
+    Vec<J, n> qj;
+    for (int k = 0; k < n; ++k) qj[k] = J::variable(q[k], k);
+    const auto g = model.holonomic(qj, J(t));
+    for (int i = 0; i < m; ++i) {
+      d.value[i] = g[i].v;
+      Eigen::MatrixXd h(n, n);
+      for (int k = 0; k < n; ++k) {
+        d.jacobian(i, k) = g[i].g[k];
+        for (int j = 0; j < n; ++j) h(k, j) = g[i].hess(k, j);
+      }
+      d.hessians.push_back(h);
+    }
+  } else {
+    (void)model;
+    (void)q;
+    (void)t;
+  }
+  return d;
+}
+
+template <class M>
+void refuse_for_equilibria(const M&) {
+  if constexpr (pfaffian_count_v<M> > 0)
+    throw AnalysisError("equilibria: the model declares " + std::to_string(pfaffian_count_v<M>) +
+                        " Pfaffian (nonholonomic) constraints; only holonomic constraints are supported");
+  if constexpr (unilateral_count_v<M> > 0)
+    throw AnalysisError("equilibria: the model declares " + std::to_string(unilateral_count_v<M>) +
+                        " unilateral constraints (contacts); resting contacts are not supported");
+  if constexpr (has_generalized_forces_v<M>)
+    throw AnalysisError("equilibria: the model declares generalized forces Q, which are not derived from a "
+                        "potential; equilibria of U = -L(q, 0) would ignore them");
+}
+
+/// λ minimising ‖∇U − Gᵀλ‖ (complete orthogonal decomposition).
+Eigen::VectorXd least_squares_multipliers(const Eigen::MatrixXd& G, const Eigen::VectorXd& grad);
+}  // namespace detail
+
+}  // namespace lagrangian

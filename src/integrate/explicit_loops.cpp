@@ -1,0 +1,171 @@
+// The explicit Runge–Kutta loops of the driver: dopri5 with dense output,
+// rk4 on a fixed grid, and Odeint's controlled steppers without dense
+// output (cash_karp54, fehlberg78, Bulirsch–Stoer).
+
+#include <algorithm>
+#include <cstdint>
+
+#include <boost/numeric/odeint/stepper/bulirsch_stoer.hpp>
+#include <boost/numeric/odeint/stepper/controlled_runge_kutta.hpp>
+#include <boost/numeric/odeint/stepper/generation.hpp>
+#include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
+#include <boost/numeric/odeint/stepper/runge_kutta_cash_karp54.hpp>
+#include <boost/numeric/odeint/stepper/runge_kutta_dopri5.hpp>
+#include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
+
+#include "loops.hpp"
+
+namespace lagrangian::detail {
+
+namespace odeint = boost::numeric::odeint;
+using X = StateVector;
+
+void SubStep::operator()(double t, double* out) const {
+  if (t == t0) {
+    std::copy(x0.begin(), x0.end(), out);
+    return;
+  }
+  using Controlled = odeint::controlled_runge_kutta<odeint::runge_kutta_fehlberg78<X>>;
+  Controlled stepper{Controlled::error_checker_type(atol, rtol)};
+  X x = x0;
+  double tc = t0, dt = t - t0;
+  while (tc < t) {
+    const bool last = tc + dt >= t;
+    double dt_try = last ? t - tc : dt;
+    if (stepper.try_step(rhs, x, tc, dt_try) == odeint::success) {
+      if (last) tc = t;
+      dt = dt_try;
+    } else {
+      dt = dt_try;
+      if (!(dt > 0) || tc + dt == tc) break;  // underflow: keep what we have
+    }
+  }
+  std::copy(x.begin(), x.end(), out);
+}
+
+namespace {
+
+// Odeint's controlled stepper `Controlled` with the run's tolerances. (Its
+// constructor copies a default-constructed stepper whose scratch arrays are
+// not initialised yet; g++ warns of that copy once it is inlined.)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+template <class Controlled>
+Controlled make_controlled(const SimulationOptions& opt) {
+  if constexpr (requires { typename Controlled::error_checker_type; }) {
+    return Controlled{typename Controlled::error_checker_type(opt.atol, opt.rtol)};
+  } else {
+    return Controlled(opt.atol, opt.rtol);  // Bulirsch–Stoer
+  }
+}
+#pragma GCC diagnostic pop
+
+const auto no_interpolation = [](double, double*) {};
+
+// Odeint's controlled stepper without dense output in the common loop.
+// No state is carried between steps except by Bulirsch–Stoer, which
+// restarts after an event.
+template <class Controlled>
+void run_controlled(Run& run, X& x) {
+  const CountedRhs rhs = run.rhs();
+  Controlled stepper = make_controlled<Controlled>(run.options());
+  run_controlled_loop(
+      run, x, [&](X& xs, double& t, double& dt) { return stepper.try_step(rhs, xs, t, dt) == odeint::success; },
+      [&] {
+        if constexpr (requires { stepper.reset(); }) stepper.reset();
+      });
+}
+
+}  // namespace
+
+void run_cash_karp54(Run& run, X& x) {
+  run_controlled<odeint::controlled_runge_kutta<odeint::runge_kutta_cash_karp54<X>>>(run, x);
+}
+void run_fehlberg78(Run& run, X& x) {
+  run_controlled<odeint::controlled_runge_kutta<odeint::runge_kutta_fehlberg78<X>>>(run, x);
+}
+void run_bulirsch_stoer(Run& run, X& x) { run_controlled<odeint::bulirsch_stoer<X>>(run, x); }
+
+void run_dopri5(Run& run, X& x) {
+  const SimulationOptions& opt = run.options();
+  const CountedRhs rhs = run.rhs();
+  using Controlled = odeint::controlled_runge_kutta<odeint::runge_kutta_dopri5<X>>;
+  Controlled stepper{Controlled::error_checker_type(opt.atol, opt.rtol)};
+  const bool events = run.has_events();
+  const bool moves = events || run.has_constraints();  // the state may move after a step
+  X dxdt = x, x_old = x, dxdt_old = x, x_step = x, dxdt_step = x, buf = x;
+  double t = opt.t0;
+  double dt = opt.dt;
+  // Samples between steps and event location need the step's start.
+  const bool dense = opt.output_interval > 0 || events;
+  rhs(x, dxdt, t);
+  while (!reached(t, opt.t_end) && !run.stopped()) {
+    const bool clamped = t + dt > opt.t_end;
+    double dt_try = clamped ? opt.t_end - t : dt;
+    if (dense) {
+      x_old = x;
+      dxdt_old = dxdt;
+    }
+    const double t_old = t;
+    if (stepper.try_step(rhs, x, dxdt, t, dt_try) == odeint::success) {
+      if (clamped) t = opt.t_end;
+      run.reset_rejections();
+      const double t_new = t;
+      const X* x_new = &x;
+      const X* deriv_new = &dxdt;
+      auto interpolate = [&](double to, double* out) {
+        stepper.stepper().calc_state(to, buf, x_old, dxdt_old, t_old, *x_new, *deriv_new, t_new);
+        std::copy(buf.begin(), buf.end(), out);
+      };
+      if (moves) {
+        if (dense) {
+          // The step's own end point, for its dense output after x moves.
+          x_step = x;
+          dxdt_step = dxdt;
+          x_new = &x_step;
+          deriv_new = &dxdt_step;
+        }
+        bool changed = run.handle_events(t_old, x_old.data(), t, x.data(), interpolator(interpolate));
+        changed = run.stabilize(x.data(), t) || changed;
+        if (changed) {
+          rhs(x, dxdt, t);  // FSAL: the moved state needs its own derivative
+          run.extra_rhs_evaluation();
+        }
+      }
+      run.accepted(t_old, t, x.data(), interpolate);
+      dt = clamped ? std::max(dt, dt_try) : dt_try;
+    } else {
+      run.rejected(t, dt_try);
+      dt = dt_try;
+    }
+  }
+}
+
+void run_rk4(Run& run, X& x) {
+  const SimulationOptions& opt = run.options();
+  const CountedRhs rhs = run.rhs();
+  odeint::runge_kutta4<X> stepper;
+  const bool events = run.has_events();
+  // Fixed steps of opt.dt; the k-th step ends at t0 + k dt (no accumulated
+  // rounding); a step is shortened only to land on an output time or t_end.
+  std::uint64_t k = 0;
+  double t = opt.t0;
+  X x_prev = x;
+  while (!reached(t, opt.t_end) && !run.stopped()) {
+    const double t_grid = opt.t0 + static_cast<double>(k + 1) * opt.dt;
+    const double t_next = std::min({t_grid, opt.t_end, run.next_output_time()});
+    const double t_old = t;
+    if (events) x_prev = x;
+    stepper.do_step(rhs, x, t, t_next - t);
+    t = t_next;
+    if (events) {
+      const SubStep sub{rhs, x_prev, t_old, opt.rtol, opt.atol};
+      run.handle_events(t_old, x_prev.data(), t, x.data(), interpolator(sub));
+    }
+    if (t >= t_grid) ++k;  // a step cut at an event leaves the grid point ahead
+    run.stabilize(x.data(), t);
+    run.accepted(t_old, t, x.data(), no_interpolation);
+  }
+}
+
+}  // namespace lagrangian::detail

@@ -1,0 +1,52 @@
+#include "lagrangian/integrate.hpp"
+
+#include <limits>
+#include <string>
+
+#include "lagrangian/errors.hpp"
+#include "loops.hpp"
+
+namespace lagrangian {
+
+void System::variational_step(double, double, double*) {
+  throw OptionError("method 'variational' needs the system's own variational stepper, and this system has none");
+}
+
+void integrate(System& system, std::vector<double>& x, const SimulationOptions& options, RunReport& report) {
+  using namespace detail;
+  const int n = system.coordinate_count();
+  if (x.size() != static_cast<std::size_t>(2 * n))
+    throw OptionError("integrate: the state has " + std::to_string(x.size()) + " values; the system has " +
+                      std::to_string(n) + " coordinates, so 2n = " + std::to_string(2 * n));
+  Run run(system, options, report);
+  system.start(x.data(), options.t0);  // impacts at t0 may change x
+  run.emit(options.t0, x.data());
+  const std::string& m = options.method;
+  try {
+    if (m == "dopri5") {
+      run_dopri5(run, x);
+    } else if (m == "rk4") {
+      run_rk4(run, x);
+    } else if (m == "cash_karp54") {
+      run_cash_karp54(run, x);
+    } else if (m == "fehlberg78") {
+      run_fehlberg78(run, x);
+    } else if (m == "bulirsch_stoer") {
+      run_bulirsch_stoer(run, x);
+    } else if (m == "rosenbrock4") {
+      run_rosenbrock4(run, x);
+    } else if (m == "symplectic_rkn_sb3a_mclachlan" || m == "velocity_verlet") {
+      run_symplectic(run, x);
+    } else if (m == "variational") {
+      run_variational(run, x);
+    } else {
+      throw OptionError("unknown method '" + m + "'");
+    }
+  } catch (const DynamicsError& e) {
+    throw SimulationError(std::string("run stopped: ") + e.what(), run.last_time());
+  }
+  run.finish(x.data());
+  if (!fixed_step_method(m) && m != "rosenbrock4") check_stiffness(system, x, report.t_final, run.recent_step(), report);
+}
+
+}  // namespace lagrangian
