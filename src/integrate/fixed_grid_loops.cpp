@@ -74,7 +74,7 @@ void run_symplectic(Run& run, StateVector& x) {
   namespace odeint = boost::numeric::odeint;
   using V = std::vector<double>;
   const SimulationOptions& opt = run.options();
-  const CountedRhs rhs = run.rhs();
+  const CountedRhs<> rhs = run.rhs();
   const auto size = static_cast<std::size_t>(run.size());
   V q(size), v(size);
   StateVector xa(2 * size, 0.0), fa(2 * size, 0.0);

@@ -23,16 +23,8 @@ void integrate(System& system, std::vector<double>& x, const SimulationOptions& 
   run.emit(options.t0, x.data());
   const std::string& m = options.method;
   try {
-    if (m == "dopri5") {
-      run_dopri5(run, x);
-    } else if (m == "rk4") {
-      run_rk4(run, x);
-    } else if (m == "cash_karp54") {
-      run_cash_karp54(run, x);
-    } else if (m == "fehlberg78") {
-      run_fehlberg78(run, x);
-    } else if (m == "bulirsch_stoer") {
-      run_bulirsch_stoer(run, x);
+    if (m == "dopri5" || m == "rk4" || m == "cash_karp54" || m == "fehlberg78" || m == "bulirsch_stoer") {
+      run_explicit(run, x);
     } else if (m == "rosenbrock4") {
       run_rosenbrock4(run, x);
     } else if (m == "symplectic_rkn_sb3a_mclachlan" || m == "velocity_verlet") {

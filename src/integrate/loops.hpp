@@ -8,15 +8,20 @@
 
 namespace lagrangian::detail {
 
-/// dopri5 with dense output: samples and events between steps are
-/// interpolated (explicit_loops.cpp).
-void run_dopri5(Run& run, StateVector& x);
-/// rk4 on the grid t0 + k dt (explicit_loops.cpp).
-void run_rk4(Run& run, StateVector& x);
-/// Odeint's controlled steppers without dense output (explicit_loops.cpp).
-void run_cash_karp54(Run& run, StateVector& x);
-void run_fehlberg78(Run& run, StateVector& x);
-void run_bulirsch_stoer(Run& run, StateVector& x);
+/// The explicit Runge–Kutta methods (dopri5, rk4, cash_karp54, fehlberg78,
+/// bulirsch_stoer; explicit_loops.hpp) on the Odeint state std::array<double,
+/// 2n> for n ≤ kMaxFixedStateSize and StateVector above: a fixed-size state
+/// lets Odeint's stage arithmetic run on registers and unrolled loops, which
+/// saved 15 % of the instructions of a whole run of the double pendulum
+/// against a std::vector state (docs/performance.md).
+void run_explicit(Run& run, StateVector& x);
+inline constexpr int kMaxFixedStateSize = 12;
+/// The method on the Odeint state X, and on std::array<double, 2N> (x copied
+/// in and out): defined in explicit_loops.hpp, compiled in explicit_*.cpp.
+template <class X>
+void run_explicit_on(Run& run, X& x);
+template <int N>
+void run_explicit_fixed(Run& run, StateVector& x);
 /// Odeint's rosenbrock4 (rosenbrock_loop.cpp).
 void run_rosenbrock4(Run& run, StateVector& x);
 /// The fixed-step structure-preserving methods (fixed_grid_loops.cpp).
@@ -30,10 +35,11 @@ void run_variational(Run& run, StateVector& x);
 /// Bulirsch–Stoer takes steps of a large fraction of an orbit, over which one
 /// 7(8) step is far less accurate than the tolerance the run asked for (the
 /// work-precision bench found this: Kepler with periapsis events lost up to
-/// three orders of magnitude).
+/// three orders of magnitude). Defined in explicit_loops.hpp.
+template <class X>
 struct SubStep {
-  CountedRhs rhs;
-  const StateVector& x0;
+  CountedRhs<X> rhs;
+  const X& x0;
   double t0;
   double rtol, atol;
   void operator()(double t, double* out) const;
@@ -44,13 +50,13 @@ struct SubStep {
 /// step; false: dt reduced), `restart()` is called after an event moved the
 /// state. Steps are shortened to land on output times and on t_end; events
 /// are located on a SubStep from the step's start.
-template <class TryStep, class Restart>
-void run_controlled_loop(Run& run, StateVector& x, TryStep&& try_step, Restart&& restart) {
+template <class X, class TryStep, class Restart>
+void run_controlled_loop(Run& run, X& x, TryStep&& try_step, Restart&& restart) {
   const SimulationOptions& opt = run.options();
   const bool events = run.has_events();
   double t = opt.t0;
   double dt = opt.dt;
-  StateVector x_prev = x;
+  X x_prev = x;
   while (!reached(t, opt.t_end) && !run.stopped()) {
     const double limit = std::min(opt.t_end, run.next_output_time());
     const bool clamped = t + dt > limit;
@@ -60,7 +66,7 @@ void run_controlled_loop(Run& run, StateVector& x, TryStep&& try_step, Restart&&
     if (try_step(x, t, dt_try)) {
       if (clamped) t = limit;  // land exactly on the output time or t_end
       if (events) {
-        const SubStep sub{run.rhs(), x_prev, t_old, opt.rtol, opt.atol};
+        const SubStep<X> sub{run.rhs<X>(), x_prev, t_old, opt.rtol, opt.atol};
         if (run.handle_events(t_old, x_prev.data(), t, x.data(), interpolator(sub))) restart();
       }
       run.stabilize(x.data(), t);

@@ -16,7 +16,7 @@ namespace lagrangian::detail {
 void run_rosenbrock4(Run& run, StateVector& x) {
   const SimulationOptions& opt = run.options();
   struct Context {
-    CountedRhs rhs;
+    CountedRhs<> rhs;
     StateVector xa, fa, fb;
     int m;
   } ctx{run.rhs(), x, x, x, static_cast<int>(x.size())};

@@ -24,11 +24,14 @@ inline bool reached(double t, double t_end) {
   return t_end - t <= 4.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(t), std::abs(t_end));
 }
 
-/// f(x, t) of the system as Odeint calls it, counting evaluations.
+/// f(x, t) of the system as Odeint calls it, counting evaluations. X is the
+/// Odeint state: std::array<double, 2n> for the sizes the driver is compiled
+/// for (explicit_loops.hpp), StateVector otherwise.
+template <class X = StateVector>
 struct CountedRhs {
   const System* system;
   std::uint64_t* evaluations;
-  void operator()(const StateVector& x, StateVector& dxdt, double t) const {
+  void operator()(const X& x, X& dxdt, double t) const {
     system->rhs(x.data(), dxdt.data(), t);
     ++*evaluations;
   }
@@ -41,7 +44,10 @@ class Run {
   const SimulationOptions& options() const { return opt_; }
   RunReport& report() { return report_; }
   System& system() { return system_; }
-  CountedRhs rhs() const { return {&system_, &report_.rhs_evaluations}; }
+  template <class X = StateVector>
+  CountedRhs<X> rhs() const {
+    return {&system_, &report_.rhs_evaluations};
+  }
   /// n: the state has 2n values.
   int size() const { return size_; }
   bool has_events() const { return events_; }

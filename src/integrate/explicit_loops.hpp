@@ -1,9 +1,13 @@
+#pragma once
 // The explicit Runge–Kutta loops of the driver: dopri5 with dense output,
 // rk4 on a fixed grid, and Odeint's controlled steppers without dense
-// output (cash_karp54, fehlberg78, Bulirsch–Stoer).
+// output (cash_karp54, fehlberg78, Bulirsch–Stoer), as templates on the
+// Odeint state X; compiled for each state type in explicit_*.cpp.
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
+#include <string>
 
 #include <boost/numeric/odeint/stepper/bulirsch_stoer.hpp>
 #include <boost/numeric/odeint/stepper/controlled_runge_kutta.hpp>
@@ -13,20 +17,21 @@
 #include <boost/numeric/odeint/stepper/runge_kutta_dopri5.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
 
+#include "lagrangian/errors.hpp"
 #include "loops.hpp"
 
 namespace lagrangian::detail {
 
 namespace odeint = boost::numeric::odeint;
-using X = StateVector;
 
-void SubStep::operator()(double t, double* out) const {
+template <class X>
+void SubStep<X>::operator()(double t, double* out) const {
   if (t == t0) {
     std::copy(x0.begin(), x0.end(), out);
     return;
   }
   using Controlled = odeint::controlled_runge_kutta<odeint::runge_kutta_fehlberg78<X>>;
-  Controlled stepper{Controlled::error_checker_type(atol, rtol)};
+  Controlled stepper{typename Controlled::error_checker_type(atol, rtol)};
   X x = x0;
   double tc = t0, dt = t - t0;
   while (tc < t) {
@@ -43,7 +48,7 @@ void SubStep::operator()(double t, double* out) const {
   std::copy(x.begin(), x.end(), out);
 }
 
-namespace {
+namespace explicit_loops {
 
 // Odeint's controlled stepper `Controlled` with the run's tolerances. (Its
 // constructor copies a default-constructed stepper whose scratch arrays are
@@ -60,14 +65,14 @@ Controlled make_controlled(const SimulationOptions& opt) {
 }
 #pragma GCC diagnostic pop
 
-const auto no_interpolation = [](double, double*) {};
+inline const auto no_interpolation = [](double, double*) {};
 
 // Odeint's controlled stepper without dense output in the common loop.
 // No state is carried between steps except by Bulirsch–Stoer, which
 // restarts after an event.
-template <class Controlled>
+template <class Controlled, class X>
 void run_controlled(Run& run, X& x) {
-  const CountedRhs rhs = run.rhs();
+  const CountedRhs<X> rhs = run.rhs<X>();
   Controlled stepper = make_controlled<Controlled>(run.options());
   run_controlled_loop(
       run, x, [&](X& xs, double& t, double& dt) { return stepper.try_step(rhs, xs, t, dt) == odeint::success; },
@@ -76,21 +81,12 @@ void run_controlled(Run& run, X& x) {
       });
 }
 
-}  // namespace
-
-void run_cash_karp54(Run& run, X& x) {
-  run_controlled<odeint::controlled_runge_kutta<odeint::runge_kutta_cash_karp54<X>>>(run, x);
-}
-void run_fehlberg78(Run& run, X& x) {
-  run_controlled<odeint::controlled_runge_kutta<odeint::runge_kutta_fehlberg78<X>>>(run, x);
-}
-void run_bulirsch_stoer(Run& run, X& x) { run_controlled<odeint::bulirsch_stoer<X>>(run, x); }
-
+template <class X>
 void run_dopri5(Run& run, X& x) {
   const SimulationOptions& opt = run.options();
-  const CountedRhs rhs = run.rhs();
+  const CountedRhs<X> rhs = run.rhs<X>();
   using Controlled = odeint::controlled_runge_kutta<odeint::runge_kutta_dopri5<X>>;
-  Controlled stepper{Controlled::error_checker_type(opt.atol, opt.rtol)};
+  Controlled stepper{typename Controlled::error_checker_type(opt.atol, opt.rtol)};
   const bool events = run.has_events();
   const bool moves = events || run.has_constraints();  // the state may move after a step
   X dxdt = x, x_old = x, dxdt_old = x, x_step = x, dxdt_step = x, buf = x;
@@ -141,9 +137,10 @@ void run_dopri5(Run& run, X& x) {
   }
 }
 
+template <class X>
 void run_rk4(Run& run, X& x) {
   const SimulationOptions& opt = run.options();
-  const CountedRhs rhs = run.rhs();
+  const CountedRhs<X> rhs = run.rhs<X>();
   odeint::runge_kutta4<X> stepper;
   const bool events = run.has_events();
   // Fixed steps of opt.dt; the k-th step ends at t0 + k dt (no accumulated
@@ -159,13 +156,44 @@ void run_rk4(Run& run, X& x) {
     stepper.do_step(rhs, x, t, t_next - t);
     t = t_next;
     if (events) {
-      const SubStep sub{rhs, x_prev, t_old, opt.rtol, opt.atol};
+      const SubStep<X> sub{rhs, x_prev, t_old, opt.rtol, opt.atol};
       run.handle_events(t_old, x_prev.data(), t, x.data(), interpolator(sub));
     }
     if (t >= t_grid) ++k;  // a step cut at an event leaves the grid point ahead
     run.stabilize(x.data(), t);
     run.accepted(t_old, t, x.data(), no_interpolation);
   }
+}
+
+}  // namespace explicit_loops
+
+/// The explicit method options.method on the Odeint state X.
+template <class X>
+void run_explicit_on(Run& run, X& x) {
+  namespace loops = explicit_loops;
+  const std::string& m = run.options().method;
+  if (m == "dopri5") {
+    loops::run_dopri5(run, x);
+  } else if (m == "rk4") {
+    loops::run_rk4(run, x);
+  } else if (m == "cash_karp54") {
+    loops::run_controlled<odeint::controlled_runge_kutta<odeint::runge_kutta_cash_karp54<X>>>(run, x);
+  } else if (m == "fehlberg78") {
+    loops::run_controlled<odeint::controlled_runge_kutta<odeint::runge_kutta_fehlberg78<X>>>(run, x);
+  } else if (m == "bulirsch_stoer") {
+    loops::run_controlled<odeint::bulirsch_stoer<X>>(run, x);
+  } else {
+    throw OptionError("not an explicit Runge-Kutta method: '" + m + "'");
+  }
+}
+
+/// run_explicit_on for the fixed state of 2N values, copying x in and out.
+template <int N>
+void run_explicit_fixed(Run& run, StateVector& x) {
+  std::array<double, 2 * N> xa;
+  std::copy(x.begin(), x.end(), xa.begin());
+  run_explicit_on(run, xa);
+  std::copy(xa.begin(), xa.end(), x.begin());
 }
 
 }  // namespace lagrangian::detail
