@@ -40,10 +40,9 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
-#include <Eigen/QR>
-#include <Eigen/SVD>
 
 #include "lagrangian/ad.hpp"
+#include "lagrangian/detail/min_norm_solver.hpp"
 #include "lagrangian/dynamics.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/model.hpp"
@@ -300,10 +299,9 @@ template <int N, int C>
 struct ConstraintWorkspace {
   Eigen::Matrix<double, N, C> minv_ct;  ///< M⁻¹ Cᵀ
   Mat<double, C> schur;                 ///< S = C M⁻¹ Cᵀ
-  /// Dynamic-size storage, allocated once here: one instantiation of the
-  /// decomposition serves every model (compile time), and compute() on the
-  /// same size does not reallocate.
-  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod{C, C};
+  /// S⁺ by a decomposition compiled once in the library (min_norm_solver.hpp),
+  /// its storage allocated once here.
+  detail::MinNormSolver schur_solver{C, C};
   Vec<double, C> multipliers;           ///< λ
   Vec<double, N> constraint_forces;     ///< Cᵀ λ
 };
@@ -346,9 +344,10 @@ void constrained_accelerations(const M& model, Workspace<M::dof>& ws,
   }
   cw.minv_ct = ws.cholesky.solve(cs.jacobian.transpose());
   cw.schur = cs.jacobian * cw.minv_ct;
-  cw.cod.compute(cw.schur);
+  cw.schur_solver.factorize(cw.schur.data());
   const Vec<double, M::dof> free = ws.cholesky.solve(ws.rhs);
-  cw.multipliers = cw.cod.solve(target - cs.jacobian * free);
+  target -= cs.jacobian * free;
+  cw.schur_solver.solve(target.data(), cw.multipliers.data());
   cw.constraint_forces = cs.jacobian.transpose() * cw.multipliers;
   out = free + cw.minv_ct * cw.multipliers;
 }
@@ -407,18 +406,14 @@ struct DofReport {
 #pragma GCC diagnostic pop
 
 namespace detail {
+/// Numerical rank of a dense matrix: singular values σᵢ (by SVD, descending,
+/// into *values when given) above rank_tolerance · σ_max. Compiled once
+/// (src/numeric_rank.cpp).
+int numeric_rank_of(const Eigen::MatrixXd& a, std::vector<double>* values);
 template <class Mtx>
 int numeric_rank(const Mtx& a, std::vector<double>* values = nullptr) {
   if (a.rows() == 0) return 0;
-  const Eigen::MatrixXd dense = a;
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(dense);
-  const auto& s = svd.singularValues();
-  if (values) values->assign(s.data(), s.data() + s.size());
-  if (s.size() == 0 || !(s[0] > 0)) return 0;
-  int r = 0;
-  for (int i = 0; i < s.size(); ++i)
-    if (s[i] > rank_tolerance * s[0]) ++r;
-  return r;
+  return numeric_rank_of(Eigen::MatrixXd(a), values);
 }
 }  // namespace detail
 
@@ -476,9 +471,11 @@ int project_positions(const M& model, Vec<double, M::dof>& q, double t, double t
       const Vec<double, mh> g = cs.position.head(mh);
       const double scale = 1.0 + q.template lpNorm<Eigen::Infinity>();
       if (g.template lpNorm<Eigen::Infinity>() <= tolerance * scale) return it;
-      const Eigen::MatrixXd G = cs.jacobian.topRows(mh);
-      Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(G);
-      const Vec<double, M::dof> dq = cod.solve(Eigen::VectorXd(g));
+      const Eigen::Matrix<double, mh, M::dof> G = cs.jacobian.topRows(mh);
+      detail::MinNormSolver solver(mh, M::dof);
+      solver.factorize(G.data());
+      Vec<double, M::dof> dq;
+      solver.solve(g.data(), dq.data());
       q -= dq;
       if (!q.allFinite()) break;
     }
@@ -505,9 +502,13 @@ void project_velocities(const M& model, Workspace<M::dof>& ws, const Vec<double,
     drop_inactive<M>(cs, active);
     detail::factor_mass_matrix(ws, q, qd, t);
     const Eigen::Matrix<double, M::dof, constraint_count_v<M>> minv_ct = ws.cholesky.solve(cs.jacobian.transpose());
-    const Eigen::MatrixXd schur = cs.jacobian * minv_ct;
-    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(schur);
-    const Vec<double, constraint_count_v<M>> correction = cod.solve(Eigen::VectorXd(cs.velocity));
+    constexpr int c = constraint_count_v<M>;
+    const Mat<double, c> schur = cs.jacobian * minv_ct;
+    detail::MinNormSolver solver(c, c);
+    solver.factorize(schur.data());
+    const Vec<double, c> residual = cs.velocity;
+    Vec<double, c> correction;
+    solver.solve(residual.data(), correction.data());
     qd -= minv_ct * correction;
   }
 }

@@ -43,9 +43,9 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/QR>
 
 #include "lagrangian/ad.hpp"
+#include "lagrangian/detail/min_norm_solver.hpp"
 #include "lagrangian/constraints.hpp"
 #include "lagrangian/dynamics.hpp"
 #include "lagrangian/errors.hpp"
@@ -236,10 +236,11 @@ ImpactResult<M::dof> apply_impact(const M& model, Workspace<M::dof>& ws, const V
   Vec<double, c> target = -cs.velocity;  // bilateral rows: restore C q̇ + c = 0
   target[row] = -(1.0 + e) * v_minus;
   const Eigen::Matrix<double, n, c> minv_kt = ws.cholesky.solve(cs.jacobian.transpose());
-  const Eigen::MatrixXd schur = cs.jacobian * minv_kt;
-  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(schur);
-  cod.setThreshold(rank_tolerance);
-  const Vec<double, c> mu = cod.solve(Eigen::VectorXd(target));
+  const Mat<double, c> schur = cs.jacobian * minv_kt;
+  detail::MinNormSolver solver(c, c);
+  solver.factorize(schur.data(), rank_tolerance);
+  Vec<double, c> mu;
+  solver.solve(target.data(), mu.data());
   const Vec<double, n> dqd = minv_kt * mu;
   qd += dqd;
   r.generalized_impulse = cs.jacobian.transpose() * mu;

@@ -46,7 +46,7 @@
 #include <Eigen/Core>
 
 #include "lagrangian/constraints.hpp"
-#include "lagrangian/detail/kkt.hpp"
+#include "lagrangian/detail/min_norm_solver.hpp"
 #include "lagrangian/discrete.hpp"
 #include "lagrangian/dynamics.hpp"
 #include "lagrangian/errors.hpp"
@@ -227,7 +227,7 @@ class VariationalIntegrator {
   double t_;
   std::uint64_t iterations_ = 0, evaluations_ = 0;
   Workspace<n> ws_;                          ///< the Legendre transform's pass over L
-  detail::KktSolver kkt_{n + m};             ///< the Newton steps' saddle-point solves
+  detail::MinNormSolver kkt_{n + m};          ///< the Newton steps' saddle-point solves
   [[maybe_unused]] Vec<double, n> impulse_ = Vec<double, n>::Zero();  ///< G(q_k)ᵀλ of the last position solve
 };
 

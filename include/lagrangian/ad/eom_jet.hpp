@@ -1,0 +1,780 @@
+#pragma once
+// ad::EomJet<N>: the number type of the single pass that derives the
+// Euler–Lagrange equations (see ad.hpp and dynamics.hpp).
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <ostream>
+#include <type_traits>
+#include <utility>
+
+#include <Eigen/Core>
+
+#include "lagrangian/ad/traits.hpp"
+
+namespace lagrangian::ad {
+
+// -- EomJet: the number type of the Euler–Lagrange pass ----------------------------
+
+/// Number type for deriving the equations of motion of an N-coordinate
+/// system in one pass. With the path direction s, (δq, δt) = (q̇, 1), it
+/// carries
+///   v = x,  d = ∂x/∂s,  gq = ∂x/∂q,  gv = ∂x/∂q̇,
+///   c = ∂²x/∂q̇∂s = (∂²x/∂q̇∂q) q̇ + ∂²x/∂q̇∂t,  H = ∂²x/∂q̇∂q̇,
+/// which for x = L are L, dL/ds, ∂L/∂q, p, the mixed term and M: everything
+/// the Euler–Lagrange equations need, and no more (no ∂²/∂q², no ∂²/∂s²).
+///
+/// Run-time records keep the work where the numbers are non-zero:
+/// - a level says which parts can be non-zero:
+///     0 — a function of (q, t) only: gv = c = H = 0 (lengths, angles' sines);
+///     1 — affine in q̇: H = 0 (velocities of points);
+///     2 — general (kinetic energies);
+/// - a storage state says which coordinates the first-order parts (gq, gv,
+///   c) can depend on: none (constants, time), a single coordinate k (sin q_k,
+///   l_k q̇_k cos q_k: only entry k is stored and computed), or any (all N
+///   entries, in fixed-length loops the compiler unrolls);
+/// - a velocity support [lo, hi): the q̇ components the number depends on
+///   (the velocity of the k-th link of a chain depends on q̇_0 … q̇_k), so H
+///   lives on the rows [lo, hi);
+/// - H is kept lazily as dense rows plus up to `lazy_terms` pending
+///   rank-one terms f u uᵀ or f (u wᵀ + w uᵀ). A product of two
+///   velocity-dependent factors only records a term; scaling a number
+///   scales the coefficients; sums gather the terms, and a number that would
+///   hold more sums its pending terms into its rows, all in one pass. Each
+///   term is so summed into a matrix once, instead of once per operation
+///   that carries it (T = Σ ½ m_k |v_k|² costs one pass per four squares).
+/// Read the parts through grad_q(), grad_qd(), mixed(), hess() and
+/// hessian_to(). Measurements in docs/performance.md.
+template <int N>
+class EomJet {
+  static_assert(N >= 1, "ad::EomJet needs at least one coordinate");
+  using Vector = std::array<double, N>;
+  static constexpr int kNone = -2;   // no first-order dependence stored
+  static constexpr int kDense = -1;  // all N entries stored
+  // Single-index storage and pending terms pay off from a few coordinates
+  // on; below that, full storage and immediate updates are cheaper.
+  static constexpr bool kSparse = N > 4;
+
+ public:
+  static constexpr int hessian_size = N * (N + 1) / 2;
+  /// Pending rank-one terms a number holds before it sums them into its
+  /// dense rows.
+  static constexpr int lazy_terms = kSparse ? 4 : 0;
+  /// sin and cos of a number keep their last few results per thread (see
+  /// detail::sin_cos): worth it where many angles are each taken more than
+  /// once (T and V of a chain), a small cost on a miss otherwise.
+  static constexpr bool memoize_trig = kSparse;
+  using value_type = double;
+
+  // (No default member initialisers: results of operations set exactly the
+  // fields their level needs; the constructors below set the rest.)
+  int level;  ///< 0: function of (q, t); 1: affine in q̇; 2: general
+  double v;   ///< value
+  double d;   ///< derivative along the path (δq, δt) = (q̇, 1)
+
+  /// Zero. (User-provided on purpose: value-initialisation, as Eigen does
+  /// for its elements, then runs this constructor instead of zeroing every
+  /// part.)
+  constexpr EomJet() : level(0), v(0.0), d(0.0), state_(kNone) {}
+  /// A constant. Implicit, so `S x = 0` and `x * 2` work.
+  template <class A>
+    requires std::is_arithmetic_v<A>
+  constexpr EomJet(A value) : level(0), v(static_cast<double>(value)), d(0.0), state_(kNone) {}
+
+  /// Coordinate q_k with velocity q̇_k (its derivative along the path).
+  static constexpr EomJet position(double q, double qd, int k) {
+    EomJet r(q);
+    r.d = qd;
+    if constexpr (kSparse) {
+      r.state_ = k;
+    } else {
+      r.state_ = kDense;
+      r.gq_.fill(0.0);
+    }
+    r.gq_[k] = 1.0;
+    return r;
+  }
+  /// Velocity q̇_k.
+  static constexpr EomJet velocity(double qd, int k) {
+    EomJet r(qd);
+    r.level = 1;
+    if constexpr (kSparse) {
+      r.state_ = k;
+      r.gq_[k] = 0.0;
+      r.c_[k] = 0.0;
+    } else {
+      r.state_ = kDense;
+      r.gq_.fill(0.0);
+      r.gv_.fill(0.0);
+      r.c_.fill(0.0);
+    }
+    r.gv_[k] = 1.0;
+    r.lo_ = k;
+    r.hi_ = k + 1;
+    return r;
+  }
+  /// A coordinate that moves along the path with rate qd but is not one of
+  /// the N differentiated ones (used when coordinates are seeded in blocks).
+  static constexpr EomJet moving(double q, double qd) {
+    EomJet r(q);
+    r.d = qd;
+    return r;
+  }
+  /// Time t (derivative 1 along the path).
+  static constexpr EomJet time(double t) { return moving(t, 1.0); }
+
+  /// ∂x/∂q_i.
+  constexpr double grad_q(int i) const { return stored(i) ? gq_[i] : 0.0; }
+  /// ∂x/∂q̇_i; zero below level 1.
+  constexpr double grad_qd(int i) const { return level >= 1 && stored(i) ? gv_[i] : 0.0; }
+  /// ∂²x/∂q̇_i∂s = Σ_j ∂²x/∂q̇_i∂q_j q̇_j + ∂²x/∂q̇_i∂t; zero below level 1.
+  constexpr double mixed(int i) const { return level >= 1 && stored(i) ? c_[i] : 0.0; }
+  /// H_ij = ∂²x/∂q̇_i∂q̇_j (symmetric); zero below level 2.
+  constexpr double hess(int i, int j) const {
+    if (level < 2) return 0.0;
+    double h = 0.0;
+    if (dense_ && i >= lo_ && i < hi_) h = H_[i * N + j];
+    for (int k = 0; k < nterms_; ++k) h += terms_[k].at(i, j);
+    return h;
+  }
+  /// Writes the full symmetric H into the N×N matrix `m` (any type with
+  /// m(i, j) and setZero()).
+  template <class Matrix>
+  constexpr void hessian_to(Matrix& m) const {
+    EomJet sum = *this;
+    sum.hessian_to(m);
+  }
+  /// The same, summing the pending terms in place (no copy).
+  template <class Matrix>
+  constexpr void hessian_to(Matrix& m) {
+    m.setZero();
+    if (level < 2 || (!dense_ && nterms_ == 0)) return;
+    if constexpr (lazy_terms > 0) flush();  // (small systems hold no pending terms)
+    for (int i = lo_; i < hi_; ++i)
+      for (int j = 0; j < N; ++j) m(i, j) = H_[i * N + j];
+  }
+
+  /// Raises the level to L, zero-filling the parts that become valid.
+  constexpr void raise(int L) {
+    if (level < 1 && L >= 1) {
+      set_zero(gv_, state_);
+      set_zero(c_, state_);
+      lo_ = hi_ = 0;
+    }
+    if (level < 2 && L >= 2) {
+      dense_ = false;
+      nterms_ = 0;
+    }
+    if (L > level) level = L;
+  }
+
+  constexpr EomJet& operator+=(const EomJet& b) { return accumulate(b, 1.0); }
+  constexpr EomJet& operator-=(const EomJet& b) { return accumulate(b, -1.0); }
+  constexpr EomJet& operator*=(const EomJet& b) { return *this = *this * b; }
+  constexpr EomJet& operator/=(const EomJet& b) { return *this = *this / b; }
+  constexpr EomJet& operator+=(double s) {
+    v += s;
+    return *this;
+  }
+  constexpr EomJet& operator-=(double s) {
+    v -= s;
+    return *this;
+  }
+  constexpr EomJet& operator*=(double s) {
+    v *= s;
+    d *= s;
+    scale(gq_, state_, s);
+    if (level >= 1) {
+      scale(gv_, state_, s);
+      scale(c_, state_, s);
+    }
+    if (level == 2) {
+      if (dense_)
+        for (int i = lo_ * N; i < hi_ * N; ++i) H_[i] *= s;
+      for (int k = 0; k < nterms_; ++k) terms_[k].f *= s;
+    }
+    return *this;
+  }
+  constexpr EomJet& operator/=(double s) { return *this *= 1.0 / s; }
+
+  friend constexpr EomJet operator+(const EomJet& a) { return a; }
+  friend constexpr EomJet operator-(const EomJet& a) { return scaled(a, -1.0, 0.0); }
+  friend constexpr EomJet operator+(const EomJet& a, const EomJet& b) { return combined(a, b, 1.0); }
+  friend constexpr EomJet operator-(const EomJet& a, const EomJet& b) { return combined(a, b, -1.0); }
+  friend constexpr EomJet operator+(const EomJet& a, double s) { return scaled(a, 1.0, s); }
+  friend constexpr EomJet operator+(double s, const EomJet& a) { return scaled(a, 1.0, s); }
+  friend constexpr EomJet operator-(const EomJet& a, double s) { return scaled(a, 1.0, -s); }
+  friend constexpr EomJet operator-(double s, const EomJet& a) { return scaled(a, -1.0, s); }
+  friend constexpr EomJet operator*(const EomJet& a, double s) { return scaled(a, s, 0.0); }
+  friend constexpr EomJet operator*(double s, const EomJet& a) { return scaled(a, s, 0.0); }
+  friend constexpr EomJet operator/(const EomJet& a, double s) { return scaled(a, 1.0 / s, 0.0); }
+  friend constexpr EomJet operator/(double s, const EomJet& a) { return reciprocal(a) *= s; }
+  friend constexpr EomJet operator/(const EomJet& a, const EomJet& b) { return a * reciprocal(b); }
+
+  /// Product rule, part by part, skipping parts known to be zero:
+  ///   gq = a gq_b + b gq_a,  gv = a gv_b + b gv_a,
+  ///   c = a c_b + b c_a + gv_a d_b + gv_b d_a,
+  ///   H = a H_b + b H_a + gv_a gv_bᵀ + gv_b gv_aᵀ (the last two as one
+  ///   pending term).
+  friend constexpr EomJet operator*(const EomJet& a, const EomJet& b) {
+    EomJet r{Uninitialized{}};
+    r.level = (a.level == 2 || b.level == 2) ? 2 : a.level + b.level;
+    r.state_ = joint(a.state_, b.state_);
+    r.v = a.v * b.v;
+    r.d = a.v * b.d + b.v * a.d;
+    const int s = r.state_;
+    if (&a == &b) {  // a square: (a²)' = 2 a a', (a²)'' = 2 a a'' + 2 a' a'ᵀ
+      const double a2 = 2.0 * a.v;
+      each(s, [&](int i) { r.gq_[i] = a2 * a.gq_[i]; });
+      if (a.level >= 1) {
+        const double d2 = 2.0 * a.d;
+        each(s, [&](int i) {
+          r.gv_[i] = a2 * a.gv_[i];
+          r.c_[i] = a2 * a.c_[i] + d2 * a.gv_[i];
+        });
+        r.lo_ = a.lo_;
+        r.hi_ = a.hi_;
+        r.dense_ = false;
+        r.nterms_ = 0;
+        if (a.level == 2) r.add_hessian_of(a, a2);
+        r.push_square(2.0, a);
+      }
+      return r;
+    }
+    if (s >= 0 || (a.state_ == kDense && b.state_ == kDense)) {
+      // Both factors stored alike (or one holds nothing): one fused pass.
+      if (a.state_ == kNone) {
+        each(s, [&](int i) { r.gq_[i] = a.v * b.gq_[i]; });
+      } else if (b.state_ == kNone) {
+        each(s, [&](int i) { r.gq_[i] = b.v * a.gq_[i]; });
+      } else {
+        each(s, [&](int i) { r.gq_[i] = a.v * b.gq_[i] + b.v * a.gq_[i]; });
+      }
+      if (a.level >= 1 && b.level >= 1) {
+        each(s, [&](int i) {
+          r.gv_[i] = a.v * b.gv_[i] + b.v * a.gv_[i];
+          r.c_[i] = a.v * b.c_[i] + b.v * a.c_[i] + a.gv_[i] * b.d + b.gv_[i] * a.d;
+        });
+      } else if (a.level >= 1) {
+        each(s, [&](int i) {
+          r.gv_[i] = b.v * a.gv_[i];
+          r.c_[i] = b.v * a.c_[i] + a.gv_[i] * b.d;
+        });
+      } else if (b.level >= 1) {
+        each(s, [&](int i) {
+          r.gv_[i] = a.v * b.gv_[i];
+          r.c_[i] = a.v * b.c_[i] + b.gv_[i] * a.d;
+        });
+      }
+    } else {
+      // Mixed storage: the result is dense; each factor adds its share.
+      put(r.gq_, s, b.v, a.gq_, a.state_);
+      add(r.gq_, a.v, b.gq_, b.state_);
+      if (a.level >= 1) {
+        put(r.gv_, s, b.v, a.gv_, a.state_);
+        put2(r.c_, s, b.v, a.c_, b.d, a.gv_, a.state_);
+        if (b.level >= 1) {
+          add(r.gv_, a.v, b.gv_, b.state_);
+          add2(r.c_, a.v, b.c_, a.d, b.gv_, b.state_);
+        }
+      } else if (b.level >= 1) {
+        put(r.gv_, s, a.v, b.gv_, b.state_);
+        put2(r.c_, s, a.v, b.c_, a.d, b.gv_, b.state_);
+      }
+    }
+    if (a.level >= 1 && b.level >= 1) {
+      r.set_hull(a, b);
+    } else if (a.level >= 1) {
+      r.lo_ = a.lo_;
+      r.hi_ = a.hi_;
+    } else if (b.level >= 1) {
+      r.lo_ = b.lo_;
+      r.hi_ = b.hi_;
+    }
+    if (r.level == 2) {
+      r.dense_ = false;
+      r.nterms_ = 0;
+      // H from the factors' own Hessians ...
+      if (a.level == 2) r.add_hessian_of(a, b.v);
+      if (b.level == 2) r.add_hessian_of(b, a.v);
+      // ... plus the outer products of the velocity gradients.
+      if (a.level >= 1 && b.level >= 1) {
+        r.push_symmetric(1.0, a, b);
+      }
+    }
+    return r;
+  }
+
+  friend constexpr bool operator==(const EomJet& a, const EomJet& b) { return a.v == b.v; }
+  friend constexpr auto operator<=>(const EomJet& a, const EomJet& b) { return a.v <=> b.v; }
+  friend constexpr bool operator==(const EomJet& a, double b) { return a.v == b; }
+  friend constexpr auto operator<=>(const EomJet& a, double b) { return a.v <=> b; }
+  friend std::ostream& operator<<(std::ostream& os, const EomJet& a) { return os << a.v << "[eom]"; }
+
+  /// f(a) from f, f', f'': gq = f' gq_a, gv = f' gv_a,
+  /// c = f' c_a + f'' gv_a d_a, H = f' H_a + f'' gv_a gv_aᵀ.
+  friend constexpr EomJet chain(const EomJet& a, double f0, double f1, double f2) {
+    EomJet r{Uninitialized{}};
+    r.level = a.level == 0 ? 0 : 2;
+    r.state_ = a.state_;
+    r.v = f0;
+    r.d = f1 * a.d;
+    each(a.state_, [&](int i) { r.gq_[i] = f1 * a.gq_[i]; });
+    if (a.level >= 1) {
+      const double f2d = f2 * a.d;
+      each(a.state_, [&](int i) {
+        r.gv_[i] = f1 * a.gv_[i];
+        r.c_[i] = f1 * a.c_[i] + f2d * a.gv_[i];
+      });
+      r.lo_ = a.lo_;
+      r.hi_ = a.hi_;
+      r.dense_ = false;
+      r.nterms_ = 0;
+      if (a.level == 2) r.add_hessian_of(a, f1);
+      if (f2 != 0.0) r.push_square(f2, a);
+    }
+    return r;
+  }
+
+  /// f(a, b) from the value, first and second partials (rare functions:
+  /// both arguments are first brought to dense storage).
+  LAGRANGIAN_COLD friend constexpr EomJet chain2(EomJet a, EomJet b, double f0, double fa, double fb, double faa, double fab,
+                                 double fbb) {
+    const int L = (a.level == 0 && b.level == 0) ? 0 : 2;
+    a.convert(kDense);
+    b.convert(kDense);
+    a.raise(L >= 1 ? 1 : 0);
+    b.raise(L >= 1 ? 1 : 0);
+    EomJet r{Uninitialized{}};
+    r.level = L;
+    r.state_ = kDense;
+    r.v = f0;
+    r.d = fa * a.d + fb * b.d;
+    for (int i = 0; i < N; ++i) r.gq_[i] = fa * a.gq_[i] + fb * b.gq_[i];
+    if (L == 2) {
+      for (int i = 0; i < N; ++i) {
+        r.gv_[i] = fa * a.gv_[i] + fb * b.gv_[i];
+        r.c_[i] = fa * a.c_[i] + fb * b.c_[i] + faa * a.gv_[i] * a.d + fbb * b.gv_[i] * b.d +
+                  fab * (a.gv_[i] * b.d + b.gv_[i] * a.d);
+      }
+      r.set_hull(a, b);
+      r.dense_ = false;
+      r.nterms_ = 0;
+      if (a.level == 2) r.add_hessian_of(a, fa);
+      if (b.level == 2) r.add_hessian_of(b, fb);
+      r.push_square(faa, a);
+      r.push_square(fbb, b);
+      r.push_symmetric(fab, a, b);
+    }
+    return r;
+  }
+
+  friend constexpr EomJet reciprocal(const EomJet& a) {
+    const double r = 1.0 / a.v;
+    return chain(a, r, -r * r, 2.0 * r * r * r);
+  }
+
+ private:
+  struct Uninitialized {};
+
+  /// A pending part of H: f u uᵀ (square) or f (u wᵀ + w uᵀ); u and w are
+  /// stored in full, zero outside the rows [ulo, uhi) and [wlo, whi).
+  struct Term {
+    double f;
+    int ulo, uhi, wlo, whi;
+    bool sq;
+    Vector u, w;
+    constexpr Term() {}
+    constexpr Term(const Term& o) : f(o.f), ulo(o.ulo), uhi(o.uhi), wlo(o.wlo), whi(o.whi), sq(o.sq), u(o.u) {
+      if (!sq) w = o.w;
+    }
+    constexpr Term& operator=(const Term& o) {
+      f = o.f;
+      ulo = o.ulo;
+      uhi = o.uhi;
+      wlo = o.wlo;
+      whi = o.whi;
+      sq = o.sq;
+      u = o.u;
+      if (!sq) w = o.w;
+      return *this;
+    }
+    /// The term's (i, j) entry.
+    constexpr double at(int i, int j) const {
+      return sq ? f * u[i] * u[j] : f * (u[i] * w[j] + w[i] * u[j]);
+    }
+  };
+
+  // Storage of gq, gv, c: kNone, kDense, or the single stored index k >= 0.
+  int state_;
+  // Velocity support [lo_, hi_) (valid at level >= 1; empty when lo_ == hi_).
+  int lo_, hi_;
+  // H at level 2: the dense rows [lo_, hi_) when dense_, plus terms_.
+  bool dense_;
+  int nterms_;
+  Vector gq_;  // stored entries valid
+  Vector gv_;  // stored entries valid at level >= 1
+  Vector c_;   // stored entries valid at level >= 1
+  std::array<Term, lazy_terms> terms_;
+  std::array<double, N * N> H_;  // row-major; rows [lo_, hi_) valid when dense_
+
+  // For results whose every valid part is written by the operation.
+  constexpr explicit EomJet(Uninitialized) {}
+
+  constexpr bool stored(int i) const { return state_ == kDense || state_ == i; }
+
+  /// Calls f(i) for every stored index of storage s: a fixed-length loop
+  /// over N (unrolled by the compiler) when dense, one call when single.
+  template <class F>
+  static constexpr void each(int s, F&& f) {
+    if (s == kDense) {
+      for (int i = 0; i < N; ++i) f(i);
+    } else if (kSparse && s >= 0) {
+      f(s);
+    }
+  }
+
+  /// The storage that holds both a and b.
+  static constexpr int joint(int a, int b) {
+    if constexpr (!kSparse) return (a == kNone && b == kNone) ? kNone : kDense;
+    if (a == kNone) return b;
+    if (b == kNone || a == b) return a;
+    return kDense;
+  }
+  static constexpr void set_zero(Vector& x, int s) {
+    if (s == kDense) {
+      x.fill(0.0);
+    } else if (s >= 0) {
+      x[s] = 0.0;
+    }
+  }
+  static constexpr void scale(Vector& x, int s, double f) {
+    if (s == kDense) {
+      for (int i = 0; i < N; ++i) x[i] *= f;
+    } else if (s >= 0) {
+      x[s] *= f;
+    }
+  }
+  /// r = f a in storage s, for a stored as sa (s holds sa).
+  static constexpr void put(Vector& r, int s, double f, const Vector& a, int sa) {
+    if (s == kDense && sa == kDense) {
+      for (int i = 0; i < N; ++i) r[i] = f * a[i];
+    } else {
+      set_zero(r, s);
+      if (sa >= 0) r[sa] = f * a[sa];
+    }
+  }
+  /// r = f a + g b in storage s, for a and b stored as sa.
+  static constexpr void put2(Vector& r, int s, double f, const Vector& a, double g, const Vector& b, int sa) {
+    if (s == kDense && sa == kDense) {
+      for (int i = 0; i < N; ++i) r[i] = f * a[i] + g * b[i];
+    } else {
+      set_zero(r, s);
+      if (sa >= 0) r[sa] = f * a[sa] + g * b[sa];
+    }
+  }
+  /// r += f a, for a stored as sa (r's storage holds sa).
+  static constexpr void add(Vector& r, double f, const Vector& a, int sa) {
+    if (sa == kDense) {
+      for (int i = 0; i < N; ++i) r[i] += f * a[i];
+    } else if (sa >= 0) {
+      r[sa] += f * a[sa];
+    }
+  }
+  /// r += f a + g b, for a and b stored as sa.
+  static constexpr void add2(Vector& r, double f, const Vector& a, double g, const Vector& b, int sa) {
+    if (sa == kDense) {
+      for (int i = 0; i < N; ++i) r[i] += f * a[i] + g * b[i];
+    } else if (sa >= 0) {
+      r[sa] += f * a[sa] + g * b[sa];
+    }
+  }
+  /// Re-stores the first-order parts in storage s, which holds the current one.
+  constexpr void convert(int s) {
+    if (s == state_) return;
+    auto move = [&](Vector& x) {
+      if (state_ >= 0) {  // single → dense
+        const double keep = x[state_];
+        x.fill(0.0);
+        x[state_] = keep;
+      } else {  // nothing → s
+        set_zero(x, s);
+      }
+    };
+    move(gq_);
+    if (level >= 1) {
+      move(gv_);
+      move(c_);
+    }
+    state_ = s;
+  }
+
+  /// The velocity support holding both factors' supports.
+  constexpr void set_hull(const EomJet& a, const EomJet& b) {
+    if (a.lo_ == a.hi_) {
+      lo_ = b.lo_;
+      hi_ = b.hi_;
+    } else if (b.lo_ == b.hi_) {
+      lo_ = a.lo_;
+      hi_ = a.hi_;
+    } else {
+      lo_ = a.lo_ < b.lo_ ? a.lo_ : b.lo_;
+      hi_ = a.hi_ > b.hi_ ? a.hi_ : b.hi_;
+    }
+  }
+  /// Zeroes the rows [lo, hi) of the dense block.
+  static constexpr void zero_rows(std::array<double, N * N>& H, int lo, int hi) {
+    for (int i = lo * N; i < hi * N; ++i) H[i] = 0.0;
+  }
+  /// Grows the velocity support to [lo, hi) ⊇ [lo_, hi_), zero-filling the
+  /// new rows of the dense block (its columns outside the support are
+  /// zeros already).
+  constexpr void widen(int lo, int hi) {
+    if (lo == lo_ && hi == hi_) return;
+    if (level == 2 && dense_) {
+      if (lo_ == hi_) {
+        zero_rows(H_, lo, hi);
+      } else {
+        zero_rows(H_, lo, lo_);
+        zero_rows(H_, hi_, hi);
+      }
+    }
+    lo_ = lo;
+    hi_ = hi;
+  }
+  /// Sums the pending terms into the dense rows: as P rank-one pieces
+  /// f_p x_p y_pᵀ (a square is one piece, a symmetric term two), each row
+  /// i gets Σ_p (f_p x_p,i) y_p in one branch-free pass of fixed length.
+  LAGRANGIAN_COLD constexpr void flush() {
+    ensure_dense();
+    if constexpr (lazy_terms > 0) {
+      std::array<const double*, 2 * lazy_terms> x{}, y{};
+      std::array<double, 2 * lazy_terms> f{};
+      int np = 0;
+      for (int k = 0; k < nterms_; ++k) {
+        const Term& t = terms_[k];
+        x[np] = t.u.data();
+        y[np] = t.sq ? t.u.data() : t.w.data();
+        f[np++] = t.f;
+        if (!t.sq) {
+          x[np] = t.w.data();
+          y[np] = t.u.data();
+          f[np++] = t.f;
+        }
+      }
+      for (int i = lo_; i < hi_; ++i) {
+        double* row = H_.data() + i * N;
+        double acc[N];  // local: provably apart from the pieces' vectors
+        for (int j = 0; j < N; ++j) acc[j] = row[j];
+        for (int p = 0; p < np; ++p) {
+          const double c = f[p] * x[p][i];
+          const double* yp = y[p];
+          for (int j = 0; j < N; ++j) acc[j] += c * yp[j];
+        }
+        for (int j = 0; j < N; ++j) row[j] = acc[j];
+      }
+      nterms_ = 0;
+    }
+  }
+  /// A free slot for a pending term (flushing the pending terms when every
+  /// slot is taken). The term's supports must lie inside [lo_, hi_).
+  constexpr Term& new_term()
+    requires(lazy_terms > 0)
+  {
+    if (nterms_ == lazy_terms) flush();
+    return terms_[nterms_++];
+  }
+  /// gv of a, in full (zero where a stores nothing).
+  static constexpr void full_gv(Vector& out, const EomJet& a) {
+    if (a.state_ == kDense) {
+      out = a.gv_;
+    } else {
+      out.fill(0.0);
+      if (a.state_ >= 0) out[a.state_] = a.gv_[a.state_];
+    }
+  }
+  /// Makes the dense rows valid (zero) if they are not yet.
+  constexpr void ensure_dense() {
+    if (!dense_) {
+      zero_rows(H_, lo_, hi_);
+      dense_ = true;
+    }
+  }
+  /// Pending H += f gv_a gv_aᵀ.
+  constexpr void push_square(double f, const EomJet& a) {
+    if constexpr (lazy_terms == 0) {
+      ensure_dense();
+      for (int i = a.lo_; i < a.hi_; ++i) {
+        const double fi = f * a.gv_[i];
+        for (int j = 0; j < N; ++j) H_[i * N + j] += fi * a.gv_[j];
+      }
+    } else {
+      Term& t = new_term();
+      t.f = f;
+      t.sq = true;
+      t.ulo = t.wlo = a.lo_;
+      t.uhi = t.whi = a.hi_;
+      full_gv(t.u, a);
+    }
+  }
+  /// Pending H += f (gv_a gv_bᵀ + gv_b gv_aᵀ).
+  constexpr void push_symmetric(double f, const EomJet& a, const EomJet& b) {
+    if constexpr (lazy_terms == 0) {
+      ensure_dense();
+      for (int i = lo_; i < hi_; ++i) {
+        const double fa = f * a.gv_[i], fb = f * b.gv_[i];
+        for (int j = 0; j < N; ++j) H_[i * N + j] += fa * b.gv_[j] + fb * a.gv_[j];
+      }
+    } else {
+      Term& t = new_term();
+      t.f = f;
+      t.sq = false;
+      t.ulo = a.lo_;
+      t.uhi = a.hi_;
+      t.wlo = b.lo_;
+      t.whi = b.hi_;
+      full_gv(t.u, a);
+      full_gv(t.w, b);
+    }
+  }
+  /// H += f H_a, for a at level 2 whose support lies inside [lo_, hi_).
+  constexpr void add_hessian_of(const EomJet& a, double f) {
+    if (a.dense_) {
+      if (!dense_ && a.lo_ == lo_ && a.hi_ == hi_) {
+        for (int i = lo_ * N; i < hi_ * N; ++i) H_[i] = f * a.H_[i];
+        dense_ = true;
+      } else {
+        if (!dense_) {
+          zero_rows(H_, lo_, hi_);
+          dense_ = true;
+        }
+        for (int i = a.lo_ * N; i < a.hi_ * N; ++i) H_[i] += f * a.H_[i];
+      }
+    }
+    if constexpr (lazy_terms > 0)
+      for (int k = 0; k < a.nterms_; ++k) {
+        Term& t = new_term();
+        t = a.terms_[k];
+        t.f *= f;
+      }
+  }
+
+  /// r = f a + s.
+  static constexpr EomJet scaled(const EomJet& a, double f, double s) {
+    EomJet r{Uninitialized{}};
+    r.level = a.level;
+    r.state_ = a.state_;
+    r.v = f * a.v + s;
+    r.d = f * a.d;
+    each(a.state_, [&](int i) { r.gq_[i] = f * a.gq_[i]; });
+    if (a.level >= 1) {
+      each(a.state_, [&](int i) {
+        r.gv_[i] = f * a.gv_[i];
+        r.c_[i] = f * a.c_[i];
+      });
+      r.lo_ = a.lo_;
+      r.hi_ = a.hi_;
+    }
+    if (a.level == 2) {
+      r.dense_ = false;
+      r.nterms_ = 0;
+      r.add_hessian_of(a, f);
+    }
+    return r;
+  }
+  /// r = a + sign b.
+  static constexpr EomJet combined(const EomJet& a, const EomJet& b, double sign) {
+    if (a.level != b.level || a.state_ != b.state_) {
+      EomJet r = a;
+      r.accumulate(b, sign);
+      return r;
+    }
+    // Alike storage and level: every part in one pass.
+    EomJet r{Uninitialized{}};
+    r.level = a.level;
+    r.state_ = a.state_;
+    r.v = a.v + sign * b.v;
+    r.d = a.d + sign * b.d;
+    each(r.state_, [&](int i) { r.gq_[i] = a.gq_[i] + sign * b.gq_[i]; });
+    if (a.level >= 1) {
+      each(r.state_, [&](int i) {
+        r.gv_[i] = a.gv_[i] + sign * b.gv_[i];
+        r.c_[i] = a.c_[i] + sign * b.c_[i];
+      });
+      r.set_hull(a, b);
+    }
+    if (a.level == 2) {
+      r.dense_ = false;
+      r.nterms_ = 0;
+      r.add_hessian_of(a, 1.0);
+      r.add_hessian_of(b, sign);
+    }
+    return r;
+  }
+  /// this += sign b.
+  constexpr EomJet& accumulate(const EomJet& b, double sign) {
+    convert(joint(state_, b.state_));
+    raise(b.level);
+    v += sign * b.v;
+    d += sign * b.d;
+    add(gq_, sign, b.gq_, b.state_);
+    if (b.level >= 1) {
+      add(gv_, sign, b.gv_, b.state_);
+      add(c_, sign, b.c_, b.state_);
+      if (b.lo_ != b.hi_) {
+        if (lo_ == hi_) {
+          widen(b.lo_, b.hi_);
+        } else {
+          widen(b.lo_ < lo_ ? b.lo_ : lo_, b.hi_ > hi_ ? b.hi_ : hi_);
+        }
+      }
+    }
+    if (b.level == 2) add_hessian_of(b, sign);
+    return *this;
+  }
+
+ public:
+  constexpr EomJet(const EomJet& o) : level(o.level), v(o.v), d(o.d) { copy_parts(o); }
+  constexpr EomJet& operator=(const EomJet& o) {
+    level = o.level;
+    v = o.v;
+    d = o.d;
+    copy_parts(o);
+    return *this;
+  }
+
+ private:
+  constexpr void copy_parts(const EomJet& o) {
+    state_ = o.state_;
+    if (state_ == kDense) {
+      gq_ = o.gq_;
+      if (o.level >= 1) {
+        gv_ = o.gv_;
+        c_ = o.c_;
+      }
+    } else if (state_ >= 0) {
+      gq_[state_] = o.gq_[state_];
+      if (o.level >= 1) {
+        gv_[state_] = o.gv_[state_];
+        c_[state_] = o.c_[state_];
+      }
+    }
+    if (o.level >= 1) {
+      lo_ = o.lo_;
+      hi_ = o.hi_;
+    }
+    if (o.level == 2) {
+      dense_ = o.dense_;
+      nterms_ = o.nterms_;
+      for (int k = 0; k < nterms_; ++k) terms_[k] = o.terms_[k];
+      if (dense_)
+        for (int i = lo_ * N; i < hi_ * N; ++i) H_[i] = o.H_[i];
+    }
+  }
+};
+
+}  // namespace lagrangian::ad
