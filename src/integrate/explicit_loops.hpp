@@ -24,6 +24,22 @@ namespace lagrangian::detail {
 
 namespace odeint = boost::numeric::odeint;
 
+// Odeint's controlled stepper `Controlled` with the run's tolerances. (Its
+// constructor copies a default-constructed stepper whose scratch arrays are
+// not initialised yet; g++ warns of that copy once it is inlined.)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+template <class Controlled>
+Controlled make_controlled(double atol, double rtol) {
+  if constexpr (requires { typename Controlled::error_checker_type; }) {
+    return Controlled{typename Controlled::error_checker_type(atol, rtol)};
+  } else {
+    return Controlled(atol, rtol);  // Bulirsch–Stoer
+  }
+}
+#pragma GCC diagnostic pop
+
 template <class X>
 void SubStep<X>::operator()(double t, double* out) const {
   if (t == t0) {
@@ -31,7 +47,7 @@ void SubStep<X>::operator()(double t, double* out) const {
     return;
   }
   using Controlled = odeint::controlled_runge_kutta<odeint::runge_kutta_fehlberg78<X>>;
-  Controlled stepper{typename Controlled::error_checker_type(atol, rtol)};
+  Controlled stepper = make_controlled<Controlled>(atol, rtol);
   X x = x0;
   double tc = t0, dt = t - t0;
   while (tc < t) {
@@ -50,20 +66,6 @@ void SubStep<X>::operator()(double t, double* out) const {
 
 namespace explicit_loops {
 
-// Odeint's controlled stepper `Controlled` with the run's tolerances. (Its
-// constructor copies a default-constructed stepper whose scratch arrays are
-// not initialised yet; g++ warns of that copy once it is inlined.)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wuninitialized"
-template <class Controlled>
-Controlled make_controlled(const SimulationOptions& opt) {
-  if constexpr (requires { typename Controlled::error_checker_type; }) {
-    return Controlled{typename Controlled::error_checker_type(opt.atol, opt.rtol)};
-  } else {
-    return Controlled(opt.atol, opt.rtol);  // Bulirsch–Stoer
-  }
-}
-#pragma GCC diagnostic pop
 
 inline const auto no_interpolation = [](double, double*) {};
 
@@ -73,7 +75,7 @@ inline const auto no_interpolation = [](double, double*) {};
 template <class Controlled, class X>
 void run_controlled(Run& run, X& x) {
   const CountedRhs<X> rhs = run.rhs<X>();
-  Controlled stepper = make_controlled<Controlled>(run.options());
+  Controlled stepper = make_controlled<Controlled>(run.options().atol, run.options().rtol);
   run_controlled_loop(
       run, x, [&](X& xs, double& t, double& dt) { return stepper.try_step(rhs, xs, t, dt) == odeint::success; },
       [&] {

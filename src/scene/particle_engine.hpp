@@ -1,6 +1,7 @@
 #pragma once
 // Internal: the ODE engine of particle scenes (bodies in Cartesian
-// coordinates with run-time composed effects, constraints and contacts).
+// coordinates with run-time composed effects, constraints and contacts),
+// run by the one integration driver (src/scene/particle_system.cpp).
 
 #include <cstdint>
 #include <functional>
@@ -41,7 +42,11 @@ class ComposedRhs {
   std::unique_ptr<Impl> impl_;
 };
 
-/// Runs a validated scene whose gas (if any) has been expanded.
+/// The integration options of a scene's [run] table.
+SimulationOptions options_of(const RunSpec& run);
+
+/// Runs a validated scene whose gas (if any) has been expanded: the scene
+/// as a System for the one driver (integrate.hpp).
 ParticleRun run_particles(const Scene& scene, const ParticleSample& sample, const SampleTick& tick);
 
 /// True when the bodies fly freely between contacts: sphere or box contacts,

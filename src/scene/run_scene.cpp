@@ -72,20 +72,7 @@ void write_report(const Scene& scene, const RunResult& r, const std::string& pat
   lagrangian::detail::write_text_file(path, os.str(), "report file");
 }
 
-SimulationOptions options_of(const RunSpec& run) {
-  SimulationOptions o;
-  o.method = run.method;
-  o.t0 = run.t0;
-  o.t_end = run.t_end;
-  o.dt = run.dt;
-  o.rtol = run.rtol;
-  o.atol = run.atol;
-  o.max_steps = run.max_steps;
-  o.output_interval = run.output_interval;
-  o.stabilization = run.stabilization;
-  o.baumgarte_omega = run.baumgarte_omega;
-  return o;
-}
+using detail::options_of;
 
 std::string engine_of(const Scene& scene) {
   if (scene.model) return "model";

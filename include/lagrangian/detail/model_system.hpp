@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "lagrangian/constraints.hpp"
+#include "lagrangian/detail/contact_rules.hpp"
 #include "lagrangian/detail/observer_ref.hpp"
 #include "lagrangian/detail/roots.hpp"
 #include "lagrangian/dynamics.hpp"
@@ -352,11 +353,7 @@ class ModelSystem final : public System {
   void sample_constraints(Sample<n>& s);
 
   /// Gaps within this of zero count as touching: 1e-9 (1 + ‖q‖∞).
-  double contact_touch_tolerance(const double* x) const {
-    double qmax = 0;
-    for (int i = 0; i < size_; ++i) qmax = std::max(qmax, std::abs(x[i]));
-    return 1e-9 * (1.0 + qmax);
-  }
+  double contact_touch_tolerance(const double* x) const { return detail::contact_touch_tolerance(x, size_); }
   template <class G>
   void gaps_at(const double* x, double t, G& g, G& r) const {
     Vec<double, n> q, qd;
@@ -419,16 +416,14 @@ class ModelSystem final : public System {
   [[no_unique_address]] std::conditional_t<has_constraints_v<M>, ConstraintContext<M>, None> context_{};
   ConstraintContext<M>* ctx_ = nullptr;  ///< &context_ for constrained models
   std::array<double, unilateral_count_v<M>> restitution_{};
-  std::array<double, unilateral_count_v<M>> approach_max_{};
-  std::array<double, unilateral_count_v<M>> last_impact_{};
+  std::array<ContactHistory, unilateral_count_v<M>> history_{};  ///< for the Zeno rule
   std::vector<EventSpec> specs_;
   std::vector<double> event_buf_;
   bool stopped_ = false;
   /// (time, Δh, ΔE) of impacts not yet sampled past
   std::vector<std::array<double, 3>> pending_shifts_;
   [[no_unique_address]] std::conditional_t<has_reference_v<M>, State<n>, None> reference_initial_{};
-  double last_event_time_ = std::numeric_limits<double>::quiet_NaN();
-  int events_without_progress_ = 0;
+  EventProgress progress_;
   [[no_unique_address]] std::conditional_t<has_constraints_v<M>, ConstraintWorkspace<n, constraint_count_v<M>>, None>
       cw_{};
   std::vector<int> cyclic_;

@@ -129,8 +129,7 @@ void ModelSystem<M>::start_constraints(State<n>& x0, Columns& columns) {
     ActiveSet active = 0;
     if constexpr (unilateral_count_v<M> > 0) {
       restitution_ = restitution_coefficients(model_);
-      approach_max_.fill(0.0);
-      last_impact_.fill(-std::numeric_limits<double>::infinity());
+      history_.fill(ContactHistory{});
       bool approaching = false;
       for (int j = 0; j < unilateral_count_v<M>; ++j) {
         const int row = holonomic_count_v<M> + j;
@@ -146,11 +145,17 @@ void ModelSystem<M>::start_constraints(State<n>& x0, Columns& columns) {
           if (gd < -opt_.contact_touch_speed) {
             approaching = true;  // an impact at t0
           } else if (gd <= opt_.contact_touch_speed) {
-            active |= ActiveSet{1} << j;  // resting contact
+            active |= ActiveSet{1} << j;  // resting contact, if pressed (below)
           }
         }
       }
       if (ctx_) ctx_->active = active;
+      // A contact touching at t0 rests only where the forces press it shut.
+      for (int j = 0; j < unilateral_count_v<M> && ctx_; ++j)
+        if (((active >> j) & 1u) && !(gap_acceleration(x0.q, x0.qd, opt_.t0, j) < 0)) {
+          active &= ~(ActiveSet{1} << j);
+          ctx_->active = active;
+        }
       if (approaching) {
         if constexpr (!has_restitution_v<M>) {
           throw ConstraintError("a unilateral constraint is approached at t0 (an impact) but the model declares no "

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "lagrangian/detail/contact_rules.hpp"
 #include "lagrangian/detail/roots.hpp"
 #include "lagrangian/detail/model_system.hpp"
 #include "lagrangian/errors.hpp"
@@ -21,9 +22,6 @@ namespace lagrangian::detail {
 
 template <class M>
 bool ModelSystem<M>::locate_events(double t_old, const double* x_old, double& t, double* x, const StepInterpolant& interp) {
-  auto root = [](const auto& f, double a, double b, double fa, double fb) {
-    return bracket_root(time_function(f), a, b, fa, fb, event_time_tolerance);
-  };
   // Candidate: kind 0 release, 1 contact (at the step start), 2 contact, 3 watched.
   int best_kind = -1, best_index = -1;
   double best_t = std::numeric_limits<double>::infinity();
@@ -54,10 +52,7 @@ bool ModelSystem<M>::locate_events(double t_old, const double* x_old, double& t,
           interp(ts, buf.data());
           return multipliers_at(buf.data(), ts)[row];
         };
-        const double fa = f(t_old);
-        double tj = t_old;
-        if (fa > 0) tj = root(f, t_old, t, fa, lam_end[row]).second;
-        consider(tj, 0, j);  // upper end: λ < 0 from there on
+        consider(locate_lift_off(t_old, t, f(t_old), lam_end[row], time_function(f)), 0, j);
       }
     }
     // Closing contacts among the inactive ones.
@@ -67,47 +62,24 @@ bool ModelSystem<M>::locate_events(double t_old, const double* x_old, double& t,
     const double touch = contact_touch_tolerance(x);
     for (int j = 0; j < unilateral_count_v<M>; ++j) {
       if ((act >> j) & 1u) continue;
-      if (ga[j] < -touch) {
+      // φ_j and φ̇_j at a time inside the step.
+      auto on_step = [&](double ts) {
+        interp(ts, buf.data());
+        Vec<double, unilateral_count_v<M>> g, r;
+        gaps_at(buf.data(), ts, g, r);
+        return GapRate{g[j], r[j]};
+      };
+      const Closing c = locate_closing(t_old, t, {ga[j], ra[j]}, {gb[j], rb[j]}, touch, opt_.contact_touch_speed,
+                                       gap_function(on_step));
+      if (c.kind == Closing::Kind::penetrated) {
         std::ostringstream os;
         os.precision(17);
         os << "contact " << contact_name(j) << " is penetrated at t = " << t_old << " (gap " << ga[j]
            << ") without a located closing; the run was stopped";
         throw SimulationError(os.str(), t_old);
       }
-      // φ_j and φ̇_j at a time inside the step.
-      auto gap_rate = [&](double ts) {
-        if (ts == t) return std::pair{gb[j], rb[j]};
-        if (ts == t_old) return std::pair{ga[j], ra[j]};
-        interp(ts, buf.data());
-        Vec<double, unilateral_count_v<M>> g, r;
-        gaps_at(buf.data(), ts, g, r);
-        return std::pair{g[j], r[j]};
-      };
-      auto gap = [&](double ts) { return gap_rate(ts).first; };
-      auto rate = [&](double ts) { return gap_rate(ts).second; };
-      // The bracket [lo, hi] of a closing: φ(lo) > 0 > φ(hi).
-      double lo = t_old, hi = t;
-      bool crossing = ga[j] > 0 && gb[j] < 0;
-      auto rate_root = [&] {
-        const auto r = root(rate, t_old, t, ra[j], rb[j]);
-        return 0.5 * (r.first + r.second);
-      };
-      if (!crossing && ga[j] >= 0 && gb[j] >= 0 && ra[j] < 0 && rb[j] > 0) {
-        hi = rate_root();  // a dip inside the step: below zero at the gap's minimum?
-        crossing = gap(hi) < 0;
-      } else if (!crossing && ga[j] <= 0 && ra[j] > 0 && gb[j] < 0 && rb[j] < 0) {
-        lo = rate_root();  // leaves the contact and comes back within the step
-        crossing = gap(lo) > 0;
-      }
-      if (crossing) {
-        const double tj = root(gap, lo, hi, gap(lo), gap(hi)).first;
-        // A slow touch that stays within the tolerance is not an impact.
-        if (-rate(tj) <= opt_.contact_touch_speed && gb[j] >= -touch) continue;
-        consider(tj, 2, j);  // lower end: φ ≥ 0, just before contact
-      } else if ((ga[j] <= touch && ra[j] < -opt_.contact_touch_speed) ||
-                 (ga[j] < 0 && gb[j] < -touch && gb[j] < ga[j])) {
-        consider(t_old, 1, j);  // touching at the step start and approaching or pressing in
-      }
+      if (c.kind == Closing::Kind::inside) consider(c.t, 2, j);  // just before contact
+      if (c.kind == Closing::Kind::at_start) consider(t_old, 1, j);
     }
   }
   if constexpr (event_count_v<M> > 0) {
@@ -121,22 +93,11 @@ bool ModelSystem<M>::locate_events(double t_old, const double* x_old, double& t,
         interp(ts, buf.data());
         return watched_at(buf.data(), ts)[k];
       };
-      consider(root(f, t_old, t, fa[k], fb[k]).second, 3, k);
+      consider(locate_crossing(t_old, t, fa[k], fb[k], time_function(f)), 3, k);
     }
   }
   if (best_kind < 0) return false;
-  // Guard against an event that changes nothing being found again and again.
-  if (best_t == last_event_time_ && best_t == t_old) {
-    if (++events_without_progress_ > 100) {
-      std::ostringstream os;
-      os.precision(17);
-      os << "event handling made no progress at t = " << best_t << " (more than 100 events at this instant)";
-      throw SimulationError(os.str(), best_t);
-    }
-  } else {
-    events_without_progress_ = 0;
-  }
-  last_event_time_ = best_t;
+  progress_.check(best_t, t_old);  // an event that changes nothing, found again and again
   if (best_t < t) {
     interp(best_t, buf.data());
     std::copy(buf.begin(), buf.end(), x);
@@ -168,9 +129,10 @@ bool ModelSystem<M>::locate_events(double t_old, const double* x_old, double& t,
 /// of restitution (apply_impact), until none approaches (the sequential
 /// rule for simultaneous impacts; each step conserves momentum, and kinetic
 /// energy when e = 1). Zeno accumulations are resolved plastically (see
-/// SimulationOptions::zeno_speed_ratio). Afterwards the contacts that took
-/// part (and `trigger`) are resting (active) when they do not separate,
-/// and active contacts that separate are released.
+/// SimulationOptions::zeno_speed_ratio). Afterwards a contact that took
+/// part (or `trigger`) and does not separate rests (becomes active) when
+/// its last impact was plastic (e = 0: the bodies stick) or the forces
+/// press it shut, and active contacts that separate are released.
 template <class M>
 void ModelSystem<M>::resolve_contacts(double* x, double t, int trigger) {
   if constexpr (unilateral_count_v<M> > 0) {
@@ -181,6 +143,7 @@ void ModelSystem<M>::resolve_contacts(double* x, double t, int trigger) {
     Vec<double, u> g, r;
     std::array<bool, u> involved{};
     std::array<bool, u> rested{};
+    std::array<bool, u> plastic{};  // its last impact here had e = 0: the bodies stick
     involved[static_cast<std::size_t>(trigger)] = true;
     const int max_impacts = 1000 * u;
     int count = 0;
@@ -208,9 +171,8 @@ void ModelSystem<M>::resolve_contacts(double* x, double t, int trigger) {
       const double approach = -r[j];
       // An accumulation needs the forces to press the contact shut
       // (d²φ/dt² < 0 in free motion); free bodies that graze never rest.
-      const bool zeno = (approach <= opt_.zeno_speed_ratio * approach_max_[js] ||
-                         t - last_impact_[js] <= opt_.zeno_min_interval * std::max(1.0, std::abs(t))) &&
-                        gap_acceleration(q, qd, t, j) < 0;
+      const auto pressed = [&] { return gap_acceleration(q, qd, t, j) < 0; };
+      const bool zeno = zeno_accumulation(history_[js], approach, t, opt_, predicate(pressed));
       const double e = zeno ? 0.0 : restitution_[js];
       const double h_before = energy_function(model_, q, qd, t);
       ImpactResult<n> res;
@@ -219,10 +181,10 @@ void ModelSystem<M>::resolve_contacts(double* x, double t, int trigger) {
       } catch (const DynamicsError& err) {
         throw SimulationError(std::string("impact failed: ") + err.what(), t);
       }
-      approach_max_[js] = std::max(approach_max_[js], approach);
-      last_impact_[js] = t;
+      history_[js].record(approach, t);
       involved[js] = true;
       rested[js] = zeno;
+      plastic[js] = e == 0.0;
       EventRecord rec;
       rec.t = t;
       rec.kind = zeno ? EventKind::rest : EventKind::impact;
@@ -246,7 +208,7 @@ void ModelSystem<M>::resolve_contacts(double* x, double t, int trigger) {
       if ((active & bit) && !resting) {
         active &= ~bit;
         log_simple(EventKind::release, contact_name(j), t, x);
-      } else if (!(active & bit) && involved[js] && resting) {
+      } else if (!(active & bit) && involved[js] && resting && (plastic[js] || gap_acceleration(q, qd, t, j) < 0)) {
         active |= bit;
         if (!rested[js]) log_simple(EventKind::rest, contact_name(j), t, x);
       }

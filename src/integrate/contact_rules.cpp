@@ -1,0 +1,95 @@
+#include "lagrangian/detail/contact_rules.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "lagrangian/errors.hpp"
+#include "lagrangian/impact.hpp"
+
+namespace lagrangian::detail {
+
+namespace {
+
+std::pair<double, double> root(TimeFunction f, double a, double b, double fa, double fb) {
+  return bracket_root(f, a, b, fa, fb, event_time_tolerance);
+}
+
+}  // namespace
+
+double contact_touch_tolerance(const double* q, int n) {
+  double qmax = 0;
+  for (int i = 0; i < n; ++i) qmax = std::max(qmax, std::abs(q[i]));
+  return 1e-9 * (1.0 + qmax);
+}
+
+Closing locate_closing(double t0, double t1, GapRate start, GapRate end, double touch, double touch_speed,
+                       GapFunction on_step) {
+  if (start.gap < -touch) return {Closing::Kind::penetrated, t0};
+  auto at = [&](double t) {
+    if (t == t0) return start;
+    if (t == t1) return end;
+    return on_step(t);
+  };
+  auto gap = [&](double t) { return at(t).gap; };
+  auto rate = [&](double t) { return at(t).rate; };
+  auto rate_root = [&] {
+    const auto r = root(time_function(rate), t0, t1, start.rate, end.rate);
+    return 0.5 * (r.first + r.second);
+  };
+  // The bracket [lo, hi] of a closing: φ(lo) > 0 > φ(hi).
+  double lo = t0, hi = t1;
+  bool crossing = start.gap > 0 && end.gap < 0;
+  if (!crossing && start.gap >= 0 && end.gap >= 0 && start.rate < 0 && end.rate > 0) {
+    hi = rate_root();  // a dip inside the step: below zero at the gap's minimum?
+    crossing = gap(hi) < 0;
+  } else if (!crossing && start.gap <= 0 && start.rate > 0 && end.gap < 0 && end.rate < 0) {
+    lo = rate_root();  // leaves the contact and comes back within the step
+    crossing = gap(lo) > 0;
+  }
+  if (crossing) {
+    const double tc = root(time_function(gap), lo, hi, gap(lo), gap(hi)).first;
+    if (-rate(tc) <= touch_speed && end.gap >= -touch) return {};  // a slow touch
+    return {Closing::Kind::inside, tc};
+  }
+  if ((start.gap <= touch && start.rate < -touch_speed) || (start.gap < 0 && end.gap < -touch && end.gap < start.gap))
+    return {Closing::Kind::at_start, t0};
+  return {};
+}
+
+double locate_crossing(double t0, double t1, double f0, double f1, TimeFunction f) {
+  return root(f, t0, t1, f0, f1).second;
+}
+
+double locate_lift_off(double t0, double t1, double lambda0, double lambda1, TimeFunction lambda) {
+  if (!(lambda0 > 0)) return t0;
+  return locate_crossing(t0, t1, lambda0, lambda1, lambda);  // λ < 0 from there on
+}
+
+void ContactHistory::record(double approach, double t) {
+  approach_max = std::max(approach_max, approach);
+  last_impact = t;
+}
+
+bool zeno_accumulation(const ContactHistory& history, double approach, double t, const SimulationOptions& options,
+                       Predicate pressed) {
+  const bool accumulating = approach <= options.zeno_speed_ratio * history.approach_max ||
+                            t - history.last_impact <= options.zeno_min_interval * std::max(1.0, std::abs(t));
+  return accumulating && pressed();
+}
+
+void EventProgress::check(double t_event, double t_step_start) {
+  if (t_event == last_ && t_event == t_step_start) {
+    if (++repeats_ > 100) {
+      std::ostringstream os;
+      os.precision(17);
+      os << "event handling made no progress at t = " << t_event << " (more than 100 events at this instant)";
+      throw SimulationError(os.str(), t_event);
+    }
+  } else {
+    repeats_ = 0;
+  }
+  last_ = t_event;
+}
+
+}  // namespace lagrangian::detail

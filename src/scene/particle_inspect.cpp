@@ -1,0 +1,109 @@
+// Inspection of particle scenes (`lagrangian inspect`), and the test for
+// the exact event-driven engine.
+
+#include <algorithm>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "lagrangian/constraints.hpp"
+#include "particle_engine.hpp"
+#include "particle_model.hpp"
+
+namespace lagrangian::scene::detail {
+
+bool event_driven_eligible(const Scene& scene) {
+  // The conditions Scene::validate() demands of engine = "event_driven".
+  if (scene.model || !scene.box || !scene.sphere_contacts || !scene.sphere_contacts->bodies.empty()) return false;
+  for (const auto& kind : scene.declared())
+    if (kind != "sphere_contacts" && kind != "plane_contacts" && kind != "box_contacts") return false;
+  return std::all_of(scene.bodies.begin(), scene.bodies.end(), [](const Body& b) { return b.radius > 0; });
+}
+
+std::string inspect_particles(const Scene& scene) {
+  particles::ParticleModel sys(scene);
+  std::ostringstream os;
+  os.precision(6);
+  const int n = sys.bodies();
+  os << "scene        " << scene.name << "\n";
+  if (!scene.description.empty()) os << "description  " << scene.description << "\n";
+  os << "engine       " << (scene.run.engine == "auto" ? (event_driven_eligible(scene) ? "event_driven" : "ode")
+                                                          : scene.run.engine)
+     << "\n";
+  os << "bodies       " << n << " (" << 3 * n << " Cartesian coordinates)\n";
+  const int shown = std::min(n, 20);
+  for (int i = 0; i < shown; ++i) {
+    const Body& b = scene.bodies[static_cast<std::size_t>(i)];
+    os << "  " << b.name << ": m = " << b.mass << " kg";
+    if (b.radius > 0) os << ", R = " << b.radius << " m";
+    os << ", r = (" << b.position.transpose() << ") m, v = (" << b.velocity.transpose() << ") m/s"
+       << ", p = m v = (" << (b.mass * b.velocity).transpose() << ") kg·m/s\n";
+  }
+  if (n > shown) os << "  … " << n - shown << " more\n";
+
+  // Degrees of freedom from the rank of the constraint Jacobian at t0.
+  const auto& rows = sys.rows();
+  std::vector<double> x(static_cast<std::size_t>(6 * n), 0.0);
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) {
+      x[static_cast<std::size_t>(3 * i + k)] = scene.bodies[static_cast<std::size_t>(i)].position[k];
+      x[static_cast<std::size_t>(3 * n + 3 * i + k)] = scene.bodies[static_cast<std::size_t>(i)].velocity[k];
+    }
+  Eigen::MatrixXd C;
+  particles::jacobian(rows, x.data(), 3 * n, C);
+  const int rank = lagrangian::detail::numeric_rank(C);
+  os << "constraints  " << rows.size() << " holonomic";
+  if (!rows.empty()) {
+    os << " (";
+    for (std::size_t k = 0; k < rows.size(); ++k) os << (k ? ", " : "") << rows[k].name;
+    os << ")";
+  }
+  os << "\n";
+  os << "rank         " << rank << " (redundant constraints: " << static_cast<int>(rows.size()) - rank << ")\n";
+  os << "DOF          " << 3 * n - rank << " = " << 3 * n << " coordinates − rank " << rank << "\n";
+
+  Eigen::Vector3d P = Eigen::Vector3d::Zero(), L = Eigen::Vector3d::Zero();
+  for (int i = 0; i < n; ++i) {
+    const Body& b = scene.bodies[static_cast<std::size_t>(i)];
+    P += b.mass * b.velocity;
+    L += b.position.cross(b.mass * b.velocity);
+  }
+  os << "momentum     P = (" << P.transpose() << ") kg·m/s, L about the origin = (" << L.transpose() << ") kg·m²/s\n";
+  const double T = sys.kinetic(x.data()), V = sys.potential(x.data());
+  os << "energy       T = " << T << " J, V = " << V << " J, E = T + V = " << T + V << " J\n";
+
+  // Conserved quantities: what no declared effect can change.
+  std::vector<std::string> conserved;
+  const bool walls = !scene.planes.empty() || scene.box.has_value();
+  const bool anchored = std::any_of(scene.links.begin(), scene.links.end(), [](const Link& l) { return l.b.empty(); }) ||
+                        !scene.surfaces.empty() ||
+                        std::any_of(scene.springs.begin(), scene.springs.end(), [](const Spring& s) { return s.b.empty(); });
+  const bool drag = !scene.linear_drag.empty() || !scene.quadratic_drag.empty();
+  const bool lossy_contacts = (scene.sphere_contacts && scene.sphere_contacts->restitution < 1) ||
+                              std::any_of(scene.planes.begin(), scene.planes.end(),
+                                          [](const PlaneContact& p) { return p.restitution < 1; }) ||
+                              (scene.box && scene.box->restitution < 1);
+  if (!drag) conserved.push_back(lossy_contacts ? "E = T + V between impacts (impacts with e < 1 remove energy)"
+                                                : "E = T + V (no dissipative effect declared)");
+  if (!walls && !anchored && !drag) {
+    if (!scene.gravity) {
+      conserved.push_back("linear momentum P (no external force)");
+      conserved.push_back("angular momentum L (internal forces are central)");
+    } else {
+      conserved.push_back("the components of P perpendicular to g (gravity is the only external force)");
+      conserved.push_back("the component of L along g about any point");
+    }
+  }
+  os << "conserved    " << (conserved.empty() ? std::string("none detected") : conserved.front()) << "\n";
+  for (std::size_t k = 1; k < conserved.size(); ++k) os << "             " << conserved[k] << "\n";
+
+  const auto declared = scene.declared();
+  os << "active       ";
+  if (declared.empty()) os << "none (free flight)";
+  for (std::size_t k = 0; k < declared.size(); ++k) os << (k ? ", " : "") << declared[k];
+  os << "\n";
+  return os.str();
+}
+
+}  // namespace lagrangian::scene::detail
+
