@@ -50,27 +50,39 @@ struct HandProjectile {
   }
 };
 
-/// The scene runner's loop with the hand-coded right-hand side: steps land
-/// on the output times, T + V and the momentum are evaluated at each sample.
+/// The driver's loop (integrate.hpp) with the hand-coded right-hand side:
+/// dopri5 steps freely, the samples every kInterval come from its dense
+/// output, T + V and the momentum are evaluated at each.
 double hand_dopri5() {
   namespace odeint = boost::numeric::odeint;
   using C = odeint::controlled_runge_kutta<odeint::runge_kutta_dopri5<X>>;
   C stepper{C::error_checker_type(kAtol, kRtol)};
-  X x{0, 0, 1, 10, 0, 10};
+  const HandProjectile f;
+  X x{0, 0, 1, 10, 0, 10}, dxdt(6), x_old(6), dxdt_old(6), buf(6);
+  f(x, dxdt, 0.0);
   double t = 0, dt = 1e-3, next = kInterval, acc = 0;
   std::size_t steps = 0;
+  auto sample = [&acc](const X& s) {
+    acc += 0.5 * 0.2 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]) + 0.2 * 9.81 * s[2] + 0.2 * (s[3] + s[4] + s[5]);
+  };
   while (kTEnd - t > 1e-12) {
-    const double limit = std::min(kTEnd, next);
-    const bool clamped = t + dt > limit;
-    double d = clamped ? limit - t : dt;
-    if (stepper.try_step(HandProjectile{}, x, t, d) == odeint::success) {
+    const bool clamped = t + dt > kTEnd;
+    double d = clamped ? kTEnd - t : dt;
+    x_old = x;
+    dxdt_old = dxdt;
+    const double t_old = t;
+    if (stepper.try_step(f, x, dxdt, t, d) == odeint::success) {
       ++steps;
-      if (clamped) t = limit;
+      if (clamped) t = kTEnd;
       for (double v : x)
         if (!std::isfinite(v)) return -1;
-      if (t >= next - 1e-12) {
-        acc += 0.5 * 0.2 * (x[3] * x[3] + x[4] * x[4] + x[5] * x[5]) + 0.2 * 9.81 * x[2] + 0.2 * (x[3] + x[4] + x[5]);
-        next += kInterval;
+      for (; next <= t + 1e-12; next += kInterval) {
+        if (std::abs(next - t) <= 1e-12) {
+          sample(x);
+        } else {
+          stepper.stepper().calc_state(next, buf, x_old, dxdt_old, t_old, x, dxdt, t);
+          sample(buf);
+        }
       }
       dt = clamped ? std::max(dt, d) : d;
     } else {
