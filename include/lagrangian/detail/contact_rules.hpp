@@ -22,16 +22,12 @@ struct GapRate {
   double gap = 0, rate = 0;
 };
 
-/// φ, φ̇ of one contact at a time inside the step: eval(context, t).
-struct GapFunction {
-  const void* context;
-  GapRate (*eval)(const void* context, double t);
-  GapRate operator()(double t) const { return eval(context, t); }
-};
+/// φ, φ̇ of one contact at a time inside the step.
+using GapFunction = FunctionRef<GapRate(double)>;
 
 template <class F>
 GapFunction gap_function(const F& f) {
-  return {&f, [](const void* c, double t) { return (*static_cast<const F*>(c))(t); }};
+  return function_ref<GapRate(double)>(f);
 }
 
 /// What locate_closing found for one open contact.
@@ -71,16 +67,12 @@ struct ContactHistory {
   void record(double approach, double t);
 };
 
-/// A yes/no question asked only when needed: eval(context).
-struct Predicate {
-  const void* context;
-  bool (*eval)(const void* context);
-  bool operator()() const { return eval(context); }
-};
+/// A yes/no question asked only when needed.
+using Predicate = FunctionRef<bool()>;
 
 template <class F>
 Predicate predicate(const F& f) {
-  return {&f, [](const void* c) { return (*static_cast<const F*>(c))(); }};
+  return function_ref<bool()>(f);
 }
 
 /// The Zeno rule, the one for every system. An impact at time t with

@@ -7,28 +7,39 @@
 
 namespace lagrangian::detail {
 
-/// A scalar function of time: eval(context, t).
-struct TimeFunction {
+/// A non-owning reference to a callable with the given signature, passed
+/// across the compiled-once boundary as a context pointer and a function
+/// pointer (no allocation, no template on the callable's type).
+template <class Signature>
+struct FunctionRef;
+
+template <class R, class... Args>
+struct FunctionRef<R(Args...)> {
   const void* context;
-  double (*eval)(const void* context, double t);
-  double operator()(double t) const { return eval(context, t); }
+  R (*eval)(const void* context, Args... args);
+  R operator()(Args... args) const { return eval(context, args...); }
 };
+
+/// A FunctionRef to f, which must outlive it.
+template <class Signature, class F>
+FunctionRef<Signature> function_ref(const F& f) {
+  return {&f, [](const void* c, auto... args) { return (*static_cast<const F*>(c))(args...); }};
+}
+
+/// A scalar function of time.
+using TimeFunction = FunctionRef<double(double)>;
 
 template <class F>
 TimeFunction time_function(const F& f) {
-  return {&f, [](const void* c, double t) { return (*static_cast<const F*>(c))(t); }};
+  return function_ref<double(double)>(f);
 }
 
-/// The state at time t inside a step: eval(context, t, x_out).
-struct Interpolator {
-  const void* context;
-  void (*eval)(const void* context, double t, double* out);
-  void operator()(double t, double* out) const { eval(context, t, out); }
-};
+/// The state at time t inside a step: f(t, x_out).
+using Interpolator = FunctionRef<void(double, double*)>;
 
 template <class F>
 Interpolator interpolator(const F& f) {
-  return {&f, [](const void* c, double t, double* out) { (*static_cast<const F*>(c))(t, out); }};
+  return function_ref<void(double, double*)>(f);
 }
 
 /// Boost.Math TOMS 748 on [a, b] with f(a) = fa and f(b) = fb of opposite
