@@ -29,7 +29,9 @@ namespace odeint = boost::numeric::odeint;
 // not initialised yet; g++ warns of that copy once it is inlined.)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wuninitialized"
+#if !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 template <class Controlled>
 Controlled make_controlled(double atol, double rtol) {
   if constexpr (requires { typename Controlled::error_checker_type; }) {
