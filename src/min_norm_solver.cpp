@@ -12,9 +12,9 @@ using Small = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 64, 1>;
 }  // namespace
 
 struct MinNormSolver::Impl {
-  Eigen::MatrixXd a;
+  Eigen::Index rows, cols;
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod;
-  Impl(int rows, int cols) : a(rows, cols), cod(rows, cols) {}
+  Impl(int r, int c) : rows(r), cols(c), cod(r, c) {}
 };
 
 MinNormSolver::MinNormSolver(int rows, int cols) : impl_(new Impl(rows, cols)) {}
@@ -27,19 +27,18 @@ MinNormSolver& MinNormSolver::operator=(const MinNormSolver& other) {
 
 int MinNormSolver::factorize(const double* a, double threshold) {
   Impl& s = *impl_;
-  s.a = Eigen::Map<const Eigen::MatrixXd>(a, s.a.rows(), s.a.cols());
   if (threshold > 0) {
     s.cod.setThreshold(threshold);
   } else {
     s.cod.setThreshold(Eigen::Default);
   }
-  s.cod.compute(s.a);
+  s.cod.compute(Eigen::Map<const Eigen::MatrixXd>(a, s.rows, s.cols));  // copied into its own storage
   return static_cast<int>(s.cod.rank());
 }
 
 void MinNormSolver::solve(const double* b, double* x) const {
   const Impl& s = *impl_;
-  const Eigen::Index rows = s.a.rows(), cols = s.a.cols();
+  const Eigen::Index rows = s.rows, cols = s.cols;
   if (rows == 0) {
     Eigen::Map<Eigen::VectorXd>(x, cols).setZero();
     return;
