@@ -33,10 +33,7 @@ Closing locate_closing(double t0, double t1, GapRate start, GapRate end, double 
   };
   auto gap = [&](double t) { return at(t).gap; };
   auto rate = [&](double t) { return at(t).rate; };
-  auto rate_root = [&] {
-    const auto r = root(time_function(rate), t0, t1, start.rate, end.rate);
-    return 0.5 * (r.first + r.second);
-  };
+  auto rate_root = [&] { return stationary_time(t0, t1, start, end, on_step); };
   // The bracket [lo, hi] of a closing: φ(lo) > 0 > φ(hi).
   double lo = t0, hi = t1;
   bool crossing = start.gap > 0 && end.gap < 0;
@@ -55,6 +52,24 @@ Closing locate_closing(double t0, double t1, GapRate start, GapRate end, double 
   if ((start.gap <= touch && start.rate < -touch_speed) || (start.gap < 0 && end.gap < -touch && end.gap < start.gap))
     return {Closing::Kind::at_start, t0};
   return {};
+}
+
+double stationary_time(double t0, double t1, GapRate start, GapRate end, GapFunction on_step) {
+  auto rate = [&](double t) {
+    if (t == t0) return start.rate;
+    if (t == t1) return end.rate;
+    return on_step(t).rate;
+  };
+  const auto r = root(time_function(rate), t0, t1, start.rate, end.rate);
+  return 0.5 * (r.first + r.second);
+}
+
+void throw_penetrated(const std::string& name, double t, double gap) {
+  std::ostringstream os;
+  os.precision(17);
+  os << "contact " << name << " is penetrated at t = " << t << " (gap " << gap
+     << ") without a located closing; the run was stopped";
+  throw SimulationError(os.str(), t);
 }
 
 double locate_crossing(double t0, double t1, double f0, double f1, TimeFunction f) {

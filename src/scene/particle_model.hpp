@@ -504,10 +504,10 @@ class ParticleModel {
   /// True when the forces press the contact shut: d²φ/dt² < 0 beyond
   /// round-off (1e-9 of the largest acceleration, at least 1e-12 m/s²).
   bool pressed(const double* x, const Contact& c) {
-    std::vector<double> dx(static_cast<std::size_t>(2 * dim_));
-    rhs(x, dx.data(), 0.0);
+    pressed_dx_.resize(static_cast<std::size_t>(2 * dim_));
+    rhs(x, pressed_dx_.data(), 0.0);
     const double* v = x + dim_;
-    const double* a = dx.data() + dim_;
+    const double* a = pressed_dx_.data() + dim_;
     double scale = 0;
     for (int k = 0; k < dim_; ++k) scale = std::max(scale, std::abs(a[k]));
     const double tol = 1e-9 * scale + 1e-12;
@@ -588,6 +588,7 @@ class ParticleModel {
   std::vector<Contact*> rest_contacts_;
   std::vector<Span> spans_;
   Eigen::VectorXd rhs_m_, lambda_;
+  std::vector<double> pressed_dx_;  ///< ẋ for pressed()
   GravityKernel* gravity_ = nullptr;
   NewtonKernel* newton_ = nullptr;
   SpringKernel* springs_ = nullptr;

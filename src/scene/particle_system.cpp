@@ -18,7 +18,6 @@
 #include "lagrangian/detail/contact_rules.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/constraints.hpp"
-#include "lagrangian/impact.hpp"
 #include "lagrangian/integrate.hpp"
 #include "lagrangian/system.hpp"
 #include "particle_engine.hpp"
@@ -227,7 +226,8 @@ class ParticleSystem final : public lagrangian::System {
     std::ptrdiff_t lift_off = -1;
     // Lift-off: a resting contact whose multiplier pulls at the step end.
     const auto& resting = model_.resting_contacts();
-    std::vector<double> lambda_end(resting.size());
+    std::vector<double>& lambda_end = lambda_end_;
+    lambda_end.resize(resting.size());
     for (std::size_t k = 0; k < resting.size(); ++k) lambda_end[k] = model_.resting_multiplier(k);
     for (std::size_t k = 0; k < resting.size(); ++k) {
       if (!(lambda_end[k] < 0)) continue;
@@ -259,13 +259,7 @@ class ParticleSystem final : public lagrangian::System {
       };
       const Closing found = lagrangian::detail::locate_closing(t_old, t, a, b, touch, opt_.contact_touch_speed,
                                                                lagrangian::detail::gap_function(on_step));
-      if (found.kind == Closing::Kind::penetrated) {
-        std::ostringstream os;
-        os.precision(17);
-        os << "contact " << c->name << " is penetrated at t = " << t_old << " (gap " << a.gap
-           << ") without a located closing; the run was stopped";
-        throw SimulationError(os.str(), t_old);
-      }
+      if (found.kind == Closing::Kind::penetrated) lagrangian::detail::throw_penetrated(c->name, t_old, a.gap);
       if (found.kind != Closing::Kind::none && found.t < best_t) {
         best_t = found.t;
         closing = c;
@@ -303,10 +297,9 @@ class ParticleSystem final : public lagrangian::System {
       if (c.pair) path_.body(c.b, ts, rb, vb);
       return c.gap_rate(ra, va, rb, vb);
     };
-    auto rate = [&](double ts) { return on_path(ts).rate; };
-    const auto br = lagrangian::detail::bracket_root(lagrangian::detail::time_function(rate), path_.t0(),
-                                                     path_.t1(), a.rate, b.rate, event_time_tolerance);
-    return on_path(0.5 * (br.first + br.second)).gap > touch;
+    const double tm =
+        lagrangian::detail::stationary_time(path_.t0(), path_.t1(), a, b, lagrangian::detail::gap_function(on_path));
+    return on_path(tm).gap > touch;
   }
 
   void momentum(const double* x, Vector3d& P, Vector3d& L) const {
@@ -445,6 +438,7 @@ class ParticleSystem final : public lagrangian::System {
   ParticleRun& out_;
   RunReport& rep_;
   std::vector<double> f0_, f1_, x_f_, buf_, scratch_;
+  std::vector<double> lambda_end_;  ///< multipliers of the resting contacts at a step's end
   std::vector<Contact*> cand_, near_;
   StepPath path_;
   lagrangian::detail::EventProgress progress_;

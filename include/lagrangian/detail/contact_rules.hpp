@@ -7,6 +7,7 @@
 // adapter (src/scene/particle_system.cpp) both decide with these functions.
 
 #include <limits>
+#include <string>
 
 #include "lagrangian/detail/roots.hpp"
 #include "lagrangian/report.hpp"
@@ -49,6 +50,15 @@ struct Closing {
 /// touch (approach speed ≤ touch_speed, φ(t1) ≥ −touch) is not an impact.
 Closing locate_closing(double t0, double t1, GapRate start, GapRate end, double touch, double touch_speed,
                        GapFunction on_step);
+
+/// Where φ̇ changes sign inside [t0, t1] (start.rate and end.rate of
+/// opposite signs): the middle of the located bracket — the gap's minimum
+/// or maximum inside the step.
+double stationary_time(double t0, double t1, GapRate start, GapRate end, GapFunction on_step);
+
+/// Stops the run: contact `name` was found penetrated (gap < −touch) at the
+/// start t of a step, so an earlier closing was missed.
+[[noreturn]] void throw_penetrated(const std::string& name, double t, double gap);
 
 /// Where a watched function crosses zero in [t0, t1] given its values f0,
 /// f1 of opposite signs at the ends: the upper end of the located bracket,

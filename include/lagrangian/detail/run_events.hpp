@@ -71,13 +71,7 @@ bool ModelSystem<M>::locate_events(double t_old, const double* x_old, double& t,
       };
       const Closing c = locate_closing(t_old, t, {ga[j], ra[j]}, {gb[j], rb[j]}, touch, opt_.contact_touch_speed,
                                        gap_function(on_step));
-      if (c.kind == Closing::Kind::penetrated) {
-        std::ostringstream os;
-        os.precision(17);
-        os << "contact " << contact_name(j) << " is penetrated at t = " << t_old << " (gap " << ga[j]
-           << ") without a located closing; the run was stopped";
-        throw SimulationError(os.str(), t_old);
-      }
+      if (c.kind == Closing::Kind::penetrated) throw_penetrated(contact_name(j), t_old, ga[j]);
       if (c.kind == Closing::Kind::inside) consider(c.t, 2, j);  // just before contact
       if (c.kind == Closing::Kind::at_start) consider(t_old, 1, j);
     }
