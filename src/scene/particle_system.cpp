@@ -134,11 +134,7 @@ class ParticleSystem final : public lagrangian::System {
       rep_.constraints.baumgarte_omega = model_.omega;
       rep_.constraints.initial_rank = rep_.constraints.min_rank = rank(x);
     }
-    if (model_.has_contacts()) {  // contacts closing or resting at t0
-      starting_ = true;
-      resolve_at(x, t0, nullptr);
-      starting_ = false;
-    }
+    if (model_.has_contacts()) resolve_at(x, t0, nullptr);  // contacts closing or resting at t0
   }
 
   void sample(double t, const double* x) override {
@@ -351,7 +347,9 @@ class ParticleSystem final : public lagrangian::System {
   /// its last impact was plastic (e = 0) or the forces press it shut, and
   /// resting contacts that separate lift off; the log records these changes
   /// (none at t0).
+  /// `located` is the contact found closing; nullptr at t0.
   void resolve_at(double* x, double t, Contact* located) {
+    const bool at_start = located == nullptr;
     const int dim = model_.dim();
     const double tol = lagrangian::detail::contact_touch_tolerance(x, dim);
     const double touch_speed = opt_.contact_touch_speed;
@@ -362,7 +360,7 @@ class ParticleSystem final : public lagrangian::System {
       return std::find(v.begin(), v.end(), c) != v.end();
     };
     std::vector<Contact*> involved;
-    if (starting_) involved = near_;
+    if (at_start) involved = near_;
     if (located) involved.push_back(located);
     std::vector<Contact*> rested;   // by the Zeno rule, logged as such
     std::vector<Contact*> plastic;  // their last impact had e = 0: the bodies stick
@@ -416,7 +414,7 @@ class ParticleSystem final : public lagrangian::System {
     for (std::size_t k = model_.resting_contacts().size(); k-- > 0;)
       if (model_.resting_contacts()[k]->rate(x, x + dim) > touch_speed) model_.release(k);
     // The log: what changed.
-    if (!starting_) {
+    if (!at_start) {
       std::vector<Contact*> seen;
       for (Contact* c : involved) {
         if (contains(seen, c)) continue;
@@ -443,7 +441,6 @@ class ParticleSystem final : public lagrangian::System {
   StepPath path_;
   lagrangian::detail::EventProgress progress_;
   double E0_ = 0, shift_ = 0;
-  bool starting_ = false;  ///< resolving the contacts at t0
   std::vector<std::pair<double, double>> pending_;  ///< (time, ΔT) of impacts not yet sampled past
   Vector3d P0_ = Vector3d::Zero(), L0_ = Vector3d::Zero();
 };
