@@ -6,26 +6,13 @@
 /// their Jacobian and Hessians, and the tangent space of the constraint
 /// manifold. AnalysisError is the error of every analysis.
 
-#include <algorithm>
-#include <cmath>
-#include <limits>
-#include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
-#include <Eigen/Eigenvalues>
-#include <Eigen/LU>
-#include <Eigen/QR>
-#include <Eigen/SVD>
-#include <Eigen/SparseCholesky>
-#include <Eigen/SparseCore>
-#include <nlopt.h>
 
 #include "lagrangian/ad.hpp"
 #include "lagrangian/constraints.hpp"
-#include "lagrangian/discrete.hpp"
 #include "lagrangian/dynamics.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/model.hpp"
@@ -63,17 +50,6 @@ namespace detail {
 template <class M>
 void require_static_size() {
   static_assert(M::dof != Dynamic, "lagrangian: the analyses need a compile-time number of coordinates");
-}
-
-/// Wraps periodic coordinates into [−P/2, P/2).
-inline void wrap_periodic(Eigen::VectorXd& q, const std::vector<double>& periods) {
-  for (int i = 0; i < q.size() && static_cast<std::size_t>(i) < periods.size(); ++i) {
-    const double p = periods[static_cast<std::size_t>(i)];
-    if (p > 0) {
-      q[i] -= p * std::floor(q[i] / p + 0.5);
-      if (q[i] >= 0.5 * p) q[i] -= p;
-    }
-  }
 }
 
 /// Orthonormal basis of the null space of G (m×n), by SVD; the identity for m = 0.
