@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -102,11 +103,13 @@ TEST(Constraints, ParticleOnSphereMatchesSphericalPendulum) {
   EXPECT_LE(worst, 1e-8);
 }
 
+// 10⁴ periods; 10³ in the sanitizer stage (LAGRANGIAN_STABILITY_SHORT, the
+// same code paths), where the unstabilised drift is still far above 1e-4.
 TEST(Constraints, ProjectionHoldsTheManifoldForTenThousandPeriodsAndNoneDrifts) {
   const CartesianPendulum cart(1.0, 1.0, 9.81);
   const double period = 2 * kPi * std::sqrt(1.0 / 9.81);
   SimulationOptions o;
-  o.t_end = 1e4 * period;
+  o.t_end = (std::getenv("LAGRANGIAN_STABILITY_SHORT") ? 1e3 : 1e4) * period;
   o.rtol = 1e-9;
   o.atol = 1e-11;
   o.output_interval = -1;
@@ -119,7 +122,8 @@ TEST(Constraints, ProjectionHoldsTheManifoldForTenThousandPeriodsAndNoneDrifts) 
   EXPECT_GT(proj.constraints.extra_rhs_evaluations, 0u);
   o.stabilization = Stabilization::none;
   const RunReport none = simulate(cart, pendulum_cartesian_state(1.0, 0.8, 0.0), o);
-  EXPECT_GT(none.constraints.final_position_residual, 1e-4);  // visible drift of the rod length
+  EXPECT_GT(none.constraints.final_position_residual, 1e-4)  // visible drift of the rod length
+      << none.constraints.final_position_residual;
   EXPECT_EQ(none.constraints.projections, 0u);
 }
 
