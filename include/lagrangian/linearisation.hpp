@@ -164,6 +164,13 @@ void refuse_for_equilibria(const M&) {
 
 /// λ minimising ‖∇U − Gᵀλ‖ (complete orthogonal decomposition).
 Eigen::VectorXd least_squares_multipliers(const Eigen::MatrixXd& G, const Eigen::VectorXd& grad);
+
+/// x = A⁺ b, the least-squares solution of least norm (MinNormSolver).
+Eigen::VectorXd min_norm_solve(const Eigen::MatrixXd& A, const Eigen::VectorXd& b);
+
+/// The eigenvalues of the symmetric matrix S (lower triangle read),
+/// ascending; false when the solver fails.
+bool symmetric_eigenvalues(const Eigen::MatrixXd& S, Eigen::VectorXd& eigenvalues);
 }  // namespace detail
 
 }  // namespace lagrangian

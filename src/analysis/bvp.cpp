@@ -14,7 +14,6 @@
 #include <vector>
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <nlopt.h>
@@ -111,17 +110,16 @@ BvpResult bvp_of(const ActionModel& model, const Eigen::VectorXd& a, const Eigen
   Eigen::MatrixXd Ma;
   Eigen::VectorXd p0;
   model.at_rest(a.data(), t0, Ma, p0);
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> mes(Ma, Eigen::EigenvaluesOnly);
+  Eigen::VectorXd ev;
+  symmetric_eigenvalues(Ma, ev);
   const double pi = 3.141592653589793;
-  out.free_reference = mes.eigenvalues()[0] * (4.0 / h) * std::pow(std::sin(pi / (2.0 * K)), 2);
-  if (N <= options.max_dense_eigen && Eigen::Map<const Eigen::VectorXd>(H.valuePtr(), H.nonZeros()).allFinite()) {
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Eigen::MatrixXd(H), Eigen::EigenvaluesOnly);
-    if (es.info() == Eigen::Success) {
-      out.eigenvalues_computed = true;
-      out.lowest_eigenvalue = es.eigenvalues()[0];
-      out.smallest_magnitude = es.eigenvalues().cwiseAbs().minCoeff();
-      out.negative_eigenvalues = static_cast<int>((es.eigenvalues().array() < 0).count());
-    }
+  out.free_reference = ev[0] * (4.0 / h) * std::pow(std::sin(pi / (2.0 * K)), 2);
+  if (N <= options.max_dense_eigen && Eigen::Map<const Eigen::VectorXd>(H.valuePtr(), H.nonZeros()).allFinite() &&
+      symmetric_eigenvalues(Eigen::MatrixXd(H), ev)) {
+    out.eigenvalues_computed = true;
+    out.lowest_eigenvalue = ev[0];
+    out.smallest_magnitude = ev.cwiseAbs().minCoeff();
+    out.negative_eigenvalues = static_cast<int>((ev.array() < 0).count());
   }
   std::ostringstream why;
   why.precision(6);

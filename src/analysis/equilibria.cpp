@@ -11,8 +11,6 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Eigenvalues>
-#include <Eigen/QR>
 #include <nlopt.h>
 
 #include "lagrangian/errors.hpp"
@@ -66,8 +64,7 @@ bool newton_equilibrium(const RestModel& model, Eigen::VectorXd& q, Eigen::Vecto
   if (!(force_scale > 0)) force_scale = 1.0;
   for (int it = 0; it < max_iterations; ++it) {
     if (!F.allFinite() || !Jac.allFinite()) return false;
-    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(Jac);
-    const Eigen::VectorXd step = cod.solve(-F);
+    const Eigen::VectorXd step = min_norm_solve(Jac, -F);
     if (!step.allFinite()) return false;
     // Backtracking on ‖F‖ (at most 20 halvings).
     const double f0 = F.norm();
@@ -152,10 +149,7 @@ Equilibrium classify_equilibrium(const RestModel& model, const Eigen::VectorXd& 
                                              : Eigen::VectorXd::Zero(n)))
                    .lpNorm<Eigen::Infinity>();
   e.constraint_residual = c.value.size() ? c.value.lpNorm<Eigen::Infinity>() : 0.0;
-  if (Kt.rows() > 0) {
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (Kt + Kt.transpose()), Eigen::EigenvaluesOnly);
-    e.hessian_eigenvalues = es.eigenvalues();
-  }
+  if (Kt.rows() > 0) symmetric_eigenvalues(0.5 * (Kt + Kt.transpose()), e.hessian_eigenvalues);
   const double scale = e.hessian_eigenvalues.size() ? e.hessian_eigenvalues.cwiseAbs().maxCoeff() : 0.0;
   int neg = 0, pos = 0, zero = 0;
   for (int i = 0; i < e.hessian_eigenvalues.size(); ++i) {

@@ -2,10 +2,11 @@
 // compiled once rather than in every translation unit that includes it.
 #include "lagrangian/linearisation.hpp"
 
-#include <Eigen/QR>
+#include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 
 #include "lagrangian/constraints.hpp"
+#include "lagrangian/detail/min_norm_solver.hpp"
 
 namespace lagrangian::detail {
 
@@ -19,10 +20,24 @@ Eigen::MatrixXd tangent_basis(const Eigen::MatrixXd& G, int n) {
   return svd.matrixV().rightCols(n - rank);
 }
 
+Eigen::VectorXd min_norm_solve(const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
+  MinNormSolver solver(static_cast<int>(A.rows()), static_cast<int>(A.cols()));
+  solver.factorize(A.data());
+  Eigen::VectorXd x(A.cols());
+  solver.solve(b.data(), x.data());
+  return x;
+}
+
 Eigen::VectorXd least_squares_multipliers(const Eigen::MatrixXd& G, const Eigen::VectorXd& grad) {
   if (G.rows() == 0) return Eigen::VectorXd();
-  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(G.transpose());
-  return cod.solve(grad);
+  return min_norm_solve(G.transpose(), grad);
+}
+
+bool symmetric_eigenvalues(const Eigen::MatrixXd& S, Eigen::VectorXd& eigenvalues) {
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(S, Eigen::EigenvaluesOnly);
+  if (es.info() != Eigen::Success) return false;
+  eigenvalues = es.eigenvalues();
+  return true;
 }
 
 }  // namespace lagrangian::detail
