@@ -47,7 +47,10 @@ fi
 
 sources=(
   "$src/tests/fuzz/fuzz_scene.cpp"
-  "$src/src/scene/scene.cpp"
+  "$src/src/scene/scene_messages.cpp"
+  "$src/src/scene/scene_gas_fill.cpp"
+  "$src/src/scene/scene_validate_fields.cpp"
+  "$src/src/scene/scene_validate_initial.cpp"
   "$src/src/scene/toml_scene.cpp"
   "$src/src/scene/model_catalog.cpp"
   "$src/src/report.cpp"
@@ -58,7 +61,8 @@ stale=0
 if [ ! -x "$bin" ]; then
   stale=1
 else
-  for f in "${sources[@]}" "$src"/include/lagrangian/*.hpp "$src"/include/lagrangian/detail/*.hpp "$0"; do
+  for f in "${sources[@]}" "$src"/include/lagrangian/*.hpp "$src"/include/lagrangian/detail/*.hpp \
+           "$src"/src/scene/scene_*.hpp "$0"; do
     if [ "$f" -nt "$bin" ]; then stale=1; break; fi
   done
 fi

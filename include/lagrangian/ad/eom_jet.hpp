@@ -494,58 +494,16 @@ class EomJet {
     }
   }
   /// Re-stores the first-order parts in storage s, which holds the current one.
-  constexpr void convert(int s) {
-    if (s == state_) return;
-    auto move = [&](Vector& x) {
-      if (state_ >= 0) {  // single → dense
-        const double keep = x[state_];
-        x.fill(0.0);
-        x[state_] = keep;
-      } else {  // nothing → s
-        set_zero(x, s);
-      }
-    };
-    move(gq_);
-    if (level >= 1) {
-      move(gv_);
-      move(c_);
-    }
-    state_ = s;
-  }
+  constexpr void convert(int s);
 
   /// The velocity support holding both factors' supports.
-  constexpr void set_hull(const EomJet& a, const EomJet& b) {
-    if (a.lo_ == a.hi_) {
-      lo_ = b.lo_;
-      hi_ = b.hi_;
-    } else if (b.lo_ == b.hi_) {
-      lo_ = a.lo_;
-      hi_ = a.hi_;
-    } else {
-      lo_ = a.lo_ < b.lo_ ? a.lo_ : b.lo_;
-      hi_ = a.hi_ > b.hi_ ? a.hi_ : b.hi_;
-    }
-  }
+  constexpr void set_hull(const EomJet& a, const EomJet& b);
   /// Zeroes the rows [lo, hi) of the dense block.
-  static constexpr void zero_rows(std::array<double, N * N>& H, int lo, int hi) {
-    for (int i = lo * N; i < hi * N; ++i) H[i] = 0.0;
-  }
+  static constexpr void zero_rows(std::array<double, N * N>& H, int lo, int hi);
   /// Grows the velocity support to [lo, hi) ⊇ [lo_, hi_), zero-filling the
   /// new rows of the dense block (its columns outside the support are
   /// zeros already).
-  constexpr void widen(int lo, int hi) {
-    if (lo == lo_ && hi == hi_) return;
-    if (level == 2 && dense_) {
-      if (lo_ == hi_) {
-        zero_rows(H_, lo, hi);
-      } else {
-        zero_rows(H_, lo, lo_);
-        zero_rows(H_, hi_, hi);
-      }
-    }
-    lo_ = lo;
-    hi_ = hi;
-  }
+  constexpr void widen(int lo, int hi);
   /// Sums the pending terms into the dense rows: as P rank-one pieces
   /// f_p x_p y_pᵀ (a square is one piece, a symmetric term two), each row
   /// i gets Σ_p (f_p x_p,i) y_p in one branch-free pass of fixed length.
@@ -583,159 +541,24 @@ class EomJet {
   /// A free slot for a pending term (flushing the pending terms when every
   /// slot is taken). The term's supports must lie inside [lo_, hi_).
   constexpr Term& new_term()
-    requires(lazy_terms > 0)
-  {
-    if (nterms_ == lazy_terms) flush();
-    return terms_[nterms_++];
-  }
+    requires(lazy_terms > 0);
   /// gv of a, in full (zero where a stores nothing).
-  static constexpr void full_gv(Vector& out, const EomJet& a) {
-    if (a.state_ == kDense) {
-      out = a.gv_;
-    } else {
-      out.fill(0.0);
-      if (a.state_ >= 0) out[a.state_] = a.gv_[a.state_];
-    }
-  }
+  static constexpr void full_gv(Vector& out, const EomJet& a);
   /// Makes the dense rows valid (zero) if they are not yet.
-  constexpr void ensure_dense() {
-    if (!dense_) {
-      zero_rows(H_, lo_, hi_);
-      dense_ = true;
-    }
-  }
+  constexpr void ensure_dense();
   /// Pending H += f gv_a gv_aᵀ.
-  constexpr void push_square(double f, const EomJet& a) {
-    if constexpr (lazy_terms == 0) {
-      ensure_dense();
-      for (int i = a.lo_; i < a.hi_; ++i) {
-        const double fi = f * a.gv_[i];
-        for (int j = 0; j < N; ++j) H_[i * N + j] += fi * a.gv_[j];
-      }
-    } else {
-      Term& t = new_term();
-      t.f = f;
-      t.sq = true;
-      t.ulo = t.wlo = a.lo_;
-      t.uhi = t.whi = a.hi_;
-      full_gv(t.u, a);
-    }
-  }
+  constexpr void push_square(double f, const EomJet& a);
   /// Pending H += f (gv_a gv_bᵀ + gv_b gv_aᵀ).
-  constexpr void push_symmetric(double f, const EomJet& a, const EomJet& b) {
-    if constexpr (lazy_terms == 0) {
-      ensure_dense();
-      for (int i = lo_; i < hi_; ++i) {
-        const double fa = f * a.gv_[i], fb = f * b.gv_[i];
-        for (int j = 0; j < N; ++j) H_[i * N + j] += fa * b.gv_[j] + fb * a.gv_[j];
-      }
-    } else {
-      Term& t = new_term();
-      t.f = f;
-      t.sq = false;
-      t.ulo = a.lo_;
-      t.uhi = a.hi_;
-      t.wlo = b.lo_;
-      t.whi = b.hi_;
-      full_gv(t.u, a);
-      full_gv(t.w, b);
-    }
-  }
+  constexpr void push_symmetric(double f, const EomJet& a, const EomJet& b);
   /// H += f H_a, for a at level 2 whose support lies inside [lo_, hi_).
-  constexpr void add_hessian_of(const EomJet& a, double f) {
-    if (a.dense_) {
-      if (!dense_ && a.lo_ == lo_ && a.hi_ == hi_) {
-        for (int i = lo_ * N; i < hi_ * N; ++i) H_[i] = f * a.H_[i];
-        dense_ = true;
-      } else {
-        if (!dense_) {
-          zero_rows(H_, lo_, hi_);
-          dense_ = true;
-        }
-        for (int i = a.lo_ * N; i < a.hi_ * N; ++i) H_[i] += f * a.H_[i];
-      }
-    }
-    if constexpr (lazy_terms > 0)
-      for (int k = 0; k < a.nterms_; ++k) {
-        Term& t = new_term();
-        t = a.terms_[k];
-        t.f *= f;
-      }
-  }
+  constexpr void add_hessian_of(const EomJet& a, double f);
 
   /// r = f a + s.
-  static constexpr EomJet scaled(const EomJet& a, double f, double s) {
-    EomJet r{Uninitialized{}};
-    r.level = a.level;
-    r.state_ = a.state_;
-    r.v = f * a.v + s;
-    r.d = f * a.d;
-    each(a.state_, [&](int i) { r.gq_[i] = f * a.gq_[i]; });
-    if (a.level >= 1) {
-      each(a.state_, [&](int i) {
-        r.gv_[i] = f * a.gv_[i];
-        r.c_[i] = f * a.c_[i];
-      });
-      r.lo_ = a.lo_;
-      r.hi_ = a.hi_;
-    }
-    if (a.level == 2) {
-      r.dense_ = false;
-      r.nterms_ = 0;
-      r.add_hessian_of(a, f);
-    }
-    return r;
-  }
+  static constexpr EomJet scaled(const EomJet& a, double f, double s);
   /// r = a + sign b.
-  static constexpr EomJet combined(const EomJet& a, const EomJet& b, double sign) {
-    if (a.level != b.level || a.state_ != b.state_) {
-      EomJet r = a;
-      r.accumulate(b, sign);
-      return r;
-    }
-    // Alike storage and level: every part in one pass.
-    EomJet r{Uninitialized{}};
-    r.level = a.level;
-    r.state_ = a.state_;
-    r.v = a.v + sign * b.v;
-    r.d = a.d + sign * b.d;
-    each(r.state_, [&](int i) { r.gq_[i] = a.gq_[i] + sign * b.gq_[i]; });
-    if (a.level >= 1) {
-      each(r.state_, [&](int i) {
-        r.gv_[i] = a.gv_[i] + sign * b.gv_[i];
-        r.c_[i] = a.c_[i] + sign * b.c_[i];
-      });
-      r.set_hull(a, b);
-    }
-    if (a.level == 2) {
-      r.dense_ = false;
-      r.nterms_ = 0;
-      r.add_hessian_of(a, 1.0);
-      r.add_hessian_of(b, sign);
-    }
-    return r;
-  }
+  static constexpr EomJet combined(const EomJet& a, const EomJet& b, double sign);
   /// this += sign b.
-  constexpr EomJet& accumulate(const EomJet& b, double sign) {
-    convert(joint(state_, b.state_));
-    raise(b.level);
-    v += sign * b.v;
-    d += sign * b.d;
-    add(gq_, sign, b.gq_, b.state_);
-    if (b.level >= 1) {
-      add(gv_, sign, b.gv_, b.state_);
-      add(c_, sign, b.c_, b.state_);
-      if (b.lo_ != b.hi_) {
-        if (lo_ == hi_) {
-          widen(b.lo_, b.hi_);
-        } else {
-          widen(b.lo_ < lo_ ? b.lo_ : lo_, b.hi_ > hi_ ? b.hi_ : hi_);
-        }
-      }
-    }
-    if (b.level == 2) add_hessian_of(b, sign);
-    return *this;
-  }
+  constexpr EomJet& accumulate(const EomJet& b, double sign);
 
  public:
   constexpr EomJet(const EomJet& o) : level(o.level), v(o.v), d(o.d) { copy_parts(o); }
@@ -748,33 +571,9 @@ class EomJet {
   }
 
  private:
-  constexpr void copy_parts(const EomJet& o) {
-    state_ = o.state_;
-    if (state_ == kDense) {
-      gq_ = o.gq_;
-      if (o.level >= 1) {
-        gv_ = o.gv_;
-        c_ = o.c_;
-      }
-    } else if (state_ >= 0) {
-      gq_[state_] = o.gq_[state_];
-      if (o.level >= 1) {
-        gv_[state_] = o.gv_[state_];
-        c_[state_] = o.c_[state_];
-      }
-    }
-    if (o.level >= 1) {
-      lo_ = o.lo_;
-      hi_ = o.hi_;
-    }
-    if (o.level == 2) {
-      dense_ = o.dense_;
-      nterms_ = o.nterms_;
-      for (int k = 0; k < nterms_; ++k) terms_[k] = o.terms_[k];
-      if (dense_)
-        for (int i = lo_ * N; i < hi_ * N; ++i) H_[i] = o.H_[i];
-    }
-  }
+  constexpr void copy_parts(const EomJet& o);
 };
 
 }  // namespace lagrangian::ad
+
+#include "lagrangian/ad/eom_jet_parts.hpp"  // IWYU pragma: export

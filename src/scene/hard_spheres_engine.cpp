@@ -1,6 +1,7 @@
 // Event-driven engine for smooth hard spheres (see hard_spheres.hpp for the
 // equations): per-sphere local times, a binary heap of predicted events with
 // per-sphere impact counters for invalidation, and a cell grid broad phase.
+// The whole engine stays in this one file so that its hot paths inline.
 #include "lagrangian/hard_spheres.hpp"
 
 #include <algorithm>
@@ -10,112 +11,37 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
-#include <numeric>
 #include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
 
 #include "lagrangian/errors.hpp"
-#include "lagrangian/params.hpp"
+#include "hard_spheres_common.hpp"
 
 namespace lagrangian {
 
 namespace {
 
+using detail::hard_spheres::Event;
+using detail::hard_spheres::Grid;
+using detail::hard_spheres::kAxis;
+using detail::hard_spheres::kCross;
+using detail::hard_spheres::Kind;
+using detail::hard_spheres::kPair;
+using detail::hard_spheres::kWall;
+using detail::hard_spheres::largest_radius;
+using detail::hard_spheres::make_grid;
+using detail::hard_spheres::num;
+using detail::hard_spheres::sphere_name;
+using detail::hard_spheres::wall_name;
+
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr const char* kAxis[3] = {"x", "y", "z"};
 constexpr const char* kBoxWall[6] = {"wall:x_min", "wall:x_max", "wall:y_min", "wall:y_max", "wall:z_min", "wall:z_max"};
-
-std::string num(double v) { return detail::format_number(v); }
-
-std::string vec(const Eigen::Vector3d& v) { return "(" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + ")"; }
-
-[[noreturn]] void fail(const std::string& what) { throw OptionError("hard spheres: " + what); }
-
-std::string sphere_name(const HardSphereSystem& s, std::size_t i) {
-  return s.spheres[i].name.empty() ? "s" + std::to_string(i + 1) : s.spheres[i].name;
-}
-
-std::string wall_name(const HardSphereSystem& s, std::size_t k) {
-  return s.walls[k].name.empty() ? "wall" + std::to_string(k + 1) : s.walls[k].name;
-}
-
-// A uniform grid over the box whose cells are at least `reach` wide on every
-// axis, so that spheres closer than `reach` are in the same or adjacent cells.
-// The number of cells is capped at ~8 per sphere (wider cells stay correct).
-struct Grid {
-  Eigen::Vector3d lo = Eigen::Vector3d::Zero();
-  Eigen::Vector3d width = Eigen::Vector3d::Ones();
-  std::array<int, 3> n{1, 1, 1};
-
-  std::size_t cells() const { return static_cast<std::size_t>(n[0]) * n[1] * n[2]; }
-  std::size_t index(int x, int y, int z) const {
-    return (static_cast<std::size_t>(z) * n[1] + y) * n[0] + x;
-  }
-  std::size_t index(const std::array<int, 3>& c) const { return index(c[0], c[1], c[2]); }
-  std::array<int, 3> locate(const Eigen::Vector3d& r) const {
-    std::array<int, 3> c{};
-    for (int d = 0; d < 3; ++d) {
-      const double f = std::floor((r[d] - lo[d]) / width[d]);
-      c[d] = static_cast<int>(std::clamp(f, 0.0, static_cast<double>(n[d] - 1)));
-    }
-    return c;
-  }
-};
-
-Grid make_grid(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double reach, std::size_t count, bool single) {
-  Grid g;
-  g.lo = lo;
-  if (!single && reach > 0) {
-    const double cap = 8.0 * static_cast<double>(count) + 64.0;
-    std::array<double, 3> nd{};
-    for (int d = 0; d < 3; ++d)
-      nd[d] = std::clamp(std::floor((hi[d] - lo[d]) / (reach * (1 + 1e-9))), 1.0, cap);
-    const double total = nd[0] * nd[1] * nd[2];
-    if (total > cap) {
-      const double f = std::cbrt(cap / total);
-      for (auto& x : nd) x = std::max(1.0, std::floor(x * f));
-    }
-    while (nd[0] * nd[1] * nd[2] > cap) {
-      auto& big = *std::max_element(nd.begin(), nd.end());
-      big = std::max(1.0, std::floor(big / 2));
-    }
-    for (int d = 0; d < 3; ++d) g.n[d] = static_cast<int>(nd[d]);
-  }
-  for (int d = 0; d < 3; ++d) g.width[d] = (hi[d] - lo[d]) / g.n[d];
-  return g;
-}
-
-double largest_radius(const HardSphereSystem& s) {
-  double r = 0;
-  for (const auto& sp : s.spheres) r = std::max(r, sp.radius);
-  return r;
-}
-
-void check_restitution(const std::string& field, double e) {
-  if (!(e >= 0.0 && e <= 1.0)) fail(field + " must be in [0, 1], got " + num(e));
-}
 
 // ---------------------------------------------------------------------------
 // The engine.
 
-enum Kind : std::uint32_t { kPair = 0, kWall = 1, kCross = 2 };
-
-// A predicted event, 24 bytes. The top two bits of `code` are the kind, the
-// rest the partner b: for pairs the other sphere (a < b), for walls the wall
-// (0–5 the box faces 2·axis + side, 6 + k the extra walls), for crossings
-// 2·axis + (1 if moving up). ca, cb: the spheres' impact counts (mod 2³²)
-// when predicted; the queue is purged at least every 2³⁰ events, so a stale
-// entry never meets a wrapped-around count.
-struct Event {
-  double t;
-  std::uint32_t a, code, ca, cb;
-  Kind kind() const { return static_cast<Kind>(code >> 30); }
-  std::uint32_t b() const { return code & kIndexMask; }
-  static constexpr std::uint32_t kIndexMask = (1u << 30) - 1;
-};
-constexpr std::size_t kMaxSpheres = Event::kIndexMask;
 constexpr std::uint64_t kPurgeEvery = std::uint64_t{1} << 30;
 
 // Heap order: the earliest event on top; ties broken by kind, then spheres,
@@ -551,119 +477,6 @@ class Engine {
 };
 
 }  // namespace
-
-void validate(const HardSphereSystem& sys, const HardSphereOptions& opt) {
-  // Options.
-  if (!std::isfinite(opt.t0)) fail("option 't0' must be finite, got " + num(opt.t0));
-  if (!std::isfinite(opt.t_end)) fail("option 't_end' must be finite, got " + num(opt.t_end));
-  if (!(opt.t_end > opt.t0))
-    fail("option 't_end' must be greater than t0 = " + num(opt.t0) + ", got " + num(opt.t_end));
-  if (!(std::isfinite(opt.output_interval) && opt.output_interval >= 0))
-    fail("option 'output_interval' must be finite and >= 0, got " + num(opt.output_interval));
-  if (opt.max_events == 0) fail("option 'max_events' must be > 0, got 0");
-  if (!(std::isfinite(opt.collapse_time) && opt.collapse_time >= 0))
-    fail("option 'collapse_time' must be finite and >= 0 s, got " + num(opt.collapse_time));
-  if (!opt.angular_momentum_point.allFinite())
-    fail("option 'angular_momentum_point' must be finite, got " + vec(opt.angular_momentum_point));
-
-  // The box and the walls.
-  for (int d = 0; d < 3; ++d) {
-    if (!std::isfinite(sys.box_min[d]) || !std::isfinite(sys.box_max[d]))
-      fail("box corners must be finite, got box_min = " + vec(sys.box_min) + " m, box_max = " + vec(sys.box_max) + " m");
-    if (!(sys.box_max[d] > sys.box_min[d]))
-      fail(std::string("box_max.") + kAxis[d] + " = " + num(sys.box_max[d]) + " m must be greater than box_min." +
-           kAxis[d] + " = " + num(sys.box_min[d]) + " m");
-  }
-  check_restitution("box_restitution", sys.box_restitution);
-  check_restitution("pair_restitution", sys.pair_restitution);
-  for (std::size_t k = 0; k < sys.walls.size(); ++k) {
-    const auto& w = sys.walls[k];
-    const std::string who = "wall \"" + wall_name(sys, k) + "\"";
-    if (!w.point.allFinite()) fail(who + ": point must be finite, got " + vec(w.point) + " m");
-    if (!w.normal.allFinite() || !(w.normal.norm() > 0))
-      fail(who + ": normal must be finite and non-zero, got " + vec(w.normal));
-    check_restitution(who + ": restitution", w.restitution);
-  }
-
-  // The spheres, one by one.
-  const std::size_t n = sys.spheres.size();
-  if (n > kMaxSpheres || sys.walls.size() > kMaxSpheres - 6)
-    fail("at most " + std::to_string(kMaxSpheres) + " spheres and walls are supported, got " + std::to_string(n) +
-         " spheres and " + std::to_string(sys.walls.size()) + " walls");
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto& s = sys.spheres[i];
-    const std::string who = "sphere \"" + sphere_name(sys, i) + "\"";
-    if (!(std::isfinite(s.mass) && s.mass > 0)) fail(who + ": mass must be finite and > 0 kg, got " + num(s.mass));
-    if (!(std::isfinite(s.radius) && s.radius > 0))
-      fail(who + ": radius must be finite and > 0 m, got " + num(s.radius));
-    for (int d = 0; d < 3; ++d) {
-      if (!std::isfinite(s.position[d]))
-        fail(who + ": position." + kAxis[d] + " must be finite, got " + num(s.position[d]));
-      if (!std::isfinite(s.velocity[d]))
-        fail(who + ": velocity." + kAxis[d] + " must be finite, got " + num(s.velocity[d]));
-    }
-    for (int d = 0; d < 3; ++d) {
-      const double lo = sys.box_min[d] + s.radius, hi = sys.box_max[d] - s.radius;
-      const double x = s.position[d];
-      if (!(x >= lo && x <= hi))
-        fail(who + " (radius " + num(s.radius) + " m) at " + vec(s.position) + " m is not inside the box: its centre's " +
-             kAxis[d] + " = " + num(x) + " m must lie in [box_min." + kAxis[d] + " + R, box_max." + kAxis[d] +
-             " - R] = [" + num(lo) + ", " + num(hi) + "] m");
-    }
-    for (std::size_t k = 0; k < sys.walls.size(); ++k) {
-      const auto& w = sys.walls[k];
-      const double g = w.normal.normalized().dot(s.position - w.point);
-      if (!(g >= s.radius))
-        fail(who + " (radius " + num(s.radius) + " m) at " + vec(s.position) + " m is not on the open side of wall \"" +
-             wall_name(sys, k) + "\": its distance along the normal n·(r - p) = " + num(g) + " m must be >= R");
-    }
-  }
-
-  // Unique names.
-  std::vector<std::string> names(n);
-  for (std::size_t i = 0; i < n; ++i) names[i] = sphere_name(sys, i);
-  std::vector<std::size_t> order(n);
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return names[a] < names[b]; });
-  for (std::size_t k = 1; k < n; ++k)
-    if (names[order[k]] == names[order[k - 1]]) {
-      const auto a = std::min(order[k], order[k - 1]), b = std::max(order[k], order[k - 1]);
-      fail("spheres " + std::to_string(a + 1) + " and " + std::to_string(b + 1) + " are both named \"" + names[a] +
-           "\"; names must be unique");
-    }
-
-  // No overlaps at t0, looked for on a cell grid (neighbouring cells only).
-  const Grid g = make_grid(sys.box_min, sys.box_max, 2 * largest_radius(sys), n, false);
-  std::vector<std::size_t> cell(n), start(g.cells() + 1, 0), sorted(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    cell[i] = g.index(g.locate(sys.spheres[i].position));
-    ++start[cell[i] + 1];
-  }
-  std::partial_sum(start.begin(), start.end(), start.begin());
-  {
-    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) sorted[fill[cell[i]]++] = i;
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto& s = sys.spheres[i];
-    const auto c = g.locate(s.position);
-    for (int z = std::max(c[2] - 1, 0); z <= std::min(c[2] + 1, g.n[2] - 1); ++z)
-      for (int y = std::max(c[1] - 1, 0); y <= std::min(c[1] + 1, g.n[1] - 1); ++y)
-        for (int x = std::max(c[0] - 1, 0); x <= std::min(c[0] + 1, g.n[0] - 1); ++x) {
-          const std::size_t cc = g.index(x, y, z);
-          for (std::size_t k = start[cc]; k < start[cc + 1]; ++k) {
-            const std::size_t j = sorted[k];
-            if (j <= i) continue;
-            const auto& o = sys.spheres[j];
-            const double dist = (s.position - o.position).norm();
-            const double sum = s.radius + o.radius;
-            if (dist < sum)
-              fail("spheres \"" + names[i] + "\" and \"" + names[j] + "\" overlap at t0: the distance between their centres " +
-                   num(dist) + " m is less than the sum of their radii " + num(sum) + " m");
-          }
-        }
-  }
-}
 
 RunReport run_hard_spheres(const HardSphereSystem& system, const HardSphereOptions& options,
                            const HardSphereSampler& sampler) {

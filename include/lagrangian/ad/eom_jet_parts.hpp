@@ -1,0 +1,259 @@
+#pragma once
+// Internal: how ad::EomJet (eom_jet.hpp, which includes this file at its
+// end) keeps and combines its parts: re-storing the first-order parts, the
+// velocity support, the lazily summed Hessian block H = ∂²x/∂q̇∂q̇ (dense
+// rows on the support plus pending rank-one terms, flushed into the rows
+// when the slots run out), and the sums, scalings and copies built on them.
+// The member functions are declared, and documented, in the class.
+
+// IWYU pragma: private, include "lagrangian/ad/eom_jet.hpp"
+
+namespace lagrangian::ad {
+
+template <int N>
+constexpr void EomJet<N>::zero_rows(std::array<double, N * N>& H, int lo, int hi) {
+  for (int i = lo * N; i < hi * N; ++i) H[i] = 0.0;
+}
+
+template <int N>
+constexpr void EomJet<N>::widen(int lo, int hi) {
+  if (lo == lo_ && hi == hi_) return;
+  if (level == 2 && dense_) {
+    if (lo_ == hi_) {
+      zero_rows(H_, lo, hi);
+    } else {
+      zero_rows(H_, lo, lo_);
+      zero_rows(H_, hi_, hi);
+    }
+  }
+  lo_ = lo;
+  hi_ = hi;
+}
+
+template <int N>
+constexpr typename EomJet<N>::Term& EomJet<N>::new_term()
+  requires(lazy_terms > 0)
+{
+  if (nterms_ == lazy_terms) flush();
+  return terms_[nterms_++];
+}
+
+template <int N>
+constexpr void EomJet<N>::full_gv(typename EomJet<N>::Vector& out, const EomJet& a) {
+  if (a.state_ == kDense) {
+    out = a.gv_;
+  } else {
+    out.fill(0.0);
+    if (a.state_ >= 0) out[a.state_] = a.gv_[a.state_];
+  }
+}
+
+template <int N>
+constexpr void EomJet<N>::ensure_dense() {
+  if (!dense_) {
+    zero_rows(H_, lo_, hi_);
+    dense_ = true;
+  }
+}
+
+template <int N>
+constexpr void EomJet<N>::push_square(double f, const EomJet& a) {
+  if constexpr (lazy_terms == 0) {
+    ensure_dense();
+    for (int i = a.lo_; i < a.hi_; ++i) {
+      const double fi = f * a.gv_[i];
+      for (int j = 0; j < N; ++j) H_[i * N + j] += fi * a.gv_[j];
+    }
+  } else {
+    Term& t = new_term();
+    t.f = f;
+    t.sq = true;
+    t.ulo = t.wlo = a.lo_;
+    t.uhi = t.whi = a.hi_;
+    full_gv(t.u, a);
+  }
+}
+
+template <int N>
+constexpr void EomJet<N>::push_symmetric(double f, const EomJet& a, const EomJet& b) {
+  if constexpr (lazy_terms == 0) {
+    ensure_dense();
+    for (int i = lo_; i < hi_; ++i) {
+      const double fa = f * a.gv_[i], fb = f * b.gv_[i];
+      for (int j = 0; j < N; ++j) H_[i * N + j] += fa * b.gv_[j] + fb * a.gv_[j];
+    }
+  } else {
+    Term& t = new_term();
+    t.f = f;
+    t.sq = false;
+    t.ulo = a.lo_;
+    t.uhi = a.hi_;
+    t.wlo = b.lo_;
+    t.whi = b.hi_;
+    full_gv(t.u, a);
+    full_gv(t.w, b);
+  }
+}
+
+template <int N>
+constexpr void EomJet<N>::add_hessian_of(const EomJet& a, double f) {
+  if (a.dense_) {
+    if (!dense_ && a.lo_ == lo_ && a.hi_ == hi_) {
+      for (int i = lo_ * N; i < hi_ * N; ++i) H_[i] = f * a.H_[i];
+      dense_ = true;
+    } else {
+      if (!dense_) {
+        zero_rows(H_, lo_, hi_);
+        dense_ = true;
+      }
+      for (int i = a.lo_ * N; i < a.hi_ * N; ++i) H_[i] += f * a.H_[i];
+    }
+  }
+  if constexpr (lazy_terms > 0)
+    for (int k = 0; k < a.nterms_; ++k) {
+      Term& t = new_term();
+      t = a.terms_[k];
+      t.f *= f;
+    }
+}
+
+template <int N>
+constexpr void EomJet<N>::convert(int s) {
+  if (s == state_) return;
+  auto move = [&](Vector& x) {
+    if (state_ >= 0) {  // single → dense
+      const double keep = x[state_];
+      x.fill(0.0);
+      x[state_] = keep;
+    } else {  // nothing → s
+      set_zero(x, s);
+    }
+  };
+  move(gq_);
+  if (level >= 1) {
+    move(gv_);
+    move(c_);
+  }
+  state_ = s;
+}
+
+template <int N>
+constexpr void EomJet<N>::set_hull(const EomJet& a, const EomJet& b) {
+  if (a.lo_ == a.hi_) {
+    lo_ = b.lo_;
+    hi_ = b.hi_;
+  } else if (b.lo_ == b.hi_) {
+    lo_ = a.lo_;
+    hi_ = a.hi_;
+  } else {
+    lo_ = a.lo_ < b.lo_ ? a.lo_ : b.lo_;
+    hi_ = a.hi_ > b.hi_ ? a.hi_ : b.hi_;
+  }
+}
+
+template <int N>
+constexpr EomJet<N> EomJet<N>::scaled(const EomJet& a, double f, double s) {
+  EomJet r{Uninitialized{}};
+  r.level = a.level;
+  r.state_ = a.state_;
+  r.v = f * a.v + s;
+  r.d = f * a.d;
+  each(a.state_, [&](int i) { r.gq_[i] = f * a.gq_[i]; });
+  if (a.level >= 1) {
+    each(a.state_, [&](int i) {
+      r.gv_[i] = f * a.gv_[i];
+      r.c_[i] = f * a.c_[i];
+    });
+    r.lo_ = a.lo_;
+    r.hi_ = a.hi_;
+  }
+  if (a.level == 2) {
+    r.dense_ = false;
+    r.nterms_ = 0;
+    r.add_hessian_of(a, f);
+  }
+  return r;
+}
+
+template <int N>
+constexpr EomJet<N> EomJet<N>::combined(const EomJet& a, const EomJet& b, double sign) {
+  if (a.level != b.level || a.state_ != b.state_) {
+    EomJet r = a;
+    r.accumulate(b, sign);
+    return r;
+  }
+  // Alike storage and level: every part in one pass.
+  EomJet r{Uninitialized{}};
+  r.level = a.level;
+  r.state_ = a.state_;
+  r.v = a.v + sign * b.v;
+  r.d = a.d + sign * b.d;
+  each(r.state_, [&](int i) { r.gq_[i] = a.gq_[i] + sign * b.gq_[i]; });
+  if (a.level >= 1) {
+    each(r.state_, [&](int i) {
+      r.gv_[i] = a.gv_[i] + sign * b.gv_[i];
+      r.c_[i] = a.c_[i] + sign * b.c_[i];
+    });
+    r.set_hull(a, b);
+  }
+  if (a.level == 2) {
+    r.dense_ = false;
+    r.nterms_ = 0;
+    r.add_hessian_of(a, 1.0);
+    r.add_hessian_of(b, sign);
+  }
+  return r;
+}
+
+template <int N>
+constexpr EomJet<N>& EomJet<N>::accumulate(const EomJet& b, double sign) {
+  convert(joint(state_, b.state_));
+  raise(b.level);
+  v += sign * b.v;
+  d += sign * b.d;
+  add(gq_, sign, b.gq_, b.state_);
+  if (b.level >= 1) {
+    add(gv_, sign, b.gv_, b.state_);
+    add(c_, sign, b.c_, b.state_);
+    if (b.lo_ != b.hi_) {
+      if (lo_ == hi_) {
+        widen(b.lo_, b.hi_);
+      } else {
+        widen(b.lo_ < lo_ ? b.lo_ : lo_, b.hi_ > hi_ ? b.hi_ : hi_);
+      }
+    }
+  }
+  if (b.level == 2) add_hessian_of(b, sign);
+  return *this;
+}
+
+template <int N>
+constexpr void EomJet<N>::copy_parts(const EomJet& o) {
+  state_ = o.state_;
+  if (state_ == kDense) {
+    gq_ = o.gq_;
+    if (o.level >= 1) {
+      gv_ = o.gv_;
+      c_ = o.c_;
+    }
+  } else if (state_ >= 0) {
+    gq_[state_] = o.gq_[state_];
+    if (o.level >= 1) {
+      gv_[state_] = o.gv_[state_];
+      c_[state_] = o.c_[state_];
+    }
+  }
+  if (o.level >= 1) {
+    lo_ = o.lo_;
+    hi_ = o.hi_;
+  }
+  if (o.level == 2) {
+    dense_ = o.dense_;
+    nterms_ = o.nterms_;
+    for (int k = 0; k < nterms_; ++k) terms_[k] = o.terms_[k];
+    if (dense_)
+      for (int i = lo_ * N; i < hi_ * N; ++i) H_[i] = o.H_[i];
+  }
+}
+
+}  // namespace lagrangian::ad

@@ -1,0 +1,121 @@
+// Scene diagnostics: value formatting and "did you mean" hints for error
+// messages, SourceMap line lookup, SceneError and nearest().
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+
+#include "lagrangian/scene.hpp"
+#include "scene_messages.hpp"
+
+namespace lagrangian::scene {
+
+// -- formatting helpers ---------------------------------------------------------
+
+namespace detail {
+
+std::string quote_text(std::string_view s, char quote) { return text::quoted(s, quote); }
+
+std::string format_value(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+/// A computed quantity (a distance, a sum): 15 significant digits, so that
+/// rounding noise such as 0.21000000000000002 reads 0.21.
+std::string format_derived(double v) {
+  if (!std::isfinite(v)) return format_value(v);
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.15g", v);
+  return buf;
+}
+
+std::string format_vec(const Vec3& v) {
+  return "[" + format_value(v.x()) + ", " + format_value(v.y()) + ", " + format_value(v.z()) + "]";
+}
+
+
+
+std::string unknown_hint(const std::string& word, const std::vector<std::string>& candidates) {
+  const std::string near = nearest(word, candidates);
+  if (!near.empty()) return "; did you mean '" + near + "'?";
+  if (candidates.empty()) return "";
+  return "; expected one of: " + join(candidates);
+}
+
+}  // namespace detail
+
+// -- SourceMap, SceneError, nearest -----------------------------------------------
+
+int SourceMap::line_of(const std::string& key) const {
+  std::string k = key;
+  for (;;) {
+    if (const auto it = lines.find(k); it != lines.end() && it->second > 0) return it->second;
+    if (k.empty()) return 0;
+    // Parent: drop a trailing "[i]" or ".name".
+    std::size_t cut = std::string::npos;
+    if (k.back() == ']') {
+      cut = k.rfind('[');
+    } else {
+      cut = k.rfind('.');
+    }
+    if (cut == std::string::npos || cut == 0) return 0;
+    k.resize(cut);
+  }
+}
+
+namespace {
+
+std::string scene_message(const std::string& key, const std::string& what, const SourceMap& source, int line) {
+  std::string where;
+  if (source.file.empty()) {
+    where = "scene: ";
+  } else if (line > 0) {
+    where = source.file + ":" + std::to_string(line) + ": ";
+  } else {
+    where = source.file + ": ";
+  }
+  return where + (key.empty() ? "" : key + ": ") + what;
+}
+
+}  // namespace
+
+SceneError::SceneError(const std::string& key, const std::string& what, const SourceMap& source)
+    : OptionError(scene_message(key, what, source, source.line_of(key))),
+      key_(key),
+      message_(what),
+      line_(source.line_of(key)) {}
+
+std::string nearest(const std::string& word, const std::vector<std::string>& candidates) {
+  constexpr std::size_t kMaxCells = 1u << 16;  // long words get no hint rather than a slow one
+  const std::size_t limit = std::max<std::size_t>(2, word.size() / 3);
+  std::string best;
+  std::size_t best_d = limit + 1;
+  std::vector<std::size_t> prev, cur;
+  for (const auto& c : candidates) {
+    const std::size_t diff = c.size() > word.size() ? c.size() - word.size() : word.size() - c.size();
+    if (diff >= best_d || (word.size() + 1) * (c.size() + 1) > kMaxCells) continue;
+    prev.resize(c.size() + 1);
+    cur.resize(c.size() + 1);
+    for (std::size_t j = 0; j <= c.size(); ++j) prev[j] = j;
+    for (std::size_t i = 1; i <= word.size(); ++i) {
+      cur[0] = i;
+      for (std::size_t j = 1; j <= c.size(); ++j) {
+        const std::size_t sub = prev[j - 1] + (word[i - 1] == c[j - 1] ? 0 : 1);
+        cur[j] = std::min({sub, prev[j] + 1, cur[j - 1] + 1});
+      }
+      std::swap(prev, cur);
+    }
+    if (prev[c.size()] < best_d) {
+      best_d = prev[c.size()];
+      best = c;
+    }
+  }
+  return best_d <= limit ? best : std::string();
+}
+
+}  // namespace lagrangian::scene

@@ -1,0 +1,388 @@
+// One sweep point: its scene from the scene file's TOML document (scene keys
+// parsed into paths, the point's values written at them), its run and the
+// SweepRecord of the outcome with the --first-time crossings, and the
+// record's text form passed between ranks (MPI).
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "sweep_detail.hpp"
+#include "lagrangian/errors.hpp"
+#include "toml_document.hpp"
+#include "lagrangian/scene_models.hpp"
+#include "lagrangian/scene_run.hpp"
+
+namespace lagrangian::scene::detail {
+
+// -- changing the document ------------------------------------------------------
+
+std::vector<PathPart> parse_path(const std::string& option, const std::string& key) {
+  std::vector<PathPart> parts;
+  std::size_t i = 0;
+  auto bad = [&](const std::string& why) {
+    throw OptionError(option + " " + key + ": not a scene key: " + why +
+                      " (write keys as in the scene file, e.g. model.parameters.e or bodies[0].velocity[2])");
+  };
+  while (i < key.size()) {
+    if (key[i] == '[') {
+      const std::size_t close = key.find(']', i);
+      if (close == std::string::npos) bad("'[' without ']'");
+      std::size_t v = 0;
+      const auto r = std::from_chars(key.data() + i + 1, key.data() + close, v);
+      if (r.ec != std::errc() || r.ptr != key.data() + close) bad("the index in '[]' must be an integer >= 0");
+      if (parts.empty()) bad("it starts with an index");
+      parts.emplace_back(v);
+      i = close + 1;
+      if (i < key.size() && key[i] == '.') {
+        ++i;
+        if (i == key.size()) bad("it ends with '.'");
+      }
+    } else {
+      std::size_t end = key.find_first_of(".[", i);
+      if (end == std::string::npos) end = key.size();
+      if (end == i) bad("an empty name");
+      parts.emplace_back(key.substr(i, end - i));
+      i = end;
+      if (i < key.size() && key[i] == '.') {
+        ++i;
+        if (i == key.size()) bad("it ends with '.'");
+      }
+    }
+  }
+  return parts;
+}
+
+namespace {
+
+std::string type_of(const toml::node& n) {
+  std::ostringstream os;
+  os << n.type();
+  return os.str();
+}
+
+/// Writes `value` at `path` in `root`: an integral value is an integer where
+/// the file has an integer or no value; missing tables and keys are created
+/// (the reader refuses unknown ones with its own message), missing array
+/// elements are not.
+void assign(toml::table& root, const std::string& option, const std::string& key, const std::vector<PathPart>& path,
+            double value) {
+  toml::node* cur = &root;
+  std::string where;
+  auto fail = [&](const std::string& why) { throw OptionError(option + " " + key + ": " + why); };
+  auto numeric = [&](const toml::node* old, auto&& put) {
+    if (old && !old->is_number())
+      fail("the scene has " + where + " = " + type_of(*old) + ", not a number; only numbers can be varied");
+    // Integral values go in as TOML integers where the file has an integer or
+    // nothing (the reader takes an integer for a float key, not the reverse).
+    if ((!old || old->is_integer()) && std::nearbyint(value) == value && std::abs(value) < 9.2e18)
+      put(toml::value<std::int64_t>(static_cast<std::int64_t>(value)));
+    else
+      put(toml::value<double>(value));
+  };
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    const bool last = k + 1 == path.size();
+    if (const auto* name = std::get_if<std::string>(&path[k])) {
+      where += (where.empty() ? "" : ".") + *name;
+      toml::table* t = cur->as_table();
+      if (!t) fail("the scene has " + where.substr(0, where.rfind('.')) + " as " + type_of(*cur) + ", not a table");
+      toml::node* child = t->get(*name);
+      if (last) {
+        numeric(child, [&](auto&& v) { t->insert_or_assign(*name, std::move(v)); });
+        return;
+      }
+      if (!child) {
+        if (std::holds_alternative<std::size_t>(path[k + 1]))
+          fail("the scene file does not write " + where + "; write it in the scene to vary one of its elements");
+        child = &t->insert_or_assign(*name, toml::table{}).first->second;
+      }
+      cur = child;
+    } else {
+      const std::size_t i = std::get<std::size_t>(path[k]);
+      toml::array* a = cur->as_array();
+      if (!a) fail("the scene has " + where + " as " + type_of(*cur) + ", not an array");
+      if (i >= a->size())
+        fail("index " + std::to_string(i) + " is out of range: the scene's " + where + " has " +
+             std::to_string(a->size()) + " element" + (a->size() == 1 ? "" : "s"));
+      where += "[" + std::to_string(i) + "]";
+      toml::node* child = a->get(i);
+      if (last) {
+        numeric(child, [&](auto&& v) { a->replace(a->cbegin() + static_cast<std::ptrdiff_t>(i), std::move(v)); });
+        return;
+      }
+      cur = child;
+    }
+  }
+}
+
+}  // namespace
+
+/// The document of one point, with its values written in; `values` gets the
+/// varied then the set values.
+Scene point_scene(const Plan& plan, const SweepOptions& o, toml::table& doc, std::vector<double>& values) {
+  std::vector<double> vars;
+  for (std::size_t slot : plan.variable_slots) vars.push_back(values[slot]);
+  for (std::size_t k = 0; k < o.vary.size(); ++k)
+    if (!plan.vary_paths[k].empty()) assign(doc, "--vary", o.vary[k].key, plan.vary_paths[k], values[k]);
+  for (std::size_t k = 0; k < o.set.size(); ++k) {
+    const double v = plan.set_expressions[k].evaluate(vars.data());
+    values.push_back(v);
+    if (!std::isfinite(v))
+      throw OptionError("--set " + o.set[k].key + ": the expression " + q(o.set[k].expression) + " gives " +
+                        (std::isnan(v) ? "NaN" : "an infinite value") + " at this point");
+    assign(doc, "--set", o.set[k].key, plan.set_paths[k], v);
+  }
+  return detail::scene_from_document(doc, plan.file);
+}
+
+}  // namespace lagrangian::scene::detail
+
+namespace lagrangian::scene::detail {
+
+/// Names a --first-time expression may use for `scene`: t, the coordinates
+/// and their rates as in trajectory.csv, energy and total_energy.
+std::vector<std::string> trajectory_names(const Scene& scene) {
+  std::vector<std::string> coords;
+  if (scene.model) {
+    if (const ModelInfo* info = find_model(scene.model->name)) coords = info->coordinates;
+  } else {
+    Scene expanded = scene;
+    expanded.expand_gas();
+    for (const Body& b : expanded.bodies)
+      for (const char* axis : {".x", ".y", ".z"}) coords.push_back(b.name + axis);
+  }
+  std::vector<std::string> names{"t"};
+  names.insert(names.end(), coords.begin(), coords.end());
+  for (const auto& c : coords) names.push_back(c + "_dot");
+  names.emplace_back("energy");
+  names.emplace_back("total_energy");
+  return names;
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The first times of the --first-time expressions from the run's
+/// trajectory.csv (see FirstTimeSpec).
+void first_times(const std::string& path, const SweepOptions& o, SweepRecord& rec) {
+  std::ifstream in(path);
+  std::string line;
+  if (!std::getline(in, line)) throw OptionError("cannot read the trajectory '" + path + "'");
+  const std::vector<std::string> names = split(line, ',');
+  std::vector<Expression> exprs;
+  for (const FirstTimeSpec& f : o.first_times) exprs.emplace_back(f.expression, names, "--first-time " + f.name);
+  rec.first_times.assign(exprs.size(), kNaN);
+  std::vector<double> prev_val(exprs.size(), kNaN);
+  double prev_t = kNaN;
+  std::vector<double> row(names.size());
+  std::size_t open = exprs.size();
+  while (open > 0 && std::getline(in, line)) {
+    const std::vector<std::string> cells = split(line, ',');
+    for (std::size_t c = 0; c < row.size(); ++c)
+      row[c] = c < cells.size() ? std::strtod(cells[c].c_str(), nullptr) : kNaN;
+    const double t = row[0];
+    for (std::size_t k = 0; k < exprs.size(); ++k) {
+      if (!std::isnan(rec.first_times[k])) continue;
+      const double v = exprs[k].evaluate(row.data());
+      if (v > 0) {
+        // Linear interpolation of the zero between the previous sample and this one.
+        rec.first_times[k] = std::isfinite(prev_val[k]) && prev_val[k] <= 0 && v != prev_val[k]
+                                 ? prev_t + (t - prev_t) * (0 - prev_val[k]) / (v - prev_val[k])
+                                 : t;
+        --open;
+      }
+      prev_val[k] = v;
+    }
+    prev_t = t;
+  }
+}
+
+}  // namespace
+
+SweepRecord run_point(const Plan& plan, const SweepOptions& o, std::uint64_t index, const std::string& work_dir) {
+  SweepRecord rec;
+  rec.values = point_values(o, index);
+  try {
+    toml::table doc = toml::parse(plan.text, plan.file);  // the worker's own document
+    Scene scene = point_scene(plan, o, doc, rec.values);
+    RunControls controls;
+    controls.write_outputs = !o.first_times.empty();
+    if (controls.write_outputs) {
+      scene.output.directory = work_dir;
+      scene.output.trajectory = true;
+      scene.output.plots = false;
+    }
+    const RunResult r = run(scene, controls);
+    const RunReport& rep = r.report;
+    rec.coordinates = rep.coordinates;
+    rec.q = r.q_final;
+    rec.qd = r.qd_final;
+    rec.t_final = rep.t_final;
+    rec.energy_drift_max = rep.energy_drift_max;
+    rec.energy_drift_final = rep.energy_drift_final;
+    rec.impact_energy_loss = rep.impact_energy_loss;
+    rec.has_reference = rep.has_reference;
+    rec.reference_error_final = rep.reference_error_final;
+    rec.steps = rep.steps;
+    rec.rejected_steps = rep.rejected_steps;
+    rec.rhs_evaluations = rep.rhs_evaluations;
+    rec.wall_time_s = rep.wall_time_s;
+    for (const EventRecord& e : rep.events) {
+      SweepRecord::EventGroup& g = rec.events[e.kind == EventKind::watched ? e.name : to_string(e.kind)];
+      if (g.count == 0) g.first = e.t;
+      g.last = e.t;
+      ++g.count;
+    }
+    if (!o.first_times.empty()) first_times((fs::path(work_dir) / "trajectory.csv").string(), o, rec);
+  } catch (const std::exception& e) {
+    std::string msg = e.what();
+    std::replace(msg.begin(), msg.end(), '\n', ' ');
+    rec.status = "failed: " + msg;
+    rec.values.resize(o.vary.size() + o.set.size(), kNaN);
+  }
+  return rec;
+}
+
+}  // namespace lagrangian::scene::detail
+
+namespace lagrangian::scene::detail {
+namespace {
+
+// -- serialization between ranks ---------------------------------------------------
+
+constexpr char kField = '\x1f', kRecord = '\x1e';
+
+void put(std::string& out, double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);  // shortest text that reads back exactly
+  out.append(buf, r.ptr);
+  out += kField;
+}
+void put(std::string& out, std::uint64_t v) {
+  out += std::to_string(v);
+  out += kField;
+}
+void put(std::string& out, std::string s) {
+  std::replace(s.begin(), s.end(), kField, ' ');
+  std::replace(s.begin(), s.end(), kRecord, ' ');
+  out += s;
+  out += kField;
+}
+
+}  // namespace
+
+std::string serialize(std::uint64_t index, const SweepRecord& r) {
+  std::string out;
+  put(out, index);
+  put(out, r.status);
+  put(out, static_cast<std::uint64_t>(r.values.size()));
+  for (double v : r.values) put(out, v);
+  put(out, static_cast<std::uint64_t>(r.coordinates.size()));
+  for (std::size_t k = 0; k < r.coordinates.size(); ++k) {
+    put(out, r.coordinates[k]);
+    put(out, k < r.q.size() ? r.q[k] : kNaN);
+    put(out, k < r.qd.size() ? r.qd[k] : kNaN);
+  }
+  for (double v : {r.t_final, r.energy_drift_max, r.energy_drift_final, r.impact_energy_loss,
+                   r.reference_error_final, r.wall_time_s})
+    put(out, v);
+  put(out, static_cast<std::uint64_t>(r.has_reference));
+  for (std::uint64_t v : {r.steps, r.rejected_steps, r.rhs_evaluations}) put(out, v);
+  put(out, static_cast<std::uint64_t>(r.events.size()));
+  for (const auto& [name, g] : r.events) {
+    put(out, name);
+    put(out, g.count);
+    put(out, g.first);
+    put(out, g.last);
+  }
+  put(out, static_cast<std::uint64_t>(r.first_times.size()));
+  for (double v : r.first_times) put(out, v);
+  out += kRecord;
+  return out;
+}
+
+namespace {
+
+class Reader {
+ public:
+  explicit Reader(const std::string& s) : s_(s) {}
+  bool more() const { return pos_ < s_.size(); }
+  std::string text() {
+    const std::size_t end = s_.find(kField, pos_);
+    if (end == std::string::npos) throw std::runtime_error("sweep: malformed results from a rank");
+    std::string out = s_.substr(pos_, end - pos_);
+    pos_ = end + 1;
+    return out;
+  }
+  double number() {
+    const std::string t = text();
+    double v = 0;
+    const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+    if (r.ec != std::errc()) {
+      if (t.find("nan") != std::string::npos) return kNaN;
+      if (t.find("inf") != std::string::npos) return t[0] == '-' ? -INFINITY : INFINITY;
+      throw std::runtime_error("sweep: malformed number from a rank: " + t);
+    }
+    return v;
+  }
+  std::uint64_t count() { return std::stoull(text()); }
+  void end_record() {
+    if (pos_ >= s_.size() || s_[pos_] != kRecord) throw std::runtime_error("sweep: malformed record from a rank");
+    ++pos_;
+  }
+
+ private:
+  const std::string& s_;
+  std::size_t pos_ = 0;
+};
+
+}  // namespace
+
+void deserialize(const std::string& text, std::vector<SweepRecord>& slots, std::vector<bool>& filled) {
+  Reader in(text);
+  while (in.more()) {
+    const std::uint64_t index = in.count();
+    if (index >= slots.size()) throw std::runtime_error("sweep: a rank sent point " + std::to_string(index));
+    SweepRecord r;
+    r.status = in.text();
+    r.values.resize(in.count());
+    for (double& v : r.values) v = in.number();
+    const std::uint64_t n = in.count();
+    for (std::uint64_t k = 0; k < n; ++k) {
+      r.coordinates.push_back(in.text());
+      r.q.push_back(in.number());
+      r.qd.push_back(in.number());
+    }
+    for (double* v : {&r.t_final, &r.energy_drift_max, &r.energy_drift_final, &r.impact_energy_loss,
+                      &r.reference_error_final, &r.wall_time_s})
+      *v = in.number();
+    r.has_reference = in.count() != 0;
+    for (std::uint64_t* v : {&r.steps, &r.rejected_steps, &r.rhs_evaluations}) *v = in.count();
+    const std::uint64_t groups = in.count();
+    for (std::uint64_t k = 0; k < groups; ++k) {
+      const std::string name = in.text();
+      SweepRecord::EventGroup& g = r.events[name];
+      g.count = in.count();
+      g.first = in.number();
+      g.last = in.number();
+    }
+    r.first_times.resize(in.count());
+    for (double& v : r.first_times) v = in.number();
+    in.end_record();
+    // Coordinates that a run without a final state left empty: q, qd stay empty.
+    if (n == 0) {
+      r.q.clear();
+      r.qd.clear();
+    }
+    slots[index] = std::move(r);
+    filled[index] = true;
+  }
+}
+
+}  // namespace lagrangian::scene::detail
