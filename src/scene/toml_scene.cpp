@@ -19,6 +19,7 @@
 
 #include "lagrangian/scene.hpp"
 #include "lagrangian/scene_io.hpp"
+#include "scene_messages.hpp"
 #include "text.hpp"
 #include "toml_document.hpp"
 
@@ -29,13 +30,7 @@ namespace {
 std::string quote_text(std::string_view s, char quote = '"') { return text::quoted(s, quote); }
 using text::join;
 
-std::string format_value(double v) {
-  if (std::isnan(v)) return "nan";
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
+using detail::format_value;
 
 
 
