@@ -117,7 +117,7 @@ void run_simulate(benchmark::State& st, const Model& model, const char* method) 
   o.atol = kAtol;
   o.dt = kDt;
   o.output_interval = -1;  // first and last state only, as the raw loop
-  constexpr int n = Model::dof;
+  constexpr int n = lagrangian::coordinate_count_v<Model>;
   const auto x0 = Case::x0();
   lagrangian::State<n> s;
   for (int i = 0; i < n; ++i) {

@@ -8,7 +8,7 @@
 
 // θ1, θ2 from the downward vertical; unit masses and rods; g = 9.81 m/s².
 struct MyDoublePendulum {
-  static constexpr int dof = 2;
+  static constexpr int coordinate_count = 2;
   double m1 = 1, m2 = 1, l1 = 1, l2 = 1, g = 9.81;
   std::string name() const { return "my_double_pendulum"; }
   std::array<std::string, 2> coordinate_names() const { return {"theta1", "theta2"}; }

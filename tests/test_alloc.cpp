@@ -39,9 +39,10 @@ using namespace lagrangian::models;
 
 template <class M>
 long allocations_in_accelerations(const M& model) {
-  Workspace<M::dof> ws;
-  Vec<double, M::dof> q = Vec<double, M::dof>::Constant(0.3);
-  Vec<double, M::dof> qd = Vec<double, M::dof>::Constant(-0.2);
+  constexpr int n = coordinate_count_v<M>;
+  Workspace<n> ws;
+  Vec<double, n> q = Vec<double, n>::Constant(0.3);
+  Vec<double, n> qd = Vec<double, n>::Constant(-0.2);
   const long before = g_allocations.load();
   double sink = 0;
   for (int i = 0; i < 1000; ++i) {

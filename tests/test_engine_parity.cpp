@@ -57,10 +57,10 @@ struct Final {
   State<N> end;
 };
 
-template <class M>
-Final<M::dof> run_model(const M& model, const State<M::dof>& x0, const SimulationOptions& o) {
-  Recorder<M::dof> rec;
-  Final<M::dof> f;
+template <class M, int N = coordinate_count_v<M>>
+Final<N> run_model(const M& model, const State<N>& x0, const SimulationOptions& o) {
+  Recorder<N> rec;
+  Final<N> f;
   f.report = simulate(model, x0, o, rec);
   f.end.q = rec.samples.back().q;
   f.end.qd = rec.samples.back().qd;

@@ -64,7 +64,7 @@ double measured_period(const std::vector<Sample<N>>& s, int i) {
 
 template <class M>
 void check_mode_periods(const M& model, double amplitude) {
-  constexpr int n = M::dof;
+  constexpr int n = lagrangian::coordinate_count_v<M>;
   const Modes md = small_oscillations(model, Vec<double, n>::Zero());
   for (int j = 0; j < n; ++j) {
     const double predicted = kTwoPi / md.omega[j];

@@ -34,7 +34,7 @@ SimulationOptions options(const std::string& method, double t_end, double rtol =
 // -- energy conservation: dopri5, rtol 1e-10, 20 periods: drift ≤ 1e-8 ------------
 
 template <class M>
-void expect_energy_conserved(const M& model, const State<M::dof>& x0, double period) {
+void expect_energy_conserved(const M& model, const State<lagrangian::coordinate_count_v<M>>& x0, double period) {
   const RunReport r = simulate(model, x0, options("dopri5", 20 * period));
   EXPECT_TRUE(r.conservative) << r.model;
   EXPECT_LE(r.energy_drift_max, 1e-8) << r.model;

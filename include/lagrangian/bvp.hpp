@@ -95,7 +95,8 @@ ActionMinimum action_minimum_of(const ActionModel& model, const Eigen::VectorXd&
 /// e.g. half a period of a harmonic oscillator): the message gives the
 /// smallest eigenvalue and its scale.
 template <class M>
-BvpResult solve_bvp(const M& model, const Vec<double, M::dof>& a, const Vec<double, M::dof>& b, double t0, double t1,
+BvpResult solve_bvp(const M& model, const Vec<double, coordinate_count_v<M>>& a,
+                    const Vec<double, coordinate_count_v<M>>& b, double t0, double t1,
                     const BvpOptions& options = {}) {
   check_model<M>();
   detail::require_static_size<M>();
@@ -113,7 +114,8 @@ BvpResult solve_bvp(const M& model, const Vec<double, M::dof>& a, const Vec<doub
 /// below that of the stationary path. Meant for comparison; solve_bvp() is
 /// the solver. Same input checks and refusals as solve_bvp().
 template <class M>
-ActionMinimum minimise_action(const M& model, const Vec<double, M::dof>& a, const Vec<double, M::dof>& b, double t0,
+ActionMinimum minimise_action(const M& model, const Vec<double, coordinate_count_v<M>>& a,
+                              const Vec<double, coordinate_count_v<M>>& b, double t0,
                               double t1, const BvpOptions& options = {}) {
   check_model<M>();
   detail::require_static_size<M>();

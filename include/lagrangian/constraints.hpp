@@ -58,15 +58,15 @@ class ConstraintError : public Error {
 
 namespace detail {
 template <class M>
-concept has_holonomic_c = requires(const M& m, const Vec<double, M::dof>& q, double t) {
+concept has_holonomic_c = requires(const M& m, const Vec<double, coordinate_count_v<M>>& q, double t) {
   { m.holonomic(q, t) };
 };
 template <class M>
-concept has_pfaffian_c = requires(const M& m, const Vec<double, M::dof>& q, double t) {
+concept has_pfaffian_c = requires(const M& m, const Vec<double, coordinate_count_v<M>>& q, double t) {
   { m.pfaffian(q, q, t) };
 };
 template <class M>
-concept has_unilateral_c = requires(const M& m, const Vec<double, M::dof>& q, double t) {
+concept has_unilateral_c = requires(const M& m, const Vec<double, coordinate_count_v<M>>& q, double t) {
   { m.unilateral(q, t) };
 };
 /// True when R is a column vector with a number of rows known at compile time.
@@ -99,7 +99,8 @@ constexpr int rows_of() {
 template <class M>
 constexpr int unilateral_rows() {
   if constexpr (has_unilateral_c<M>) {
-    using R = std::decay_t<decltype(std::declval<const M&>().unilateral(std::declval<const Vec<double, M::dof>&>(), 0.0))>;
+    using V = Vec<double, coordinate_count_v<M>>;
+    using R = std::decay_t<decltype(std::declval<const M&>().unilateral(std::declval<const V&>(), 0.0))>;
     return rows_of<R, 1>();
   } else {
     return 0;
@@ -108,7 +109,8 @@ constexpr int unilateral_rows() {
 template <class M>
 constexpr int holonomic_rows() {
   if constexpr (has_holonomic_c<M>) {
-    using R = std::decay_t<decltype(std::declval<const M&>().holonomic(std::declval<const Vec<double, M::dof>&>(), 0.0))>;
+    using V = Vec<double, coordinate_count_v<M>>;
+    using R = std::decay_t<decltype(std::declval<const M&>().holonomic(std::declval<const V&>(), 0.0))>;
     return rows_of<R, 0>();
   } else {
     return 0;
@@ -117,8 +119,9 @@ constexpr int holonomic_rows() {
 template <class M>
 constexpr int pfaffian_rows() {
   if constexpr (has_pfaffian_c<M>) {
-    using R = std::decay_t<decltype(std::declval<const M&>().pfaffian(std::declval<const Vec<double, M::dof>&>(),
-                                                                      std::declval<const Vec<double, M::dof>&>(), 0.0))>;
+    using V = Vec<double, coordinate_count_v<M>>;
+    using R =
+        std::decay_t<decltype(std::declval<const M&>().pfaffian(std::declval<const V&>(), std::declval<const V&>(), 0.0))>;
     return rows_of<R, 2>();
   } else {
     return 0;
@@ -220,9 +223,10 @@ struct ConstraintState {
 
 /// Evaluates g, G, ġ, γ (holonomic) and φ, A, β (Pfaffian) by AD.
 template <class M>
-ConstraintState<M::dof, constraint_count_v<M>> constraint_state(const M& model, const Vec<double, M::dof>& q,
-                                                               const Vec<double, M::dof>& qd, double t) {
-  constexpr int n = M::dof;
+ConstraintState<coordinate_count_v<M>, constraint_count_v<M>> constraint_state(const M& model,
+    const Vec<double, coordinate_count_v<M>>& q,
+                                                               const Vec<double, coordinate_count_v<M>>& qd, double t) {
+  constexpr int n = coordinate_count_v<M>;
   constexpr int mh = holonomic_count_v<M>;
   constexpr int mu = unilateral_count_v<M>;
   constexpr int mp = pfaffian_count_v<M>;
@@ -308,17 +312,17 @@ struct ConstraintWorkspace {
 
 /// The ConstraintWorkspace of model M (its n coordinates and all its constraint rows).
 template <class M>
-using ConstraintWorkspaceFor = ConstraintWorkspace<M::dof, constraint_count_v<M>>;
+using ConstraintWorkspaceFor = ConstraintWorkspace<coordinate_count_v<M>, constraint_count_v<M>>;
 
 /// q̈ and λ of a constrained model (see the file comment for the system).
 /// `omega` > 0 adds the Baumgarte term with that rate (1/s); unilateral
 /// constraints not in `active` are left out. A model whose only constraints
 /// are unilateral, none of them active, takes the unconstrained path (λ = 0).
 template <class M>
-void constrained_accelerations(const M& model, Workspace<M::dof>& ws,
-                               ConstraintWorkspaceFor<M>& cw, const Vec<double, M::dof>& q,
-                               const Vec<double, M::dof>& qd, double t, Vec<double, M::dof>& out,
-                               double omega = 0.0, ActiveSet active = all_active) {
+void constrained_accelerations(const M& model, Workspace<coordinate_count_v<M>>& ws, ConstraintWorkspaceFor<M>& cw,
+                               const Vec<double, coordinate_count_v<M>>& q, const Vec<double, coordinate_count_v<M>>& qd,
+                               double t, Vec<double, coordinate_count_v<M>>& out, double omega = 0.0,
+                               ActiveSet active = all_active) {
   constexpr int mh = position_rows_v<M>;
   if constexpr (holonomic_count_v<M> + pfaffian_count_v<M> == 0) {
     if ((active & unilateral_mask_v<M>) == 0) {  // contacts only, none touching: free motion
@@ -345,7 +349,7 @@ void constrained_accelerations(const M& model, Workspace<M::dof>& ws,
   cw.minv_ct = ws.cholesky.solve(cs.jacobian.transpose());
   cw.schur = cs.jacobian * cw.minv_ct;
   cw.schur_solver.factorize(cw.schur.data());
-  const Vec<double, M::dof> free = ws.cholesky.solve(ws.rhs);
+  const Vec<double, coordinate_count_v<M>> free = ws.cholesky.solve(ws.rhs);
   target -= cs.jacobian * free;
   cw.schur_solver.solve(target.data(), cw.multipliers.data());
   cw.constraint_forces = cs.jacobian.transpose() * cw.multipliers;
@@ -358,12 +362,13 @@ void constrained_accelerations(const M& model, Workspace<M::dof>& ws,
 /// calls keep a Workspace and a ConstraintWorkspaceFor<M> and use the form above.
 template <class M>
   requires has_constraints_v<M>
-Vec<double, M::dof> constrained_accelerations(const M& model, const Vec<double, M::dof>& q,
-                                              const Vec<double, M::dof>& qd, double t = 0.0,
+Vec<double, coordinate_count_v<M>> constrained_accelerations(const M& model,
+                                                             const Vec<double, coordinate_count_v<M>>& q,
+                                              const Vec<double, coordinate_count_v<M>>& qd, double t = 0.0,
                                               Vec<double, constraint_count_v<M>>* multipliers = nullptr) {
-  Workspace<M::dof> ws(static_cast<int>(q.size()));
+  Workspace<coordinate_count_v<M>> ws(static_cast<int>(q.size()));
   ConstraintWorkspaceFor<M> cw;
-  Vec<double, M::dof> qdd(q.size());
+  Vec<double, coordinate_count_v<M>> qdd(q.size());
   constrained_accelerations(model, ws, cw, q, qd, t, qdd);
   if (multipliers) *multipliers = cw.multipliers;
   return qdd;
@@ -383,7 +388,7 @@ struct DofReport {
   int velocity_rank = 0;          ///< rank of [G; A]
   int degrees_of_freedom = 0;           ///< configuration degrees of freedom n − rank G
   int velocity_degrees_of_freedom = 0;  ///< velocity degrees of freedom n − rank [G; A]
-  /// The same as degrees_of_freedom (a model's `dof` is its number of coordinates).
+  /// The same as degrees_of_freedom (the old spelling, deprecated).
   [[deprecated("use degrees_of_freedom")]] int dof = 0;
   /// The same as velocity_degrees_of_freedom.
   [[deprecated("use velocity_degrees_of_freedom")]] int velocity_dof = 0;
@@ -421,7 +426,7 @@ int numeric_rank(const Mtx& a, std::vector<double>* values = nullptr) {
 /// n − rank([G; A]); constraints whose rows add no rank to the rows before
 /// them are reported as redundant, by name.
 template <class M>
-DofReport dof_report(const M& model, const State<M::dof>& s, double t = 0.0) {
+DofReport dof_report(const M& model, const State<coordinate_count_v<M>>& s, double t = 0.0) {
   check_model<M>();
   DofReport r;
   r.coordinates = model_size(model);
@@ -458,23 +463,23 @@ DofReport dof_report(const M& model, const State<M::dof>& s, double t = 0.0) {
 /// ‖g‖∞ ≤ tolerance. Returns the number of iterations; throws
 /// ConstraintError when `max_iterations` do not reach the tolerance.
 template <class M>
-int project_positions(const M& model, Vec<double, M::dof>& q, double t, double tolerance = 1e-12,
+int project_positions(const M& model, Vec<double, coordinate_count_v<M>>& q, double t, double tolerance = 1e-12,
                       int max_iterations = 20, ActiveSet active = all_active) {
   constexpr int mh = position_rows_v<M>;
   if constexpr (mh == 0) {
     return 0;
   } else {
-    const Vec<double, M::dof> zero = Vec<double, M::dof>::Zero();
+    const Vec<double, coordinate_count_v<M>> zero = Vec<double, coordinate_count_v<M>>::Zero();
     for (int it = 0; it < max_iterations; ++it) {
       auto cs = constraint_state(model, q, zero, t);
       drop_inactive<M>(cs, active);
       const Vec<double, mh> g = cs.position.head(mh);
       const double scale = 1.0 + q.template lpNorm<Eigen::Infinity>();
       if (g.template lpNorm<Eigen::Infinity>() <= tolerance * scale) return it;
-      const Eigen::Matrix<double, mh, M::dof> G = cs.jacobian.topRows(mh);
-      detail::MinNormSolver solver(mh, M::dof);
+      const Eigen::Matrix<double, mh, coordinate_count_v<M>> G = cs.jacobian.topRows(mh);
+      detail::MinNormSolver solver(mh, coordinate_count_v<M>);
       solver.factorize(G.data());
-      Vec<double, M::dof> dq;
+      Vec<double, coordinate_count_v<M>> dq;
       solver.solve(g.data(), dq.data());
       q -= dq;
       if (!q.allFinite()) break;
@@ -494,14 +499,16 @@ int project_positions(const M& model, Vec<double, M::dof>& q, double t, double t
 /// Projects q̇ onto C q̇ + c = 0 in the M-norm (the nearest consistent
 /// velocities in kinetic energy): q̇ ← q̇ − M⁻¹Cᵀ S⁺ (C q̇ + c).
 template <class M>
-void project_velocities(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q, Vec<double, M::dof>& qd,
+void project_velocities(const M& model, Workspace<coordinate_count_v<M>>& ws,
+                        const Vec<double, coordinate_count_v<M>>& q, Vec<double, coordinate_count_v<M>>& qd,
                         double t, ActiveSet active = all_active) {
   if constexpr (has_constraints_v<M>) {
     evaluate(model, ws, q, qd, t);
     auto cs = constraint_state(model, q, qd, t);
     drop_inactive<M>(cs, active);
     detail::factor_mass_matrix(ws, q, qd, t);
-    const Eigen::Matrix<double, M::dof, constraint_count_v<M>> minv_ct = ws.cholesky.solve(cs.jacobian.transpose());
+    const Eigen::Matrix<double, coordinate_count_v<M>, constraint_count_v<M>> minv_ct =
+        ws.cholesky.solve(cs.jacobian.transpose());
     constexpr int c = constraint_count_v<M>;
     const Mat<double, c> schur = cs.jacobian * minv_ct;
     detail::MinNormSolver solver(c, c);
@@ -518,7 +525,8 @@ void project_velocities(const M& model, Workspace<M::dof>& ws, const Vec<double,
 /// `tolerance`), q̇ is the M-weighted projection of q̇_guess. Throws
 /// ConstraintError naming the residuals when no consistent state is found.
 template <class M>
-State<M::dof> consistent_initial_state(const M& model, const State<M::dof>& guess, double t = 0.0,
+State<coordinate_count_v<M>> consistent_initial_state(const M& model, const State<coordinate_count_v<M>>& guess,
+                                                      double t = 0.0,
                                        double tolerance = 1e-12);
 
 }  // namespace lagrangian

@@ -64,9 +64,10 @@ namespace detail {
 
 /// L_d on any scalar type (double or AD numbers).
 template <class M, class S>
-S discrete_lagrangian_of(const M& model, const Vec<S, M::dof>& q0, const Vec<S, M::dof>& q1, double t, double h,
+S discrete_lagrangian_of(const M& model, const Vec<S, coordinate_count_v<M>>& q0,
+                         const Vec<S, coordinate_count_v<M>>& q1, double t, double h,
                          DiscreteRule rule) {
-  Vec<S, M::dof> v = q0, qm = q0;
+  Vec<S, coordinate_count_v<M>> v = q0, qm = q0;
   for (int k = 0; k < q0.size(); ++k) {
     v[k] = (q1[k] - q0[k]) * (1.0 / h);
     qm[k] = (q0[k] + q1[k]) * 0.5;
@@ -79,7 +80,8 @@ S discrete_lagrangian_of(const M& model, const Vec<S, M::dof>& q0, const Vec<S, 
 
 /// The discrete Lagrangian L_d(q0, q1) of `model` over [t, t + h] (J·s).
 template <class M>
-double discrete_lagrangian(const M& model, const Vec<double, M::dof>& q0, const Vec<double, M::dof>& q1, double t,
+double discrete_lagrangian(const M& model, const Vec<double, coordinate_count_v<M>>& q0,
+                           const Vec<double, coordinate_count_v<M>>& q1, double t,
                            double h, DiscreteRule rule = DiscreteRule::midpoint) {
   check_model<M>();
   return detail::discrete_lagrangian_of<M, double>(model, q0, q1, t, h, rule);
@@ -88,12 +90,13 @@ double discrete_lagrangian(const M& model, const Vec<double, M::dof>& q0, const 
 /// L_d, D1 L_d, D2 L_d and the second derivatives at (q0, q1) over
 /// [t, t + h], from one pass with ad::Jet<double, 2n, 2>.
 template <class M>
-DiscreteLagrangian<M::dof> discrete_lagrangian_derivatives(const M& model, const Vec<double, M::dof>& q0,
-                                                           const Vec<double, M::dof>& q1, double t, double h,
-                                                           DiscreteRule rule = DiscreteRule::midpoint) {
+DiscreteLagrangian<coordinate_count_v<M>> discrete_lagrangian_derivatives(
+    const M& model, const Vec<double, coordinate_count_v<M>>& q0, const Vec<double, coordinate_count_v<M>>& q1,
+    double t, double h, DiscreteRule rule = DiscreteRule::midpoint) {
   check_model<M>();
-  static_assert(M::dof != Dynamic, "lagrangian: discrete Lagrangians need a compile-time number of coordinates");
-  constexpr int n = M::dof;
+  static_assert(coordinate_count_v<M> != Dynamic,
+                "lagrangian: discrete Lagrangians need a compile-time number of coordinates");
+  constexpr int n = coordinate_count_v<M>;
   using J = ad::Jet<double, 2 * n, 2>;
   Vec<J, n> a, b;
   for (int k = 0; k < n; ++k) {

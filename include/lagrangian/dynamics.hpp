@@ -89,7 +89,8 @@ std::string describe_state(const Vec<double, N>& q, const Vec<double, N>& qd, do
 }
 
 template <class M, class S>
-S lagrangian_of(const M& model, const Vec<S, M::dof>& q, const Vec<S, M::dof>& qd, const S& t) {
+S lagrangian_of(const M& model, const Vec<S, coordinate_count_v<M>>& q, const Vec<S, coordinate_count_v<M>>& qd,
+                const S& t) {
   if constexpr (has_kinetic_for<M, S> && has_potential_for<M, S>) {
     S l = S(model.kinetic(q, qd, t));  // L = T − V, without a copy of T
     l -= S(model.potential(q, t));
@@ -109,13 +110,13 @@ S lagrangian_of(const M& model, const Vec<S, M::dof>& q, const Vec<S, M::dof>& q
 /// blocks; the pass (a, b) gives the M entries of rows a × columns b, the
 /// pass (a, a) also ∂L/∂q, p and the mixed term of block a.
 template <class M>
-void eom_pass_blocks(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q,
-                     const Vec<double, M::dof>& qd, double t) {
+void eom_pass_blocks(const M& model, Workspace<coordinate_count_v<M>>& ws, const Vec<double, coordinate_count_v<M>>& q,
+                     const Vec<double, coordinate_count_v<M>>& qd, double t) {
   using J = ad::EomJet<2 * kBlock>;
   const int n = static_cast<int>(q.size());
   const int blocks = (n + kBlock - 1) / kBlock;
-  Vec<J, M::dof> qj, qdj;
-  if constexpr (M::dof == Dynamic) {
+  Vec<J, coordinate_count_v<M>> qj, qdj;
+  if constexpr (coordinate_count_v<M> == Dynamic) {
     qj.resize(n);
     qdj.resize(n);
   }
@@ -156,9 +157,10 @@ void eom_pass_blocks(const M& model, Workspace<M::dof>& ws, const Vec<double, M:
 /// The Euler–Lagrange pass: L, ∂L/∂q, p, M and the mixed term from one
 /// evaluation of T and V (or L) on ad::EomJet numbers.
 template <class M>
-LAGRANGIAN_FLATTEN void eom_pass(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q,
-                                 const Vec<double, M::dof>& qd, double t) {
-  constexpr int n = M::dof;
+LAGRANGIAN_FLATTEN void eom_pass(const M& model, Workspace<coordinate_count_v<M>>& ws,
+                                 const Vec<double, coordinate_count_v<M>>& q,
+                                 const Vec<double, coordinate_count_v<M>>& qd, double t) {
+  constexpr int n = coordinate_count_v<M>;
   if constexpr (uses_block_passes<M>) {
     eom_pass_blocks(model, ws, q, qd, t);
   } else {
@@ -182,9 +184,10 @@ LAGRANGIAN_FLATTEN void eom_pass(const M& model, Workspace<M::dof>& ws, const Ve
 
 /// Q = generalized forces − ∂D/∂q̇.
 template <class M>
-LAGRANGIAN_FLATTEN void force_pass(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q,
-                                   const Vec<double, M::dof>& qd, double t) {
-  constexpr int n = M::dof;
+LAGRANGIAN_FLATTEN void force_pass(const M& model, Workspace<coordinate_count_v<M>>& ws,
+                                   const Vec<double, coordinate_count_v<M>>& q,
+                                   const Vec<double, coordinate_count_v<M>>& qd, double t) {
+  constexpr int n = coordinate_count_v<M>;
   if constexpr (has_generalized_forces_v<M>) {
     ws.forces = model.generalized_forces(q, qd, t);
   } else {
@@ -241,7 +244,8 @@ void factor_mass_matrix(Workspace<N>& ws, const Vec<double, N>& q, const Vec<dou
 /// Evaluates M, p, ∂L/∂q, Q and the right-hand side of M q̈ = rhs into `ws`
 /// without solving for q̈.
 template <class M>
-void evaluate(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q, const Vec<double, M::dof>& qd,
+void evaluate(const M& model, Workspace<coordinate_count_v<M>>& ws, const Vec<double, coordinate_count_v<M>>& q,
+              const Vec<double, coordinate_count_v<M>>& qd,
               double t) {
   check_model<M>();
   detail::eom_pass(model, ws, q, qd, t);
@@ -253,10 +257,11 @@ void evaluate(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& 
 /// caller storage `out` (the hot-path form: no heap, no copy). Throws
 /// DynamicsError naming the state when M is singular or not positive definite.
 template <class M>
-void accelerations(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q, const Vec<double, M::dof>& qd,
-                   double t, Vec<double, M::dof>& out) {
+void accelerations(const M& model, Workspace<coordinate_count_v<M>>& ws, const Vec<double, coordinate_count_v<M>>& q,
+                   const Vec<double, coordinate_count_v<M>>& qd,
+                   double t, Vec<double, coordinate_count_v<M>>& out) {
   evaluate(model, ws, q, qd, t);
-  constexpr int n = M::dof;  // Dynamic (-1) takes the LLT branch
+  constexpr int n = coordinate_count_v<M>;  // Dynamic (-1) takes the LLT branch
   // Cholesky pivots d_i (M = L D Lᵀ with unit L, d_i = L_chol,ii²) must be
   // positive with min d / max d ≥ singular_mass_tolerance.
   if constexpr (n == 1) {
@@ -280,26 +285,29 @@ void accelerations(const M& model, Workspace<M::dof>& ws, const Vec<double, M::d
 
 /// q̈ written into ws.accelerations and returned by reference.
 template <class M>
-const Vec<double, M::dof>& accelerations(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q,
-                                         const Vec<double, M::dof>& qd, double t) {
+const Vec<double, coordinate_count_v<M>>& accelerations(const M& model, Workspace<coordinate_count_v<M>>& ws,
+                                                        const Vec<double, coordinate_count_v<M>>& q,
+                                         const Vec<double, coordinate_count_v<M>>& qd, double t) {
   accelerations(model, ws, q, qd, t, ws.accelerations);
   return ws.accelerations;
 }
 
 /// Convenience form of accelerations() that allocates its own workspace.
 template <class M>
-Vec<double, M::dof> accelerations(const M& model, const Vec<double, M::dof>& q, const Vec<double, M::dof>& qd,
+Vec<double, coordinate_count_v<M>> accelerations(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                                                 const Vec<double, coordinate_count_v<M>>& qd,
                                   double t = 0.0) {
-  Workspace<M::dof> ws(static_cast<int>(q.size()));
+  Workspace<coordinate_count_v<M>> ws(static_cast<int>(q.size()));
   return accelerations(model, ws, q, qd, t);
 }
 
 /// Generalized momenta p = ∂L/∂q̇ (kg·m/s, or kg·m²/s for angles).
 template <class M>
-Vec<double, M::dof> momenta(const M& model, const Vec<double, M::dof>& q, const Vec<double, M::dof>& qd,
+Vec<double, coordinate_count_v<M>> momenta(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                                           const Vec<double, coordinate_count_v<M>>& qd,
                             double t = 0.0) {
   check_model<M>();
-  constexpr int n = M::dof;
+  constexpr int n = coordinate_count_v<M>;
   if constexpr (detail::uses_block_passes<M>) {
     Workspace<n> ws(static_cast<int>(q.size()));
     detail::eom_pass(model, ws, q, qd, t);
@@ -318,17 +326,19 @@ Vec<double, M::dof> momenta(const M& model, const Vec<double, M::dof>& q, const 
 
 /// Mass matrix M = ∂²L/∂q̇² (kg, kg·m, kg·m²).
 template <class M>
-Mat<double, M::dof> mass_matrix(const M& model, const Vec<double, M::dof>& q, const Vec<double, M::dof>& qd,
+Mat<double, coordinate_count_v<M>> mass_matrix(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                                               const Vec<double, coordinate_count_v<M>>& qd,
                                 double t = 0.0) {
   check_model<M>();
-  Workspace<M::dof> ws(static_cast<int>(q.size()));
+  Workspace<coordinate_count_v<M>> ws(static_cast<int>(q.size()));
   detail::eom_pass(model, ws, q, qd, t);
   return ws.mass;
 }
 
 /// The Lagrangian L(q, q̇, t) = T − V (J).
 template <class M>
-double lagrangian_value(const M& model, const Vec<double, M::dof>& q, const Vec<double, M::dof>& qd,
+double lagrangian_value(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                        const Vec<double, coordinate_count_v<M>>& qd,
                         double t = 0.0) {
   check_model<M>();
   return detail::lagrangian_of(model, q, qd, t);
@@ -336,52 +346,56 @@ double lagrangian_value(const M& model, const Vec<double, M::dof>& q, const Vec<
 
 /// ∂L/∂t at (q, q̇, t) (W). Zero for all states ⇔ the Jacobi integral is conserved.
 template <class M>
-double lagrangian_time_derivative(const M& model, const Vec<double, M::dof>& q, const Vec<double, M::dof>& qd,
+double lagrangian_time_derivative(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                                  const Vec<double, coordinate_count_v<M>>& qd,
                                   double t) {
   check_model<M>();
   using J = ad::Jet<double, 1, 1>;
-  const Vec<J, M::dof> qj = q.template cast<J>();
-  const Vec<J, M::dof> qdj = qd.template cast<J>();
+  const Vec<J, coordinate_count_v<M>> qj = q.template cast<J>();
+  const Vec<J, coordinate_count_v<M>> qdj = qd.template cast<J>();
   return detail::lagrangian_of(model, qj, qdj, J::variable(t, 0)).g[0];
 }
 
 /// The energy function (Jacobi integral) h = p·q̇ − L (J). Conserved when
 /// ∂L/∂t = 0 and Q = 0, even when T + V is not (moving constraints).
 template <class M>
-double energy_function(const M& model, const Vec<double, M::dof>& q, const Vec<double, M::dof>& qd,
+double energy_function(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                       const Vec<double, coordinate_count_v<M>>& qd,
                        double t = 0.0) {
   check_model<M>();
-  const Vec<double, M::dof> p = momenta(model, q, qd, t);
+  const Vec<double, coordinate_count_v<M>> p = momenta(model, q, qd, t);
   return p.dot(qd) - lagrangian_value(model, q, qd, t);
 }
 
 /// Kinetic energy T (J); only for models that give T and V separately.
 template <class M>
   requires has_kinetic_potential_v<M>
-double kinetic_energy(const M& model, const Vec<double, M::dof>& q, const Vec<double, M::dof>& qd, double t = 0.0) {
+double kinetic_energy(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                      const Vec<double, coordinate_count_v<M>>& qd, double t = 0.0) {
   return model.kinetic(q, qd, t);
 }
 
 /// Potential energy V (J); only for models that give T and V separately.
 template <class M>
   requires has_kinetic_potential_v<M>
-double potential_energy(const M& model, const Vec<double, M::dof>& q, double t = 0.0) {
+double potential_energy(const M& model, const Vec<double, coordinate_count_v<M>>& q, double t = 0.0) {
   return model.potential(q, t);
 }
 
 /// Total mechanical energy T + V (J); only for models that give T and V.
 template <class M>
   requires has_kinetic_potential_v<M>
-double total_energy(const M& model, const Vec<double, M::dof>& q, const Vec<double, M::dof>& qd, double t = 0.0) {
+double total_energy(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                    const Vec<double, coordinate_count_v<M>>& qd, double t = 0.0) {
   return model.kinetic(q, qd, t) + model.potential(q, t);
 }
 
 /// Non-conservative generalized forces Q = Q_model − ∂D/∂q̇ at a state.
 template <class M>
-Vec<double, M::dof> nonconservative_forces(const M& model, const Vec<double, M::dof>& q,
-                                           const Vec<double, M::dof>& qd, double t = 0.0) {
+Vec<double, coordinate_count_v<M>> nonconservative_forces(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                                           const Vec<double, coordinate_count_v<M>>& qd, double t = 0.0) {
   check_model<M>();
-  Workspace<M::dof> ws(static_cast<int>(q.size()));
+  Workspace<coordinate_count_v<M>> ws(static_cast<int>(q.size()));
   detail::force_pass(model, ws, q, qd, t);
   return ws.forces;
 }

@@ -87,15 +87,16 @@ inline constexpr bool has_restitution_v = requires(const M& m) {
 
 namespace detail {
 template <class M>
-concept has_events_c = requires(const M& m, const Vec<double, M::dof>& q, double t) {
+concept has_events_c = requires(const M& m, const Vec<double, coordinate_count_v<M>>& q, double t) {
   { m.events(q, q, t) };
   { m.event_specs() };
 };
 template <class M>
 constexpr int event_rows() {
   if constexpr (has_events_c<M>) {
-    using R = std::decay_t<decltype(std::declval<const M&>().events(std::declval<const Vec<double, M::dof>&>(),
-                                                                    std::declval<const Vec<double, M::dof>&>(), 0.0))>;
+    using V = Vec<double, coordinate_count_v<M>>;
+    using R =
+        std::decay_t<decltype(std::declval<const M&>().events(std::declval<const V&>(), std::declval<const V&>(), 0.0))>;
     return R::RowsAtCompileTime;
   } else {
     return 0;
@@ -150,10 +151,11 @@ std::vector<EventSpec> event_specs(const M& model) {
 /// Gap and normal velocity of every contact at a state: φ_j(q, t) and
 /// φ̇_j = ∂φ_j/∂q q̇ + ∂φ_j/∂t (one first-order pass along (q̇, 1)).
 template <class M>
-void contact_gaps(const M& model, const Vec<double, M::dof>& q, const Vec<double, M::dof>& qd, double t,
+void contact_gaps(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                  const Vec<double, coordinate_count_v<M>>& qd, double t,
                   Vec<double, unilateral_count_v<M>>& gap, Vec<double, unilateral_count_v<M>>& rate) {
   using J = ad::Jet<double, 1, 1>;
-  constexpr int n = M::dof;
+  constexpr int n = coordinate_count_v<M>;
   Vec<J, n> qp;
   for (int k = 0; k < n; ++k) {
     qp[k] = J(q[k]);
@@ -183,8 +185,9 @@ struct ImpactResult {
 
 namespace detail {
 template <class M>
-double kinetic_for_log(const M& model, const Workspace<M::dof>& ws, const Vec<double, M::dof>& q,
-                       const Vec<double, M::dof>& qd, double t) {
+double kinetic_for_log(const M& model, const Workspace<coordinate_count_v<M>>& ws,
+                       const Vec<double, coordinate_count_v<M>>& q,
+                       const Vec<double, coordinate_count_v<M>>& qd, double t) {
   if constexpr (has_kinetic_potential_v<M>) {
     (void)ws;
     return model.kinetic(q, qd, t);
@@ -203,10 +206,11 @@ double kinetic_for_log(const M& model, const Workspace<M::dof>& ws, const Vec<do
 /// DynamicsError when M is singular. A contact that is not approaching
 /// (v⁻ ≥ 0) is left unchanged (Λ = 0).
 template <class M>
-ImpactResult<M::dof> apply_impact(const M& model, Workspace<M::dof>& ws, const Vec<double, M::dof>& q,
-                                  Vec<double, M::dof>& qd, double t, int contact, double e) {
+ImpactResult<coordinate_count_v<M>> apply_impact(const M& model, Workspace<coordinate_count_v<M>>& ws,
+                                                 const Vec<double, coordinate_count_v<M>>& q,
+                                  Vec<double, coordinate_count_v<M>>& qd, double t, int contact, double e) {
   static_assert(unilateral_count_v<M> > 0, "apply_impact needs a model with contacts (unilateral constraints)");
-  constexpr int n = M::dof;
+  constexpr int n = coordinate_count_v<M>;
   constexpr int c = constraint_count_v<M>;
   if (contact < 0 || contact >= unilateral_count_v<M>)
     throw OptionError("apply_impact: contact index " + std::to_string(contact) + " is outside [0, " +
@@ -253,9 +257,10 @@ ImpactResult<M::dof> apply_impact(const M& model, Workspace<M::dof>& ws, const V
 
 /// apply_impact() with its own workspace.
 template <class M>
-ImpactResult<M::dof> apply_impact(const M& model, const Vec<double, M::dof>& q, Vec<double, M::dof>& qd, double t,
+ImpactResult<coordinate_count_v<M>> apply_impact(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                                                 Vec<double, coordinate_count_v<M>>& qd, double t,
                                   int contact, double e) {
-  Workspace<M::dof> ws(static_cast<int>(q.size()));
+  Workspace<coordinate_count_v<M>> ws(static_cast<int>(q.size()));
   return apply_impact(model, ws, q, qd, t, contact, e);
 }
 

@@ -49,7 +49,7 @@ namespace detail {
 
 template <class M>
 void require_static_size() {
-  static_assert(M::dof != Dynamic, "lagrangian: the analyses need a compile-time number of coordinates");
+  static_assert(coordinate_count_v<M> != Dynamic, "lagrangian: the analyses need a compile-time number of coordinates");
 }
 
 /// Orthonormal basis of the null space of G (m×n), by SVD; the identity for m = 0.
@@ -59,10 +59,11 @@ Eigen::MatrixXd tangent_basis(const Eigen::MatrixXd& G, int n);
 
 /// U, ∇U and ∇²U at q (U = −L(q, 0, t), J), by ad::Jet<double, n, 2>.
 template <class M>
-PotentialDerivatives potential_derivatives(const M& model, const Vec<double, M::dof>& q, double t = 0.0) {
+PotentialDerivatives potential_derivatives(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                                           double t = 0.0) {
   check_model<M>();
   detail::require_static_size<M>();
-  constexpr int n = M::dof;
+  constexpr int n = coordinate_count_v<M>;
   using J = ad::Jet<double, n, 2>;
   Vec<J, n> qj, zero;
   for (int k = 0; k < n; ++k) {
@@ -83,10 +84,10 @@ PotentialDerivatives potential_derivatives(const M& model, const Vec<double, M::
 
 /// The second-order expansion of L about (q, 0) (see QuadraticLagrangian).
 template <class M>
-QuadraticLagrangian quadratic_lagrangian(const M& model, const Vec<double, M::dof>& q, double t = 0.0) {
+QuadraticLagrangian quadratic_lagrangian(const M& model, const Vec<double, coordinate_count_v<M>>& q, double t = 0.0) {
   check_model<M>();
   detail::require_static_size<M>();
-  constexpr int n = M::dof;
+  constexpr int n = coordinate_count_v<M>;
   using J = ad::Jet<double, 2 * n, 2>;
   Vec<J, n> qj, qdj;
   for (int k = 0; k < n; ++k) {
@@ -121,8 +122,8 @@ struct HolonomicDerivatives {
 };
 
 template <class M>
-HolonomicDerivatives holonomic_derivatives(const M& model, const Vec<double, M::dof>& q, double t) {
-  constexpr int n = M::dof;
+HolonomicDerivatives holonomic_derivatives(const M& model, const Vec<double, coordinate_count_v<M>>& q, double t) {
+  constexpr int n = coordinate_count_v<M>;
   constexpr int m = holonomic_count_v<M>;
   HolonomicDerivatives d;
   d.value.resize(m);

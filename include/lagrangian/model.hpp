@@ -3,7 +3,10 @@
 /// What a user writes: a model in generalized coordinates.
 ///
 /// A model is a plain struct with
-///  - `static constexpr int dof` — the number n of generalized coordinates;
+///  - `static constexpr int coordinate_count` — the number n of generalized
+///    coordinates (the older spelling `dof` is still read, but for a
+///    constrained model n is not its number of degrees of freedom; see
+///    dof_report() for that);
 ///  - `S kinetic(const Vec<S, n>& q, const Vec<S, n>& qd, const S& t) const`
 ///    — kinetic energy T(q, q̇, t) in J, and
 ///    `S potential(const Vec<S, n>& q, const S& t) const` — potential V(q, t)
@@ -23,7 +26,7 @@
 ///
 /// \code
 /// struct Pendulum {
-///   static constexpr int dof = 1;
+///   static constexpr int coordinate_count = 1;
 ///   double m = 1, l = 1, g = 9.81;
 ///   template <class S> S kinetic(const lagrangian::Vec<S, 1>&, const lagrangian::Vec<S, 1>& qd, const S&) const {
 ///     return 0.5 * m * l * l * qd[0] * qd[0];
@@ -48,9 +51,29 @@
 
 namespace lagrangian {
 
-/// `dof` of a model whose number of coordinates is known only at run time;
-/// such a model also has `int size() const`.
+/// `coordinate_count` of a model whose number of coordinates is known only
+/// at run time; such a model also has `int size() const`.
 inline constexpr int Dynamic = Eigen::Dynamic;
+
+namespace detail {
+/// M::coordinate_count, or the older spelling M::dof, or 0 when the model
+/// declares neither (check_model() then says so).
+template <class M>
+constexpr int declared_coordinate_count() {
+  if constexpr (requires { { M::coordinate_count } -> std::convertible_to<int>; }) {
+    return M::coordinate_count;
+  } else if constexpr (requires { { M::dof } -> std::convertible_to<int>; }) {
+    return M::dof;
+  } else {
+    return 0;
+  }
+}
+}  // namespace detail
+
+/// The number n of generalized coordinates a model declares
+/// (`coordinate_count`, or `dof`), Dynamic for a run-time sized model.
+template <class M>
+inline constexpr int coordinate_count_v = detail::declared_coordinate_count<M>();
 
 /// Column vector of n scalars (generalized coordinates, velocities, forces).
 template <class S, int N>
@@ -63,11 +86,10 @@ using Mat = Eigen::Matrix<S, N, N>;
 namespace detail {
 
 template <class M>
-concept declares_dof = requires {
-  { M::dof } -> std::convertible_to<int>;
-} && (M::dof >= 1 || (M::dof == Dynamic && requires(const M& m) {
-                        { m.size() } -> std::convertible_to<int>;
-                      }));
+concept declares_coordinate_count =
+    coordinate_count_v<M> >= 1 || (coordinate_count_v<M> == Dynamic && requires(const M& m) {
+      { m.size() } -> std::convertible_to<int>;
+    });
 
 /// Coordinates per block in the block-wise derivative passes used for
 /// run-time sized models and large fixed-size ones (each pass seeds two blocks).
@@ -81,21 +103,21 @@ inline constexpr int kBlock = 4;
 inline constexpr int kMaxSinglePassDof = 12;
 /// True when a model's derivatives come from passes over pairs of coordinate blocks.
 template <class M>
-inline constexpr bool uses_block_passes = M::dof == Dynamic || M::dof > kMaxSinglePassDof;
+inline constexpr bool uses_block_passes = coordinate_count_v<M> == Dynamic || coordinate_count_v<M> > kMaxSinglePassDof;
 /// Number of AD directions for a model: n, or two blocks for block passes.
 template <class M>
-inline constexpr int ad_directions = uses_block_passes<M> ? 2 * kBlock : M::dof;
+inline constexpr int ad_directions = uses_block_passes<M> ? 2 * kBlock : coordinate_count_v<M>;
 
 template <class M, class S>
-concept has_kinetic_for = requires(const M& m, const Vec<S, M::dof>& q, const S& t) {
+concept has_kinetic_for = requires(const M& m, const Vec<S, coordinate_count_v<M>>& q, const S& t) {
   { m.kinetic(q, q, t) } -> std::convertible_to<S>;
 };
 template <class M, class S>
-concept has_potential_for = requires(const M& m, const Vec<S, M::dof>& q, const S& t) {
+concept has_potential_for = requires(const M& m, const Vec<S, coordinate_count_v<M>>& q, const S& t) {
   { m.potential(q, t) } -> std::convertible_to<S>;
 };
 template <class M, class S>
-concept has_lagrangian_for = requires(const M& m, const Vec<S, M::dof>& q, const S& t) {
+concept has_lagrangian_for = requires(const M& m, const Vec<S, coordinate_count_v<M>>& q, const S& t) {
   { m.lagrangian(q, q, t) } -> std::convertible_to<S>;
 };
 
@@ -112,7 +134,7 @@ concept energies_for = (has_kinetic_for<M, S> && has_potential_for<M, S>) || has
 
 /// A model giving T and V (or L) for double and for the AD scalars.
 template <class M>
-concept Model = detail::declares_dof<M> && detail::energies_for<M, double> &&
+concept Model = detail::declares_coordinate_count<M> && detail::energies_for<M, double> &&
                 detail::energies_for<M, detail::EomJet<M>> && detail::energies_for<M, detail::FirstOrderJet<M>>;
 
 /// True when the model gives T and V separately (so T + V can be reported).
@@ -123,13 +145,14 @@ inline constexpr bool has_kinetic_potential_v =
 /// True when the model gives non-conservative generalized forces Q(q, q̇, t).
 template <class M>
 inline constexpr bool has_generalized_forces_v =
-    requires(const M& m, const Vec<double, M::dof>& q, double t) {
-      { m.generalized_forces(q, q, t) } -> std::convertible_to<Vec<double, M::dof>>;
+    requires(const M& m, const Vec<double, coordinate_count_v<M>>& q, double t) {
+      { m.generalized_forces(q, q, t) } -> std::convertible_to<Vec<double, coordinate_count_v<M>>>;
     };
 
 /// True when the model gives a Rayleigh dissipation function D(q, q̇).
 template <class M>
-inline constexpr bool has_dissipation_v = requires(const M& m, const Vec<detail::FirstOrderJet<M>, M::dof>& q) {
+inline constexpr bool has_dissipation_v = requires(const M& m,
+                                                   const Vec<detail::FirstOrderJet<M>, coordinate_count_v<M>>& q) {
   { m.dissipation(q, q) } -> std::convertible_to<detail::FirstOrderJet<M>>;
 };
 
@@ -141,7 +164,8 @@ inline constexpr bool has_dissipation_v = requires(const M& m, const Vec<detail:
 /// overhead; the AD path is the default and the reference.
 template <class M>
 inline constexpr bool has_explicit_accelerations_v =
-    requires(const M& m, const Vec<double, M::dof>& q, double t, Vec<double, M::dof>& out) {
+    requires(const M& m, const Vec<double, coordinate_count_v<M>>& q, double t,
+             Vec<double, coordinate_count_v<M>>& out) {
       m.accelerations(q, q, t, out);
     };
 
@@ -179,13 +203,13 @@ inline constexpr bool has_particles_v = requires(const M& m) {
 /// Called by every public entry point that takes a model.
 template <class M>
 constexpr void check_model() {
-  static_assert(detail::declares_dof<M>,
-                "lagrangian: a model must declare `static constexpr int dof = n;` (n >= 1 generalized coordinates), "
-                "or `dof = lagrangian::Dynamic` together with `int size() const`");
-  if constexpr (detail::declares_dof<M>) {
+  static_assert(detail::declares_coordinate_count<M>,
+                "lagrangian: a model must declare `static constexpr int coordinate_count = n;` (n >= 1 generalized "
+                "coordinates), or `coordinate_count = lagrangian::Dynamic` together with `int size() const`");
+  if constexpr (detail::declares_coordinate_count<M>) {
     static_assert(detail::energies_for<M, double>,
-                  "lagrangian: a model must define `template <class S> S kinetic(const Vec<S, dof>& q, const Vec<S, "
-                  "dof>& qd, const S& t) const` and `template <class S> S potential(const Vec<S, dof>& q, const S& t) "
+                  "lagrangian: a model must define `template <class S> S kinetic(const Vec<S, n>& q, const Vec<S, "
+                  "n>& qd, const S& t) const` and `template <class S> S potential(const Vec<S, n>& q, const S& t) "
                   "const`, or a direct `lagrangian(q, qd, t)`; none was found callable with double");
     static_assert(!detail::energies_for<M, double> ||
                       (detail::energies_for<M, detail::EomJet<M>> &&
@@ -195,14 +219,14 @@ constexpr void check_model() {
   }
 }
 
-/// Number of coordinates of a model: `dof`, or `size()` for a run-time sized model.
+/// Number of coordinates of a model: coordinate_count_v, or `size()` for a run-time sized model.
 template <class M>
 int model_size(const M& model) {
-  if constexpr (M::dof == Dynamic) {
+  if constexpr (coordinate_count_v<M> == Dynamic) {
     return static_cast<int>(model.size());
   } else {
     (void)model;
-    return M::dof;
+    return coordinate_count_v<M>;
   }
 }
 
@@ -236,7 +260,7 @@ struct None {};
 /// A model assembled from generic lambdas; see make_model().
 template <int N, class Kinetic, class Potential, class Forces = None, class Dissipation = None>
 struct LambdaModel {
-  static constexpr int dof = N;
+  static constexpr int coordinate_count = N;
   std::string model_name;
   std::array<std::string, N> names;
   Kinetic kinetic_fn;
@@ -345,8 +369,8 @@ struct State {
 /// gives the exact state at time t of the motion that starts from `initial`
 /// at t0 = 0; runs then report their true error against it.
 template <class M>
-inline constexpr bool has_reference_v = requires(const M& m, const State<M::dof>& s) {
-  { m.reference(s, 0.0) } -> std::convertible_to<State<M::dof>>;
+inline constexpr bool has_reference_v = requires(const M& m, const State<coordinate_count_v<M>>& s) {
+  { m.reference(s, 0.0) } -> std::convertible_to<State<coordinate_count_v<M>>>;
 };
 
 

@@ -54,7 +54,7 @@ Modes modes_of(const RestModel& model, const Eigen::VectorXd& q, double zero_tol
 /// zero_tolerance · max|ω²|) are reported as ω = 0. Throws AnalysisError when
 /// M_t is not positive definite.
 template <class M>
-Modes small_oscillations(const M& model, const Vec<double, M::dof>& q, double t = 0.0,
+Modes small_oscillations(const M& model, const Vec<double, coordinate_count_v<M>>& q, double t = 0.0,
                          double zero_tolerance = 1e-9) {
   check_model<M>();
   detail::require_static_size<M>();

@@ -26,12 +26,12 @@ namespace lagrangian {
 /// would be misreported, which is why the run reports the momentum drift so
 /// the claim can be seen to hold.
 template <class M>
-std::vector<int> cyclic_coordinates(const M& model, const State<M::dof>& s, double t = 0.0);
+std::vector<int> cyclic_coordinates(const M& model, const State<coordinate_count_v<M>>& s, double t = 0.0);
 
 /// True when ∂L/∂t = 0 at the given (state, t) and at three nearby states and
 /// later times (sampled check, same caveat as cyclic_coordinates()).
 template <class M>
-bool is_autonomous(const M& model, const State<M::dof>& s, double t = 0.0);
+bool is_autonomous(const M& model, const State<coordinate_count_v<M>>& s, double t = 0.0);
 
 /// True when the model declares `static constexpr bool separable`.
 template <class M>
@@ -47,7 +47,7 @@ concept declares_separable = requires {
 /// three nearby states (M equal to 1e-12 relative, p = M q̇ to 1e-12
 /// relative: no velocity-linear terms; sampled, like cyclic_coordinates()).
 template <class M>
-std::string separability_problem(const M& model, const State<M::dof>& s, double t = 0.0);
+std::string separability_problem(const M& model, const State<coordinate_count_v<M>>& s, double t = 0.0);
 
 namespace detail {
 
@@ -73,7 +73,7 @@ std::array<State<N>, 4> probe_states(const State<N>& s) {
 /// True when every constraint is scleronomic and workless: C q̇ + c has
 /// c = 0 (no ∂g/∂t, no a(q, t)) at the sampled states and times.
 template <class M>
-bool constraints_workless(const M& model, const State<M::dof>& s, double t) {
+bool constraints_workless(const M& model, const State<coordinate_count_v<M>>& s, double t) {
   if constexpr (!has_constraints_v<M>) {
     (void)model;
     (void)s;
@@ -83,7 +83,7 @@ bool constraints_workless(const M& model, const State<M::dof>& s, double t) {
     const auto probes = probe_states(s);
     for (std::size_t k = 0; k < probes.size(); ++k) {
       const double tk = t + 0.37 * static_cast<double>(k) * (1.0 + std::abs(t));
-      const auto cs = constraint_state(model, probes[k].q, Vec<double, M::dof>::Zero().eval(), tk);
+      const auto cs = constraint_state(model, probes[k].q, Vec<double, coordinate_count_v<M>>::Zero().eval(), tk);
       if (!cs.velocity.isZero(0.0)) return false;
     }
     return true;
@@ -92,9 +92,9 @@ bool constraints_workless(const M& model, const State<M::dof>& s, double t) {
 }  // namespace detail
 
 template <class M>
-std::vector<int> cyclic_coordinates(const M& model, const State<M::dof>& s, double t) {
+std::vector<int> cyclic_coordinates(const M& model, const State<coordinate_count_v<M>>& s, double t) {
   check_model<M>();
-  constexpr int n = M::dof;
+  constexpr int n = coordinate_count_v<M>;
   const int size = static_cast<int>(s.q.size());
   std::vector<bool> cyclic(static_cast<std::size_t>(size), true);
   Workspace<n> ws(size);
@@ -117,7 +117,7 @@ std::vector<int> cyclic_coordinates(const M& model, const State<M::dof>& s, doub
 }
 
 template <class M>
-std::string separability_problem(const M& model, const State<M::dof>& s, double t) {
+std::string separability_problem(const M& model, const State<coordinate_count_v<M>>& s, double t) {
   check_model<M>();
   if constexpr (declares_separable<M>) {
     (void)s, (void)t;
@@ -132,7 +132,7 @@ std::string separability_problem(const M& model, const State<M::dof>& s, double 
     if (!is_autonomous(model, s, t)) return "L depends explicitly on time";
     const auto m0 = mass_matrix(model, s.q, s.qd, t);
     const double scale = m0.template lpNorm<Eigen::Infinity>();
-    for (const State<M::dof>& p : detail::probe_states(s)) {
+    for (const State<coordinate_count_v<M>>& p : detail::probe_states(s)) {
       const auto mp = mass_matrix(model, p.q, p.qd, t);
       if ((mp - m0).template lpNorm<Eigen::Infinity>() > 1e-12 * scale) {
         std::ostringstream os;
@@ -151,7 +151,7 @@ std::string separability_problem(const M& model, const State<M::dof>& s, double 
 }
 
 template <class M>
-bool is_autonomous(const M& model, const State<M::dof>& s, double t) {
+bool is_autonomous(const M& model, const State<coordinate_count_v<M>>& s, double t) {
   const auto probes = detail::probe_states(s);
   for (std::size_t k = 0; k < probes.size(); ++k) {
     const double tk = t + 0.37 * static_cast<double>(k) * (1.0 + std::abs(t));

@@ -38,11 +38,12 @@ namespace lagrangian {
 namespace detail {
 
 /// Throws OptionError when the chosen method cannot run this model: the
-/// variational integrator without a compile-time dof or with Pfaffian or
+/// variational integrator without a compile-time number of coordinates or with Pfaffian or
 /// unilateral constraints; the symplectic steppers on a model that is not
 /// separable (separability_problem()).
 template <class M>
-void refuse_unsuited_method(const M& model, const State<M::dof>& initial, const SimulationOptions& options) {
+void refuse_unsuited_method(const M& model, const State<coordinate_count_v<M>>& initial,
+                            const SimulationOptions& options) {
   const std::string& m = options.method;
   if (m == "variational" && !structure_preserving_v<M>) {
     throw OptionError("method '" + m + "' is compiled only for models that opt in to the structure-preserving methods, "
@@ -68,10 +69,10 @@ void refuse_unsuited_method(const M& model, const State<M::dof>& initial, const 
 /// checks the input, fills the report's header, and runs the model's
 /// ModelSystem through the driver (integrate.hpp).
 template <class M>
-RunReport simulate_impl(const M& model, const State<M::dof>& initial, const SimulationOptions& options,
-                        ObserverRef<M::dof> observer) {
+RunReport simulate_impl(const M& model, const State<coordinate_count_v<M>>& initial, const SimulationOptions& options,
+                        ObserverRef<coordinate_count_v<M>> observer) {
   check_model<M>();
-  constexpr int n = M::dof;
+  constexpr int n = coordinate_count_v<M>;
 #if defined(LAGRANGIAN_TRAP_FE_INVALID) && LAGRANGIAN_TRAP_FE_INVALID
   const FloatingPointTrap trap;  // debug builds: the first NaN raises SIGFPE where it is made
 #endif
@@ -136,11 +137,12 @@ RunReport simulate_impl(const M& model, const State<M::dof>& initial, const Simu
 /// the time) when the run fails part-way: a non-finite state, step-size
 /// underflow, max_steps, or a singular mass matrix met during the run.
 template <class M, class Observer = NullObserver>
-RunReport simulate(const M& model, const State<M::dof>& initial, const SimulationOptions& options,
+RunReport simulate(const M& model, const State<coordinate_count_v<M>>& initial, const SimulationOptions& options,
                    Observer&& observer = {}) {
   check_model<M>();
   using Obs = std::remove_reference_t<Observer>;
-  RunReport report = detail::simulate_impl(model, initial, options, detail::ObserverRef<M::dof>::of(observer));
+  RunReport report = detail::simulate_impl(model, initial, options,
+                                           detail::ObserverRef<coordinate_count_v<M>>::of(observer));
   if constexpr (detail::observer_with_finish<Obs>) {
     const auto start = std::chrono::steady_clock::now();
     observer.finish();

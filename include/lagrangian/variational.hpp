@@ -65,17 +65,17 @@ struct NewtonSettings {
 /// unilateral ones).
 template <class M>
 inline constexpr bool variational_supported_v =
-    M::dof != Dynamic && pfaffian_count_v<M> == 0 && unilateral_count_v<M> == 0;
+    coordinate_count_v<M> != Dynamic && pfaffian_count_v<M> == 0 && unilateral_count_v<M> == 0;
 
 /// The integrator of the file comment for one model. Holds (q, p, t) and
 /// the velocity q̇ that belongs to p.
 template <class M>
 class VariationalIntegrator {
  public:
-  static constexpr int n = M::dof;
+  static constexpr int n = coordinate_count_v<M>;
   static constexpr int m = holonomic_count_v<M>;
   static_assert(variational_supported_v<M>,
-                "lagrangian: the variational integrator needs a compile-time dof and no Pfaffian or unilateral "
+                "lagrangian: the variational integrator needs a compile-time number of coordinates and no Pfaffian or unilateral "
                 "constraints");
 
   /// Starts from a state consistent with the constraints at time t.

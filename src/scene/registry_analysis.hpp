@@ -51,9 +51,9 @@ inline std::vector<double> periods_of(const std::vector<std::string>& units) {
 }
 
 template <class M>
-std::string analyse_model(const M& model, const ModelInfo& info, const State<M::dof>& initial, double t0,
+std::string analyse_model(const M& model, const ModelInfo& info, const State<coordinate_count_v<M>>& initial, double t0,
                           const AnalysisRequest& request) {
-  constexpr int n = M::dof;
+  constexpr int n = coordinate_count_v<M>;
   if constexpr (pfaffian_count_v<M> > 0 || unilateral_count_v<M> > 0 || has_generalized_forces_v<M>) {
     (void)model;
     (void)initial;
@@ -106,7 +106,7 @@ std::string analyse_model(const M& model, const ModelInfo& info, const State<M::
 
 template <class M>
 BvpResult solve_model_bvp(const M& model, const ModelInfo& info, const BvpRequest& request, DiscreteRule rule) {
-  constexpr int n = M::dof;
+  constexpr int n = coordinate_count_v<M>;
   if constexpr (has_constraints_v<M> || has_generalized_forces_v<M> || has_dissipation_v<M>) {
     (void)model;
     (void)request;

@@ -10,7 +10,7 @@
 //     static constexpr std::string_view name = "simple_pendulum";        // as in the catalog
 //     static constexpr std::string_view type = "models::SimplePendulum"; // for inspect
 //     static Model build(const Parameters& p);                           // may throw ParameterError
-//     static State<Model::dof> initial(const Model& m, double t0);       // the default state
+//     static State<coordinate_count_v<Model>> initial(const Model& m, double t0);       // the default state
 //     // optional: static std::string_view alias(std::string_view model_parameter);
 //   };
 //
@@ -164,7 +164,7 @@ struct SceneObserver {
 /// violates the model's constraints is a SceneError keyed "model.q"; a file
 /// that cannot be created is keyed "output.directory".
 template <class M>
-RunReport run_model(const M& model, const State<M::dof>& initial, const SimulationOptions& options,
+RunReport run_model(const M& model, const State<coordinate_count_v<M>>& initial, const SimulationOptions& options,
                     const std::string& csv_path, const SampleTick& tick, FinalState* final_state = nullptr) {
   std::optional<CsvSink> csv;
   if (!csv_path.empty()) {
@@ -176,7 +176,7 @@ RunReport run_model(const M& model, const State<M::dof>& initial, const Simulati
       throw SceneError("output.directory", e.what());
     }
   }
-  SceneObserver<M::dof> observer{csv ? &*csv : nullptr, tick ? &tick : nullptr, final_state};
+  SceneObserver<coordinate_count_v<M>> observer{csv ? &*csv : nullptr, tick ? &tick : nullptr, final_state};
   try {
     return simulate(model, initial, options, observer);
   } catch (const ConstraintError& e) {
@@ -189,7 +189,7 @@ RunReport run_model(const M& model, const State<M::dof>& initial, const Simulati
 /// Why the energy function h = p·q̇ − L is not conserved ("" when it is):
 /// the test simulate() applies for RunReport::conservative.
 template <class M>
-std::string energy_not_conserved_because(const M& model, const State<M::dof>& s, double t0) {
+std::string energy_not_conserved_because(const M& model, const State<coordinate_count_v<M>>& s, double t0) {
   std::vector<std::string> why;
   if (has_generalized_forces_v<M>) why.emplace_back("generalized forces Q are declared");
   if (has_dissipation_v<M>) why.emplace_back("a dissipation function D is declared");
@@ -205,8 +205,8 @@ std::string energy_not_conserved_because(const M& model, const State<M::dof>& s,
 /// conserved quantities and the declared forces, contacts and events.
 template <class M>
 std::string inspect_model(const M& model, const ModelInfo& info, std::string_view type, const Parameters& params,
-                          const State<M::dof>& s, double t0) {
-  constexpr int n = M::dof;
+                          const State<coordinate_count_v<M>>& s, double t0) {
+  constexpr int n = coordinate_count_v<M>;
   std::ostringstream os;
   os << inspect_header(info, type, params);
   const auto names = coordinate_names(model);
@@ -379,7 +379,8 @@ typename Def::Model build_model(const ModelInfo& info, const Parameters& p) {
 }
 
 template <class Def>
-State<Def::Model::dof> default_state(const ModelInfo& info, const typename Def::Model& model, double t0) {
+State<coordinate_count_v<typename Def::Model>> default_state(const ModelInfo& info, const typename Def::Model& model,
+                                                             double t0) {
   return with_parameter_keys<Def>(info, [&] { return Def::initial(model, t0); });
 }
 

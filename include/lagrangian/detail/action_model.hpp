@@ -35,7 +35,7 @@ class ActionModel {
 template <class M>
 class ActionModelOf final : public ActionModel {
  public:
-  static constexpr int n = M::dof;
+  static constexpr int n = coordinate_count_v<M>;
   explicit ActionModelOf(const M& model) : model_(model) {}
   int coordinate_count() const override { return n; }
   void segment(const double* q0, const double* q1, double t, double h, DiscreteRule rule,

@@ -25,15 +25,15 @@ template <int N>
 struct ObserverRef;
 
 template <class M>
-RunReport simulate_impl(const M& model, const State<M::dof>& initial, const SimulationOptions& options,
-                        ObserverRef<M::dof> observer);
+RunReport simulate_impl(const M& model, const State<coordinate_count_v<M>>& initial, const SimulationOptions& options,
+                        ObserverRef<coordinate_count_v<M>> observer);
 
 }  // namespace lagrangian::detail
 
 #define LAGRANGIAN_SIMULATE_SIGNATURE(...)                                                                   \
   ::lagrangian::RunReport lagrangian::detail::simulate_impl<__VA_ARGS__>(                                  \
-      const __VA_ARGS__&, const ::lagrangian::State<__VA_ARGS__::dof>&, const ::lagrangian::SimulationOptions&, \
-      ::lagrangian::detail::ObserverRef<__VA_ARGS__::dof>)
+      const __VA_ARGS__&, const ::lagrangian::State<::lagrangian::coordinate_count_v<__VA_ARGS__>>&, const ::lagrangian::SimulationOptions&, \
+      ::lagrangian::detail::ObserverRef<::lagrangian::coordinate_count_v<__VA_ARGS__>>)
 
 #if defined(LAGRANGIAN_TRAP_FE_INVALID) && LAGRANGIAN_TRAP_FE_INVALID
 #define LAGRANGIAN_EXTERN_SIMULATE(...)

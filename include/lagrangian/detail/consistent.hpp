@@ -12,7 +12,7 @@ namespace detail {
 template <class M>
 struct ConsistencyProblem {
   const M* model;
-  Vec<double, M::dof> guess;
+  Vec<double, coordinate_count_v<M>> guess;
   double t;
 };
 
@@ -31,9 +31,9 @@ double consistency_objective(unsigned n, const double* x, double* grad, void* da
 template <class M>
 void consistency_constraints(unsigned m, double* result, unsigned n, const double* x, double* grad, void* data) {
   const auto& p = *static_cast<const ConsistencyProblem<M>*>(data);
-  Vec<double, M::dof> q;
+  Vec<double, coordinate_count_v<M>> q;
   for (unsigned i = 0; i < n; ++i) q[static_cast<int>(i)] = x[i];
-  auto cs = constraint_state(*p.model, q, Vec<double, M::dof>::Zero().eval(), p.t);
+  auto cs = constraint_state(*p.model, q, Vec<double, coordinate_count_v<M>>::Zero().eval(), p.t);
   drop_inactive<M>(cs, ActiveSet{0});
   for (unsigned i = 0; i < m; ++i) {
     result[i] = cs.position[static_cast<int>(i)];
@@ -45,9 +45,10 @@ void consistency_constraints(unsigned m, double* result, unsigned n, const doubl
 }  // namespace detail
 
 template <class M>
-State<M::dof> consistent_initial_state(const M& model, const State<M::dof>& guess, double t, double tolerance) {
+State<coordinate_count_v<M>> consistent_initial_state(const M& model, const State<coordinate_count_v<M>>& guess,
+                                                      double t, double tolerance) {
   check_model<M>();
-  constexpr int n = M::dof;
+  constexpr int n = coordinate_count_v<M>;
   constexpr int mh = holonomic_count_v<M>;
   State<n> s = guess;
   const auto names = constraint_names(model);

@@ -57,8 +57,9 @@ StateBuffer<N> make_buffer(int n) {
 
 /// h = p·q̇ − L, with p returned too.
 template <class M>
-double energy_and_momenta(const M& model, const Vec<double, M::dof>& q, const Vec<double, M::dof>& qd, double t,
-                          Vec<double, M::dof>& p) {
+double energy_and_momenta(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                          const Vec<double, coordinate_count_v<M>>& qd, double t,
+                          Vec<double, coordinate_count_v<M>>& p) {
   p = momenta(model, q, qd, t);
   return p.dot(qd) - lagrangian_value(model, q, qd, t);
 }
@@ -76,7 +77,7 @@ void split_state(const double* x, Vec<double, N>& q, Vec<double, N>& qd) {
 /// Per-run state of a constrained model's right-hand side.
 template <class M>
 struct ConstraintContext {
-  ConstraintWorkspace<M::dof, constraint_count_v<M>> cw;
+  ConstraintWorkspace<coordinate_count_v<M>, constraint_count_v<M>> cw;
   double omega = 0;               ///< Baumgarte rate (1/s), 0 when not stabilising that way
   ActiveSet active = all_active;  ///< unilateral constraints in contact
 };
@@ -91,7 +92,7 @@ struct ConstraintContext {
 template <class M>
 class ModelSystem final : public System {
  public:
-  static constexpr int n = M::dof;
+  static constexpr int n = coordinate_count_v<M>;
   /// The model declares contacts or watched events (the event code is compiled only then).
   static constexpr bool has_events_v = unilateral_count_v<M> > 0 || event_count_v<M> > 0;
   using Observer = ObserverRef<n>;

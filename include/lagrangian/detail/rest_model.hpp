@@ -31,20 +31,20 @@ template <class M>
 class RestModelOf final : public RestModel {
  public:
   RestModelOf(const M& model, double t) : model_(model), t_(t) {}
-  int coordinate_count() const override { return M::dof; }
+  int coordinate_count() const override { return coordinate_count_v<M>; }
   int holonomic_count() const override { return holonomic_count_v<M>; }
   PotentialDerivatives potential(const Eigen::VectorXd& q) const override {
-    return potential_derivatives(model_, Vec<double, M::dof>(q), t_);
+    return potential_derivatives(model_, Vec<double, coordinate_count_v<M>>(q), t_);
   }
   HolonomicDerivatives holonomic(const Eigen::VectorXd& q) const override {
-    return holonomic_derivatives(model_, Vec<double, M::dof>(q), t_);
+    return holonomic_derivatives(model_, Vec<double, coordinate_count_v<M>>(q), t_);
   }
   QuadraticLagrangian quadratic(const Eigen::VectorXd& q) const override {
-    return quadratic_lagrangian(model_, Vec<double, M::dof>(q), t_);
+    return quadratic_lagrangian(model_, Vec<double, coordinate_count_v<M>>(q), t_);
   }
   bool project(Eigen::VectorXd& q) const override {
     if constexpr (holonomic_count_v<M> > 0) {
-      Vec<double, M::dof> x = q;
+      Vec<double, coordinate_count_v<M>> x = q;
       try {
         project_positions(model_, x, t_, 1e-12, 50, ActiveSet{0});
       } catch (const ConstraintError&) {

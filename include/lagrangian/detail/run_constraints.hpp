@@ -115,7 +115,8 @@ void ModelSystem<M>::start_constraints(State<n>& x0, Columns& columns) {
     cr.baumgarte_omega = opt_.stabilization == Stabilization::baumgarte ? opt_.baumgarte_omega : 0.0;
     const DofReport dof = dof_report(model_, x0, opt_.t0);
     cr.initial_rank = cr.min_rank = dof.velocity_rank;
-    if constexpr (M::dof == Dynamic) static_assert(M::dof != Dynamic, "constraints need a compile-time dof");
+    if constexpr (coordinate_count_v<M> == Dynamic) static_assert(coordinate_count_v<M> != Dynamic,
+                  "constraints need a compile-time number of coordinates");
     // Full rank leaves no motion unless the constraints themselves move (a
     // prescribed, rheonomic motion with 0 degrees of freedom).
     if (dof.holonomic_rank >= n && constraints_workless(model_, x0, opt_.t0))

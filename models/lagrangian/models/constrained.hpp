@@ -24,7 +24,7 @@ namespace lagrangian::models {
 ///   T = ½ m (ẋ² + ẏ²),  V = m g y,  g_wire = x sin α − y cos α = 0.
 /// Along the wire s̈ = −g sin α.
 struct BeadOnWire : detail::PlanarParticle {
-  static constexpr int dof = 2;
+  static constexpr int coordinate_count = 2;
   double alpha;
   explicit BeadOnWire(double mass = 1.0, double angle = 0.5, double gravity = 9.81)
       : PlanarParticle{require_positive("BeadOnWire", "m", mass), require_nonnegative("BeadOnWire", "g", gravity)},
@@ -43,7 +43,7 @@ struct BeadOnWire : detail::PlanarParticle {
 ///   g = x sin ωt − y cos ωt = 0.  Radially r̈ = ω² r, so
 ///   r(t) = r0 cosh ωt + (ṙ0/ω) sinh ωt.
 struct BeadOnRotatingWire {
-  static constexpr int dof = 2;
+  static constexpr int coordinate_count = 2;
   double m, omega;
   explicit BeadOnRotatingWire(double mass = 1.0, double spin_rate = 2.0)
       : m(require_positive("BeadOnRotatingWire", "m", mass)),
@@ -70,7 +70,7 @@ struct BeadOnRotatingWire {
 /// Plane pendulum as a particle (x, y) held at distance l from the pivot.
 ///   T = ½ m (ẋ² + ẏ²),  V = m g y,  g_rod = √(x² + y²) − l = 0.
 struct CartesianPendulum : detail::PlanarParticle {
-  static constexpr int dof = 2;
+  static constexpr int coordinate_count = 2;
   double l;
   explicit CartesianPendulum(double mass = 1.0, double length = 1.0, double gravity = 9.81)
       : PlanarParticle{require_positive("CartesianPendulum", "m", mass),
@@ -88,7 +88,7 @@ struct CartesianPendulum : detail::PlanarParticle {
 /// Particle (x, y, z) on a sphere of radius R about the origin, gravity −z:
 /// the spherical pendulum in Cartesian coordinates.
 struct ParticleOnSphere {
-  static constexpr int dof = 3;
+  static constexpr int coordinate_count = 3;
   double m, R, g;
   explicit ParticleOnSphere(double mass = 1.0, double radius = 1.0, double gravity = 9.81)
       : m(require_positive("ParticleOnSphere", "m", mass)),
@@ -116,7 +116,7 @@ struct ParticleOnSphere {
 /// over a massless pulley; g_string = y1 + y2 − c = 0.
 /// Closed form: ÿ1 = −(m1 − m2) g / (m1 + m2), tension 2 m1 m2 g / (m1 + m2).
 struct AtwoodMachine {
-  static constexpr int dof = 2;
+  static constexpr int coordinate_count = 2;
   double m1, m2, g, c;
   explicit AtwoodMachine(double mass1 = 3.0, double mass2 = 1.0, double gravity = 9.81, double length = 0.0)
       : m1(require_positive("AtwoodMachine", "m1", mass1)),
@@ -143,7 +143,7 @@ struct AtwoodMachine {
 /// Double pendulum in Cartesian coordinates (x1, y1, x2, y2) with two rod
 /// constraints |r1| = l1 and |r2 − r1| = l2.
 struct CartesianDoublePendulum {
-  static constexpr int dof = 4;
+  static constexpr int coordinate_count = 4;
   double m1, m2, l1, l2, g;
   explicit CartesianDoublePendulum(double mass1 = 1.0, double mass2 = 1.0, double length1 = 1.0,
                                    double length2 = 1.0, double gravity = 9.81)
@@ -178,7 +178,7 @@ struct CartesianDoublePendulum {
 /// Configuration DOF 3, velocity DOF 2. Free motion: φ̇ and the speed are
 /// constant and the contact point runs on a circle of radius v/φ̇.
 struct KnifeEdge {
-  static constexpr int dof = 3;
+  static constexpr int coordinate_count = 3;
   double m, I;
   explicit KnifeEdge(double mass = 1.0, double inertia = 0.1)
       : m(require_positive("KnifeEdge", "m", mass)), I(require_positive("KnifeEdge", "I", inertia)) {}
@@ -209,7 +209,7 @@ struct KnifeEdge {
 /// N = m g (3 cos θ − 2 cos θ0) and the particle leaves where it vanishes,
 /// cos θ* = (2/3) cos θ0.
 struct ParticleOffSphere : detail::PlanarParticle {
-  static constexpr int dof = 2;
+  static constexpr int coordinate_count = 2;
   double R;
   explicit ParticleOffSphere(double mass = 1.0, double radius = 1.0, double gravity = 9.81)
       : PlanarParticle{require_positive("ParticleOffSphere", "m", mass),

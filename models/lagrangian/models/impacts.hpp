@@ -136,7 +136,7 @@ inline std::string sphere_name(int i) { return "s" + std::to_string(i + 1); }
 template <int N>
 struct SpheresOnLine {
   static_assert(N >= 2 && N <= 64, "SpheresOnLine needs 2 to 64 spheres");
-  static constexpr int dof = N;
+  static constexpr int coordinate_count = N;
   std::array<double, N> m{}, r{};
   double e = 1.0;
   SpheresOnLine(const std::array<double, N>& masses, const std::array<double, N>& radii, double restitution) : e(0) {
@@ -191,7 +191,7 @@ struct SpheresOnLine {
 /// The oblique impact of course notes 1.4: the common normal is r₂ − r₁.
 template <int D>
 struct TwoSpheres : detail::ParticlePair<D> {
-  static constexpr int dof = 2 * D;
+  static constexpr int coordinate_count = 2 * D;
   double r1, r2, e;
   TwoSpheres(double mass1, double mass2, double radius1, double radius2, double restitution)
       : detail::ParticlePair<D>{require_positive("TwoSpheres", "m1", mass1), require_positive("TwoSpheres", "m2", mass2)},
@@ -202,11 +202,11 @@ struct TwoSpheres : detail::ParticlePair<D> {
   std::array<std::string, 1> unilateral_names() const { return {"s1-s2"}; }
   std::array<double, 1> restitution() const { return {e}; }
   template <class S>
-  S potential(const Vec<S, dof>&, const S&) const {
+  S potential(const Vec<S, coordinate_count>&, const S&) const {
     return S(0);
   }
   template <class S>
-  Vec<S, 1> unilateral(const Vec<S, dof>& q, const S&) const {
+  Vec<S, 1> unilateral(const Vec<S, coordinate_count>& q, const S&) const {
     using std::sqrt;
     S d2 = S(0);
     for (int k = 0; k < D; ++k) d2 += (q[D + k] - q[k]) * (q[D + k] - q[k]);
@@ -222,7 +222,7 @@ struct TwoSpheres : detail::ParticlePair<D> {
 /// Bounce: v⁺ = v⁻ − (1 + e)(n·v⁻) n (bounce_velocity). Dropped from rest
 /// with its lowest point at height h above a floor, it lands at t = √(2h/g).
 struct BallAndPlane {
-  static constexpr int dof = 3;
+  static constexpr int coordinate_count = 3;
   double m, R, g, e;
   std::array<double, 3> n;
   double d;
@@ -277,7 +277,7 @@ struct SpheresInBox {
   static constexpr int pairs = N * (N - 1) / 2;
   static constexpr int contacts = 4 * N + pairs;
   static_assert(N >= 1 && contacts <= 64, "SpheresInBox supports up to 64 contacts (N <= 8)");
-  static constexpr int dof = 2 * N;
+  static constexpr int coordinate_count = 2 * N;
   std::array<double, N> m{}, r{};
   double W, H, g, e_wall, e_pair;
   SpheresInBox(const std::array<double, N>& masses, const std::array<double, N>& radii, double width, double height,
@@ -324,20 +324,20 @@ struct SpheresInBox {
     return out;
   }
   template <class S>
-  S kinetic(const Vec<S, dof>&, const Vec<S, dof>& qd, const S&) const {
+  S kinetic(const Vec<S, coordinate_count>&, const Vec<S, coordinate_count>& qd, const S&) const {
     S t = S(0);
     for (int i = 0; i < N; ++i)
       t += 0.5 * m[static_cast<std::size_t>(i)] * (qd[2 * i] * qd[2 * i] + qd[2 * i + 1] * qd[2 * i + 1]);
     return t;
   }
   template <class S>
-  S potential(const Vec<S, dof>& q, const S&) const {
+  S potential(const Vec<S, coordinate_count>& q, const S&) const {
     S v = S(0);
     for (int i = 0; i < N; ++i) v += m[static_cast<std::size_t>(i)] * g * q[2 * i + 1];
     return v;
   }
   template <class S>
-  Vec<S, contacts> unilateral(const Vec<S, dof>& q, const S&) const {
+  Vec<S, contacts> unilateral(const Vec<S, coordinate_count>& q, const S&) const {
     using std::sqrt;
     Vec<S, contacts> phi;
     for (int i = 0; i < N; ++i) {

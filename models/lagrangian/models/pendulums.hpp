@@ -22,7 +22,7 @@ namespace lagrangian::models {
 /// Plane pendulum: a point mass m on a massless rod of length l.
 ///   T = ½ m l² θ̇²,  V = −m g l cos θ.
 struct SimplePendulum {
-  static constexpr int dof = 1;
+  static constexpr int coordinate_count = 1;
   double m, l, g;
   explicit SimplePendulum(double mass = 1.0, double length = 1.0, double gravity = 9.81)
       : m(require_positive("SimplePendulum", "m", mass)),
@@ -107,7 +107,7 @@ struct SimplePendulum {
 /// x (m) from the spring's rest position.
 ///   T = ½ m ẋ²,  V = ½ k x²,  ẍ = −ω² x with ω = √(k/m) (rad/s), period 2π/ω.
 struct HarmonicOscillator {
-  static constexpr int dof = 1;
+  static constexpr int coordinate_count = 1;
   double m, k;
   explicit HarmonicOscillator(double mass = 1.0, double stiffness = 1.0)
       : m(require_positive("HarmonicOscillator", "m", mass)),
@@ -140,7 +140,7 @@ struct HarmonicOscillator {
 ///   T = ½ (m1+m2) l1² θ̇1² + ½ m2 l2² θ̇2² + m2 l1 l2 θ̇1 θ̇2 cos(θ1 − θ2),
 ///   V = −(m1+m2) g l1 cos θ1 − m2 g l2 cos θ2.
 struct DoublePendulum {
-  static constexpr int dof = 2;
+  static constexpr int coordinate_count = 2;
   double m1, m2, l1, l2, g;
   explicit DoublePendulum(double mass1 = 1.0, double mass2 = 1.0, double length1 = 1.0, double length2 = 1.0,
                           double gravity = 9.81)
@@ -167,7 +167,7 @@ struct DoublePendulum {
 /// Spherical pendulum: polar angle θ from the downward vertical, azimuth φ.
 ///   T = ½ m l² (θ̇² + sin²θ φ̇²),  V = −m g l cos θ.  φ is cyclic.
 struct SphericalPendulum {
-  static constexpr int dof = 2;
+  static constexpr int coordinate_count = 2;
   double m, l, g;
   explicit SphericalPendulum(double mass = 1.0, double length = 1.0, double gravity = 9.81)
       : m(require_positive("SphericalPendulum", "m", mass)),
@@ -192,7 +192,7 @@ struct SphericalPendulum {
 /// stiffness k and rest length l0.
 ///   T = ½ m (ṙ² + r² θ̇²),  V = −m g r cos θ + ½ k (r − l0)².
 struct ElasticPendulum {
-  static constexpr int dof = 2;
+  static constexpr int coordinate_count = 2;
   double m, k, l0, g;
   explicit ElasticPendulum(double mass = 1.0, double stiffness = 40.0, double rest_length = 1.0,
                            double gravity = 9.81)
@@ -221,7 +221,7 @@ struct ElasticPendulum {
 /// L has no explicit t, so the Jacobi integral h = ½ m R² (θ̇² − ω² sin²θ) + V
 /// is conserved while T + V is not (the motor does work).
 struct BeadOnRotatingHoop {
-  static constexpr int dof = 1;
+  static constexpr int coordinate_count = 1;
   double m, R, omega, g;
   explicit BeadOnRotatingHoop(double mass = 1.0, double radius = 0.5, double spin_rate = 6.0,
                               double gravity = 9.81)
@@ -251,7 +251,7 @@ struct BeadOnRotatingHoop {
 /// plane polar coordinates (r, φ); k = G M m (J·m).
 ///   T = ½ m (ṙ² + r² φ̇²).  φ is cyclic: p_φ = m r² φ̇ is conserved.
 struct KeplerPolar {
-  static constexpr int dof = 2;
+  static constexpr int coordinate_count = 2;
   double m, k;
   explicit KeplerPolar(double mass = 1.0, double strength = 1.0)
       : m(require_positive("KeplerPolar", "m", mass)), k(require_positive("KeplerPolar", "k", strength)) {}
@@ -272,7 +272,7 @@ struct KeplerPolar {
 /// cart position x (m) and the pendulum angle θ.
 ///   T = ½ (M + m) ẋ² + m l ẋ θ̇ cos θ + ½ m l² θ̇²,  V = ½ k x² − m g l cos θ.
 struct CartPendulum {
-  static constexpr int dof = 2;
+  static constexpr int coordinate_count = 2;
   double M, m, l, k, g;
   explicit CartPendulum(double cart_mass = 2.0, double bob_mass = 1.0, double length = 1.0, double stiffness = 10.0,
                         double gravity = 9.81)
@@ -300,7 +300,7 @@ struct CartPendulum {
 ///   T = ½ m (l² θ̇² + ẏ_p² + 2 l ẏ_p θ̇ sin θ),  V = m g (y_p − l cos θ),
 /// whose equation of motion is θ̈ = −(g + ÿ_p) sin θ / l.
 struct DrivenPendulum {
-  static constexpr int dof = 1;
+  static constexpr int coordinate_count = 1;
   double m, l, a, Omega, g;
   explicit DrivenPendulum(double mass = 1.0, double length = 1.0, double amplitude = 0.05, double drive_rate = 30.0,
                           double gravity = 9.81)
@@ -329,7 +329,7 @@ struct DrivenPendulum {
 /// y_k = −Σ_{i≤k} l_i cos θ_i:  T = Σ_k ½ m_k (ẋ_k² + ẏ_k²),  V = Σ_k m_k g y_k.
 template <int N>
 struct PendulumChain {
-  static constexpr int dof = N;
+  static constexpr int coordinate_count = N;
   std::array<double, N> m;
   std::array<double, N> l;
   double g;

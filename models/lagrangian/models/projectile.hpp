@@ -33,7 +33,7 @@ enum class Drag { none, linear, quadratic };
 
 template <Drag D = Drag::none>
 struct Projectile : detail::PlanarParticle {
-  static constexpr int dof = 2;
+  static constexpr int coordinate_count = 2;
   static constexpr double kHalfPi = 1.5707963267948966;
   double beta, drag;
   /// m (kg), g (m/s²), plane angle β (rad, |β| < π/2), drag coefficient (b

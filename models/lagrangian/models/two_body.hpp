@@ -137,7 +137,7 @@ struct NewtonianGravity {
 /// giving U in J (NewtonianGravity by default).
 template <int D, class Potential = NewtonianGravity>
 struct TwoBody : detail::ParticlePair<D> {
-  static constexpr int dof = 2 * D;
+  static constexpr int coordinate_count = 2 * D;
   using detail::ParticlePair<D>::m1;
   using detail::ParticlePair<D>::m2;
   Potential U;
@@ -146,7 +146,7 @@ struct TwoBody : detail::ParticlePair<D> {
         U(potential) {}
   std::string name() const { return "two_body"; }
   template <class S>
-  S potential(const Vec<S, dof>& q, const S&) const {
+  S potential(const Vec<S, coordinate_count>& q, const S&) const {
     using std::sqrt;
     S r2 = S(0);
     for (int k = 0; k < D; ++k) r2 += (q[D + k] - q[k]) * (q[D + k] - q[k]);
@@ -154,7 +154,7 @@ struct TwoBody : detail::ParticlePair<D> {
   }
   /// Newtonian gravity: the centre of mass moves uniformly and the relative
   /// coordinate follows the Kepler orbit with GM = k (m₁ + m₂)/(m₁ m₂).
-  State<dof> reference(const State<dof>& initial, double t) const
+  State<coordinate_count> reference(const State<coordinate_count>& initial, double t) const
     requires std::is_same_v<Potential, NewtonianGravity>
   {
     const double M = m1 + m2;
@@ -166,20 +166,20 @@ struct TwoBody : detail::ParticlePair<D> {
     v0.template head<D>() = initial.qd.template tail<D>() - initial.qd.template head<D>();
     const auto [r, v] = kepler_propagate(U.k * M / (m1 * m2), r0, v0, t);
     const Eigen::Vector3d R = R0 + V0 * t;
-    State<dof> s;
+    State<coordinate_count> s;
     s.q << (R - m2 / M * r).template head<D>(), (R + m1 / M * r).template head<D>();
     s.qd << (V0 - m2 / M * v).template head<D>(), (V0 + m1 / M * v).template head<D>();
     return s;
   }
   /// A default scene: centre of mass at rest at the origin, the bodies at
   /// periapsis of a relative orbit a = 1 m, e = 0.5.
-  State<dof> default_state() const
+  State<coordinate_count> default_state() const
     requires std::is_same_v<Potential, NewtonianGravity>
   {
     const double M = m1 + m2;
     const KeplerOrbit orbit(1.0, 0.5, U.k * M / (m1 * m2));
     const double rp = orbit.periapsis_distance(), vp = orbit.periapsis_speed();
-    State<dof> s;
+    State<coordinate_count> s;
     s.q[0] = -m2 / M * rp;
     s.q[D] = m1 / M * rp;
     s.qd[1] = -m2 / M * vp;
@@ -197,7 +197,7 @@ struct TwoBody : detail::ParticlePair<D> {
 /// function is monitored as a conserved quantity); this form takes any F.
 template <int D, class Force>
 struct TwoBodyForce : detail::ParticlePair<D> {
-  static constexpr int dof = 2 * D;
+  static constexpr int coordinate_count = 2 * D;
   Force F;
   TwoBodyForce(double mass1, double mass2, Force force)
       : detail::ParticlePair<D>{require_positive("TwoBodyForce", "m1", mass1),
@@ -205,17 +205,17 @@ struct TwoBodyForce : detail::ParticlePair<D> {
         F(force) {}
   std::string name() const { return "two_body_force"; }
   template <class S>
-  S potential(const Vec<S, dof>&, const S&) const {
+  S potential(const Vec<S, coordinate_count>&, const S&) const {
     return S(0);
   }
   template <class S>
-  Vec<S, dof> generalized_forces(const Vec<S, dof>& q, const Vec<S, dof>&, const S&) const {
+  Vec<S, coordinate_count> generalized_forces(const Vec<S, coordinate_count>& q, const Vec<S, coordinate_count>&, const S&) const {
     using std::sqrt;
     S r2 = S(0);
     for (int k = 0; k < D; ++k) r2 += (q[D + k] - q[k]) * (q[D + k] - q[k]);
     const S r = sqrt(r2);
     const S f = F(r) / r;
-    Vec<S, dof> Q;
+    Vec<S, coordinate_count> Q;
     for (int k = 0; k < D; ++k) {
       Q[k] = -f * (q[D + k] - q[k]);
       Q[D + k] = f * (q[D + k] - q[k]);
@@ -239,7 +239,7 @@ TwoBody<D> gravitational_two_body(double m1, double m2, double G) {
 template <int D, class Potential = NewtonianGravity>
 struct RelativeMotion {
   static_assert(D == 2 || D == 3, "RelativeMotion is planar (D = 2) or spatial (D = 3)");
-  static constexpr int dof = D;
+  static constexpr int coordinate_count = D;
   double mu;
   Potential U;
   RelativeMotion(double reduced, Potential potential)
