@@ -541,7 +541,11 @@ class EomJet {
   /// A free slot for a pending term (flushing the pending terms when every
   /// slot is taken). The term's supports must lie inside [lo_, hi_).
   constexpr Term& new_term()
-    requires(lazy_terms > 0);
+    requires(lazy_terms > 0)
+  {
+    if (nterms_ == lazy_terms) flush();
+    return terms_[nterms_++];
+  }
   /// gv of a, in full (zero where a stores nothing).
   static constexpr void full_gv(Vector& out, const EomJet& a);
   /// Makes the dense rows valid (zero) if they are not yet.

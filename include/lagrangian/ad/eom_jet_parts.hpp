@@ -31,14 +31,6 @@ constexpr void EomJet<N>::widen(int lo, int hi) {
 }
 
 template <int N>
-constexpr typename EomJet<N>::Term& EomJet<N>::new_term()
-  requires(lazy_terms > 0)
-{
-  if (nterms_ == lazy_terms) flush();
-  return terms_[nterms_++];
-}
-
-template <int N>
 constexpr void EomJet<N>::full_gv(typename EomJet<N>::Vector& out, const EomJet& a) {
   if (a.state_ == kDense) {
     out = a.gv_;
