@@ -68,7 +68,7 @@ TEST(StabilityCartesianPendulum, ProjectionResidualBelow1e10) {
   const models::CartesianPendulum model;
   SimulationOptions o;
   o.method = "dopri5";
-  o.t_end = 1e4 * kPeriodSmall * stability::length_factor();
+  o.t_end = 1e4 * kPeriodSmall * stability::length_factor(0.05);  // 500 periods under the sanitizers
   o.rtol = 1e-10;
   o.atol = 1e-12;
   o.stabilization = Stabilization::projection;
@@ -85,7 +85,7 @@ TEST(StabilityCartesianPendulum, ConstrainedVariationalResidualBelow1e10) {
   SimulationOptions o;
   o.method = "variational";
   o.dt = 1e-2;
-  o.t_end = 1e4 * kPeriodSmall * stability::length_factor();
+  o.t_end = 1e4 * kPeriodSmall * stability::length_factor(0.05);  // 500 periods under the sanitizers
   o.output_interval = 1.0;  // energy sampled every second
   const RunReport r = simulate(model, on_the_rod(), o);
   stability::record("Cartesian pendulum on a rod, 1e4 periods, max |g|", "constrained variational dt 1e-2",
