@@ -272,25 +272,12 @@ TEST(Dynamics, DirectLagrangianEqualsKineticMinusPotential) {
   EXPECT_NEAR(energy_function(d, q, qd), total_energy(d.inner, q, qd), 1e-14);
 }
 
-// A model states its number of coordinates as `coordinate_count`; the older
-// spelling `dof` is still read. The same pendulum written both ways gives
-// the same q̈ and the same run, to the bit.
-struct PendulumNewSpelling {
-  static constexpr int coordinate_count = 1;
-  double m = 1.3, l = 0.7, g = 9.81;
-  template <class S>
-  S kinetic(const Vec<S, 1>&, const Vec<S, 1>& qd, const S&) const {
-    return 0.5 * m * l * l * qd[0] * qd[0];
-  }
-  template <class S>
-  S potential(const Vec<S, 1>& q, const S&) const {
-    using std::cos;
-    return -m * g * l * cos(q[0]);
-  }
-};
+// A model states its number of coordinates as `coordinate_count` (as the
+// built-in SimplePendulum does); the older spelling `dof` is still read. The
+// same pendulum written both ways gives the same q̈ and the same run, to the bit.
 struct PendulumOnlyDof {
   static constexpr int dof = 1;
-  PendulumNewSpelling p;
+  SimplePendulum p;
   template <class S>
   S kinetic(const Vec<S, 1>& q, const Vec<S, 1>& qd, const S& t) const {
     return p.kinetic(q, qd, t);
@@ -302,11 +289,11 @@ struct PendulumOnlyDof {
 };
 
 TEST(ModelSpelling, CoordinateCountAndTheOlderDofAgree) {
-  static_assert(coordinate_count_v<PendulumNewSpelling> == 1);
+  static_assert(coordinate_count_v<SimplePendulum> == 1);
   static_assert(coordinate_count_v<PendulumOnlyDof> == 1);
   static_assert(coordinate_count_v<DoublePendulum> == 2);
-  const PendulumNewSpelling a;
-  const PendulumOnlyDof b;
+  const SimplePendulum a(1.3, 0.7, 9.81);
+  const PendulumOnlyDof b{a};
   State<1> x0;
   x0.q << 1.1;
   x0.qd << -0.4;
