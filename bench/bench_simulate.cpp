@@ -2,7 +2,9 @@
 // right-hand side, stepper and tolerances; and the full AD-derived run.
 // Double pendulum from θ1 = θ2 = 2 rad at rest, t ∈ [0, 20] s, with dopri5
 // and fehlberg78 (rtol 1e-10, atol 1e-12) and rk4 (dt = 1 ms): the same
-// steps in both loops (counted), so the ratio is the driver's overhead.
+// steps in both loops (counted), so the ratio is the driver's overhead. For
+// the double pendulum also raw Odeint with q̈ out of line (not inlined into
+// the stages), which is how the compiled-once driver reaches every q̈.
 // And the harmonic oscillator, whose right-hand side is one multiply: there
 // the driver's per-step work is the largest share it can be.
 #include <benchmark/benchmark.h>
@@ -37,6 +39,20 @@ struct HandRhs {
   }
 };
 
+/// The same with q̈ compiled out of line, as simulate() reaches it: raw
+/// Odeint's loop without the inlining of q̈ into its stages. The difference
+/// to HandRhs is what inlining is worth; the difference to simulate() is
+/// the driver's own cost.
+[[gnu::noinline]] void double_pendulum_xdot(const bench::HandDoublePendulum& p, const double* x, double* dxdt) {
+  dxdt[0] = x[2];
+  dxdt[1] = x[3];
+  bench::double_pendulum_qdd(p, x, x + 2, dxdt + 2);
+}
+struct OutOfLineRhs {
+  const bench::HandDoublePendulum* p;
+  void operator()(const X& x, X& dxdt, double) const { double_pendulum_xdot(*p, x.data(), dxdt.data()); }
+};
+
 // The worst case for the driver: a right-hand side of one multiply. The
 // harmonic oscillator m ẍ = −k x (m = 0.5 kg, k = 2 N/m) from x = 0.7 m,
 // ẋ = −0.3 m/s over t ∈ [0, 20] s, the same steppers and tolerances.
@@ -66,6 +82,10 @@ struct DoublePendulumCase {
   static Hand hand() { return Hand(); }
   static lagrangian::models::DoublePendulum ad() { return lagrangian::models::DoublePendulum{}; }
   static X x0() { return {2.0, 2.0, 0.0, 0.0}; }
+};
+
+struct OutOfLineCase : DoublePendulumCase {
+  using Rhs = OutOfLineRhs;
 };
 
 struct OscillatorCase {
@@ -170,6 +190,16 @@ void ad_simulate(benchmark::State& st, const char* method) {
   BENCHMARK(BM_Simulate_AD_Rk4_##System)->Unit(benchmark::kMillisecond)
 
 LAGRANGIAN_DRIVER_BENCHMARKS(DoublePendulum, DoublePendulumCase, X);
+void BM_RawOdeintOutOfLine_Dopri5_DoublePendulum(benchmark::State& st) {
+  raw_adaptive<OutOfLineCase, odeint::runge_kutta_dopri5<X>>(st);
+}
+void BM_RawOdeintOutOfLine_Fehlberg78_DoublePendulum(benchmark::State& st) {
+  raw_adaptive<OutOfLineCase, odeint::runge_kutta_fehlberg78<X>>(st);
+}
+void BM_RawOdeintOutOfLine_Rk4_DoublePendulum(benchmark::State& st) { raw_rk4<OutOfLineCase>(st); }
+BENCHMARK(BM_RawOdeintOutOfLine_Dopri5_DoublePendulum)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RawOdeintOutOfLine_Fehlberg78_DoublePendulum)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RawOdeintOutOfLine_Rk4_DoublePendulum)->Unit(benchmark::kMillisecond);
 LAGRANGIAN_DRIVER_BENCHMARKS(Oscillator, OscillatorCase, X1);
 
 }  // namespace

@@ -12,7 +12,7 @@
 #include <boost/numeric/odeint/stepper/bulirsch_stoer.hpp>
 #include <boost/numeric/odeint/stepper/controlled_runge_kutta.hpp>
 #include <boost/numeric/odeint/stepper/generation.hpp>
-#include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
+#include <boost/numeric/odeint/stepper/runge_kutta4_classic.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_cash_karp54.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_dopri5.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
@@ -145,7 +145,7 @@ template <class X>
 void run_rk4(Run& run, X& x) {
   const SimulationOptions& opt = run.options();
   const CountedRhs<X> rhs = run.rhs<X>();
-  odeint::runge_kutta4<X> stepper;
+  odeint::runge_kutta4_classic<X> stepper;
   const bool events = run.has_events();
   // Fixed steps of opt.dt; the k-th step ends at t0 + k dt (no accumulated
   // rounding); a step is shortened only to land on an output time or t_end.
