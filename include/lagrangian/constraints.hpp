@@ -458,13 +458,13 @@ DofReport dof_report(const M& model, const State<coordinate_count_v<M>>& s, doub
   return r;
 }
 
-/// Moves q onto g(q, t) = 0 by Gauss–Newton steps q ← q − G⁺ g (G⁺ the
-/// minimum-norm pseudo-inverse, by complete orthogonal decomposition) until
-/// ‖g‖∞ ≤ tolerance. Returns the number of iterations; throws
-/// ConstraintError when `max_iterations` do not reach the tolerance.
+namespace detail {
+
+/// project_positions with the pseudo-inverse's workspace `solver` (sized
+/// position rows × n): nothing allocated per call.
 template <class M>
-int project_positions(const M& model, Vec<double, coordinate_count_v<M>>& q, double t, double tolerance = 1e-12,
-                      int max_iterations = 20, ActiveSet active = all_active) {
+int project_positions_with(const M& model, Vec<double, coordinate_count_v<M>>& q, double t, double tolerance,
+                           int max_iterations, ActiveSet active, MinNormSolver& solver) {
   constexpr int mh = position_rows_v<M>;
   if constexpr (mh == 0) {
     return 0;
@@ -477,7 +477,6 @@ int project_positions(const M& model, Vec<double, coordinate_count_v<M>>& q, dou
       const double scale = 1.0 + q.template lpNorm<Eigen::Infinity>();
       if (g.template lpNorm<Eigen::Infinity>() <= tolerance * scale) return it;
       const Eigen::Matrix<double, mh, coordinate_count_v<M>> G = cs.jacobian.topRows(mh);
-      detail::MinNormSolver solver(mh, coordinate_count_v<M>);
       solver.factorize(G.data());
       Vec<double, coordinate_count_v<M>> dq;
       solver.solve(g.data(), dq.data());
@@ -496,12 +495,12 @@ int project_positions(const M& model, Vec<double, coordinate_count_v<M>>& q, dou
   }
 }
 
-/// Projects q̇ onto C q̇ + c = 0 in the M-norm (the nearest consistent
-/// velocities in kinetic energy): q̇ ← q̇ − M⁻¹Cᵀ S⁺ (C q̇ + c).
+/// project_velocities with the workspace `solver` (sized c × c, c the
+/// constraint count): nothing allocated per call.
 template <class M>
-void project_velocities(const M& model, Workspace<coordinate_count_v<M>>& ws,
-                        const Vec<double, coordinate_count_v<M>>& q, Vec<double, coordinate_count_v<M>>& qd,
-                        double t, ActiveSet active = all_active) {
+void project_velocities_with(const M& model, Workspace<coordinate_count_v<M>>& ws,
+                             const Vec<double, coordinate_count_v<M>>& q, Vec<double, coordinate_count_v<M>>& qd,
+                             double t, ActiveSet active, MinNormSolver& solver) {
   if constexpr (has_constraints_v<M>) {
     evaluate(model, ws, q, qd, t);
     auto cs = constraint_state(model, q, qd, t);
@@ -511,12 +510,40 @@ void project_velocities(const M& model, Workspace<coordinate_count_v<M>>& ws,
         ws.cholesky.solve(cs.jacobian.transpose());
     constexpr int c = constraint_count_v<M>;
     const Mat<double, c> schur = cs.jacobian * minv_ct;
-    detail::MinNormSolver solver(c, c);
     solver.factorize(schur.data());
     const Vec<double, c> residual = cs.velocity;
     Vec<double, c> correction;
     solver.solve(residual.data(), correction.data());
     qd -= minv_ct * correction;
+  }
+}
+
+}  // namespace detail
+
+/// Moves q onto g(q, t) = 0 by Gauss–Newton steps q ← q − G⁺ g (G⁺ the
+/// minimum-norm pseudo-inverse, by complete orthogonal decomposition) until
+/// ‖g‖∞ ≤ tolerance. Returns the number of iterations; throws
+/// ConstraintError when `max_iterations` do not reach the tolerance.
+template <class M>
+int project_positions(const M& model, Vec<double, coordinate_count_v<M>>& q, double t, double tolerance = 1e-12,
+                      int max_iterations = 20, ActiveSet active = all_active) {
+  if constexpr (position_rows_v<M> == 0) {
+    return 0;
+  } else {
+    detail::MinNormSolver solver(position_rows_v<M>, coordinate_count_v<M>);
+    return detail::project_positions_with(model, q, t, tolerance, max_iterations, active, solver);
+  }
+}
+
+/// Projects q̇ onto C q̇ + c = 0 in the M-norm (the nearest consistent
+/// velocities in kinetic energy): q̇ ← q̇ − M⁻¹Cᵀ S⁺ (C q̇ + c).
+template <class M>
+void project_velocities(const M& model, Workspace<coordinate_count_v<M>>& ws,
+                        const Vec<double, coordinate_count_v<M>>& q, Vec<double, coordinate_count_v<M>>& qd,
+                        double t, ActiveSet active = all_active) {
+  if constexpr (has_constraints_v<M>) {
+    detail::MinNormSolver solver(constraint_count_v<M>, constraint_count_v<M>);
+    detail::project_velocities_with(model, ws, q, qd, t, active, solver);
   }
 }
 

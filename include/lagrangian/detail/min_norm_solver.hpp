@@ -12,9 +12,11 @@ namespace lagrangian::detail {
 
 /// x = A⁺ b: the least-squares solution of least norm of A x = b, for A of
 /// rows × cols (column-major), by a complete orthogonal decomposition with
-/// column pivoting (rank by Eigen's threshold). Storage is allocated by the
-/// constructor; factorize() and solve() allocate nothing while both sizes
-/// are at most 64.
+/// column pivoting (rank by Eigen's threshold); a square A that Gaussian
+/// elimination with full pivoting shows to be well inside the regular
+/// matrices (every pivot above 1e-8 of the first) is solved through those LU
+/// factors instead, its one solution. Storage is allocated by the
+/// constructor; factorize() and solve() allocate nothing.
 class MinNormSolver {
  public:
   MinNormSolver(int rows, int cols);

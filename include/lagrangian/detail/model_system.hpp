@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "lagrangian/constraints.hpp"
+#include "lagrangian/detail/singular_values.hpp"
 #include "lagrangian/detail/contact_rules.hpp"
 #include "lagrangian/detail/observer_ref.hpp"
 #include "lagrangian/detail/roots.hpp"
@@ -78,6 +79,10 @@ void split_state(const double* x, Vec<double, N>& q, Vec<double, N>& qd) {
 template <class M>
 struct ConstraintContext {
   ConstraintWorkspace<coordinate_count_v<M>, constraint_count_v<M>> cw;
+  /// Workspaces of the projections and of the conditioning monitor after each step.
+  MinNormSolver positions{position_rows_v<M>, coordinate_count_v<M>};
+  MinNormSolver velocities{constraint_count_v<M>, constraint_count_v<M>};
+  SingularValues conditioning{constraint_count_v<M>, coordinate_count_v<M>};
   double omega = 0;               ///< Baumgarte rate (1/s), 0 when not stabilising that way
   ActiveSet active = all_active;  ///< unilateral constraints in contact
 };
@@ -429,7 +434,6 @@ class ModelSystem final : public System {
       cw_{};
   std::vector<int> cyclic_;
   double h0_ = 0, e0_ = 0, h_last_ = 0, e_last_ = 0;
-  std::vector<double> singular_values_;
   bool warned_conditioning_ = false;
   [[no_unique_address]] std::conditional_t<structure_preserving_v<M> && variational_supported_v<M>,
                                            std::optional<VariationalIntegrator<M>>, None>

@@ -36,11 +36,11 @@ bool ModelSystem<M>::stabilize(double* x, double t, bool allow_projection) {
       const auto start = std::chrono::steady_clock::now();
       try {
         cr.projection_iterations += static_cast<std::uint64_t>(
-            project_positions(model_, q, t, opt_.projection_tolerance, 20, active()));
+            project_positions_with(model_, q, t, opt_.projection_tolerance, 20, active(), ctx_->positions));
       } catch (const ConstraintError& e) {
         throw SimulationError(std::string("projection failed: ") + e.what(), t);
       }
-      project_velocities(model_, ws_, q, qd, t, active());
+      project_velocities_with(model_, ws_, q, qd, t, active(), ctx_->velocities);
       ++cr.projections;
       for (int i = 0; i < n; ++i) {
         changed = changed || x[i] != q[i] || x[n + i] != qd[i];
@@ -85,11 +85,11 @@ template <class CS>
 void ModelSystem<M>::monitor_conditioning(CS cs, double t) {
   ConstraintReport& cr = report_.constraints;
   drop_inactive<M>(cs, ActiveSet{0});
-  std::vector<double>& sv = singular_values_;
-  detail::numeric_rank(cs.jacobian, &sv);
+  const Eigen::Matrix<double, constraint_count_v<M>, n> jacobian = cs.jacobian;  // contiguous, column-major
+  const double* sv = ctx_->conditioning.compute(jacobian.data());
   const int r = cr.initial_rank;
-  if (r < 1 || sv.empty() || !(sv[0] > 0)) return;
-  const double ratio = static_cast<std::size_t>(r) <= sv.size() ? sv[static_cast<std::size_t>(r - 1)] / sv[0] : 0.0;
+  if (r < 1 || ctx_->conditioning.size() == 0 || !(sv[0] > 0)) return;
+  const double ratio = r <= ctx_->conditioning.size() ? sv[r - 1] / sv[0] : 0.0;
   if (ratio < cr.min_conditioning) {
     cr.min_conditioning = ratio;
     cr.min_conditioning_time = t;
