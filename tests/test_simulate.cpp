@@ -313,6 +313,45 @@ TEST(Simulate, DenseOutputSamplesAreAccurateBetweenSteps) {
   for (const auto& s : rec.samples) EXPECT_NEAR(s.q[0], std::cos(w * s.t), 1e-9) << s.t;
 }
 
+/// rk4 takes the step it is given whatever the output grid: dt = 0.05 s over
+/// 10 s is 200 steps with samples every 0.01 s (between the steps) and every
+/// 0.07 s (off the step grid), and the states on the step grid are those of
+/// the run sampled on the steps themselves, bit for bit. Samples between
+/// steps are accurate to rk4's own error against x = cos ωt.
+TEST(Simulate, Rk4TakesTheStepItWasGivenWhateverTheOutputGrid) {
+  const double w = 2.0;
+  const auto osc = harmonic_oscillator(1.0, w * w);
+  State<1> x0;
+  x0.q[0] = 1.0;
+  SimulationOptions o = options("rk4", 10.0);
+  o.dt = 0.05;
+  o.output_interval = 0.05;
+  Recorder<1> on_steps;
+  const RunReport base = simulate(osc, x0, o, on_steps);
+  ASSERT_EQ(base.steps, 200u);
+  // rk4's error here is a phase lag of (ω dt)⁵ / 120 per step: (ω dt)⁴ ω t / 120
+  // ≈ 1.7e-5 rad at t = 10 s.
+  double worst_on_steps = 0;
+  for (const auto& smp : on_steps.samples)
+    worst_on_steps = std::max(worst_on_steps, std::abs(smp.q[0] - std::cos(w * smp.t)));
+  EXPECT_LT(worst_on_steps, 2e-5);
+  for (const double interval : {0.01, 0.07}) {
+    o.output_interval = interval;
+    Recorder<1> rec;
+    const RunReport r = simulate(osc, x0, o, rec);
+    EXPECT_EQ(r.steps, 200u) << interval;
+    EXPECT_EQ(r.samples, rec.samples.size()) << interval;
+    const double k_last = std::floor(10.0 / interval + 1e-9);  // the last grid time k Δt ≤ t_end
+    const std::size_t expected = static_cast<std::size_t>(k_last) + 1 + (k_last * interval < 10.0 - 1e-9 ? 1 : 0);
+    EXPECT_EQ(rec.samples.size(), expected) << interval;  // the grid, and t_end when off it
+    EXPECT_EQ(rec.samples.back().q[0], on_steps.samples.back().q[0]) << interval;  // the same steps
+    for (const auto& smp : rec.samples) {
+      EXPECT_NEAR(smp.q[0], std::cos(w * smp.t), 2 * worst_on_steps) << interval << " at t = " << smp.t;
+      EXPECT_NEAR(smp.qd[0], -w * std::sin(w * smp.t), 4 * worst_on_steps) << interval << " at t = " << smp.t;
+    }
+  }
+}
+
 TEST(Simulate, EverySampleOnAcceptedStepsByDefault) {
   const SimplePendulum m;
   State<1> x0;

@@ -69,7 +69,6 @@ void SubStep<X>::operator()(double t, double* out) const {
 namespace explicit_loops {
 
 
-inline const auto no_interpolation = [](double, double*) {};
 
 // Odeint's controlled stepper without dense output in the common loop.
 // No state is carried between steps except by Bulirsch–Stoer, which
@@ -147,25 +146,27 @@ void run_rk4(Run& run, X& x) {
   const CountedRhs<X> rhs = run.rhs<X>();
   odeint::runge_kutta4_classic<X> stepper;
   const bool events = run.has_events();
-  // Fixed steps of opt.dt; the k-th step ends at t0 + k dt (no accumulated
-  // rounding); a step is shortened only to land on an output time or t_end.
+  // Samples between grid points and event location start from the step's
+  // beginning (SubStep): rk4 has no dense output of its own.
+  const bool keep_start = events || opt.output_interval > 0;
+  // Fixed steps of opt.dt: the k-th step ends at t0 + k dt (no accumulated
+  // rounding). The step asked for is the step taken: only t_end, or an
+  // event inside the step, ends one early; output times never do.
   std::uint64_t k = 0;
   double t = opt.t0;
   X x_prev = x;
   while (!reached(t, opt.t_end) && !run.stopped()) {
     const double t_grid = opt.t0 + static_cast<double>(k + 1) * opt.dt;
-    const double t_next = std::min({t_grid, opt.t_end, run.next_output_time()});
+    const double t_next = std::min(t_grid, opt.t_end);
     const double t_old = t;
-    if (events) x_prev = x;
+    if (keep_start) x_prev = x;
     stepper.do_step(rhs, x, t, t_next - t);
     t = t_next;
-    if (events) {
-      const SubStep<X> sub{rhs, x_prev, t_old, opt.rtol, opt.atol};
-      run.handle_events(t_old, x_prev.data(), t, x.data(), interpolator(sub));
-    }
+    const SubStep<X> sub{rhs, x_prev, t_old, opt.rtol, opt.atol};
+    if (events) run.handle_events(t_old, x_prev.data(), t, x.data(), interpolator(sub));
     if (t >= t_grid) ++k;  // a step cut at an event leaves the grid point ahead
     run.stabilize(x.data(), t);
-    run.accepted(t_old, t, x.data(), no_interpolation);
+    run.accepted(t_old, t, x.data(), sub);
   }
 }
 
