@@ -125,6 +125,8 @@ void SimulationOptions::validate() const {
   if (!std::isfinite(rtol) || !(rtol > 0)) option_failure("rtol", "positive and finite", rtol);
   if (!std::isfinite(atol) || !(atol > 0)) option_failure("atol", "positive and finite", atol);
   if (rtol >= 1) option_failure("rtol", "less than 1", rtol);
+  if (rtol < min_rtol)
+    option_failure("rtol", "at least 1e-15 (no double-precision step can meet a smaller relative tolerance)", rtol);
   if (max_steps == 0) throw OptionError("simulation option 'max_steps' must be at least 1, got 0");
   if (!std::isfinite(output_interval)) option_failure("output_interval", "finite", output_interval);
   if (!std::isfinite(baumgarte_omega) || !(baumgarte_omega > 0))

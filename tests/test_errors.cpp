@@ -74,6 +74,11 @@ TEST(BadInput, OptionsNameFieldAndValue) {
   o.rtol = 0.0;
   EXPECT_EQ(run(o), "simulation option 'rtol' must be positive and finite, got 0");
   o = valid();
+  o.rtol = 1e-30;  // below what a double-precision step can meet: refused at once, not after max_steps
+  EXPECT_EQ(run(o),
+            "simulation option 'rtol' must be at least 1e-15 (no double-precision step can meet a smaller relative "
+            "tolerance), got 1.0000000000000001e-30");
+  o = valid();
   o.atol = -1e-9;
   EXPECT_EQ(run(o), "simulation option 'atol' must be positive and finite, got -1.0000000000000001e-09");
   o = valid();
@@ -90,6 +95,30 @@ TEST(BadInput, OptionsNameFieldAndValue) {
   o = valid();
   o.max_steps = 0;
   EXPECT_EQ(run(o), "simulation option 'max_steps' must be at least 1, got 0");
+}
+
+/// A model without name() is reported by its C++ type's name, not as "model".
+struct UnnamedSpring {
+  static constexpr int coordinate_count = 1;
+  template <class S>
+  S kinetic(const Vec<S, 1>&, const Vec<S, 1>& qd, const S&) const {
+    return 0.5 * qd[0] * qd[0];
+  }
+  template <class S>
+  S potential(const Vec<S, 1>& q, const S&) const {
+    return 0.5 * q[0] * q[0];
+  }
+};
+
+TEST(Reports, AModelWithoutANameIsCalledByItsTypeName) {
+  State<1> s;
+  s.q[0] = 0.1;
+  SimulationOptions o = valid();
+  o.t_end = 1.0;
+  const RunReport r = simulate(UnnamedSpring{}, s, o);
+  EXPECT_EQ(r.model, "UnnamedSpring");
+  EXPECT_NE(r.summary().find("model UnnamedSpring (1 coordinates)"), std::string::npos) << r.summary();
+  EXPECT_EQ(model_name(PendulumChain<3>{}), "pendulum_chain_3");  // a model's own name() is kept
 }
 
 TEST(BadInput, NonFiniteInitialStateIsRejected) {

@@ -42,6 +42,7 @@
 #include <iterator>
 #include <string>
 #include <type_traits>
+#include <typeinfo>
 #include <utility>
 #include <vector>
 
@@ -242,13 +243,21 @@ std::vector<std::string> coordinate_names(const M& model) {
   return names;
 }
 
-/// Name of a model for reports: the model's own or "model".
+namespace detail {
+/// The C++ type's name as written, without its namespaces ("MyPendulum",
+/// "PendulumChain<10>"), from the compiler's type information
+/// (src/type_name.cpp).
+std::string type_display_name(const std::type_info& type);
+}  // namespace detail
+
+/// Name of a model for reports: the model's own name(), or else its C++
+/// type's name without namespaces.
 template <class M>
 std::string model_name(const M& model) {
   if constexpr (has_name_v<M>) {
     return model.name();
   } else {
-    return "model";
+    return detail::type_display_name(typeid(M));
   }
 }
 

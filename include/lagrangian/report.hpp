@@ -47,12 +47,18 @@ enum class Stabilization {
 const char* to_string(Stabilization s);
 
 /// What a run should do. Times in s.
+/// The smallest relative tolerance a run accepts: about 5 units of
+/// double-precision rounding (ε = 2.2e-16). An adaptive step cannot hold its
+/// error below the rounding of the state itself, so a smaller rtol only
+/// shrinks the steps until max_steps or step-size underflow stops the run.
+inline constexpr double min_rtol = 1e-15;
+
 struct SimulationOptions {
   std::string method = "dopri5";  ///< stepper name, see stepper_names()
   double t0 = 0.0;                ///< start time (s)
   double t_end = 10.0;            ///< end time (s), > t0
   double dt = 1e-3;               ///< fixed step for rk4; first trial step for adaptive steppers (s)
-  double rtol = 1e-10;            ///< relative tolerance per step (adaptive steppers)
+  double rtol = 1e-10;            ///< relative tolerance per step (adaptive steppers), in [min_rtol, 1)
   double atol = 1e-12;            ///< absolute tolerance per step (adaptive steppers)
   std::uint64_t max_steps = 50'000'000;  ///< a run needing more accepted steps fails
   /// Time between samples sent to the observer (s). 0: every accepted step.

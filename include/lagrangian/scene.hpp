@@ -210,6 +210,9 @@ struct OutputSpec {
 struct SourceMap {
   std::string file;
   std::map<std::string, int> lines;
+  /// Keys set from the command line after the file was read: key → the flag
+  /// ("run.rtol" → "--rtol"); errors in them name the flag, not the file.
+  std::map<std::string, std::string> overrides;
   int line_of(const std::string& key) const;  ///< the line of key, or of its nearest written parent; 0 if none
 };
 

@@ -20,12 +20,14 @@
 
 #include "lagrangian/bench.hpp"
 #include "lagrangian/errors.hpp"
+#include "lagrangian/params.hpp"
 #include "lagrangian/report.hpp"
 #include "lagrangian/scene.hpp"
 #include "lagrangian/scene_analysis.hpp"
 #include "lagrangian/scene_io.hpp"
 #include "lagrangian/scene_models.hpp"
 #include "lagrangian/scene_run.hpp"
+#include "subcommands.hpp"
 #include "sweep_command.hpp"
 
 namespace fs = std::filesystem;
@@ -55,7 +57,8 @@ struct BadInput {
 
 void check_positive(const char* flag, double v) {
   if (!(v > 0) || !std::isfinite(v))
-    throw BadInput{std::string("command line: ") + flag + ": must be a positive finite number, got " + std::to_string(v)};
+    throw BadInput{std::string("command line: ") + flag + ": must be a positive finite number, got " +
+                   detail::format_number(v)};
 }
 
 /// A comma-separated list of numbers given to `flag`; BadInput naming it otherwise.
@@ -240,6 +243,10 @@ int main(int argc, char** argv) {
   cli::SweepCommand sweep_command;
   CLI::App* sweep = sweep_command.add(app);
 
+  if (const auto word = cli::unknown_subcommand(app, argc, argv)) {
+    std::cerr << "lagrangian: " << cli::unknown_subcommand_message(app, *word) << "\n";
+    return kBadInput;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -255,18 +262,21 @@ int main(int argc, char** argv) {
     scene = scene::load_scene(scene_path);
     if (t_end) {  // run and bench
       if (!std::isfinite(*t_end) || !(*t_end > scene.run.t0))
-        throw BadInput{"command line: --t-end: must be finite and > t0 = " + std::to_string(scene.run.t0) +
-                       " s, got " + std::to_string(*t_end)};
+        throw BadInput{"command line: --t-end: must be finite and > t0 = " + detail::format_number(scene.run.t0) +
+                       " s, got " + detail::format_number(*t_end)};
       scene.run.t_end = *t_end;
+      scene.source.overrides["run.t_end"] = "--t-end";
     }
     if (run->parsed()) {
       if (rtol) {
         check_positive("--rtol", *rtol);
         scene.run.rtol = *rtol;
+        scene.source.overrides["run.rtol"] = "--rtol";
       }
       if (atol) {
         check_positive("--atol", *atol);
         scene.run.atol = *atol;
+        scene.source.overrides["run.atol"] = "--atol";
       }
       if (method) {
         auto names = stepper_names();
@@ -277,10 +287,14 @@ int main(int argc, char** argv) {
                          (near.empty() ? std::string() : "; did you mean '" + near + "'?")};
         }
         scene.run.method = *method;
+        scene.source.overrides["run.method"] = "--method";
         if (*method == "event_driven") scene.run.engine = "event_driven";
         else if (scene.run.engine == "event_driven") scene.run.engine = "ode";
       }
-      if (out_dir) scene.output.directory = *out_dir;
+      if (out_dir) {
+        scene.output.directory = *out_dir;
+        scene.source.overrides["output.directory"] = "--out";
+      }
       if (no_plots) scene.output.plots = false;
     }
     if (bench->parsed()) {

@@ -15,6 +15,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "subcommands.hpp"
 #include "sweep_command.hpp"
 
 namespace {
@@ -76,6 +77,15 @@ int main(int argc, char** argv) {
   lagrangian::cli::SweepCommand sweep;
   sweep.add(app);
   int code = 0;
+  if (const auto word = lagrangian::cli::unknown_subcommand(app, argc, argv)) {
+    // The same command line on every rank: only rank 0 speaks.
+    if (rank == 0)
+      std::cerr << "lagrangian-mpi: " << lagrangian::cli::unknown_subcommand_message(app, *word)
+                << "; lagrangian-mpi runs sweeps only (mpirun -np K lagrangian-mpi sweep SCENE ...), and "
+                   "`lagrangian run` runs a single scene\n";
+    MPI_Finalize();
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -70,11 +70,13 @@ int SweepCommand::run(int rank, int ranks, std::function<std::string(const std::
     for (const auto& v : vary_) o.vary.push_back(scene::parse_vary(v));
     for (const auto& s : set_) o.set.push_back(scene::parse_set(s));
     for (const auto& f : first_time_) o.first_times.push_back(scene::parse_first_time(f));
+    // Read as signed integers: "-5" must not wrap to 2^64 - 5.
     if (monte_carlo_) {
-      if (*monte_carlo_ == 0) throw OptionError("--monte-carlo: must be >= 1, got 0");
-      o.monte_carlo = *monte_carlo_;
+      if (*monte_carlo_ < 1) throw OptionError("--monte-carlo: must be >= 1, got " + std::to_string(*monte_carlo_));
+      o.monte_carlo = static_cast<std::uint64_t>(*monte_carlo_);
     }
-    o.seed = seed_;
+    if (seed_ < 0) throw OptionError("--seed: must be a non-negative integer, got " + std::to_string(seed_));
+    o.seed = static_cast<std::uint64_t>(seed_);
     if (threads_) {
       if (*threads_ < 1) throw OptionError("--threads: must be >= 1, got " + std::to_string(*threads_));
       o.threads = *threads_;

@@ -27,8 +27,8 @@ class SweepCommand {
  private:
   std::string scene_path_;
   std::vector<std::string> vary_, set_, first_time_;
-  std::optional<std::uint64_t> monte_carlo_;
-  std::uint64_t seed_ = 1;
+  std::optional<long long> monte_carlo_;
+  long long seed_ = 1;
   std::optional<int> threads_;
   std::optional<std::string> outputs_, plot_, out_dir_;
   bool no_plots_ = false, quiet_ = false;

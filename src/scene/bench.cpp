@@ -280,7 +280,7 @@ void BenchOptions::validate() const {
     }
     if (std::count(methods.begin(), methods.end(), m) > 1) throw OptionError("methods: '" + m + "' given twice");
   }
-  if (!(tolerance_tight >= 1e-15) || !(tolerance_loose > tolerance_tight) || !(tolerance_loose < 1) ||
+  if (!(tolerance_tight >= min_rtol) || !(tolerance_loose > tolerance_tight) || !(tolerance_loose < 1) ||
       !std::isfinite(tolerance_loose))
     throw OptionError("tolerances: need 1 > loose > tight >= 1e-15, got " + fmt(tolerance_loose) + ":" +
                       fmt(tolerance_tight));

@@ -71,6 +71,8 @@ int SourceMap::line_of(const std::string& key) const {
 namespace {
 
 std::string scene_message(const std::string& key, const std::string& what, const SourceMap& source, int line) {
+  if (const auto it = source.overrides.find(key); it != source.overrides.end())
+    return "command line: " + it->second + " sets " + key + ": " + what;
   std::string where;
   if (source.file.empty()) {
     where = "scene: ";
@@ -88,7 +90,7 @@ SceneError::SceneError(const std::string& key, const std::string& what, const So
     : OptionError(scene_message(key, what, source, source.line_of(key))),
       key_(key),
       message_(what),
-      line_(source.line_of(key)) {}
+      line_(source.overrides.count(key) ? 0 : source.line_of(key)) {}
 
 std::string nearest(const std::string& word, const std::vector<std::string>& candidates) {
   constexpr std::size_t kMaxCells = 1u << 16;  // long words get no hint rather than a slow one

@@ -91,6 +91,9 @@ void Validator::check_run() const {
   positive("run.dt", r.dt);
   positive("run.rtol", r.rtol);
   if (!(r.rtol < 1)) fail("run.rtol", "must be < 1, got " + format_value(r.rtol));
+  if (r.rtol < min_rtol)
+    fail("run.rtol", "must be at least 1e-15 (no double-precision step can meet a smaller relative tolerance), got " +
+                         format_value(r.rtol));
   positive("run.atol", r.atol);
   nonnegative("run.output_interval", r.output_interval);
   if (r.max_steps == 0) fail("run.max_steps", "must be an integer > 0, got 0");

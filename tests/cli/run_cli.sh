@@ -65,9 +65,27 @@ expect 2 "--rtol" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --rtol
 expect 2 "--t-end" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --t-end -3 --out "$work/x"
 expect 2 "did you mean 'dopri5'" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --method dopri --out "$work/x"
 expect 2 "" -- "$bin" run
-expect 2 "" -- "$bin" frobnicate
+expect 2 "unknown subcommand 'frobnicate'; the subcommands are: run, inspect, list, solve-bvp, bench, sweep" -- "$bin" frobnicate
+expect 2 "unknown subcommand 'simulate'; the subcommands are: .*" -- "$bin" simulate "$src/examples/scenes/bouncing_ball.toml"
+expect 2 "unknown subcommand 'rnu'.*did you mean 'run'" -- "$bin" rnu "$src/examples/scenes/bouncing_ball.toml"
 touch "$work/blocker"
-expect 2 "output.directory" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --out "$work/blocker/sub"
+# Values from the command line: the flag is named, not the scene file's line,
+# and numbers are printed as given.
+expect 2 "^lagrangian: command line: --out sets output.directory: cannot create" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --out "$work/blocker/sub"
+expect 2 "^lagrangian: command line: --rtol sets run.rtol: must be < 1, got 2\$" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --rtol 2 --out "$work/x"
+expect 2 "command line: --atol: must be a positive finite number, got -9.9999999999999998e-13" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --atol -1e-12 --out "$work/x"
+expect 2 "command line: --t-end: must be finite and > t0 = 0 s, got -3" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --t-end -3 --out "$work/x"
+expect 2 "command line: --rtol sets run.rtol: must be at least 1e-15 .*got 1e-30" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --rtol 1e-30 --out "$work/x"
+cat > "$work/tiny_rtol.toml" <<'TOML'
+[run]
+t_end = 1.0
+rtol = 1e-16
+[model]
+name = "harmonic_oscillator"
+q = [0.1]
+qd = [0.2]
+TOML
+expect 2 "tiny_rtol.toml:3: run.rtol: must be at least 1e-15" -- "$bin" run "$work/tiny_rtol.toml" --out "$work/x"
 
 # A run that fails part-way: exit 1, no output that looks complete.
 cat > "$work/short.toml" <<'TOML'

@@ -29,6 +29,8 @@ expect 2 "--threads: must be >= 1, got 0" -- "$bin" sweep "$scene" --vary model.
 expect 2 "--monte-carlo: every --vary must be a distribution.*model.parameters.e" -- "$bin" sweep "$scene" --vary model.parameters.e=0:1:3 --monte-carlo 10
 expect 2 "--vary model.parameters.e: a distribution needs --monte-carlo" -- "$bin" sweep "$scene" --vary model.parameters.e=uniform:0:1
 expect 2 "--monte-carlo: must be >= 1, got 0" -- "$bin" sweep "$scene" --vary model.parameters.e=uniform:0:1 --monte-carlo 0
+expect 2 "--monte-carlo: must be >= 1, got -5" -- "$bin" sweep "$scene" --vary model.parameters.e=uniform:0:1 --monte-carlo -5
+expect 2 "--seed: must be a non-negative integer, got -1" -- "$bin" sweep "$scene" --vary model.parameters.e=uniform:0:1 --monte-carlo 3 --seed -1
 expect 2 "ke_loss.toml:[0-9]+: run.rtoll: unknown key 'rtoll'; did you mean 'rtol'" -- "$bin" sweep "$scene" --vary run.rtoll=1e-8:1e-6:2 --out "$work/x"
 expect 2 "model.parameters.ee: unknown parameter 'ee'.*did you mean 'e'" -- "$bin" sweep "$scene" --vary model.parameters.ee=0:1:2 --out "$work/x"
 expect 2 "--vary model.q\[5\]: index 5 is out of range" -- "$bin" sweep "$scene" --vary 'model.q[5]=0:1:2' --out "$work/x"
@@ -65,6 +67,7 @@ if [ -n "$mpi_bin" ]; then
   expect 0 "" -- "$mpiexec" -np 2 "$mpi_bin" "${mc[@]}" --threads 2 --out "$work/mcr2"
   cmp "$work/mc1/sweep.csv" "$work/mcr2/sweep.csv" || { echo "FAIL: Monte Carlo on 2 ranks differs"; fails=$((fails + 1)); }
   expect 2 "--threads: must be >= 1, got 0" -- "$mpiexec" -np 2 "$mpi_bin" sweep "$scene" --vary model.parameters.e=0:1:3 --threads 0
+  expect 2 "unknown subcommand 'run'; the subcommands are: sweep; lagrangian-mpi runs sweeps only" -- "$mpi_bin" run "$scene"
   # Rank 0 cannot write its output directory while rank 1 can run: no rank waits forever.
   touch "$work/blocker"
   expect 2 "--out: cannot create the directory" -- timeout 120 "$mpiexec" -np 2 "$mpi_bin" sweep "$scene" --vary model.parameters.e=0:1:3 --out "$work/blocker/x"
