@@ -269,7 +269,8 @@ std::string RunReport::to_json() const {
   // Events: counts by kind, the times of stops, and the first few in full
   // (the whole log goes to write_events_csv).
   const auto counts = event_counts(events);
-  os << ",\n  \"events\": {\"count\": " << events.size();
+  os << ",\n  \"events\": {\"count\": " << events.size() << ", \"not_logged\": " << unlogged_events
+     << ", \"truncated\": " << (unlogged_events > 0 ? "true" : "false");
   for (int k = 0; k < 5; ++k) os << ", \"" << to_string(static_cast<EventKind>(k)) << "\": " << counts[static_cast<std::size_t>(k)];
   os << ", \"impact_energy_loss\": ";
   json_number(os, impact_energy_loss);
@@ -326,6 +327,9 @@ void RunReport::write_events_csv(const std::string& path) const {
     std::fprintf(f, "%.17g,%s,%s,%.17g,%.17g,%.17g,%.17g,%.17g\n", e.t, to_string(e.kind), name.c_str(), e.impulse,
                  e.approach_speed, e.separation_speed, e.kinetic_energy_before, e.kinetic_energy_after);
   }
+  if (unlogged_events > 0)  // said in the file itself (pandas: read_csv(..., comment="#"))
+    std::fprintf(f, "# truncated: these are the first %zu of %llu events; raise output.max_events to log them all\n",
+                 events.size(), static_cast<unsigned long long>(events.size() + unlogged_events));
   const bool ok = std::ferror(f) == 0;
   if (std::fclose(f) != 0 || !ok) {
     std::remove(partial.c_str());
@@ -377,11 +381,18 @@ std::string RunReport::summary() const {
   }
   if (!events.empty()) {
     const auto counts = event_counts(events);
-    std::snprintf(buf, sizeof buf,
-                  "events: %zu (%llu impacts, %llu rests, %llu releases, %llu watched); impacts dissipated %.6g J\n",
-                  events.size(), static_cast<unsigned long long>(counts[0]),
-                  static_cast<unsigned long long>(counts[1]), static_cast<unsigned long long>(counts[2]),
-                  static_cast<unsigned long long>(counts[3] + counts[4]), impact_energy_loss);
+    // A truncated log (unlogged_events > 0) counts by kind only what it holds.
+    const unsigned long long total = events.size() + unlogged_events;
+    if (unlogged_events > 0) {
+      std::snprintf(buf, sizeof buf, "events: %llu (the first %zu logged: ", total, events.size());
+    } else {
+      std::snprintf(buf, sizeof buf, "events: %llu (", total);
+    }
+    os << buf;
+    std::snprintf(buf, sizeof buf, "%llu impacts, %llu rests, %llu releases, %llu watched); impacts dissipated %.6g J\n",
+                  static_cast<unsigned long long>(counts[0]), static_cast<unsigned long long>(counts[1]),
+                  static_cast<unsigned long long>(counts[2]), static_cast<unsigned long long>(counts[3] + counts[4]),
+                  impact_energy_loss);
     os << buf;
     for (const auto& e : events) {
       if (e.kind == EventKind::rest || e.kind == EventKind::stop || e.kind == EventKind::release) {

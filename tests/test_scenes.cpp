@@ -5,6 +5,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <string>
 #include <numbers>
 
 #include <boost/math/special_functions/ellint_1.hpp>
@@ -333,6 +335,58 @@ TEST(Scenes, OdeAndEventDrivenEnginesAgreeOnAGasInABox) {
     EXPECT_NEAR(a.report.events[k].impulse, b.report.events[k].impulse, 1e-8) << k;
   }
   EXPECT_LT(a.report.energy_drift_max, 1e-9);
+}
+
+/// The event-driven engine logs the first output.max_events impacts; when a
+/// run has more, the summary, report.json and events.csv all say so, while
+/// the impact count and the dissipated energy still cover every impact.
+TEST(Scenes, ATruncatedEventLogSaysSoEverywhere) {
+  Scene s = base(2.0);
+  s.box = BoxContact{{0, 0, 0}, {1, 1, 1}, 0.9};
+  s.sphere_contacts = SphereContacts{0.9, {}};
+  s.gas = GasFill{.count = 20, .mass = 1.0, .radius = 0.05, .speed = 1.0, .seed = 3};
+  s.run.engine = "event_driven";
+  const auto dir = std::filesystem::temp_directory_path() / "lagrangian_truncated_log";
+  std::filesystem::remove_all(dir);
+  s.output.directory = dir.string();
+  s.output.plots = false;
+  s.output.max_events = 50;
+  RunControls c;
+  c.progress = false;
+  const RunResult r = run(s, c);
+  ASSERT_GT(r.report.impacts, 50u);
+  EXPECT_EQ(r.report.events.size(), 50u);
+  EXPECT_EQ(r.report.unlogged_events, r.report.impacts - 50u);
+  const std::string total = std::to_string(r.report.impacts);
+  EXPECT_NE(r.report.summary().find("warning: event log truncated: it holds the first 50 of " + total + " impacts"),
+            std::string::npos)
+      << r.report.summary();
+  std::ifstream json(dir / "report.json");
+  const std::string text((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("\"count\": 50, \"not_logged\": " + std::to_string(r.report.unlogged_events) +
+                      ", \"truncated\": true"),
+            std::string::npos)
+      << text.substr(0, 400);
+  std::ifstream csv(dir / "events.csv");
+  std::string line, last;
+  int rows = -1;  // the header
+  while (std::getline(csv, line)) {
+    if (line.rfind("#", 0) != 0) ++rows;
+    last = line;
+  }
+  EXPECT_EQ(rows, 50);
+  EXPECT_EQ(last, "# truncated: these are the first 50 of " + total +
+                      " events; raise output.max_events to log them all");
+
+  // The energy lost in impacts is the same whatever the log keeps.
+  s.output.max_events = 100'000;
+  const RunResult all = run(s, c);
+  EXPECT_EQ(all.report.unlogged_events, 0u);
+  EXPECT_EQ(all.report.events.size(), all.report.impacts);
+  EXPECT_EQ(all.report.impacts, r.report.impacts);
+  EXPECT_EQ(all.report.impact_energy_loss, r.report.impact_energy_loss);
+  EXPECT_EQ(all.report.summary().find("truncated"), std::string::npos);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Scenes, OutputDirectoryThatCannotBeWrittenIsABadInput) {

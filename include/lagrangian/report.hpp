@@ -210,6 +210,11 @@ struct RunReport {
   /// Every event in time order: impacts, rests, releases, watched events.
   std::vector<EventRecord> events;
   std::uint64_t impacts = 0;        ///< events of kind impact
+  /// Events that happened but are not in `events`: the event-driven engine
+  /// keeps the first HardSphereOptions::max_recorded_events (a scene's
+  /// output.max_events). Nonzero: the log is truncated, and the summary,
+  /// report.json and events.csv say so.
+  std::uint64_t unlogged_events = 0;
   double impact_energy_loss = 0;    ///< sum of T_before − T_after over impacts and rests (J)
   /// Time at which a watched event with action stop ended the run (s); NaN
   /// when the run reached t_end.

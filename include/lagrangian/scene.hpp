@@ -202,6 +202,10 @@ struct OutputSpec {
   bool plots = true;               ///< make plots with gnuplot (skipped with a note when it is missing)
   bool png = true;                 ///< plots as PNG
   bool svg = true;                 ///< plots as SVG
+  /// Events written to events.csv and kept in the report by the event-driven
+  /// engine (every impact is still counted and its energy loss summed); a
+  /// run that has more says so in its summary, report.json and events.csv.
+  std::uint64_t max_events = 100'000;
 };
 
 /// Where each key of a scene file was written: key path ("bodies[2].mass")

@@ -159,7 +159,7 @@ std::vector<Impact> read_impacts(const std::string& path) {
   std::size_t lineno = 1;
   while (in.next(line)) {
     ++lineno;
-    if (line.empty()) continue;
+    if (line.empty() || line.front() == '#') continue;  // a note, such as the truncation line
     const std::vector<std::string> f = split_csv_line(std::string(line));
     if (f.size() <= std::max({ct, ck, cb}))
       throw OptionError("events file '" + path + "', line " + std::to_string(lineno) + ": too few fields");

@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -170,6 +171,14 @@ class Engine {
     rep.steps = processed;  // collisions (pair and wall) plus cell crossings
     rep.rhs_evaluations = 0;
     rep.impact_energy_loss = loss_;
+    if (rep.unlogged_events > 0) {
+      std::ostringstream os;
+      os << "event log truncated: it holds the first " << rep.events.size() << " of "
+         << rep.events.size() + rep.unlogged_events
+         << " impacts (max_recorded_events; a scene's output.max_events); the impact count and the dissipated "
+            "energy cover them all";
+      rep.warnings.push_back(os.str());
+    }
     rep.t_final = t_end_;
     rep.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return rep;
@@ -323,6 +332,8 @@ class Engine {
       r.kinetic_energy_before = energy0_ - loss_;
       r.kinetic_energy_after = energy0_ - loss_ - loss;
       rep.events.push_back(std::move(r));
+    } else {
+      ++rep.unlogged_events;
     }
     loss_ += loss;
   }

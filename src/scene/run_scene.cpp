@@ -98,6 +98,7 @@ RunReport run_event_driven(const Scene& scene, CsvSink* csv, Progress& progress,
   opt.t0 = scene.run.t0;
   opt.t_end = scene.run.t_end;
   opt.output_interval = scene.run.output_interval;
+  opt.max_recorded_events = static_cast<std::size_t>(scene.output.max_events);
   const int n = static_cast<int>(sys.spheres.size());
   Sample<Dynamic> s;
   s.q.resize(3 * n);

@@ -304,11 +304,16 @@ class Reader {
 
   void read_output(const toml::table& t) {
     const std::string p = "output";
-    keys(t, p, {"directory", "trajectory", "plots", "formats"});
+    keys(t, p, {"directory", "trajectory", "plots", "formats", "max_events"});
     OutputSpec& o = s_.output;
     if (auto* n = get(t, p, "directory")) o.directory = string(*n, "output.directory");
     if (auto* n = get(t, p, "trajectory")) o.trajectory = boolean(*n, "output.trajectory");
     if (auto* n = get(t, p, "plots")) o.plots = boolean(*n, "output.plots");
+    if (auto* n = get(t, p, "max_events")) {
+      const std::int64_t v = integer(*n, "output.max_events");
+      if (v < 0) fail("output.max_events", "must be an integer >= 0, got " + std::to_string(v));
+      o.max_events = static_cast<std::uint64_t>(v);
+    }
     if (auto* n = get(t, p, "formats")) {
       const auto formats = strings(*n, "output.formats");
       o.png = o.svg = false;
