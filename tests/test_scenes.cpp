@@ -389,6 +389,50 @@ TEST(Scenes, ATruncatedEventLogSaysSoEverywhere) {
   std::filesystem::remove_all(dir);
 }
 
+/// Values whose energies overflow a double are refused before the run,
+/// naming the key and the value; an energy that overflows during a run
+/// (here under a gravity of 1e300 m/s², from rest, with rk4) stops it with the time
+/// and the state instead of writing "energy inf".
+TEST(Scenes, OverflowingValuesAreRefusedAndOverflowMidRunStops) {
+  auto error_key = [](const Scene& s) {
+    try {
+      run(s, quiet());
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find("overflows a double"), std::string::npos) << e.what();
+      return e.key();
+    }
+    return std::string("no error");
+  };
+  Scene ball = base(1.0);
+  ball.bodies.push_back({.name = "ball", .mass = 1, .velocity = {1e200, 0, 0}});
+  EXPECT_EQ(error_key(ball), "bodies[0].velocity");
+  ball.bodies[0].velocity = {0, 0, 1e150};  // ½ m v² = 5e299 J: a run can hold it
+  ball.bodies[0].position = {1e160, 0, 0};  // but |r|² cannot
+  EXPECT_EQ(error_key(ball), "bodies[0].position");
+
+  Scene gas = base(0.2);
+  gas.box = BoxContact{{0, 0, 0}, {1, 1, 1}, 1.0};
+  gas.sphere_contacts = SphereContacts{1.0, {}};
+  gas.gas = GasFill{.count = 3000, .mass = 1.0, .radius = 0.001, .speed = 1e306, .seed = 1};
+  EXPECT_EQ(error_key(gas), "gas.speed");
+
+  Scene fall = base(1.0);
+  fall.bodies.push_back({.name = "ball", .mass = 1});
+  fall.gravity = UniformGravity{{0, 0, -1e300}};
+  fall.run.method = "rk4";  // fixed steps: the first one ends at v = -1e297 m/s, ½ m v² = inf
+  fall.run.dt = 1e-3;
+  try {
+    run(fall, quiet());
+    FAIL() << "the run finished";
+  } catch (const SimulationError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("the energy is not finite at t = "), std::string::npos) << what;
+    EXPECT_NE(what.find("x = ["), std::string::npos) << what;
+    EXPECT_GT(e.time(), 0.0);
+    EXPECT_LT(e.time(), 1.0);
+  }
+}
+
 TEST(Scenes, OutputDirectoryThatCannotBeWrittenIsABadInput) {
   Scene s = base(0.1);
   s.bodies.push_back({.name = "m", .mass = 1});

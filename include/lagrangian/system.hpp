@@ -82,4 +82,11 @@ class System {
   virtual void variational_step(double t, double h, double* x);
 };
 
+namespace detail {
+/// Stops a run whose energy (J) came out infinite or NaN at a sample at t
+/// while the state x (2n values) is finite: the values overflow double
+/// precision. Throws SimulationError naming the time, energy and state.
+[[noreturn]] void throw_non_finite_energy(double t, double energy, const double* x, int n);
+}  // namespace detail
+
 }  // namespace lagrangian

@@ -82,6 +82,15 @@ void Run::throw_non_finite(double t_old, double t, const double* x) const {
   throw SimulationError(os.str(), t);
 }
 
+void throw_non_finite_energy(double t, double energy, const double* x, int n) {
+  std::ostringstream os;
+  os.precision(17);
+  os << "the energy is not finite at t = " << t << " (E = " << energy << " J) although the state is: x = [";
+  for (int k = 0; k < 2 * n; ++k) os << (k ? ", " : "") << x[k];
+  os << "] (q then qd); its terms overflow double precision (about 1e308), so the run was stopped";
+  throw SimulationError(os.str(), t);
+}
+
 void Run::throw_max_steps(double t) const {
   std::ostringstream os;
   os << "max_steps = " << opt_.max_steps << " reached at t = " << t << " before t_end = " << opt_.t_end;

@@ -320,6 +320,13 @@ class Engine {
   }
 
   void record(RunReport& rep, std::string name, double impulse, double u, double sep, double loss) {
+    if (!std::isfinite(impulse) || !std::isfinite(loss)) {
+      std::ostringstream os;
+      os.precision(17);
+      os << "hard spheres: an impact at t = " << now_ << " gave a non-finite impulse or energy loss (J = " << impulse
+         << " N s, loss " << loss << " J): its values overflow double precision, so the run was stopped";
+      throw SimulationError(os.str(), now_);
+    }
     ++rep.impacts;
     if (rep.events.size() < opt_.max_recorded_events) {
       EventRecord r;

@@ -139,6 +139,7 @@ class ParticleSystem final : public lagrangian::System {
 
   void sample(double t, const double* x) override {
     const double E = model_.kinetic(x) + model_.potential(x);
+    if (!std::isfinite(E)) lagrangian::detail::throw_non_finite_energy(t, E, x, model_.dim());
     const double drift = std::abs(E - E0_ - shift_at(t)) / rep_.energy_scale;
     rep_.energy_drift_max = std::max(rep_.energy_drift_max, drift);
     rep_.total_energy_drift_max = rep_.energy_drift_max;
@@ -326,6 +327,14 @@ class ParticleSystem final : public lagrangian::System {
 
   void log_event(double t, EventKind kind, const std::string& name, double J, double u_in, double u_out,
                  double T_before = 0, double T_after = 0) {
+    if (!std::isfinite(J) || !std::isfinite(T_before) || !std::isfinite(T_after)) {
+      std::ostringstream os;
+      os.precision(17);
+      os << "impact " << name << " at t = " << t << " gave a non-finite impulse or energy (J = " << J
+         << " N s, kinetic energy " << T_before << " -> " << T_after
+         << " J): its values overflow double precision, so the run was stopped";
+      throw SimulationError(os.str(), t);
+    }
     EventRecord e;
     e.t = t;
     e.kind = kind;

@@ -31,6 +31,7 @@ class Validator {
  private:
   const Scene& s_;
   std::unordered_map<std::string, std::size_t> by_name_;
+  double kinetic_energy_ = 0;  ///< Σ ½ m |v|² of the bodies checked so far (J)
   std::optional<detail::GasLayout> layout_;
 
   [[noreturn]] void fail(const std::string& key, const std::string& what) const;

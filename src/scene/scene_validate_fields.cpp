@@ -167,6 +167,16 @@ void Validator::check_bodies() {
     nonnegative(key + ".radius", b.radius);
     finite(key + ".position", b.position);
     finite(key + ".velocity", b.velocity);
+    // The run's monitors square speeds and positions and multiply them by
+    // masses: values for which that overflows give infinite energies, not a run.
+    if (!std::isfinite(b.position.squaredNorm()))
+      fail(key + ".position", "|r|² overflows a double at r = " + format_vec(b.position) +
+                                  " m: positions must stay below about 1e154 m");
+    kinetic_energy_ += 0.5 * b.mass * b.velocity.squaredNorm();
+    if (!std::isfinite(0.5 * b.mass * b.velocity.squaredNorm()) || !std::isfinite(kinetic_energy_))
+      fail(key + ".velocity", "the kinetic energy ½ m |v|² overflows a double (m = " + format_value(b.mass) +
+                                  " kg, v = " + format_vec(b.velocity) +
+                                  " m/s): energies and momenta must stay below about 1e308");
   }
 }
 
@@ -181,6 +191,10 @@ void Validator::check_gas() {
   nonnegative("gas.speed", g.speed);
   if (!std::isfinite(g.speed * std::sqrt(static_cast<double>(g.count))))
     fail("gas.speed", "too large: speed * sqrt(count) must be finite, got " + format_value(g.speed));
+  if (!std::isfinite(kinetic_energy_ + 0.5 * g.mass * g.speed * g.speed * static_cast<double>(g.count)))
+    fail("gas.speed", "the gas's kinetic energy N ½ m v² overflows a double (N = " + std::to_string(g.count) +
+                          ", m = " + format_value(g.mass) + " kg, v = " + format_value(g.speed) +
+                          " m/s): energies must stay below about 1e308");
   if (g.prefix.empty()) fail("gas.prefix", "must not be empty");
   if (!s_.box) fail("gas", "needs [contacts.box] to hold the gas");
   check_box_fields();

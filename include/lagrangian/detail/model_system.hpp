@@ -188,6 +188,7 @@ class ModelSystem final : public System {
     split_state(x, s.q, s.qd);
     Vec<double, n> p(size_);
     s.energy = energy_and_momenta(model_, s.q, s.qd, t, p);
+    if (!std::isfinite(s.energy)) throw_non_finite_energy(t, s.energy, x, size_);
     h_last_ = s.energy;
     report_.energy_drift_max = std::max(report_.energy_drift_max, std::abs(s.energy - h0_) / report_.energy_scale);
     if constexpr (has_kinetic_potential_v<M>) {
