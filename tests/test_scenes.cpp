@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 #include <numbers>
 
 #include <boost/math/special_functions/ellint_1.hpp>
@@ -470,6 +471,30 @@ TEST(Scenes, AFailedRunLeavesNoOutputThatLooksComplete) {
   EXPECT_NE(text.find("\"effect_evaluations\": {\"springs\": " + std::to_string(r.report.rhs_evaluations)),
             std::string::npos)
       << text.substr(0, 400);
+
+  // Nothing of an earlier run survives a later one into the same directory:
+  // a run with plots, then a failing run, leaves none of the plots; nor does
+  // a run without plots after one with them. A file of the user's stays.
+  { std::ofstream(dir / "notes.png") << "mine"; }
+  s.output.plots = true;
+  const RunResult plotted = run(s);
+  ASSERT_TRUE(plotted.plot_note.empty()) << plotted.plot_note;  // gnuplot is installed by scripts/setup
+  std::vector<std::filesystem::path> plots;
+  for (const std::string& f : plotted.files)
+    if (f.ends_with(".png") || f.ends_with(".svg") || f.ends_with(".gp")) plots.emplace_back(f);
+  ASSERT_GE(plots.size(), 3u);
+  for (const auto& p : plots) ASSERT_TRUE(std::filesystem::exists(p)) << p;
+  s.run.max_steps = 5;
+  EXPECT_THROW(run(s), SimulationError);
+  for (const auto& p : plots) EXPECT_FALSE(std::filesystem::exists(p)) << p << " survived a failed run";
+  s.run.max_steps = 1'000'000;
+  run(s);  // plots again
+  for (const auto& p : plots) ASSERT_TRUE(std::filesystem::exists(p)) << p;
+  s.output.plots = false;
+  run(s);
+  for (const auto& p : plots) EXPECT_FALSE(std::filesystem::exists(p)) << p << " survived a run without plots";
+  for (const char* f : {"trajectory.csv", "events.csv", "report.json"}) EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
+  EXPECT_TRUE(std::filesystem::exists(dir / "notes.png"));
   std::filesystem::remove_all(dir);
 }
 

@@ -326,6 +326,34 @@ TEST(SweepFailures, AFailedRunIsARowAndTheSweepGoesOn) {
   EXPECT_FALSE(fs::exists(o.out_dir + "/sweep.csv.partial"));
 }
 
+/// A sweep into a directory removes everything an earlier sweep wrote there
+/// (its table and plots) and any work directory an interrupted sweep left,
+/// and keeps the user's own files.
+TEST(SweepFailures, NothingOfAnEarlierSweepSurvivesALaterOne) {
+  SweepOptions o;
+  o.vary = {parse_vary("model.parameters.e=0:1:3")};
+  o.out_dir = out_dir("again");
+  fs::remove_all(o.out_dir);
+  o.plots = true;
+  const SweepResult plotted = sweep(kSweeps + "ke_loss.toml", o);
+  ASSERT_TRUE(plotted.plot_note.empty()) << plotted.plot_note;  // gnuplot is installed by scripts/setup
+  std::vector<std::string> plots;
+  for (const std::string& f : plotted.files)
+    if (!f.ends_with("sweep.csv")) plots.push_back(f);
+  ASSERT_FALSE(plots.empty());
+  for (const auto& f : plots) ASSERT_TRUE(fs::exists(f)) << f;
+  { std::ofstream(o.out_dir + "/mine.png") << "mine"; }
+  fs::create_directories(o.out_dir + "/.work-rank0/thread0");
+  { std::ofstream(o.out_dir + "/.work-rank0/thread0/report.json") << "{}"; }
+  o.plots = false;
+  sweep(kSweeps + "ke_loss.toml", o);
+  for (const auto& f : plots) EXPECT_FALSE(fs::exists(f)) << f << " survived";
+  EXPECT_FALSE(fs::exists(o.out_dir + "/.work-rank0"));
+  EXPECT_TRUE(fs::exists(o.out_dir + "/sweep.csv"));
+  EXPECT_TRUE(fs::exists(o.out_dir + "/mine.png"));
+  fs::remove_all(o.out_dir);
+}
+
 TEST(SweepFailures, AnUnknownKeyIsBadInputWithTheScenesMessage) {
   SweepOptions o;
   o.vary = {parse_vary("run.rtoll=1e-8:1e-6:2")};

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #include "lagrangian/detail/scene_registry.hpp"
@@ -16,6 +17,7 @@
 #include "lagrangian/progress.hpp"
 #include "lagrangian/scene_models.hpp"
 #include "lagrangian/scene_run.hpp"
+#include "output_manifest.hpp"
 #include "particle_engine.hpp"
 
 namespace lagrangian::scene {
@@ -39,13 +41,9 @@ void prepare_directory(const Scene& scene) {
   fs::remove(probe, ec);
 }
 
-/// Removes what a failed run may have left (final names and partial files).
+/// Removes what an earlier or a failed run may have left (output_manifest.hpp).
 void remove_outputs(const std::string& dir) {
-  std::error_code ec;
-  for (const char* name : {"trajectory.csv", "events.csv", "report.json"}) {
-    fs::remove(fs::path(dir) / name, ec);
-    fs::remove(fs::path(dir) / (std::string(name) + ".partial"), ec);
-  }
+  detail::remove_listed_outputs(dir, {"trajectory.csv", "events.csv", "report.json"});
 }
 
 /// report.json: the scene, the engine, the effect counts and the run report.
@@ -239,6 +237,7 @@ RunResult run(const Scene& input, const RunControls& controls) {
   if (write && scene.output.trajectory && scene.output.plots && (scene.output.png || scene.output.svg)) {
     collect_plots([&] { return make_plots(plot_spec(scene, result)); }, result.files, result.plot_note);
   }
+  if (write) detail::write_output_manifest(dir, result.files);
   return result;
 }
 

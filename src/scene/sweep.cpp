@@ -21,6 +21,7 @@
 #include "lagrangian/scene.hpp"
 #include "lagrangian/scene_io.hpp"
 #include "lagrangian/scene_run.hpp"
+#include "output_manifest.hpp"
 #include "sweep_detail.hpp"
 
 namespace lagrangian::scene {
@@ -111,9 +112,14 @@ SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
     fs::create_directories(out_dir, ec);
     if (ec || !fs::is_directory(out_dir))
       throw OptionError("--out: cannot create the directory '" + o.out_dir + "'" + (ec ? ": " + ec.message() : ""));
-    fs::remove(csv_path, ec);  // an earlier sweep's table must not look like this one's
+    // An earlier sweep's table and plots must not look like this one's.
+    detail::remove_listed_outputs(o.out_dir, {"sweep.csv"});
   }
   const fs::path work_root = out_dir / (".work-rank" + std::to_string(o.rank));
+  {
+    std::error_code ec;
+    fs::remove_all(work_root, ec);  // left by an interrupted sweep
+  }
 
   std::vector<SweepRecord> local(mine.size());
   std::atomic<std::size_t> next{0}, done{0};
@@ -172,6 +178,7 @@ SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
   result.files.push_back(csv_path.string());
   result.header = table.header;
   if (o.plots) plot(o, table, base.name, result);
+  if (o.rank == 0) detail::write_output_manifest(o.out_dir, result.files);
   result.records = std::move(all);
   result.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
