@@ -109,6 +109,22 @@ void json_number(std::ostringstream& os, double v) {
 
 }  // namespace
 
+void check_drift(RunReport& report, double rtol) {
+  report.drift_bound = std::max(1e-2, 100 * rtol);
+  report.drift_exceeded = false;
+  if (!report.conservative) return;
+  const double drift = report.energy_drift_max;
+  if (!(drift > report.drift_bound)) return;
+  report.drift_exceeded = true;
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "energy drift %.3g of the energy scale exceeds %.3g, more than a run at rtol = %.3g can excuse (the "
+                "bound is max(1e-2, 100 rtol)): the trajectory is not to be trusted; tighten rtol, or dt for a "
+                "fixed-step method",
+                drift, report.drift_bound, rtol);
+  report.warnings.emplace_back(buf);
+}
+
 void SimulationOptions::validate() const {
   const auto names = stepper_names();
   if (std::find(names.begin(), names.end(), method) == names.end()) {
@@ -176,6 +192,9 @@ std::string RunReport::to_json() const {
   }
   os << "]";
   os << ",\n  \"conservative\": " << (conservative ? "true" : "false");
+  os << ",\n  \"drift_bound\": ";
+  json_number(os, drift_bound);
+  os << ",\n  \"drift_exceeded\": " << (drift_exceeded ? "true" : "false");
   const std::pair<const char*, double> energy[] = {{"energy_scale", energy_scale},
                                                    {"energy_initial", energy_initial},
                                                    {"energy_final", energy_final},

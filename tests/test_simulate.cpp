@@ -339,6 +339,52 @@ TEST(Simulate, Rosenbrock4IsAccurateWhenTheLagrangianDependsOnTime) {
   EXPECT_LT(rd.steps, 3 * ru.steps) << "driven " << rd.steps << " steps, undriven " << ru.steps;
 }
 
+/// The sanity monitor on both sides of its bound, max(1e-2, 100 rtol): an
+/// eccentric orbit (e = 0.9, from periapsis r = 0.1, k = m = 1) over 3
+/// orbits drifts far beyond it with rk4 at dt = 0.03 s (the periapsis
+/// passage takes a few steps) and stays far below it with dopri5 at rtol
+/// 1e-10; a run that is not conservative is never flagged.
+TEST(Simulate, TheSanityMonitorFlagsAnEnergyDriftNoToleranceExcuses) {
+  const KeplerPolar kepler;
+  State<2> x0;
+  const double e = 0.9, rp = 0.1;
+  x0.q << rp, 0.0;
+  x0.qd << 0.0, std::sqrt((1 + e) / rp) / rp;  // φ̇ = v_p / r_p, v_p = √(k (1 + e) / (m r_p))
+  const double a = rp / (1 - e), period = 2 * kPi * std::pow(a, 1.5);
+  SimulationOptions o = options("rk4", 3 * period);
+  o.dt = 0.03;
+  o.output_interval = 0.05;
+  const RunReport coarse = simulate(kepler, x0, o);
+  EXPECT_TRUE(coarse.conservative);
+  EXPECT_EQ(coarse.drift_bound, 1e-2);
+  EXPECT_GT(coarse.energy_drift_max, 1e-2);
+  EXPECT_TRUE(coarse.drift_exceeded);
+  ASSERT_FALSE(coarse.warnings.empty());
+  EXPECT_NE(coarse.warnings.back().find("energy drift"), std::string::npos) << coarse.warnings.back();
+  EXPECT_NE(coarse.to_json().find("\"drift_exceeded\": true"), std::string::npos);
+
+  o.method = "dopri5";
+  const RunReport fine = simulate(kepler, x0, o);
+  EXPECT_LT(fine.energy_drift_max, 1e-7);
+  EXPECT_FALSE(fine.drift_exceeded);
+  EXPECT_NE(fine.to_json().find("\"drift_exceeded\": false"), std::string::npos);
+
+  // A loose tolerance excuses more: rtol = 1e-3 puts the bound at 0.1.
+  o.rtol = 1e-3;
+  o.atol = 1e-5;
+  EXPECT_DOUBLE_EQ(simulate(kepler, x0, o).drift_bound, 0.1);
+
+  // Damping removes most of the energy: physics, not drift.
+  auto damped = with_dissipation(harmonic_oscillator(1.0, 4.0),
+                                 [](const auto&, const auto& qd) { return 0.25 * qd[0] * qd[0]; });
+  State<1> s0;
+  s0.q[0] = 1.0;
+  const RunReport decayed = simulate(damped, s0, options("dopri5", 10.0));
+  EXPECT_FALSE(decayed.conservative);
+  EXPECT_GT(decayed.energy_drift_max, 0.9);
+  EXPECT_FALSE(decayed.drift_exceeded);
+}
+
 // -- sampling -------------------------------------------------------------------------
 
 TEST(Simulate, DenseOutputSamplesAreAccurateBetweenSteps) {

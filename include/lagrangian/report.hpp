@@ -47,6 +47,17 @@ enum class Stabilization {
 const char* to_string(Stabilization s);
 
 /// What a run should do. Times in s.
+struct RunReport;
+/// The sanity monitor, run by the driver at the end of every run: sets
+/// report.drift_bound = max(1e-2, 100 rtol) and, when the system conserves
+/// its energy (report.conservative) and the largest relative energy drift
+/// exceeds that bound, report.drift_exceeded and a warning naming the drift,
+/// the bound and what to do. No run at that tolerance can excuse such a
+/// drift: a local error of rtol per step accumulates to 100 rtol only after
+/// about 100 error-maximal steps in one direction, and 1 % of the energy
+/// marks a trajectory no longer worth reading at any tolerance.
+void check_drift(RunReport& report, double rtol);
+
 /// The smallest relative tolerance a run accepts: about 5 units of
 /// double-precision rounding (ε = 2.2e-16). An adaptive step cannot hold its
 /// error below the rounding of the state itself, so a smaller rtol only
@@ -177,6 +188,12 @@ struct RunReport {
   /// at the sampled states: the energy function h is then a constant of the
   /// motion and its drift measures the integration error.
   bool conservative = false;
+  /// The sanity monitor (check_drift): the relative drift of a conserved
+  /// energy that a run at its tolerance can excuse, max(1e-2, 100 rtol), and
+  /// whether the run went beyond it. When it did, `warnings` says so in words,
+  /// and the `lagrangian` command exits with code 3 unless --allow-drift.
+  double drift_bound = 0;
+  bool drift_exceeded = false;
   /// Scale for relative energy drift: max(|h0|, |T0| + |V0|) (J), or 1 J when zero.
   double energy_scale = 1;
   double energy_initial = 0;        ///< h(t0) = p·q̇ − L (J)

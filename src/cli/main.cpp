@@ -2,7 +2,9 @@
 //
 // Exit codes: 0 success; 1 the run failed part-way (non-finite state, step
 // size underflow, max_steps, an output that could not be written); 2 bad
-// input (unknown option, unreadable or invalid scene file, invalid value).
+// input (unknown option, unreadable or invalid scene file, invalid value); 3
+// a run that finished but whose conserved energy drifted beyond what its
+// tolerance excuses (RunReport::drift_exceeded; --allow-drift gives 0).
 
 #include <algorithm>
 #include <cmath>
@@ -35,7 +37,9 @@ using namespace lagrangian;
 
 namespace {
 
-constexpr int kOk = 0, kRunFailed = 1, kBadInput = 2;
+/// Exit codes: 3 when a run finished but the sanity monitor found a conserved
+/// energy drifting beyond what its tolerance excuses (RunReport::drift_exceeded).
+constexpr int kOk = 0, kRunFailed = 1, kBadInput = 2, kDrift = 3;
 
 /// Directories searched for the example scenes `lagrangian list` shows.
 std::vector<fs::path> scene_dirs(const char* argv0) {
@@ -165,14 +169,15 @@ int run_bench(const scene::Scene& scene, scene::BenchOptions options, bool quiet
 int main(int argc, char** argv) {
   CLI::App app{"lagrangian: run mechanical scenes (particles with effects, constraints and contacts, or built-in "
                "generalized-coordinate models) and see what their accuracy cost.\n"
-               "Exit codes: 0 ok, 1 run failed, 2 bad input."};
+               "Exit codes: 0 ok, 1 run failed, 2 bad input, 3 a run finished but a conserved energy drifted beyond what its "
+               "tolerance excuses (--allow-drift: 0)."};
   app.require_subcommand(1);
   app.set_version_flag("--version", "lagrangian 0.1.0");
 
   std::string scene_path;
   std::optional<double> t_end, rtol, atol;
   std::optional<std::string> method, out_dir;
-  bool no_plots = false, quiet = false;
+  bool no_plots = false, quiet = false, allow_drift = false;
 
   CLI::App* run = app.add_subcommand(
       "run", "Run a scene: writes trajectory.csv, events.csv, report.json and plots into the output directory and "
@@ -186,6 +191,8 @@ int main(int argc, char** argv) {
   run->add_option("--atol", atol, "absolute tolerance, overrides run.atol");
   run->add_option("--out", out_dir, "output directory, overrides output.directory");
   run->add_flag("--no-plots", no_plots, "do not make plots");
+  run->add_flag("--allow-drift", allow_drift,
+                "exit 0 even when a conserved energy drifts beyond what the tolerance excuses (otherwise exit 3)");
   run->add_flag("-q,--quiet", quiet, "print only errors");
 
   CLI::App* insp = app.add_subcommand(
@@ -417,6 +424,11 @@ int main(int argc, char** argv) {
       }
     }
     print_outputs(r.plot_note, r.files, quiet);
+    if (r.report.drift_exceeded && !allow_drift) {
+      std::cerr << "lagrangian: the run finished, but its energy drifted beyond what its tolerance excuses (see the "
+                   "warning; report.json has drift_exceeded = true): exit 3; --allow-drift accepts it\n";
+      return kDrift;
+    }
     return kOk;
   });
 }

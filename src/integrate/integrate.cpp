@@ -38,6 +38,7 @@ void integrate(System& system, std::vector<double>& x, const SimulationOptions& 
     throw SimulationError(std::string("run stopped: ") + e.what(), run.last_time());
   }
   run.finish(x.data());
+  check_drift(report, options.rtol);
   if (!fixed_step_method(m) && m != "rosenbrock4") check_stiffness(system, x, report.t_final, run.recent_step(), report);
 }
 

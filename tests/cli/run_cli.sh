@@ -87,6 +87,26 @@ qd = [0.2]
 TOML
 expect 2 "tiny_rtol.toml:3: run.rtol: must be at least 1e-15" -- "$bin" run "$work/tiny_rtol.toml" --out "$work/x"
 
+# The sanity monitor: an eccentric orbit (e = 0.9) with rk4 steps too long
+# for its periapsis drifts 1.6 % in energy, more than any tolerance excuses:
+# exit 3 with a warning, unless --allow-drift; dopri5 stays far below.
+cat > "$work/kep_drift.toml" <<'TOML'
+[run]
+method = "rk4"
+dt = 0.03
+t_end = 6.0
+output_interval = 0.05
+[model]
+name = "kepler"
+q = [0.1, 0.0]
+qd = [0.0, 4.358898943540674]
+TOML
+expect 3 "warning: energy drift .* exceeds 0.01" -- "$bin" run "$work/kep_drift.toml" --out "$work/kd" --no-plots
+grep -q '"drift_exceeded": true' "$work/kd/report.json" || { echo "FAIL: report.json lacks drift_exceeded"; fails=$((fails + 1)); }
+expect 0 "warning: energy drift" -- "$bin" run "$work/kep_drift.toml" --out "$work/kd" --no-plots --allow-drift
+expect 0 "" -- "$bin" run "$work/kep_drift.toml" --out "$work/kd" --no-plots --method dopri5
+grep -q '"drift_exceeded": false' "$work/kd/report.json" || { echo "FAIL: dopri5 flagged"; fails=$((fails + 1)); }
+
 # A run that fails part-way: exit 1, no output that looks complete.
 cat > "$work/short.toml" <<'TOML'
 [run]
