@@ -554,6 +554,9 @@ TEST(Scenes, TheEventDrivenEngineNeedsSphereContactsDeclared) {
   s.run.engine = "auto";
   const RunResult r = run(s, quiet());
   EXPECT_EQ(r.engine, "ode");
+  ASSERT_EQ(r.report.warnings.size(), 1u);  // not silently: the summary and report.json say why
+  EXPECT_NE(r.report.warnings[0].find("no [contacts.spheres]: they pass through each other"), std::string::npos)
+      << r.report.warnings[0];
   // a passes through b, meets the wall x = 1 − R at t = 0.7 and is back at x = 0.6 at t = 1.
   EXPECT_EQ(r.report.impacts, 1u);
   EXPECT_NEAR(r.report.events[0].t, 0.7, 1e-12);

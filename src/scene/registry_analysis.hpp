@@ -86,7 +86,9 @@ std::string analyse_model(const M& model, const ModelInfo& info, const State<coo
       if (request.equilibria) {
         out += "\n" + format_equilibria(eq, names, info.units);
         out += "  (from " + std::to_string(request.starts) +
-               " starts: minimisation finds minima, Newton's method on dU/dq = G^T lambda also saddles and maxima)\n";
+               " starts: minimisation finds minima, Newton's method on dU/dq = G^T lambda also saddles and maxima)\n"
+               "  A search from finitely many starts can miss equilibria: this list may be incomplete (--starts N "
+               "searches from more).\n";
       }
     }
     if (request.modes) {
