@@ -85,6 +85,29 @@ std::vector<double> parse_numbers(const char* flag, const std::string& text) {
   return out;
 }
 
+/// `list MODEL`: one built-in model's coordinates with their units, and its
+/// parameters with their defaults, units and meaning.
+int list_model(const std::string& name) {
+  const scene::ModelInfo* m = scene::find_model(name);
+  if (!m) {
+    std::vector<std::string> names;
+    for (const auto& info : scene::builtin_models()) names.push_back(info.name);
+    const std::string near = scene::nearest(name, names);
+    std::cerr << "lagrangian: list: unknown model '" << name << "'"
+              << (near.empty() ? std::string() : "; did you mean '" + near + "'?")
+              << " (`lagrangian list` names them all)\n";
+    return kBadInput;
+  }
+  std::cout << m->name << ": " << m->description << "\n\ncoordinates (q, in this order; qd in their units per second):\n";
+  for (std::size_t i = 0; i < m->coordinates.size(); ++i)
+    std::printf("  %-12s %s\n", m->coordinates[i].c_str(), i < m->units.size() ? m->units[i].c_str() : "");
+  std::cout << "\nparameters ([model.parameters]; default, unit, meaning):\n";
+  if (m->parameters.empty()) std::cout << "  (none)\n";
+  for (const auto& p : m->parameters)
+    std::printf("  %-12s %-14.12g %-10s %s\n", p.name.c_str(), p.default_value, p.unit.c_str(), p.description.c_str());
+  return kOk;
+}
+
 int list(const char* argv0) {
   std::cout << "Built-in models (use in a scene as [model] name = \"...\"):\n";
   for (const auto& m : scene::builtin_models()) {
@@ -207,7 +230,10 @@ int main(int argc, char** argv) {
                  "with --modes: linearise about the scene's initial configuration instead");
   insp->add_option("--starts", analysis.starts, "starts of the equilibrium search (default 16)");
 
-  CLI::App* lst = app.add_subcommand("list", "List the built-in models and the example scenes.");
+  CLI::App* lst = app.add_subcommand(
+      "list", "List the built-in models and the example scenes; `list MODEL`: that model's coordinates and parameters.");
+  std::string list_name;
+  lst->add_option("model", list_name, "a built-in model: show its coordinates (with units) and parameters (defaults)");
 
   std::string bvp_from, bvp_to, bvp_time;
   scene::BvpRequest bvp_req;
@@ -261,7 +287,7 @@ int main(int argc, char** argv) {
     return code == 0 ? kOk : kBadInput;
   }
 
-  if (lst->parsed()) return list(argv[0]);
+  if (lst->parsed()) return list_name.empty() ? list(argv[0]) : list_model(list_name);
   if (sweep->parsed()) return sweep_command.run();
 
   scene::Scene scene;

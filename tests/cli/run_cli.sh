@@ -22,6 +22,10 @@ expect 0 "" -- "$bin" list --help
 # list: built-in models and example scenes.
 expect 0 "double_pendulum" -- "$bin" list
 expect 0 "bouncing_ball.toml" -- "$bin" list
+# list MODEL: the coordinates with units and the parameters with defaults.
+expect 0 "^  theta2 +rad$" -- "$bin" list double_pendulum
+expect 0 "^  g +9.81 +m/s\^2 +acceleration of gravity$" -- "$bin" list double_pendulum
+expect 2 "list: unknown model 'double_pendlum'; did you mean 'double_pendulum'" -- "$bin" list double_pendlum
 
 # A run writes its files and prints a summary with the cost and the accuracy.
 expect 0 "RHS evaluations.*wall" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --out "$work/ball" --no-plots
