@@ -57,18 +57,6 @@ class ConstraintError : public Error {
 };
 
 namespace detail {
-template <class M>
-concept has_holonomic_c = requires(const M& m, const Vec<double, coordinate_count_v<M>>& q, double t) {
-  { m.holonomic(q, t) };
-};
-template <class M>
-concept has_pfaffian_c = requires(const M& m, const Vec<double, coordinate_count_v<M>>& q, double t) {
-  { m.pfaffian(q, q, t) };
-};
-template <class M>
-concept has_unilateral_c = requires(const M& m, const Vec<double, coordinate_count_v<M>>& q, double t) {
-  { m.unilateral(q, t) };
-};
 /// True when R is a column vector with a number of rows known at compile time.
 template <class R>
 concept fixed_column = requires {
@@ -326,7 +314,7 @@ void constrained_accelerations(const M& model, Workspace<coordinate_count_v<M>>&
   constexpr int mh = position_rows_v<M>;
   if constexpr (holonomic_count_v<M> + pfaffian_count_v<M> == 0) {
     if ((active & unilateral_mask_v<M>) == 0) {  // contacts only, none touching: free motion
-      accelerations(model, ws, q, qd, t, out);
+      detail::free_accelerations(model, ws, q, qd, t, out);
       cw.multipliers.setZero();
       cw.constraint_forces.setZero();
       return;

@@ -253,11 +253,11 @@ void evaluate(const M& model, Workspace<coordinate_count_v<M>>& ws, const Vec<do
   ws.rhs = ws.dL_dq - ws.mixed + ws.forces;
 }
 
-/// Generalized accelerations q̈ (m/s² or rad/s²) at (q, q̇, t), written into
-/// caller storage `out` (the hot-path form: no heap, no copy). Throws
-/// DynamicsError naming the state when M is singular or not positive definite.
+namespace detail {
+/// q̈ of the model's Lagrangian and forces alone, M q̈ = rhs, any constraints
+/// left out (the free motion of a contact model whose contacts are open).
 template <class M>
-void accelerations(const M& model, Workspace<coordinate_count_v<M>>& ws, const Vec<double, coordinate_count_v<M>>& q,
+void free_accelerations(const M& model, Workspace<coordinate_count_v<M>>& ws, const Vec<double, coordinate_count_v<M>>& q,
                    const Vec<double, coordinate_count_v<M>>& qd,
                    double t, Vec<double, coordinate_count_v<M>>& out) {
   evaluate(model, ws, q, qd, t);
@@ -281,6 +281,22 @@ void accelerations(const M& model, Workspace<coordinate_count_v<M>>& ws, const V
     detail::factor_mass_matrix(ws, q, qd, t);
     out = ws.cholesky.solve(ws.rhs);
   }
+}
+}  // namespace detail
+
+/// Generalized accelerations q̈ (m/s² or rad/s²) at (q, q̇, t), written into
+/// caller storage `out` (the hot-path form: no heap, no copy). Throws
+/// DynamicsError naming the state when M is singular or not positive
+/// definite. A model with constraints does not compile here: its q̈ comes
+/// from constrained_accelerations().
+template <class M>
+void accelerations(const M& model, Workspace<coordinate_count_v<M>>& ws, const Vec<double, coordinate_count_v<M>>& q,
+                   const Vec<double, coordinate_count_v<M>>& qd, double t, Vec<double, coordinate_count_v<M>>& out) {
+  static_assert(!detail::declares_constraints_c<M>,
+                "lagrangian: accelerations() would ignore this model's constraints; use "
+                "constrained_accelerations(model, ws, cw, q, qd, t, qdd) with a ConstraintWorkspaceFor<M> cw "
+                "(lagrangian/constraints.hpp), or simulate()");
+  if constexpr (!detail::declares_constraints_c<M>) detail::free_accelerations(model, ws, q, qd, t, out);
 }
 
 /// q̈ written into ws.accelerations and returned by reference.

@@ -383,4 +383,23 @@ inline constexpr bool has_reference_v = requires(const M& m, const State<coordin
 };
 
 
+namespace detail {
+// Which constraint functions a model declares (their rows are counted in
+// constraints.hpp; dynamics.hpp needs only whether there are any).
+template <class M>
+concept has_holonomic_c = requires(const M& m, const Vec<double, coordinate_count_v<M>>& q, double t) {
+  { m.holonomic(q, t) };
+};
+template <class M>
+concept has_pfaffian_c = requires(const M& m, const Vec<double, coordinate_count_v<M>>& q, double t) {
+  { m.pfaffian(q, q, t) };
+};
+template <class M>
+concept has_unilateral_c = requires(const M& m, const Vec<double, coordinate_count_v<M>>& q, double t) {
+  { m.unilateral(q, t) };
+};
+template <class M>
+concept declares_constraints_c = has_holonomic_c<M> || has_pfaffian_c<M> || has_unilateral_c<M>;
+}  // namespace detail
+
 }  // namespace lagrangian

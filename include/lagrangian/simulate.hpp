@@ -111,7 +111,7 @@ RunReport simulate_impl(const M& model, const State<coordinate_count_v<M>>& init
 
   if constexpr (!has_constraints_v<M>) {
     Workspace<n> ws(size);
-    accelerations(model, ws, initial.q, initial.qd, options.t0);  // a singular M at t0 is an input error
+    free_accelerations(model, ws, initial.q, initial.qd, options.t0, ws.accelerations);  // a singular M at t0 is an input error
   }
 
   ModelSystem<M> system(model, options, observer, report);

@@ -292,7 +292,7 @@ class ModelSystem final : public System {
     } else if constexpr (has_explicit_accelerations_v<M>) {
       model_.accelerations(q, qd, t, qdd);
     } else {
-      accelerations(model_, rhs_ws_, q, qd, t, qdd);
+      free_accelerations(model_, rhs_ws_, q, qd, t, qdd);
     }
   }
   void count_variational_work() {
