@@ -96,7 +96,7 @@ int MinNormSolver::factorize(const double* a, double threshold) {
 // the factors, as Eigen's CompleteOrthogonalDecomposition::solve does it, but
 // on the workspace: Eigen's solve permutes its result in place through a
 // temporary mask on the heap, one allocation per solve.
-void MinNormSolver::solve(const double* b, double* x) const {
+void MinNormSolver::solve(const double* b, double* x) {
   Impl& s = *impl_;
   if (s.regular) {
     s.solve_regular(b, x);

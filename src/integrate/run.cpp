@@ -73,21 +73,30 @@ void Run::finish(const double* x) {
   }
 }
 
+namespace {
+/// "x = [x0, x1, …] (q then qd)" at full precision, for the messages below.
+void write_state(std::ostringstream& os, const double* x, int n) {
+  os << "x = [";
+  for (int k = 0; k < 2 * n; ++k) os << (k ? ", " : "") << x[k];
+  os << "] (q then qd)";
+}
+}  // namespace
+
 void Run::throw_non_finite(double t_old, double t, const double* x) const {
   std::ostringstream os;
   os.precision(17);
-  os << "non-finite state after the step from t = " << t_old << " to t = " << t << ": x = [";
-  for (int k = 0; k < 2 * size_; ++k) os << (k ? ", " : "") << x[k];
-  os << "] (q then qd); the run was stopped";
+  os << "non-finite state after the step from t = " << t_old << " to t = " << t << ": ";
+  write_state(os, x, size_);
+  os << "; the run was stopped";
   throw SimulationError(os.str(), t);
 }
 
 void throw_non_finite_energy(double t, double energy, const double* x, int n) {
   std::ostringstream os;
   os.precision(17);
-  os << "the energy is not finite at t = " << t << " (E = " << energy << " J) although the state is: x = [";
-  for (int k = 0; k < 2 * n; ++k) os << (k ? ", " : "") << x[k];
-  os << "] (q then qd); its terms overflow double precision (about 1e308), so the run was stopped";
+  os << "the energy is not finite at t = " << t << " (E = " << energy << " J) although the state is: ";
+  write_state(os, x, n);
+  os << "; its terms overflow double precision (about 1e308), so the run was stopped";
   throw SimulationError(os.str(), t);
 }
 

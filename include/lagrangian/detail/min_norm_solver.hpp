@@ -29,8 +29,9 @@ class MinNormSolver {
   /// rank: pivots above `threshold` · (largest pivot) count, or Eigen's
   /// default threshold when `threshold` ≤ 0.
   int factorize(const double* a, double threshold = 0.0);
-  /// x (cols values) = A⁺ b (rows values) for the last factorised A.
-  void solve(const double* b, double* x) const;
+  /// x (cols values) = A⁺ b (rows values) for the last factorised A, on the
+  /// solver's own workspace (so one solver serves one thread at a time).
+  void solve(const double* b, double* x);
 
  private:
   struct Impl;
