@@ -172,8 +172,8 @@ void Validator::check_bodies() {
     if (!std::isfinite(b.position.squaredNorm()))
       fail(key + ".position", "|r|² overflows a double at r = " + format_vec(b.position) +
                                   " m: positions must stay below about 1e154 m");
-    kinetic_energy_ += 0.5 * b.mass * b.velocity.squaredNorm();
-    if (!std::isfinite(0.5 * b.mass * b.velocity.squaredNorm()) || !std::isfinite(kinetic_energy_))
+    kinetic_energy_ += 0.5 * b.mass * b.velocity.squaredNorm();  // infinite once any term is
+    if (!std::isfinite(kinetic_energy_))
       fail(key + ".velocity", "the kinetic energy ½ m |v|² overflows a double (m = " + format_value(b.mass) +
                                   " kg, v = " + format_vec(b.velocity) +
                                   " m/s): energies and momenta must stay below about 1e308");

@@ -85,8 +85,7 @@ template <class CS>
 void ModelSystem<M>::monitor_conditioning(CS cs, double t) {
   ConstraintReport& cr = report_.constraints;
   drop_inactive<M>(cs, ActiveSet{0});
-  const Eigen::Matrix<double, constraint_count_v<M>, n> jacobian = cs.jacobian;  // contiguous, column-major
-  const double* sv = ctx_->conditioning.compute(jacobian.data());
+  const double* sv = ctx_->conditioning.compute(cs.jacobian.data());
   const int r = cr.initial_rank;
   if (r < 1 || ctx_->conditioning.size() == 0 || !(sv[0] > 0)) return;
   const double ratio = r <= ctx_->conditioning.size() ? sv[r - 1] / sv[0] : 0.0;

@@ -1,7 +1,7 @@
 #pragma once
-// Singular values of a small dense matrix on storage allocated once, for
-// monitors evaluated after every step (the conditioning of a constraint
-// Jacobian); compiled once in src/singular_values.cpp.
+// Singular values of a small dense matrix on storage allocated once: the
+// one SVD behind the numerical ranks of the DOF report and the conditioning
+// monitor evaluated after every step; compiled once in src/singular_values.cpp.
 
 #include <memory>
 
