@@ -111,6 +111,31 @@ expect 0 "warning: energy drift" -- "$bin" run "$work/kep_drift.toml" --out "$wo
 expect 0 "" -- "$bin" run "$work/kep_drift.toml" --out "$work/kd" --no-plots --method dopri5
 grep -q '"drift_exceeded": false' "$work/kd/report.json" || { echo "FAIL: dopri5 flagged"; fails=$((fails + 1)); }
 
+# Unbound orbits run and are checked against their closed form (universal
+# variables): a hyperbolic flyby of the reduced problem, a parabolic pair.
+cat > "$work/flyby.toml" <<'TOML'
+[run]
+t_end = 40.0
+rtol = 1e-11
+atol = 1e-13
+[model]
+name = "kepler"
+q = [-20.0, 1.0]
+qd = [1.2, 0.0]
+TOML
+expect 0 "error against the closed form: max [0-9.]+e-(09|1[0-9])" -- "$bin" run "$work/flyby.toml" --out "$work/flyby" --no-plots
+cat > "$work/parabola.toml" <<'TOML'
+[run]
+t_end = 20.0
+rtol = 1e-11
+atol = 1e-13
+[model]
+name = "two_body"
+q = [0.0, 0.0, 1.0, 0.0]
+qd = [0.0, 0.0, 0.0, 2.0]
+TOML
+expect 0 "error against the closed form: max [0-9.]+e-(09|1[0-9])" -- "$bin" run "$work/parabola.toml" --out "$work/parabola" --no-plots
+
 # A run that fails part-way: exit 1, no output that looks complete.
 cat > "$work/short.toml" <<'TOML'
 [run]

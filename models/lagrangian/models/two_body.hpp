@@ -1,8 +1,8 @@
 #pragma once
 /// \file two_body.hpp
 /// The two-body problem and its reduction to one body of reduced mass
-/// (course notes 1.6), Kepler orbits in closed form, and the hydrogen atom's
-/// reduced mass. SI units.
+/// (course notes 1.6) and the hydrogen atom's
+/// reduced mass (Kepler's closed forms are in kepler.hpp). SI units.
 ///
 /// Two particles m₁, m₂ at r₁, r₂ interacting through a central potential
 /// U(r), r = |r₂ − r₁|:
@@ -27,6 +27,7 @@
 #include "lagrangian/detail/compiled_models.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/models/detail/particles.hpp"
+#include "lagrangian/models/kepler.hpp"
 #include "lagrangian/params.hpp"
 
 namespace lagrangian::models {
@@ -38,87 +39,6 @@ inline double reduced_mass(double m1, double m2) {
   require_positive("reduced_mass", "m2", m2);
   return m1 / (1.0 + m1 / m2);
 }
-
-/// The eccentric anomaly E with E − e sin E = M (Kepler's equation) for
-/// e ∈ [0, 1): Newton's method from E₀ = M (e < 0.8) or π, M reduced to
-/// [0, 2π), to 4 ulp of 2π or 50 iterations.
-inline double solve_kepler(double mean_anomaly, double e) {
-  const double two_pi = 2.0 * std::acos(-1.0);
-  double m = std::fmod(mean_anomaly, two_pi);
-  if (m < 0) m += two_pi;
-  double E = e < 0.8 ? m : std::acos(-1.0);
-  for (int it = 0; it < 50; ++it) {
-    const double step = (E - e * std::sin(E) - m) / (1.0 - e * std::cos(E));
-    E -= step;
-    if (std::abs(step) <= 4 * std::numeric_limits<double>::epsilon() * two_pi) break;
-  }
-  return E;
-}
-
-/// The relative position and velocity (m, m/s) at time t of a bound Kepler
-/// orbit that has r0, v0 at t = 0, gravitational parameter GM (m³/s²): the
-/// orbital elements from the state (h = r × v, eccentricity vector
-/// e = v × h / GM − r̂, a = 1/(2/r − v²/GM)), Kepler's equation for E(t), and
-/// back along the periapsis direction p̂ and q̂ = ĥ × p̂. Throws
-/// ParameterError for an unbound (a ≤ 0) or radial (h = 0) orbit.
-inline std::pair<Eigen::Vector3d, Eigen::Vector3d> kepler_propagate(double gm, const Eigen::Vector3d& r0,
-                                                                    const Eigen::Vector3d& v0, double t) {
-  const double r = r0.norm(), v2 = v0.squaredNorm();
-  const double a = 1.0 / (2.0 / r - v2 / gm);
-  const Eigen::Vector3d h = r0.cross(v0);
-  if (!(a > 0) || !std::isfinite(a))
-    throw ParameterError("kepler_propagate: the orbit is not bound (v^2 >= 2 GM / r); no elliptic closed form");
-  if (!(h.norm() > 1e-14 * r * std::sqrt(v2)))
-    throw ParameterError("kepler_propagate: the orbit is radial (r x v = 0); no elliptic closed form");
-  const Eigen::Vector3d e_vec = v0.cross(h) / gm - r0 / r;
-  double e = e_vec.norm();
-  const Eigen::Vector3d h_hat = h.normalized();
-  Eigen::Vector3d p_hat = e > 1e-12 ? Eigen::Vector3d(e_vec / e) : Eigen::Vector3d(r0 / r);
-  if (e <= 1e-12) e = 0.0;
-  const Eigen::Vector3d q_hat = h_hat.cross(p_hat);
-  const double n = std::sqrt(gm / (a * a * a)), b = std::sqrt(1.0 - e * e);
-  // E at t = 0 from r0 in the perifocal frame: x = a (cos E − e), y = a b sin E.
-  const double E0 = std::atan2(r0.dot(q_hat) / (a * b), r0.dot(p_hat) / a + e);
-  const double E = solve_kepler(E0 - e * std::sin(E0) + n * t, e);
-  const double c = std::cos(E), sn = std::sin(E), d = 1.0 - e * c;
-  return {a * (c - e) * p_hat + a * b * sn * q_hat, (-a * n * sn / d) * p_hat + (a * n * b * c / d) * q_hat};
-}
-
-/// A Kepler orbit in closed form, in its own plane with periapsis on +x:
-/// semi-major axis a (m), eccentricity e ∈ [0, 1), gravitational parameter
-/// GM = G (m₁ + m₂) (m³/s²), periapsis passage at t_p (s). The relative
-/// coordinate of a gravitational pair follows it.
-///   n = √(GM/a³),  M = n (t − t_p),  E − e sin E = M  (Kepler's equation),
-///   x = a (cos E − e),  y = a √(1 − e²) sin E,
-///   ẋ = −a n sin E / (1 − e cos E),  ẏ = a n √(1 − e²) cos E / (1 − e cos E),
-///   period P = 2π √(a³/GM).
-struct KeplerOrbit {
-  double a, e, gm, tp;
-  KeplerOrbit(double semi_major_axis, double eccentricity, double gravitational_parameter, double periapsis_time = 0)
-      : a(require_positive("KeplerOrbit", "a", semi_major_axis)),
-        e(eccentricity),
-        gm(require_positive("KeplerOrbit", "GM", gravitational_parameter)),
-        tp(require_finite("KeplerOrbit", "t_p", periapsis_time)) {
-    if (!(e >= 0.0 && e < 1.0)) lagrangian::detail::parameter_failure("KeplerOrbit", "e", "in [0, 1) (a bound orbit)", e);
-  }
-  /// Mean motion n (rad/s).
-  double mean_motion() const { return std::sqrt(gm / (a * a * a)); }
-  /// Orbital period P = 2π √(a³/GM) (s).
-  double period() const { return 2.0 * std::acos(-1.0) / mean_motion(); }
-  /// Eccentric anomaly E at time t: Kepler's equation by Newton's method
-  /// from E₀ = M (e < 0.8) or π, to 4 ulp of 2π or 50 iterations.
-  double eccentric_anomaly(double t) const { return solve_kepler(mean_motion() * (t - tp), e); }
-  /// Position (x, y) (m) and velocity (ẋ, ẏ) (m/s) at time t.
-  std::array<double, 4> state(double t) const {
-    const double E = eccentric_anomaly(t), n = mean_motion();
-    const double c = std::cos(E), s = std::sin(E), b = std::sqrt(1.0 - e * e);
-    const double denom = 1.0 - e * c;
-    return {a * (c - e), a * b * s, -a * n * s / denom, a * n * b * c / denom};
-  }
-  /// Periapsis distance a (1 − e) (m) and speed there √(GM (1 + e) / (a (1 − e))) (m/s).
-  double periapsis_distance() const { return a * (1.0 - e); }
-  double periapsis_speed() const { return std::sqrt(gm * (1.0 + e) / (a * (1.0 - e))); }
-};
 
 /// Newtonian gravity between two masses: U(r) = −k/r with k = G m₁ m₂
 /// (J·m); the force on each body points to the other, |F| = k/r².
@@ -269,8 +189,8 @@ struct RelativeMotion {
     return Vec<S, 1>(rv);
   }
   std::array<EventSpec, 1> event_specs() const { return {EventSpec{"periapsis", Direction::rising}}; }
-  /// Newtonian gravity: the Kepler orbit through `initial` (bound orbits),
-  /// GM = k/μ.
+  /// Newtonian gravity: the Kepler orbit through `initial` (any conic;
+  /// kepler_propagate), GM = k/μ.
   State<D> reference(const State<D>& initial, double t) const
     requires std::is_same_v<Potential, NewtonianGravity>
   {
