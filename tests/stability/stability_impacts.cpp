@@ -95,10 +95,14 @@ TEST(StabilityImpacts, PlasticAtEveryMassRatio) {
   EXPECT_LE(worst_p, 1e-12);
 }
 
-// e = 0 between two spheres in a box with elastic walls: a plastic pair
-// pressed into a corner re-collides without end. The run stops with a
-// message naming the time, or finishes — never a NaN.
-TEST(StabilityImpacts, PlasticPairInABoxStopsClearlyOrFinishes) {
+// e = 0 between two spheres in a box with elastic walls. At equal masses the
+// run finishes. At mass ratios 1e-9 and 1e9 the light sphere ends up pinned
+// between the heavy one and a wall; the physics is the pair bouncing off the
+// wall together (the simultaneous impact, solved for all contacts at once),
+// but the sequential rule needs ~ M/m pairwise impacts to get there, so the
+// run stops with a message naming the time and the contact. Pinned here so
+// that neither outcome changes unnoticed.
+TEST(StabilityImpacts, PlasticPairInABoxFinishesAtEqualMassesAndStopsClearlyAtExtremeRatios) {
   for (double ratio : {1e-9, 1.0, 1e9}) {
     const SpheresInBox<2> box({1.0, ratio}, {0.1, 0.07}, 1.0, 1.0, 1.0, 0.0);
     State<4> x0;
@@ -107,13 +111,19 @@ TEST(StabilityImpacts, PlasticPairInABoxStopsClearlyOrFinishes) {
     SimulationOptions o;
     o.t_end = 200.0;
     o.output_interval = -1;
-    try {
+    if (ratio == 1.0) {
       const RunReport r = simulate(box, x0, o);
-      EXPECT_TRUE(std::isfinite(r.energy_final)) << ratio;
-      std::printf("  e_pair = 0, ratio %g: finished, %llu impacts\n", ratio, static_cast<unsigned long long>(r.impacts));
+      EXPECT_TRUE(std::isfinite(r.energy_final));
+      EXPECT_GT(r.impacts, 10u);
+      continue;
+    }
+    try {
+      simulate(box, x0, o);
+      ADD_FAILURE() << "ratio " << ratio << ": expected the run to stop (simultaneous impacts not settling)";
     } catch (const SimulationError& e) {
       const std::string what = e.what();
-      EXPECT_NE(what.find("t = "), std::string::npos) << what;
+      EXPECT_NE(what.find("simultaneous impacts at t = "), std::string::npos) << what;
+      EXPECT_NE(what.find("did not settle"), std::string::npos) << what;
       EXPECT_EQ(what.find("nan"), std::string::npos) << what;
       std::printf("  e_pair = 0, ratio %g: stopped: %s\n", ratio, what.c_str());
     }
