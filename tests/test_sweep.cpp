@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -242,6 +243,26 @@ TEST(SweepExamples, KineticEnergyLossMatchesHalfMuOneMinusESquaredVrelSquared) {
   ASSERT_EQ(r.records.size(), 66u);
   ASSERT_EQ(r.failed, 0u);
   for (const SweepRecord& rec : r.records) expect_impact_closed_form(rec);
+}
+
+// Cancelled before it starts: no run, no table, no working directory; an
+// earlier table in the directory is gone too.
+TEST(SweepCancel, ACancelledSweepWritesNothingAndSaysHowFarItGot) {
+  SweepOptions o = options("cancelled", {parse_vary("model.parameters.e=0:1:50")});
+  std::filesystem::create_directories(o.out_dir);
+  std::ofstream(o.out_dir + "/sweep.csv") << "an earlier table\n";
+  const std::atomic<bool> stop{true};
+  o.cancel = &stop;
+  try {
+    sweep(kSweeps + "ke_loss.toml", o);
+    ADD_FAILURE() << "a cancelled sweep returned";
+  } catch (const SweepInterrupted& e) {
+    EXPECT_EQ(e.done_runs, 0u);
+    EXPECT_EQ(e.total_runs, 50u);
+    EXPECT_NE(std::string(e.what()).find("sweep interrupted after 0 of 50 runs; no table written"), std::string::npos);
+  }
+  EXPECT_FALSE(std::filesystem::exists(o.out_dir + "/sweep.csv"));
+  EXPECT_FALSE(std::filesystem::exists(o.out_dir + "/.work-rank0"));
 }
 
 TEST(SweepExamples, MonteCarloKineticEnergyLossFollowsTheClosedFormPointByPointAndOnAverage) {

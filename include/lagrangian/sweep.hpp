@@ -38,11 +38,14 @@
 /// CSV is the same byte for byte for any number of threads and ranks (the
 /// `wall` column, off by default, excepted).
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <map>
 #include <string>
 #include <vector>
+
+#include "lagrangian/errors.hpp"
 
 namespace lagrangian::scene {
 
@@ -130,11 +133,27 @@ struct SweepOptions {
   /// ranks > 1: called once by every rank with its serialized results;
   /// returns, on rank 0, every rank's text concatenated (anything elsewhere).
   std::function<std::string(const std::string&)> gather;
+  /// When not null and set (by a SIGINT handler, say): no further run
+  /// starts, the runs under way finish, the sweep removes its working files
+  /// and throws SweepInterrupted; nothing that looks like a table is left.
+  const std::atomic<bool>* cancel = nullptr;
 
   /// Throws OptionError naming the option and the value when invalid.
   void validate() const;
   /// Names of the output groups (for messages).
   static std::vector<std::string> output_groups();
+};
+
+/// A sweep stopped through SweepOptions::cancel before all its runs were
+/// done; done_runs of total_runs had finished on this rank.
+class SweepInterrupted : public Error {
+ public:
+  SweepInterrupted(std::uint64_t done, std::uint64_t total)
+      : Error("sweep interrupted after " + std::to_string(done) + " of " + std::to_string(total) +
+              " runs; no table written"),
+        done_runs(done),
+        total_runs(total) {}
+  std::uint64_t done_runs, total_runs;
 };
 
 /// The outcome of one run.

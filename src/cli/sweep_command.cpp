@@ -2,6 +2,8 @@
 
 #include "sweep_command.hpp"
 
+#include <atomic>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -15,6 +17,17 @@ namespace lagrangian::cli {
 namespace {
 
 constexpr int kOk = 0, kRunFailed = 1, kBadInput = 2;
+constexpr int kInterrupted = 130;  // 128 + SIGINT, as shells report it
+
+// Set by the first SIGINT or SIGTERM: the sweep starts no further run and
+// cleans up. The handler restores the default action, so a second Ctrl-C
+// ends the process at once.
+std::atomic<bool> interrupt_requested{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "set from a signal handler");
+extern "C" void on_interrupt(int sig) {
+  interrupt_requested.store(true);
+  std::signal(sig, SIG_DFL);
+}
 
 std::vector<std::string> comma_list(const std::string& text) {
   std::vector<std::string> out;
@@ -98,6 +111,9 @@ int SweepCommand::run(int rank, int ranks, std::function<std::string(const std::
     const scene::Scene s = scene::load_scene(scene_path_);
     o.png = s.output.png;
     o.svg = s.output.svg;
+    o.cancel = &interrupt_requested;
+    std::signal(SIGINT, on_interrupt);
+    std::signal(SIGTERM, on_interrupt);
     const scene::SweepResult r = scene::sweep(scene_path_, o);
     if (!speak) return r.failed > 0 ? kRunFailed : kOk;
     if (!quiet_) {
@@ -118,6 +134,8 @@ int SweepCommand::run(int rank, int ranks, std::function<std::string(const std::
       return kRunFailed;
     }
     return kOk;
+  } catch (const scene::SweepInterrupted& e) {
+    return fail(speak, e.what(), kInterrupted);
   } catch (const SimulationError& e) {
     return fail(speak, std::string("sweep failed: ") + e.what(), kRunFailed);
   } catch (const OptionError& e) {  // SceneError too: bad input

@@ -123,9 +123,11 @@ SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
 
   std::vector<SweepRecord> local(mine.size());
   std::atomic<std::size_t> next{0}, done{0};
+  auto cancelled = [&] { return o.cancel != nullptr && o.cancel->load(); };
   auto worker = [&](int id) {
     const std::string work_dir = (work_root / ("thread" + std::to_string(id))).string();
     for (;;) {
+      if (cancelled()) return;
       const std::size_t k = next.fetch_add(1);
       if (k >= mine.size()) return;
       local[k] = run_point(plan, o, mine[k], work_dir);
@@ -138,7 +140,7 @@ SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
     std::vector<std::thread> pool;
     for (int id = 0; id < threads; ++id) pool.emplace_back(worker, id);
     if (o.progress && o.rank == 0) {
-      while (done.load() < mine.size()) {
+      while (done.load() < mine.size() && !cancelled()) {
         progress.update(static_cast<double>(done.load()));
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
       }
@@ -148,6 +150,7 @@ SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
   }
   std::error_code ignore;
   fs::remove_all(work_root, ignore);
+  if (done.load() < mine.size()) throw SweepInterrupted(done.load(), mine.size());
   const auto computed = std::chrono::steady_clock::now();
 
   SweepResult result;

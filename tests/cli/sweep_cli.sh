@@ -59,6 +59,26 @@ mc=(sweep "$scene" --vary model.parameters.e=uniform:0:1 --vary model.parameters
 expect 0 "" -- "$bin" "${mc[@]}" --threads 1 --out "$work/mc1"
 expect 0 "" -- "$bin" "${mc[@]}" --threads 2 --out "$work/mc2"
 cmp "$work/mc1/sweep.csv" "$work/mc2/sweep.csv" || { echo "FAIL: Monte Carlo differs with the thread count"; fails=$((fails + 1)); }
+# Ctrl-C (SIGINT) during a long sweep: the runs under way finish, no new one
+# starts, the working files go, nothing that looks like a table is left;
+# exit 130 and one line saying so. An earlier table in the directory is
+# removed too (it is not this sweep's).
+mkdir -p "$work/intr" && echo "old" > "$work/intr/sweep.csv"
+"$bin" sweep "$scene" --vary model.parameters.e=0:1:200000 --threads 1 --no-plots --out "$work/intr" \
+  > "$work/intr.out" 2>&1 &
+pid=$!
+sleep 2
+kill -INT "$pid"
+wait "$pid"
+rc=$?
+if [ "$rc" -ne 130 ] || ! grep -qE "sweep interrupted after [0-9]+ of 200000 runs; no table written" "$work/intr.out"; then
+  echo "FAIL: interrupted sweep exited $rc"; head -5 "$work/intr.out"; fails=$((fails + 1))
+else
+  echo "ok: interrupted sweep -> 130: $(tail -1 "$work/intr.out")"
+fi
+[ ! -e "$work/intr/sweep.csv" ] || { echo "FAIL: an interrupted sweep left sweep.csv"; fails=$((fails + 1)); }
+ls -A "$work/intr" | grep -q "work-rank" && { echo "FAIL: an interrupted sweep left its work directory"; fails=$((fails + 1)); }
+
 if [ -n "$mpi_bin" ]; then
   # As root, Open MPI needs these; on two cores two ranks may need --oversubscribe.
   export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
