@@ -410,6 +410,13 @@ int numeric_rank(const Mtx& a, std::vector<double>* values = nullptr) {
 }
 }  // namespace detail
 
+namespace detail {
+/// The warning that names a constraint whose Jacobian row adds no rank at t0.
+inline std::string redundant_constraint_warning(const std::string& name) {
+  return "constraint " + name + " is redundant at t0 (its Jacobian row depends on earlier rows)";
+}
+}  // namespace detail
+
 /// Degrees of freedom at a state: DOF = n − rank(∂g/∂q), velocity DOF =
 /// n − rank([G; A]); constraints whose rows add no rank to the rows before
 /// them are reported as redundant, by name.

@@ -10,14 +10,26 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "lagrangian/detail/scene_registry.hpp"
 #include "lagrangian/report.hpp"
 #include "lagrangian/scene.hpp"
 
 namespace lagrangian::scene::detail {
 
-/// A sample of a particle run: t, positions (3N), velocities (3N), T + V.
-using ParticleSample = std::function<void(double t, const double* q, const double* qd, int n, double energy)>;
+/// What a particle run reports as it goes. `begin`, once before the first
+/// sample: the names of the constraint rows (links, surfaces), in the order
+/// of the multipliers the samples carry. `sample`, at each output time: t,
+/// positions (3N, m), velocities (3N, m/s), T + V (J), the rows'
+/// multipliers λ (N for a distance row) and the constraint force Cᵀλ on
+/// each coordinate (N), both empty when the scene has no rows.
+struct ParticleOutput {
+  std::function<void(const std::vector<std::string>& rows)> begin;
+  std::function<void(double t, const double* q, const double* qd, int n, double energy,
+                     const Eigen::VectorXd& multipliers, const Eigen::VectorXd& forces)>
+      sample;
+};
 
 struct ParticleRun {
   RunReport report;
@@ -47,7 +59,7 @@ SimulationOptions options_of(const RunSpec& run);
 
 /// Runs a validated scene whose gas (if any) has been expanded: the scene
 /// as a System for the one driver (integrate.hpp).
-ParticleRun run_particles(const Scene& scene, const ParticleSample& sample, const SampleTick& tick);
+ParticleRun run_particles(const Scene& scene, const ParticleOutput& output, const SampleTick& tick);
 
 /// True when the bodies fly freely between contacts: sphere or box contacts,
 /// a box, and no effect or constraint (the exact event-driven engine applies).

@@ -276,6 +276,18 @@ class ParticleModel {
 
   /// ẋ = [v; a], through the right-hand side composed for this scene.
   void rhs(const double* x, double* dx, double t) { rhs_fn_(*this, x, dx, t); }
+  /// rhs() for a look at the state (the multipliers at a sample), not
+  /// counted among the run's evaluations or its effects'.
+  void rhs_uncounted(const double* x, double* dx, double t) {
+    const auto evaluations = rhs_evaluations, solves = constraint_solves, sweeps = contact_sweeps;
+    kernel_counts_.clear();
+    for (const auto& k : kernels_) kernel_counts_.push_back(k->evaluations);
+    rhs(x, dx, t);
+    rhs_evaluations = evaluations;
+    constraint_solves = solves;
+    contact_sweeps = sweeps;
+    for (std::size_t i = 0; i < kernels_.size(); ++i) kernels_[i]->evaluations = kernel_counts_[i];
+  }
 
   /// The right-hand side for one set of declared kinds (bits: uniform
   /// gravity, Newtonian gravity, springs, linear drag, quadratic drag) and
@@ -557,6 +569,10 @@ class ParticleModel {
   const std::vector<Contact*>& resting_contacts() const { return rest_contacts_; }
   /// λ of the k-th resting contact (N) from the last right-hand side: > 0
   /// pushes the bodies apart, < 0 would pull them together.
+  /// λ of every current row (fixed rows first) and the rows' Jacobian C,
+  /// from the last right-hand side evaluation.
+  const Eigen::VectorXd& multipliers() const { return lambda_; }
+  const Eigen::MatrixXd& constraint_jacobian() const { return C_; }
   double resting_multiplier(std::size_t k) const { return lambda_[fixed_rows_ + static_cast<Eigen::Index>(k)]; }
 
   /// The k-th resting contact leaves the constraint rows (it lifts off).
@@ -588,6 +604,7 @@ class ParticleModel {
   std::vector<Contact*> rest_contacts_;
   std::vector<Span> spans_;
   Eigen::VectorXd rhs_m_, lambda_;
+  std::vector<std::uint64_t> kernel_counts_;  ///< rhs_uncounted()'s saved counts
   std::vector<double> pressed_dx_;  ///< ẋ for pressed()
   GravityKernel* gravity_ = nullptr;
   NewtonKernel* newton_ = nullptr;

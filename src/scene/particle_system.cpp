@@ -98,9 +98,9 @@ class StepPath {
 
 class ParticleSystem final : public lagrangian::System {
  public:
-  ParticleSystem(const Scene& scene, const SimulationOptions& options, const ParticleSample& sample,
+  ParticleSystem(const Scene& scene, const SimulationOptions& options, const ParticleOutput& output,
                  const SampleTick& tick, ParticleRun& out)
-      : model_(scene), opt_(options), sample_(sample), tick_(tick), out_(out), rep_(out.report) {
+      : model_(scene), opt_(options), output_(output), tick_(tick), out_(out), rep_(out.report) {
     const auto size = static_cast<std::size_t>(2 * model_.dim());
     f0_.assign(size, 0.0);
     f1_.assign(size, 0.0);
@@ -133,6 +133,12 @@ class ParticleSystem final : public lagrangian::System {
       rep_.constraints.stabilization = to_string(opt_.stabilization);
       rep_.constraints.baumgarte_omega = model_.omega;
       rep_.constraints.initial_rank = rep_.constraints.min_rank = rank(x);
+      name_redundant_rows(x);
+    }
+    if (output_.begin) {
+      std::vector<std::string> names;
+      for (int k = 0; k < model_.fixed_rows(); ++k) names.push_back(model_.rows()[static_cast<std::size_t>(k)].name);
+      output_.begin(names);
     }
     if (model_.has_contacts()) resolve_at(x, t0, nullptr);  // contacts closing or resting at t0
   }
@@ -151,7 +157,10 @@ class ParticleSystem final : public lagrangian::System {
     rep_.angular_momentum_drift_max = std::max(rep_.angular_momentum_drift_max, rep_.angular_momentum_drift_final);
     if (rep_.constrained && !model_.rows().empty())
       rep_.constraints.min_rank = std::min(rep_.constraints.min_rank, rank(x));
-    if (sample_) sample_(t, x, x + model_.dim(), model_.dim(), E);
+    if (output_.sample) {
+      if (model_.fixed_rows() > 0) multipliers_at(x, t);
+      output_.sample(t, x, x + model_.dim(), model_.dim(), E, lambda_, forces_);
+    }
     if (tick_) tick_(t);
   }
 
@@ -309,6 +318,31 @@ class ParticleSystem final : public lagrangian::System {
     }
   }
 
+  /// The fixed rows' multipliers and the constraint force Cᵀλ at a sample,
+  /// from one evaluation of the right-hand side there (not counted among
+  /// the run's evaluations).
+  void multipliers_at(const double* x, double t) {
+    model_.rhs_uncounted(x, scratch_.data(), t);
+    lambda_ = model_.multipliers().head(model_.fixed_rows());
+    forces_.noalias() = model_.constraint_jacobian().transpose() * model_.multipliers();
+  }
+
+  /// Names, as ConstraintReport warnings, the fixed rows that add no rank to
+  /// the rows before them at t0 (a link declared twice, a surface that
+  /// repeats a link).
+  void name_redundant_rows(const double* x) {
+    Eigen::MatrixXd C;
+    jacobian(model_.rows(), x, model_.dim(), C);
+    int rank = 0;
+    for (int k = 0; k < model_.fixed_rows(); ++k) {
+      const int next = lagrangian::detail::numeric_rank(C.topRows(k + 1));
+      if (next == rank)
+        rep_.constraints.warnings.push_back(
+            lagrangian::detail::redundant_constraint_warning(model_.rows()[static_cast<std::size_t>(k)].name));
+      rank = next;
+    }
+  }
+
   int rank(const double* x) const {
     Eigen::MatrixXd C;
     jacobian(model_.rows(), x, model_.dim(), C);
@@ -440,7 +474,8 @@ class ParticleSystem final : public lagrangian::System {
 
   mutable ParticleModel model_;
   const SimulationOptions& opt_;
-  const ParticleSample& sample_;
+  const ParticleOutput& output_;
+  Eigen::VectorXd lambda_, forces_;  ///< at the last sample (empty without rows)
   const SampleTick& tick_;
   ParticleRun& out_;
   RunReport& rep_;
@@ -471,7 +506,7 @@ SimulationOptions options_of(const RunSpec& run) {
   return o;
 }
 
-ParticleRun run_particles(const Scene& scene, const ParticleSample& sample, const SampleTick& tick) {
+ParticleRun run_particles(const Scene& scene, const ParticleOutput& output, const SampleTick& tick) {
   const std::string& method = scene.run.method;
   if (method == "variational" || method == "symplectic_rkn_sb3a_mclachlan" || method == "velocity_verlet")
     throw OptionError("run.method: '" + method +
@@ -494,7 +529,7 @@ ParticleRun run_particles(const Scene& scene, const ParticleSample& sample, cons
   rep.dt = opt.dt;
   rep.t0 = opt.t0;
   rep.t_end = opt.t_end;
-  ParticleSystem system(scene, opt, sample, tick, out);
+  ParticleSystem system(scene, opt, output, tick, out);
   const int dim = system.coordinate_count();
   std::vector<double> x(static_cast<std::size_t>(2 * dim), 0.0);
   for (int i = 0; i < dim / 3; ++i)

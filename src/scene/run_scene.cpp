@@ -192,26 +192,34 @@ RunResult run(const Scene& input, const RunControls& controls) {
       for (const Body& b : scene.bodies)
         for (const char* ax : {".x", ".y", ".z"}) columns.coordinates.push_back(b.name + ax);
       columns.total_energy = false;
-      if (want_csv) {
-        csv.emplace(traj);
-        csv->begin(columns);
-      }
+      if (want_csv) csv.emplace(traj);
       if (result.engine == "event_driven") {
+        if (csv) csv->begin(columns);
         result.report = run_event_driven(scene, csv ? &*csv : nullptr, progress, result.q_final, result.qd_final);
       } else {
         Sample<Dynamic> s;
         const int dim = 3 * static_cast<int>(scene.bodies.size());
         s.q.resize(dim);
         s.qd.resize(dim);
-        auto sample = [&](double t, const double* q, const double* qd, int n, double energy) {
+        detail::ParticleOutput output;
+        // The header names the constraint rows (lambda_<row>, then Qc_<coordinate>).
+        output.begin = [&](const std::vector<std::string>& rows) {
+          if (!csv) return;
+          columns.constraints = rows;
+          csv->begin(columns);
+        };
+        output.sample = [&](double t, const double* q, const double* qd, int n, double energy,
+                            const Eigen::VectorXd& multipliers, const Eigen::VectorXd& forces) {
           if (!csv) return;
           s.t = t;
           s.q = Eigen::Map<const Eigen::VectorXd>(q, n);
           s.qd = Eigen::Map<const Eigen::VectorXd>(qd, n);
           s.energy = energy;
+          s.multipliers = multipliers;
+          s.constraint_forces = forces;
           (*csv)(s);
         };
-        auto run = detail::run_particles(scene, sample, tick);
+        auto run = detail::run_particles(scene, output, tick);
         result.report = std::move(run.report);
         result.effect_evaluations = std::move(run.effect_evaluations);
         result.q_final = std::move(run.q_final);

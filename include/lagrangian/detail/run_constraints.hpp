@@ -122,7 +122,7 @@ void ModelSystem<M>::start_constraints(State<n>& x0, Columns& columns) {
       throw ConstraintError("the holonomic constraints fix all " + std::to_string(n) +
                             " coordinates (rank " + std::to_string(dof.holonomic_rank) + "): no motion is left");
     for (const auto& r : dof.redundant)
-      cr.warnings.push_back("constraint " + r + " is redundant at t0 (its Jacobian row depends on earlier rows)");
+      cr.warnings.push_back(redundant_constraint_warning(r));
     auto cs = constraint_state(model_, x0.q, x0.qd, opt_.t0);
     const double qs = 1.0 + x0.q.template lpNorm<Eigen::Infinity>();
     const double vs = 1.0 + x0.qd.template lpNorm<Eigen::Infinity>();
