@@ -6,6 +6,7 @@
 ///  - elevations_to_hit(): the two elevations that pass through a target.
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -40,10 +41,13 @@ struct ProjectileToX : Projectile<D> {
 }  // namespace detail
 
 /// The elevation α ∈ (β, π/2) that maximises the simulated range along the
-/// plane, R = x_landing / cos β, by NLopt BOBYQA. Without drag it is
-/// π/4 + β/2 (Projectile::best_elevation()); with drag it is lower.
+/// plane, R = x_landing / cos β, by NLopt BOBYQA over [β + 0.01, π/2 − 0.01]
+/// from `start` (rad; by default a third of the way up that bracket, which
+/// knows nothing of the answer). Without drag it is π/4 + β/2 (Projectile::best_elevation());
+/// with drag it is lower.
 template <Drag D>
-Aim best_elevation(const Projectile<D>& p, double u, SimulationOptions options = {}) {
+Aim best_elevation(const Projectile<D>& p, double u, SimulationOptions options = {},
+                   double start = std::numeric_limits<double>::quiet_NaN()) {
   options.output_interval = -1;
   options.t_end = 1e3 * u / p.g + 1.0;  // long enough for any flight; the landing event stops it
   int evaluations = 0;
@@ -54,8 +58,14 @@ Aim best_elevation(const Projectile<D>& p, double u, SimulationOptions options =
     if (r.stopped_by != "landing") throw SimulationError("the projectile did not land by t_end", r.t_final);
     return -rec.samples.back().q[0] / std::cos(p.beta);
   };
-  const double lo = p.beta + 1e-6, hi = Projectile<D>::kHalfPi - 1e-6;
-  const auto [alpha, f] = detail::minimise_1d(negative_range, lo, hi, p.best_elevation(), 1e-12);
+  // The bracket stops 0.01 rad short of the plane and the vertical: a
+  // flight a micro-radian above the plane lasts microseconds, rises and
+  // lands inside one step and is never seen to land.
+  const double lo = p.beta + 1e-2, hi = Projectile<D>::kHalfPi - 1e-2;
+  if (std::isnan(start)) start = lo + (hi - lo) / 3.0;
+  if (!(start >= lo && start <= hi))
+    lagrangian::detail::parameter_failure("best_elevation", "start", "inside [beta + 0.01, pi/2 - 0.01] rad", start);
+  const auto [alpha, f] = detail::minimise_1d(negative_range, lo, hi, start, 1e-12);
   return {alpha, -f, evaluations};
 }
 
