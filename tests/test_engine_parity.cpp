@@ -225,6 +225,26 @@ TEST(EngineParity, BallComesToRestAndLiftsOff) {
     EXPECT_NEAR(model.end.q[i], particles.q_final[static_cast<std::size_t>(3 * i + 2)], kAgree);
     EXPECT_NEAR(model.end.qd[i], particles.qd_final[static_cast<std::size_t>(3 * i + 2)], kAgree);
   }
+  // Where it lifts off: A at rest on the floor (z_A = R, ż_A = 0) until the
+  // floor's force on it, mA g − k (z_B − z_A − L0), falls to zero, i.e. the
+  // spring's pull reaches mA g. A sample at every step puts one at the release.
+  SimulationOptions every_step = options(t_end);
+  every_step.output_interval = 0;
+  Recorder<2> rec;
+  const RunReport stepwise = simulate(sys, x0, every_step, rec);
+  double t_release = -1;
+  for (const auto& e : stepwise.events)
+    if (e.kind == EventKind::release && t_release < 0) t_release = e.t;
+  EXPECT_NEAR(t_release, ev[release].t, 1e-9);
+  bool found = false;
+  for (const auto& smp : rec.samples) {
+    if (smp.t != t_release) continue;
+    found = true;
+    EXPECT_NEAR(smp.q[0], sys.R, 1e-9);
+    EXPECT_NEAR(smp.qd[0], 0.0, 1e-9);
+    EXPECT_NEAR(sys.k * (smp.q[1] - smp.q[0] - sys.L0), sys.mA * sys.g, 1e-7 * sys.mA * sys.g);
+  }
+  EXPECT_TRUE(found) << "no sample at the release, t = " << t_release;
 }
 
 TEST(EngineParity, PendulumOnALink) {

@@ -151,6 +151,10 @@ void check_oblique(std::mt19937_64& rng) {
           if (v1.norm() > 1e-3 * vs) {
             EXPECT_NEAR(std::atan2((v1 - v1.dot(n) * n).norm(), v1.dot(n)), std::abs(o.theta), 1e-10) << where;
           }
+          // … and φ of v2 (notes 1.4: tan φ = v₂ sin φ / v₂ cos φ from (1.4.4) and (1.4.6)).
+          if (v2.norm() > 1e-3 * vs) {
+            EXPECT_NEAR(std::atan2((v2 - v2.dot(n) * n).norm(), v2.dot(n)), std::abs(o.phi), 1e-10) << where;
+          }
           // Impulse (1.4.7): on sphere 1 along n, equal and opposite on sphere 2.
           const double mu = m1 * m2 / (m1 + m2);
           const double i_scale = mu * vs;

@@ -12,6 +12,7 @@
 #include <numbers>
 
 #include <boost/math/special_functions/ellint_1.hpp>
+#include <Eigen/Geometry>
 
 #include <gtest/gtest.h>
 
@@ -237,6 +238,43 @@ TEST(Scenes, LinkPendulumWritesTheRodTension) {
   EXPECT_GT(rows, 50);
   EXPECT_LT(worst, 1e-8);
   std::filesystem::remove_all(dir);
+}
+
+// Notes 1.1 and 2.2–2.3 for a body in uniform gravity, from its start
+// r₀, v₀: the impulse of the constant force F = m g over T is the change of
+// momentum, J = F T; the torque about the origin is τ = r × m g, so
+// L(T) = L₀ + m (r₀ × g) T + ½ m (v₀ × g) T² (the g × g term vanishes).
+TEST(Scenes, ConstantForceImpulseAndTorqueChangeTheMomenta) {
+  const double m = 0.8, T = 2.5;
+  const Eigen::Vector3d g(0.3, -0.2, -9.81), r0(1.0, -2.0, 0.5), v0(3.0, 1.0, 4.0);
+  Scene s = base(T);
+  s.bodies.push_back({.name = "b", .mass = m, .position = {r0.x(), r0.y(), r0.z()}, .velocity = {v0.x(), v0.y(), v0.z()}});
+  s.gravity = UniformGravity{{g.x(), g.y(), g.z()}};
+  const RunResult r = run(s, quiet());
+  const Eigen::Vector3d p = m * vel(r, 0), L = m * pos(r, 0).cross(vel(r, 0));
+  EXPECT_LE((p - m * v0 - m * g * T).norm(), 1e-11 * m * g.norm() * T);
+  const Eigen::Vector3d L_expected = m * r0.cross(v0) + m * r0.cross(g) * T + 0.5 * m * v0.cross(g) * T * T;
+  EXPECT_LE((L - L_expected).norm(), 1e-10 * L_expected.norm());
+}
+
+// Notes 2.2: M R̈ = F_ext. Two bodies joined by a spring (an internal force)
+// in uniform gravity: the centre of mass falls as one particle,
+// R(T) = R₀ + V₀ T + ½ g T², however the spring swings them about it.
+TEST(Scenes, TheCentreOfMassMovesUnderTheExternalForceAlone) {
+  const double ma = 1.0, mb = 3.0, M = ma + mb, T = 3.0;
+  const Eigen::Vector3d g(0, 0, -9.81);
+  const Eigen::Vector3d ra(0, 0, 0), rb(1.2, 0.3, 0), va(0, 2.0, 1.0), vb(0.5, -1.0, 0);
+  Scene s = base(T);
+  s.bodies.push_back({.name = "a", .mass = ma, .position = {ra.x(), ra.y(), ra.z()}, .velocity = {va.x(), va.y(), va.z()}});
+  s.bodies.push_back({.name = "b", .mass = mb, .position = {rb.x(), rb.y(), rb.z()}, .velocity = {vb.x(), vb.y(), vb.z()}});
+  s.springs.push_back({.a = "a", .b = "b", .stiffness = 40.0, .rest_length = 1.0});
+  s.gravity = UniformGravity{{g.x(), g.y(), g.z()}};
+  const RunResult r = run(s, quiet());
+  const Eigen::Vector3d R = (ma * pos(r, 0) + mb * pos(r, 1)) / M;
+  const Eigen::Vector3d R_expected = (ma * ra + mb * rb) / M + (ma * va + mb * vb) / M * T + 0.5 * g * T * T;
+  EXPECT_LE((R - R_expected).norm(), 1e-9 * R_expected.norm());
+  // The bodies themselves did not fall as particles: the spring acted.
+  EXPECT_GT((pos(r, 0) - (ra + va * T + 0.5 * g * T * T)).norm(), 1e-2);
 }
 
 TEST(Scenes, DumbbellKeepsItsLengthAndConservesMomenta) {
