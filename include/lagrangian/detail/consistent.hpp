@@ -6,6 +6,8 @@
 
 #include <nlopt.h>
 
+#include "lagrangian/properties.hpp"
+
 namespace lagrangian {
 namespace detail {
 
@@ -55,9 +57,9 @@ State<coordinate_count_v<M>> consistent_initial_state(const M& model, const Stat
   if (!guess.q.allFinite() || !guess.qd.allFinite())
     throw ConstraintError("initial guess for the consistent state is not finite");
   if constexpr (mh > 0) {
-    if (mh >= n)
-      throw ConstraintError("the model has " + std::to_string(mh) + " holonomic constraints for " + std::to_string(n) +
-                            " coordinates: no motion is left (need fewer constraints than coordinates)");
+    // Counting constraints would refuse an over-constrained mechanism whose
+    // rows are dependent (three parallel cranks: 3 rows, rank 2, 1 DOF); the
+    // rank is judged on the solution below, where it is meaningful.
     detail::ConsistencyProblem<M> problem{&model, guess.q, t};
     std::unique_ptr<nlopt_opt_s, decltype(&nlopt_destroy)> opt(nlopt_create(NLOPT_LD_SLSQP, n), &nlopt_destroy);
     nlopt_set_min_objective(opt.get(), &detail::consistency_objective<M>, &problem);
@@ -74,6 +76,29 @@ State<coordinate_count_v<M>> consistent_initial_state(const M& model, const Stat
     // Polish (or, if SLSQP failed, try from the guess) with Gauss–Newton; it
     // throws ConstraintError naming the residuals when no solution is reached.
     project_positions(model, s.q, t, tolerance, 50, ActiveSet{0});
+    // With dependent rows SLSQP can stop short of the nearest point: move
+    // along the manifold toward the guess until q_guess − q is normal to it
+    // (no component in the null space of G), projecting back each time.
+    detail::MinNormSolver normal_solver(mh, mh);
+    for (int it = 0; it < 30; ++it) {
+      const auto cg = constraint_state(model, s.q, Vec<double, n>::Zero().eval(), t);
+      const Eigen::Matrix<double, mh, n> G = cg.jacobian.template topRows<mh>();
+      const Eigen::Matrix<double, mh, mh> GGt = G * G.transpose();
+      const Vec<double, n> d = guess.q - s.q;
+      const Vec<double, mh> Gd = G * d;
+      Vec<double, mh> y;
+      normal_solver.factorize(GGt.data(), rank_tolerance);
+      normal_solver.solve(Gd.data(), y.data());
+      const Vec<double, n> along = d - G.transpose() * y;
+      if (!(along.norm() > 1e-14 * (1.0 + s.q.norm()))) break;
+      s.q += along;
+      project_positions(model, s.q, t, tolerance, 50, ActiveSet{0});
+    }
+    auto cq = constraint_state(model, s.q, s.qd, t);
+    const int rank = detail::numeric_rank(cq.jacobian.topRows(mh));
+    if (rank >= n && detail::constraints_workless(model, s, t))
+      throw ConstraintError("the holonomic constraints fix all " + std::to_string(n) + " coordinates (rank " +
+                            std::to_string(rank) + " at the consistent state): no motion is left");
   }
   if constexpr (has_constraints_v<M>) {
     Workspace<n> ws;

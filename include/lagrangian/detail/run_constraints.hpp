@@ -112,6 +112,23 @@ void ModelSystem<M>::start_constraints(State<n>& x0, Columns& columns) {
     columns.constraints = cr.names;
     cr.stabilization = to_string(opt_.stabilization);
     cr.baumgarte_omega = opt_.stabilization == Stabilization::baumgarte ? opt_.baumgarte_omega : 0.0;
+    // A violated position constraint is said as such before the rank is
+    // judged: off the constraint manifold dependent rows (an over-constrained
+    // mechanism) look independent, and "no motion is left" would mislead.
+    const auto violation = [&](int i, double g, double velocity_residual, bool holo) {
+      std::ostringstream os;
+      os.precision(17);
+      os << "initial state violates constraint " << cr.names[static_cast<std::size_t>(i)] << ": "
+         << (holo ? "g = " : "") << (holo ? g : 0.0) << (holo ? ", " : "") << "velocity residual = " << velocity_residual
+         << "; use consistent_initial_state() to find the nearest consistent state";
+      return ConstraintError(os.str());
+    };
+    if constexpr (holonomic_count_v<M> > 0) {
+      const auto c0 = constraint_state(model_, x0.q, x0.qd, opt_.t0);
+      const double q_scale = 1.0 + x0.q.template lpNorm<Eigen::Infinity>();
+      for (int i = 0; i < holonomic_count_v<M>; ++i)
+        if (!(std::abs(c0.position[i]) <= 1e-9 * q_scale)) throw violation(i, c0.position[i], c0.velocity[i], true);
+    }
     const DofReport dof = dof_report(model_, x0, opt_.t0);
     cr.initial_rank = cr.min_rank = dof.velocity_rank;
     if constexpr (coordinate_count_v<M> == Dynamic) static_assert(coordinate_count_v<M> != Dynamic,
@@ -182,15 +199,8 @@ void ModelSystem<M>::start_constraints(State<n>& x0, Columns& columns) {
     drop_inactive<M>(cs, active);
     for (int i = 0; i < constraint_count_v<M>; ++i) {
       const bool holo = i < position_rows_v<M>;
-      if ((holo && !(std::abs(cs.position[i]) <= 1e-9 * qs)) || !(std::abs(cs.velocity[i]) <= 1e-9 * vs)) {
-        std::ostringstream os;
-        os.precision(17);
-        os << "initial state violates constraint " << cr.names[static_cast<std::size_t>(i)] << ": "
-           << (holo ? "g = " : "") << (holo ? cs.position[i] : 0.0) << (holo ? ", " : "")
-           << "velocity residual = " << cs.velocity[i]
-           << "; use consistent_initial_state() to find the nearest consistent state";
-        throw ConstraintError(os.str());
-      }
+      if ((holo && !(std::abs(cs.position[i]) <= 1e-9 * qs)) || !(std::abs(cs.velocity[i]) <= 1e-9 * vs))
+        throw violation(i, cs.position[i], cs.velocity[i], holo);
     }
   }
 }
