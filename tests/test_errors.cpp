@@ -2,6 +2,7 @@
 // leaves no output that looks complete.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -142,6 +143,37 @@ TEST(BadInput, SingularMassMatrixNamesTheState) {
       "negative_mass", {"x"}, [](const auto&, const auto& qd, const auto&) { return -0.5 * qd[0] * qd[0]; },
       [](const auto& q, const auto&) { return 0 * q[0]; });
   EXPECT_THROW(accelerations(bad, Vec<double, 1>(0.0), Vec<double, 1>(1.0)), DynamicsError);
+}
+
+// An ideal pulley of radius r whose angle φ the rope ties to the hanging
+// mass's height, x = r φ: φ carries no kinetic energy, M = diag(m, 0).
+struct MasslessPulley {
+  static constexpr int coordinate_count = 2;
+  double m = 1.0, g = 9.81, r = 0.1;
+  std::string name() const { return "massless_pulley"; }
+  std::array<std::string, 1> holonomic_names() const { return {"rope"}; }
+  template <class S>
+  S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
+    return 0.5 * m * qd[0] * qd[0];
+  }
+  template <class S>
+  S potential(const Vec<S, 2>& q, const S&) const {
+    return m * g * q[0];
+  }
+  template <class S>
+  Vec<S, 1> holonomic(const Vec<S, 2>& q, const S&) const {
+    return Vec<S, 1>(q[0] - r * q[1]);
+  }
+};
+
+TEST(BadInput, AMasslessCoordinateIsNamedAndTheWayOutSaid) {
+  State<2> s;
+  s.q << 0.2, 2.0;
+  const std::string e = error_of([&] { simulate(MasslessPulley{}, s, valid()); });
+  EXPECT_TRUE(contains(e, "mass matrix M = d2L/dqd2 is singular")) << e;
+  EXPECT_TRUE(contains(e, "coordinate q[1] has no inertia here (row 1 of M is zero)")) << e;
+  EXPECT_TRUE(contains(e, "a massless coordinate (an ideal pulley's angle: not supported")) << e;
+  EXPECT_FALSE(contains(e, "coordinate q[0] has no inertia")) << e;
 }
 
 // V = −√x: the force −∂V/∂x = 1/(2√x) becomes NaN once x < 0.

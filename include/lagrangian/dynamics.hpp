@@ -220,6 +220,14 @@ template <int N>
   for (int i = 0; i < ws.mass.rows(); ++i)
     for (int j = 0; j < ws.mass.cols(); ++j) os << (i || j ? (j ? ", " : "; ") : "") << ws.mass(i, j);
   os << "]";
+  // A coordinate that carries no kinetic energy (a zero row and column of M).
+  const double big = ws.mass.cwiseAbs().maxCoeff();
+  for (int i = 0; i < ws.mass.rows(); ++i)
+    if (!(ws.mass.row(i).cwiseAbs().maxCoeff() > 1e-14 * big))
+      os << "; coordinate q[" << i << "] has no inertia here (row " << i
+         << " of M is zero): a coordinate singularity (as at a pole of spherical coordinates: choose other "
+            "coordinates) or a massless coordinate (an ideal pulley's angle: not supported, even where constraints "
+            "would determine it; eliminate it through its constraint, or give it a small mass)";
   throw DynamicsError(os.str());
 }
 
