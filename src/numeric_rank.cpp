@@ -18,4 +18,15 @@ int numeric_rank_of(const Eigen::MatrixXd& a, std::vector<double>* values) {
   return r;
 }
 
+std::vector<int> rows_adding_no_rank(const Eigen::MatrixXd& a, int rows) {
+  std::vector<int> out;
+  int rank = 0;
+  for (int i = 0; i < rows; ++i) {
+    const int next = numeric_rank_of(a.topRows(i + 1), nullptr);
+    if (next == rank) out.push_back(i);
+    rank = next;
+  }
+  return out;
+}
+
 }  // namespace lagrangian::detail

@@ -408,9 +408,10 @@ int numeric_rank(const Mtx& a, std::vector<double>* values = nullptr) {
   if (a.rows() == 0) return 0;
   return numeric_rank_of(Eigen::MatrixXd(a), values);
 }
-}  // namespace detail
-
-namespace detail {
+/// Indices i < rows of the rows of a that add no rank to the rows above
+/// them (numeric_rank of the first i + 1 rows equals that of the first i):
+/// redundant constraints, or rows that are zero. Compiled once.
+std::vector<int> rows_adding_no_rank(const Eigen::MatrixXd& a, int rows);
 /// The warning that names a constraint whose Jacobian row adds no rank at t0.
 inline std::string redundant_constraint_warning(const std::string& name) {
   return "constraint " + name + " is redundant at t0 (its Jacobian row depends on earlier rows)";
@@ -434,13 +435,10 @@ DofReport dof_report(const M& model, const State<coordinate_count_v<M>>& s, doub
     const auto names = constraint_names(model);
     r.holonomic_rank = detail::numeric_rank(cs.jacobian.topRows(holonomic_count_v<M>));
     r.velocity_rank = detail::numeric_rank(cs.jacobian, &r.singular_values);
-    int rank = 0;
-    for (int i = 0; i < constraint_count_v<M>; ++i) {
+    // The contact rows, zeroed above, add no rank and are not redundant.
+    for (int i : detail::rows_adding_no_rank(Eigen::MatrixXd(cs.jacobian), constraint_count_v<M>)) {
       const bool unilateral = i >= holonomic_count_v<M> && i < position_rows_v<M>;
-      if (unilateral) continue;
-      const int next = detail::numeric_rank(cs.jacobian.topRows(i + 1));
-      if (next == rank) r.redundant.push_back(names[static_cast<std::size_t>(i)]);
-      rank = next;
+      if (!unilateral) r.redundant.push_back(names[static_cast<std::size_t>(i)]);
     }
   }
   r.degrees_of_freedom = r.coordinates - r.holonomic_rank;

@@ -567,12 +567,12 @@ class ParticleModel {
 
   /// The resting contacts, in the order of their rows (after the fixed ones).
   const std::vector<Contact*>& resting_contacts() const { return rest_contacts_; }
-  /// λ of the k-th resting contact (N) from the last right-hand side: > 0
-  /// pushes the bodies apart, < 0 would pull them together.
   /// λ of every current row (fixed rows first) and the rows' Jacobian C,
   /// from the last right-hand side evaluation.
   const Eigen::VectorXd& multipliers() const { return lambda_; }
   const Eigen::MatrixXd& constraint_jacobian() const { return C_; }
+  /// λ of the k-th resting contact (N) from the last right-hand side: > 0
+  /// pushes the bodies apart, < 0 would pull them together.
   double resting_multiplier(std::size_t k) const { return lambda_[fixed_rows_ + static_cast<Eigen::Index>(k)]; }
 
   /// The k-th resting contact leaves the constraint rows (it lifts off).

@@ -132,8 +132,14 @@ class ParticleSystem final : public lagrangian::System {
       for (const Row& r : model_.rows()) rep_.constraints.names.push_back(r.name);
       rep_.constraints.stabilization = to_string(opt_.stabilization);
       rep_.constraints.baumgarte_omega = model_.omega;
-      rep_.constraints.initial_rank = rep_.constraints.min_rank = rank(x);
-      name_redundant_rows(x);
+      Eigen::MatrixXd C;
+      jacobian(model_.rows(), x, model_.dim(), C);
+      rep_.constraints.initial_rank = rep_.constraints.min_rank = lagrangian::detail::numeric_rank(C);
+      // The fixed rows that add no rank to those before them (a link
+      // declared twice, a surface repeating a link), named as models' are.
+      for (int k : lagrangian::detail::rows_adding_no_rank(C, model_.fixed_rows()))
+        rep_.constraints.warnings.push_back(
+            lagrangian::detail::redundant_constraint_warning(model_.rows()[static_cast<std::size_t>(k)].name));
     }
     if (output_.begin) {
       std::vector<std::string> names;
@@ -325,22 +331,6 @@ class ParticleSystem final : public lagrangian::System {
     model_.rhs_uncounted(x, scratch_.data(), t);
     lambda_ = model_.multipliers().head(model_.fixed_rows());
     forces_.noalias() = model_.constraint_jacobian().transpose() * model_.multipliers();
-  }
-
-  /// Names, as ConstraintReport warnings, the fixed rows that add no rank to
-  /// the rows before them at t0 (a link declared twice, a surface that
-  /// repeats a link).
-  void name_redundant_rows(const double* x) {
-    Eigen::MatrixXd C;
-    jacobian(model_.rows(), x, model_.dim(), C);
-    int rank = 0;
-    for (int k = 0; k < model_.fixed_rows(); ++k) {
-      const int next = lagrangian::detail::numeric_rank(C.topRows(k + 1));
-      if (next == rank)
-        rep_.constraints.warnings.push_back(
-            lagrangian::detail::redundant_constraint_warning(model_.rows()[static_cast<std::size_t>(k)].name));
-      rank = next;
-    }
   }
 
   int rank(const double* x) const {

@@ -123,12 +123,11 @@ void ModelSystem<M>::start_constraints(State<n>& x0, Columns& columns) {
          << "; use consistent_initial_state() to find the nearest consistent state";
       return ConstraintError(os.str());
     };
-    if constexpr (holonomic_count_v<M> > 0) {
-      const auto c0 = constraint_state(model_, x0.q, x0.qd, opt_.t0);
-      const double q_scale = 1.0 + x0.q.template lpNorm<Eigen::Infinity>();
-      for (int i = 0; i < holonomic_count_v<M>; ++i)
-        if (!(std::abs(c0.position[i]) <= 1e-9 * q_scale)) throw violation(i, c0.position[i], c0.velocity[i], true);
-    }
+    auto cs = constraint_state(model_, x0.q, x0.qd, opt_.t0);
+    const double qs = 1.0 + x0.q.template lpNorm<Eigen::Infinity>();
+    const double vs = 1.0 + x0.qd.template lpNorm<Eigen::Infinity>();
+    for (int i = 0; i < holonomic_count_v<M>; ++i)
+      if (!(std::abs(cs.position[i]) <= 1e-9 * qs)) throw violation(i, cs.position[i], cs.velocity[i], true);
     const DofReport dof = dof_report(model_, x0, opt_.t0);
     cr.initial_rank = cr.min_rank = dof.velocity_rank;
     if constexpr (coordinate_count_v<M> == Dynamic) static_assert(coordinate_count_v<M> != Dynamic,
@@ -140,9 +139,6 @@ void ModelSystem<M>::start_constraints(State<n>& x0, Columns& columns) {
                             " coordinates (rank " + std::to_string(dof.holonomic_rank) + "): no motion is left");
     for (const auto& r : dof.redundant)
       cr.warnings.push_back(redundant_constraint_warning(r));
-    auto cs = constraint_state(model_, x0.q, x0.qd, opt_.t0);
-    const double qs = 1.0 + x0.q.template lpNorm<Eigen::Infinity>();
-    const double vs = 1.0 + x0.qd.template lpNorm<Eigen::Infinity>();
     ActiveSet active = 0;
     if constexpr (unilateral_count_v<M> > 0) {
       restitution_ = restitution_coefficients(model_);
