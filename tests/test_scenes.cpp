@@ -496,6 +496,14 @@ TEST(Scenes, OverflowingValuesAreRefusedAndOverflowMidRunStops) {
   gas.sphere_contacts = SphereContacts{1.0, {}};
   gas.gas = GasFill{.count = 3000, .mass = 1.0, .radius = 0.001, .speed = 1e306, .seed = 1};
   EXPECT_EQ(error_key(gas), "gas.speed");
+  // A gas fills its box: a box reaching 1e308 m would place molecules where |r|² overflows.
+  gas.gas->speed = 1.0;
+  gas.gas->count = 20;
+  gas.box->max = {1, 1, 1.01e308};
+  EXPECT_EQ(error_key(gas), "contacts.box.max");
+  gas.box->max = {1, 1, 1};
+  gas.box->min = {-1e200, 0, 0};
+  EXPECT_EQ(error_key(gas), "contacts.box.min");
 
   Scene fall = base(1.0);
   fall.bodies.push_back({.name = "ball", .mass = 1});

@@ -198,6 +198,15 @@ void Validator::check_gas() {
   if (g.prefix.empty()) fail("gas.prefix", "must not be empty");
   if (!s_.box) fail("gas", "needs [contacts.box] to hold the gas");
   check_box_fields();
+  // The molecules fill the box, so their positions reach its corners: the
+  // bound on positions (check_bodies) applies to the box.
+  const Vec3 corner = s_.box->min.cwiseAbs().cwiseMax(s_.box->max.cwiseAbs());
+  if (!std::isfinite(corner.squaredNorm())) {
+    const bool max_is_far = s_.box->max.cwiseAbs().maxCoeff() >= s_.box->min.cwiseAbs().maxCoeff();
+    fail(max_is_far ? "contacts.box.max" : "contacts.box.min",
+         "the gas fills the box, and |r|² overflows a double at its far corner r = " + format_vec(corner) +
+             " m: a box holding a gas must stay below about 1e154 m");
+  }
   layout_ = detail::gas_layout(g, *s_.box);
   if (!layout_) {
     const double room = detail::gas_capacity(g, *s_.box);
