@@ -5,8 +5,11 @@
 // steps in both loops (counted), so the ratio is the driver's overhead. For
 // the double pendulum also raw Odeint with q̈ out of line (not inlined into
 // the stages), which is how the compiled-once driver reaches every q̈.
-// And the harmonic oscillator, whose right-hand side is one multiply: there
-// the driver's per-step work is the largest share it can be.
+// simulate() runs the hand-coded models twice: through the loops compiled
+// once in the library, and wrapped by lagrangian::inlined() (the loops
+// compiled here with q̈ inlined). And the harmonic oscillator, whose
+// right-hand side is one multiply: there the driver's per-step work is the
+// largest share it can be.
 #include <benchmark/benchmark.h>
 
 #include <array>
@@ -19,6 +22,7 @@
 #include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
 
 #include "hand_coded.hpp"
+#include "lagrangian/inlined.hpp"
 #include "lagrangian/simulate.hpp"
 
 namespace {
@@ -159,11 +163,16 @@ void hand_simulate(benchmark::State& st, const char* method) {
 }
 
 template <class Case>
+void inlined_simulate(benchmark::State& st, const char* method) {
+  run_simulate<Case>(st, lagrangian::inlined(Case::hand()), method);
+}
+
+template <class Case>
 void ad_simulate(benchmark::State& st, const char* method) {
   run_simulate<Case>(st, Case::ad(), method);
 }
 
-// Benchmark names: BM_{RawOdeint,Simulate_HandRHS,Simulate_AD}_{Dopri5,Fehlberg78,Rk4}_{DoublePendulum,Oscillator}
+// Benchmark names: BM_{RawOdeint,Simulate_HandRHS,Simulate_HandRHSInlined,Simulate_AD}_{Dopri5,Fehlberg78,Rk4}_{DoublePendulum,Oscillator}
 // (scripts/count-instructions and bench/peers/run_peers.sh select them by name).
 #define LAGRANGIAN_DRIVER_BENCHMARKS(System, Case, Xs)                                                      \
   void BM_RawOdeint_Dopri5_##System(benchmark::State& st) {                                                \
@@ -174,6 +183,13 @@ void ad_simulate(benchmark::State& st, const char* method) {
   }                                                                                                         \
   void BM_RawOdeint_Rk4_##System(benchmark::State& st) { raw_rk4<Case>(st); }                               \
   void BM_Simulate_HandRHS_Dopri5_##System(benchmark::State& st) { hand_simulate<Case>(st, "dopri5"); }      \
+  void BM_Simulate_HandRHSInlined_Dopri5_##System(benchmark::State& st) {                                 \
+    inlined_simulate<Case>(st, "dopri5");                                                                  \
+  }                                                                                                         \
+  void BM_Simulate_HandRHSInlined_Fehlberg78_##System(benchmark::State& st) {                             \
+    inlined_simulate<Case>(st, "fehlberg78");                                                              \
+  }                                                                                                         \
+  void BM_Simulate_HandRHSInlined_Rk4_##System(benchmark::State& st) { inlined_simulate<Case>(st, "rk4"); } \
   void BM_Simulate_AD_Dopri5_##System(benchmark::State& st) { ad_simulate<Case>(st, "dopri5"); }            \
   void BM_Simulate_HandRHS_Fehlberg78_##System(benchmark::State& st) { hand_simulate<Case>(st, "fehlberg78"); } \
   void BM_Simulate_AD_Fehlberg78_##System(benchmark::State& st) { ad_simulate<Case>(st, "fehlberg78"); }    \
@@ -183,6 +199,9 @@ void ad_simulate(benchmark::State& st, const char* method) {
   BENCHMARK(BM_RawOdeint_Fehlberg78_##System)->Unit(benchmark::kMillisecond);                              \
   BENCHMARK(BM_RawOdeint_Rk4_##System)->Unit(benchmark::kMillisecond);                                     \
   BENCHMARK(BM_Simulate_HandRHS_Dopri5_##System)->Unit(benchmark::kMillisecond);                           \
+  BENCHMARK(BM_Simulate_HandRHSInlined_Dopri5_##System)->Unit(benchmark::kMillisecond);                    \
+  BENCHMARK(BM_Simulate_HandRHSInlined_Fehlberg78_##System)->Unit(benchmark::kMillisecond);                \
+  BENCHMARK(BM_Simulate_HandRHSInlined_Rk4_##System)->Unit(benchmark::kMillisecond);                       \
   BENCHMARK(BM_Simulate_AD_Dopri5_##System)->Unit(benchmark::kMillisecond);                                \
   BENCHMARK(BM_Simulate_HandRHS_Fehlberg78_##System)->Unit(benchmark::kMillisecond);                       \
   BENCHMARK(BM_Simulate_AD_Fehlberg78_##System)->Unit(benchmark::kMillisecond);                            \

@@ -361,6 +361,13 @@ StructurePreserving<M> with_structure_preserving(M model) {
   return StructurePreserving<M>(std::move(model));
 }
 
+/// True when M is a model wrapped by lagrangian::inlined() (inlined.hpp):
+/// simulate() then runs the explicit methods compiled for M with its q̈
+/// inlined into the stepper's stages, instead of the loops compiled once in
+/// the library.
+template <class M>
+inline constexpr bool inline_rhs_v = requires { typename M::inlined_model; };
+
 /// A state of a model with n coordinates: positions q and velocities q̇,
 /// zero-initialised. Run-time sized states are built with State(n).
 template <int N>

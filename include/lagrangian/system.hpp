@@ -13,9 +13,15 @@
 /// only per-model part of a run. Hooks a system does not override cost a
 /// run nothing: the driver asks has_constraints() and has_events() once.
 
+#include <vector>
+
 #include "lagrangian/detail/roots.hpp"
 
 namespace lagrangian {
+
+namespace detail {
+class Run;
+}  // namespace detail
 
 /// The state inside the step just taken: interpolant(t, x_out) writes the 2n
 /// values of x at a time t between the step's ends (the stepper's dense
@@ -75,6 +81,20 @@ class System {
   }
   /// True once an event asked the run to stop.
   virtual bool stopped() const { return false; }
+
+  /// The explicit Runge–Kutta methods (dopri5, rk4, cash_karp54,
+  /// fehlberg78, bulirsch_stoer) compiled for this system's type with its
+  /// rhs() inlined into the stepper's stages: the driver's own loops
+  /// (detail/explicit_loops.hpp, run_explicit_inlined), not a copy. Runs
+  /// `run` from x (2n values) to its end and returns true; the default
+  /// returns false and the driver runs the loops compiled once in the
+  /// library, which reach rhs() through the vtable. Worth it only when f is
+  /// cheap (a hand-coded q̈), where the indirect call and the lost inlining
+  /// are a tenth of a run (docs/performance.md).
+  virtual bool integrate_inlined(detail::Run& run, std::vector<double>& x) {
+    (void)run, (void)x;
+    return false;
+  }
 
   /// The system's own fixed-step method, for options.method ==
   /// "variational": advances x (2n values) from t by h. The default throws

@@ -24,7 +24,7 @@ void run_explicit(Run& run, StateVector& x) {
     LAGRANGIAN_FIXED_CASE(12)
 #undef LAGRANGIAN_FIXED_CASE
     default:
-      return run_explicit_on(run, x);
+      return run_explicit_dynamic(run, x);
   }
 }
 static_assert(kMaxFixedStateSize == 12, "run_explicit lists the fixed sizes");

@@ -1,9 +1,10 @@
 // The explicit Runge–Kutta loops on a run-time sized state (n > 12).
-#include "explicit_loops.hpp"
+#include "lagrangian/detail/explicit_loops.hpp"
+#include "loops.hpp"
 
 namespace lagrangian::detail {
 
-template void run_explicit_on<StateVector>(Run&, StateVector&);
+void run_explicit_dynamic(Run& run, StateVector& x) { run_explicit_on(run, x, run.rhs()); }
 template struct SubStep<StateVector>;  // also used by rosenbrock_loop.cpp
 
 }  // namespace lagrangian::detail

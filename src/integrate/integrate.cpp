@@ -24,7 +24,7 @@ void integrate(System& system, std::vector<double>& x, const SimulationOptions& 
   const std::string& m = options.method;
   try {
     if (m == "dopri5" || m == "rk4" || m == "cash_karp54" || m == "fehlberg78" || m == "bulirsch_stoer") {
-      run_explicit(run, x);
+      if (!system.integrate_inlined(run, x)) run_explicit(run, x);
     } else if (m == "rosenbrock4") {
       run_rosenbrock4(run, x);
     } else if (m == "symplectic_rkn_sb3a_mclachlan" || m == "velocity_verlet") {

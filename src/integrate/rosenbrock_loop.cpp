@@ -65,7 +65,7 @@ void run_rosenbrock4(Run& run, StateVector& x) {
   Rosenbrock4Stepper stepper(ctx.m + 1, opt.atol * scale, opt.rtol * scale);
   StateVector y(x.size() + 1);
   run_controlled_loop(
-      run, x,
+      run, x, run.rhs(),
       [&](StateVector& xs, double& t, double& dt) {
         std::copy(xs.begin(), xs.end(), y.begin());
         y.back() = t;

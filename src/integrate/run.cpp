@@ -1,4 +1,4 @@
-#include "run.hpp"
+#include "lagrangian/detail/run.hpp"
 
 #include <sstream>
 

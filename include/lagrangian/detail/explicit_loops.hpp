@@ -2,10 +2,14 @@
 // The explicit Runge–Kutta loops of the driver: dopri5 with dense output,
 // rk4 on a fixed grid, and Odeint's controlled steppers without dense
 // output (cash_karp54, fehlberg78, Bulirsch–Stoer), as templates on the
-// Odeint state X; compiled for each state type in explicit_*.cpp.
+// Odeint state X and on the right-hand side Rhs. The library compiles them
+// once per state size with f reached through the System's vtable
+// (CountedRhs; src/integrate/explicit_*.cpp); a system may compile them with
+// its own f inlined (DirectRhs, System::integrate_inlined).
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -18,32 +22,31 @@
 #include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
 
 #include "lagrangian/errors.hpp"
-#include "loops.hpp"
+#include "lagrangian/detail/controlled_loop.hpp"
+#include "lagrangian/detail/run.hpp"
 
 namespace lagrangian::detail {
 
 namespace odeint = boost::numeric::odeint;
 
-// Odeint's controlled stepper `Controlled` with the run's tolerances. (Its
-// constructor copies a default-constructed stepper whose scratch arrays are
-// not initialised yet; g++ warns of that copy once it is inlined.)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wuninitialized"
-#if !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#endif
+/// Odeint's controlled stepper `Controlled` with the run's tolerances. Its
+/// constructor copies the stepper it is given, by default a temporary whose
+/// scratch arrays are indeterminate, which g++ reports as a use of
+/// uninitialised values wherever the copy is inlined (user programs
+/// included); the prototype here has static storage, so it is zeroed.
 template <class Controlled>
 Controlled make_controlled(double atol, double rtol) {
   if constexpr (requires { typename Controlled::error_checker_type; }) {
-    return Controlled{typename Controlled::error_checker_type(atol, rtol)};
+    static const typename Controlled::stepper_type prototype{};
+    return Controlled(typename Controlled::error_checker_type(atol, rtol), typename Controlled::step_adjuster_type(),
+                      prototype);
   } else {
     return Controlled(atol, rtol);  // Bulirsch–Stoer
   }
 }
-#pragma GCC diagnostic pop
 
-template <class X>
-void SubStep<X>::operator()(double t, double* out) const {
+template <class X, class Rhs>
+void SubStep<X, Rhs>::operator()(double t, double* out) const {
   if (t == t0) {
     std::copy(x0.begin(), x0.end(), out);
     return;
@@ -73,21 +76,19 @@ namespace explicit_loops {
 // Odeint's controlled stepper without dense output in the common loop.
 // No state is carried between steps except by Bulirsch–Stoer, which
 // restarts after an event.
-template <class Controlled, class X>
-void run_controlled(Run& run, X& x) {
-  const CountedRhs<X> rhs = run.rhs<X>();
+template <class Controlled, class X, class Rhs>
+void run_controlled(Run& run, X& x, const Rhs rhs) {
   Controlled stepper = make_controlled<Controlled>(run.options().atol, run.options().rtol);
   run_controlled_loop(
-      run, x, [&](X& xs, double& t, double& dt) { return stepper.try_step(rhs, xs, t, dt) == odeint::success; },
+      run, x, rhs, [&](X& xs, double& t, double& dt) { return stepper.try_step(rhs, xs, t, dt) == odeint::success; },
       [&] {
         if constexpr (requires { stepper.reset(); }) stepper.reset();
       });
 }
 
-template <class X>
-void run_dopri5(Run& run, X& x) {
+template <class X, class Rhs>
+void run_dopri5(Run& run, X& x, const Rhs rhs) {
   const SimulationOptions& opt = run.options();
-  const CountedRhs<X> rhs = run.rhs<X>();
   using Controlled = odeint::controlled_runge_kutta<odeint::runge_kutta_dopri5<X>>;
   Controlled stepper{typename Controlled::error_checker_type(opt.atol, opt.rtol)};
   const bool events = run.has_events();
@@ -98,7 +99,14 @@ void run_dopri5(Run& run, X& x) {
   // Samples between steps and event location need the step's start.
   const bool dense = opt.output_interval > 0 || events;
   rhs(x, dxdt, t);
+  auto fsal_step = [&](X& xs, double& ts, double& dts) {
+    return stepper.try_step(rhs, xs, dxdt, ts, dts) == odeint::success;
+  };
+  const bool quiet = !moves;  // no hook after a step: quiet_steps()
   while (!reached(t, opt.t_end) && !run.stopped()) {
+    if constexpr (inlined_rhs_v<Rhs, X>) {
+      if (quiet && run_quiet_steps(run, x, t, dt, opt.t_end, fsal_step)) continue;
+    }
     const bool clamped = t + dt > opt.t_end;
     double dt_try = clamped ? opt.t_end - t : dt;
     if (dense) {
@@ -140,10 +148,31 @@ void run_dopri5(Run& run, X& x) {
   }
 }
 
-template <class X>
-void run_rk4(Run& run, X& x) {
+/// rk4's quiet_steps(): whole grid steps t0 + k dt (k advanced) that end
+/// short of t_end and of the next sample; returns how many, t_old the start
+/// of the last one.
+template <class Stepper, class Rhs, class X>
+[[gnu::flatten]] std::uint64_t quiet_grid_steps(const Run& run, Stepper& stepper, const Rhs& rhs, X& x, double& t,
+                                                std::uint64_t& k, double& t_old) {
   const SimulationOptions& opt = run.options();
-  const CountedRhs<X> rhs = run.rhs<X>();
+  const std::uint64_t cap = run.steps_left();
+  std::uint64_t m = 0;
+  while (m < cap) {
+    const double t_grid = opt.t0 + static_cast<double>(k + 1) * opt.dt;
+    if (!(t_grid < opt.t_end) || !run.no_sample_due(t_grid)) break;
+    t_old = t;
+    stepper.do_step(rhs, x, t, t_grid - t);
+    t = t_grid;
+    ++k;
+    ++m;
+    if (!state_finite(x)) break;
+  }
+  return m;
+}
+
+template <class X, class Rhs>
+void run_rk4(Run& run, X& x, const Rhs rhs) {
+  const SimulationOptions& opt = run.options();
   odeint::runge_kutta4_classic<X> stepper;
   const bool events = run.has_events();
   // Samples between grid points and event location start from the step's
@@ -155,14 +184,26 @@ void run_rk4(Run& run, X& x) {
   std::uint64_t k = 0;
   double t = opt.t0;
   X x_prev = x;
+  // Steps that need no hook (no events, no constraints): quiet_grid_steps().
+  const bool quiet = !events && !run.has_constraints();
   while (!reached(t, opt.t_end) && !run.stopped()) {
+    if constexpr (inlined_rhs_v<Rhs, X>) {
+      if (quiet) {
+        double t_old = t;
+        const std::uint64_t m = quiet_grid_steps(run, stepper, rhs, x, t, k, t_old);
+        if (m > 0) {
+          run.accepted_in_a_row(m, t_old, t, x.data());
+          continue;
+        }
+      }
+    }
     const double t_grid = opt.t0 + static_cast<double>(k + 1) * opt.dt;
     const double t_next = std::min(t_grid, opt.t_end);
     const double t_old = t;
     if (keep_start) x_prev = x;
     stepper.do_step(rhs, x, t, t_next - t);
     t = t_next;
-    const SubStep<X> sub{rhs, x_prev, t_old, opt.rtol, opt.atol};
+    const SubStep<X, Rhs> sub{rhs, x_prev, t_old, opt.rtol, opt.atol};
     if (events) run.handle_events(t_old, x_prev.data(), t, x.data(), interpolator(sub));
     if (t >= t_grid) ++k;  // a step cut at an event leaves the grid point ahead
     run.stabilize(x.data(), t);
@@ -172,33 +213,54 @@ void run_rk4(Run& run, X& x) {
 
 }  // namespace explicit_loops
 
-/// The explicit method options.method on the Odeint state X.
-template <class X>
-void run_explicit_on(Run& run, X& x) {
+/// The explicit method options.method on the Odeint state X, with the
+/// system's f(x, t) called as `rhs(x, dxdt, t)`.
+template <class X, class Rhs>
+void run_explicit_on(Run& run, X& x, const Rhs& rhs) {
   namespace loops = explicit_loops;
   const std::string& m = run.options().method;
   if (m == "dopri5") {
-    loops::run_dopri5(run, x);
+    loops::run_dopri5(run, x, rhs);
   } else if (m == "rk4") {
-    loops::run_rk4(run, x);
+    loops::run_rk4(run, x, rhs);
   } else if (m == "cash_karp54") {
-    loops::run_controlled<odeint::controlled_runge_kutta<odeint::runge_kutta_cash_karp54<X>>>(run, x);
+    loops::run_controlled<odeint::controlled_runge_kutta<odeint::runge_kutta_cash_karp54<X>>>(run, x, rhs);
   } else if (m == "fehlberg78") {
-    loops::run_controlled<odeint::controlled_runge_kutta<odeint::runge_kutta_fehlberg78<X>>>(run, x);
+    loops::run_controlled<odeint::controlled_runge_kutta<odeint::runge_kutta_fehlberg78<X>>>(run, x, rhs);
   } else if (m == "bulirsch_stoer") {
-    loops::run_controlled<odeint::bulirsch_stoer<X>>(run, x);
+    loops::run_controlled<odeint::bulirsch_stoer<X>>(run, x, rhs);
   } else {
     throw OptionError("not an explicit Runge-Kutta method: '" + m + "'");
   }
 }
 
-/// run_explicit_on for the fixed state of 2N values, copying x in and out.
-template <int N>
-void run_explicit_fixed(Run& run, StateVector& x) {
+/// f(x, t) of the system S called directly, S::rhs rather than through the
+/// vtable, so that it is inlined into the stepper's stages; counts
+/// evaluations as CountedRhs does.
+template <class S, class X>
+struct DirectRhs {
+  const S* system;
+  std::uint64_t* evaluations;
+  void operator()(const X& x, X& dxdt, double t) const {
+    system->S::rhs(x.data(), dxdt.data(), t);
+    ++*evaluations;
+  }
+};
+
+/// run_explicit_on for the fixed state of 2N values (x, 2N values, copied
+/// in and out), with f(x, t) called as `rhs`.
+template <int N, class Rhs>
+void run_explicit_array(Run& run, StateVector& x, const Rhs& rhs) {
   std::array<double, 2 * N> xa;
   std::copy(x.begin(), x.end(), xa.begin());
-  run_explicit_on(run, xa);
+  run_explicit_on(run, xa, rhs);
   std::copy(xa.begin(), xa.end(), x.begin());
+}
+
+/// run_explicit for the fixed state of 2N values, f through the vtable.
+template <int N>
+void run_explicit_fixed(Run& run, StateVector& x) {
+  run_explicit_array<N>(run, x, run.rhs<std::array<double, 2 * N>>());
 }
 
 }  // namespace lagrangian::detail

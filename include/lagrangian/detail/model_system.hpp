@@ -258,6 +258,18 @@ class ModelSystem final : public System {
   }
   bool stopped() const override { return stopped_; }
 
+  /// The explicit methods compiled here with rhs() inlined, for models
+  /// wrapped in lagrangian::Inlined (inlined.hpp).
+  bool integrate_inlined(Run& run, std::vector<double>& x) override {
+    if constexpr (inline_rhs_v<M>) {
+      M::run_explicit(run, *this, model_, x);
+      return true;
+    } else {
+      (void)run, (void)x;
+      return false;
+    }
+  }
+
   /// The variational integrator (variational.hpp), for models that opted in
   /// to the structure-preserving methods; built at the first step from x.
   void variational_step(double t, double h, double* x) override {

@@ -85,9 +85,21 @@ class Run {
     // of accepted_slow(), tol = 1e-12 max(|t|, Δt_out) ≤ 1e-12 (|t| + Δt_out).
     const bool finite = all_finite(x);
     const bool within = report_.steps <= opt_.max_steps;
-    const bool no_sample = sample_due_ > t + 1e-12 * std::abs(t) + sample_slack_;
+    const bool no_sample = no_sample_due(t);
     if (!(finite & within & no_sample)) [[unlikely]]
       accepted_slow(t_old, t, x, interpolator(interpolate));
+  }
+
+  /// True when no sample is due by a step ending at t (the test of accepted()).
+  bool no_sample_due(double t) const { return sample_due_ > t + 1e-12 * std::abs(t) + sample_slack_; }
+  /// Steps left before max_steps is exceeded.
+  std::uint64_t steps_left() const { return opt_.max_steps > report_.steps ? opt_.max_steps - report_.steps : 0; }
+  /// accepted() for `count` steps taken in a row, the last from t_old to t
+  /// ending at x, after which no sample was due (no_sample_due()) and of
+  /// which all but the last ended with a finite state.
+  void accepted_in_a_row(std::uint64_t count, double t_old, double t, const double* x) {
+    report_.steps += count - 1;
+    accepted(t_old, t, x, [](double, double*) {});
   }
 
   /// A rejected step attempt at t with the reduced step dt; throws
