@@ -246,6 +246,22 @@ std::string RunReport::to_json() const {
     };
     vec("linear_momentum_initial", linear_momentum_initial);
     vec("angular_momentum_initial", angular_momentum_initial);
+    auto flags = [&](const char* k, const std::array<bool, 3>& v) {
+      os << ",\n  \"" << k << "\": [" << (v[0] ? "true" : "false") << ", " << (v[1] ? "true" : "false") << ", "
+         << (v[2] ? "true" : "false") << "]";
+    };
+    auto reasons = [&](const char* k, const std::array<std::string, 3>& v) {
+      os << ",\n  \"" << k << "\": [";
+      for (std::size_t i = 0; i < 3; ++i) {
+        os << (i ? ", " : "");
+        detail::json_string(os, v[i]);
+      }
+      os << "]";
+    };
+    flags("linear_momentum_conserved", linear_momentum_conserved);
+    reasons("linear_momentum_not_conserved_because", linear_momentum_reason);
+    flags("angular_momentum_conserved", angular_momentum_conserved);
+    reasons("angular_momentum_not_conserved_because", angular_momentum_reason);
     const std::pair<const char*, double> pm[] = {{"linear_momentum_drift_max", linear_momentum_drift_max},
                                                  {"linear_momentum_drift_final", linear_momentum_drift_final},
                                                  {"angular_momentum_drift_max", angular_momentum_drift_max},
@@ -431,14 +447,29 @@ std::string RunReport::summary() const {
     os << buf;
   }
   if (has_particles) {
-    const auto& p = linear_momentum_initial;
-    const auto& l = angular_momentum_initial;
-    std::snprintf(buf, sizeof buf, "linear momentum P0 = (%.6g, %.6g, %.6g) kg m/s, drift max %.2e\n", p[0], p[1], p[2],
-                  linear_momentum_drift_max);
-    os << buf;
-    std::snprintf(buf, sizeof buf, "angular momentum L0 = (%.6g, %.6g, %.6g) kg m^2/s, drift max %.2e\n", l[0], l[1],
-                  l[2], angular_momentum_drift_max);
-    os << buf;
+    // "linear momentum P0 = (…) kg m/s, conserved along x y: drift max …",
+    // then one line for each component left out, with the reason.
+    auto momentum = [&](const char* name, const char* symbol, const char* unit, const char* along,
+                        const std::array<double, 3>& v0, const std::array<bool, 3>& conserved,
+                        const std::array<std::string, 3>& reason, double drift) {
+      std::snprintf(buf, sizeof buf, "%s %s0 = (%.6g, %.6g, %.6g) %s", name, symbol, v0[0], v0[1], v0[2], unit);
+      os << buf;
+      std::string axes;
+      for (std::size_t k = 0; k < 3; ++k)
+        if (conserved[k]) axes += std::string(axes.empty() ? "" : " ") + "xyz"[k];
+      if (axes.empty()) {
+        os << ", not conserved\n";
+      } else {
+        std::snprintf(buf, sizeof buf, ", conserved %s %s: drift max %.2e\n", along, axes.c_str(), drift);
+        os << buf;
+      }
+      for (std::size_t k = 0; k < 3; ++k)
+        if (!conserved[k]) os << "  " << symbol << "_" << "xyz"[k] << " not conserved: " << reason[k] << "\n";
+    };
+    momentum("linear momentum", "P", "kg m/s", "along", linear_momentum_initial, linear_momentum_conserved,
+             linear_momentum_reason, linear_momentum_drift_max);
+    momentum("angular momentum", "L", "kg m^2/s", "about", angular_momentum_initial, angular_momentum_conserved,
+             angular_momentum_reason, angular_momentum_drift_max);
   }
   for (const auto& m : conserved_momenta) {
     std::snprintf(buf, sizeof buf, "momentum of cyclic %s: %.12g, drift max %.2e\n", m.coordinate.c_str(), m.initial,

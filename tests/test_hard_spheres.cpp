@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -118,7 +119,14 @@ TEST(HardSpheres, HeadOnImpactMatchesTheClosedForm) {
     EXPECT_NEAR(ev.kinetic_energy_before - ev.kinetic_energy_after, loss, 1e-13);
     EXPECT_NEAR(f.report.energy_initial - f.report.energy_final, loss, 1e-13);
     EXPECT_LT(f.report.energy_drift_max, 1e-15);
-    EXPECT_LT(f.report.linear_momentum_drift_max, 1e-14);  // no wall was hit
+    // No wall was hit: P is conserved in this run (the box makes no
+    // component a conserved quantity in general, so the report lists none).
+    EXPECT_NEAR(c.m1 * f.spheres[0].velocity.x() + c.m2 * f.spheres[1].velocity.x(), c.m1 * v1 + c.m2 * v2,
+                1e-14 * (c.m1 * std::abs(v1) + c.m2 * std::abs(v2)));
+    using Flags = std::array<bool, 3>;
+    EXPECT_EQ(f.report.linear_momentum_conserved, (Flags{false, false, false}));
+    EXPECT_EQ(f.report.angular_momentum_conserved, (Flags{false, false, false}));
+    EXPECT_EQ(f.report.linear_momentum_reason[1], "impacts with fixed surfaces push along y");
     EXPECT_EQ(f.report.conservative, c.e == 1.0);
   }
 }

@@ -2,6 +2,7 @@
 // against a closed form, a conservation law or a second formulation, and the
 // proof that undeclared effects are never evaluated.
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -206,6 +207,39 @@ TEST(Scenes, LinkPendulumAgreesWithTheGeneralizedCoordinateModel) {
 // trajectory.csv of a pendulum on a link carries the rod's multiplier and
 // the constraint force on the bob, Qc = −T r̂, with the tension of the
 // rod from Newton's law along it, T = m (g cos θ + v²/l), at every sample.
+/// The momenta a scene reports are those its symmetries conserve, each
+/// left out with its reason: a conical pendulum on a link anchored at the
+/// origin under gravity along −z conserves L_z = m (x ẏ − y ẋ) and nothing
+/// else; a ball bouncing on a floor conserves P_x, P_y and L_z.
+TEST(Scenes, OnlyConservedMomentaAreReported) {
+  const double l = 1.5, m = 0.7, g = 9.81;
+  Scene pendulum = base(3.0);
+  pendulum.bodies.push_back({.name = "bob", .mass = m, .position = {l * std::sin(1.2), 0, -l * std::cos(1.2)},
+                             .velocity = {0, 1.1, 0}});
+  pendulum.gravity = UniformGravity{{0, 0, -g}};
+  pendulum.links.push_back({.name = "rod", .a = "bob", .anchor = {0, 0, 0}, .length = l});
+  const RunResult p = run(pendulum, quiet());
+  using Flags = std::array<bool, 3>;
+  EXPECT_EQ(p.report.linear_momentum_conserved, (Flags{false, false, false}));
+  EXPECT_EQ(p.report.angular_momentum_conserved, (Flags{false, false, true}));
+  EXPECT_NEAR(p.report.angular_momentum_initial[2], m * l * std::sin(1.2) * 1.1, 1e-14);
+  EXPECT_LT(p.report.angular_momentum_drift_max, 1e-8);
+  EXPECT_NE(p.report.angular_momentum_reason[0].find("the external forces have a moment about x"), std::string::npos);
+
+  Scene ball = base(2.0);
+  ball.bodies.push_back({.name = "ball", .mass = 0.2, .radius = 0.05, .position = {0, 0, 1}, .velocity = {0.4, -0.1, 0}});
+  ball.gravity = UniformGravity{{0, 0, -g}};
+  ball.planes.push_back({.name = "floor", .point = {0, 0, 0}, .normal = {0, 0, 1}, .restitution = 0.8});
+  const RunResult b = run(ball, quiet());
+  EXPECT_GT(b.report.impacts, 0u);
+  EXPECT_EQ(b.report.linear_momentum_conserved, (Flags{true, true, false}));
+  EXPECT_EQ(b.report.angular_momentum_conserved, (Flags{false, false, true}));
+  EXPECT_EQ(b.report.linear_momentum_reason[2],
+            "the external forces have a part along z; impacts with fixed surfaces push along z");
+  EXPECT_LT(b.report.linear_momentum_drift_max, 1e-14);  // no force along x or y: P_x, P_y exact
+  EXPECT_LT(b.report.angular_momentum_drift_max, 1e-12);
+}
+
 TEST(Scenes, LinkPendulumWritesTheRodTension) {
   const auto dir = std::filesystem::temp_directory_path() / "lagrangian_link_tension";
   std::filesystem::remove_all(dir);

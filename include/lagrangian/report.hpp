@@ -205,13 +205,20 @@ struct RunReport {
   double total_energy_drift_max = 0;    ///< max |E − E0| / energy_scale
   double total_energy_drift_final = 0;  ///< |E(t_end) − E0| / energy_scale
   std::vector<MomentumDrift> conserved_momenta;  ///< cyclic coordinates and their momenta
-  /// Particle systems (models that declare particles()): total linear
-  /// momentum P = Σ m v (kg·m/s) and angular momentum L = Σ m (r − r₀) × v
-  /// (kg·m²/s) about SimulationOptions::angular_momentum_point, at t0 and
-  /// their largest and final drift |P(t) − P(t0)|, |L(t) − L(t0)| over the
-  /// samples. Conserved when the external forces (and their moments) vanish;
-  /// impacts with fixed walls change them.
+  /// Particle systems (models that declare particles(), particle scenes):
+  /// total linear momentum P = Σ m v (kg·m/s) and angular momentum
+  /// L = Σ m (r − r₀) × v (kg·m²/s) about
+  /// SimulationOptions::angular_momentum_point, at t0, and the largest and
+  /// final drift of their conserved components, |P(t) − P(t0)| and
+  /// |L(t) − L(t0)| over those components only. Which components the
+  /// system's symmetries conserve is judged at the start of the run from its
+  /// own forces and contacts (Noether; detail/momentum_symmetry.hpp): a
+  /// component is conserved when no external force has a part along it (a
+  /// moment about it, for L) and no impact with a fixed surface pushes along
+  /// it (turns about it). For each component left out the reason says why.
   bool has_particles = false;
+  std::array<bool, 3> linear_momentum_conserved{}, angular_momentum_conserved{};
+  std::array<std::string, 3> linear_momentum_reason, angular_momentum_reason;
   /// Models with a closed form (reference()): the largest and the final
   /// error max_i |q_i(t) − q_i,ref(t)| over the samples (units of q), the
   /// true error of the run.

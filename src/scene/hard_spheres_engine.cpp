@@ -17,6 +17,7 @@
 
 #include <Eigen/Geometry>
 
+#include "lagrangian/detail/momentum_symmetry.hpp"
 #include "lagrangian/errors.hpp"
 #include "hard_spheres_common.hpp"
 
@@ -109,6 +110,37 @@ class Engine {
     heap_.reserve(purge_base_ + 1);
   }
 
+  /// Which components of P and L the system conserves
+  /// (detail/momentum_symmetry.hpp): the spheres fly free between impacts and
+  /// impacts between spheres conserve both, so only the walls' impulses
+  /// count, judged where a sphere may meet them: at points spread through
+  /// the box.
+  void judge_momentum_symmetry(RunReport& rep) const {
+    const Eigen::Vector3d& r0 = opt_.angular_momentum_point;
+    lagrangian::detail::MomentumSymmetry sym({r0[0], r0[1], r0[2]});
+    using Source = lagrangian::detail::MomentumSymmetry::Source;
+    std::uint64_t seed = 0x2545F4914F6CDD1DULL;
+    auto uniform = [&seed] {  // in [0, 1), the same sequence every run
+      seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+      return static_cast<double>(seed >> 11) * 0x1.0p-53;
+    };
+    for (int probe = 0; probe < 5; ++probe) {
+      Eigen::Vector3d r;
+      for (int k = 0; k < 3; ++k) r[k] = sys_.box_min[k] + uniform() * (sys_.box_max[k] - sys_.box_min[k]);
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector3d n = Eigen::Vector3d::Unit(k);
+        sym.add(1.0, r.data(), n.data());  // both faces normal to axis k push along it
+        sym.end_probe(Source::contact);
+      }
+      for (const HardWall& w : sys_.walls) {
+        const Eigen::Vector3d n = w.normal.normalized();
+        sym.add(1.0, r.data(), n.data());
+        sym.end_probe(Source::contact);
+      }
+    }
+    sym.write(rep);
+  }
+
   RunReport run(const HardSphereSampler& sampler, std::chrono::steady_clock::time_point start) {
     RunReport rep;
     rep.model = "hard spheres (event-driven)";
@@ -123,6 +155,7 @@ class Engine {
     for (const auto& w : sys_.walls) elastic = elastic && w.restitution == 1.0;
     rep.conservative = elastic;
     rep.has_particles = true;
+    judge_momentum_symmetry(rep);
     if (sampler) {
       snapshot_ = sys_.spheres;
       for (std::size_t i = 0; i < snapshot_.size(); ++i) snapshot_[i].name = names_[i];
@@ -465,7 +498,10 @@ class Engine {
       }
     }
     const double drift = std::abs(T - (energy0_ - loss_)) / rep.energy_scale;
-    const double dp = (P - P0_).norm(), dl = (L - L0_).norm();
+    const double dp = lagrangian::detail::conserved_drift({P[0], P[1], P[2]}, {P0_[0], P0_[1], P0_[2]},
+                                                         rep.linear_momentum_conserved);
+    const double dl = lagrangian::detail::conserved_drift({L[0], L[1], L[2]}, {L0_[0], L0_[1], L0_[2]},
+                                                         rep.angular_momentum_conserved);
     rep.energy_final = T;
     rep.energy_drift_final = drift;
     rep.energy_drift_max = std::max(rep.energy_drift_max, drift);

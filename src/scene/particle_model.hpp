@@ -265,6 +265,8 @@ class ParticleModel {
   const std::vector<std::string>& names() const { return names_; }
   const std::vector<double>& mass() const { return mass_; }
   bool has_contacts() const { return has_contacts_; }
+  /// The contacts of bodies with fixed planes and the box's walls.
+  const std::vector<Contact>& wall_contacts() const { return wall_contacts_; }
   bool dissipative() const {
     return std::any_of(kernels_.begin(), kernels_.end(), [](const auto& k) { return k->dissipative(); });
   }

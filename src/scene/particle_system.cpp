@@ -11,11 +11,13 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <sstream>
 #include <utility>
 
 #include "lagrangian/detail/contact_rules.hpp"
+#include "lagrangian/detail/momentum_symmetry.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/constraints.hpp"
 #include "lagrangian/integrate.hpp"
@@ -122,6 +124,7 @@ class ParticleSystem final : public lagrangian::System {
     if (rep_.energy_scale == 0) rep_.energy_scale = 1;
     rep_.energy_initial = rep_.total_energy_initial = E0_;
     rep_.has_particles = true;
+    probe_momentum_symmetry(x, t0);
     momentum(x, P0_, L0_);
     for (int k = 0; k < 3; ++k) {
       rep_.linear_momentum_initial[static_cast<std::size_t>(k)] = P0_[k];
@@ -157,8 +160,10 @@ class ParticleSystem final : public lagrangian::System {
     rep_.total_energy_drift_max = rep_.energy_drift_max;
     Vector3d P, L;
     momentum(x, P, L);
-    rep_.linear_momentum_drift_final = (P - P0_).norm();
-    rep_.angular_momentum_drift_final = (L - L0_).norm();
+    rep_.linear_momentum_drift_final =
+        lagrangian::detail::conserved_drift({P[0], P[1], P[2]}, {P0_[0], P0_[1], P0_[2]}, rep_.linear_momentum_conserved);
+    rep_.angular_momentum_drift_final = lagrangian::detail::conserved_drift(
+        {L[0], L[1], L[2]}, {L0_[0], L0_[1], L0_[2]}, rep_.angular_momentum_conserved);
     rep_.linear_momentum_drift_max = std::max(rep_.linear_momentum_drift_max, rep_.linear_momentum_drift_final);
     rep_.angular_momentum_drift_max = std::max(rep_.angular_momentum_drift_max, rep_.angular_momentum_drift_final);
     if (rep_.constrained && !model_.rows().empty())
@@ -312,6 +317,47 @@ class ParticleSystem final : public lagrangian::System {
     const double tm =
         lagrangian::detail::stationary_time(path_.t0(), path_.t1(), a, b, lagrangian::detail::gap_function(on_path));
     return on_path(tm).gap > touch;
+  }
+
+  /// Which components of P and L (about the origin) the scene conserves
+  /// (detail/momentum_symmetry.hpp): from the accelerations at the start
+  /// state x0 and four states perturbed from it, at times spread over the
+  /// run, and from the impulse directions of the contacts with fixed planes
+  /// and walls at the bodies' positions there (contacts between bodies are
+  /// internal and conserve both).
+  void probe_momentum_symmetry(const double* x0, double t0) {
+    lagrangian::detail::MomentumSymmetry sym({0.0, 0.0, 0.0});
+    using Source = lagrangian::detail::MomentumSymmetry::Source;
+    const int dim = model_.dim();
+    std::vector<double> x(x0, x0 + 2 * dim), dxdt(x.size());
+    std::uint64_t seed = 0x2545F4914F6CDD1DULL;
+    auto uniform = [&seed] {  // in [−1, 1), the same sequence every run
+      seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+      return static_cast<double>(seed >> 11) * 0x1.0p-52 - 1.0;
+    };
+    constexpr int probes = 5;
+    for (int k = 0; k < probes; ++k) {
+      if (k > 0)
+        for (std::size_t i = 0; i < x.size(); ++i) x[i] = x0[i] + 0.1 * (1 + std::abs(x0[i])) * uniform();
+      const double t = t0 + (opt_.t_end - t0) * k / probes;
+      bool evaluated = true;
+      try {
+        model_.rhs_uncounted(x.data(), dxdt.data(), t);
+      } catch (const lagrangian::Error&) {
+        evaluated = false;  // a singular state among the probes: judged at the others
+      }
+      if (evaluated) {
+        for (int i = 0; i < model_.bodies(); ++i)
+          sym.add(model_.mass()[static_cast<std::size_t>(i)], x.data() + 3 * i, dxdt.data() + dim + 3 * i);
+        sym.end_probe(Source::force);
+      }
+      for (const Contact& c : model_.wall_contacts()) {
+        const Vector3d point = at(x.data(), c.a) - c.R * c.n;
+        sym.add(1.0, point.data(), c.n.data());
+        sym.end_probe(Source::contact);
+      }
+    }
+    sym.write(rep_);
   }
 
   void momentum(const double* x, Vector3d& P, Vector3d& L) const {

@@ -20,6 +20,7 @@
 #include "lagrangian/constraints.hpp"
 #include "lagrangian/detail/singular_values.hpp"
 #include "lagrangian/detail/contact_rules.hpp"
+#include "lagrangian/detail/momentum_symmetry.hpp"
 #include "lagrangian/detail/observer_ref.hpp"
 #include "lagrangian/detail/roots.hpp"
 #include "lagrangian/dynamics.hpp"
@@ -157,6 +158,7 @@ class ModelSystem final : public System {
     if constexpr (has_events_v) event_buf_.assign(static_cast<std::size_t>(2 * size_), 0.0);
     const std::vector<int> cyclic = cyclic_coordinates(model_, x0, t0);
     cyclic_.assign(cyclic.begin(), cyclic.end());
+    if constexpr (has_particles_v<M>) probe_momentum_symmetry(x0, t0);
     Vec<double, n> p(size_);
     h0_ = energy_and_momenta(model_, x0.q, x0.qd, t0, p);  // after any impact at t0
     pending_shifts_.clear();
@@ -358,14 +360,92 @@ class ModelSystem final : public System {
       report_.linear_momentum_initial = P;
       report_.angular_momentum_initial = L;
     }
-    auto dist = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
-      return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
-    };
-    report_.linear_momentum_drift_final = dist(P, report_.linear_momentum_initial);
-    report_.angular_momentum_drift_final = dist(L, report_.angular_momentum_initial);
+    report_.linear_momentum_drift_final =
+        conserved_drift(P, report_.linear_momentum_initial, report_.linear_momentum_conserved);
+    report_.angular_momentum_drift_final =
+        conserved_drift(L, report_.angular_momentum_initial, report_.angular_momentum_conserved);
     report_.linear_momentum_drift_max = std::max(report_.linear_momentum_drift_max, report_.linear_momentum_drift_final);
     report_.angular_momentum_drift_max =
         std::max(report_.angular_momentum_drift_max, report_.angular_momentum_drift_final);
+  }
+
+  /// ∂φ/∂q of every contact at (q, t): column i is φ̇ along q̇ = e_i less
+  /// ∂φ/∂t (one first-order AD pass each).
+  Eigen::Matrix<double, unilateral_count_v<M>, n> contact_jacobian(const Vec<double, n>& q, double t) const {
+    constexpr int u = unilateral_count_v<M>;
+    Eigen::Matrix<double, u, n> G(u, size_);
+    Vec<double, n> dir = Vec<double, n>::Zero(size_);
+    Vec<double, u> gap, rate0, rate;
+    contact_gaps(model_, q, dir, t, gap, rate0);
+    for (int i = 0; i < size_; ++i) {
+      dir[i] = 1;
+      contact_gaps(model_, q, dir, t, gap, rate);
+      dir[i] = 0;
+      G.col(i) = rate - rate0;
+    }
+    return G;
+  }
+
+  /// Which components of P and L the particle system's symmetries conserve
+  /// (detail/momentum_symmetry.hpp), judged from q̈ and the contacts'
+  /// impulse directions at the start state x0 and four states perturbed from
+  /// it, at times spread over the run. (The momenta of cyclic coordinates
+  /// need no such test: cyclic_coordinates() leaves out those a constraint
+  /// or contact touches.)
+  void probe_momentum_symmetry(const State<n>& x0, double t0) {
+    MomentumSymmetry sym(opt_.angular_momentum_point);
+    std::vector<double> x(static_cast<std::size_t>(2 * size_)), dxdt(x.size());
+    std::uint64_t seed = 0x2545F4914F6CDD1DULL;
+    auto uniform = [&seed] {  // in [−1, 1), the same sequence every run
+      seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+      return static_cast<double>(seed >> 11) * 0x1.0p-52 - 1.0;
+    };
+    constexpr int probes = 5;
+    for (int k = 0; k < probes; ++k) {
+      State<n> s = x0;
+      if (k > 0) {
+        for (int i = 0; i < size_; ++i) {
+          s.q[i] += 0.1 * (1 + std::abs(s.q[i])) * uniform();
+          s.qd[i] += 0.1 * (1 + std::abs(s.qd[i])) * uniform();
+        }
+      }
+      const double t = t0 + (opt_.t_end - t0) * k / probes;
+      // Each particle at s with the vector value(i) of coordinate i (q̈ or a
+      // contact's ∂φ/∂q) along its axes, weighted by its mass or not.
+      auto add_particles = [&](auto value, bool weighted) {
+        for (const Particle& part : model_.particles()) {
+          double r[3], a[3];
+          for (std::size_t c = 0; c < 3; ++c) {
+            const int i = part.axes[c];
+            r[c] = i >= 0 ? s.q[i] : 0.0;
+            a[c] = i >= 0 ? value(i) : 0.0;
+          }
+          sym.add(weighted ? part.mass : 1.0, r, a);
+        }
+      };
+      for (int i = 0; i < size_; ++i) {
+        x[static_cast<std::size_t>(i)] = s.q[i];
+        x[static_cast<std::size_t>(size_ + i)] = s.qd[i];
+      }
+      bool evaluated = true;
+      try {
+        rhs(x.data(), dxdt.data(), t);
+      } catch (const Error&) {
+        evaluated = false;  // a singular state among the probes: judged at the others
+      }
+      if (evaluated) {
+        add_particles([&](int i) { return dxdt[static_cast<std::size_t>(size_ + i)]; }, true);
+        sym.end_probe(MomentumSymmetry::Source::force);
+      }
+      if constexpr (unilateral_count_v<M> > 0) {
+        const auto G = contact_jacobian(s.q, t);
+        for (int j = 0; j < unilateral_count_v<M>; ++j) {
+          add_particles([&](int i) { return G(j, i); }, false);
+          sym.end_probe(MomentumSymmetry::Source::contact);
+        }
+      }
+    }
+    sym.write(report_);
   }
 
   void start_constraints(State<n>& x0, Columns& columns);

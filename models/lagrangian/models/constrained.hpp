@@ -96,6 +96,8 @@ struct ParticleOnSphere {
         g(require_nonnegative("ParticleOnSphere", "g", gravity)) {}
   std::string name() const { return "particle_on_sphere"; }
   std::array<std::string_view, 3> coordinate_names() const { return {"x", "y", "z"}; }
+  /// One particle at (x, y, z): P and L are reported, L_z conserved.
+  std::array<Particle, 1> particles() const { return {Particle{m, {0, 1, 2}}}; }
   std::array<std::string_view, 1> holonomic_names() const { return {"sphere"}; }
   template <class S>
   S kinetic(const Vec<S, 3>&, const Vec<S, 3>& qd, const S&) const {
@@ -154,6 +156,9 @@ struct CartesianDoublePendulum {
         g(require_nonnegative("CartesianDoublePendulum", "g", gravity)) {}
   std::string name() const { return "cartesian_double_pendulum"; }
   std::array<std::string_view, 4> coordinate_names() const { return {"x1", "y1", "x2", "y2"}; }
+  /// The two bobs in the x–y plane: P and L are reported (neither is
+  /// conserved: the pivot and gravity act on the system).
+  std::array<Particle, 2> particles() const { return {Particle{m1, {0, 1, -1}}, Particle{m2, {2, 3, -1}}}; }
   std::array<std::string_view, 2> holonomic_names() const { return {"rod1", "rod2"}; }
   template <class S>
   S kinetic(const Vec<S, 4>&, const Vec<S, 4>& qd, const S&) const {
