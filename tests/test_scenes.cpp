@@ -207,6 +207,33 @@ TEST(Scenes, LinkPendulumAgreesWithTheGeneralizedCoordinateModel) {
 // trajectory.csv of a pendulum on a link carries the rod's multiplier and
 // the constraint force on the bob, Qc = −T r̂, with the tension of the
 // rod from Newton's law along it, T = m (g cos θ + v²/l), at every sample.
+/// A light sphere pinned between a heavy one and a wall, as
+/// test_impact_cycle.cpp runs it as a model: 1e-9 kg at rest against the
+/// left wall, 1 kg arriving at 1 m/s along the line of centres, walls
+/// elastic, the pair plastic. The limit of the cycling impacts stops both
+/// at the wall; the impacts take all ½ M v² and the wall gives M v.
+TEST(Scenes, APinnedLightSphereStopsTheHeavyOneAtTheWall) {
+  const double m = 1e-9, M = 1.0, v = 1.0, R = 0.1, r = 0.07;
+  Scene s = base(1.0);
+  s.bodies.push_back({.name = "light", .mass = m, .radius = R, .position = {R, 0.5, 0.5}});
+  s.bodies.push_back({.name = "heavy", .mass = M, .radius = r, .position = {0.6, 0.5, 0.5}, .velocity = {-v, 0, 0}});
+  s.box = BoxContact{{0, 0, 0}, {1, 1, 1}, 1.0};
+  s.sphere_contacts = SphereContacts{0.0, {}};
+  s.run.engine = "ode";  // the event-driven engine is the default for such a scene
+  const RunResult res = run(s, quiet());
+  EXPECT_EQ(res.report.t_final, 1.0);
+  EXPECT_NEAR(vel(res, 0).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(vel(res, 1).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(pos(res, 0)[0], R, 1e-9);
+  EXPECT_NEAR(pos(res, 1)[0], 2 * R + r, 1e-9);
+  EXPECT_NEAR(res.report.impact_energy_loss, 0.5 * M * v * v, 1e-9);
+  double wall = 0;
+  for (const EventRecord& e : res.report.events)
+    if (e.kind == EventKind::impact && e.name == "light-wall:x_min") wall += e.impulse;
+  EXPECT_NEAR(wall, M * v, 1e-6);
+  EXPECT_LT(res.report.impacts, 20u);
+}
+
 /// The momenta a scene reports are those its symmetries conserve, each
 /// left out with its reason: a conical pendulum on a link anchored at the
 /// origin under gravity along −z conserves L_z = m (x ẏ − y ẋ) and nothing

@@ -200,15 +200,16 @@ double kinetic_for_log(const M& model, const Workspace<coordinate_count_v<M>>& w
 }
 }  // namespace detail
 
-/// Applies Newton's law of restitution for contact `contact` at (q, t):
-/// replaces q̇ by q̇⁺ (see the file comment) and returns the impulse and the
-/// kinetic energies. Throws ParameterError unless e ∈ [0, 1] and
-/// DynamicsError when M is singular. A contact that is not approaching
-/// (v⁻ ≥ 0) is left unchanged (Λ = 0).
+namespace detail {
+
+/// apply_impact(); with `only_approaching` false the law is applied whatever
+/// the sign of v⁻, which makes q̇ ↦ q̇⁺ one affine map everywhere (the
+/// extrapolation of cycling impacts reads it off, detail/impact_cycle.hpp).
 template <class M>
-ImpactResult<coordinate_count_v<M>> apply_impact(const M& model, Workspace<coordinate_count_v<M>>& ws,
-                                                 const Vec<double, coordinate_count_v<M>>& q,
-                                  Vec<double, coordinate_count_v<M>>& qd, double t, int contact, double e) {
+ImpactResult<coordinate_count_v<M>> restitution_impact(const M& model, Workspace<coordinate_count_v<M>>& ws,
+                                                       const Vec<double, coordinate_count_v<M>>& q,
+                                                       Vec<double, coordinate_count_v<M>>& qd, double t, int contact,
+                                                       double e, bool only_approaching) {
   static_assert(unilateral_count_v<M> > 0, "apply_impact needs a model with contacts (unilateral constraints)");
   constexpr int n = coordinate_count_v<M>;
   constexpr int c = constraint_count_v<M>;
@@ -232,7 +233,7 @@ ImpactResult<coordinate_count_v<M>> apply_impact(const M& model, Workspace<coord
   const int row = holonomic_count_v<M> + contact;
   const double v_minus = cs.velocity[row];
   r.generalized_impulse = Vec<double, n>::Zero(q.size());
-  if (!(v_minus < 0.0)) {
+  if (only_approaching && !(v_minus < 0.0)) {
     r.kinetic_energy_after = r.kinetic_energy_before;
     r.separation_speed = v_minus;
     return r;
@@ -253,6 +254,21 @@ ImpactResult<coordinate_count_v<M>> apply_impact(const M& model, Workspace<coord
   r.separation_speed = v_minus + cs.jacobian.row(row).dot(dqd);
   r.kinetic_energy_after = detail::kinetic_for_log(model, ws, q, qd, t);
   return r;
+}
+
+}  // namespace detail
+
+/// Applies Newton's law of restitution for contact `contact` at (q, t):
+/// replaces q̇ by q̇⁺ (see the file comment) and returns the impulse and the
+/// kinetic energies. Throws ParameterError unless e ∈ [0, 1] and
+/// DynamicsError when M is singular. A contact that is not approaching
+/// (v⁻ ≥ 0) is left unchanged (Λ = 0).
+template <class M>
+ImpactResult<coordinate_count_v<M>> apply_impact(const M& model, Workspace<coordinate_count_v<M>>& ws,
+                                                 const Vec<double, coordinate_count_v<M>>& q,
+                                                 Vec<double, coordinate_count_v<M>>& qd, double t, int contact,
+                                                 double e) {
+  return detail::restitution_impact(model, ws, q, qd, t, contact, e, true);
 }
 
 /// apply_impact() with its own workspace.

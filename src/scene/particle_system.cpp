@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "lagrangian/detail/contact_rules.hpp"
+#include "lagrangian/detail/impact_cycle.hpp"
 #include "lagrangian/detail/momentum_symmetry.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/constraints.hpp"
@@ -444,6 +445,9 @@ class ParticleSystem final : public lagrangian::System {
     std::vector<Contact*> rested;   // by the Zeno rule, logged as such
     std::vector<Contact*> plastic;  // their last impact had e = 0: the bodies stick
     double impact_energy = 0;
+    lagrangian::detail::ImpactCycle cycle;  // the impacts since the last cycle replaced by its limit
+    int settles = 0;
+    std::size_t next_try = 12;  // doubles after a round that did not settle
     for (int it = 0;; ++it) {
       if (it > 1000 * static_cast<int>(near_.size() + 1)) {
         std::ostringstream os;
@@ -482,6 +486,22 @@ class ParticleSystem final : public lagrangian::System {
         rested.push_back(&c);
       }
       model_.wake_approaching(x, touch_speed, near_);
+      // Impacts that cycle (a light sphere pinned between heavy ones and
+      // walls) are replaced by their limit, as for models
+      // (detail/impact_cycle.hpp).
+      cycle.record(static_cast<int>(std::find(near_.begin(), near_.end(), &c) - near_.begin()), e);
+      const int u = static_cast<int>(near_.size());
+      if (cycle.size() >= next_try) {
+        const auto round = settles == 0 ? cycle.round(2 * u, 6 * u) : cycle.all();
+        if (!round.empty() && settle_cycle(x, t, round, impact_energy)) {
+          for (const auto& imp : round) involved.push_back(near_[static_cast<std::size_t>(imp.contact)]);
+          cycle = lagrangian::detail::ImpactCycle();
+          next_try = 12;
+          ++settles;
+        } else if (!round.empty()) {
+          next_try = 2 * cycle.size();
+        }
+      }
     }
     // Contacts that took part and do not separate rest when their last
     // impact was plastic or the forces press them shut.
@@ -506,6 +526,67 @@ class ParticleSystem final : public lagrangian::System {
         if (!c->resting) log_event(t, EventKind::release, c->name, 0, 0, 0);
     }
     if (impact_energy != 0) pending_.emplace_back(t, impact_energy);
+  }
+
+  /// The limit of impacts that cycle among the contacts near_[k] of `round`
+  /// (detail/impact_cycle.hpp), as ModelSystem::settle_cycle: the
+  /// velocities in x jump to it when the rounds converge, a contact left
+  /// approaching by up to 1e-6 of the speeds is closed plastically, and each
+  /// contact of the round gets one impact in the log with its share of the
+  /// total impulse. Returns false (x unchanged) when the rounds do not settle.
+  bool settle_cycle(double* x, double t, const std::vector<lagrangian::detail::ImpactCycle::Impact>& round,
+                    double& impact_energy) {
+    const int dim = model_.dim();
+    std::vector<double> trial(x, x + 2 * dim), limit(static_cast<std::size_t>(dim));
+    auto apply_round = [&](const double* in, double* out) {
+      std::copy(in, in + dim, trial.begin() + dim);
+      for (const auto& imp : round) model_.impulse(trial.data(), *near_[static_cast<std::size_t>(imp.contact)], imp.e);
+      std::copy(trial.begin() + dim, trial.end(), out);
+    };
+    if (!lagrangian::detail::round_limit(dim, x + dim, lagrangian::detail::round_map(apply_round), limit.data()))
+      return false;
+    std::vector<Contact*> contacts;
+    for (const auto& imp : round) {
+      Contact* c = near_[static_cast<std::size_t>(imp.contact)];
+      if (std::find(contacts.begin(), contacts.end(), c) == contacts.end()) contacts.push_back(c);
+    }
+    double speed = 0;
+    for (int i = 0; i < dim; ++i) speed = std::max(speed, std::abs(x[dim + i]));
+    std::copy(limit.begin(), limit.end(), trial.begin() + dim);
+    for (int pass = 0;; ++pass) {
+      Contact* worst = nullptr;
+      double rate = 0;
+      for (Contact* c : contacts) {
+        const double r = c->rate(trial.data(), trial.data() + dim);
+        if (r < rate) rate = r, worst = c;
+      }
+      if (!worst) break;
+      if (rate < -1e-6 * speed || pass >= 10 * static_cast<int>(contacts.size())) return false;
+      model_.impulse(trial.data(), *worst, 0.0);
+    }
+    // Each contact's impulse: Σ_k J_k n_k (on both bodies of a pair) = M Δv.
+    Eigen::MatrixXd N = Eigen::MatrixXd::Zero(dim, static_cast<Eigen::Index>(contacts.size()));
+    Eigen::VectorXd dp(dim);
+    for (int i = 0; i < dim; ++i) dp[i] = model_.mass()[static_cast<std::size_t>(i / 3)] * (trial[dim + i] - x[dim + i]);
+    for (std::size_t k = 0; k < contacts.size(); ++k) {
+      const Contact& c = *contacts[k];
+      const Vector3d nrm = c.normal(x);
+      N.block<3, 1>(3 * c.a, static_cast<Eigen::Index>(k)) = nrm;
+      if (c.pair) N.block<3, 1>(3 * c.b, static_cast<Eigen::Index>(k)) = -nrm;
+    }
+    const Eigen::VectorXd J = N.completeOrthogonalDecomposition().solve(dp);
+    std::vector<double> approach(contacts.size());
+    for (std::size_t k = 0; k < contacts.size(); ++k) approach[k] = -contacts[k]->rate(x, x + dim);
+    const double T_before = model_.kinetic(x);
+    std::copy(trial.begin() + dim, trial.end(), x + dim);
+    const double T_after = model_.kinetic(x);
+    for (std::size_t k = 0; k < contacts.size(); ++k)
+      log_event(t, EventKind::impact, contacts[k]->name, J[static_cast<Eigen::Index>(k)], approach[k],
+                contacts[k]->rate(x, x + dim), T_before, T_after);
+    impact_energy += T_after - T_before;
+    rep_.impact_energy_loss += T_before - T_after;
+    model_.wake_approaching(x, opt_.contact_touch_speed, near_);
+    return true;
   }
 
   mutable ParticleModel model_;

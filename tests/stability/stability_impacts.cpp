@@ -95,14 +95,15 @@ TEST(StabilityImpacts, PlasticAtEveryMassRatio) {
   EXPECT_LE(worst_p, 1e-12);
 }
 
-// e = 0 between two spheres in a box with elastic walls. At equal masses the
-// run finishes. At mass ratios 1e-9 and 1e9 the light sphere ends up pinned
-// between the heavy one and a wall; the physics is the pair bouncing off the
-// wall together (the simultaneous impact, solved for all contacts at once),
-// but the sequential rule needs ~ M/m pairwise impacts to get there, so the
-// run stops with a message naming the time and the contact. Pinned here so
-// that neither outcome changes unnoticed.
-TEST(StabilityImpacts, PlasticPairInABoxFinishesAtEqualMassesAndStopsClearlyAtExtremeRatios) {
+// e = 0 between two spheres in a box with elastic walls, 200 s. At mass
+// ratios 1e-9 and 1e9 the light sphere ends up pinned between the heavy one
+// and a wall (or two): the sequential rule then needs ~ M/m pairwise impacts
+// to settle, and the cycling impacts are replaced by their limit
+// (detail/impact_cycle.hpp). Every run finishes, and the energy the impacts
+// took is exactly what the system lost (free flight between impacts keeps
+// the rest).
+TEST(StabilityImpacts, PlasticPairInABoxFinishesAtEveryMassRatio) {
+  double worst = 0;
   for (double ratio : {1e-9, 1.0, 1e9}) {
     const SpheresInBox<2> box({1.0, ratio}, {0.1, 0.07}, 1.0, 1.0, 1.0, 0.0);
     State<4> x0;
@@ -111,23 +112,18 @@ TEST(StabilityImpacts, PlasticPairInABoxFinishesAtEqualMassesAndStopsClearlyAtEx
     SimulationOptions o;
     o.t_end = 200.0;
     o.output_interval = -1;
-    if (ratio == 1.0) {
-      const RunReport r = simulate(box, x0, o);
-      EXPECT_TRUE(std::isfinite(r.energy_final));
-      EXPECT_GT(r.impacts, 10u);
-      continue;
-    }
-    try {
-      simulate(box, x0, o);
-      ADD_FAILURE() << "ratio " << ratio << ": expected the run to stop (simultaneous impacts not settling)";
-    } catch (const SimulationError& e) {
-      const std::string what = e.what();
-      EXPECT_NE(what.find("simultaneous impacts at t = "), std::string::npos) << what;
-      EXPECT_NE(what.find("did not settle"), std::string::npos) << what;
-      EXPECT_EQ(what.find("nan"), std::string::npos) << what;
-      std::printf("  e_pair = 0, ratio %g: stopped: %s\n", ratio, what.c_str());
-    }
+    const RunReport r = simulate(box, x0, o);
+    EXPECT_EQ(r.t_final, o.t_end) << "ratio " << ratio;
+    EXPECT_GT(r.impacts, 10u) << "ratio " << ratio;
+    EXPECT_LE(r.energy_final, r.energy_initial) << "ratio " << ratio;
+    const double balance = std::abs(r.energy_initial - r.impact_energy_loss - r.energy_final) / r.energy_initial;
+    EXPECT_LE(balance, 1e-9) << "ratio " << ratio;
+    worst = std::max(worst, balance);
+    std::printf("  e_pair = 0, ratio %g: finished, %llu impacts, E %.6g -> %.6g J\n", ratio,
+                static_cast<unsigned long long>(r.impacts), r.energy_initial, r.energy_final);
   }
+  stability::record("plastic pair in an elastic box, mass ratios 1e-9..1e9, 200 s: |E0 - loss - E| / E0", "dopri5",
+                    worst, 1e-9);
 }
 
 // Grazing oblique impacts at extreme mass ratios: sphere 2 at rest, sphere 1

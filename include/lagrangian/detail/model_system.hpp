@@ -20,6 +20,7 @@
 #include "lagrangian/constraints.hpp"
 #include "lagrangian/detail/singular_values.hpp"
 #include "lagrangian/detail/contact_rules.hpp"
+#include "lagrangian/detail/impact_cycle.hpp"
 #include "lagrangian/detail/momentum_symmetry.hpp"
 #include "lagrangian/detail/observer_ref.hpp"
 #include "lagrangian/detail/roots.hpp"
@@ -328,6 +329,9 @@ class ModelSystem final : public System {
   /// part (and `trigger`) are resting (active) when they do not separate,
   /// and active contacts that separate are released.
   void resolve_contacts(double* x, double t, int trigger);
+  /// Replaces impacts that cycle by their limit; true when it did
+  /// (run_events.hpp).
+  bool settle_cycle(const Vec<double, n>& q, Vec<double, n>& qd, double t, const std::vector<ImpactCycle::Impact>& round);
   /// Tracks σ_r/σ_1 of the bilateral constraint Jacobian (r = rank at t0)
   /// at accepted steps and samples, and warns once when it falls below
   /// 1e-3: a singular configuration is near (the multipliers grow without

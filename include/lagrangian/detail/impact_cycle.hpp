@@ -1,0 +1,61 @@
+#pragma once
+// Simultaneous impacts that cycle: the limit of the sequential rule, by
+// extrapolation instead of one pairwise impact at a time (compiled once:
+// src/integrate/impact_cycle.cpp). Both adapters with contacts use it.
+
+#include <vector>
+
+#include "lagrangian/detail/roots.hpp"
+
+namespace lagrangian::detail {
+
+/// The contacts resolved, in order, while one simultaneous impact is
+/// resolved by the sequential rule, watched for a cycle: the same contacts
+/// with the same e, in the same order, again and again. That happens when a
+/// light body is pinned between heavy ones (a sphere of mass m between a
+/// wall and a sphere of mass M): each round of pairwise impacts changes the
+/// velocities by the same linear map, whose part along the approach decays
+/// by about 1 − 2 m/M a round, so the rule needs ~ M/m impacts to settle.
+class ImpactCycle {
+ public:
+  struct Impact {
+    int contact;  ///< the adapter's index of the contact
+    double e;     ///< the restitution the impact used
+  };
+  /// Records an impact.
+  void record(int contact, double e) { impacts_.push_back({contact, e}); }
+  /// The impacts of one round when the last three rounds were the same
+  /// (a period of at most max_period impacts); otherwise, once 2 · window
+  /// impacts are recorded, the last `window` (a cycle whose pattern varies,
+  /// as when a light body is pinned in a corner, taken as repeating its
+  /// latest stretch); empty when neither.
+  std::vector<Impact> round(int max_period, int window) const;
+  /// Every impact recorded, in order.
+  const std::vector<Impact>& all() const { return impacts_; }
+  /// Impacts recorded.
+  std::size_t size() const { return impacts_.size(); }
+
+ private:
+  std::vector<Impact> impacts_;
+};
+
+/// The velocities a round maps v to: out = F(v), n values each.
+using RoundMap = FunctionRef<void(const double*, double*)>;
+
+template <class F>
+RoundMap round_map(const F& f) {
+  return function_ref<void(const double*, double*)>(f);
+}
+
+/// The limit lim_k F^k(v) of the map F (n velocities) that one round of
+/// impacts applies. F is linear for contacts whose gaps do not move on their
+/// own (F(0) = 0; otherwise no limit is taken); its matrix C is read off F,
+/// v split along C's eigenvectors, and the parts with |λ| < 1 dropped (a
+/// decay per round of 1 − 2m/M down to m/M = 1e-12 is told from rounding)
+/// while those with λ = 1 are kept. Writes the limit into `out` and returns
+/// true; returns false when some part keeps its size and flips (a
+/// reflection) or grows, or C has no basis of eigenvectors: nothing settles,
+/// and the caller goes on impact by impact.
+bool round_limit(int n, const double* v, RoundMap round, double* out);
+
+}  // namespace lagrangian::detail
