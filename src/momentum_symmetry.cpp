@@ -1,6 +1,8 @@
 #include "lagrangian/detail/momentum_symmetry.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 namespace lagrangian::detail {
 
@@ -52,6 +54,22 @@ void MomentumSymmetry::write(RunReport& report) const {
     if (l_contact_[i])
       why += std::string(why.empty() ? "" : "; ") + "impacts with fixed surfaces have a moment about " + kAxis[k];
     report.angular_momentum_reason[i] = why;
+  }
+}
+
+void for_each_probe_state(const double* x0, int m, double t0, double t_end,
+                          FunctionRef<void(const double*, double)> probe) {
+  std::vector<double> x(x0, x0 + m);
+  std::uint64_t seed = 0x2545F4914F6CDD1DULL;
+  auto uniform = [&seed] {  // in [−1, 1)
+    seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(seed >> 11) * 0x1.0p-52 - 1.0;
+  };
+  constexpr int probes = 5;
+  for (int k = 0; k < probes; ++k) {
+    if (k > 0)
+      for (int i = 0; i < m; ++i) x[static_cast<std::size_t>(i)] = x0[i] + 0.1 * (1 + std::abs(x0[i])) * uniform();
+    probe(x.data(), t0 + (t_end - t0) * k / probes);
   }
 }
 

@@ -330,34 +330,27 @@ class ParticleSystem final : public lagrangian::System {
     lagrangian::detail::MomentumSymmetry sym({0.0, 0.0, 0.0});
     using Source = lagrangian::detail::MomentumSymmetry::Source;
     const int dim = model_.dim();
-    std::vector<double> x(x0, x0 + 2 * dim), dxdt(x.size());
-    std::uint64_t seed = 0x2545F4914F6CDD1DULL;
-    auto uniform = [&seed] {  // in [−1, 1), the same sequence every run
-      seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
-      return static_cast<double>(seed >> 11) * 0x1.0p-52 - 1.0;
-    };
-    constexpr int probes = 5;
-    for (int k = 0; k < probes; ++k) {
-      if (k > 0)
-        for (std::size_t i = 0; i < x.size(); ++i) x[i] = x0[i] + 0.1 * (1 + std::abs(x0[i])) * uniform();
-      const double t = t0 + (opt_.t_end - t0) * k / probes;
+    std::vector<double> dxdt(static_cast<std::size_t>(2 * dim));
+    auto probe = [&](const double* x, double t) {
       bool evaluated = true;
       try {
-        model_.rhs_uncounted(x.data(), dxdt.data(), t);
+        model_.rhs_uncounted(x, dxdt.data(), t);
       } catch (const lagrangian::Error&) {
         evaluated = false;  // a singular state among the probes: judged at the others
       }
       if (evaluated) {
         for (int i = 0; i < model_.bodies(); ++i)
-          sym.add(model_.mass()[static_cast<std::size_t>(i)], x.data() + 3 * i, dxdt.data() + dim + 3 * i);
+          sym.add(model_.mass()[static_cast<std::size_t>(i)], x + 3 * i, dxdt.data() + dim + 3 * i);
         sym.end_probe(Source::force);
       }
       for (const Contact& c : model_.wall_contacts()) {
-        const Vector3d point = at(x.data(), c.a) - c.R * c.n;
+        const Vector3d point = at(x, c.a) - c.R * c.n;
         sym.add(1.0, point.data(), c.n.data());
         sym.end_probe(Source::contact);
       }
-    }
+    };
+    lagrangian::detail::for_each_probe_state(x0, 2 * dim, t0, opt_.t_end,
+                                             lagrangian::detail::function_ref<void(const double*, double)>(probe));
     sym.write(rep_);
   }
 

@@ -398,42 +398,30 @@ class ModelSystem final : public System {
   /// or contact touches.)
   void probe_momentum_symmetry(const State<n>& x0, double t0) {
     MomentumSymmetry sym(opt_.angular_momentum_point);
-    std::vector<double> x(static_cast<std::size_t>(2 * size_)), dxdt(x.size());
-    std::uint64_t seed = 0x2545F4914F6CDD1DULL;
-    auto uniform = [&seed] {  // in [−1, 1), the same sequence every run
-      seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
-      return static_cast<double>(seed >> 11) * 0x1.0p-52 - 1.0;
-    };
-    constexpr int probes = 5;
-    for (int k = 0; k < probes; ++k) {
-      State<n> s = x0;
-      if (k > 0) {
-        for (int i = 0; i < size_; ++i) {
-          s.q[i] += 0.1 * (1 + std::abs(s.q[i])) * uniform();
-          s.qd[i] += 0.1 * (1 + std::abs(s.qd[i])) * uniform();
-        }
-      }
-      const double t = t0 + (opt_.t_end - t0) * k / probes;
-      // Each particle at s with the vector value(i) of coordinate i (q̈ or a
+    std::vector<double> start(static_cast<std::size_t>(2 * size_)), dxdt(start.size());
+    for (int i = 0; i < size_; ++i) {
+      start[static_cast<std::size_t>(i)] = x0.q[i];
+      start[static_cast<std::size_t>(size_ + i)] = x0.qd[i];
+    }
+    auto probe = [&](const double* x, double t) {
+      Vec<double, n> q(size_);
+      for (int i = 0; i < size_; ++i) q[i] = x[i];
+      // Each particle at q with the vector value(i) of coordinate i (q̈ or a
       // contact's ∂φ/∂q) along its axes, weighted by its mass or not.
       auto add_particles = [&](auto value, bool weighted) {
         for (const Particle& part : model_.particles()) {
           double r[3], a[3];
           for (std::size_t c = 0; c < 3; ++c) {
             const int i = part.axes[c];
-            r[c] = i >= 0 ? s.q[i] : 0.0;
+            r[c] = i >= 0 ? q[i] : 0.0;
             a[c] = i >= 0 ? value(i) : 0.0;
           }
           sym.add(weighted ? part.mass : 1.0, r, a);
         }
       };
-      for (int i = 0; i < size_; ++i) {
-        x[static_cast<std::size_t>(i)] = s.q[i];
-        x[static_cast<std::size_t>(size_ + i)] = s.qd[i];
-      }
       bool evaluated = true;
       try {
-        rhs(x.data(), dxdt.data(), t);
+        rhs(x, dxdt.data(), t);
       } catch (const Error&) {
         evaluated = false;  // a singular state among the probes: judged at the others
       }
@@ -442,13 +430,14 @@ class ModelSystem final : public System {
         sym.end_probe(MomentumSymmetry::Source::force);
       }
       if constexpr (unilateral_count_v<M> > 0) {
-        const auto G = contact_jacobian(s.q, t);
+        const auto G = contact_jacobian(q, t);
         for (int j = 0; j < unilateral_count_v<M>; ++j) {
           add_particles([&](int i) { return G(j, i); }, false);
           sym.end_probe(MomentumSymmetry::Source::contact);
         }
       }
-    }
+    };
+    for_each_probe_state(start.data(), 2 * size_, t0, opt_.t_end, function_ref<void(const double*, double)>(probe));
     sym.write(report_);
   }
 

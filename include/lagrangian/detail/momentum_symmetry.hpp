@@ -6,6 +6,7 @@
 #include <array>
 #include <string>
 
+#include "lagrangian/detail/roots.hpp"
 #include "lagrangian/report.hpp"
 
 namespace lagrangian::detail {
@@ -47,6 +48,13 @@ class MomentumSymmetry {
   double p_scale_ = 0, l_scale_ = 0;
   std::array<bool, 3> p_force_{}, p_contact_{}, l_force_{}, l_contact_{};
 };
+
+/// The states a run's symmetries are probed at: x0 (m values) at t0, then
+/// four states with every value moved by up to 10 % of (1 + |x0_i|), at
+/// times spread over [t0, t_end) — the same states every run. Calls
+/// probe(x, t) for each.
+void for_each_probe_state(const double* x0, int m, double t0, double t_end,
+                          FunctionRef<void(const double*, double)> probe);
 
 /// The largest change of the conserved components of a momentum vector:
 /// |v − v0| over the components whose flag is set (0 when none is).
