@@ -126,8 +126,8 @@ struct ConstraintReport {
   std::vector<std::string> names;        ///< holonomic then Pfaffian constraints
   std::string stabilization;             ///< none, baumgarte or projection
   double baumgarte_omega = 0;            ///< ω used (1/s), 0 unless baumgarte
-  double max_position_residual = 0;      ///< max ‖g(q, t)‖∞ over accepted steps (holonomic)
-  double max_velocity_residual = 0;      ///< max ‖C q̇ + c‖∞ over accepted steps
+  double max_position_residual = 0;      ///< max ‖g(q, t)‖∞ over accepted steps and samples (holonomic)
+  double max_velocity_residual = 0;      ///< max ‖C q̇ + c‖∞ over accepted steps and samples
   double final_position_residual = 0;    ///< ‖g‖∞ at t_end
   double final_velocity_residual = 0;    ///< ‖C q̇ + c‖∞ at t_end
   std::uint64_t projections = 0;         ///< projections carried out

@@ -167,8 +167,14 @@ class ParticleSystem final : public lagrangian::System {
         {L[0], L[1], L[2]}, {L0_[0], L0_[1], L0_[2]}, rep_.angular_momentum_conserved);
     rep_.linear_momentum_drift_max = std::max(rep_.linear_momentum_drift_max, rep_.linear_momentum_drift_final);
     rep_.angular_momentum_drift_max = std::max(rep_.angular_momentum_drift_max, rep_.angular_momentum_drift_final);
-    if (rep_.constrained && !model_.rows().empty())
+    if (rep_.constrained && !model_.rows().empty()) {
       rep_.constraints.min_rank = std::min(rep_.constraints.min_rank, rank(x));
+      // The residuals the user gets: samples come from the dense output
+      // between the steps, where no projection acts.
+      auto& c = rep_.constraints;
+      c.max_position_residual = std::max(c.max_position_residual, model_.position_residual(x));
+      c.max_velocity_residual = std::max(c.max_velocity_residual, model_.velocity_residual(x));
+    }
     if (output_.sample) {
       if (model_.fixed_rows() > 0) multipliers_at(x, t);
       output_.sample(t, x, x + model_.dim(), model_.dim(), E, lambda_, forces_);

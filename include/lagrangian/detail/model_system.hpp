@@ -442,6 +442,11 @@ class ModelSystem final : public System {
   }
 
   void start_constraints(State<n>& x0, Columns& columns);
+  /// Residuals of the constraint state cs into the report (run_constraints.hpp).
+  template <class CS>
+  void record_residuals(CS cs, bool at_step);
+  /// The model's only constraints are contacts: nothing to hold in free flight.
+  static constexpr bool only_contacts_v = holonomic_count_v<M> + pfaffian_count_v<M> == 0;
   void sample_constraints(Sample<n>& s);
 
   /// Gaps within this of zero count as touching: 1e-9 (1 + ‖q‖∞).

@@ -27,8 +27,7 @@ bool ModelSystem<M>::stabilize(double* x, double t, bool allow_projection) {
     return false;
   } else {
     ConstraintReport& cr = report_.constraints;
-    constexpr bool only_contacts = holonomic_count_v<M> + pfaffian_count_v<M> == 0;
-    if (only_contacts && (active() & unilateral_mask_v<M>) == 0) return false;  // free flight: nothing to hold
+    if (only_contacts_v && (active() & unilateral_mask_v<M>) == 0) return false;  // free flight: nothing to hold
     Vec<double, n> q, qd;
     split_state(x, q, qd);
     bool changed = false;
@@ -63,6 +62,20 @@ bool ModelSystem<M>::stabilize(double* x, double t, bool allow_projection) {
       }
     }
     if constexpr (holonomic_count_v<M> + pfaffian_count_v<M> > 0) monitor_conditioning(cs, t);
+    record_residuals(cs, true);
+    return changed;
+  }
+}
+
+/// ‖g‖∞ of the holonomic and active unilateral rows and ‖C q̇ + c‖∞ of the
+/// active rows at one state, into the run's maxima (and, at a step's end,
+/// the final values): at accepted steps and at the samples between them,
+/// which come from the stepper's dense output and are what the user gets.
+template <class M>
+template <class CS>
+void ModelSystem<M>::record_residuals(CS cs, bool at_step) {
+  if constexpr (has_constraints_v<M>) {
+    ConstraintReport& cr = report_.constraints;
     drop_inactive<M>(cs, active());
     const double pos = position_rows_v<M> > 0
                            ? cs.position.head(position_rows_v<M>).template lpNorm<Eigen::Infinity>()
@@ -70,9 +83,12 @@ bool ModelSystem<M>::stabilize(double* x, double t, bool allow_projection) {
     const double vel = cs.velocity.template lpNorm<Eigen::Infinity>();
     cr.max_position_residual = std::max(cr.max_position_residual, pos);
     cr.max_velocity_residual = std::max(cr.max_velocity_residual, vel);
-    cr.final_position_residual = pos;
-    cr.final_velocity_residual = vel;
-    return changed;
+    if (at_step) {
+      cr.final_position_residual = pos;
+      cr.final_velocity_residual = vel;
+    }
+  } else {
+    (void)cs, (void)at_step;
   }
 }
 
@@ -210,6 +226,7 @@ void ModelSystem<M>::sample_constraints(Sample<n>& s) {
     s.constraint_forces = cw_.constraint_forces;
     auto cs = constraint_state(model_, s.q, s.qd, s.t);
     if constexpr (holonomic_count_v<M> + pfaffian_count_v<M> > 0) monitor_conditioning(cs, s.t);
+    if (!(only_contacts_v && (active() & unilateral_mask_v<M>) == 0)) record_residuals(cs, false);
     drop_inactive<M>(cs, ActiveSet{0});  // rank of the bilateral constraints
     const int rank = detail::numeric_rank(cs.jacobian);
     ConstraintReport& cr = report_.constraints;
