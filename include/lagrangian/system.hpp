@@ -84,8 +84,9 @@ class System {
 
   /// The explicit Runge–Kutta methods (dopri5, rk4, cash_karp54,
   /// fehlberg78, bulirsch_stoer) compiled for this system's type with its
-  /// rhs() inlined into the stepper's stages: the driver's own loops
-  /// (detail/explicit_loops.hpp, run_explicit_inlined), not a copy. Runs
+  /// right-hand side inlined into the stepper's stages: the driver's own
+  /// loops (detail/explicit_loops.hpp), not a copy; a model's adapter does
+  /// this for models wrapped by lagrangian::inlined() (inlined.hpp). Runs
   /// `run` from x (2n values) to its end and returns true; the default
   /// returns false and the driver runs the loops compiled once in the
   /// library, which reach rhs() through the vtable. Worth it only when f is
