@@ -26,6 +26,19 @@ std::vector<ImpactCycle::Impact> ImpactCycle::round(int max_period, int window) 
   return {};
 }
 
+std::vector<ImpactCycle::Impact> ImpactCycle::due_round(int contacts) {
+  if (impacts_.size() < next_try_) return {};
+  std::vector<Impact> out = settles_ == 0 ? round(2 * contacts, 6 * contacts) : impacts_;
+  if (!out.empty()) next_try_ = 2 * impacts_.size();  // until settled() says it worked
+  return out;
+}
+
+void ImpactCycle::settled() {
+  impacts_.clear();
+  next_try_ = 12;
+  ++settles_;
+}
+
 bool round_limit(int n, const double* v, RoundMap round, double* out) {
   using Eigen::MatrixXd;
   using Eigen::VectorXd;

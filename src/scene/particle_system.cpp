@@ -169,11 +169,7 @@ class ParticleSystem final : public lagrangian::System {
     rep_.angular_momentum_drift_max = std::max(rep_.angular_momentum_drift_max, rep_.angular_momentum_drift_final);
     if (rep_.constrained && !model_.rows().empty()) {
       rep_.constraints.min_rank = std::min(rep_.constraints.min_rank, rank(x));
-      // The residuals the user gets: samples come from the dense output
-      // between the steps, where no projection acts.
-      auto& c = rep_.constraints;
-      c.max_position_residual = std::max(c.max_position_residual, model_.position_residual(x));
-      c.max_velocity_residual = std::max(c.max_velocity_residual, model_.velocity_residual(x));
+      record_residuals(x);  // samples come from the dense output between the steps, where no projection acts
     }
     if (output_.sample) {
       if (model_.fixed_rows() > 0) multipliers_at(x, t);
@@ -216,11 +212,7 @@ class ParticleSystem final : public lagrangian::System {
       rep_.constraints.stabilization_time_s +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - ps).count();
     }
-    if (rep_.constrained) {
-      auto& c = rep_.constraints;
-      c.max_position_residual = std::max(c.max_position_residual, model_.position_residual(x));
-      c.max_velocity_residual = std::max(c.max_velocity_residual, model_.velocity_residual(x));
-    }
+    if (rep_.constrained) record_residuals(x);
     return moved;
   }
 
@@ -324,6 +316,14 @@ class ParticleSystem final : public lagrangian::System {
     const double tm =
         lagrangian::detail::stationary_time(path_.t0(), path_.t1(), a, b, lagrangian::detail::gap_function(on_path));
     return on_path(tm).gap > touch;
+  }
+
+  /// The constraint residuals at x into the report's maxima (at accepted
+  /// steps and at samples).
+  void record_residuals(const double* x) {
+    auto& c = rep_.constraints;
+    c.max_position_residual = std::max(c.max_position_residual, model_.position_residual(x));
+    c.max_velocity_residual = std::max(c.max_velocity_residual, model_.velocity_residual(x));
   }
 
   /// Which components of P and L (about the origin) the scene conserves
@@ -445,8 +445,6 @@ class ParticleSystem final : public lagrangian::System {
     std::vector<Contact*> plastic;  // their last impact had e = 0: the bodies stick
     double impact_energy = 0;
     lagrangian::detail::ImpactCycle cycle;  // the impacts since the last cycle replaced by its limit
-    int settles = 0;
-    std::size_t next_try = 12;  // doubles after a round that did not settle
     for (int it = 0;; ++it) {
       if (it > 1000 * static_cast<int>(near_.size() + 1)) {
         std::ostringstream os;
@@ -489,17 +487,10 @@ class ParticleSystem final : public lagrangian::System {
       // walls) are replaced by their limit, as for models
       // (detail/impact_cycle.hpp).
       cycle.record(static_cast<int>(std::find(near_.begin(), near_.end(), &c) - near_.begin()), e);
-      const int u = static_cast<int>(near_.size());
-      if (cycle.size() >= next_try) {
-        const auto round = settles == 0 ? cycle.round(2 * u, 6 * u) : cycle.all();
-        if (!round.empty() && settle_cycle(x, t, round, impact_energy)) {
-          for (const auto& imp : round) involved.push_back(near_[static_cast<std::size_t>(imp.contact)]);
-          cycle = lagrangian::detail::ImpactCycle();
-          next_try = 12;
-          ++settles;
-        } else if (!round.empty()) {
-          next_try = 2 * cycle.size();
-        }
+      const auto round = cycle.due_round(static_cast<int>(near_.size()));
+      if (!round.empty() && settle_cycle(x, t, round, impact_energy)) {
+        for (const auto& imp : round) involved.push_back(near_[static_cast<std::size_t>(imp.contact)]);
+        cycle.settled();
       }
     }
     // Contacts that took part and do not separate rest when their last

@@ -30,6 +30,15 @@ class ImpactCycle {
   /// as when a light body is pinned in a corner, taken as repeating its
   /// latest stretch); empty when neither.
   std::vector<Impact> round(int max_period, int window) const;
+  /// The round to try to replace by its limit after the latest impact, or
+  /// empty: a try once 12 impacts are recorded, and again each time the
+  /// record has doubled after a round that did not settle; the repeating
+  /// round (or the latest window) at first, and after a limit that left
+  /// another contact approaching, every impact since (the contacts that
+  /// cycle together). `contacts` is how many contacts may take part.
+  std::vector<Impact> due_round(int contacts);
+  /// The round from due_round() was replaced by its limit: starts over.
+  void settled();
   /// Every impact recorded, in order.
   const std::vector<Impact>& all() const { return impacts_; }
   /// Impacts recorded.
@@ -37,6 +46,8 @@ class ImpactCycle {
 
  private:
   std::vector<Impact> impacts_;
+  std::size_t next_try_ = 12;
+  int settles_ = 0;
 };
 
 /// The velocities a round maps v to: out = F(v), n values each.

@@ -142,8 +142,6 @@ void ModelSystem<M>::resolve_contacts(double* x, double t, int trigger) {
     const int max_impacts = 1000 * u;
     int count = 0;
     ImpactCycle cycle;  // the impacts since the last cycle replaced by its limit
-    int settles = 0;
-    std::size_t next_try = 12;  // doubles after a round that did not settle
     for (;; ++count) {
       contact_gaps(model_, q, qd, t, g, r);
       int j = -1;
@@ -196,18 +194,10 @@ void ModelSystem<M>::resolve_contacts(double* x, double t, int trigger) {
       report_.impact_energy_loss += res.kinetic_energy_before - res.kinetic_energy_after;
       shift_reference_energy(q, qd, t, h_before, res.kinetic_energy_after - res.kinetic_energy_before);
       cycle.record(j, e);
-      if (cycle.size() >= next_try) {
-        // After a limit that left another contact approaching, the round is
-        // everything since: the contacts that cycle together.
-        const std::vector<ImpactCycle::Impact> round = settles == 0 ? cycle.round(2 * u, 6 * u) : cycle.all();
-        if (!round.empty() && settle_cycle(q, qd, t, round)) {
-          for (const ImpactCycle::Impact& imp : round) involved[static_cast<std::size_t>(imp.contact)] = true;
-          cycle = ImpactCycle();
-          next_try = 12;
-          ++settles;
-        } else if (!round.empty()) {
-          next_try = 2 * cycle.size();
-        }
+      const std::vector<ImpactCycle::Impact> round = cycle.due_round(u);
+      if (!round.empty() && settle_cycle(q, qd, t, round)) {
+        for (const ImpactCycle::Impact& imp : round) involved[static_cast<std::size_t>(imp.contact)] = true;
+        cycle.settled();
       }
     }
     contact_gaps(model_, q, qd, t, g, r);
