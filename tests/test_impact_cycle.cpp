@@ -82,6 +82,34 @@ TEST(ImpactCycle, ARoundThatOnlyReflectsHasNoLimit) {
   const double v = 0.7;
   double out = 0;
   EXPECT_FALSE(detail::round_limit(1, &v, detail::round_map(reflect), &out));
+  EXPECT_EQ(out, 0.0);
+}
+
+TEST(ImpactCycle, APartThatTurnsKeepsTheRoundFromSettling) {
+  // Velocities 0 and 1 turn by a quarter turn each round (|λ| = 1, λ = ±i),
+  // velocity 2 halves, velocity 3 is kept: C^k v has no limit.
+  auto turn = [](const double* in, double* out) {
+    out[0] = -in[1];
+    out[1] = in[0];
+    out[2] = 0.5 * in[2];
+    out[3] = in[3];
+  };
+  const std::array<double, 4> v{0.3, 0.1, 0.8, -0.4};
+  std::array<double, 4> out{};
+  EXPECT_FALSE(detail::round_limit(4, v.data(), detail::round_map(turn), out.data()));
+  // Without the turning part the same round settles: velocity 2 to 0, 3 kept.
+  auto damp = [](const double* in, double* out) {
+    out[0] = in[0];
+    out[1] = in[1];
+    out[2] = 0.5 * in[2] + 0.25 * in[3];
+    out[3] = in[3];
+  };
+  ASSERT_TRUE(detail::round_limit(4, v.data(), detail::round_map(damp), out.data()));
+  // x ← x/2 + w/4 with w fixed tends to w/2.
+  EXPECT_NEAR(out[2], -0.2, 1e-15);
+  EXPECT_EQ(out[3], -0.4);
+  EXPECT_EQ(out[0], 0.3);  // untouched by the round: copied
+  EXPECT_EQ(out[1], 0.1);
 }
 
 TEST(ImpactCycle, APinnedLightSphereStopsTheHeavyOneAtTheWall) {
@@ -90,14 +118,16 @@ TEST(ImpactCycle, APinnedLightSphereStopsTheHeavyOneAtTheWall) {
   // plastic: by the sequential rule the pair's velocity shrinks by
   // (M − m)/(M + m) per round of two impacts, so the limit is both at rest
   // against the wall, all ½ M v² taken by the impacts, the wall's impulse M v.
+  // A third sphere rests in a far corner, out of the way (the library's
+  // three-sphere box).
   const double m = 1e-9, M = 1.0, v = 1.0, R = 0.1, r = 0.07;
-  const models::SpheresInBox<2> box({m, M}, {R, r}, 1.0, 1.0, 1.0, 0.0);
-  State<4> s;
-  s.q << R, 0.5, 0.6, 0.5;
-  s.qd << 0.0, 0.0, -v, 0.0;
+  const models::SpheresInBox<3> box({m, M, 1.0}, {R, r, 0.05}, 1.0, 1.0, 1.0, 0.0);
+  State<6> s;
+  s.q << R, 0.5, 0.6, 0.5, 0.85, 0.85;
+  s.qd << 0.0, 0.0, -v, 0.0, 0.0, 0.0;
   SimulationOptions o;
   o.t_end = 1.0;
-  Recorder<4> rec;
+  Recorder<6> rec;
   const RunReport rep = simulate(box, s, o, rec);
   const auto& end = rec.samples.back();
   EXPECT_EQ(rep.t_final, 1.0);
@@ -105,6 +135,8 @@ TEST(ImpactCycle, APinnedLightSphereStopsTheHeavyOneAtTheWall) {
   EXPECT_NEAR(end.qd[2], 0.0, 1e-9);
   EXPECT_NEAR(end.q[0], R, 1e-9);
   EXPECT_NEAR(end.q[2], 2 * R + r, 1e-9);  // touching its neighbour, which touches the wall
+  EXPECT_EQ(end.q[4], 0.85);
+  EXPECT_EQ(end.qd[4], 0.0);
   EXPECT_NEAR(rep.impact_energy_loss, 0.5 * M * v * v, 1e-9);
   double wall = 0;
   for (const EventRecord& e : rep.events)

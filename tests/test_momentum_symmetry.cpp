@@ -124,12 +124,12 @@ TEST(MomentumSymmetry, AProjectileConservesTheHorizontalMomentumOnly) {
 }
 
 TEST(MomentumSymmetry, WallsBreakWhatTheFloorLeaves) {
-  // Two spheres in a box without gravity: free flight and sphere–sphere
+  // Three spheres in a box without gravity: free flight and sphere–sphere
   // impacts conserve P and L, but the walls push along x and y.
-  const models::SpheresInBox<2> box({1.0, 2.0}, {0.1, 0.1}, 2.0, 2.0, 1.0);
-  State<4> s;
-  s.q << 0.5, 1.0, 1.5, 1.0;
-  s.qd << 0.7, 0.3, -0.2, 0.5;
+  const models::SpheresInBox<3> box({1.0, 2.0, 1.5}, {0.1, 0.1, 0.1}, 2.0, 2.0, 1.0);
+  State<6> s;
+  s.q << 0.5, 1.0, 1.5, 1.0, 1.0, 0.3;
+  s.qd << 0.7, 0.3, -0.2, 0.5, 0.1, 0.4;
   const RunReport r = simulate(box, s, options(3.0));
   EXPECT_GT(r.impacts, 0u);
   EXPECT_TRUE(r.conserved_momenta.empty());  // every coordinate is cyclic in L, but touched by a contact

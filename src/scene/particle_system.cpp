@@ -543,16 +543,30 @@ class ParticleSystem final : public lagrangian::System {
     double speed = 0;
     for (int i = 0; i < dim; ++i) speed = std::max(speed, std::abs(x[dim + i]));
     std::copy(limit.begin(), limit.end(), trial.begin() + dim);
-    for (int pass = 0;; ++pass) {
-      Contact* worst = nullptr;
-      double rate = 0;
+    // Contacts of the round left approaching by rounding are closed
+    // plastically all at once (the limit of plastic impacts on them in turn;
+    // a contact closed stays closed while others join).
+    std::vector<Contact*> closing;
+    for (;;) {
+      double worst = 0;
+      bool more = false;
       for (Contact* c : contacts) {
         const double r = c->rate(trial.data(), trial.data() + dim);
-        if (r < rate) rate = r, worst = c;
+        if (r >= -1e-13 * speed) continue;
+        worst = std::min(worst, r);
+        if (std::find(closing.begin(), closing.end(), c) == closing.end()) closing.push_back(c), more = true;
       }
-      if (!worst) break;
-      if (rate < -1e-6 * speed || pass >= 10 * static_cast<int>(contacts.size())) return false;
-      model_.impulse(trial.data(), *worst, 0.0);
+      if (worst == 0) break;
+      if (worst < -1e-6 * speed || !more) return false;
+      auto close = [&](const double* in, double* out) {
+        std::copy(in, in + dim, trial.begin() + dim);
+        for (Contact* c : closing) model_.impulse(trial.data(), *c, 0.0);
+        std::copy(trial.begin() + dim, trial.end(), out);
+      };
+      const std::vector<double> open(trial.begin() + dim, trial.end());
+      if (!lagrangian::detail::round_limit(dim, open.data(), lagrangian::detail::round_map(close), limit.data()))
+        return false;
+      std::copy(limit.begin(), limit.end(), trial.begin() + dim);
     }
     // Each contact's impulse: Σ_k J_k n_k (on both bodies of a pair) = M Δv.
     Eigen::MatrixXd N = Eigen::MatrixXd::Zero(dim, static_cast<Eigen::Index>(contacts.size()));

@@ -60,13 +60,15 @@ RoundMap round_map(const F& f) {
 
 /// The limit lim_k F^k(v) of the map F (n velocities) that one round of
 /// impacts applies. F is linear for contacts whose gaps do not move on their
-/// own (F(0) = 0; otherwise no limit is taken); its matrix C is read off F,
-/// v split along C's eigenvectors, and the parts with |λ| < 1 dropped (a
-/// decay per round of 1 − 2m/M down to m/M = 1e-12 is told from rounding)
-/// while those with λ = 1 are kept. Writes the limit into `out` and returns
-/// true; returns false when some part keeps its size and flips (a
-/// reflection) or grows, or C has no basis of eigenvectors: nothing settles,
-/// and the caller goes on impact by impact.
+/// own (F(0) = 0; otherwise no limit is taken); its matrix C is read off F
+/// and the limit is P v, P the projection onto ker(C − I) along
+/// range(C − I): what the round leaves unchanged is kept, what it damps
+/// dropped (a decay per round of 1 − 2m/M down to m/M ≈ 1e-11 is told from
+/// rounding). Velocities the round does not touch are copied. Writes the
+/// limit into `out` and returns true; returns false (out untouched) when
+/// some part keeps its size and flips or turns (a reflection) or grows, or
+/// λ = 1 lacks a full set of eigenvectors: nothing settles, and the caller
+/// goes on impact by impact.
 bool round_limit(int n, const double* v, RoundMap round, double* out);
 
 }  // namespace lagrangian::detail
