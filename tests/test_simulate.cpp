@@ -385,6 +385,29 @@ TEST(Simulate, TheSanityMonitorFlagsAnEnergyDriftNoToleranceExcuses) {
   EXPECT_FALSE(decayed.drift_exceeded);
 }
 
+TEST(Simulate, TheEnergyScaleIsTheEnergyTheMotionMovesAround) {
+  // A pendulum let go from the horizontal: T = 0 and V = −m g l cos θ = 0,
+  // so h = 0 and the start alone gives no scale (it used to fall back to
+  // 1 J, a thousand times the 1e-3 J this pendulum moves between T and V,
+  // hiding drift). The scale is the largest |T| + |V| met: 2 m g l at the
+  // bottom, where T = m g l and V = −m g l.
+  const double m = 1e-3, l = 0.1, g = 9.81, mgl = m * g * l;
+  const models::SimplePendulum pendulum(m, l, g);
+  State<1> s;
+  s.q << kPi / 2;
+  SimulationOptions o = options("dopri5", 2.0);
+  o.output_interval = 1e-3;
+  Recorder<1> rec;
+  const RunReport r = simulate(pendulum, s, o, rec);
+  EXPECT_NEAR(r.energy_scale, 2 * mgl, 1e-4 * mgl);  // the samples pass within 7e-3 rad of the bottom
+  double worst = 0;
+  for (const auto& x : rec.samples) worst = std::max(worst, std::abs(x.energy - rec.samples.front().energy));
+  EXPECT_GT(worst, 0.0);
+  EXPECT_DOUBLE_EQ(r.energy_drift_max, worst / r.energy_scale);
+  EXPECT_LT(r.energy_drift_max, 1e-6);
+  EXPECT_FALSE(r.drift_exceeded);
+}
+
 // -- sampling -------------------------------------------------------------------------
 
 TEST(Simulate, DenseOutputSamplesAreAccurateBetweenSteps) {

@@ -194,7 +194,9 @@ struct RunReport {
   /// and the `lagrangian` command exits with code 3 unless --allow-drift.
   double drift_bound = 0;
   bool drift_exceeded = false;
-  /// Scale for relative energy drift: max(|h0|, |T0| + |V0|) (J), or 1 J when zero.
+  /// Scale for relative energy drift (J): the largest of |h| and |T| + |V|
+  /// over the run's samples (t0 included), or 1 J when all are zero. The
+  /// particle scenes use |E| and |T| + |V|; the hard-sphere engine T0.
   double energy_scale = 1;
   double energy_initial = 0;        ///< h(t0) = p·q̇ − L (J)
   double energy_final = 0;          ///< h(t_end) (J)

@@ -121,8 +121,9 @@ class ParticleSystem final : public lagrangian::System {
     rep_.has_total_energy = true;
     const double T0 = model_.kinetic(x), V0 = model_.potential(x);
     E0_ = T0 + V0;
-    rep_.energy_scale = std::max(std::abs(E0_), std::abs(T0) + std::abs(V0));
-    if (rep_.energy_scale == 0) rep_.energy_scale = 1;
+    scale_ = std::max(std::abs(E0_), std::abs(T0) + std::abs(V0));
+    drift_ = 0;
+    rescale_drift();
     rep_.energy_initial = rep_.total_energy_initial = E0_;
     rep_.has_particles = true;
     probe_momentum_symmetry(x, t0);
@@ -154,11 +155,11 @@ class ParticleSystem final : public lagrangian::System {
   }
 
   void sample(double t, const double* x) override {
-    const double E = model_.kinetic(x) + model_.potential(x);
+    const double T = model_.kinetic(x), V = model_.potential(x), E = T + V;
     if (!std::isfinite(E)) lagrangian::detail::throw_non_finite_energy(t, E, x, model_.dim());
-    const double drift = std::abs(E - E0_ - shift_at(t)) / rep_.energy_scale;
-    rep_.energy_drift_max = std::max(rep_.energy_drift_max, drift);
-    rep_.total_energy_drift_max = rep_.energy_drift_max;
+    drift_ = std::max(drift_, std::abs(E - E0_ - shift_at(t)));
+    scale_ = std::max({scale_, std::abs(E), std::abs(T) + std::abs(V)});
+    rescale_drift();
     Vector3d P, L;
     momentum(x, P, L);
     rep_.linear_momentum_drift_final =
@@ -176,6 +177,13 @@ class ParticleSystem final : public lagrangian::System {
       output_.sample(t, x, x + model_.dim(), model_.dim(), E, lambda_, forces_);
     }
     if (tick_) tick_(t);
+  }
+
+  /// The energy scale, as for models (RunReport::energy_scale): the
+  /// largest |E| and |T| + |V| so far; the drift so far divided by it.
+  void rescale_drift() {
+    rep_.energy_scale = scale_ > 0 ? scale_ : 1.0;
+    rep_.energy_drift_max = rep_.total_energy_drift_max = drift_ / rep_.energy_scale;
   }
 
   void finish(double t, const double* x, bool sample_end) override {
@@ -606,6 +614,7 @@ class ParticleSystem final : public lagrangian::System {
   StepPath path_;
   lagrangian::detail::EventProgress progress_;
   double E0_ = 0, shift_ = 0;
+  double drift_ = 0, scale_ = 0;  // J: max |E − E0 − shifts| and the energy scale so far (rescale_drift)
   std::vector<std::pair<double, double>> pending_;  ///< (time, ΔT) of impacts not yet sampled past
   Vector3d P0_ = Vector3d::Zero(), L0_ = Vector3d::Zero();
 };

@@ -79,6 +79,14 @@ TEST(StabilityStiff, ExplicitStepperReportedInefficient) {
   EXPECT_NE(r.warnings[0].find("stiff problem"), std::string::npos) << r.warnings[0];
   EXPECT_NE(r.summary().find("rosenbrock4"), std::string::npos);
   EXPECT_NE(r.to_json().find("stiff problem"), std::string::npos);
+  // The warning's test of stability-limited steps holds: a thousand times
+  // tighter, the step count barely moves (accuracy-limited, it would grow
+  // about 1000^(1/5) = 4 times).
+  SimulationOptions tight = run("dopri5");
+  tight.rtol = 1e-9;
+  tight.atol = 1e-12;
+  const RunReport t = simulate(StiffSprings{}, start(), tight);
+  EXPECT_LT(static_cast<double>(t.steps), 1.1 * static_cast<double>(r.steps));
 }
 
 TEST(StabilityStiff, NonStiffRunIsNotWarned) {

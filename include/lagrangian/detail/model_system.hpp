@@ -172,7 +172,9 @@ class ModelSystem final : public System {
       report_.has_total_energy = true;
       report_.total_energy_initial = e0_;
     }
-    report_.energy_scale = scale > 0 && std::isfinite(scale) ? scale : 1.0;
+    scale_ = std::isfinite(scale) ? scale : 0.0;
+    h_drift_ = e_drift_ = 0;
+    rescale_drifts();
     report_.energy_initial = h0_;
     for (int i : cyclic_) report_.conserved_momenta.push_back({columns.coordinates[static_cast<std::size_t>(i)], p[i], 0, 0});
     if (obs_.begin) obs_.begin(obs_.object, columns);
@@ -193,13 +195,16 @@ class ModelSystem final : public System {
     s.energy = energy_and_momenta(model_, s.q, s.qd, t, p);
     if (!std::isfinite(s.energy)) throw_non_finite_energy(t, s.energy, x, size_);
     h_last_ = s.energy;
-    report_.energy_drift_max = std::max(report_.energy_drift_max, std::abs(s.energy - h0_) / report_.energy_scale);
+    h_drift_ = std::max(h_drift_, std::abs(s.energy - h0_));
+    scale_ = std::max(scale_, std::abs(s.energy));
     if constexpr (has_kinetic_potential_v<M>) {
-      s.total_energy = model_.kinetic(s.q, s.qd, t) + model_.potential(s.q, t);
+      const double kinetic = model_.kinetic(s.q, s.qd, t), potential = model_.potential(s.q, t);
+      s.total_energy = kinetic + potential;
       e_last_ = s.total_energy;
-      report_.total_energy_drift_max =
-          std::max(report_.total_energy_drift_max, std::abs(s.total_energy - e0_) / report_.energy_scale);
+      e_drift_ = std::max(e_drift_, std::abs(s.total_energy - e0_));
+      scale_ = std::max(scale_, std::abs(kinetic) + std::abs(potential));
     }
+    rescale_drifts();
     if constexpr (has_constraints_v<M>) sample_constraints(s);
     if constexpr (has_particles_v<M>) sample_particles(s);
     if constexpr (has_reference_v<M>) {
@@ -226,6 +231,16 @@ class ModelSystem final : public System {
     report_.energy_drift_final = std::abs(h_last_ - h0_) / report_.energy_scale;
     if (report_.has_total_energy) report_.total_energy_drift_final = std::abs(e_last_ - e0_) / report_.energy_scale;
     report_.energy_final = h_last_;
+  }
+
+  /// The energy scale: the largest of |h| and |T| + |V| met so far (J),
+  /// the energy the motion moves around, so that a start at E = 0 (a
+  /// pendulum let go from the horizontal, a parabolic orbit) does not make
+  /// rounding look like drift; the drifts so far divided by it.
+  void rescale_drifts() {
+    report_.energy_scale = scale_ > 0 ? scale_ : 1.0;
+    report_.energy_drift_max = h_drift_ / report_.energy_scale;
+    if (report_.has_total_energy) report_.total_energy_drift_max = e_drift_ / report_.energy_scale;
   }
 
   bool has_constraints() const override { return has_constraints_v<M>; }
@@ -525,6 +540,7 @@ class ModelSystem final : public System {
       cw_{};
   std::vector<int> cyclic_;
   double h0_ = 0, e0_ = 0, h_last_ = 0, e_last_ = 0;
+  double h_drift_ = 0, e_drift_ = 0, scale_ = 0;  // J: max |h − h0|, max |E − E0|, see rescale_drifts()
   bool warned_conditioning_ = false;
   [[no_unique_address]] std::conditional_t<structure_preserving_v<M> && variational_supported_v<M>,
                                            std::optional<VariationalIntegrator<M>>, None>
