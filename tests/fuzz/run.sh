@@ -33,7 +33,7 @@ if ! command -v "$cxx" > /dev/null 2>&1; then
   exit 0
 fi
 
-flags=(-std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
+flags=(-std=c++20 -O1 -gline-tables-only -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
        -I"$src/include" -I/usr/include/eigen3 -DTOML_HEADER_ONLY=0 -DTOML_SHARED_LIB=1)
 
 # The libFuzzer runtime ships separately from the compiler.

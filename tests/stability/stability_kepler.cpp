@@ -56,11 +56,11 @@ TEST(StabilityKepler, AdaptiveEnergyErrorBelow1e10) {
 
 // The variational integrator at a fixed step: energy error bounded (the
 // largest error over the last 100 orbits at most twice that over the first
-// 100; under the sanitizers 50 orbits and windows of 5) and the angular
+// 100; under the sanitizers 30 orbits and windows of 3) and the angular
 // momentum p_phi conserved to 1e-12.
 TEST(StabilityKepler, VariationalBoundedEnergyExactAngularMomentum) {
   const models::KeplerPolar model(1.0, 1.0);
-  const int orbits = static_cast<int>(kOrbits * stability::length_factor(0.05));
+  const int orbits = static_cast<int>(kOrbits * stability::length_factor(0.03));
   const int window = orbits / 10;
   SimulationOptions o;
   o.method = "variational";
