@@ -160,4 +160,28 @@ bool round_limit(int n, const double* v, RoundMap round, double* out) {
   return true;
 }
 
+bool close_together(int n, double* v, int count, double speed, FunctionRef<double(int, const double*)> rate,
+                    FunctionRef<void(int, double*)> plastic) {
+  std::vector<int> closing;
+  std::vector<double> open(static_cast<std::size_t>(n));
+  for (;;) {
+    double worst = 0;
+    bool more = false;
+    for (int k = 0; k < count; ++k) {
+      const double r = rate(k, v);
+      if (!(r < -1e-13 * speed)) continue;
+      worst = std::min(worst, r);
+      if (std::find(closing.begin(), closing.end(), k) == closing.end()) closing.push_back(k), more = true;
+    }
+    if (worst == 0) return true;
+    if (worst < -1e-6 * speed || !more) return false;
+    auto close = [&](const double* in, double* out) {
+      std::copy(in, in + n, out);
+      for (int k : closing) plastic(k, out);
+    };
+    std::copy(v, v + n, open.begin());
+    if (!round_limit(n, open.data(), round_map(close), v)) return false;
+  }
+}
+
 }  // namespace lagrangian::detail

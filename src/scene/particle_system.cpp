@@ -528,8 +528,8 @@ class ParticleSystem final : public lagrangian::System {
 
   /// The limit of impacts that cycle among the contacts near_[k] of `round`
   /// (detail/impact_cycle.hpp), as ModelSystem::settle_cycle: the
-  /// velocities in x jump to it when the rounds converge, a contact left
-  /// approaching by up to 1e-6 of the speeds is closed plastically, and each
+  /// velocities in x jump to it when the rounds converge, the contacts left
+  /// approaching by rounding are closed together (close_together), and each
   /// contact of the round gets one impact in the log with its share of the
   /// total impulse. Returns false (x unchanged) when the rounds do not settle.
   bool settle_cycle(double* x, double t, const std::vector<lagrangian::detail::ImpactCycle::Impact>& round,
@@ -550,32 +550,21 @@ class ParticleSystem final : public lagrangian::System {
     }
     double speed = 0;
     for (int i = 0; i < dim; ++i) speed = std::max(speed, std::abs(x[dim + i]));
+    // Contacts of the round left approaching by rounding: closed together.
+    auto rate = [&](int k, const double* v) {
+      std::copy(v, v + dim, trial.begin() + dim);
+      return contacts[static_cast<std::size_t>(k)]->rate(trial.data(), trial.data() + dim);
+    };
+    auto plastic = [&](int k, double* v) {
+      std::copy(v, v + dim, trial.begin() + dim);
+      model_.impulse(trial.data(), *contacts[static_cast<std::size_t>(k)], 0.0);
+      std::copy(trial.begin() + dim, trial.end(), v);
+    };
+    if (!lagrangian::detail::close_together(dim, limit.data(), static_cast<int>(contacts.size()), speed,
+                                            lagrangian::detail::function_ref<double(int, const double*)>(rate),
+                                            lagrangian::detail::function_ref<void(int, double*)>(plastic)))
+      return false;
     std::copy(limit.begin(), limit.end(), trial.begin() + dim);
-    // Contacts of the round left approaching by rounding are closed
-    // plastically all at once (the limit of plastic impacts on them in turn;
-    // a contact closed stays closed while others join).
-    std::vector<Contact*> closing;
-    for (;;) {
-      double worst = 0;
-      bool more = false;
-      for (Contact* c : contacts) {
-        const double r = c->rate(trial.data(), trial.data() + dim);
-        if (r >= -1e-13 * speed) continue;
-        worst = std::min(worst, r);
-        if (std::find(closing.begin(), closing.end(), c) == closing.end()) closing.push_back(c), more = true;
-      }
-      if (worst == 0) break;
-      if (worst < -1e-6 * speed || !more) return false;
-      auto close = [&](const double* in, double* out) {
-        std::copy(in, in + dim, trial.begin() + dim);
-        for (Contact* c : closing) model_.impulse(trial.data(), *c, 0.0);
-        std::copy(trial.begin() + dim, trial.end(), out);
-      };
-      const std::vector<double> open(trial.begin() + dim, trial.end());
-      if (!lagrangian::detail::round_limit(dim, open.data(), lagrangian::detail::round_map(close), limit.data()))
-        return false;
-      std::copy(limit.begin(), limit.end(), trial.begin() + dim);
-    }
     // Each contact's impulse: Σ_k J_k n_k (on both bodies of a pair) = M Δv.
     Eigen::MatrixXd N = Eigen::MatrixXd::Zero(dim, static_cast<Eigen::Index>(contacts.size()));
     Eigen::VectorXd dp(dim);

@@ -71,4 +71,16 @@ RoundMap round_map(const F& f) {
 /// goes on impact by impact.
 bool round_limit(int n, const double* v, RoundMap round, double* out);
 
+/// After a round's limit v (n velocities, changed in place): the contacts
+/// 0 … count − 1 of the round still approaching by rounding (rate(k, v) <
+/// −1e-13 speed) are closed plastically, all together — the limit of
+/// plastic impacts on them in turn, `plastic(k, v)` applying one (linear in
+/// v); a contact closed stays closed while others join. The limit is exact
+/// only to rounding amplified by the slowest decay (about ε M/(2m)); closed
+/// one at a time, a light body in a corner cycles again. Returns false when
+/// one approaches by more than 1e-6 of `speed` (the rounds had not settled
+/// into one pattern) or a limit fails.
+bool close_together(int n, double* v, int count, double speed, FunctionRef<double(int, const double*)> rate,
+                    FunctionRef<void(int, double*)> plastic);
+
 }  // namespace lagrangian::detail

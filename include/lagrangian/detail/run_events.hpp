@@ -240,36 +240,23 @@ bool ModelSystem<M>::settle_cycle(const Vec<double, n>& q, Vec<double, n>& qd, d
     std::vector<int> contacts;
     for (const ImpactCycle::Impact& imp : round)
       if (std::find(contacts.begin(), contacts.end(), imp.contact) == contacts.end()) contacts.push_back(imp.contact);
-    // The limit is exact only to rounding amplified by the slowest decay
-    // (about ε M/(2m)): the contacts of the round left approaching by up to
-    // 1e-6 of the speeds are closed plastically all at once (the limit of
-    // plastic impacts on them in turn; a contact closed stays closed while
-    // others join), so that none creeps into its wall afterwards; one
-    // approaching faster means the rounds had not settled into one pattern,
-    // and the impacts go on one by one.
+    // Contacts of the round left approaching by rounding: closed together.
     Vec<double, u> g, r_before, r_after;
     contact_gaps(model_, q, qd, t, g, r_before);
-    const double speed = qd.template lpNorm<Eigen::Infinity>();
-    std::vector<int> closing;
-    for (;;) {
-      contact_gaps(model_, q, limit, t, g, r_after);
-      double worst = 0;
-      bool more = false;
-      for (int c : contacts)
-        if (r_after[c] < -1e-13 * speed) {
-          worst = std::min(worst, r_after[c]);
-          if (std::find(closing.begin(), closing.end(), c) == closing.end()) closing.push_back(c), more = true;
-        }
-      if (worst == 0) break;
-      if (worst < -1e-6 * speed || !more) return false;
-      auto close = [&](const double* in, double* out) {
-        for (int i = 0; i < size_; ++i) w[i] = in[i];
-        for (int c : closing) restitution_impact(model_, ws_, q, w, t, c, 0.0, false);
-        for (int i = 0; i < size_; ++i) out[i] = w[i];
-      };
-      const Vec<double, n> open = limit;
-      if (!round_limit(size_, open.data(), round_map(close), limit.data())) return false;
-    }
+    auto rate = [&](int k, const double* v) {
+      for (int i = 0; i < size_; ++i) w[i] = v[i];
+      contact_gaps(model_, q, w, t, g, r_after);
+      return r_after[contacts[static_cast<std::size_t>(k)]];
+    };
+    auto plastic = [&](int k, double* v) {
+      for (int i = 0; i < size_; ++i) w[i] = v[i];
+      restitution_impact(model_, ws_, q, w, t, contacts[static_cast<std::size_t>(k)], 0.0, false);
+      for (int i = 0; i < size_; ++i) v[i] = w[i];
+    };
+    if (!close_together(size_, limit.data(), static_cast<int>(contacts.size()), qd.template lpNorm<Eigen::Infinity>(),
+                        function_ref<double(int, const double*)>(rate), function_ref<void(int, double*)>(plastic)))
+      return false;
+    contact_gaps(model_, q, limit, t, g, r_after);
     // The impulse each contact gave: Gᵀ Λ = M (q̇∞ − q̇), G the round's rows.
     evaluate(model_, ws_, q, qd, t);
     const Vec<double, n> dp = ws_.mass * (limit - qd);
