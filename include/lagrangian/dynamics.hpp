@@ -35,8 +35,10 @@
 
 #if defined(__GNUC__)
 #define LAGRANGIAN_FLATTEN __attribute__((flatten))
+#define LAGRANGIAN_ALWAYS_INLINE __attribute__((always_inline)) inline
 #else
 #define LAGRANGIAN_FLATTEN
+#define LAGRANGIAN_ALWAYS_INLINE inline
 #endif
 
 namespace lagrangian {
@@ -264,8 +266,10 @@ void evaluate(const M& model, Workspace<coordinate_count_v<M>>& ws, const Vec<do
 namespace detail {
 /// q̈ of the model's Lagrangian and forces alone, M q̈ = rhs, any constraints
 /// left out (the free motion of a contact model whose contacts are open).
+/// Inlined into its callers (the adapter's right-hand side among them), so
+/// that an evaluation is one call below the stepper's, into eom_pass.
 template <class M>
-void free_accelerations(const M& model, Workspace<coordinate_count_v<M>>& ws, const Vec<double, coordinate_count_v<M>>& q,
+LAGRANGIAN_ALWAYS_INLINE void free_accelerations(const M& model, Workspace<coordinate_count_v<M>>& ws, const Vec<double, coordinate_count_v<M>>& q,
                    const Vec<double, coordinate_count_v<M>>& qd,
                    double t, Vec<double, coordinate_count_v<M>>& out) {
   evaluate(model, ws, q, qd, t);

@@ -77,7 +77,7 @@ namespace explicit_loops {
 // No state is carried between steps except by Bulirsch–Stoer, which
 // restarts after an event.
 template <class Controlled, class X, class Rhs>
-void run_controlled(Run& run, X& x, const Rhs rhs) {
+void controlled_body(Run& run, X& x, const Rhs rhs) {
   Controlled stepper = make_controlled<Controlled>(run.options().atol, run.options().rtol);
   run_controlled_loop(
       run, x, rhs, [&](X& xs, double& t, double& dt) { return stepper.try_step(rhs, xs, t, dt) == odeint::success; },
@@ -86,8 +86,27 @@ void run_controlled(Run& run, X& x, const Rhs rhs) {
       });
 }
 
+// Through the vtable (CountedRhs) each f(x, t) of a stage is a call. Left
+// as functions of their own, Odeint's stage sums reload their operands after
+// each call and test the arrays for overlap before each vectorised sum;
+// flattened into the loop, the arrays are the loop's own and known apart
+// (measured in docs/performance.md). With f inlined (DirectRhs) flattening would copy f into every
+// stage and is not done.
+template <class Controlled, class X, class Rhs>
+[[gnu::flatten]] void controlled_flat(Run& run, X& x, const Rhs rhs) {
+  controlled_body<Controlled>(run, x, rhs);
+}
+template <class Controlled, class X, class Rhs>
+void run_controlled(Run& run, X& x, const Rhs rhs) {
+  if constexpr (inlined_rhs_v<Rhs, X>) {
+    controlled_body<Controlled>(run, x, rhs);
+  } else {
+    controlled_flat<Controlled>(run, x, rhs);
+  }
+}
+
 template <class X, class Rhs>
-void run_dopri5(Run& run, X& x, const Rhs rhs) {
+void dopri5_body(Run& run, X& x, const Rhs rhs) {
   const SimulationOptions& opt = run.options();
   using Controlled = odeint::controlled_runge_kutta<odeint::runge_kutta_dopri5<X>>;
   Controlled stepper{typename Controlled::error_checker_type(opt.atol, opt.rtol)};
@@ -145,6 +164,20 @@ void run_dopri5(Run& run, X& x, const Rhs rhs) {
       run.rejected(t, dt_try);
       dt = dt_try;
     }
+  }
+}
+
+// Flattened through the vtable only, as controlled_flat.
+template <class X, class Rhs>
+[[gnu::flatten]] void dopri5_flat(Run& run, X& x, const Rhs rhs) {
+  dopri5_body(run, x, rhs);
+}
+template <class X, class Rhs>
+void run_dopri5(Run& run, X& x, const Rhs rhs) {
+  if constexpr (inlined_rhs_v<Rhs, X>) {
+    dopri5_body(run, x, rhs);
+  } else {
+    dopri5_flat(run, x, rhs);
   }
 }
 
