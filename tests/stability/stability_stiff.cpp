@@ -77,6 +77,8 @@ TEST(StabilityStiff, ExplicitStepperReportedInefficient) {
   EXPECT_NEAR(r.stiffness_rho, 1e4, 1e2);
   ASSERT_EQ(r.warnings.size(), 1u);
   EXPECT_NE(r.warnings[0].find("stiff problem"), std::string::npos) << r.warnings[0];
+  // Confirmed by the library's own test of tighter tolerances, not "may".
+  EXPECT_NE(r.warnings[0].find("were limited by stability, not accuracy"), std::string::npos) << r.warnings[0];
   EXPECT_NE(r.summary().find("rosenbrock4"), std::string::npos);
   EXPECT_NE(r.to_json().find("stiff problem"), std::string::npos);
   // The warning's test of stability-limited steps holds: a thousand times
@@ -87,6 +89,58 @@ TEST(StabilityStiff, ExplicitStepperReportedInefficient) {
   tight.atol = 1e-12;
   const RunReport t = simulate(StiffSprings{}, start(), tight);
   EXPECT_LT(static_cast<double>(t.steps), 1.1 * static_cast<double>(r.steps));
+}
+
+/// A run to t_end with rtol, atol = rtol / 1000 and no samples between.
+SimulationOptions short_run(const std::string& method, double rtol, double t_end) {
+  SimulationOptions o = run(method);
+  o.t_end = t_end;
+  o.rtol = rtol;
+  o.atol = rtol * 1e-3;
+  o.output_interval = 0;
+  return o;
+}
+
+TEST(StabilityStiff, StabilityLimitedStepsAreConfirmedAtEveryTolerance) {
+  // Stability caps the step at h ρ of order 1 whatever the tolerance: the
+  // warning says so as a finding, for dopri5 and fehlberg78.
+  for (const char* method : {"dopri5", "fehlberg78"}) {
+    for (double rtol : {1e-6, 1e-9}) {
+      const RunReport r = simulate(StiffSprings{}, start(), short_run(method, rtol, 2.0));
+      EXPECT_GT(r.steps, 5000u) << method << " rtol " << rtol;  // 2 s at h ρ ≲ 2.5 with ρ = 1e4 1/s
+      ASSERT_EQ(r.warnings.size(), 1u) << method << " rtol " << rtol;
+      EXPECT_NE(r.warnings[0].find("were limited by stability, not accuracy"), std::string::npos)
+          << method << ": " << r.warnings[0];
+    }
+  }
+}
+
+TEST(StabilityStiff, AccuracyLimitedStepsAboveTheRateAreNotWarned) {
+  // The soft springs (ρ = 1.62 1/s) at loose tolerances: the mean step times
+  // ρ exceeds 1, as on a stiff problem, but a tighter tolerance shrinks the
+  // steps as accuracy does (about 100^(1/5) = 2.5 times for dopri5,
+  // 100^(1/8) = 1.8 for fehlberg78), so no warning: an implicit method would
+  // take more steps here, not fewer.
+  StiffSprings soft;
+  soft.ks = 1.0;
+  int checked = 0;
+  for (const auto& [method, rtol] : {std::pair{"dopri5", 1e-2}, std::pair{"fehlberg78", 1e-2},
+                                     std::pair{"fehlberg78", 1e-3}, std::pair{"fehlberg78", 1e-4}}) {
+    const RunReport r = simulate(soft, start(), short_run(method, rtol, 100.0));
+    const double mean_h_rho = r.t_final / static_cast<double>(r.steps) * r.stiffness_rho;
+    EXPECT_GT(mean_h_rho, 1.0) << method << " rtol " << rtol;  // where h ρ alone would have warned
+    EXPECT_TRUE(r.warnings.empty()) << method << " rtol " << rtol << ": " << r.warnings[0];
+    ++checked;
+  }
+  EXPECT_EQ(checked, 4);
+}
+
+TEST(StabilityStiff, BulirschStoerIsWarnedThatItMayBeLimited) {
+  // Bulirsch–Stoer raises its order rather than shrinking its step for a
+  // tighter tolerance, so the test cannot tell; the warning says "may".
+  const RunReport r = simulate(StiffSprings{}, start(), short_run("bulirsch_stoer", 1e-6, 2.0));
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("may have been limited by stability"), std::string::npos) << r.warnings[0];
 }
 
 TEST(StabilityStiff, NonStiffRunIsNotWarned) {
