@@ -67,23 +67,13 @@ std::optional<std::uint64_t> steps_over(const System& system, StateVector x, dou
   Controlled stepper = make_controlled<Controlled>(atol, rtol);
   auto f = [&system](const StateVector& y, StateVector& dydt, double tt) { system.rhs(y.data(), dydt.data(), tt); };
   const double t_end = t + span;
-  std::uint64_t steps = 0;
   try {
-    while (t < t_end) {
-      if (steps >= cap) return cap;
-      const bool last = t + dt >= t_end;
-      double h = last ? t_end - t : dt;
-      if (stepper.try_step(f, x, t, h) == odeint::success) {
-        ++steps;
-        if (last) t = t_end;
-      }
-      dt = h;
-      if (!(dt > 0) || t + dt == t || !state_finite(x)) return std::nullopt;
-    }
+    const std::uint64_t steps = advance_controlled(stepper, f, x, t, t_end, dt, cap);
+    if (steps < cap && (t < t_end || !state_finite(x))) return std::nullopt;
+    return steps;
   } catch (const std::exception&) {
     return std::nullopt;
   }
-  return steps;
 }
 
 /// The growth exponent 1/(p+1) of the steps with 1/tol for the embedded

@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 
 #include <boost/numeric/odeint/stepper/bulirsch_stoer.hpp>
@@ -45,6 +46,27 @@ Controlled make_controlled(double atol, double rtol) {
   }
 }
 
+/// Advances (x, t) to t_end with the controlled stepper's accepted steps,
+/// the first tried with dt, the last shortened to land on t_end; returns how
+/// many were accepted. Stops short of t_end when the step underflows or
+/// after `cap` accepted steps.
+template <class Controlled, class Rhs, class X>
+std::uint64_t advance_controlled(Controlled& stepper, const Rhs& rhs, X& x, double& t, double t_end, double dt,
+                                 std::uint64_t cap) {
+  std::uint64_t steps = 0;
+  while (t < t_end && steps < cap) {
+    const bool last = t + dt >= t_end;
+    double dt_try = last ? t_end - t : dt;
+    if (stepper.try_step(rhs, x, t, dt_try) == odeint::success) {
+      ++steps;
+      if (last) t = t_end;
+    }
+    dt = dt_try;
+    if (t < t_end && (!(dt > 0) || t + dt == t)) break;  // underflow
+  }
+  return steps;
+}
+
 template <class X, class Rhs>
 void SubStep<X, Rhs>::operator()(double t, double* out) const {
   if (t == t0) {
@@ -54,18 +76,9 @@ void SubStep<X, Rhs>::operator()(double t, double* out) const {
   using Controlled = odeint::controlled_runge_kutta<odeint::runge_kutta_fehlberg78<X>>;
   Controlled stepper = make_controlled<Controlled>(atol, rtol);
   X x = x0;
-  double tc = t0, dt = t - t0;
-  while (tc < t) {
-    const bool last = tc + dt >= t;
-    double dt_try = last ? t - tc : dt;
-    if (stepper.try_step(rhs, x, tc, dt_try) == odeint::success) {
-      if (last) tc = t;
-      dt = dt_try;
-    } else {
-      dt = dt_try;
-      if (!(dt > 0) || tc + dt == tc) break;  // underflow: keep what we have
-    }
-  }
+  double tc = t0;
+  // An underflow keeps what was reached.
+  advance_controlled(stepper, rhs, x, tc, t, t - t0, std::numeric_limits<std::uint64_t>::max());
   std::copy(x.begin(), x.end(), out);
 }
 
