@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "lagrangian/detail/contact_rules.hpp"
+#include "lagrangian/detail/energy_scale.hpp"
 #include "lagrangian/detail/impact_cycle.hpp"
 #include "lagrangian/detail/momentum_symmetry.hpp"
 #include "lagrangian/errors.hpp"
@@ -121,7 +122,9 @@ class ParticleSystem final : public lagrangian::System {
     rep_.has_total_energy = true;
     const double T0 = model_.kinetic(x), V0 = model_.potential(x);
     E0_ = T0 + V0;
-    scale_ = std::max(std::abs(E0_), std::abs(T0) + std::abs(V0));
+    scale_ = lagrangian::detail::EnergyScale();
+    scale_.meet(E0_);
+    scale_.meet(T0, V0);
     drift_ = 0;
     rescale_drift();
     rep_.energy_initial = rep_.total_energy_initial = E0_;
@@ -158,7 +161,8 @@ class ParticleSystem final : public lagrangian::System {
     const double T = model_.kinetic(x), V = model_.potential(x), E = T + V;
     if (!std::isfinite(E)) lagrangian::detail::throw_non_finite_energy(t, E, x, model_.dim());
     drift_ = std::max(drift_, std::abs(E - E0_ - shift_at(t)));
-    scale_ = std::max({scale_, std::abs(E), std::abs(T) + std::abs(V)});
+    scale_.meet(E);
+    scale_.meet(T, V);
     rescale_drift();
     Vector3d P, L;
     momentum(x, P, L);
@@ -179,10 +183,10 @@ class ParticleSystem final : public lagrangian::System {
     if (tick_) tick_(t);
   }
 
-  /// The energy scale, as for models (RunReport::energy_scale): the
-  /// largest |E| and |T| + |V| so far; the drift so far divided by it.
+  /// The energy scale, as for models (EnergyScale), and the drift so far
+  /// divided by it.
   void rescale_drift() {
-    rep_.energy_scale = scale_ > 0 ? scale_ : 1.0;
+    rep_.energy_scale = scale_.value();
     rep_.energy_drift_max = rep_.total_energy_drift_max = drift_ / rep_.energy_scale;
   }
 
@@ -603,7 +607,8 @@ class ParticleSystem final : public lagrangian::System {
   StepPath path_;
   lagrangian::detail::EventProgress progress_;
   double E0_ = 0, shift_ = 0;
-  double drift_ = 0, scale_ = 0;  // J: max |E − E0 − shifts| and the energy scale so far (rescale_drift)
+  double drift_ = 0;  // J: max |E − E0 − shifts| so far (rescale_drift)
+  lagrangian::detail::EnergyScale scale_;
   std::vector<std::pair<double, double>> pending_;  ///< (time, ΔT) of impacts not yet sampled past
   Vector3d P0_ = Vector3d::Zero(), L0_ = Vector3d::Zero();
 };

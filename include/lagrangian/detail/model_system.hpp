@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "lagrangian/constraints.hpp"
+#include "lagrangian/detail/energy_scale.hpp"
 #include "lagrangian/detail/singular_values.hpp"
 #include "lagrangian/detail/contact_rules.hpp"
 #include "lagrangian/detail/impact_cycle.hpp"
@@ -163,16 +164,16 @@ class ModelSystem final : public System {
     Vec<double, n> p(size_);
     h0_ = energy_and_momenta(model_, x0.q, x0.qd, t0, p);  // after any impact at t0
     pending_shifts_.clear();
-    double scale = std::abs(h0_);
+    scale_ = EnergyScale();
+    scale_.meet(h0_);
     if constexpr (has_kinetic_potential_v<M>) {
       const double kinetic0 = model_.kinetic(x0.q, x0.qd, t0);
       const double potential0 = model_.potential(x0.q, t0);
       e0_ = kinetic0 + potential0;
-      scale = std::max(scale, std::abs(kinetic0) + std::abs(potential0));
+      scale_.meet(kinetic0, potential0);
       report_.has_total_energy = true;
       report_.total_energy_initial = e0_;
     }
-    scale_ = std::isfinite(scale) ? scale : 0.0;
     h_drift_ = e_drift_ = 0;
     rescale_drifts();
     report_.energy_initial = h0_;
@@ -196,13 +197,13 @@ class ModelSystem final : public System {
     if (!std::isfinite(s.energy)) throw_non_finite_energy(t, s.energy, x, size_);
     h_last_ = s.energy;
     h_drift_ = std::max(h_drift_, std::abs(s.energy - h0_));
-    scale_ = std::max(scale_, std::abs(s.energy));
+    scale_.meet(s.energy);
     if constexpr (has_kinetic_potential_v<M>) {
       const double kinetic = model_.kinetic(s.q, s.qd, t), potential = model_.potential(s.q, t);
       s.total_energy = kinetic + potential;
       e_last_ = s.total_energy;
       e_drift_ = std::max(e_drift_, std::abs(s.total_energy - e0_));
-      scale_ = std::max(scale_, std::abs(kinetic) + std::abs(potential));
+      scale_.meet(kinetic, potential);
     }
     rescale_drifts();
     if constexpr (has_constraints_v<M>) sample_constraints(s);
@@ -233,12 +234,10 @@ class ModelSystem final : public System {
     report_.energy_final = h_last_;
   }
 
-  /// The energy scale: the largest of |h| and |T| + |V| met so far (J),
-  /// the energy the motion moves around, so that a start at E = 0 (a
-  /// pendulum let go from the horizontal, a parabolic orbit) does not make
-  /// rounding look like drift; the drifts so far divided by it.
+  /// The energy scale (EnergyScale: the largest |h| and |T| + |V| met so
+  /// far) and the drifts so far divided by it.
   void rescale_drifts() {
-    report_.energy_scale = scale_ > 0 ? scale_ : 1.0;
+    report_.energy_scale = scale_.value();
     report_.energy_drift_max = h_drift_ / report_.energy_scale;
     if (report_.has_total_energy) report_.total_energy_drift_max = e_drift_ / report_.energy_scale;
   }
@@ -540,7 +539,8 @@ class ModelSystem final : public System {
       cw_{};
   std::vector<int> cyclic_;
   double h0_ = 0, e0_ = 0, h_last_ = 0, e_last_ = 0;
-  double h_drift_ = 0, e_drift_ = 0, scale_ = 0;  // J: max |h − h0|, max |E − E0|, see rescale_drifts()
+  double h_drift_ = 0, e_drift_ = 0;  // J: max |h − h0|, max |E − E0|, see rescale_drifts()
+  EnergyScale scale_;
   bool warned_conditioning_ = false;
   [[no_unique_address]] std::conditional_t<structure_preserving_v<M> && variational_supported_v<M>,
                                            std::optional<VariationalIntegrator<M>>, None>
