@@ -253,7 +253,8 @@ struct RunReport {
   /// the end times ρ exceeds 1 and the run's first stretch at tolerances 100
   /// times tighter takes under 1.5 times as many steps, the steps were
   /// limited by stability, not accuracy (a stiff problem), and `warnings`
-  /// says so (for bulirsch_stoer, which that test cannot judge: "may").
+  /// says so (the test made with dopri5 for bulirsch_stoer; "may" where it
+  /// cannot be made).
   double stiffness_rho = 0;
   /// Run-level warnings (e.g. an explicit stepper on a stiff problem).
   std::vector<std::string> warnings;
