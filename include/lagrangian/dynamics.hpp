@@ -269,9 +269,10 @@ namespace detail {
 /// Inlined into its callers (the adapter's right-hand side among them), so
 /// that an evaluation is one call below the stepper's, into eom_pass.
 template <class M>
-LAGRANGIAN_ALWAYS_INLINE void free_accelerations(const M& model, Workspace<coordinate_count_v<M>>& ws, const Vec<double, coordinate_count_v<M>>& q,
-                   const Vec<double, coordinate_count_v<M>>& qd,
-                   double t, Vec<double, coordinate_count_v<M>>& out) {
+LAGRANGIAN_ALWAYS_INLINE void free_accelerations(const M& model, Workspace<coordinate_count_v<M>>& ws,
+                                                 const Vec<double, coordinate_count_v<M>>& q,
+                                                 const Vec<double, coordinate_count_v<M>>& qd, double t,
+                                                 Vec<double, coordinate_count_v<M>>& out) {
   evaluate(model, ws, q, qd, t);
   constexpr int n = coordinate_count_v<M>;  // Dynamic (-1) takes the LLT branch
   // Cholesky pivots d_i (M = L D Lᵀ with unit L, d_i = L_chol,ii²) must be

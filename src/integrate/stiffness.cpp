@@ -58,8 +58,9 @@ std::optional<double> largest_rate(const System& system, const StateVector& x, d
 }
 
 /// Accepted steps of the controlled stepper `Controlled` from (x, t) over
-/// [t, t + span] at (rtol, atol), on f alone (no events, no constraint
-/// projection), starting with the step dt; `cap` when that many do not
+/// [t, t + span] at (rtol, atol), on f alone as the system has it after the
+/// run (its contacts as they ended; no events, no constraint projection),
+/// starting with the step dt; `cap` when that many do not
 /// reach the end; none when f fails, the state turns non-finite or the step
 /// underflows.
 template <class Controlled>

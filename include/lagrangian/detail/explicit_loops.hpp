@@ -103,8 +103,8 @@ void controlled_body(Run& run, X& x, const Rhs rhs) {
 // as functions of their own, Odeint's stage sums reload their operands after
 // each call and test the arrays for overlap before each vectorised sum;
 // flattened into the loop, the arrays are the loop's own and known apart
-// (measured in docs/performance.md). With f inlined (DirectRhs) flattening would copy f into every
-// stage and is not done.
+// (measured in docs/performance.md). With f inlined (DirectRhs) flattening
+// would copy f into every stage and is not done.
 template <class Controlled, class X, class Rhs>
 [[gnu::flatten]] void controlled_flat(Run& run, X& x, const Rhs rhs) {
   controlled_body<Controlled>(run, x, rhs);
