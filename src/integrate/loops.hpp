@@ -31,8 +31,9 @@ void run_variational(Run& run, StateVector& x);
 
 /// Estimates ρ, the largest |eigenvalue| of ∂f/∂x at the end state x
 /// (stiffness.cpp): sets report.stiffness_rho and warns when the final step
-/// size h satisfies h ρ > 1 and a test from the end state at tighter
-/// tolerances does not show the steps set by accuracy.
+/// size h satisfies h ρ > 1 and the run's first stretch, integrated again
+/// from the initial state x0 at tighter tolerances, does not show the steps
+/// set by accuracy.
 void check_stiffness(const System& system, const StateVector& x, double t, double step, const StateVector& x0,
                      const SimulationOptions& options, RunReport& report);
 
