@@ -56,6 +56,10 @@ void json_string(std::ostringstream& os, const std::string& s) {
       case '\n': os << "\\n"; break;
       case '\t': os << "\\t"; break;
       case '\r': os << "\\r"; break;
+      // also safe inside an HTML <script> element (the animation page's data)
+      case '<': os << "\\u003c"; break;
+      case '>': os << "\\u003e"; break;
+      case '&': os << "\\u0026"; break;
       default:
         if (static_cast<unsigned char>(c) < 0x20) {
           char buf[8];

@@ -102,6 +102,7 @@ directory = "results"
 trajectory = false
 plots = true
 formats = ["svg"]
+animation = false
 
 [[bodies]]
 name = "ball"
@@ -223,6 +224,7 @@ restitution = 0.9
   EXPECT_TRUE(s.output.plots);
   EXPECT_FALSE(s.output.png);
   EXPECT_TRUE(s.output.svg);
+  EXPECT_FALSE(s.output.animation);
 
   ASSERT_EQ(s.bodies.size(), 4u);
   EXPECT_EQ(s.bodies[0].name, "ball");
@@ -313,10 +315,10 @@ restitution = 0.9
   EXPECT_EQ(s.source.file, "every.toml");
   EXPECT_EQ(s.source.line_of("name"), 1);
   EXPECT_EQ(s.source.line_of("run.t_end"), 8);
-  EXPECT_EQ(s.source.line_of("bodies[0]"), 23);
-  EXPECT_EQ(s.source.line_of("bodies[0].mass"), 25);
-  EXPECT_EQ(s.source.line_of("bodies[1].radius"), 30);  // not written: its table's line
-  EXPECT_EQ(s.source.line_of("contacts.box.max"), 121);
+  EXPECT_EQ(s.source.line_of("bodies[0]"), 24);
+  EXPECT_EQ(s.source.line_of("bodies[0].mass"), 26);
+  EXPECT_EQ(s.source.line_of("bodies[1].radius"), 31);  // not written: its table's line
+  EXPECT_EQ(s.source.line_of("contacts.box.max"), 122);
 }
 
 TEST(SceneParse, EveryModelKeyReachesItsField) {
@@ -358,6 +360,7 @@ TEST(SceneParse, AbsentKeysKeepTheirDefaults) {
   EXPECT_EQ(s.output.directory, o.directory);
   EXPECT_EQ(s.output.trajectory, o.trajectory);
   EXPECT_EQ(s.output.plots, o.plots);
+  EXPECT_EQ(s.output.animation, o.animation);
   EXPECT_EQ(s.output.png, o.png);
   EXPECT_EQ(s.output.svg, o.svg);
   ASSERT_EQ(s.bodies.size(), 1u);

@@ -202,6 +202,9 @@ struct OutputSpec {
   bool plots = true;               ///< make plots with gnuplot (skipped with a note when it is missing)
   bool png = true;                 ///< plots as PNG
   bool svg = true;                 ///< plots as SVG
+  /// write animation.html: the bodies moving in space, with the energy and
+  /// coordinates against time (view.hpp)
+  bool animation = true;
   /// Events written to events.csv and kept in the report by the event-driven
   /// engine (every impact is still counted and its energy loss summed); a
   /// run that has more says so in its summary, report.json and events.csv.

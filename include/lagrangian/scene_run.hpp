@@ -9,6 +9,7 @@
 
 #include "lagrangian/report.hpp"
 #include "lagrangian/scene.hpp"
+#include "lagrangian/view.hpp"
 
 namespace lagrangian::scene {
 
@@ -16,6 +17,11 @@ namespace lagrangian::scene {
 struct RunControls {
   bool write_outputs = true;  ///< write trajectory.csv, events.csv, report.json and plots
   bool progress = false;      ///< progress bar on stderr (shown only on a terminal, after ~1 s)
+  /// Non-empty: also write the run as a video there (view::write_video:
+  /// .mp4, .webm or .gif, through ffmpeg); RunResult::video_written says
+  /// whether it was, animation_note why not.
+  std::string video_path;
+  view::VideoOptions video;
 };
 
 /// What a scene run did.
@@ -24,6 +30,8 @@ struct RunResult {
   std::string engine;               ///< "model" (built-in model), "ode" or "event_driven"
   std::vector<std::string> files;   ///< files written
   std::string plot_note;            ///< why plots were skipped, if they were
+  std::string animation_note;       ///< why animation.html (or the video) was not written, if it was not
+  bool video_written = false;       ///< RunControls::video_path was written
   /// Particle scenes on the ODE engine: evaluations of each declared effect
   /// kernel (one per right-hand side). Undeclared kinds do not appear.
   std::map<std::string, std::uint64_t> effect_evaluations;

@@ -200,12 +200,17 @@ int main(int argc, char** argv) {
   std::string scene_path;
   std::optional<double> t_end, rtol, atol;
   std::optional<std::string> method, out_dir;
-  bool no_plots = false, quiet = false, allow_drift = false;
+  bool no_plots = false, no_animation = false, quiet = false, allow_drift = false;
 
   CLI::App* run = app.add_subcommand(
-      "run", "Run a scene: writes trajectory.csv, events.csv, report.json and plots into the output directory and "
-             "prints a summary.");
-  run->add_option("scene", scene_path, "scene file (TOML, see docs/scenes.md)")->required();
+      "run", "Run a scene: writes trajectory.csv, events.csv, report.json, plots and animation.html (open it in a "
+             "browser) into the output directory and prints a summary.");
+  run->add_option("scene", scene_path, "scene file (TOML, see docs/scenes.md); - reads it from standard input")
+      ->required();
+  std::vector<std::string> set_texts;
+  const char* set_help = "KEY=VALUE: set a numeric scene key, as if the file said so (e.g. model.parameters.e=0.5, "
+                         "bodies[0].velocity[2]=3, run.rtol=1e-8); repeatable";
+  run->add_option("--set", set_texts, set_help);
   run->add_option("--t-end", t_end, "end time (s), overrides run.t_end");
   run->add_option("--method", method,
                   "stepper: rk4, dopri5, cash_karp54, fehlberg78, bulirsch_stoer, rosenbrock4, variational, "
@@ -214,6 +219,12 @@ int main(int argc, char** argv) {
   run->add_option("--atol", atol, "absolute tolerance, overrides run.atol");
   run->add_option("--out", out_dir, "output directory, overrides output.directory");
   run->add_flag("--no-plots", no_plots, "do not make plots");
+  run->add_flag("--no-animation", no_animation, "do not write animation.html");
+  std::string animate_to;
+  double animate_seconds = 10;
+  run->add_option("--animate-to", animate_to,
+                  "also write the run as a video (.mp4, .webm or .gif, through ffmpeg) for slides and documents");
+  run->add_option("--animate-seconds", animate_seconds, "length of that video (s, default 10): the whole run");
   run->add_flag("--allow-drift", allow_drift,
                 "exit 0 even when a conserved energy drifts beyond what the tolerance excuses (otherwise exit 3)");
   run->add_flag("-q,--quiet", quiet, "print only errors");
@@ -221,7 +232,8 @@ int main(int argc, char** argv) {
   CLI::App* insp = app.add_subcommand(
       "inspect", "Describe a scene at t0: coordinates, degrees of freedom (rank, redundant constraints), momenta, "
                  "cyclic coordinates and conserved quantities, active effects.");
-  insp->add_option("scene", scene_path, "scene file (TOML)")->required();
+  insp->add_option("scene", scene_path, "scene file (TOML); - reads it from standard input")->required();
+  insp->add_option("--set", set_texts, set_help);
   scene::AnalysisRequest analysis;
   insp->add_flag("--equilibria", analysis.equilibria,
                  "find equilibria (minima by NLopt, saddles and maxima by Newton's method) and say which are stable");
@@ -259,7 +271,8 @@ int main(int argc, char** argv) {
       "bench", "Work-precision bench of a scene: runs it with each stepper at each tolerance, measures the error "
                "(against the model's closed form, or a tight reference run) and the median wall time, and writes "
                "work_precision.csv, bench.json and diagrams (error against wall time and against RHS evaluations).");
-  bench->add_option("scene", scene_path, "scene file (TOML)")->required();
+  bench->add_option("scene", scene_path, "scene file (TOML); - reads it from standard input")->required();
+  bench->add_option("--set", set_texts, set_help);
   bench->add_option("--methods", methods_text,
                     "comma-separated steppers (default dopri5,cash_karp54,fehlberg78,bulirsch_stoer,rk4)");
   bench->add_option("--tolerances", tolerances_text, "LOOSE:TIGHT rtol = atol range (default 1e-3:1e-13)");
@@ -292,7 +305,9 @@ int main(int argc, char** argv) {
 
   scene::Scene scene;
   try {
-    scene = scene::load_scene(scene_path);
+    std::vector<scene::KeySetting> settings;
+    for (const std::string& text : set_texts) settings.push_back(scene::parse_key_setting(text));
+    scene = scene::load_scene(scene_path, settings);
     if (t_end) {  // run and bench
       if (!std::isfinite(*t_end) || !(*t_end > scene.run.t0))
         throw BadInput{"command line: --t-end: must be finite and > t0 = " + detail::format_number(scene.run.t0) +
@@ -329,6 +344,15 @@ int main(int argc, char** argv) {
         scene.source.overrides["output.directory"] = "--out";
       }
       if (no_plots) scene.output.plots = false;
+      if (no_animation) scene.output.animation = false;
+      if (!animate_to.empty()) {
+        const std::string ext = fs::path(animate_to).extension().string();
+        if (ext != ".mp4" && ext != ".webm" && ext != ".gif")
+          throw BadInput{"command line: --animate-to: '" + animate_to + "': unknown format '" + ext +
+                         "' (use .mp4, .webm or .gif)"};
+      }
+      if (!(animate_seconds > 0 && animate_seconds <= 3600))
+        throw BadInput{"command line: --animate-seconds: must be in (0, 3600] s, got " + std::to_string(animate_seconds)};
     }
     if (bench->parsed()) {
       if (stabilization) {
@@ -440,6 +464,8 @@ int main(int argc, char** argv) {
   return guarded("run", [&] {
     scene::RunControls controls;
     controls.progress = !quiet;
+    controls.video_path = animate_to;
+    controls.video.seconds = animate_seconds;
     const scene::RunResult r = scene::run(scene, controls);
     if (!quiet) {
       std::cout << "scene " << scene.name << " — engine " << r.engine << "\n" << r.report.summary();
@@ -450,6 +476,8 @@ int main(int argc, char** argv) {
       }
     }
     print_outputs(r.plot_note, r.files, quiet);
+    if (!r.animation_note.empty()) std::cerr << "lagrangian: " << r.animation_note << "\n";
+    if (!animate_to.empty() && !r.video_written) return kRunFailed;  // asked for, not made: said above
     if (r.report.drift_exceeded && !allow_drift) {
       std::cerr << "lagrangian: the run finished, but its energy drifted beyond what its tolerance excuses (see the "
                    "warning; report.json has drift_exceeded = true): exit 3; --allow-drift accepts it\n";

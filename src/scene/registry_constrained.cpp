@@ -1,6 +1,10 @@
 // Built-in models of constrained.hpp: holonomic (fixed and moving) and
 // Pfaffian constraints in redundant coordinates. The default states below
 // are the registry's and satisfy the constraints at t0 for any parameters.
+//
+// Pictures (view.hpp), lengths in m: the models in Cartesian coordinates are drawn at those coordinates (the
+// planar ones on z = 0), the vertical being the model's own: −y for the Atwood machine and the double pendulum,
+// −z for the particle on a sphere; the rotating wire and the knife edge lie in the horizontal plane z = 0.
 
 #include <cmath>
 #include <string_view>
@@ -27,6 +31,13 @@ struct BeadOnRotatingWireDef {
     x.qd << -m.omega * s, m.omega * c;
     return x;
   }
+  /// The bead in the horizontal plane z = 0 (z up) and the wire from the vertical axis (a pivot at the
+  /// origin) out to the bead; the wire is a line through the axis, so this segment turns with it.
+  static view::Figure figure(const Model&) {
+    return pendulum_figure({"bead"}, {0, 0, 1});
+  }
+  /// The bead at (x, y, 0) (m).
+  static void place(const Model&, const double* q, double, view::Point* c) { c[0] = {q[0], q[1], 0}; }
 };
 
 struct ParticleOnSphereDef {
@@ -41,6 +52,15 @@ struct ParticleOnSphereDef {
     x.qd << 0.0, 2.0, 0.0;
     return x;
   }
+  /// The particle (at its coordinates, as particles() places it) on the sphere of radius R about the
+  /// origin; z up.
+  static view::Figure figure(const Model& m) {
+    view::Figure f;
+    f.bodies = {{.name = "particle"}};
+    f.spheres = {{.centre = {0, 0, 0}, .radius = m.R}};
+    f.up = {0, 0, 1};
+    return f;
+  }
 };
 
 struct AtwoodMachineDef {
@@ -53,6 +73,26 @@ struct AtwoodMachineDef {
     State<2> x;
     x.q << 0.5 * m.c, 0.5 * m.c;
     return x;
+  }
+  /// The pulley's radius and the height of its centre above y = c/2 (m): the model fixes neither (any pulley
+  /// above the masses keeps y1 + y2 = c); they are only drawn.
+  static constexpr double pulley_radius = 0.1, pulley_height = 1.0;
+  /// In the vertical x–y plane (y up): the pulley (a circle, its axle a pivot) and the masses hanging from
+  /// either side of it on the string's straight runs, x = ∓pulley_radius.
+  static view::Figure figure(const Model& m) {
+    const double r = pulley_radius, h = 0.5 * m.c + pulley_height;
+    view::Figure f;
+    f.bodies = {{.name = "mass1"}, {.name = "mass2"}};
+    f.rods = {{.a = 0, .anchor = {-r, h, 0}}, {.a = 1, .anchor = {r, h, 0}}};
+    f.pivots = {{0, h, 0}};
+    f.circles = {{.centre = {0, h, 0}, .normal = {0, 0, 1}, .radius = r}};
+    f.up = {0, 1, 0};
+    return f;
+  }
+  /// Mass 1 at (−pulley_radius, y1, 0), mass 2 at (pulley_radius, y2, 0) (m).
+  static void place(const Model&, const double* q, double, view::Point* c) {
+    c[0] = {-pulley_radius, q[0], 0};
+    c[1] = {pulley_radius, q[1], 0};
   }
 };
 
@@ -69,6 +109,11 @@ struct CartesianDoublePendulumDef {
     x.q << x1, y1, x1 + m.l2 * std::sin(0.5), y1 - m.l2 * std::cos(0.5);
     return x;
   }
+  /// The bobs (at their coordinates, as particles() places them) on rod 1 from the pivot at the origin and
+  /// rod 2 from bob 1; y up.
+  static view::Figure figure(const Model&) {
+    return pendulum_figure({"bob1", "bob2"}, {0, 1, 0});
+  }
 };
 
 struct KnifeEdgeDef {
@@ -81,6 +126,22 @@ struct KnifeEdgeDef {
     State<3> x;
     x.qd << 1.0, 0.0, 0.5;
     return x;
+  }
+  /// Length of the blade drawn ahead of the contact point (m; the model has no length).
+  static constexpr double blade_length = 0.5;
+  /// The knife's contact point (the body, mass m) in the horizontal plane z = 0 (z up) and its blade, a rod
+  /// to a small marker "blade" ahead of it along the heading φ.
+  static view::Figure figure(const Model&) {
+    view::Figure f;
+    f.bodies = {{.name = "knife"}, {.name = "blade", .radius = 0.08 * blade_length}};
+    f.rods = {{.a = 0, .b = 1}};
+    f.up = {0, 0, 1};
+    return f;
+  }
+  /// The knife at (x, y, 0), the marker at (x + blade_length cos φ, y + blade_length sin φ, 0) (m).
+  static void place(const Model&, const double* q, double, view::Point* c) {
+    c[0] = {q[0], q[1], 0};
+    c[1] = {q[0] + blade_length * std::cos(q[2]), q[1] + blade_length * std::sin(q[2]), 0};
   }
 };
 

@@ -1,8 +1,14 @@
 // Built-in models of impacts.hpp: smooth spheres colliding on a line, in a
 // plane, with a fixed plane and inside a box (Newton's law of restitution).
 // The default states are the registry's and leave every contact open at t0.
+//
+// Pictures (view.hpp), lengths in m: the spheres are drawn with their radii at their coordinates (particles()
+// places them; a line is the x axis, a plane z = 0 unless the model's gravity makes it vertical), named as
+// the contacts name them ("s1", "s2", …, "ball") so that the page flashes them at their impacts.
 
 #include <array>
+#include <cstddef>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -26,6 +32,13 @@ struct DirectImpactDef {
     x.qd << 1.0, -0.5;
     return x;
   }
+  /// The two spheres on the x axis, z up.
+  static view::Figure figure(const Model& m) {
+    view::Figure f;
+    f.bodies = {{.name = "s1", .radius = m.r[0]}, {.name = "s2", .radius = m.r[1]}};
+    f.up = {0, 0, 1};
+    return f;
+  }
 };
 
 struct NewtonsCradleDef {
@@ -44,6 +57,14 @@ struct NewtonsCradleDef {
     x.qd << 1.0, 0.0, 0.0, 0.0, 0.0;
     return x;
   }
+  /// The five spheres on the x axis, z up.
+  static view::Figure figure(const Model& m) {
+    view::Figure f;
+    for (std::size_t i = 0; i < m.r.size(); ++i)
+      f.bodies.push_back({.name = "s" + std::to_string(i + 1), .radius = m.r[i]});
+    f.up = {0, 0, 1};
+    return f;
+  }
 };
 
 struct ObliqueImpactDef {
@@ -60,6 +81,13 @@ struct ObliqueImpactDef {
     x.q << 0.0, 0.0, d + 0.5, 0.5 * d;
     x.qd << 1.0, 0.0, 0.0, 0.0;
     return x;
+  }
+  /// The two spheres in the plane z = 0 (no gravity; z, the plane's normal, up).
+  static view::Figure figure(const Model& m) {
+    view::Figure f;
+    f.bodies = {{.name = "s1", .radius = m.r1}, {.name = "s2", .radius = m.r2}};
+    f.up = {0, 0, 1};
+    return f;
   }
 };
 
@@ -80,6 +108,14 @@ struct BallAndPlaneDef {
     x.q << m.n[0] * h, m.n[1] * h, m.n[2] * h;
     return x;
   }
+  /// The ball and the plane n·r = d (through d n, normal n); gravity along −z.
+  static view::Figure figure(const Model& m) {
+    view::Figure f;
+    f.bodies = {{.name = "ball", .radius = m.R}};
+    f.planes = {{.name = "plane", .point = {m.d * m.n[0], m.d * m.n[1], m.d * m.n[2]}, .normal = m.n}};
+    f.up = {0, 0, 1};
+    return f;
+  }
 };
 
 struct SpheresInBoxDef {
@@ -99,6 +135,15 @@ struct SpheresInBoxDef {
     x.q << 0.2 * m.W, 0.5 * m.H, 0.5 * m.W, 0.3 * m.H, 0.8 * m.W, 0.7 * m.H;
     x.qd << 1.0, 0.5, -0.7, 0.8, 0.3, -1.0;
     return x;
+  }
+  /// The discs in the box [0, W] × [0, H] of the plane z = 0 (drawn flat); gravity, when given, along −y.
+  static view::Figure figure(const Model& m) {
+    view::Figure f;
+    for (std::size_t i = 0; i < m.r.size(); ++i)
+      f.bodies.push_back({.name = "s" + std::to_string(i + 1), .radius = m.r[i]});
+    f.boxes = {{.min = {0, 0, 0}, .max = {m.W, m.H, 0}}};
+    f.up = {0, 1, 0};
+    return f;
   }
 };
 

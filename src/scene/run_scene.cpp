@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include "lagrangian/detail/scene_registry.hpp"
@@ -17,6 +18,7 @@
 #include "lagrangian/progress.hpp"
 #include "lagrangian/scene_models.hpp"
 #include "lagrangian/scene_run.hpp"
+#include "animation_scene.hpp"
 #include "output_manifest.hpp"
 #include "particle_engine.hpp"
 
@@ -43,7 +45,7 @@ void prepare_directory(const Scene& scene) {
 
 /// Removes what an earlier or a failed run may have left (output_manifest.hpp).
 void remove_outputs(const std::string& dir) {
-  detail::remove_listed_outputs(dir, {"trajectory.csv", "events.csv", "report.json"});
+  detail::remove_listed_outputs(dir, {"trajectory.csv", "events.csv", "report.json", "animation.html"});
 }
 
 /// report.json: the scene, the engine, the effect counts and the run report.
@@ -252,6 +254,34 @@ RunResult run(const Scene& input, const RunControls& controls) {
   }
   if (write && scene.output.trajectory && scene.output.plots && (scene.output.png || scene.output.svg)) {
     collect_plots([&] { return make_plots(plot_spec(scene, result)); }, result.files, result.plot_note);
+  }
+  const bool video = write && !controls.video_path.empty();
+  if (write && scene.output.trajectory && (scene.output.animation || video)) {
+    std::optional<detail::SceneView> v;
+    try {
+      v = detail::scene_view(scene, result);
+    } catch (const std::exception& e) {
+      result.animation_note = std::string("animation failed: ") + e.what();
+    }
+    if (v && scene.output.animation) {
+      const std::string page = (fs::path(dir) / "animation.html").string();
+      try {
+        result.files.push_back(view::write_animation(page, v->figure, v->track, v->options).path);
+      } catch (const std::exception& e) {
+        result.animation_note = std::string("animation failed: ") + e.what();
+      }
+    }
+    if (v && video) {
+      try {
+        view::write_video(controls.video_path, v->figure, v->track, controls.video);
+        result.video_written = true;
+        result.files.push_back(controls.video_path);
+      } catch (const std::exception& e) {
+        result.animation_note += std::string(result.animation_note.empty() ? "" : "; ") + e.what();
+      }
+    }
+  } else if (video) {
+    result.animation_note = "video: not written: the scene writes no trajectory (output.trajectory = false)";
   }
   if (write) detail::write_output_manifest(dir, result.files);
   return result;

@@ -14,6 +14,7 @@
 
 #include "lagrangian/scene.hpp"
 #include "lagrangian/sweep.hpp"
+#include "scene_edit.hpp"
 
 namespace lagrangian::scene::detail {
 
@@ -24,11 +25,9 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 std::vector<std::string> split(const std::string& s, char sep);
 std::string q(const std::string& s);
 
-// -- changing the document (sweep_point.cpp) ------------------------------------
+// -- changing the document (scene_edit.hpp) ------------------------------------
 
-using PathPart = std::variant<std::string, std::size_t>;
-
-std::vector<PathPart> parse_path(const std::string& option, const std::string& key);
+// parse_path and assign: scene_edit.hpp
 
 /// Everything a worker needs to build the scene of a point.
 struct Plan {

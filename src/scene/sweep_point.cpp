@@ -20,108 +20,6 @@
 
 namespace lagrangian::scene::detail {
 
-// -- changing the document ------------------------------------------------------
-
-std::vector<PathPart> parse_path(const std::string& option, const std::string& key) {
-  std::vector<PathPart> parts;
-  std::size_t i = 0;
-  auto bad = [&](const std::string& why) {
-    throw OptionError(option + " " + key + ": not a scene key: " + why +
-                      " (write keys as in the scene file, e.g. model.parameters.e or bodies[0].velocity[2])");
-  };
-  while (i < key.size()) {
-    if (key[i] == '[') {
-      const std::size_t close = key.find(']', i);
-      if (close == std::string::npos) bad("'[' without ']'");
-      std::size_t v = 0;
-      const auto r = std::from_chars(key.data() + i + 1, key.data() + close, v);
-      if (r.ec != std::errc() || r.ptr != key.data() + close) bad("the index in '[]' must be an integer >= 0");
-      if (parts.empty()) bad("it starts with an index");
-      parts.emplace_back(v);
-      i = close + 1;
-      if (i < key.size() && key[i] == '.') {
-        ++i;
-        if (i == key.size()) bad("it ends with '.'");
-      }
-    } else {
-      std::size_t end = key.find_first_of(".[", i);
-      if (end == std::string::npos) end = key.size();
-      if (end == i) bad("an empty name");
-      parts.emplace_back(key.substr(i, end - i));
-      i = end;
-      if (i < key.size() && key[i] == '.') {
-        ++i;
-        if (i == key.size()) bad("it ends with '.'");
-      }
-    }
-  }
-  return parts;
-}
-
-namespace {
-
-std::string type_of(const toml::node& n) {
-  std::ostringstream os;
-  os << n.type();
-  return os.str();
-}
-
-/// Writes `value` at `path` in `root`: an integral value is an integer where
-/// the file has an integer or no value; missing tables and keys are created
-/// (the reader refuses unknown ones with its own message), missing array
-/// elements are not.
-void assign(toml::table& root, const std::string& option, const std::string& key, const std::vector<PathPart>& path,
-            double value) {
-  toml::node* cur = &root;
-  std::string where;
-  auto fail = [&](const std::string& why) { throw OptionError(option + " " + key + ": " + why); };
-  auto numeric = [&](const toml::node* old, auto&& put) {
-    if (old && !old->is_number())
-      fail("the scene has " + where + " = " + type_of(*old) + ", not a number; only numbers can be varied");
-    // Integral values go in as TOML integers where the file has an integer or
-    // nothing (the reader takes an integer for a float key, not the reverse).
-    if ((!old || old->is_integer()) && std::nearbyint(value) == value && std::abs(value) < 9.2e18)
-      put(toml::value<std::int64_t>(static_cast<std::int64_t>(value)));
-    else
-      put(toml::value<double>(value));
-  };
-  for (std::size_t k = 0; k < path.size(); ++k) {
-    const bool last = k + 1 == path.size();
-    if (const auto* name = std::get_if<std::string>(&path[k])) {
-      where += (where.empty() ? "" : ".") + *name;
-      toml::table* t = cur->as_table();
-      if (!t) fail("the scene has " + where.substr(0, where.rfind('.')) + " as " + type_of(*cur) + ", not a table");
-      toml::node* child = t->get(*name);
-      if (last) {
-        numeric(child, [&](auto&& v) { t->insert_or_assign(*name, std::move(v)); });
-        return;
-      }
-      if (!child) {
-        if (std::holds_alternative<std::size_t>(path[k + 1]))
-          fail("the scene file does not write " + where + "; write it in the scene to vary one of its elements");
-        child = &t->insert_or_assign(*name, toml::table{}).first->second;
-      }
-      cur = child;
-    } else {
-      const std::size_t i = std::get<std::size_t>(path[k]);
-      toml::array* a = cur->as_array();
-      if (!a) fail("the scene has " + where + " as " + type_of(*cur) + ", not an array");
-      if (i >= a->size())
-        fail("index " + std::to_string(i) + " is out of range: the scene's " + where + " has " +
-             std::to_string(a->size()) + " element" + (a->size() == 1 ? "" : "s"));
-      where += "[" + std::to_string(i) + "]";
-      toml::node* child = a->get(i);
-      if (last) {
-        numeric(child, [&](auto&& v) { a->replace(a->cbegin() + static_cast<std::ptrdiff_t>(i), std::move(v)); });
-        return;
-      }
-      cur = child;
-    }
-  }
-}
-
-}  // namespace
-
 /// The document of one point, with its values written in; `values` gets the
 /// varied then the set values.
 Scene point_scene(const Plan& plan, const SweepOptions& o, toml::table& doc, std::vector<double>& values) {
@@ -217,6 +115,7 @@ SweepRecord run_point(const Plan& plan, const SweepOptions& o, std::uint64_t ind
       scene.output.directory = work_dir;
       scene.output.trajectory = true;
       scene.output.plots = false;
+      scene.output.animation = false;
     }
     const RunResult r = run(scene, controls);
     const RunReport& rep = r.report;

@@ -3,7 +3,9 @@
 // change values in the document and read it with the same keys, checks and
 // messages as a scene file (toml_scene.cpp).
 
+#include <map>
 #include <string>
+#include <string_view>
 
 #include <toml++/toml.h>
 
@@ -12,7 +14,16 @@
 namespace lagrangian::scene::detail {
 
 /// Reads `root` into a Scene and validates it, exactly as parse_scene() does
-/// after parsing; `file` names the source in error messages.
-Scene scene_from_document(const toml::table& root, const std::string& file);
+/// after parsing; `file` names the source in error messages, `overrides`
+/// (key → option) the keys the command line set (SourceMap::overrides).
+Scene scene_from_document(const toml::table& root, const std::string& file,
+                          const std::map<std::string, std::string>& overrides = {});
+
+/// Parses TOML text; a syntax error is a SceneError at its line.
+toml::table parse_document(std::string_view text, const std::string& file);
+
+/// The text of a scene file, or of standard input for "-"; SceneError when it
+/// cannot be read.
+std::string read_scene_text(const std::string& path);
 
 }  // namespace lagrangian::scene::detail

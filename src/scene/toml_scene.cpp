@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <initializer_list>
 #include <limits>
 #include <sstream>
@@ -304,11 +305,12 @@ class Reader {
 
   void read_output(const toml::table& t) {
     const std::string p = "output";
-    keys(t, p, {"directory", "trajectory", "plots", "formats", "max_events"});
+    keys(t, p, {"directory", "trajectory", "plots", "formats", "max_events", "animation"});
     OutputSpec& o = s_.output;
     if (auto* n = get(t, p, "directory")) o.directory = string(*n, "output.directory");
     if (auto* n = get(t, p, "trajectory")) o.trajectory = boolean(*n, "output.trajectory");
     if (auto* n = get(t, p, "plots")) o.plots = boolean(*n, "output.plots");
+    if (auto* n = get(t, p, "animation")) o.animation = boolean(*n, "output.animation");
     if (auto* n = get(t, p, "max_events")) {
       const std::int64_t v = integer(*n, "output.max_events");
       if (v < 0) fail("output.max_events", "must be an integer >= 0, got " + std::to_string(v));
@@ -482,12 +484,9 @@ class Reader {
 
 }  // namespace
 
-Scene parse_scene(std::string_view text, const std::string& file) {
-  Scene scene;
-  scene.source.file = file;
-  toml::table root;
+toml::table detail::parse_document(std::string_view text, const std::string& file) {
   try {
-    root = toml::parse(text, file);
+    return toml::parse(text, file);
   } catch (const toml::parse_error& e) {
     SourceMap where;
     where.file = file;
@@ -498,22 +497,31 @@ Scene parse_scene(std::string_view text, const std::string& file) {
     if (e.source().begin.column > 0) what += " (column " + std::to_string(e.source().begin.column) + ")";
     throw SceneError("", what, where);
   }
-  Reader(scene).read(root);
-  scene.validate();
-  return scene;
 }
 
-Scene detail::scene_from_document(const toml::table& root, const std::string& file) {
+Scene parse_scene(std::string_view text, const std::string& file) {
+  return detail::scene_from_document(detail::parse_document(text, file), file);
+}
+
+Scene detail::scene_from_document(const toml::table& root, const std::string& file,
+                                  const std::map<std::string, std::string>& overrides) {
   Scene scene;
   scene.source.file = file;
+  scene.source.overrides = overrides;
   Reader(scene).read(root);
   scene.validate();
   return scene;
 }
 
-Scene load_scene(const std::string& path) {
+std::string detail::read_scene_text(const std::string& path) {
   SourceMap where;
-  where.file = path;
+  where.file = path == "-" ? "<stdin>" : path;
+  std::ostringstream text;
+  if (path == "-") {
+    text << std::cin.rdbuf();
+    if (std::cin.bad()) throw SceneError("", "cannot read the scene from standard input: read error", where);
+    return text.str();
+  }
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw SceneError("", "cannot read the scene file: it is a directory", where);
@@ -523,10 +531,13 @@ Scene load_scene(const std::string& path) {
     throw SceneError("", std::string("cannot read the scene file: ") + (err ? std::strerror(err) : "open failed"),
                      where);
   }
-  std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw SceneError("", "cannot read the scene file: read error", where);
-  return parse_scene(text.str(), path);
+  return text.str();
+}
+
+Scene load_scene(const std::string& path) {
+  return parse_scene(detail::read_scene_text(path), path == "-" ? "<stdin>" : path);
 }
 
 }  // namespace lagrangian::scene

@@ -34,12 +34,34 @@ for f in trajectory.csv events.csv report.json; do
 done
 grep -q '"engine": "ode"' "$work/ball/report.json" || { echo "FAIL: report.json lacks the engine"; fails=$((fails + 1)); }
 head -1 "$work/ball/trajectory.csv" | grep -q '^t,ball.x,ball.y,ball.z,ball.x_dot' || { echo "FAIL: trajectory header"; fails=$((fails + 1)); }
+# The animation page: written by default, listed, one self-contained file; --no-animation removes the old one.
+grep -q 'id="lagrangian-data"' "$work/ball/animation.html" || { echo "FAIL: animation.html missing"; fails=$((fails + 1)); }
+grep -q '^animation.html$' "$work/ball/.lagrangian-outputs" || { echo "FAIL: animation.html not in the manifest"; fails=$((fails + 1)); }
+expect 0 "wrote: .*report.json$" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --out "$work/ball" --no-plots --no-animation
+[ ! -e "$work/ball/animation.html" ] || { echo "FAIL: --no-animation left the old animation.html"; fails=$((fails + 1)); }
+# A video for slides (ffmpeg): written and listed; an unknown format is bad input; ffmpeg failing is a failed run.
+expect 0 "wrote: .*ball.mp4$" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --out "$work/ball" --no-plots --animate-to "$work/ball.mp4" --animate-seconds 2
+[ -s "$work/ball.mp4" ] || { echo "FAIL: --animate-to wrote no video"; fails=$((fails + 1)); }
+expect 2 "--animate-to: '.*ball.avi': unknown format '.avi' \\(use .mp4, .webm or .gif\\)" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --out "$work/ball" --animate-to "$work/ball.avi"
+expect 1 "video: ffmpeg failed writing" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --out "$work/ball" --no-plots --animate-to "$work/no/such/dir/ball.gif"
+[ ! -e "$work/no/such/dir/ball.gif.partial" ] || { echo "FAIL: a failed video left a partial file"; fails=$((fails + 1)); }
 # Overrides from the command line.
 expect 0 "t = 0 .. 0.5 s" -- "$bin" run "$src/examples/scenes/link_pendulum.toml" --out "$work/pend" --t-end 0.5 --method rk4 --no-plots
 expect 0 "closed form" -- "$bin" run "$src/examples/scenes/kepler.toml" --out "$work/kepler" --rtol 1e-8 --atol 1e-10 --no-plots
 # The structure-preserving steppers by name; refused with the reason where they do not apply.
 expect 0 "Newton iterations" -- "$bin" run "$src/examples/scenes/double_pendulum.toml" --out "$work/dpv" --t-end 2 --method variational --no-plots
 expect 2 "needs a separable model.*mass matrix" -- "$bin" run "$src/examples/scenes/double_pendulum.toml" --out "$work/dps" --method velocity_verlet --no-plots
+# --set: any numeric key, as if the file said so. The ball rests at
+# t = sqrt(2h/g)(1 + e)/(1 - e) = 1.35457 s for e = 0.5 (h = 1 m).
+expect 0 "event: rest ball-floor at t = 1\.3545[67]" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --out "$work/set" --no-plots --no-animation --set 'contacts.planes[0].restitution=0.5'
+expect 0 "l2 += +2 +m .*from the scene" -- "$bin" inspect "$src/examples/scenes/double_pendulum.toml" --set model.parameters.l2=2
+expect 2 "--set: 'foo' is not KEY=VALUE" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --set foo
+expect 2 "--set run.rtol: 'abc' is not a finite number" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --set run.rtol=abc
+expect 2 "command line: --set sets bodies\[0\]\.mas: unknown key 'mas'; did you mean 'mass'" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --set 'bodies[0].mas=1'
+expect 2 "command line: --set sets bodies\[0\]\.mass: must be > 0, got -1" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --set 'bodies[0].mass=-1'
+# "-": the scene from standard input, named <stdin> in errors.
+expect 0 "event: rest ball-floor at t = 4\.0637" -- sh -c "'$bin' run - --out '$work/stdin' --no-plots --no-animation < '$src/examples/scenes/bouncing_ball.toml'"
+expect 2 "<stdin>:1: name: expected a string, got integer 3" -- sh -c "echo 'name = 3' | '$bin' run - --out '$work/stdin_bad'"
 # Quiet in a pipe: no progress bar characters on stderr.
 "$bin" run "$src/examples/scenes/bouncing_ball.toml" --out "$work/quiet" --no-plots 2>"$work/stderr.txt" >/dev/null
 [ ! -s "$work/stderr.txt" ] || { echo "FAIL: stderr not empty in a pipe"; cat "$work/stderr.txt"; fails=$((fails + 1)); }
@@ -150,8 +172,9 @@ a = "m"
 anchor = [0.0, 0.0, 0.0]
 stiffness = 1.0
 TOML
+expect 0 "" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --out "$work/short" --no-plots -q
 expect 1 "max_steps" -- "$bin" run "$work/short.toml" --out "$work/short"
-for f in trajectory.csv events.csv report.json trajectory.csv.partial; do
+for f in trajectory.csv events.csv report.json trajectory.csv.partial animation.html animation.html.partial; do
   [ ! -e "$work/short/$f" ] || { echo "FAIL: failed run left $f"; fails=$((fails + 1)); }
 done
 

@@ -10,6 +10,7 @@
 #include "lagrangian/scene.hpp"
 #include "lagrangian/scene_analysis.hpp"
 #include "lagrangian/scene_models.hpp"
+#include "lagrangian/view.hpp"
 
 namespace lagrangian::scene::detail {
 
@@ -43,6 +44,12 @@ struct ModelEntry {
   std::string (*analyse)(const ModelSpec& spec, double t0, const AnalysisRequest& request);
   /// The stationary-action boundary-value problem (request.from/to/t0/t1/steps).
   BvpResult (*bvp)(const ModelSpec& spec, const BvpRequest& request, DiscreteRule rule);
+  /// The model in space, for the animation (view.hpp): returns its figure
+  /// and fills `xyz` with its bodies' centres (m), rows × bodies × 3, at the
+  /// `rows` states q (rows × n values, row by row) at times t (s). A model
+  /// without a picture returns a figure with no bodies.
+  view::Figure (*picture)(const ModelSpec& spec, const double* t, const double* q, std::size_t rows,
+                          std::vector<double>& xyz);
 
   /// Runs the model (see run_fn).
   RunReport run(const ModelSpec& spec, const SimulationOptions& options, const std::string& csv_path,

@@ -8,7 +8,8 @@
 namespace lagrangian::detail {
 
 /// Appends s to os as a JSON string literal (quotes, backslashes and
-/// control characters escaped).
+/// control characters escaped; <, > and & as \u003c, \u003e, \u0026, so that
+/// the JSON can sit inside an HTML <script> element).
 void json_string(std::ostringstream& os, const std::string& s);
 
 /// Writes `text` to `<path>.partial` and renames it to `path` when complete;
