@@ -313,6 +313,17 @@ std::string RunReport::to_json() const {
   for (int k = 0; k < 5; ++k) os << ", \"" << to_string(static_cast<EventKind>(k)) << "\": " << counts[static_cast<std::size_t>(k)];
   os << ", \"impact_energy_loss\": ";
   json_number(os, impact_energy_loss);
+  if (!wall_impulses.empty()) {
+    os << ", \"wall_impulses\": {";
+    std::size_t k = 0;
+    for (const auto& [name, impulse] : wall_impulses) {
+      os << (k++ ? ", " : "");
+      detail::json_string(os, name);
+      os << ": ";
+      json_number(os, impulse);
+    }
+    os << "}";
+  }
   os << ", \"first\": [";
   const std::size_t shown = std::min<std::size_t>(events.size(), 20);
   for (std::size_t i = 0; i < shown; ++i) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -26,6 +27,7 @@ namespace fs = std::filesystem;
 using lagrangian::OptionError;
 using lagrangian::PlotResult;
 using lagrangian::PlotSpec;
+using lagrangian::SpeedPlotSpec;
 
 namespace {
 
@@ -245,6 +247,9 @@ TEST(Plots, ParticleSceneWithImpacts) {
   EXPECT_NE(script.find("x–z plane"), std::string::npos);
   EXPECT_NE(script.find("'x (m)'"), std::string::npos);
   EXPECT_NE(script.find("'z (m)'"), std::string::npos);
+  // e < 1: the energy plot is titled for what its steps are, not as an error.
+  EXPECT_NE(script.find("energy lost at the impacts (the steps), relative to E_scale"), std::string::npos);
+  EXPECT_EQ(script.find("relative energy error"), std::string::npos);
   keep_sample(dir, "bouncing_balls");
 }
 
@@ -291,6 +296,7 @@ TEST(Plots, GeneralizedModelWithoutEvents) {
   EXPECT_NE(script.find("'theta_dot (rad/s)'"), std::string::npos);
   EXPECT_NE(script.find("'x_dot (m/s)'"), std::string::npos);
   EXPECT_EQ(script.find("$impacts"), std::string::npos);
+  EXPECT_NE(script.find("relative energy error (E_scale = 3.5 J)"), std::string::npos);
   keep_sample(dir, "cart_pendulum");
 }
 
@@ -445,8 +451,64 @@ TEST(Plots, BodiesOnALineGivePositionAgainstTime) {
   ASSERT_NE(block, std::string::npos);
   EXPECT_NE(script.find("1 0.8\n1 1\n2 1.8\n2 2\n", block), std::string::npos)
       << script.substr(block, 200);
-  EXPECT_EQ(script.find("takes energy"), std::string::npos);  // elastic
+  EXPECT_EQ(script.find("energy lost at the impacts"), std::string::npos);  // elastic
   keep_sample(dir, "three_spheres");
+}
+
+// Speeds drawn from Maxwell–Boltzmann (three normal components of
+// variance kT/m, a seeded generator): the histogram the script holds is a
+// probability density (its area is 1) close to f(v) bin by bin.
+TEST(Plots, SpeedHistogramIsADensityAgainstMaxwellBoltzmann) {
+  REQUIRE_GNUPLOT();
+  TempDir dir;
+  SpeedPlotSpec spec;
+  spec.title = "gas";
+  spec.out_dir = dir / "out";
+  spec.mass = 2.0;
+  spec.kT = 3.0;
+  const double a = std::sqrt(spec.kT / spec.mass);
+  std::uint64_t state = 12345;
+  auto uniform = [&] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (static_cast<double>(state >> 11) + 0.5) / 9007199254740992.0;
+  };
+  auto normal = [&] { return std::sqrt(-2 * std::log(uniform())) * std::cos(2 * M_PI * uniform()); };
+  for (int i = 0; i < 40000; ++i) {
+    const double vx = a * normal(), vy = a * normal(), vz = a * normal();
+    spec.speeds.push_back(std::sqrt(vx * vx + vy * vy + vz * vz));
+  }
+  const PlotResult r = lagrangian::make_speed_plot(spec);
+  EXPECT_TRUE(r.gnuplot_found);
+  EXPECT_TRUE(is_png(spec.out_dir + "/speeds.png"));
+  EXPECT_TRUE(is_svg(spec.out_dir + "/speeds.svg"));
+  EXPECT_EQ(r.files.size(), 3u);  // the two images, then the script
+  const std::string script = read_all(spec.out_dir + "/speeds.gp");
+  const auto from = script.find("$speeds << EOD\n");
+  ASSERT_NE(from, std::string::npos);
+  std::istringstream rows(script.substr(script.find('\n', script.find("# bin centre")) + 1));
+  std::string line;
+  std::getline(rows, line);  // "$speeds << EOD"
+  double area = 0, prev = -1, worst = 0;
+  int bins = 0;
+  while (std::getline(rows, line) && line != "EOD") {
+    std::istringstream in(line);
+    double centre = 0, density = 0, count = 0;
+    in >> centre >> density >> count;
+    const double width = prev < 0 ? 2 * centre : centre - prev;
+    prev = centre;
+    area += density * width;
+    const double x = centre / a;  // f(v) = √(2/π) x² e^{−x²/2} / a
+    const double f = std::sqrt(2 / M_PI) * x * x * std::exp(-0.5 * x * x) / a;
+    worst = std::max(worst, std::abs(density - f) * a);
+    ++bins;
+  }
+  EXPECT_EQ(bins, 60);  // √40000 = 200, at most 60
+  EXPECT_NEAR(area, 1.0, 1e-12);
+  EXPECT_LT(worst, 0.03);  // peak density × a is 0.83; bins hold ~700 speeds each
+  EXPECT_NE(script.find("maxwell(v) = 4*pi*v**2*(m/(2*pi*kT))**1.5*exp(-m*v**2/(2*kT))"), std::string::npos);
+  EXPECT_THROW(lagrangian::make_speed_plot([&] { auto b = spec; b.kT = 0; return b; }()), lagrangian::OptionError);
+  EXPECT_THROW(lagrangian::make_speed_plot([&] { auto b = spec; b.speeds[3] = -1; return b; }()),
+               lagrangian::OptionError);
 }
 
 TEST(Plots, MissingGnuplotSkipsWithoutImages) {

@@ -177,7 +177,10 @@ void validate(const HardSphereSystem& system, const HardSphereOptions& options);
 ///    "s3-s7" or "s3-wall:x_max", impulse J (N·s), approach speed u,
 ///    separation speed, and the system's kinetic energy before and after,
 ///    T0 minus the losses so far); impacts counts all of them;
-///    impact_energy_loss their summed losses (J); t_final = t_end.
+///    impact_energy_loss their summed losses (J); t_final = t_end;
+///  - wall_impulses: the normal impulse each wall received over the run
+///    (N·s), every impact counted: the six box faces ("wall:x_min", …) and
+///    the extra planes.
 /// Throws OptionError (see validate) and SimulationError when more than
 /// options.max_events events are needed.
 RunReport run_hard_spheres(const HardSphereSystem& system, const HardSphereOptions& options,

@@ -14,7 +14,9 @@
 ///                   path q₀–q₁ (q₀ against t for one coordinate). Impacts are
 ///                   marked at the positions of the bodies involved.
 ///  - `coordinates`: every coordinate against t, one panel per unit.
-///  - `energy`:      the relative energy error (E(t) − E(t₀)) / energy_scale.
+///  - `energy`:      the relative energy error (E(t) − E(t₀)) / energy_scale;
+///                   titled as the energy lost at the impacts when impacts
+///                   with e < 1 took energy (the steps are those losses).
 ///  - `phase`:       phase portraits q against q̇ for up to four coordinates.
 /// each as PNG (1000×700) and SVG, as enabled. Impacts (events of kind
 /// `impact`) are marked on every plot against time by dashed vertical lines
@@ -123,6 +125,27 @@ PlotResult make_work_precision_plots(const WorkPrecisionPlotSpec& spec);
 /// sets `note` to the message when gnuplot is missing and to "plots failed:
 /// <why>" when `make` throws an Error.
 void collect_plots(const std::function<PlotResult()>& make, std::vector<std::string>& files, std::string& note);
+
+/// What make_speed_plot() draws: the speeds of a gas's molecules against
+/// the Maxwell–Boltzmann distribution at its temperature.
+struct SpeedPlotSpec {
+  std::string title;            ///< e.g. the scene's name
+  std::string out_dir;          ///< directory for `speeds.gp` and the images (created if missing)
+  std::vector<double> speeds;   ///< m/s, finite and ≥ 0, at least 2
+  double mass = 1;              ///< m (kg), > 0
+  double kT = 1;                ///< J, > 0
+  std::string note;             ///< one line under the plot (e.g. the Kolmogorov–Smirnov distance)
+  bool png = true;              ///< write `speeds.png` (800×560)
+  bool svg = true;              ///< write `speeds.svg`
+};
+
+/// Writes `<out_dir>/speeds.gp` and draws `speeds`: the histogram of the
+/// speeds as a probability density (√N bins, at least 10 and at most 60,
+/// from 0 to the largest speed) and the Maxwell–Boltzmann density
+/// f(v) = 4π v² (m / 2πkT)^{3/2} exp(−m v² / 2kT) (s/m). Without gnuplot
+/// nothing is written, as for make_plots(); throws OptionError for speeds,
+/// mass or kT outside their ranges, or when gnuplot fails.
+PlotResult make_speed_plot(const SpeedPlotSpec& spec);
 
 /// What make_sweep_plots() draws: the results of a sweep along one key (a
 /// curve per series) or two keys (a heat map per series).

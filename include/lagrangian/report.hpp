@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -242,6 +243,11 @@ struct RunReport {
   /// report.json and events.csv say so.
   std::uint64_t unlogged_events = 0;
   double impact_energy_loss = 0;    ///< sum of T_before − T_after over impacts and rests (J)
+  /// Normal impulse each fixed wall received over the run (N·s), by wall name
+  /// ("wall:x_max", a plane's name): every impact counted, logged or not
+  /// (event-driven engine; empty otherwise). Over the run's duration and a
+  /// wall's area it is the mean pressure on that wall.
+  std::map<std::string, double> wall_impulses;
   /// Time at which a watched event with action stop ended the run (s); NaN
   /// when the run reached t_end.
   double stopped_at = std::numeric_limits<double>::quiet_NaN();

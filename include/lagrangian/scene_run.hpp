@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,45 @@ struct RunControls {
   view::VideoOptions video;
 };
 
+/// Kinetic theory against a run of a gas: equal spheres in a box with
+/// elastic walls and collisions and nothing else (a [gas] scene, or spheres
+/// in a box), run on the event-driven engine.
+///  - temperature from the final speeds: kT = m ⟨v²⟩ / 3;
+///  - pressure on the walls from the impulses they received,
+///    P = Σ_faces J_face / (A_face (t_end − t0)), with one standard error
+///    from the spread of the six faces;
+///  - against kinetic theory, P_ideal = N m ⟨v²⟩ / (3 V), and with the
+///    spheres' size: the centres keep R from the walls, so they fill
+///    V_free = Π (L_i − 2R) at n = N / V_free and reach only
+///    (L_j − 2R)(L_k − 2R) of a face L_j L_k; the bulk pressure is
+///    n kT Z with the hard-sphere virial series Z = 1 + B₂ n + B₃ n²,
+///    B₂ = 2πσ³/3, B₃ = 5 B₂²/8, σ = 2R: P_expected = n kT Z times the
+///    reached fraction of a face (averaged over the three axes);
+///  - the final speeds against the Maxwell–Boltzmann distribution at kT:
+///    the Kolmogorov–Smirnov distance D, and 1.36 / √N, the 5 % point for a
+///    distribution given in advance (kT is estimated from the same speeds,
+///    which makes the test conservative).
+struct GasCheck {
+  std::size_t molecules = 0;
+  double mass = 0;                  ///< m (kg)
+  double radius = 0;                ///< R (m)
+  double volume = 0;                ///< V of the box (m³)
+  double duration = 0;              ///< t_end − t0 (s)
+  double mean_square_speed = 0;     ///< ⟨v²⟩ at the end (m²/s²)
+  double kT = 0;                    ///< m ⟨v²⟩ / 3 (J)
+  double temperature = 0;           ///< kT / k_B (K)
+  double pressure = 0;              ///< measured on the walls (Pa)
+  double pressure_error = 0;        ///< its standard error (Pa)
+  double pressure_ideal = 0;        ///< N m ⟨v²⟩ / (3 V) (Pa)
+  double pressure_expected = 0;     ///< n kT Z × the reached fraction of a face (Pa)
+  double ks_distance = 0;           ///< D against Maxwell–Boltzmann at kT
+  double ks_critical = 0;           ///< 1.36 / √N
+  std::vector<double> speeds;       ///< the final speeds (m/s)
+  /// Lines for the run's summary: temperature, pressure against both
+  /// predictions (ratios and standard errors), D against its 5 % point.
+  std::string summary() const;
+};
+
 /// What a scene run did.
 struct RunResult {
   RunReport report;                 ///< cost and accuracy (see report.hpp)
@@ -32,6 +72,9 @@ struct RunResult {
   std::string plot_note;            ///< why plots were skipped, if they were
   std::string animation_note;       ///< why animation.html (or the video) was not written, if it was not
   bool video_written = false;       ///< RunControls::video_path was written
+  /// A gas (see GasCheck): kinetic theory against the run; also in
+  /// report.json ("gas") and plotted as speeds.png against Maxwell–Boltzmann.
+  std::optional<GasCheck> gas;
   /// Particle scenes on the ODE engine: evaluations of each declared effect
   /// kernel (one per right-hand side). Undeclared kinds do not appear.
   std::map<std::string, std::uint64_t> effect_evaluations;

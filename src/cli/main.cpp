@@ -30,6 +30,7 @@
 #include "lagrangian/scene_models.hpp"
 #include "lagrangian/scene_run.hpp"
 #include "subcommands.hpp"
+#include "completion.hpp"
 #include "sweep_command.hpp"
 
 namespace fs = std::filesystem;
@@ -289,6 +290,11 @@ int main(int argc, char** argv) {
   cli::SweepCommand sweep_command;
   CLI::App* sweep = sweep_command.add(app);
 
+  CLI::App* completion = app.add_subcommand(
+      "completion", "Print a bash completion script: source <(lagrangian completion bash)");
+  std::string shell;
+  completion->add_option("shell", shell, "the shell (bash)")->required();
+
   if (const auto word = cli::unknown_subcommand(app, argc, argv)) {
     std::cerr << "lagrangian: " << cli::unknown_subcommand_message(app, *word) << "\n";
     return kBadInput;
@@ -300,6 +306,14 @@ int main(int argc, char** argv) {
     return code == 0 ? kOk : kBadInput;
   }
 
+  if (completion->parsed()) {
+    if (shell != "bash") {
+      std::cerr << "lagrangian: completion: unknown shell '" << shell << "' (bash is supported)\n";
+      return kBadInput;
+    }
+    std::cout << cli::bash_completion(app);
+    return kOk;
+  }
   if (lst->parsed()) return list_name.empty() ? list(argv[0]) : list_model(list_name);
   if (sweep->parsed()) return sweep_command.run();
 
@@ -469,6 +483,7 @@ int main(int argc, char** argv) {
     const scene::RunResult r = scene::run(scene, controls);
     if (!quiet) {
       std::cout << "scene " << scene.name << " — engine " << r.engine << "\n" << r.report.summary();
+      if (r.gas) std::cout << r.gas->summary();
       if (!r.effect_evaluations.empty()) {
         std::cout << "effects evaluated:";
         for (const auto& [name, count] : r.effect_evaluations) std::cout << " " << name << " " << count << ";";

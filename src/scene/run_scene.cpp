@@ -19,6 +19,7 @@
 #include "lagrangian/scene_models.hpp"
 #include "lagrangian/scene_run.hpp"
 #include "animation_scene.hpp"
+#include "gas_check.hpp"
 #include "output_manifest.hpp"
 #include "particle_engine.hpp"
 
@@ -68,7 +69,19 @@ void write_report(const Scene& scene, const RunResult& r, const std::string& pat
     lagrangian::detail::json_string(os, name);
     os << ": " << count;
   }
-  os << "},\n  \"report\": " << r.report.to_json() << "\n}\n";
+  os << "}";
+  if (r.gas) {
+    const GasCheck& g = *r.gas;
+    os << ",\n  \"gas\": {\"molecules\": " << g.molecules;
+    const std::pair<const char*, double> f[] = {
+        {"mass", g.mass}, {"radius", g.radius}, {"volume", g.volume}, {"duration", g.duration},
+        {"mean_square_speed", g.mean_square_speed}, {"kT", g.kT}, {"temperature", g.temperature},
+        {"pressure", g.pressure}, {"pressure_error", g.pressure_error}, {"pressure_ideal", g.pressure_ideal},
+        {"pressure_expected", g.pressure_expected}, {"ks_distance", g.ks_distance}, {"ks_critical", g.ks_critical}};
+    for (const auto& [name, value] : f) os << ", \"" << name << "\": " << lagrangian::detail::format_number(value);
+    os << "}";
+  }
+  os << ",\n  \"report\": " << r.report.to_json() << "\n}\n";
   lagrangian::detail::write_text_file(path, os.str(), "report file");
 }
 
@@ -238,6 +251,7 @@ RunResult run(const Scene& input, const RunControls& controls) {
             "exact event-driven engine, far faster for spheres in a box)");
     }
     progress.finish();
+    result.gas = detail::gas_check(scene, result);
     if (write) {
       if (scene.output.trajectory) result.files.push_back(traj);
       const std::string events = (fs::path(dir) / "events.csv").string();
@@ -254,6 +268,22 @@ RunResult run(const Scene& input, const RunControls& controls) {
   }
   if (write && scene.output.trajectory && scene.output.plots && (scene.output.png || scene.output.svg)) {
     collect_plots([&] { return make_plots(plot_spec(scene, result)); }, result.files, result.plot_note);
+    if (result.gas && result.plot_note.empty()) {
+      SpeedPlotSpec sp;
+      sp.title = scene.name;
+      sp.out_dir = dir;
+      sp.speeds = result.gas->speeds;
+      sp.mass = result.gas->mass;
+      sp.kT = result.gas->kT;
+      char note[200];
+      std::snprintf(note, sizeof note,
+                    "at t = %.6g s (T = %.4g K); Kolmogorov-Smirnov distance D = %.3g (5 %% point 1.36/sqrt(N) = %.3g)",
+                    result.report.t_final, result.gas->temperature, result.gas->ks_distance, result.gas->ks_critical);
+      sp.note = note;
+      sp.png = scene.output.png;
+      sp.svg = scene.output.svg;
+      collect_plots([&] { return make_speed_plot(sp); }, result.files, result.plot_note);
+    }
   }
   const bool video = write && !controls.video_path.empty();
   if (write && scene.output.trajectory && (scene.output.animation || video)) {
