@@ -511,6 +511,77 @@ TEST(Plots, SpeedHistogramIsADensityAgainstMaxwellBoltzmann) {
                lagrangian::OptionError);
 }
 
+// A projectile over an incline at beta = 0.3 rad, launched at 20 m/s and 45°
+// from the origin: x = v t, y = v t − g t²/2 (v = 20/√2). Its watched
+// events are marked by name where the path is at their times (the apex at
+// t = v/g, interpolated between rows), and the incline is drawn as a line
+// through the origin along (cos beta, sin beta), clipped to the plot.
+TEST(Plots, WatchedEventsAndAnInclineOnAProjectilesPath) {
+  REQUIRE_GNUPLOT();
+  TempDir dir;
+  const double v = 20 / std::sqrt(2.0), g = 9.81, beta = 0.3;
+  const double t_apex = v / g, t_land = 2 * v * (1 - std::tan(beta)) / g;  // y = x tan(beta)
+  {
+    std::ofstream f(dir / "trajectory.csv");
+    f << "t,x,y,x_dot,y_dot,energy\n";
+    f.precision(17);
+    for (int k = 0; k <= 173; ++k) {
+      const double t = t_land * k / 173;
+      f << t << "," << v * t << "," << v * t - 0.5 * g * t * t << "," << v << "," << v - g * t << ",200\n";
+    }
+    std::ofstream e(dir / "events.csv");
+    e.precision(17);
+    e << "t,kind,bodies,impulse,approach_speed,separation_speed,ke_before,ke_after\n"
+      << t_apex << ",event,apex,0,0,0,0,0\n" << t_land << ",event,landing,0,0,0,0,0\n"
+      << t_land << ",stop,landing,0,0,0,0,0\n";
+  }
+  PlotSpec spec;
+  spec.title = "projectile";
+  spec.trajectory_csv = dir / "trajectory.csv";
+  spec.events_csv = dir / "events.csv";
+  spec.out_dir = dir / "out";
+  spec.coordinates = {"x", "y"};
+  spec.units = {"m", "m"};
+  spec.energy_scale = 200;
+  spec.bodies = {{"projectile", 0, 1, -1}};
+  PlotSpec::Plane ground;
+  ground.name = "ground";
+  ground.normal[0] = -std::sin(beta);
+  ground.normal[1] = std::cos(beta);
+  ground.normal[2] = 0;
+  spec.planes = {ground};
+  const PlotResult r = lagrangian::make_plots(spec);
+  expect_images(r, spec.out_dir);
+  const std::string script = read_all(spec.out_dir + "/plots.gp");
+  const auto block = script.find("$marks << EOD\n# h v name\n");
+  ASSERT_NE(block, std::string::npos) << script.substr(0, 800);
+  std::istringstream rows(script.substr(block + std::string("$marks << EOD\n# h v name\n").size()));
+  double h = 0, vv = 0;
+  std::string name;
+  rows >> h >> vv >> name;
+  EXPECT_EQ(name, "\"apex\"");
+  EXPECT_NEAR(h, v * t_apex, 1e-6);
+  EXPECT_NEAR(vv, v * v / (2 * g), 1e-3);  // between rows: the rates carry the rows to t_apex
+  rows >> h >> vv >> name;
+  EXPECT_EQ(name, "\"landing\"");
+  EXPECT_NEAR(vv, h * std::tan(beta), 1e-3);  // on the incline to O(dt²), as impacts are placed
+  EXPECT_EQ(script.find("\"landing\"", script.find("\"landing\"") + 1), std::string::npos);  // the stop is not a second mark
+  // The incline: both ends on y = x tan(beta).
+  const auto arrow = script.find("set arrow 1 from ");
+  ASSERT_NE(arrow, std::string::npos);
+  double h0 = 0, v0 = 0, h1 = 0, v1 = 0;
+  char comma = 0;
+  std::istringstream line(script.substr(arrow + 17));
+  std::string to;
+  line >> h0 >> comma >> v0 >> to >> h1 >> comma >> v1;
+  EXPECT_EQ(to, "to");
+  EXPECT_NEAR(v0, h0 * std::tan(beta), 1e-9 * (1 + std::abs(v0)));
+  EXPECT_NEAR(v1, h1 * std::tan(beta), 1e-9 * (1 + std::abs(v1)));
+  EXPECT_GT(std::abs(h1 - h0), 20.0);  // across the plot, which spans the 25 m of the path
+  EXPECT_NE(script.find("'ground'"), std::string::npos);
+  keep_sample(dir, "projectile_incline");
+}
+
 TEST(Plots, MissingGnuplotSkipsWithoutImages) {
   TempDir dir;
   write_cart_pendulum(dir / "trajectory.csv", 100);

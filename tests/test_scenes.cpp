@@ -713,4 +713,27 @@ TEST(Scenes, TheEventDrivenEngineNeedsSphereContactsDeclared) {
   EXPECT_NEAR(pos(r, 1)[0], 0.8, 1e-15);
 }
 
+// Built-in models of particles draw every body's path in space, not a
+// configuration-space path: two bodies, the oblique impact, Newton's cradle.
+TEST(Scenes, ModelsOfParticlesPlotEveryBodysPath) {
+  for (const auto& [model, bodies] : std::vector<std::pair<std::string, std::vector<std::string>>>{
+           {"two_body", {"body1", "body2"}}, {"oblique_impact", {"s1", "s2"}},
+           {"newtons_cradle", {"s1", "s2", "s3", "s4", "s5"}}}) {
+    Scene s;
+    s.name = model;
+    s.model = ModelSpec{};
+    s.model->name = model;
+    s.run.t_end = 1.0;
+    s.output.animation = false;
+    s.output.directory = (std::filesystem::temp_directory_path() / ("lagrangian_model_paths_" + model)).string();
+    const RunResult r = run(s);
+    ASSERT_TRUE(r.plot_note.empty()) << r.plot_note;
+    std::ifstream in(std::filesystem::path(s.output.directory) / "plots.gp");
+    const std::string script((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(script.find("configuration space"), std::string::npos) << model;
+    for (const std::string& b : bodies) EXPECT_NE(script.find("title '" + b + "'"), std::string::npos) << model << " " << b;
+    std::filesystem::remove_all(s.output.directory);
+  }
+}
+
 }  // namespace

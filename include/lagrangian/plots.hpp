@@ -10,9 +10,13 @@
 ///  - `trajectory`:  particle scenes: each body's path projected on the plane
 ///                   of the two axes with the largest spread (equal aspect
 ///                   ratio), or position against time when the motion is along
-///                   one axis only; generalized models: the configuration-space
+///                   one axis only; models of particles (two bodies, the
+///                   oblique impact, projectiles, Newton's cradle) likewise,
+///                   every body; other generalized models: the configuration-space
 ///                   path q₀–q₁ (q₀ against t for one coordinate). Impacts are
-///                   marked at the positions of the bodies involved.
+///                   marked at the positions of the bodies involved, watched
+///                   events (a projectile's apex and landing) by name, fixed
+///                   planes (a floor, an incline) drawn as lines.
 ///  - `coordinates`: every coordinate against t, one panel per unit.
 ///  - `energy`:      the relative energy error (E(t) − E(t₀)) / energy_scale;
 ///                   titled as the energy lost at the impacts when impacts
@@ -55,7 +59,16 @@ struct PlotSpec {
     std::string name;
     int x = -1, y = -1, z = -1;
   };
-  std::vector<Body> bodies;               ///< particle scenes; empty for generalized-coordinate models
+  std::vector<Body> bodies;               ///< particle scenes and models of particles; empty: configuration space
+  /// A fixed plane (a floor, an incline, a wall): drawn as a line on the
+  /// trajectory plot when it stands across the plotted plane (its normal in
+  /// that plane), or as a level on a position-against-time plot.
+  struct Plane {
+    std::string name;
+    double point[3] = {0, 0, 0};   ///< a point on it (m)
+    double normal[3] = {0, 0, 1};  ///< its normal
+  };
+  std::vector<Plane> planes;
   double energy_scale = 1;                ///< J, > 0; the energy error is plotted as (E − E₀)/energy_scale
   bool png = true;                        ///< write `<name>.png` (pngcairo, 1000×700)
   bool svg = true;                        ///< write `<name>.svg`

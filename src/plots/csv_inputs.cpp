@@ -133,7 +133,7 @@ std::size_t count_data_lines(const std::string& path) {
 
 }  // namespace
 
-std::vector<Impact> read_impacts(const std::string& path) {
+std::vector<Impact> read_impacts(const std::string& path, bool watched) {
   std::vector<Impact> impacts;
   if (path.empty()) return impacts;
   std::error_code ec;
@@ -163,8 +163,9 @@ std::vector<Impact> read_impacts(const std::string& path) {
     const std::vector<std::string> f = split_csv_line(std::string(line));
     if (f.size() <= std::max({ct, ck, cb}))
       throw OptionError("events file '" + path + "', line " + std::to_string(lineno) + ": too few fields");
-    if (f[ck] != "impact") continue;
+    if (f[ck] != (watched ? "event" : "impact")) continue;
     Impact imp;
+    imp.watched = watched;
     if (!parse_double(f[ct], imp.t))
       throw OptionError("events file '" + path + "', line " + std::to_string(lineno) + ": bad time '" + f[ct] + "'");
     imp.bodies = f[cb];

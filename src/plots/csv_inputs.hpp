@@ -13,7 +13,8 @@ constexpr std::size_t kMaxImpactMarks = 2000;  // more impacts are thinned evenl
 
 struct Impact {
   double t = 0;
-  std::string bodies;
+  std::string bodies;  // impacts: the bodies or contact ("ball-floor"); watched events: the event's name
+  bool watched = false;  // a watched event (kind "event"), marked by name on the trajectory
   double ke_before = 0, ke_after = 0;  // kinetic energy just before and after (J), 0 when not given
   std::vector<double> row;  // the columns Trajectory::slot names, at time t (interpolated)
 };
@@ -30,8 +31,9 @@ struct Trajectory {
   double at(const Impact& imp, std::size_t col) const { return imp.row.at(slot.at(col)); }
 };
 
-// All impacts of the events file, in time order (none if it does not exist).
-std::vector<Impact> read_impacts(const std::string& path);
+// All impacts of the events file, in time order (none if it does not exist);
+// with `watched`, its watched events (kind "event": an apex, a landing) instead.
+std::vector<Impact> read_impacts(const std::string& path, bool watched = false);
 
 // At most kMaxImpactMarks of `impacts`, evenly chosen (the first and the last kept).
 std::vector<Impact> thinned(const std::vector<Impact>& impacts);

@@ -122,7 +122,22 @@ PlotResult make_plots(const PlotSpec& spec) {
       add(spec.bodies[b].z);
     }
   }
+  // Watched events (an apex, a landing) are marked by name where the one body
+  // drawn, or the configuration, is at their time: their rows are read with
+  // the impacts' and split off again.
+  std::vector<Impact> marks;
+  if (spec.bodies.size() <= 1) {
+    marks = thinned(read_impacts(spec.events_csv, true));
+    positions.insert(positions.end(), marks.begin(), marks.end());
+    std::stable_sort(positions.begin(), positions.end(), [](const Impact& a, const Impact& b) { return a.t < b.t; });
+  }
   Trajectory tr = read_trajectory(spec.trajectory_csv, positions, at_impacts);
+  if (!marks.empty()) {
+    marks.clear();
+    std::vector<Impact> impacts_only;
+    for (Impact& p : positions) (p.watched ? marks : impacts_only).push_back(std::move(p));
+    positions = std::move(impacts_only);
+  }
 
   std::unordered_map<std::string, std::size_t> index;
   for (std::size_t k = 0; k < tr.header.size(); ++k) index.emplace(tr.header[k], k);
@@ -159,7 +174,7 @@ PlotResult make_plots(const PlotSpec& spec) {
 
   // Output directory and script.
   const fs::path dir = plot_directory(spec.out_dir);
-  ScriptWriter writer(spec, tr, cols, impacts, times, positions, coords, units,
+  ScriptWriter writer(spec, tr, cols, impacts, times, positions, marks, coords, units,
                       script_path(spec.trajectory_csv, dir));
   const fs::path script = dir / "plots.gp";
   write_file(script, writer.write());

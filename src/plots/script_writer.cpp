@@ -27,13 +27,14 @@ constexpr double kAspectNoKey = 0.64;
 
 ScriptWriter::ScriptWriter(const PlotSpec& spec, const Trajectory& tr, const Columns& cols,
                            const std::vector<Impact>& impacts, const std::vector<Impact>& times,
-                           const std::vector<Impact>& positions, std::vector<std::string> coords,
-                           std::vector<std::string> units, std::string data_path)
+                           const std::vector<Impact>& positions, const std::vector<Impact>& marks,
+                           std::vector<std::string> coords, std::vector<std::string> units, std::string data_path)
     : spec_(spec),
       tr_(tr),
       cols_(cols),
       impacts_(times),
       positions_(positions),
+      marks_(marks),
       impacts_total_(impacts.size()),
       coords_(std::move(coords)),
       units_(std::move(units)),
@@ -206,6 +207,61 @@ void ScriptWriter::impact_axis() {
   if (!impacts_.empty()) os_ << "  set y2range [0:1]; unset y2tics\n";
 }
 
+void ScriptWriter::plane_lines(int ah, int av, std::pair<double, double> hr, std::pair<double, double> vr) {
+  int k = 0;
+  for (const PlotSpec::Plane& pl : spec_.planes) {
+    const double nn = std::sqrt(pl.normal[0] * pl.normal[0] + pl.normal[1] * pl.normal[1] + pl.normal[2] * pl.normal[2]);
+    if (!(nn > 0)) continue;
+    double h0, v0, h1, v1;
+    if (ah < 0) {  // position along av against t: a plane across that axis is a level
+      if (std::abs(pl.normal[av]) < (1 - 1e-9) * nn) continue;
+      h0 = hr.first, h1 = hr.second, v0 = v1 = pl.point[av];
+      if (v0 < vr.first || v0 > vr.second) continue;
+    } else {
+      const int third = 3 - ah - av;
+      if (std::abs(pl.normal[third]) > 1e-9 * nn) continue;  // oblique to the plotted plane
+      // The line n_h (h − p_h) + n_v (v − p_v) = 0, clipped to hr × vr.
+      const double ph = pl.point[ah], pv = pl.point[av], dh = -pl.normal[av], dv = pl.normal[ah];
+      double lo = -1e300, hi = 1e300;
+      const auto clip = [&](double p, double d, double a, double b) {
+        if (d == 0) return p >= a && p <= b;
+        double s0 = (a - p) / d, s1 = (b - p) / d;
+        if (s0 > s1) std::swap(s0, s1);
+        lo = std::max(lo, s0);
+        hi = std::min(hi, s1);
+        return lo <= hi;
+      };
+      if (!clip(ph, dh, hr.first, hr.second) || !clip(pv, dv, vr.first, vr.second)) continue;
+      h0 = ph + lo * dh, v0 = pv + lo * dv, h1 = ph + hi * dh, v1 = pv + hi * dv;
+    }
+    ++k;
+    os_ << "  set arrow " << k << " from " << num(h0) << "," << num(v0) << " to " << num(h1) << "," << num(v1)
+        << " nohead back lw 2.5 lc rgb '#8c8677'\n";
+    if (!pl.name.empty()) {  // named at its right-hand end, inside the plot
+      const bool first = h0 > h1;
+      os_ << "  set label " << 100 + k << " " << gp_str(pl.name) << " at " << num(first ? h0 : h1) << ","
+          << num(first ? v0 : v1) << " right offset -0.5,0.8 tc rgb '#6b665a' font ',9'\n";
+    }
+  }
+}
+
+std::string ScriptWriter::mark_block(std::size_t hcol, std::size_t vcol) {
+  std::ostringstream rows;
+  std::size_t n = 0;
+  for (const Impact& m : marks_) {
+    if ((hcol != std::string::npos && !tr_.kept(hcol)) || !tr_.kept(vcol)) continue;
+    const double h = hcol == std::string::npos ? m.t : tr_.at(m, hcol);
+    std::string name = m.bodies;  // a data block's string column: in double quotes, none inside
+    name.erase(std::remove(name.begin(), name.end(), '"'), name.end());
+    rows << num(h) << " " << num(tr_.at(m, vcol)) << " \"" << name << "\"\n";
+    ++n;
+  }
+  if (n == 0) return "";
+  os_ << "$marks << EOD\n# h v name\n" << rows.str() << "EOD\n";
+  return ", \\\n       $marks using 1:2 with points pt 9 ps 1.6 lc rgb '#222222' title 'events'"
+         ", \\\n       $marks using 1:2:3 with labels left offset 0.8,0.6 font ',9' notitle";
+}
+
 void ScriptWriter::trajectory() {
   os_ << "# 1. Trajectory\n";
   if (!spec_.bodies.empty()) {
@@ -307,6 +363,9 @@ void ScriptWriter::particle_trajectory() {
     }
   }
   if (marks) os_ << "$impact_points << EOD\n# h v\n" << pts.str() << "EOD\n";
+  const std::string named = drawable.size() == 1
+                                ? mark_block(av >= 0 ? hcols[0] : std::string::npos, av >= 0 ? vcols[0] : hcols[0])
+                                : std::string();
 
   std::pair<double, double> hr, vr;
   if (av >= 0) {
@@ -331,6 +390,8 @@ void ScriptWriter::particle_trajectory() {
         << "  set ylabel " << gp_str(with_unit(axis_name[ah], unit_h)) << "\n";
   }
   os_ << "  set xrange " << range(hr) << "\n  set yrange " << range(vr) << "\n";
+  if (av >= 0) plane_lines(ah, av, hr, vr);
+  else plane_lines(-1, ah, hr, vr);
   os_ << (legend ? "  set key outside right top\n" : "  unset key\n");
   os_ << "  plot ";
   for (std::size_t k = 0; k < drawable.size(); ++k) {
@@ -343,7 +404,7 @@ void ScriptWriter::particle_trajectory() {
   os_ << ", \\\n       $start using 1:2 with points pt 7 ps 1.2 lc rgb 'black' title 'start'"
       << ", \\\n       $start using 1:2:3 with points pt 7 ps 1.2 lc variable notitle";
   if (marks) os_ << ", \\\n       $impact_points using 1:2 " << impact_point_style(marks);
-  os_ << "\n";
+  os_ << named << "\n";
   end_plot();
 }
 
@@ -359,6 +420,7 @@ void ScriptWriter::generalized_trajectory() {
     for (const Impact& imp : positions_) os_ << num(tr_.at(imp, ch)) << " " << num(tr_.at(imp, cv)) << "\n";
     os_ << "EOD\n";
   }
+  const std::string named = mark_block(two ? ch : std::string::npos, cv);
   auto hr = two ? col_range({ch}) : time_range();
   auto vr = col_range({cv});
   // Equal scales when both axes have the same unit and comparable spreads.
@@ -384,7 +446,7 @@ void ScriptWriter::generalized_trajectory() {
       << "       $start using 1:2 with points pt 7 ps 1.2 lc rgb 'black' title 'start'";
   if (!positions_.empty())
     os_ << ", \\\n       $impact_points using 1:2 " << impact_point_style(positions_.size());
-  os_ << "\n";
+  os_ << named << "\n";
   end_plot();
 }
 

@@ -25,10 +25,12 @@ struct Columns {
 class ScriptWriter {
  public:
   // `impacts`: all impacts of the run; `times`: those marked on the plots
-  // against time; `positions`: those marked on the trajectory (rows filled).
+  // against time; `positions`: those marked on the trajectory (rows filled);
+  // `marks`: watched events marked by name on the trajectory (rows filled).
   ScriptWriter(const PlotSpec& spec, const Trajectory& tr, const Columns& cols, const std::vector<Impact>& impacts,
                const std::vector<Impact>& times, const std::vector<Impact>& positions,
-               std::vector<std::string> coords, std::vector<std::string> units, std::string data_path);
+               const std::vector<Impact>& marks, std::vector<std::string> coords, std::vector<std::string> units,
+               std::string data_path);
 
   std::string write();
 
@@ -88,6 +90,12 @@ class ScriptWriter {
   void trajectory();
   void particle_trajectory();
   void generalized_trajectory();
+  // Inside a plot of axis `ah` (0–2; −1: t) against axis `av`, in the ranges
+  // hr × vr: the planes that stand across it as lines (set arrow), named.
+  void plane_lines(int ah, int av, std::pair<double, double> hr, std::pair<double, double> vr);
+  // The watched events at (h, v) columns (hcol = npos: t) as a data block
+  // $marks; returns the plot clauses for it ("" when there are none).
+  std::string mark_block(std::size_t hcol, std::size_t vcol);
 
   void coordinates();
   void energy();
@@ -98,6 +106,7 @@ class ScriptWriter {
   const Columns& cols_;
   const std::vector<Impact>& impacts_;    // marked against time
   const std::vector<Impact>& positions_;  // marked on the trajectory
+  const std::vector<Impact>& marks_;      // watched events, marked by name on the trajectory
   std::size_t impacts_total_;
   std::vector<std::string> coords_, units_;
   std::string data_path_;

@@ -445,12 +445,31 @@ inline view::Figure pendulum_figure(std::vector<std::string> names, view::Point 
   return f;
 }
 
+/// The definition places its bodies itself (Def::place), not by particles().
+template <class Def>
+inline constexpr bool places_v = requires(const typename Def::Model& m, const double* x, view::Point* c) {
+  Def::place(m, x, 0.0, c);
+};
+
+template <class Def>
+std::vector<std::array<int, 3>> particle_axes_entry(const ModelSpec& spec) {
+  using M = typename Def::Model;
+  std::vector<std::array<int, 3>> axes;
+  if constexpr (has_particles_v<M> && !places_v<Def>) {
+    const ModelInfo& info = catalog_entry(Def::name);
+    const Parameters p(info, spec);
+    const M model = build_model<Def>(info, p);
+    for (const Particle& part : model.particles()) axes.push_back(part.axes);
+  }
+  return axes;
+}
+
 template <class Def>
 view::Figure picture_entry(const ModelSpec& spec, const double* t, const double* q, std::size_t rows,
                            std::vector<double>& xyz) {
   using M = typename Def::Model;
   constexpr bool has_figure = requires(const M& m) { Def::figure(m); };
-  constexpr bool has_place = requires(const M& m, const double* x, view::Point* c) { Def::place(m, x, 0.0, c); };
+  constexpr bool has_place = places_v<Def>;
   const ModelInfo& info = catalog_entry(Def::name);
   const Parameters p(info, spec);
   const M model = build_model<Def>(info, p);
@@ -493,7 +512,7 @@ view::Figure picture_entry(const ModelSpec& spec, const double* t, const double*
 template <class Def>
 ModelEntry entry() {
   return ModelEntry{std::string(Def::name), &run_entry<Def>, &inspect_entry<Def>, &analyse_entry<Def>,
-                    &bvp_entry<Def>, &picture_entry<Def>};
+                    &bvp_entry<Def>, &picture_entry<Def>, &particle_axes_entry<Def>};
 }
 
 }  // namespace lagrangian::scene::detail

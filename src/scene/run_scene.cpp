@@ -158,11 +158,37 @@ PlotSpec plot_spec(const Scene& scene, const RunResult& r) {
   if (p.units.size() != p.coordinates.size()) {
     p.units.assign(p.coordinates.size(), "m");
   }
+  auto plane = [](const std::string& name, const Vec3& point, const Vec3& normal) {
+    PlotSpec::Plane pl;
+    pl.name = name;
+    for (int a = 0; a < 3; ++a) pl.point[a] = point[a], pl.normal[a] = normal[a];
+    return pl;
+  };
   if (!scene.model) {
     for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
       const int c = static_cast<int>(3 * i);
       p.bodies.push_back({scene.bodies[i].name, c, c + 1, c + 2});
     }
+    for (const PlaneContact& pc : scene.planes) p.planes.push_back(plane(pc.name, pc.point, pc.normal));
+    for (const Surface& sf : scene.surfaces)
+      if (sf.kind == Surface::Kind::plane) p.planes.push_back(plane(sf.name, sf.point, sf.normal));
+    if (scene.box)
+      for (int a = 0; a < 3; ++a) {
+        const Vec3 n = Vec3::Unit(a);
+        p.planes.push_back(plane("", scene.box->min, n));
+        p.planes.push_back(plane("", scene.box->max, -n));
+      }
+  } else if (const detail::ModelEntry* entry = detail::find_entry(scene.model->name)) {
+    // A model of particles: every body's path in space, with its planes (an incline, a floor).
+    const std::vector<std::array<int, 3>> axes = entry->particle_axes(*scene.model);
+    std::vector<double> none;
+    const view::Figure figure = entry->picture(*scene.model, nullptr, nullptr, 0, none);
+    for (std::size_t i = 0; i < axes.size(); ++i)
+      p.bodies.push_back({i < figure.bodies.size() ? figure.bodies[i].name : "particle " + std::to_string(i + 1),
+                          axes[i][0], axes[i][1], axes[i][2]});
+    for (const auto& pl : figure.planes)
+      p.planes.push_back(plane(pl.name, Vec3(pl.point[0], pl.point[1], pl.point[2]),
+                               Vec3(pl.normal[0], pl.normal[1], pl.normal[2])));
   }
   return p;
 }

@@ -1,6 +1,7 @@
 #pragma once
 // Internal: how the scene runner reaches the built-in models.
 
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
@@ -50,6 +51,10 @@ struct ModelEntry {
   /// without a picture returns a figure with no bodies.
   view::Figure (*picture)(const ModelSpec& spec, const double* t, const double* q, std::size_t rows,
                           std::vector<double>& xyz);
+  /// A model of particles placed by their coordinates (particles(), no
+  /// place() of its own): each particle's coordinate indices of x, y, z (−1
+  /// absent), in the order of the picture's bodies; empty otherwise.
+  std::vector<std::array<int, 3>> (*particle_axes)(const ModelSpec& spec);
 
   /// Runs the model (see run_fn).
   RunReport run(const ModelSpec& spec, const SimulationOptions& options, const std::string& csv_path,
