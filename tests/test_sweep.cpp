@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include "lagrangian/plots.hpp"
+
 #include <atomic>
 #include <cmath>
 #include <filesystem>
@@ -28,6 +30,9 @@ using namespace lagrangian;
 using namespace lagrangian::scene;
 
 namespace {
+
+#define REQUIRE_GNUPLOT_FOR_SWEEPS() \
+  if (!lagrangian::gnuplot_available()) GTEST_SKIP() << "gnuplot is not installed (scripts/setup installs it)"
 
 constexpr double kPi = 3.141592653589793;
 const std::string kSweeps = std::string(LAGRANGIAN_SOURCE_DIR) + "/examples/sweeps/";
@@ -247,6 +252,30 @@ TEST(SweepExamples, KineticEnergyLossMatchesHalfMuOneMinusESquaredVrelSquared) {
 
 // Cancelled before it starts: no run, no table, no working directory; an
 // earlier table in the directory is gone too.
+// The plots' axes carry the units of the keys and columns: the catalog's
+// for model parameters and coordinates, J for the impact's loss.
+TEST(SweepPlots, AxesCarryUnits) {
+  REQUIRE_GNUPLOT_FOR_SWEEPS();
+  SweepOptions o = options("units_1d", {parse_vary("model.parameters.m2=0.5:2:4")});
+  o.plots = true;
+  o.plot_columns = {"impact_energy_loss", "q_x1", "qd_x2"};
+  sweep(kSweeps + "ke_loss.toml", o);
+  const std::string script = slurp(o.out_dir + "/sweep.gp");
+  EXPECT_NE(script.find("set xlabel 'model.parameters.m2 (kg)'"), std::string::npos) << script.substr(0, 600);
+  EXPECT_NE(script.find("set ylabel 'impact_energy_loss (J)'"), std::string::npos);
+  EXPECT_NE(script.find("set ylabel 'q_x1 (m)'"), std::string::npos);
+  EXPECT_NE(script.find("set ylabel 'qd_x2 (m/s)'"), std::string::npos);
+  // Two keys: both axes, the colour bar the column's.
+  SweepOptions o2 = options("units_2d", {parse_vary("model.parameters.e=0:1:3"), parse_vary("model.qd[0]=0.5:1.5:3")});
+  o2.plots = true;
+  o2.plot_columns = {"impact_energy_loss"};
+  sweep(kSweeps + "ke_loss.toml", o2);
+  const std::string map = slurp(o2.out_dir + "/sweep.gp");
+  EXPECT_NE(map.find("set xlabel 'model.parameters.e'\n"), std::string::npos) << map.substr(0, 600);  // unitless
+  EXPECT_NE(map.find("set ylabel 'model.qd[0] (m/s)'"), std::string::npos);
+  EXPECT_NE(map.find("set cblabel 'impact_energy_loss (J)'"), std::string::npos);
+}
+
 TEST(SweepCancel, ACancelledSweepWritesNothingAndSaysHowFarItGot) {
   SweepOptions o = options("cancelled", {parse_vary("model.parameters.e=0:1:50")});
   std::filesystem::create_directories(o.out_dir);

@@ -166,12 +166,14 @@ struct SweepPlotSpec {
   std::string title;                   ///< e.g. the scene's name
   std::string out_dir;                 ///< directory for `sweep.gp` and the images (created if missing)
   std::vector<std::string> axes;       ///< the varied keys (1 or 2), axis labels
+  std::vector<std::string> axis_units; ///< the keys' units ("" or absent: none shown)
   std::vector<int> axis_counts;        ///< grid points along each axis; the points run with the first axis slowest
   std::vector<bool> log_axes;          ///< logarithmic grid along the axis
   /// One plotted column: x[i] holds point i's values along the axes, y[i]
   /// the column's value (NaN: a failed run or no value; not drawn).
   struct Series {
     std::string name;
+    std::string unit;  ///< shown with the name on its axis; "" for none
     std::vector<std::vector<double>> x;
     std::vector<double> y;
   };

@@ -248,6 +248,11 @@ struct RunReport {
   /// (event-driven engine; empty otherwise). Over the run's duration and a
   /// wall's area it is the mean pressure on that wall.
   std::map<std::string, double> wall_impulses;
+  /// The same in kWallImpulseBlocks equal stretches of [t0, t_end], in order
+  /// (their sum is wall_impulses): the fluctuation of the pressure from one
+  /// stretch to the next gives its standard error.
+  std::map<std::string, std::vector<double>> wall_impulse_blocks;
+  static constexpr int kWallImpulseBlocks = 10;
   /// Time at which a watched event with action stop ended the run (s); NaN
   /// when the run reached t_end.
   double stopped_at = std::numeric_limits<double>::quiet_NaN();

@@ -30,8 +30,8 @@ struct RunControls {
 /// in a box), run on the event-driven engine.
 ///  - temperature from the final speeds: kT = m ⟨v²⟩ / 3;
 ///  - pressure on the walls from the impulses they received,
-///    P = Σ_faces J_face / (A_face (t_end − t0)), with one standard error
-///    from the spread of the six faces;
+///    P = mean over the faces of J_face / (A_face (t_end − t0)), with one
+///    standard error from its spread over ten equal stretches of the run;
 ///  - against kinetic theory, P_ideal = N m ⟨v²⟩ / (3 V), and with the
 ///    spheres' size: the centres keep R from the walls, so they fill
 ///    V_free = Π (L_i − 2R) at n = N / V_free and reach only

@@ -136,7 +136,8 @@ struct Written {
 
 /// The stride k such that every k-th of `samples` samples of `bodies` bodies
 /// (and the last) fit the options' budget: the rule write_animation() thins
-/// by, for readers that thin while reading.
+/// by, for readers that thin while reading. The first and the last sample
+/// are always kept, even when one sample alone is over the budget.
 std::size_t sample_stride(std::size_t samples, std::size_t bodies, const Options& options);
 
 /// True when this build has the page (three.js bundled at build time; see

@@ -27,7 +27,7 @@ std::string bash_completion(const CLI::App& app) {
     std::vector<std::string> opts{"--help"};
     for (const CLI::Option* opt : sub->get_options([](const CLI::Option*) { return true; })) {
       if (opt->get_positional()) continue;
-      const bool flag = opt->get_type_size_max() == 0;
+      const bool flag = opt->get_expected_max() == 0;  // takes no value
       for (const std::string& l : opt->get_lnames()) {
         opts.push_back("--" + l);
         if (!flag) valued.push_back("--" + l);
@@ -63,8 +63,8 @@ std::string bash_completion(const CLI::App& app) {
        << "    --method|--methods) COMPREPLY=($(compgen -W \"" << words(methods) << "\" -- \"${cur##*,}\"))\n"
        << "      [ \"$prev\" = --methods ] && [[ \"$cur\" == *,* ]] && COMPREPLY=(\"${COMPREPLY[@]/#/${cur%,*},}\")\n"
        << "      return ;;\n"
-       << "    --out) COMPREPLY=($(compgen -d -- \"$cur\")); return ;;\n"
-       << "    --animate-to) COMPREPLY=($(compgen -f -X '!*.@(mp4|webm|gif)' -- \"$cur\") $(compgen -d -- \"$cur\"));"
+       << "    --out) mapfile -t COMPREPLY < <(compgen -d -- \"$cur\"); return ;;\n"
+       << "    --animate-to) mapfile -t COMPREPLY < <(compgen -f -X '!*.@(mp4|webm|gif)' -- \"$cur\"; compgen -d -- \"$cur\");"
           " return ;;\n";
   std::string value_pattern;
   for (const std::string& v : valued)
@@ -79,7 +79,7 @@ std::string bash_completion(const CLI::App& app) {
        << "  elif [ \"$cmd\" = list ]; then\n"
        << "    COMPREPLY=($(compgen -W \"" << words(models) << "\" -- \"$cur\"))\n"
        << "  elif [ \"$cmd\" != completion ]; then\n"
-       << "    COMPREPLY=($(compgen -f -X '!*.toml' -- \"$cur\") $(compgen -d -- \"$cur\"))\n"
+       << "    mapfile -t COMPREPLY < <(compgen -f -X '!*.toml' -- \"$cur\"; compgen -d -- \"$cur\")\n"
        << "  else\n"
        << "    COMPREPLY=($(compgen -W \"bash\" -- \"$cur\"))\n"
        << "  fi\n"

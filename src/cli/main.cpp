@@ -394,7 +394,7 @@ int main(int argc, char** argv) {
       if (repeat) bench_opt.repeat = *repeat;
       if (per_decade) bench_opt.per_decade = *per_decade;
       if (reference_tol) bench_opt.reference_tolerance = *reference_tol;
-      bench_opt.out_dir = out_dir ? *out_dir : "out/bench/" + fs::path(scene_path).stem().string();
+      bench_opt.out_dir = out_dir ? *out_dir : "out/bench/" + (scene_path == "-" ? std::string("stdin") : fs::path(scene_path).stem().string());
       bench_opt.plots = !no_plots;
       bench_opt.png = scene.output.png;
       bench_opt.svg = scene.output.svg;
@@ -444,7 +444,7 @@ int main(int argc, char** argv) {
       std::cerr << "lagrangian: " << e.message << "\n";
       return kBadInput;
     }
-    bvp_req.out_dir = out_dir ? *out_dir : "out/bvp/" + fs::path(scene_path).stem().string();
+    bvp_req.out_dir = out_dir ? *out_dir : "out/bvp/" + (scene_path == "-" ? std::string("stdin") : fs::path(scene_path).stem().string());
     bvp_req.plots = !no_plots;
     bvp_req.png = scene.output.png;
     bvp_req.svg = scene.output.svg;

@@ -347,6 +347,9 @@ PlotResult make_sweep_plots(const SweepPlotSpec& spec) {
   if (exe.empty()) return result;
   const fs::path dir = plot_directory(spec.out_dir);
   auto value = [](double v) { return std::isfinite(v) ? num(v) : std::string("NaN"); };
+  auto axis_label = [&](std::size_t a) {
+    return with_unit(spec.axes[a], a < spec.axis_units.size() ? spec.axis_units[a] : std::string());
+  };
   auto file_name = [](const std::string& name) {
     std::string out = "sweep_";
     for (char c : name) out += std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' ? c : '_';
@@ -383,15 +386,15 @@ PlotResult make_sweep_plots(const SweepPlotSpec& spec) {
        << "  if (fmt eq 'png') { eval png_terminal } else { eval svg_terminal }\n"
        << "  set output '" << name << "'.suffix.'.'.fmt\n"
        << "  set title " << gp_str(spec.title + ": " + s.name) << "\n"
-       << "  set xlabel " << gp_str(spec.axes[0]) << "\n";
+       << "  set xlabel " << gp_str(axis_label(0)) << "\n";
     if (spec.log_axes.size() > 0 && spec.log_axes[0]) os << "  set logscale x\n";
     if (dims == 1) {
-      os << "  set ylabel " << gp_str(s.name) << "\n"
+      os << "  set ylabel " << gp_str(with_unit(s.name, s.unit)) << "\n"
          << "  plot $d" << k << " using 1:2 with linespoints lt 1 notitle\n";
     } else {
       if (spec.log_axes.size() > 1 && spec.log_axes[1]) os << "  set logscale y\n";
-      os << "  set ylabel " << gp_str(spec.axes[1]) << "\n"
-         << "  set cblabel " << gp_str(s.name) << "\n"
+      os << "  set ylabel " << gp_str(axis_label(1)) << "\n"
+         << "  set cblabel " << gp_str(with_unit(s.name, s.unit)) << "\n"
          << "  set palette rgbformulae 33,13,10\n"
          << "  set autoscale fix\n"
          << "  plot $d" << k << " using 1:2:3 with image notitle\n";

@@ -67,21 +67,29 @@ std::optional<GasCheck> gas_check(const Scene& scene, const RunResult& result) {
   c.kT = c.mass * c.mean_square_speed / 3;
   c.temperature = c.kT / kBoltzmann;
 
-  // Pressure on each face: impulse over area and time; their mean and its standard error.
+  // Pressure: each face's impulse over its area and the time, averaged over
+  // the faces; its standard error from the same over the run's equal
+  // stretches (RunReport::wall_impulse_blocks). The faces are not
+  // independent samples (opposite faces share the momentum; energy moves
+  // between the axes), the stretches nearly are.
   static constexpr const char* faces[6] = {"wall:x_min", "wall:x_max", "wall:y_min", "wall:y_max", "wall:z_min",
                                            "wall:z_max"};
-  std::vector<double> p;
+  constexpr int kB = RunReport::kWallImpulseBlocks;
+  std::vector<double> per_block(kB, 0.0);
+  double total = 0;
   for (int f = 0; f < 6; ++f) {
-    const auto it = result.report.wall_impulses.find(faces[f]);
-    if (it == result.report.wall_impulses.end() || !(c.duration > 0)) return std::nullopt;
-    const int axis = f / 2;
-    const double area = c.volume / L[axis];
-    p.push_back(it->second / (area * c.duration));
+    const auto it = result.report.wall_impulse_blocks.find(faces[f]);
+    if (it == result.report.wall_impulse_blocks.end() || it->second.size() != kB || !(c.duration > 0)) return std::nullopt;
+    const double area = c.volume / L[f / 2];
+    for (int b = 0; b < kB; ++b) {
+      per_block[static_cast<std::size_t>(b)] += it->second[static_cast<std::size_t>(b)] / (area * c.duration / kB) / 6;
+      total += it->second[static_cast<std::size_t>(b)] / (area * c.duration) / 6;
+    }
   }
-  c.pressure = std::accumulate(p.begin(), p.end(), 0.0) / 6;
+  c.pressure = total;
   double ss = 0;
-  for (const double v : p) ss += (v - c.pressure) * (v - c.pressure);
-  c.pressure_error = std::sqrt(ss / 5) / std::sqrt(6.0);
+  for (const double v : per_block) ss += (v - c.pressure) * (v - c.pressure);
+  c.pressure_error = std::sqrt(ss / (kB - 1)) / std::sqrt(static_cast<double>(kB));
   c.pressure_ideal = static_cast<double>(n) * c.mass * c.mean_square_speed / (3 * c.volume);
   // The centres stay R from the walls: density n = N / V_free and a face's
   // force spread over the (L_j − 2R)(L_k − 2R) of it the centres reach; the

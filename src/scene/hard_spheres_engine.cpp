@@ -87,7 +87,7 @@ class Engine {
       planes_.push_back({w.normal.normalized(), w.point, w.restitution});
       wall_names_.push_back(wall_name(sys, k));
     }
-    wall_impulse_.assign(6 + sys.walls.size(), 0.0);
+    wall_impulse_.assign((6 + sys.walls.size()) * RunReport::kWallImpulseBlocks, 0.0);
     lo_ = sys.box_min;
     hi_ = sys.box_max;
     grid_ = make_grid(lo_, hi_, 2 * largest_radius(sys), n, !use_grid_);
@@ -205,8 +205,16 @@ class Engine {
     rep.steps = processed;  // collisions (pair and wall) plus cell crossings
     rep.rhs_evaluations = 0;
     rep.impact_energy_loss = loss_;
-    for (std::size_t w = 0; w < wall_impulse_.size(); ++w)
-      rep.wall_impulses[w < 6 ? std::string(kBoxWall[w]) : wall_names_[w - 6]] = wall_impulse_[w];
+    constexpr std::size_t kB = RunReport::kWallImpulseBlocks;
+    for (std::size_t w = 0; w < wall_impulse_.size() / kB; ++w) {
+      const std::string name = w < 6 ? std::string(kBoxWall[w]) : wall_names_[w - 6];
+      std::vector<double> blocks(wall_impulse_.begin() + static_cast<std::ptrdiff_t>(w * kB),
+                                 wall_impulse_.begin() + static_cast<std::ptrdiff_t>((w + 1) * kB));
+      double total = 0;
+      for (const double b : blocks) total += b;
+      rep.wall_impulses[name] = total;
+      rep.wall_impulse_blocks[name] = std::move(blocks);
+    }
     if (rep.unlogged_events > 0) {
       std::ostringstream os;
       os << "event log truncated: it holds the first " << rep.events.size() << " of "
@@ -439,7 +447,10 @@ class Engine {
     const double loss = 0.5 * p.mass * (1 - e * e) * u * u;
     std::string name;
     if (recording(rep)) name = names_[i] + "-" + (w < 6 ? std::string(kBoxWall[w]) : wall_names_[w - 6]);
-    wall_impulse_[w] += (1 + e) * p.mass * u;
+    // the stretch of [t0, t_end] this impact falls in (RunReport::wall_impulse_blocks)
+    constexpr int kB = RunReport::kWallImpulseBlocks;
+    const int block = std::clamp(static_cast<int>((now_ - opt_.t0) / (t_end_ - opt_.t0) * kB), 0, kB - 1);
+    wall_impulse_[w * kB + static_cast<std::size_t>(block)] += (1 + e) * p.mass * u;
     record(rep, std::move(name), (1 + e) * p.mass * u, u, sep, loss);
     predict_all(i, -1, static_cast<int>(w));
   }
@@ -527,7 +538,7 @@ class Engine {
   std::vector<std::int32_t> head_;
   std::vector<Plane> planes_;
   std::vector<std::string> names_, wall_names_;
-  std::vector<double> wall_impulse_;  // N·s received by each wall: the six box faces, then the planes
+  std::vector<double> wall_impulse_;  // N·s received by each wall (the box faces, then the planes), by stretch
   std::vector<Event> heap_;
   std::size_t purge_base_ = 0, purge_at_ = 0;
   std::vector<HardSphere> snapshot_;

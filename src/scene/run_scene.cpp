@@ -204,6 +204,10 @@ RunResult run(const Scene& input, const RunControls& controls) {
   const std::string dir = scene.output.directory;
   const bool write = controls.write_outputs;
   if (write) prepare_directory(scene);
+  if (write && !controls.video_path.empty()) {  // an older video must not pass for this run's
+    std::error_code ec;
+    fs::remove(controls.video_path, ec);
+  }
   const std::string traj = (fs::path(dir) / "trajectory.csv").string();
   const bool show_progress = controls.progress && Progress::stderr_is_terminal();
   Progress progress(scene.run.t0, scene.run.t_end, show_progress);

@@ -180,7 +180,7 @@ SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
   lagrangian::detail::write_text_file(csv_path.string(), to_csv(table), "sweep table");
   result.files.push_back(csv_path.string());
   result.header = table.header;
-  if (o.plots) plot(o, table, base.name, result);
+  if (o.plots) plot(o, table, base, result);
   if (o.rank == 0) detail::write_output_manifest(o.out_dir, result.files);
   result.records = std::move(all);
   result.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -63,6 +63,6 @@ struct Table {
 
 Table make_table(const SweepOptions& o, const std::vector<SweepRecord>& records);
 std::string to_csv(const Table& t);
-void plot(const SweepOptions& o, const Table& t, const std::string& scene_name, SweepResult& result);
+void plot(const SweepOptions& o, const Table& t, const Scene& scene, SweepResult& result);
 
 }  // namespace lagrangian::scene::detail

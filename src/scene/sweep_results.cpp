@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "key_units.hpp"
 #include "sweep_detail.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/plots.hpp"
@@ -160,7 +161,7 @@ std::vector<std::string> default_plot_columns(const Table& t) {
 
 }  // namespace
 
-void plot(const SweepOptions& o, const Table& t, const std::string& scene_name, SweepResult& result) {
+void plot(const SweepOptions& o, const Table& t, const Scene& scene, SweepResult& result) {
   std::vector<std::size_t> axes;
   for (std::size_t k = 0; k < o.vary.size(); ++k)
     if (o.vary[k].count > 1) axes.push_back(k);
@@ -180,12 +181,13 @@ void plot(const SweepOptions& o, const Table& t, const std::string& scene_name, 
     return;
   }
   SweepPlotSpec spec;
-  spec.title = scene_name;
+  spec.title = scene.name;
   spec.out_dir = o.out_dir;
   spec.png = o.png;
   spec.svg = o.svg;
   for (std::size_t a : axes) {
     spec.axes.push_back(o.vary[a].key);
+    spec.axis_units.push_back(key_unit(scene, o.vary[a].key));
     spec.axis_counts.push_back(o.vary[a].count);
     spec.log_axes.push_back(o.vary[a].kind == VarySpec::Kind::log);
   }
@@ -204,6 +206,7 @@ void plot(const SweepOptions& o, const Table& t, const std::string& scene_name, 
     const std::size_t ci = index_of(c);
     SweepPlotSpec::Series s;
     s.name = c;
+    s.unit = column_unit(scene, c);
     for (const auto& row : t.rows) {
       std::vector<double> x;
       for (std::size_t xc : x_cols) x.push_back(row[xc].empty() ? kNaN : std::strtod(row[xc].c_str(), nullptr));

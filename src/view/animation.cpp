@@ -13,6 +13,7 @@
 
 #include "lagrangian/detail/text_output.hpp"
 #include "lagrangian/view.hpp"
+#include "check.hpp"
 #include "page.hpp"
 
 namespace lagrangian::view {
@@ -71,7 +72,9 @@ void check_point(const std::string& field, const Point& p) {
     if (!std::isfinite(v)) bad(field, "is not finite (" + number(v, 6) + ")");
 }
 
-void check(const Figure& figure, const Track& track) {
+}  // namespace
+
+void detail::check(const Figure& figure, const Track& track) {
   const std::size_t nb = figure.bodies.size(), n = track.t.size();
   if (n == 0) bad("track.t", "has no samples");
   for (std::size_t b = 0; b < nb; ++b)
@@ -89,6 +92,27 @@ void check(const Figure& figure, const Track& track) {
   };
   check_segments(figure.rods, "rods");
   check_segments(figure.springs, "springs");
+  for (std::size_t k = 0; k < figure.pivots.size(); ++k) check_point("figure.pivots[" + std::to_string(k) + "]", figure.pivots[k]);
+  for (std::size_t k = 0; k < figure.planes.size(); ++k) {
+    check_point("figure.planes[" + std::to_string(k) + "].point", figure.planes[k].point);
+    check_point("figure.planes[" + std::to_string(k) + "].normal", figure.planes[k].normal);
+  }
+  for (std::size_t k = 0; k < figure.boxes.size(); ++k) {
+    check_point("figure.boxes[" + std::to_string(k) + "].min", figure.boxes[k].min);
+    check_point("figure.boxes[" + std::to_string(k) + "].max", figure.boxes[k].max);
+  }
+  for (std::size_t k = 0; k < figure.spheres.size(); ++k) {
+    check_point("figure.spheres[" + std::to_string(k) + "].centre", figure.spheres[k].centre);
+    if (!(figure.spheres[k].radius > 0) || !std::isfinite(figure.spheres[k].radius))
+      bad("figure.spheres[" + std::to_string(k) + "].radius", "must be finite and > 0");
+  }
+  for (std::size_t k = 0; k < figure.circles.size(); ++k) {
+    check_point("figure.circles[" + std::to_string(k) + "].centre", figure.circles[k].centre);
+    check_point("figure.circles[" + std::to_string(k) + "].normal", figure.circles[k].normal);
+    if (!(figure.circles[k].radius > 0) || !std::isfinite(figure.circles[k].radius))
+      bad("figure.circles[" + std::to_string(k) + "].radius", "must be finite and > 0");
+  }
+  check_point("figure.up", figure.up);
   for (std::size_t k = 0; k < n; ++k) {
     if (!std::isfinite(track.t[k])) bad("track.t[" + std::to_string(k) + "]", "is not finite");
     if (k > 0 && track.t[k] < track.t[k - 1])
@@ -116,6 +140,8 @@ void check(const Figure& figure, const Track& track) {
       if (b < 0 || static_cast<std::size_t>(b) >= nb)
         bad("track.events[" + std::to_string(k) + "].bodies", "no body " + std::to_string(b));
 }
+
+namespace {
 
 void segments(std::ostringstream& os, const std::vector<Figure::Segment>& list) {
   os << '[';
@@ -174,7 +200,7 @@ Written write_animation(const std::string& path, const Figure& figure, const Tra
     throw std::runtime_error("animation: this build of lagrangian has no animation page (configured with "
                              "LAGRANGIAN_ANIMATION=OFF; run scripts/setup, which installs web/'s npm packages, and "
                              "build again)");
-  check(figure, track);
+  detail::check(figure, track);
   const std::size_t nb = figure.bodies.size(), n = track.t.size();
   const std::size_t stride = sample_stride(n, nb, options);
   std::vector<std::size_t> kept;
@@ -212,15 +238,12 @@ Written write_animation(const std::string& path, const Figure& figure, const Tra
   segments(os, figure.springs);
   os << ",\"pivots\":[";
   for (std::size_t k = 0; k < figure.pivots.size(); ++k) {
-    check_point("figure.pivots[" + std::to_string(k) + "]", figure.pivots[k]);
     if (k) os << ',';
     point(os, figure.pivots[k]);
   }
   os << "],\"planes\":[";
   for (std::size_t k = 0; k < figure.planes.size(); ++k) {
     const auto& p = figure.planes[k];
-    check_point("figure.planes[" + std::to_string(k) + "].point", p.point);
-    check_point("figure.planes[" + std::to_string(k) + "].normal", p.normal);
     os << (k ? "," : "") << "{\"name\":";
     json_string(os, p.name);
     os << ",\"point\":";

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "lagrangian/view.hpp"
+#include "check.hpp"
 #include "raster.hpp"
 
 namespace lagrangian::view {
@@ -76,14 +77,11 @@ void write_video(const std::string& path, const Figure& figure, const Track& tra
     throw std::invalid_argument("video: fps and seconds must be positive");
   if (std::system("ffmpeg -version >/dev/null 2>&1") != 0)
     throw std::runtime_error("video: ffmpeg not found; install it with: apt-get install ffmpeg");
-  // The page's checks: sizes, finite values (write_animation's own rules).
+  detail::check(figure, track);  // the page's rules: sizes, finite values, indices in range
   const std::size_t nb = figure.bodies.size(), n = track.t.size();
-  if (n == 0 || track.positions.size() != n * nb * 3)
-    throw std::invalid_argument("video: track.positions has " + std::to_string(track.positions.size()) +
-                                " values, expected samples (" + std::to_string(n) + ") x bodies (" +
-                                std::to_string(nb) + ") x 3");
-  for (const double v : track.positions)
-    if (!std::isfinite(v)) throw std::invalid_argument("video: track.positions has a non-finite value");
+  // What a failed call must not leave: an older video that looks like this one.
+  std::error_code stale;
+  fs::remove(path, stale);
 
   auto body = [&](std::size_t k, std::size_t b) {
     return V3{track.positions[(k * nb + b) * 3], track.positions[(k * nb + b) * 3 + 1],

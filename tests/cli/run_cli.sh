@@ -68,8 +68,8 @@ expect 2 "<stdin>:1: name: expected a string, got integer 3" -- sh -c "echo 'nam
 
 # Bash completion, made from the command's own subcommands and options.
 "$bin" completion bash > "$work/completion.bash" || { echo "FAIL: completion bash"; fails=$((fails + 1)); }
-completes() {  # completes WORD... -> the candidates for the last word
-  bash -c 'source "$1"; shift; COMP_WORDS=("$@"); COMP_CWORD=$(($# - 1)); _lagrangian; echo "${COMPREPLY[*]}"' \
+completes() {  # completes WORD... -> the candidates for the last word, joined by '|'
+  bash -c 'source "$1"; shift; COMP_WORDS=("$@"); COMP_CWORD=$(($# - 1)); _lagrangian; IFS="|"; echo "${COMPREPLY[*]}"' \
     _ "$work/completion.bash" lagrangian "$@"
 }
 check_completion() {  # EXPECTED WORD...
@@ -79,11 +79,14 @@ check_completion() {  # EXPECTED WORD...
 }
 check_completion "run" ru
 check_completion "--no-animation" run x.toml --no-an
-check_completion "--animate-to --animate-seconds" run x.toml --anim
+check_completion "--animate-to|--animate-seconds" run x.toml --anim
 check_completion "dopri5" run x.toml --method dop
 check_completion "double_pendulum" list double_p
 check_completion "$src/examples/scenes/bouncing_ball.toml" run "$src/examples/scenes/bouncing_b"
 check_completion "" run x.toml --rtol 1
+check_completion "$src/examples/scenes/bouncing_ball.toml" run --no-plots -q "$src/examples/scenes/bouncing_b"  # after flags
+mkdir -p "$work/a dir" && : > "$work/a dir/my scene.toml"
+check_completion "$work/a dir/my scene.toml" run "$work/a dir/my"  # one candidate, spaces and all
 check_completion "--equilibria" inspect x.toml --equi
 expect 2 "completion: unknown shell 'zsh'" -- "$bin" completion zsh
 

@@ -110,6 +110,7 @@ if (nBodies > 0 && nBodies <= 24) {
   }
 } else if (nBodies > 24 && nBodies <= MANY_BODIES) {
   instanced = new InstancedMesh(new SphereGeometry(1, 16, 8), new MeshLambertMaterial(), nBodies);
+  instanced.frustumCulled = false;  // its bounding sphere would be the first frame's
   for (let b = 0; b < nBodies; ++b) instanced.setColorAt(b, colorOf(b));
   bodyGroup.add(instanced);
 } else if (nBodies > MANY_BODIES) {
@@ -325,7 +326,7 @@ function drawChart(chart, t) {
   if (c.width !== W || c.height !== H) { c.width = W; c.height = H; }
   ctx.clearRect(0, 0, W, H);
   let ymin = Infinity, ymax = -Infinity;
-  for (const s of chart.series) for (const v of s.values) if (isFinite(v)) { ymin = Math.min(ymin, v); ymax = Math.max(ymax, v); }
+  for (const s of chart.series) for (const v of s.values) if (Number.isFinite(v)) { ymin = Math.min(ymin, v); ymax = Math.max(ymax, v); }
   if (!isFinite(ymin)) { ymin = 0; ymax = 1; }
   if (!(ymax - ymin > 1e-12 * Math.max(Math.abs(ymin), Math.abs(ymax)))) {
     const m = ymax !== 0 ? Math.abs(ymax) * 1e-3 : 1;  // a constant: centred in a band of ±0.1 %
@@ -347,9 +348,12 @@ function drawChart(chart, t) {
     ctx.strokeStyle = '#' + PALETTE[i % PALETTE.length].toString(16).padStart(6, '0');
     ctx.beginPath();
     const step = Math.max(1, Math.floor(s.values.length / (2 * w)));
+    let pen = false;  // a missing value (null in the data) leaves a gap
     for (let k = 0; k < s.values.length; k += step) {
+      if (!Number.isFinite(s.values[k])) { pen = false; continue; }
       const x = X(times[k]), y = Y(s.values[k]);
-      if (k === 0) ctx.moveTo(x, y); else ctx.lineTo(x, y);
+      if (pen) ctx.lineTo(x, y); else ctx.moveTo(x, y);
+      pen = true;
     }
     ctx.stroke();
     ctx.fillStyle = ctx.strokeStyle; ctx.textAlign = 'left';
@@ -478,7 +482,7 @@ function tick(now) {
     lastWall = now;
     if (simTime >= times[nFrames - 1]) { simTime = times[nFrames - 1]; setPlaying(false); }
     const next = frameAt(simTime);
-    for (const e of data.events) if (e.t > times[frame] && e.t <= times[next]) flashEvent(e);
+    for (const e of data.events) if ((e.t > times[frame] || (frame === 0 && e.t === times[0])) && e.t <= times[next]) flashEvent(e);
     frame = next;
   }
   drawNow();
@@ -561,16 +565,20 @@ window.lagrangian = {
       bodies.push({ x: ((p.x + 1) / 2) * c.clientWidth, y: ((1 - p.y) / 2) * c.clientHeight });
     }
     const r = c.getBoundingClientRect();
-    return { t: times[frame], frame, frames: nFrames, width: c.clientWidth, height: c.clientHeight,
+    return { t: times[frame], frame, frames: nFrames, width: c.clientWidth, height: c.clientHeight, pointRadius,
              left: r.left, top: r.top, viewProjection: vp.elements.slice(), bodies, fps: fps.value,
              background: '#' + BACKGROUND.toString(16) };
   },
   /// The colour drawn at canvas pixel (x, y), [r, g, b] in 0..255.
-  pixel(x, y) {
+  pixel(x, y) { return window.lagrangian.pixels([[x, y]])[0]; },
+  /// The colours at several canvas pixels [[x, y], …], from one drawing.
+  pixels(points) {
     drawNow();
-    const gl = renderer.getContext(), px = new Uint8Array(4);
-    gl.readPixels(Math.round(x), renderer.domElement.height - 1 - Math.round(y), 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, px);
-    return [px[0], px[1], px[2]];
+    const gl = renderer.getContext(), px = new Uint8Array(4), h = renderer.domElement.height;
+    return points.map(([x, y]) => {
+      gl.readPixels(Math.round(x), h - 1 - Math.round(y), 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, px);
+      return [px[0], px[1], px[2]];
+    });
   },
   /// A body's colour, [r, g, b] in 0..255 (sRGB).
   bodyColor(b) { const h = colorOf(b).getHex(); return [(h >> 16) & 255, (h >> 8) & 255, h & 255]; },
