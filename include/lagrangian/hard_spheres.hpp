@@ -94,6 +94,12 @@ struct HardWall {
   double restitution = 1.0;   ///< e ∈ [0, 1]
 };
 
+/// Names of the box's six faces, in the order x_min, x_max, y_min, y_max,
+/// z_min, z_max (face k is normal to axis k / 2): event names ("s3-wall:x_max")
+/// and RunReport::wall_impulses use them.
+inline constexpr const char* box_wall_names[6] = {"wall:x_min", "wall:x_max", "wall:y_min",
+                                                  "wall:y_max", "wall:z_min", "wall:z_max"};
+
 /// Spheres in a rectangular box, optionally with extra plane walls.
 struct HardSphereSystem {
   std::vector<HardSphere> spheres;

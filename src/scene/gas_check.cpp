@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "gas_check.hpp"
+#include "lagrangian/hard_spheres.hpp"
 
 namespace {
 
@@ -72,13 +73,11 @@ std::optional<GasCheck> gas_check(const Scene& scene, const RunResult& result) {
   // stretches (RunReport::wall_impulse_blocks). The faces are not
   // independent samples (opposite faces share the momentum; energy moves
   // between the axes), the stretches nearly are.
-  static constexpr const char* faces[6] = {"wall:x_min", "wall:x_max", "wall:y_min", "wall:y_max", "wall:z_min",
-                                           "wall:z_max"};
   constexpr int kB = RunReport::kWallImpulseBlocks;
   std::vector<double> per_block(kB, 0.0);
   double total = 0;
   for (int f = 0; f < 6; ++f) {
-    const auto it = result.report.wall_impulse_blocks.find(faces[f]);
+    const auto it = result.report.wall_impulse_blocks.find(box_wall_names[f]);
     if (it == result.report.wall_impulse_blocks.end() || it->second.size() != kB || !(c.duration > 0)) return std::nullopt;
     const double area = c.volume / L[f / 2];
     for (int b = 0; b < kB; ++b) {

@@ -39,7 +39,7 @@ using detail::hard_spheres::sphere_name;
 using detail::hard_spheres::wall_name;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr const char* kBoxWall[6] = {"wall:x_min", "wall:x_max", "wall:y_min", "wall:y_max", "wall:z_min", "wall:z_max"};
+constexpr const auto& kBoxWall = box_wall_names;
 
 // ---------------------------------------------------------------------------
 // The engine.

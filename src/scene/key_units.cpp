@@ -11,8 +11,6 @@
 namespace lagrangian::scene::detail {
 namespace {
 
-std::string rate(const std::string& u) { return u.empty() ? "1/s" : u + "/s"; }
-
 /// A coordinate's unit: a model's from the catalog, a body's x, y, z in m.
 std::string coordinate_unit(const Scene& scene, const std::string& name) {
   if (scene.model) {
@@ -34,6 +32,13 @@ std::string last_name(const std::string& key) {
 
 }  // namespace
 
+std::string velocity_unit(const std::string& u) { return u.empty() ? "1/s" : u + "/s"; }
+
+std::string momentum_unit(const std::string& u) {
+  if (u == "rad") return "kg*m^2/s";
+  return "kg*" + u + "/s";
+}
+
 std::string key_unit(const Scene& scene, const std::string& key) {
   if (key.starts_with("model.parameters.")) {
     if (!scene.model) return "";
@@ -48,7 +53,7 @@ std::string key_unit(const Scene& scene, const std::string& key) {
     const std::size_t open = key.find('[');
     const std::size_t i = std::stoul(key.substr(open + 1));
     if (!info || i >= info->units.size()) return "";
-    return key.starts_with("model.qd[") ? rate(info->units[i]) : info->units[i];
+    return key.starts_with("model.qd[") ? velocity_unit(info->units[i]) : info->units[i];
   }
   static const std::map<std::string, std::string> units = {
       {"t0", "s"}, {"t_end", "s"}, {"dt", "s"}, {"output_interval", "s"}, {"baumgarte_omega", "1/s"},
@@ -70,7 +75,7 @@ std::string column_unit(const Scene& scene, const std::string& column) {
   if (column == "impact_energy_loss") return "J";
   if (column.starts_with("qd_")) {
     const std::string u = coordinate_unit(scene, column.substr(3));
-    return u.empty() && !scene.model ? "" : rate(u);
+    return u.empty() && !scene.model ? "" : velocity_unit(u);
   }
   if (column.starts_with("q_")) return coordinate_unit(scene, column.substr(2));
   if (column.starts_with("first_") || column.starts_with("last_") || column.starts_with("t_")) return "s";

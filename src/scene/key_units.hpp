@@ -8,6 +8,11 @@
 
 namespace lagrangian::scene::detail {
 
+/// The unit of a velocity for a coordinate of unit `u` ("m" → "m/s", "" → "1/s"),
+/// and of the momentum conjugate to it ("rad" → "kg*m^2/s", "m" → "kg*m/s").
+std::string velocity_unit(const std::string& u);
+std::string momentum_unit(const std::string& u);
+
 /// The unit of a numeric scene key as written in a file or given to --vary,
 /// --set: "model.parameters.l1" → the catalog's "m", "model.q[0]" → the
 /// coordinate's, "bodies[0].velocity[2]" → "m/s", "run.t_end" → "s",

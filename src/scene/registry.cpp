@@ -162,13 +162,6 @@ std::string columns(const std::vector<std::vector<std::string>>& rows, const std
   return out;
 }
 
-std::string velocity_unit(const std::string& u) { return u.empty() ? "1/s" : u + "/s"; }
-
-std::string momentum_unit(const std::string& u) {
-  if (u == "rad") return "kg*m^2/s";
-  return "kg*" + u + "/s";
-}
-
 std::string inspect_header(const ModelInfo& info, std::string_view type, const Parameters& p) {
   std::string out = info.name + ": " + info.description + "\n";
   std::string coords;

@@ -50,6 +50,7 @@
 #include "lagrangian/scene.hpp"
 #include "lagrangian/scene_models.hpp"
 #include "lagrangian/simulate.hpp"
+#include "key_units.hpp"
 #include "registry_analysis.hpp"
 
 namespace lagrangian::scene::detail {
@@ -94,9 +95,7 @@ std::string number(double v);
 std::string numbers(const double* v, int n);
 /// Rows of cells as aligned columns, each line starting with `indent`.
 std::string columns(const std::vector<std::vector<std::string>>& rows, const std::string& indent = "  ");
-/// The unit of a velocity and of a momentum conjugate to a coordinate of unit `u`.
-std::string velocity_unit(const std::string& u);
-std::string momentum_unit(const std::string& u);
+// velocity_unit, momentum_unit: key_units.hpp
 /// Header lines of the inspection: name, description, type, coordinates, parameters.
 std::string inspect_header(const ModelInfo& info, std::string_view type, const Parameters& p);
 
