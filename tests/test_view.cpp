@@ -6,12 +6,12 @@
 
 #include <cmath>
 #include <cstdio>
-#include <vector>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "lagrangian/scene.hpp"
 #include "lagrangian/scene_run.hpp"
@@ -117,7 +117,8 @@ TEST(View, BadTracksAreRefusedNamingTheFieldAndValue) {
   {
     Throw th(10);
     th.track.positions.pop_back();
-    EXPECT_NE(invalid(th.figure, th.track, path).find("track.positions: has 29 values, expected samples (10) x bodies (1) x 3"),
+    EXPECT_NE(invalid(th.figure, th.track, path)
+                  .find("track.positions: has 29 values, expected samples (10) x bodies (1) x 3"),
               std::string::npos);
   }
   {
@@ -242,11 +243,13 @@ TEST(View, TheVideoShowsTheThrowsParabola) {
       for (int r = 0; r < m; ++r)
         if (r != i) {
           const double f = ata[static_cast<std::size_t>(r * m + i)] / ata[static_cast<std::size_t>(i * m + i)];
-          for (int c = 0; c < m; ++c) ata[static_cast<std::size_t>(r * m + c)] -= f * ata[static_cast<std::size_t>(i * m + c)];
+          for (int c = 0; c < m; ++c)
+            ata[static_cast<std::size_t>(r * m + c)] -= f * ata[static_cast<std::size_t>(i * m + c)];
           atb[static_cast<std::size_t>(r)] -= f * atb[static_cast<std::size_t>(i)];
         }
     std::vector<double> c(static_cast<std::size_t>(m));
-    for (int i = 0; i < m; ++i) c[static_cast<std::size_t>(i)] = atb[static_cast<std::size_t>(i)] / ata[static_cast<std::size_t>(i * m + i)];
+    for (int i = 0; i < m; ++i)
+      c[static_cast<std::size_t>(i)] = atb[static_cast<std::size_t>(i)] / ata[static_cast<std::size_t>(i * m + i)];
     residual = 0;
     for (std::size_t k = 0; k < t.size(); ++k) {
       double model = 0;

@@ -64,7 +64,8 @@ std::string bash_completion(const CLI::App& app) {
        << "      [ \"$prev\" = --methods ] && [[ \"$cur\" == *,* ]] && COMPREPLY=(\"${COMPREPLY[@]/#/${cur%,*},}\")\n"
        << "      return ;;\n"
        << "    --out) mapfile -t COMPREPLY < <(compgen -d -- \"$cur\"); return ;;\n"
-       << "    --animate-to) mapfile -t COMPREPLY < <(compgen -f -X '!*.@(mp4|webm|gif)' -- \"$cur\"; compgen -d -- \"$cur\");"
+       << "    --animate-to) mapfile -t COMPREPLY < <(compgen -f -X '!*.@(mp4|webm|gif)' -- \"$cur\"; compgen -d -- "
+          "\"$cur\");"
           " return ;;\n";
   std::string value_pattern;
   for (const std::string& v : valued)

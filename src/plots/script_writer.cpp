@@ -210,7 +210,8 @@ void ScriptWriter::impact_axis() {
 void ScriptWriter::plane_lines(int ah, int av, std::pair<double, double> hr, std::pair<double, double> vr) {
   int k = 0;
   for (const PlotSpec::Plane& pl : spec_.planes) {
-    const double nn = std::sqrt(pl.normal[0] * pl.normal[0] + pl.normal[1] * pl.normal[1] + pl.normal[2] * pl.normal[2]);
+    const double nn =
+        std::sqrt(pl.normal[0] * pl.normal[0] + pl.normal[1] * pl.normal[1] + pl.normal[2] * pl.normal[2]);
     if (!(nn > 0)) continue;
     double h0, v0, h1, v1;
     if (ah < 0) {  // position along av against t: a plane across that axis is a level

@@ -3,6 +3,8 @@
 // the samples read back from the run's trajectory.csv (thinned while reading
 // to the page's budget), the events from the run's report.
 
+#include "animation_scene.hpp"
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -13,7 +15,6 @@
 #include <string>
 #include <vector>
 
-#include "animation_scene.hpp"
 #include "lagrangian/detail/scene_registry.hpp"
 #include "lagrangian/errors.hpp"
 
@@ -78,8 +79,9 @@ Rows read_rows(const std::string& path, std::size_t n, std::size_t stride, std::
     while (*p && col <= std::max(n, e_col)) {
       errno = 0;
       const double v = std::strtod(p, &end);
-      if (end == p) throw OptionError("animation: '" + path + "' row " + std::to_string(k) + " column " +
-                                      std::to_string(col + 1) + " is not a number");
+      if (end == p)
+        throw OptionError("animation: '" + path + "' row " + std::to_string(k) + " column " + std::to_string(col + 1) +
+                          " is not a number");
       if (col <= n) values.push_back(v);
       if (col == e_col) energy = v;
       p = *end == ',' ? end + 1 : end;
@@ -115,8 +117,10 @@ view::Figure particle_figure(const Scene& scene) {
   for (const PlaneContact& p : scene.planes) f.planes.push_back({p.name, point(p.point), point(p.normal)});
   if (scene.box) f.boxes.push_back({point(scene.box->min), point(scene.box->max)});
   for (const Surface& s : scene.surfaces)
-    if (s.kind == Surface::Kind::sphere) f.spheres.push_back({point(s.point), s.radius});
-    else f.planes.push_back({s.name, point(s.point), point(s.normal)});
+    if (s.kind == Surface::Kind::sphere)
+      f.spheres.push_back({point(s.point), s.radius});
+    else
+      f.planes.push_back({s.name, point(s.point), point(s.normal)});
   if (scene.gravity && scene.gravity->g.norm() > 0) f.up = point(-scene.gravity->g.normalized());
   return f;
 }
@@ -161,7 +165,8 @@ SceneView scene_view(const Scene& scene, const RunResult& result) {
       track.coordinates.push_back(std::move(s));
     }
   } else {
-    track.coordinates_note = std::to_string(scene.bodies.size()) + " bodies: coordinates not plotted (trajectory.csv has them)";
+    track.coordinates_note =
+        std::to_string(scene.bodies.size()) + " bodies: coordinates not plotted (trajectory.csv has them)";
   }
   // Events: the bodies a contact names are flashed ("ball-floor", "m1-m2").
   constexpr std::size_t max_events = 5000;

@@ -2,6 +2,8 @@
 // temperature and the speed distribution from the final velocities, the
 // pressure from the impulses the box's walls received.
 
+#include "gas_check.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,7 +11,6 @@
 #include <optional>
 #include <sstream>
 
-#include "gas_check.hpp"
 #include "lagrangian/hard_spheres.hpp"
 
 namespace {
@@ -78,7 +79,8 @@ std::optional<GasCheck> gas_check(const Scene& scene, const RunResult& result) {
   double total = 0;
   for (int f = 0; f < 6; ++f) {
     const auto it = result.report.wall_impulse_blocks.find(box_wall_names[f]);
-    if (it == result.report.wall_impulse_blocks.end() || it->second.size() != kB || !(c.duration > 0)) return std::nullopt;
+    if (it == result.report.wall_impulse_blocks.end() || it->second.size() != kB || !(c.duration > 0))
+      return std::nullopt;
     const double area = c.volume / L[f / 2];
     for (int b = 0; b < kB; ++b) {
       per_block[static_cast<std::size_t>(b)] += it->second[static_cast<std::size_t>(b)] / (area * c.duration / kB) / 6;
@@ -121,10 +123,10 @@ namespace lagrangian::scene {
 std::string GasCheck::summary() const {
   std::ostringstream os;
   os << "gas: " << molecules << " molecules, kT = m<v^2>/3 = " << g(kT) << " J (T = " << g(temperature) << " K)\n"
-     << "  pressure on the walls " << g(pressure) << " Pa +- " << g(pressure_error, 2)
-     << " (from their impulses over " << g(duration) << " s); kinetic theory N m <v^2>/(3V) = " << g(pressure_ideal)
-     << " Pa (ratio " << g(pressure / pressure_ideal) << "), with the spheres' size " << g(pressure_expected)
-     << " Pa (ratio " << g(pressure / pressure_expected) << ", " << g(std::abs(pressure - pressure_expected) / pressure_error, 2)
+     << "  pressure on the walls " << g(pressure) << " Pa +- " << g(pressure_error, 2) << " (from their impulses over "
+     << g(duration) << " s); kinetic theory N m <v^2>/(3V) = " << g(pressure_ideal) << " Pa (ratio "
+     << g(pressure / pressure_ideal) << "), with the spheres' size " << g(pressure_expected) << " Pa (ratio "
+     << g(pressure / pressure_expected) << ", " << g(std::abs(pressure - pressure_expected) / pressure_error, 2)
      << " standard errors)\n"
      << "  speeds against Maxwell-Boltzmann at kT: Kolmogorov-Smirnov D = " << g(ks_distance, 3)
      << (ks_distance < ks_critical ? " < " : " >= ") << g(ks_critical, 3) << " (the 5 % point 1.36/sqrt(N))"

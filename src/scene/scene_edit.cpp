@@ -54,7 +54,6 @@ std::vector<PathPart> parse_path(const std::string& option, const std::string& k
 
 namespace {
 
-
 std::string type_of(const toml::node& n) {
   std::ostringstream os;
   os << n.type();

@@ -11,9 +11,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "check.hpp"
 #include "lagrangian/detail/text_output.hpp"
 #include "lagrangian/view.hpp"
-#include "check.hpp"
 #include "page.hpp"
 
 namespace lagrangian::view {
@@ -32,11 +32,20 @@ std::string html_escaped(const std::string& s) {
   std::string out;
   for (const char c : s) {
     switch (c) {
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '&': out += "&amp;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '&':
+        out += "&amp;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -79,8 +88,8 @@ void detail::check(const Figure& figure, const Track& track) {
   if (n == 0) bad("track.t", "has no samples");
   for (std::size_t b = 0; b < nb; ++b)
     if (!(figure.bodies[b].radius >= 0) || !std::isfinite(figure.bodies[b].radius))
-      bad("figure.bodies[" + std::to_string(b) + "].radius", "must be finite and >= 0, is " +
-                                                                 number(figure.bodies[b].radius, 6));
+      bad("figure.bodies[" + std::to_string(b) + "].radius",
+          "must be finite and >= 0, is " + number(figure.bodies[b].radius, 6));
   auto check_segments = [&](const std::vector<Figure::Segment>& list, const std::string& name) {
     for (std::size_t k = 0; k < list.size(); ++k) {
       const auto& s = list[k];
@@ -92,7 +101,8 @@ void detail::check(const Figure& figure, const Track& track) {
   };
   check_segments(figure.rods, "rods");
   check_segments(figure.springs, "springs");
-  for (std::size_t k = 0; k < figure.pivots.size(); ++k) check_point("figure.pivots[" + std::to_string(k) + "]", figure.pivots[k]);
+  for (std::size_t k = 0; k < figure.pivots.size(); ++k)
+    check_point("figure.pivots[" + std::to_string(k) + "]", figure.pivots[k]);
   for (std::size_t k = 0; k < figure.planes.size(); ++k) {
     check_point("figure.planes[" + std::to_string(k) + "].point", figure.planes[k].point);
     check_point("figure.planes[" + std::to_string(k) + "].normal", figure.planes[k].normal);
@@ -116,8 +126,8 @@ void detail::check(const Figure& figure, const Track& track) {
   for (std::size_t k = 0; k < n; ++k) {
     if (!std::isfinite(track.t[k])) bad("track.t[" + std::to_string(k) + "]", "is not finite");
     if (k > 0 && track.t[k] < track.t[k - 1])
-      bad("track.t[" + std::to_string(k) + "]", "decreases (" + number(track.t[k], 17) + " after " +
-                                                    number(track.t[k - 1], 17) + ")");
+      bad("track.t[" + std::to_string(k) + "]",
+          "decreases (" + number(track.t[k], 17) + " after " + number(track.t[k - 1], 17) + ")");
   }
   if (track.positions.size() != n * nb * 3)
     bad("track.positions", "has " + std::to_string(track.positions.size()) + " values, expected samples (" +
@@ -130,8 +140,8 @@ void detail::check(const Figure& figure, const Track& track) {
     }
   auto check_series = [&](const Series& s, const std::string& field) {
     if (!s.values.empty() && s.values.size() != n)
-      bad(field, "'" + s.name + "' has " + std::to_string(s.values.size()) + " values for " + std::to_string(n) +
-                     " samples");
+      bad(field,
+          "'" + s.name + "' has " + std::to_string(s.values.size()) + " values for " + std::to_string(n) + " samples");
   };
   check_series(track.energy, "track.energy");
   for (const Series& s : track.coordinates) check_series(s, "track.coordinates");
@@ -187,7 +197,8 @@ void replace_all(std::string& s, const std::string& from, const std::string& to)
 
 std::size_t sample_stride(std::size_t samples, std::size_t bodies, const Options& options) {
   const std::size_t per_sample = std::max<std::size_t>(1, bodies * 3 * sizeof(float));
-  const std::size_t fit = std::max<std::size_t>(2, std::min(options.max_frames, options.max_position_bytes / per_sample));
+  const std::size_t fit =
+      std::max<std::size_t>(2, std::min(options.max_frames, options.max_position_bytes / per_sample));
   if (samples <= fit) return 1;
   // every k-th sample and the last: ceil((samples - 1) / k) + 1 <= fit
   return (samples - 1 + fit - 2) / (fit - 1);
@@ -197,9 +208,10 @@ bool page_available() { return !detail::page_template.empty(); }
 
 Written write_animation(const std::string& path, const Figure& figure, const Track& track, const Options& options) {
   if (!page_available())
-    throw std::runtime_error("animation: this build of lagrangian has no animation page (configured with "
-                             "LAGRANGIAN_ANIMATION=OFF; run scripts/setup, which installs web/'s npm packages, and "
-                             "build again)");
+    throw std::runtime_error(
+        "animation: this build of lagrangian has no animation page (configured with "
+        "LAGRANGIAN_ANIMATION=OFF; run scripts/setup, which installs web/'s npm packages, and "
+        "build again)");
   detail::check(figure, track);
   const std::size_t nb = figure.bodies.size(), n = track.t.size();
   const std::size_t stride = sample_stride(n, nb, options);
@@ -215,7 +227,8 @@ Written write_animation(const std::string& path, const Figure& figure, const Tra
   const std::size_t total = track.samples_total ? track.samples_total : n;
   std::ostringstream note;
   note << kept.size() << " of " << total << " samples shown";
-  if (kept.size() < total) note << " (thinned evenly to keep the file small: " << si_bytes(xyz.size() * 4.0) << " of positions)";
+  if (kept.size() < total)
+    note << " (thinned evenly to keep the file small: " << si_bytes(xyz.size() * 4.0) << " of positions)";
   const double interval =
       kept.size() > 1 ? (track.t[kept.back()] - track.t[kept.front()]) / static_cast<double>(kept.size() - 1) : 0.0;
 
@@ -315,7 +328,8 @@ Written write_animation(const std::string& path, const Figure& figure, const Tra
   os << "]}";
 
   std::string legend;
-  const bool points = std::any_of(figure.bodies.begin(), figure.bodies.end(), [](const auto& b) { return b.radius == 0; });
+  const bool points =
+      std::any_of(figure.bodies.begin(), figure.bodies.end(), [](const auto& b) { return b.radius == 0; });
   if (nb <= 12) {
     for (std::size_t b = 0; b < nb; ++b)
       legend += (b ? ", " : "") + html_escaped(figure.bodies[b].name) +

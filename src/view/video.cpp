@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "lagrangian/view.hpp"
 #include "check.hpp"
+#include "lagrangian/view.hpp"
 #include "raster.hpp"
 
 namespace lagrangian::view {
@@ -158,7 +158,8 @@ void write_video(const std::string& path, const Figure& figure, const Track& tra
   cam.ox = options.width / 2.0 - cam.scale * 0.5 * (sx0 + sx1);
   cam.oy = (options.height - bar) / 2.0 + cam.scale * 0.5 * (sy0 + sy1);
 
-  const std::size_t frames = std::max<std::size_t>(2, static_cast<std::size_t>(std::lround(options.fps * options.seconds)));
+  const std::size_t frames =
+      std::max<std::size_t>(2, static_cast<std::size_t>(std::lround(options.fps * options.seconds)));
   const double t0 = track.t.front(), t1 = track.t.back();
   const double flash = 0.25 * (t1 - t0) / options.seconds;  // a quarter second of playback
   const Rgb background = detail::rgb(0xf4f4f0), ink = detail::rgb(0x333333), plane_colour = detail::rgb(0xb9b4a6);
@@ -185,7 +186,8 @@ void write_video(const std::string& path, const Figure& figure, const Track& tra
   bool write_ok = true;
   for (std::size_t f = 0; f < frames && write_ok; ++f) {
     const double t = t0 + (t1 - t0) * static_cast<double>(f) / static_cast<double>(frames - 1);
-    const std::size_t k = static_cast<std::size_t>(std::upper_bound(track.t.begin(), track.t.end(), t) - track.t.begin()) - 1;
+    const std::size_t k =
+        static_cast<std::size_t>(std::upper_bound(track.t.begin(), track.t.end(), t) - track.t.begin()) - 1;
     Image img(options.width, options.height, background);
     // Fixed parts: planes as patches, box edges, spheres, circles, pivots.
     for (const auto& pl : figure.planes) {
@@ -195,12 +197,16 @@ void write_video(const std::string& path, const Figure& figure, const Track& tra
       const V3 v = cross(nrm, u);
       const double s = 0.6 * span;
       std::vector<std::array<double, 2>> q;
-      for (const auto& [a, c] : {std::pair{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}) q.push_back(cam.screen(p0 + (a * s) * u + (c * s) * v));
+      for (const auto& [a, c] : {std::pair{-1, -1}, {1, -1}, {1, 1}, {-1, 1}})
+        q.push_back(cam.screen(p0 + (a * s) * u + (c * s) * v));
       img.polygon(q, plane_colour, 0.55);
-      for (std::size_t i = 0; i < 4; ++i) img.line(q[i][0], q[i][1], q[(i + 1) % 4][0], q[(i + 1) % 4][1], 1.5, detail::rgb(0x6b665a));
+      for (std::size_t i = 0; i < 4; ++i)
+        img.line(q[i][0], q[i][1], q[(i + 1) % 4][0], q[(i + 1) % 4][1], 1.5, detail::rgb(0x6b665a));
     }
     for (const auto& bx : figure.boxes) {
-      auto corner = [&](int c) { return V3{c & 1 ? bx.max[0] : bx.min[0], c & 2 ? bx.max[1] : bx.min[1], c & 4 ? bx.max[2] : bx.min[2]}; };
+      auto corner = [&](int c) {
+        return V3{c & 1 ? bx.max[0] : bx.min[0], c & 2 ? bx.max[1] : bx.min[1], c & 4 ? bx.max[2] : bx.min[2]};
+      };
       for (int c = 0; c < 8; ++c)
         for (const int bit : {1, 2, 4})
           if (!(c & bit)) {
@@ -227,7 +233,8 @@ void write_video(const std::string& path, const Figure& figure, const Track& tra
     if (nb <= 24)
       for (std::size_t b = 0; b < std::min<std::size_t>(nb, 12); ++b) {
         const Rgb c = colour(b);
-        const Rgb light{0.65 * c.r + 0.35 * background.r, 0.65 * c.g + 0.35 * background.g, 0.65 * c.b + 0.35 * background.b};
+        const Rgb light{0.65 * c.r + 0.35 * background.r, 0.65 * c.g + 0.35 * background.g,
+                        0.65 * c.b + 0.35 * background.b};
         const std::size_t step = std::max<std::size_t>(1, k / 2000);
         for (std::size_t j = step; j <= k; j += step) {
           const auto p = cam.screen(body(j - step, b)), q = cam.screen(body(j, b));
@@ -235,7 +242,9 @@ void write_video(const std::string& path, const Figure& figure, const Track& tra
         }
       }
     // Rods and springs.
-    auto end = [&](const Figure::Segment& s) { return s.b >= 0 ? body(k, static_cast<std::size_t>(s.b)) : v3(s.anchor); };
+    auto end = [&](const Figure::Segment& s) {
+      return s.b >= 0 ? body(k, static_cast<std::size_t>(s.b)) : v3(s.anchor);
+    };
     for (const auto& s : figure.rods) {
       const auto a = cam.screen(body(k, static_cast<std::size_t>(s.a))), e = cam.screen(end(s));
       img.line(a[0], a[1], e[0], e[1], 2, ink);
@@ -261,7 +270,8 @@ void write_video(const std::string& path, const Figure& figure, const Track& tra
     // Bodies, far to near; those in an event within the last quarter second ringed.
     std::vector<std::size_t> order(nb);
     for (std::size_t b = 0; b < nb; ++b) order[b] = b;
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return cam.depth(body(k, a)) < cam.depth(body(k, b)); });
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return cam.depth(body(k, a)) < cam.depth(body(k, b)); });
     std::vector<bool> flashing(nb, false);
     for (const Event& e : track.events)
       if (e.t <= t && e.t > t - flash) {
