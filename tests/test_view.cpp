@@ -276,3 +276,23 @@ TEST(View, AVideoOfAnUnknownFormatIsRefused) {
   EXPECT_THROW(view::write_video(path.string(), th.figure, th.track), std::invalid_argument);
   EXPECT_FALSE(fs::exists(path));
 }
+
+// An impact between bodies whose names have dashes of their own flashes
+// those two bodies (the contact is "left-ball-right-ball"), not every body.
+TEST(View, EventsFlashTheirBodiesWhateverTheirNames) {
+  scene::Scene s;
+  s.name = "dashes";
+  s.bodies.push_back({"left-ball", 1.0, 0.1, {0, 0, 0}, {1, 0, 0}});
+  s.bodies.push_back({"right-ball", 1.0, 0.1, {1, 0, 0}, {0, 0, 0}});
+  s.bodies.push_back({"far", 1.0, 0.1, {0, 5, 0}, {0, 0, 0}});
+  s.sphere_contacts = scene::SphereContacts{};
+  s.run.t_end = 1.5;
+  s.run.engine = "ode";
+  s.output.plots = false;
+  s.output.directory = fresh_dir("dashes").string();
+  const scene::RunResult r = scene::run(s);
+  ASSERT_EQ(r.report.impacts, 1u);
+  ASSERT_EQ(r.report.events.front().name, "left-ball-right-ball");
+  const std::string page = read(fs::path(s.output.directory) / "animation.html");
+  EXPECT_NE(page.find("\"label\":\"left-ball-right-ball\",\"bodies\":[0,1]"), std::string::npos);
+}

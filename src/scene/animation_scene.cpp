@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "lagrangian/detail/scene_registry.hpp"
@@ -175,14 +176,16 @@ SceneView scene_view(const Scene& scene, const RunResult& result) {
   for (std::size_t k = 0; k < events.size(); k += every) {
     const EventRecord& e = events[k];
     view::Event ev{e.t, to_string(e.kind), e.name, {}};
-    std::size_t from = 0;
-    for (;;) {
-      const std::size_t at = e.name.find('-', from);
-      const std::string part = e.name.substr(from, at == std::string::npos ? std::string::npos : at - from);
-      for (std::size_t b = 0; b < figure.bodies.size(); ++b)
-        if (figure.bodies[b].name == part) ev.bodies.push_back(static_cast<int>(b));
-      if (at == std::string::npos) break;
-      from = at + 1;
+    // A contact is named "<a>-<b>" (a body, then a body or a wall): a body
+    // is in it when the name is the body's, or begins or ends with it at the
+    // dash (names with dashes of their own included).
+    const std::string_view name = e.name;
+    for (std::size_t b = 0; b < figure.bodies.size(); ++b) {
+      const std::string_view body = figure.bodies[b].name;
+      const std::size_t n = body.size();
+      const bool first = name.size() > n && name.starts_with(body) && name[n] == '-';
+      const bool second = name.size() > n && name.ends_with(body) && name[name.size() - n - 1] == '-';
+      if (name == body || first || second) ev.bodies.push_back(static_cast<int>(b));
     }
     track.events.push_back(std::move(ev));
   }
