@@ -329,7 +329,7 @@ TEST(SceneModels, EveryModelRunsAndInspectsWithItsDefaults) {
     EXPECT_EQ(r.coordinates, info.coordinates);
     EXPECT_GT(r.steps, 0u);
     EXPECT_GE(r.samples, 2u);
-    const std::string text = e.inspect(spec, 0.0);
+    const std::string text = e.inspect(spec, 0.0, false);
     EXPECT_NE(text.find(info.name), std::string::npos);
     EXPECT_NE(text.find("Initial state"), std::string::npos);
     EXPECT_NE(text.find("energy function h"), std::string::npos);
@@ -549,7 +549,7 @@ TEST(SceneModels, BadParameterIsASceneErrorNamingTheKeyAndTheValue) {
   EXPECT_NE(what.find("model.parameters.l"), std::string::npos) << what;
   EXPECT_NE(what.find("-1"), std::string::npos) << what;
   // inspect() validates alike.
-  EXPECT_EQ(expect_scene_error([&] { entry("simple_pendulum").inspect(spec, 0.0); }).key(), "model.parameters.l");
+  EXPECT_EQ(expect_scene_error([&] { entry("simple_pendulum").inspect(spec, 0.0, false); }).key(), "model.parameters.l");
 }
 
 TEST(SceneModels, ParameterErrorsAreKeyedByTheRegistrysNames) {
@@ -595,7 +595,7 @@ TEST(SceneModels, WrongStateIsASceneErrorNamingModelQ) {
   }
   {
     const ModelSpec spec{"kepler_polar", {}, {std::nan(""), 0.0}, {}};
-    EXPECT_EQ(expect_scene_error([&] { entry("kepler_polar").inspect(spec, 0.0); }).key(), "model.q");
+    EXPECT_EQ(expect_scene_error([&] { entry("kepler_polar").inspect(spec, 0.0, false); }).key(), "model.q");
   }
   {
     // Off the rods of a constrained model: named model.q, and the failed run
@@ -615,7 +615,7 @@ TEST(SceneModels, WrongStateIsASceneErrorNamingModelQ) {
 
 TEST(SceneModels, InspectionOfConstrainedModelsGivesRanksAndDegreesOfFreedom) {
   {
-    const std::string text = entry("cartesian_double_pendulum").inspect({"cartesian_double_pendulum", {}, {}, {}}, 0.0);
+    const std::string text = entry("cartesian_double_pendulum").inspect({"cartesian_double_pendulum", {}, {}, {}}, 0.0, false);
     std::printf("%s\n", text.c_str());
     EXPECT_NE(row(text, "holonomic constraints").find("constraints 2"), std::string::npos);
     EXPECT_NE(row(text, "rank of dg/dq").find("dg/dq 2"), std::string::npos) << text;
@@ -625,7 +625,7 @@ TEST(SceneModels, InspectionOfConstrainedModelsGivesRanksAndDegreesOfFreedom) {
     EXPECT_NE(text.find("rod1, rod2"), std::string::npos);
   }
   {
-    const std::string text = entry("knife_edge").inspect({"knife_edge", {}, {}, {}}, 0.0);
+    const std::string text = entry("knife_edge").inspect({"knife_edge", {}, {}, {}}, 0.0, false);
     EXPECT_NE(row(text, "rank of [dg/dq; A]").find("A] 1"), std::string::npos) << text;
     EXPECT_NE(row(text, "degrees of freedom").find("freedom 3 = 3 - 0"), std::string::npos) << text;
     EXPECT_NE(row(text, "velocity degrees of freedom").find("freedom 2 = 3 - 1"), std::string::npos) << text;
@@ -636,7 +636,7 @@ TEST(SceneModels, InspectionOfConstrainedModelsGivesRanksAndDegreesOfFreedom) {
 TEST(SceneModels, InspectionOfKeplerPolarGivesTheConservedAngularMomentum) {
   const double m = 1.5, r = 2.0, rdot = 0.1, phidot = 0.35;
   const ModelSpec spec{"kepler_polar", {{"m", m}}, {r, 0.3}, {rdot, phidot}};
-  const std::string text = entry("kepler_polar").inspect(spec, 0.0);
+  const std::string text = entry("kepler_polar").inspect(spec, 0.0, false);
   std::printf("%s\n", text.c_str());
   const std::string line = row(text, "cyclic coordinates");
   ASSERT_NE(line.find("p_phi = "), std::string::npos) << text;
@@ -650,30 +650,30 @@ TEST(SceneModels, InspectionOfKeplerPolarGivesTheConservedAngularMomentum) {
 TEST(SceneModels, InspectionTellsWhenTheEnergyFunctionIsConservedAndEqualsTPlusV) {
   {
     // The spinning hoop: h conserved, T + V is not h (the motor's term ½ m R² ω² sin²θ).
-    const std::string text = entry("bead_on_rotating_hoop").inspect({"bead_on_rotating_hoop", {}, {}, {}}, 0.0);
+    const std::string text = entry("bead_on_rotating_hoop").inspect({"bead_on_rotating_hoop", {}, {}, {}}, 0.0, false);
     EXPECT_NE(row(text, "energy function h").find("conserved"), std::string::npos) << text;
     EXPECT_EQ(row(text, "energy function h").find("not conserved"), std::string::npos) << text;
     EXPECT_NE(row(text, "T + V").find("differs from h"), std::string::npos) << text;
   }
   {
-    const std::string text = entry("driven_pendulum").inspect({"driven_pendulum", {}, {}, {}}, 0.0);
+    const std::string text = entry("driven_pendulum").inspect({"driven_pendulum", {}, {}, {}}, 0.0, false);
     EXPECT_NE(row(text, "energy function h").find("not conserved: L depends explicitly on t"),
               std::string::npos)
         << text;
   }
   {
-    const std::string text = entry("bead_on_rotating_wire").inspect({"bead_on_rotating_wire", {}, {}, {}}, 0.0);
+    const std::string text = entry("bead_on_rotating_wire").inspect({"bead_on_rotating_wire", {}, {}, {}}, 0.0, false);
     EXPECT_NE(row(text, "energy function h").find("moving constraints do work"), std::string::npos) << text;
   }
   {
     const std::string text =
-        entry("projectile_quadratic_drag").inspect({"projectile_quadratic_drag", {}, {}, {}}, 0.0);
+        entry("projectile_quadratic_drag").inspect({"projectile_quadratic_drag", {}, {}, {}}, 0.0, false);
     EXPECT_NE(row(text, "energy function h").find("dissipation"), std::string::npos) << text;
     EXPECT_NE(row(text, "watched events").find("landing (falling, stops the run)"), std::string::npos) << text;
     EXPECT_NE(row(text, "closed-form reference").find("no"), std::string::npos) << text;
   }
   {
-    const std::string text = entry("direct_impact").inspect({"direct_impact", {}, {}, {}}, 0.0);
+    const std::string text = entry("direct_impact").inspect({"direct_impact", {}, {}, {}}, 0.0, false);
     EXPECT_NE(row(text, "restitution", true).find("e = 0.8"), std::string::npos) << text;
     EXPECT_NE(row(text, "energy function h").find("impacts with e < 1 dissipate"), std::string::npos) << text;
     EXPECT_NE(row(text, "unilateral constraints", true).find("s1-s2"), std::string::npos) << text;

@@ -93,7 +93,9 @@ RunResult run(const Scene& scene, const RunControls& controls = {});
 
 /// A human-readable description of the scene at t0: coordinates, degrees of
 /// freedom (rank of the constraints, redundant ones), momenta, cyclic
-/// coordinates and conserved quantities, and the active effects.
-std::string inspect(const Scene& scene);
+/// coordinates and conserved quantities, and the active effects. With
+/// `as_json`, the same facts as one JSON object (numbers as numbers, SI
+/// units; docs/scenes.md, "inspect --json").
+std::string inspect(const Scene& scene, bool as_json = false);
 
 }  // namespace lagrangian::scene

@@ -242,6 +242,9 @@ int main(int argc, char** argv) {
   insp->add_flag("--at-initial-state", analysis.modes_at_initial,
                  "with --modes: linearise about the scene's initial configuration instead");
   insp->add_option("--starts", analysis.starts, "starts of the equilibrium search (default 16)");
+  bool inspect_json = false;
+  insp->add_flag("--json", inspect_json,
+                 "print the description at t0 as one JSON object (not with --equilibria or --modes)");
 
   CLI::App* lst = app.add_subcommand(
       "list", "List the built-in models and the example scenes; `list MODEL`: that model's coordinates and parameters.");
@@ -460,6 +463,12 @@ int main(int argc, char** argv) {
     try {
       if (analysis.modes_at_initial && !analysis.modes)
         throw OptionError("command line: --at-initial-state: only with --modes");
+      if (inspect_json && (analysis.equilibria || analysis.modes))
+        throw OptionError("command line: --json: describes the state at t0; --equilibria and --modes print text");
+      if (inspect_json) {
+        std::cout << scene::inspect(scene, true);
+        return kOk;
+      }
       const std::string analysed =
           analysis.equilibria || analysis.modes ? scene::analyse(scene, analysis) : std::string();
       std::cout << scene::inspect(scene) << analysed;

@@ -66,6 +66,6 @@ ParticleRun run_particles(const Scene& scene, const ParticleOutput& output, cons
 bool event_driven_eligible(const Scene& scene);
 
 /// Inspection text of a particle scene at t0.
-std::string inspect_particles(const Scene& scene);
+std::string inspect_particles(const Scene& scene, bool as_json = false);
 
 }  // namespace lagrangian::scene::detail

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "json_object.hpp"
 #include "lagrangian/constraints.hpp"
 #include "particle_engine.hpp"
 #include "particle_model.hpp"
@@ -20,11 +21,18 @@ bool event_driven_eligible(const Scene& scene) {
   return std::all_of(scene.bodies.begin(), scene.bodies.end(), [](const Body& b) { return b.radius > 0; });
 }
 
-std::string inspect_particles(const Scene& scene) {
+std::string inspect_particles(const Scene& scene, bool as_json) {
   particles::ParticleModel sys(scene);
   std::ostringstream os;
   os.precision(6);
   const int n = sys.bodies();
+  JsonObject js;  // the same facts as JSON (inspect --json)
+  js.string("scene", scene.name);
+  js.string("description", scene.description);
+  const std::string engine =
+      scene.run.engine == "auto" ? (event_driven_eligible(scene) ? "event_driven" : "ode") : scene.run.engine;
+  js.string("engine", engine);
+  js.number("t0", scene.run.t0);
   os << "scene        " << scene.name << "\n";
   if (!scene.description.empty()) os << "description  " << scene.description << "\n";
   os << "engine       " << (scene.run.engine == "auto" ? (event_driven_eligible(scene) ? "event_driven" : "ode")
@@ -40,6 +48,21 @@ std::string inspect_particles(const Scene& scene) {
        << ", p = m v = (" << (b.mass * b.velocity).transpose() << ") kg·m/s\n";
   }
   if (n > shown) os << "  … " << n - shown << " more\n";
+  {
+    std::vector<std::string> items;
+    for (const Body& b : scene.bodies) {
+      JsonObject bj;
+      bj.string("name", b.name);
+      bj.number("mass", b.mass);
+      bj.number("radius", b.radius);
+      bj.raw("position", json_numbers(b.position.data(), 3));
+      bj.raw("velocity", json_numbers(b.velocity.data(), 3));
+      const Eigen::Vector3d p = b.mass * b.velocity;
+      bj.raw("momentum", json_numbers(p.data(), 3));
+      items.push_back(bj.str());
+    }
+    js.raw("bodies", json_array(items));
+  }
 
   // Degrees of freedom from the rank of the constraint Jacobian at t0.
   const auto& rows = sys.rows();
@@ -61,6 +84,17 @@ std::string inspect_particles(const Scene& scene) {
   os << "\n";
   os << "rank         " << rank << " (redundant constraints: " << static_cast<int>(rows.size()) - rank << ")\n";
   os << "DOF          " << 3 * n - rank << " = " << 3 * n << " coordinates − rank " << rank << "\n";
+  {
+    JsonObject cj;
+    cj.integer("coordinates", 3 * n);
+    std::vector<std::string> names;
+    for (const auto& r : rows) names.push_back(r.name);
+    cj.raw("holonomic", json_strings(names));
+    cj.integer("rank", rank);
+    cj.integer("redundant", static_cast<int>(rows.size()) - rank);
+    cj.integer("degrees_of_freedom", 3 * n - rank);
+    js.raw("constraints", cj.str());
+  }
 
   Eigen::Vector3d P = Eigen::Vector3d::Zero(), L = Eigen::Vector3d::Zero();
   for (int i = 0; i < n; ++i) {
@@ -71,6 +105,15 @@ std::string inspect_particles(const Scene& scene) {
   os << "momentum     P = (" << P.transpose() << ") kg·m/s, L about the origin = (" << L.transpose() << ") kg·m²/s\n";
   const double T = sys.kinetic(x.data()), V = sys.potential(x.data());
   os << "energy       T = " << T << " J, V = " << V << " J, E = T + V = " << T + V << " J\n";
+  js.raw("P", json_numbers(P.data(), 3));
+  js.raw("L", json_numbers(L.data(), 3));
+  {
+    JsonObject e;
+    e.number("T", T);
+    e.number("V", V);
+    e.number("E", T + V);
+    js.raw("energy", e.str());
+  }
 
   // Conserved quantities: what no declared effect can change.
   std::vector<std::string> conserved;
@@ -102,7 +145,9 @@ std::string inspect_particles(const Scene& scene) {
   if (declared.empty()) os << "none (free flight)";
   for (std::size_t k = 0; k < declared.size(); ++k) os << (k ? ", " : "") << declared[k];
   os << "\n";
-  return os.str();
+  js.raw("conserved", json_strings(conserved));
+  js.raw("active", json_strings(declared));
+  return as_json ? js.str() + "\n" : os.str();
 }
 
 }  // namespace lagrangian::scene::detail

@@ -4,11 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "lagrangian/detail/text_output.hpp"
 #include "registry_common.hpp"
 
 namespace lagrangian::scene::detail {
@@ -160,6 +162,24 @@ std::string columns(const std::vector<std::vector<std::string>>& rows, const std
     out += line + "\n";
   }
   return out;
+}
+
+void inspect_header_json(JsonObject& js, const ModelInfo& info, std::string_view type, const Parameters& p) {
+  js.string("model", info.name);
+  js.string("description", info.description);
+  js.string("type", std::string("lagrangian::") + std::string(type));
+  std::vector<std::string> params;
+  for (std::size_t i = 0; i < info.parameters.size(); ++i) {
+    const ParameterInfo& q = info.parameters[i];
+    JsonObject pj;
+    pj.string("name", q.name);
+    pj.number("value", p.value(i));
+    pj.string("unit", q.unit == "1" ? "" : q.unit);
+    pj.string("description", q.description);
+    pj.boolean("from_scene", p.given(i));
+    params.push_back(pj.str());
+  }
+  js.raw("parameters", json_array(params));
 }
 
 std::string inspect_header(const ModelInfo& info, std::string_view type, const Parameters& p) {

@@ -50,6 +50,7 @@
 #include "lagrangian/scene.hpp"
 #include "lagrangian/scene_models.hpp"
 #include "lagrangian/simulate.hpp"
+#include "json_object.hpp"
 #include "key_units.hpp"
 #include "registry_analysis.hpp"
 
@@ -98,6 +99,9 @@ std::string columns(const std::vector<std::vector<std::string>>& rows, const std
 // velocity_unit, momentum_unit: key_units.hpp
 /// Header lines of the inspection: name, description, type, coordinates, parameters.
 std::string inspect_header(const ModelInfo& info, std::string_view type, const Parameters& p);
+
+/// The header's facts: model, description, type, coordinates with units, parameters.
+void inspect_header_json(JsonObject& js, const ModelInfo& info, std::string_view type, const Parameters& p);
 
 // -- building a model and its initial state -------------------------------------
 
@@ -211,10 +215,13 @@ std::string energy_not_conserved_because(const M& model, const State<coordinate_
 /// conserved quantities and the declared forces, contacts and events.
 template <class M>
 std::string inspect_model(const M& model, const ModelInfo& info, std::string_view type, const Parameters& params,
-                          const State<coordinate_count_v<M>>& s, double t0) {
+                          const State<coordinate_count_v<M>>& s, double t0, bool as_json = false) {
   constexpr int n = coordinate_count_v<M>;
   std::ostringstream os;
   os << inspect_header(info, type, params);
+  JsonObject js;  // the same facts as JSON (inspect --json)
+  inspect_header_json(js, info, type, params);
+  js.number("t0", t0);
   const auto names = coordinate_names(model);
   auto unit = [&](int i) {
     return static_cast<std::size_t>(i) < info.units.size() ? info.units[static_cast<std::size_t>(i)] : std::string();
@@ -228,6 +235,21 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
     rows.push_back({names[static_cast<std::size_t>(i)], number(s.q[i]), unit(i), number(s.qd[i]),
                     velocity_unit(unit(i)), number(p[i]), momentum_unit(unit(i))});
   os << columns(rows);
+  {
+    std::vector<std::string> items;
+    for (int i = 0; i < n; ++i) {
+      JsonObject c;
+      c.string("name", names[static_cast<std::size_t>(i)]);
+      c.string("unit", unit(i));
+      c.number("q", s.q[i]);
+      c.number("qdot", s.qd[i]);
+      c.number("p", p[i]);
+      c.string("qdot_unit", velocity_unit(unit(i)));
+      c.string("p_unit", momentum_unit(unit(i)));
+      items.push_back(c.str());
+    }
+    js.raw("coordinates", json_array(items));
+  }
 
   // Constraints and degrees of freedom.
   if constexpr (has_constraints_v<M>) {
@@ -247,6 +269,17 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
                     "= " + nc + " - " + std::to_string(dof.holonomic_rank) + " (n - rank dg/dq)"},
                    {"velocity degrees of freedom", std::to_string(dof.velocity_degrees_of_freedom),
                     "= " + nc + " - " + std::to_string(dof.velocity_rank) + " (n - rank [dg/dq; A])"}});
+    JsonObject d;
+    d.integer("coordinates", dof.coordinates);
+    d.integer("holonomic", dof.holonomic);
+    d.integer("pfaffian", dof.pfaffian);
+    d.integer("unilateral", dof.unilateral);
+    d.integer("rank_dg_dq", dof.holonomic_rank);
+    d.integer("rank_dg_dq_and_A", dof.velocity_rank);
+    d.raw("redundant", json_strings(dof.redundant));
+    d.integer("degrees_of_freedom", dof.degrees_of_freedom);
+    d.integer("velocity_degrees_of_freedom", dof.velocity_degrees_of_freedom);
+    js.raw("constraints", d.str());
   }
 
   // Conserved quantities.
@@ -254,12 +287,19 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
   std::vector<std::vector<std::string>> cons;
   const std::vector<int> cyclic = cyclic_coordinates(model, s, t0);
   if (cyclic.empty()) cons.push_back({"cyclic coordinates", "none"});
+  std::vector<std::string> cyclic_json;
   for (std::size_t k = 0; k < cyclic.size(); ++k) {
     const int i = cyclic[k];
     const std::string& c = names[static_cast<std::size_t>(i)];
     cons.push_back({k == 0 ? "cyclic coordinates" : "", c,
                     "p_" + c + " = " + number(p[i]) + " " + momentum_unit(unit(i)) + " (conserved)"});
+    JsonObject cj;
+    cj.string("coordinate", c);
+    cj.number("p", p[i]);
+    cj.string("p_unit", momentum_unit(unit(i)));
+    cyclic_json.push_back(cj.str());
   }
+  js.raw("cyclic", json_array(cyclic_json));
   const double h = energy_function(model, s.q, s.qd, t0);
   const std::string why = energy_not_conserved_because(model, s, t0);
   std::string contact_note;
@@ -271,6 +311,14 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
   }
   cons.push_back({"energy function h = p.qdot - L", number(h) + " J",
                   why.empty() ? "conserved" + contact_note : "not conserved: " + why});
+  {
+    JsonObject hj;
+    hj.number("value", h);
+    hj.boolean("conserved", why.empty());
+    hj.string("why_not", why);
+    hj.boolean("impacts_dissipate", !contact_note.empty());
+    js.raw("energy_function", hj.str());
+  }
   if constexpr (has_kinetic_potential_v<M>) {
     const double T = model.kinetic(s.q, s.qd, t0), V = model.potential(s.q, t0);
     // Natural system: h = T + V at the state and at nearby states.
@@ -283,26 +331,38 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
     cons.push_back({"T + V", number(T + V) + " J",
                     natural ? "equals h (natural system: T quadratic in qdot)"
                             : "differs from h (T has terms of degree 0 or 1 in qdot; T = " + number(T) + " J)"});
+    JsonObject e;
+    e.number("T", T);
+    e.number("V", V);
+    e.number("T_plus_V", T + V);
+    e.boolean("natural", natural);
+    js.raw("energy", e.str());
   } else {
     cons.push_back({"T + V", "n/a", "the model gives L directly"});
+    js.raw("energy", "null");
   }
   os << columns(cons);
 
   // Declared extras.
   os << "\nDeclared\n";
   std::vector<std::vector<std::string>> decl;
+  JsonObject dj;
   if constexpr (has_generalized_forces_v<M>) {
     const Vec<double, n> q = model.generalized_forces(s.q, s.qd, t0);
     decl.push_back({"generalized forces Q", "yes", "Q(t0) = " + numbers(q.data(), n)});
+    dj.raw("generalized_forces", json_numbers(q.data(), n));
   } else {
     decl.push_back({"generalized forces Q", "none"});
+    dj.raw("generalized_forces", "null");
   }
   if constexpr (has_dissipation_v<M>) {
     Vec<double, n> qd_force = nonconservative_forces(model, s.q, s.qd, t0);
     if constexpr (has_generalized_forces_v<M>) qd_force -= model.generalized_forces(s.q, s.qd, t0);
     decl.push_back({"dissipation D", "yes", "-dD/dqdot at t0 = " + numbers(qd_force.data(), n)});
+    dj.raw("dissipation_forces", json_numbers(qd_force.data(), n));
   } else {
     decl.push_back({"dissipation D", "none"});
+    dj.raw("dissipation_forces", "null");
   }
   const std::vector<std::string> cnames = constraint_names(model);
   auto list = [&](int from, int count) {
@@ -315,6 +375,13 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
   decl.push_back({"holonomic constraints", std::to_string(mh), list(0, mh)});
   decl.push_back({"Pfaffian constraints", std::to_string(mp), list(mh + mu, mp)});
   decl.push_back({"unilateral constraints", std::to_string(mu), list(mh, mu)});
+  auto names_of = [&](int from, int count) {
+    return std::vector<std::string>(cnames.begin() + from, cnames.begin() + from + count);
+  };
+  dj.raw("holonomic", json_strings(names_of(0, mh)));
+  dj.raw("pfaffian", json_strings(names_of(mh + mu, mp)));
+  dj.raw("unilateral", json_strings(names_of(mh, mu)));
+  dj.raw("restitution", "null");
   if constexpr (mu > 0) {
     if constexpr (has_restitution_v<M>) {
       const auto e = restitution_coefficients(model);
@@ -329,6 +396,7 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
                   number(e[static_cast<std::size_t>(j)]);
       }
       decl.push_back({"restitution", "yes", text});
+      dj.raw("restitution", json_numbers(e.data(), mu));
     } else {
       decl.push_back({"restitution", "none", "(contacts may rest and release, not be struck)"});
     }
@@ -336,17 +404,25 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
   if constexpr (event_count_v<M> > 0) {
     const std::vector<EventSpec> specs = event_specs(model);
     std::string text;
+    std::vector<std::string> items;
     for (std::size_t k = 0; k < specs.size(); ++k) {
       const EventSpec& e = specs[k];
-      text += (k ? ", " : "") + e.name + " (" +
-              (e.direction == Direction::falling  ? "falling"
-               : e.direction == Direction::rising ? "rising"
-                                                  : "either") +
-              ", " + (e.action == EventAction::stop ? "stops the run" : "recorded") + ")";
+      const char* direction = e.direction == Direction::falling  ? "falling"
+                              : e.direction == Direction::rising ? "rising"
+                                                                 : "either";
+      text += (k ? ", " : "") + e.name + " (" + direction + ", " +
+              (e.action == EventAction::stop ? "stops the run" : "recorded") + ")";
+      JsonObject ej;
+      ej.string("name", e.name);
+      ej.string("direction", direction);
+      ej.string("action", e.action == EventAction::stop ? "stop" : "record");
+      items.push_back(ej.str());
     }
     decl.push_back({"watched events", std::to_string(event_count_v<M>), text});
+    dj.raw("watched_events", json_array(items));
   } else {
     decl.push_back({"watched events", "none"});
+    dj.raw("watched_events", "[]");
   }
   if constexpr (has_particles_v<M>) {
     // P = Σ m v and L = Σ m r × v about the origin, as the runs report them.
@@ -370,11 +446,20 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
     decl.push_back({"particles", std::to_string(count),
                     "P = " + numbers(P.data(), 3) + " kg*m/s, L = " + numbers(L.data(), 3) +
                         " kg*m^2/s about the origin"});
+    JsonObject pj;
+    pj.integer("count", count);
+    pj.raw("P", json_numbers(P.data(), 3));
+    pj.raw("L", json_numbers(L.data(), 3));
+    js.raw("particles", pj.str());
+  } else {
+    js.raw("particles", "null");
   }
   decl.push_back({"closed-form reference", has_reference_v<M> ? "yes" : "no",
                   has_reference_v<M> ? "(runs report their true error)" : ""});
+  js.raw("declared", dj.str());
+  js.boolean("closed_form_reference", has_reference_v<M>);
   os << columns(decl);
-  return os.str();
+  return as_json ? js.str() + "\n" : os.str();
 }
 
 // -- entries ----------------------------------------------------------------------
@@ -401,12 +486,12 @@ RunReport run_entry(const ModelSpec& spec, const SimulationOptions& options, con
 }
 
 template <class Def>
-std::string inspect_entry(const ModelSpec& spec, double t0) {
+std::string inspect_entry(const ModelSpec& spec, double t0, bool as_json) {
   const ModelInfo& info = catalog_entry(Def::name);
   const Parameters p(info, spec);
   const typename Def::Model model = build_model<Def>(info, p);
   const auto initial = initial_state(info, spec, default_state<Def>(info, model, t0));
-  return inspect_model(model, info, Def::type, p, initial, t0);
+  return inspect_model(model, info, Def::type, p, initial, t0, as_json);
 }
 
 template <class Def>

@@ -347,7 +347,7 @@ RunResult run(const Scene& input, const RunControls& controls) {
   return result;
 }
 
-std::string inspect(const Scene& input) {
+std::string inspect(const Scene& input, bool as_json) {
   input.validate();
   Scene scene = input;
   scene.expand_gas();
@@ -355,14 +355,14 @@ std::string inspect(const Scene& input) {
     const detail::ModelEntry* entry = detail::find_entry(scene.model->name);
     if (!entry) throw SceneError("model.name", "unknown model '" + scene.model->name + "'", scene.source);
     try {
-      return entry->inspect(*scene.model, scene.run.t0);
+      return entry->inspect(*scene.model, scene.run.t0, as_json);
     } catch (const SceneError& e) {
       if (!e.key().empty() && e.line() == 0 && !scene.source.file.empty())
         throw SceneError(e.key(), e.message(), scene.source);
       throw;
     }
   }
-  return detail::inspect_particles(scene);
+  return detail::inspect_particles(scene, as_json);
 }
 
 }  // namespace lagrangian::scene

@@ -90,6 +90,23 @@ check_completion "$work/a dir/my scene.toml" run "$work/a dir/my"  # one candida
 check_completion "--equilibria" inspect x.toml --equi
 expect 2 "completion: unknown shell 'zsh'" -- "$bin" completion zsh
 
+# inspect --json: the same facts as one JSON object (read here by Python's json module).
+json_check() {  # SCENE PYTHON-ASSERTIONS (d: the parsed object)
+  "$bin" inspect "$src/examples/scenes/$1" --json > "$work/inspect.json" \
+    || { echo "FAIL: inspect $1 --json exited $?"; fails=$((fails + 1)); return; }
+  /usr/bin/python3 -c "import json, sys; d = json.load(open(sys.argv[1])); $2" "$work/inspect.json" \
+    && echo "ok: inspect $1 --json" || { echo "FAIL: inspect $1 --json: $2"; fails=$((fails + 1)); }
+}
+json_check double_pendulum_links.toml "c = d['constraints']; assert (c['coordinates'], c['rank'], c['degrees_of_freedom']) == (6, 2, 4), c; assert [b['name'] for b in d['bodies']] == ['upper', 'lower']"
+json_check cartesian_double_pendulum.toml "c = d['constraints']; assert c['degrees_of_freedom'] == 2 and d['declared']['holonomic'] == ['rod1', 'rod2'], c; assert d['coordinates'][0]['unit'] == 'm'"
+# The projectile's x is cyclic: p_x = m v cos 45 degrees = 20/sqrt(2) kg m/s; apex and landing are watched.
+json_check projectile.toml "import math; c = d['cyclic']; assert c[0]['coordinate'] == 'x' and abs(c[0]['p'] - 20 / math.sqrt(2)) < 1e-12, c; assert [e['name'] for e in d['declared']['watched_events']] == ['apex', 'landing']"
+# Every example scene's inspection is one valid JSON object, with its coordinates or bodies.
+for f in "$src"/examples/scenes/*.toml; do
+  json_check "$(basename "$f")" "assert d.get('coordinates') or d.get('bodies'), list(d)"
+done
+expect 2 "--json: describes the state at t0" -- "$bin" inspect "$src/examples/scenes/double_pendulum.toml" --json --modes
+
 # inspect: DOF and conserved quantities.
 expect 0 "DOF +4 = 6 coordinates" -- "$bin" inspect "$src/examples/scenes/double_pendulum_links.toml"
 expect 0 "rank" -- "$bin" inspect "$src/examples/scenes/cartesian_double_pendulum.toml"

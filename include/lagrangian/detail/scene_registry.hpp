@@ -37,10 +37,11 @@ struct ModelEntry {
   /// "model.parameters.<name>", "model.q", "model.qd".
   RunReport (*run_fn)(const ModelSpec& spec, const SimulationOptions& options, const std::string& csv_path,
                       const SampleTick& tick, FinalState* final_state);
-  /// Human-readable inspection at t0: coordinates, DOF report (rank,
-  /// redundant constraints), momenta, cyclic coordinates and conserved
-  /// quantities, declared forces/constraints/contacts.
-  std::string (*inspect)(const ModelSpec& spec, double t0);
+  /// Inspection at t0: coordinates, DOF report (rank, redundant
+  /// constraints), momenta, cyclic coordinates and conserved quantities,
+  /// declared forces/constraints/contacts; as text, or with `as_json` the
+  /// same facts as one JSON object.
+  std::string (*inspect)(const ModelSpec& spec, double t0, bool as_json);
   /// Equilibria and normal modes at t0 (scene_analysis.hpp), as text.
   std::string (*analyse)(const ModelSpec& spec, double t0, const AnalysisRequest& request);
   /// The stationary-action boundary-value problem (request.from/to/t0/t1/steps).
