@@ -60,6 +60,10 @@ struct BadInput {
   std::string message;
 };
 
+/// A scene file's name without its extension, for default output folders;
+/// "stdin" for a scene read from standard input ("-").
+std::string scene_stem(const std::string& path) { return path == "-" ? "stdin" : fs::path(path).stem().string(); }
+
 void check_positive(const char* flag, double v) {
   if (!(v > 0) || !std::isfinite(v))
     throw BadInput{std::string("command line: ") + flag + ": must be a positive finite number, got " +
@@ -369,7 +373,8 @@ int main(int argc, char** argv) {
                          "' (use .mp4, .webm or .gif)"};
       }
       if (!(animate_seconds > 0 && animate_seconds <= 3600))
-        throw BadInput{"command line: --animate-seconds: must be in (0, 3600] s, got " + std::to_string(animate_seconds)};
+        throw BadInput{"command line: --animate-seconds: must be in (0, 3600] s, got " +
+                       std::to_string(animate_seconds)};
     }
     if (bench->parsed()) {
       if (stabilization) {
@@ -397,7 +402,7 @@ int main(int argc, char** argv) {
       if (repeat) bench_opt.repeat = *repeat;
       if (per_decade) bench_opt.per_decade = *per_decade;
       if (reference_tol) bench_opt.reference_tolerance = *reference_tol;
-      bench_opt.out_dir = out_dir ? *out_dir : "out/bench/" + (scene_path == "-" ? std::string("stdin") : fs::path(scene_path).stem().string());
+      bench_opt.out_dir = out_dir ? *out_dir : "out/bench/" + scene_stem(scene_path);
       bench_opt.plots = !no_plots;
       bench_opt.png = scene.output.png;
       bench_opt.svg = scene.output.svg;
@@ -447,7 +452,7 @@ int main(int argc, char** argv) {
       std::cerr << "lagrangian: " << e.message << "\n";
       return kBadInput;
     }
-    bvp_req.out_dir = out_dir ? *out_dir : "out/bvp/" + (scene_path == "-" ? std::string("stdin") : fs::path(scene_path).stem().string());
+    bvp_req.out_dir = out_dir ? *out_dir : "out/bvp/" + scene_stem(scene_path);
     bvp_req.plots = !no_plots;
     bvp_req.png = scene.output.png;
     bvp_req.svg = scene.output.svg;
