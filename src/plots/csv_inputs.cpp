@@ -311,14 +311,4 @@ Trajectory read_trajectory(const std::string& path, std::vector<Impact>& impacts
   return tr;
 }
 
-bool names_body(const std::string& bodies, const std::string& body) {
-  if (body.empty()) return false;
-  if (bodies == body) return true;
-  const std::string left = body + "-", right = "-" + body;
-  if (bodies.size() > body.size() && bodies.compare(0, left.size(), left) == 0) return true;
-  if (bodies.size() > body.size() && bodies.compare(bodies.size() - right.size(), right.size(), right) == 0)
-    return true;
-  return bodies.find("-" + body + "-") != std::string::npos;
-}
-
 }  // namespace lagrangian::plots_detail

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "lagrangian/detail/contact_names.hpp"
+
 namespace lagrangian::plots_detail {
 
 constexpr std::size_t kPointsPerLine = 5000;  // rows are thinned to about this many per line
@@ -47,6 +49,6 @@ Trajectory read_trajectory(const std::string& path, std::vector<Impact>& impacts
                            const std::vector<std::string>& at_impacts);
 
 // Does an event's `bodies` field ("ball-floor", "s1-s2") name this body?
-bool names_body(const std::string& bodies, const std::string& body);
+using lagrangian::detail::names_body;
 
 }  // namespace lagrangian::plots_detail

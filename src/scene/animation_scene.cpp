@@ -13,9 +13,9 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <string_view>
 #include <vector>
 
+#include "lagrangian/detail/contact_names.hpp"
 #include "lagrangian/detail/scene_registry.hpp"
 #include "lagrangian/errors.hpp"
 
@@ -169,24 +169,16 @@ SceneView scene_view(const Scene& scene, const RunResult& result) {
     track.coordinates_note =
         std::to_string(scene.bodies.size()) + " bodies: coordinates not plotted (trajectory.csv has them)";
   }
-  // Events: the bodies a contact names are flashed ("ball-floor", "m1-m2").
+  // Events: the bodies a contact names are flashed ("ball-floor", "m1-m2";
+  // detail::names_body, as the plots mark them).
   constexpr std::size_t max_events = 5000;
   const auto& events = result.report.events;
   const std::size_t every = events.size() > max_events ? (events.size() + max_events - 1) / max_events : 1;
   for (std::size_t k = 0; k < events.size(); k += every) {
     const EventRecord& e = events[k];
     view::Event ev{e.t, to_string(e.kind), e.name, {}};
-    // A contact is named "<a>-<b>" (a body, then a body or a wall): a body
-    // is in it when the name is the body's, or begins or ends with it at the
-    // dash (names with dashes of their own included).
-    const std::string_view name = e.name;
-    for (std::size_t b = 0; b < figure.bodies.size(); ++b) {
-      const std::string_view body = figure.bodies[b].name;
-      const std::size_t n = body.size();
-      const bool first = name.size() > n && name.starts_with(body) && name[n] == '-';
-      const bool second = name.size() > n && name.ends_with(body) && name[name.size() - n - 1] == '-';
-      if (name == body || first || second) ev.bodies.push_back(static_cast<int>(b));
-    }
+    for (std::size_t b = 0; b < figure.bodies.size(); ++b)
+      if (lagrangian::detail::names_body(e.name, figure.bodies[b].name)) ev.bodies.push_back(static_cast<int>(b));
     track.events.push_back(std::move(ev));
   }
   if (every > 1)

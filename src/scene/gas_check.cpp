@@ -76,18 +76,16 @@ std::optional<GasCheck> gas_check(const Scene& scene, const RunResult& result) {
   // between the axes), the stretches nearly are.
   constexpr int kB = RunReport::kWallImpulseBlocks;
   std::vector<double> per_block(kB, 0.0);
-  double total = 0;
   for (int f = 0; f < 6; ++f) {
     const auto it = result.report.wall_impulse_blocks.find(box_wall_names[f]);
     if (it == result.report.wall_impulse_blocks.end() || it->second.size() != kB || !(c.duration > 0))
       return std::nullopt;
     const double area = c.volume / L[f / 2];
-    for (int b = 0; b < kB; ++b) {
+    for (int b = 0; b < kB; ++b)
       per_block[static_cast<std::size_t>(b)] += it->second[static_cast<std::size_t>(b)] / (area * c.duration / kB) / 6;
-      total += it->second[static_cast<std::size_t>(b)] / (area * c.duration) / 6;
-    }
   }
-  c.pressure = total;
+  // the whole run's: the stretches are equally long
+  c.pressure = std::accumulate(per_block.begin(), per_block.end(), 0.0) / kB;
   double ss = 0;
   for (const double v : per_block) ss += (v - c.pressure) * (v - c.pressure);
   c.pressure_error = std::sqrt(ss / (kB - 1)) / std::sqrt(static_cast<double>(kB));

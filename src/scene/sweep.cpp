@@ -8,8 +8,6 @@
 #include <atomic>
 #include <chrono>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <thread>
 
@@ -23,6 +21,7 @@
 #include "lagrangian/scene_run.hpp"
 #include "output_manifest.hpp"
 #include "sweep_detail.hpp"
+#include "toml_document.hpp"
 
 namespace lagrangian::scene {
 namespace {
@@ -50,12 +49,7 @@ SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
   const Scene base = load_scene(scene_path);
   Plan plan;
   plan.file = scene_path;
-  {
-    std::ifstream in(scene_path, std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
-    plan.text = text.str();
-  }
+  plan.text = detail::read_scene_text(scene_path);
   for (std::size_t k = 0; k < o.vary.size(); ++k) {
     if (o.vary[k].variable()) {
       plan.vary_paths.emplace_back();
