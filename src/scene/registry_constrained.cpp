@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "lagrangian/models/constrained.hpp"
-#include "registry_common.hpp"
+#include "registry_entry.hpp"
 
 namespace lagrangian::scene::detail {
 namespace {

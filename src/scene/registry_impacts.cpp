@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "lagrangian/models/impacts.hpp"
-#include "registry_common.hpp"
+#include "registry_entry.hpp"
 
 namespace lagrangian::scene::detail {
 namespace {

@@ -11,7 +11,7 @@
 
 #include "lagrangian/models/projectile.hpp"
 #include "lagrangian/models/two_body.hpp"
-#include "registry_common.hpp"
+#include "registry_entry.hpp"
 
 namespace lagrangian::scene::detail {
 namespace {

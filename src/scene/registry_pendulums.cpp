@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "lagrangian/models/pendulums.hpp"
-#include "registry_common.hpp"
+#include "registry_entry.hpp"
 
 namespace lagrangian::scene::detail {
 namespace {
