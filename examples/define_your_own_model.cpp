@@ -12,6 +12,7 @@ struct MyDoublePendulum {
   double m1 = 1, m2 = 1, l1 = 1, l2 = 1, g = 9.81;
   std::string name() const { return "my_double_pendulum"; }
   std::array<std::string, 2> coordinate_names() const { return {"theta1", "theta2"}; }
+  std::array<std::string, 2> coordinate_units() const { return {"rad", "rad"}; }  // CSV: theta1 [rad]
 
   template <class S>  // T = ½(m1+m2) l1² θ̇1² + ½ m2 l2² θ̇2² + m2 l1 l2 θ̇1 θ̇2 cos(θ1−θ2)
   S kinetic(const lagrangian::Vec<S, 2>& q, const lagrangian::Vec<S, 2>& qd, const S&) const {

@@ -2,8 +2,10 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <string_view>
 #include <utility>
 
+#include "lagrangian/detail/csv_header.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/observers.hpp"
 
@@ -30,16 +32,26 @@ CsvSink::~CsvSink() {
 
 void CsvSink::begin(const Columns& columns) {
   total_energy_ = columns.total_energy;
-  std::fputs("t", file_);
-  for (const auto& n : columns.coordinates) std::fprintf(file_, ",%s", n.c_str());
-  for (const auto& n : columns.coordinates) std::fprintf(file_, ",%s_dot", n.c_str());
-  std::fputs(",energy", file_);
-  if (total_energy_) std::fputs(",total_energy", file_);
+  const auto unit_of = [](const std::vector<std::string>& units, std::size_t i) {
+    return i < units.size() ? std::string_view(units[i]) : std::string_view();
+  };
+  std::string header = detail::csv_field("t", "s");
+  const auto add = [&](const std::string& name, std::string_view unit) {
+    header += ',';
+    header += detail::csv_field(name, unit);
+  };
+  const std::vector<std::string>& q = columns.coordinates;
+  for (std::size_t i = 0; i < q.size(); ++i) add(q[i], unit_of(columns.units, i));
+  for (std::size_t i = 0; i < q.size(); ++i) add(q[i] + "_dot", detail::csv_rate_unit(unit_of(columns.units, i)));
+  add("energy", "J");
+  if (total_energy_) add("total_energy", "J");
   if (!columns.constraints.empty()) {
-    for (const auto& n : columns.constraints) std::fprintf(file_, ",lambda_%s", n.c_str());
-    for (const auto& n : columns.coordinates) std::fprintf(file_, ",Qc_%s", n.c_str());
+    for (std::size_t k = 0; k < columns.constraints.size(); ++k)
+      add("lambda_" + columns.constraints[k], unit_of(columns.constraint_units, k));
+    for (std::size_t i = 0; i < q.size(); ++i) add("Qc_" + q[i], detail::csv_force_unit(unit_of(columns.units, i)));
   }
-  std::fputc('\n', file_);
+  header += '\n';
+  std::fputs(header.c_str(), file_);
 }
 
 void CsvSink::write_row(double t, const double* q, const double* qd, int n, double energy, double total_energy) {

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "lagrangian/detail/csv_header.hpp"
 #include "lagrangian/detail/text_output.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/params.hpp"
@@ -362,11 +363,21 @@ void RunReport::write_json(const std::string& path) const {
   detail::write_text_file(path, to_json(), "report file");
 }
 
-void RunReport::write_events_csv(const std::string& path) const {
+void RunReport::write_events_csv(const std::string& path, const std::string& gap_unit) const {
   const std::string partial = path + ".partial";
   std::FILE* f = std::fopen(partial.c_str(), "w");
   if (!f) throw OptionError("cannot write events file '" + partial + "': " + std::strerror(errno));
-  std::fputs("t,kind,bodies,impulse,approach_speed,separation_speed,ke_before,ke_after\n", f);
+  {
+    using detail::csv_field;
+    // Λ is along +∇φ: a generalized momentum per unit of φ, N*s for φ in m.
+    const std::string impulse_unit = gap_unit.empty() ? "" : gap_unit == "m" ? "N*s" : "J*s/" + gap_unit;
+    const std::string speed_unit = detail::csv_rate_unit(gap_unit);
+    const std::string header = csv_field("t", "s") + ",kind,bodies," + csv_field("impulse", impulse_unit) + "," +
+                               csv_field("approach_speed", speed_unit) + "," +
+                               csv_field("separation_speed", speed_unit) + "," + csv_field("ke_before", "J") + "," +
+                               csv_field("ke_after", "J") + "\n";
+    std::fputs(header.c_str(), f);
+  }
   for (const EventRecord& e : events) {
     std::string name = e.name;
     if (name.find_first_of(",\"\n") != std::string::npos) {

@@ -186,7 +186,7 @@ TEST(Constraints, CsvCarriesMultipliersAndConstraintForces) {
   std::ifstream in(path);
   std::string header;
   std::getline(in, header);
-  EXPECT_EQ(header, "t,x,y,x_dot,y_dot,energy,total_energy,lambda_rod,Qc_x,Qc_y");
+  EXPECT_EQ(header, "t [s],x [m],y [m],x_dot [m/s],y_dot [m/s],energy [J],total_energy [J],lambda_rod,Qc_x [N],Qc_y [N]");
   std::filesystem::remove(path);
 }
 

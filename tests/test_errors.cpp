@@ -236,7 +236,7 @@ TEST_F(OutputFiles, SuccessfulRunWritesCsvWithHeader) {
   std::ifstream in(path);
   std::string header;
   std::getline(in, header);
-  EXPECT_EQ(header, "t,theta1,theta2,theta1_dot,theta2_dot,energy,total_energy");
+  EXPECT_EQ(header, "t [s],theta1 [rad],theta2 [rad],theta1_dot [rad/s],theta2_dot [rad/s],energy [J],total_energy [J]");
   int rows = 0;
   std::string line;
   double last_t = -1;

@@ -113,7 +113,7 @@ TEST(Events, TheEventLogIsWrittenAsCsv) {
   std::ifstream in(path);
   std::string line;
   std::getline(in, line);
-  EXPECT_EQ(line, "t,kind,bodies,impulse,approach_speed,separation_speed,ke_before,ke_after");
+  EXPECT_EQ(line, "t [s],kind,bodies,impulse,approach_speed,separation_speed,ke_before [J],ke_after [J]");
   std::size_t rows = 0;
   while (std::getline(in, line)) {
     ++rows;
@@ -124,6 +124,20 @@ TEST(Events, TheEventLogIsWrittenAsCsv) {
   }
   EXPECT_EQ(rows, r.events.size());
   EXPECT_FALSE(std::ifstream(path + ".partial").good());
+  // With the gaps' unit given, the impulse and the speeds carry theirs:
+  // Λ in J*s per unit of φ, N*s for a distance.
+  r.write_events_csv(path, "m");
+  const auto first_line = [&] {
+    std::ifstream f(path);
+    std::string header;
+    std::getline(f, header);
+    return header;
+  };
+  EXPECT_EQ(first_line(),
+            "t [s],kind,bodies,impulse [N*s],approach_speed [m/s],separation_speed [m/s],ke_before [J],ke_after [J]");
+  r.write_events_csv(path, "rad");
+  EXPECT_EQ(first_line(), "t [s],kind,bodies,impulse [J*s/rad],approach_speed [rad/s],separation_speed [rad/s],"
+                  "ke_before [J],ke_after [J]");
   EXPECT_THROW(r.write_events_csv("/nonexistent-dir/events.csv"), OptionError);
   const std::string json = r.to_json();
   EXPECT_NE(json.find("\"impact\": 20"), std::string::npos) << json;

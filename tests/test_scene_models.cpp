@@ -81,8 +81,10 @@ struct TempDir {
 struct Csv {
   std::vector<std::string> header;
   std::vector<std::vector<double>> rows;
+  /// The column named `name`, its unit aside ("z" finds "z [m]"); -1 when none.
   int column(const std::string& name) const {
-    const auto it = std::find(header.begin(), header.end(), name);
+    const auto it = std::find_if(header.begin(), header.end(),
+                                 [&](const std::string& h) { return h == name || h.starts_with(name + " ["); });
     return it == header.end() ? -1 : static_cast<int>(it - header.begin());
   }
 };
@@ -355,8 +357,31 @@ TEST(SceneModels, EveryModelWritesItsTrajectoryAndTicksEverySample) {
     EXPECT_FALSE(fs::exists(path + ".partial"));
     const Csv csv = read_csv(path);
     ASSERT_EQ(csv.rows.size(), r.samples);
-    EXPECT_EQ(csv.header[0], "t");
-    EXPECT_EQ(csv.header[1], r.coordinates[0]);
+    EXPECT_EQ(csv.header[0], "t [s]");
+    EXPECT_EQ(csv.header[1].substr(0, csv.header[1].find(' ')), r.coordinates[0]);
+  }
+}
+
+// The trajectory's header carries each coordinate's unit as the catalog
+// states it (the model's own coordinate_units(), written by CsvSink), its
+// rate's, and the energies' in J: the catalog and the models agree.
+TEST(SceneModels, EveryModelsTrajectoryHeaderCarriesTheCatalogUnits) {
+  TempDir dir("units");
+  for (const scene::ModelInfo& info : scene::builtin_models()) {
+    SCOPED_TRACE(info.name);
+    ModelSpec spec;
+    spec.name = info.name;
+    const std::string path = dir.file(info.name + ".csv");
+    entry(info.name).run(spec, options(0.02, 0.01), path, {});
+    const Csv csv = read_csv(path);
+    const std::size_t n = info.coordinates.size();
+    ASSERT_GE(csv.header.size(), 2 * n + 2);
+    EXPECT_EQ(csv.header[0], "t [s]");
+    for (std::size_t i = 0; i < n; ++i) {
+      EXPECT_EQ(csv.header[1 + i], info.coordinates[i] + " [" + info.units[i] + "]");
+      EXPECT_EQ(csv.header[1 + n + i], info.coordinates[i] + "_dot [" + info.units[i] + "/s]");
+    }
+    EXPECT_EQ(csv.header[1 + 2 * n], "energy [J]");
   }
 }
 

@@ -282,7 +282,8 @@ TEST(Scenes, LinkPendulumWritesTheRodTension) {
   std::ifstream in(dir / "trajectory.csv");
   std::string header;
   std::getline(in, header);
-  ASSERT_EQ(header, "t,bob.x,bob.y,bob.z,bob.x_dot,bob.y_dot,bob.z_dot,energy,lambda_rod,Qc_bob.x,Qc_bob.y,Qc_bob.z");
+  ASSERT_EQ(header, "t [s],bob.x [m],bob.y [m],bob.z [m],bob.x_dot [m/s],bob.y_dot [m/s],bob.z_dot [m/s],energy [J],"
+            "lambda_rod [N/m],Qc_bob.x [N],Qc_bob.y [N],Qc_bob.z [N]");
   int rows = 0;
   double worst = 0;
   for (std::string line; std::getline(in, line);) {

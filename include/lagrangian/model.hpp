@@ -14,7 +14,9 @@
 ///  - optionally `Vec<S, n> generalized_forces(q, qd, t) const` — the
 ///    non-conservative generalized forces Q (N or N·m per coordinate),
 ///    `S dissipation(q, qd) const` — the Rayleigh function D with
-///    Q = −∂D/∂q̇ (W), `coordinate_names()` returning n names, `name()`,
+///    Q = −∂D/∂q̇ (W), `coordinate_names()` returning n names,
+///    `coordinate_units()` returning their n SI units ("m", "rad"; shown in
+///    CSV headers and inspections), `name()`,
 ///    and hand-coded `accelerations(q, qd, t, qdd)` (see
 ///    has_explicit_accelerations_v).
 /// Every function is a template on the scalar type S so that the same code
@@ -176,6 +178,12 @@ inline constexpr bool has_coordinate_names_v = requires(const M& m) {
   { m.coordinate_names() };
 };
 
+/// True when the model gives its coordinates' units.
+template <class M>
+inline constexpr bool has_coordinate_units_v = requires(const M& m) {
+  { m.coordinate_units() };
+};
+
 /// True when the model has a name for reports (`std::string name() const`).
 template <class M>
 inline constexpr bool has_name_v = requires(const M& m) {
@@ -241,6 +249,19 @@ std::vector<std::string> coordinate_names(const M& model) {
     for (int i = 0; i < model_size(model); ++i) names.push_back("q" + std::to_string(i));
   }
   return names;
+}
+
+/// Units of the coordinates of a model: the model's own, or "" for each
+/// (not known).
+template <class M>
+std::vector<std::string> coordinate_units(const M& model) {
+  std::vector<std::string> units;
+  if constexpr (has_coordinate_units_v<M>) {
+    for (const auto& s : model.coordinate_units()) units.emplace_back(s);
+  } else {
+    units.resize(static_cast<std::size_t>(model_size(model)));
+  }
+  return units;
 }
 
 namespace detail {

@@ -36,6 +36,10 @@ struct Columns {
   std::vector<std::string> coordinates;  ///< coordinate names
   std::vector<std::string> constraints;  ///< constraint names (empty without constraints)
   bool total_energy = false;             ///< T + V is sampled
+  /// SI unit of each coordinate ("m", "rad"); empty, or "" for one, when not known.
+  std::vector<std::string> units;
+  /// SI unit of each constraint's multiplier λ; empty, or "" for one, when not known.
+  std::vector<std::string> constraint_units;
 };
 
 /// Observer that ignores every sample.
@@ -54,7 +58,9 @@ struct Recorder {
 /// Writes samples as CSV with a header row:
 ///   t, <q names...>, <name>_dot..., energy[, total_energy]
 ///   [, lambda_<constraint>..., Qc_<coordinate>...]   (constrained models)
-/// Values use 17 significant digits. The file is written as `<path>.partial`
+/// each field followed by its SI unit where known: "t [s]", "theta [rad]",
+/// "theta_dot [rad/s]", "energy [J]", "Qc_theta [N*m]" (pandas keeps the
+/// field whole: df["theta [rad]"]). Values use 17 significant digits. The file is written as `<path>.partial`
 /// and renamed to `<path>` by finish(); it is removed if the run fails.
 class CsvSink {
  public:

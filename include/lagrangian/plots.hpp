@@ -6,7 +6,8 @@
 /// `t,<coordinates...>,<coordinate>_dot...,energy[,total_energy][,lambda_…,Qc_…]`)
 /// and, when it exists, `events.csv`
 /// (`t,kind,bodies,impulse,approach_speed,separation_speed,ke_before,ke_after`),
-/// writes a gnuplot script `<out_dir>/plots.gp` and runs it. The plots are
+/// finding columns by name; a field's " [unit]" (as CsvSink writes it) is
+/// not part of the name. It writes a gnuplot script `<out_dir>/plots.gp` and runs it. The plots are
 ///  - `trajectory`:  particle scenes: each body's path projected on the plane
 ///                   of the two axes with the largest spread (equal aspect
 ///                   ratio), or position against time when the motion is along

@@ -278,12 +278,14 @@ struct RunReport {
   /// complete); throws OptionError naming the path when it cannot.
   void write_json(const std::string& path) const;
   /// Writes the event log as CSV with the header
-  ///   t,kind,bodies,impulse,approach_speed,separation_speed,ke_before,ke_after
+  ///   t [s],kind,bodies,impulse,approach_speed,separation_speed,ke_before [J],ke_after [J]
   /// where `bodies` is the contact's name (the bodies it joins, e.g. s1-s2) or
-  /// the watched event's name;
-  /// (through `<path>.partial`, renamed when complete); throws OptionError
-  /// naming the path when it cannot.
-  void write_events_csv(const std::string& path) const;
+  /// the watched event's name. `gap_unit` is the unit of the contacts' gaps φ
+  /// ("m" when every gap is a distance): given, the impulse and the speeds
+  /// carry theirs ("impulse [N*s]", "approach_speed [m/s]"); empty, they
+  /// carry none. Written through `<path>.partial`, renamed when complete;
+  /// throws OptionError naming the path when it cannot.
+  void write_events_csv(const std::string& path, const std::string& gap_unit = "") const;
 };
 
 }  // namespace lagrangian

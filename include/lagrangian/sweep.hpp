@@ -186,7 +186,7 @@ struct SweepResult {
   /// the gather, without the table and the plots (s). Runs per second are
   /// points / run_time_s.
   double run_time_s = 0;
-  std::vector<std::string> header;      ///< the CSV's columns (rank 0)
+  std::vector<std::string> header;      ///< the CSV's column names, without the units its header adds (rank 0)
   std::vector<SweepRecord> records;     ///< by point index (rank 0; empty on other ranks)
   std::vector<std::string> files;       ///< files written (rank 0)
   std::string plot_note;                ///< why plots were skipped, if they were

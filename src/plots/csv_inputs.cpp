@@ -20,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "lagrangian/detail/csv_header.hpp"
 #include "lagrangian/errors.hpp"
 
 namespace lagrangian::plots_detail {
@@ -143,7 +144,8 @@ std::vector<Impact> read_impacts(const std::string& path, bool watched) {
   if (!in.ok()) throw OptionError("cannot read events file '" + path + "': " + std::strerror(errno));
   std::string_view line;
   if (!in.next(line)) return impacts;  // empty file: no events
-  const std::vector<std::string> header = split_csv_line(std::string(line));
+  std::vector<std::string> header = split_csv_line(std::string(line));
+  for (std::string& h : header) h = std::string(lagrangian::detail::csv_field_name(h));  // "t [s]" is t
   auto col = [&](const char* name) {
     const auto it = std::find(header.begin(), header.end(), name);
     if (it == header.end())
@@ -197,6 +199,7 @@ Trajectory read_trajectory(const std::string& path, std::vector<Impact>& impacts
   std::string_view line;
   if (!in.next(line)) throw OptionError("trajectory file '" + path + "' is empty (expected a header t,...)");
   tr.header = split_csv_line(std::string(line));
+  for (std::string& h : tr.header) h = std::string(lagrangian::detail::csv_field_name(h));  // "x [m]" is x
   if (tr.header.empty() || tr.header[0] != "t")
     throw OptionError("trajectory file '" + path + "' does not start with the header 't,...' (found '" +
                       std::string(line.substr(0, 80)) + "')");

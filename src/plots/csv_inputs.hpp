@@ -22,7 +22,7 @@ struct Impact {
 };
 
 struct Trajectory {
-  std::vector<std::string> header;
+  std::vector<std::string> header;  // the columns' names, without their units
   std::size_t rows = 0;
   std::size_t every = 1;            // rows are drawn every `every` (about kPointsPerLine per line)
   std::vector<double> first, last;  // first and last rows

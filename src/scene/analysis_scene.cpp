@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "lagrangian/detail/csv_header.hpp"
 #include "lagrangian/detail/scene_registry.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/plots.hpp"
@@ -57,10 +58,13 @@ std::string write_path_csv(const std::string& dir, const BvpRun& run) {
   {
     std::ofstream out(partial);
     if (!out) throw OptionError("--out: cannot write '" + partial.string() + "'");
-    out << "t";
-    for (const auto& c : run.coordinates) out << "," << c;
-    for (const auto& c : run.coordinates) out << "," << c << "_dot";
-    out << ",energy\n";
+    using lagrangian::detail::csv_field;
+    const auto unit = [&](std::size_t i) { return i < run.units.size() ? run.units[i] : std::string(); };
+    out << csv_field("t", "s");
+    for (std::size_t i = 0; i < run.coordinates.size(); ++i) out << "," << csv_field(run.coordinates[i], unit(i));
+    for (std::size_t i = 0; i < run.coordinates.size(); ++i)
+      out << "," << csv_field(run.coordinates[i] + "_dot", lagrangian::detail::csv_rate_unit(unit(i)));
+    out << "," << csv_field("energy", "J") << "\n";
     const BvpResult& r = run.result;
     for (std::size_t k = 0; k < r.t.size(); ++k) {
       const int row = static_cast<int>(k);

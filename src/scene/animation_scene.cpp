@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "lagrangian/detail/csv_header.hpp"
 #include "lagrangian/detail/contact_names.hpp"
 #include "lagrangian/detail/scene_registry.hpp"
 #include "lagrangian/errors.hpp"
@@ -58,7 +59,8 @@ Rows read_rows(const std::string& path, std::size_t n, std::size_t stride, std::
   std::ifstream in(path);
   std::string line;
   if (!std::getline(in, line)) throw OptionError("animation: '" + path + "' is empty");
-  const std::vector<std::string> header = split(line);
+  std::vector<std::string> header = split(line);
+  for (std::string& h : header) h = std::string(lagrangian::detail::csv_field_name(h));  // "energy [J]" is energy
   const auto energy_at = std::find(header.begin(), header.end(), "energy");
   if (header.size() < n + 1 || energy_at == header.end())
     throw OptionError("animation: '" + path + "' has no column 'energy' after " + std::to_string(n) + " coordinates");

@@ -25,7 +25,8 @@ namespace lagrangian::scene::detail {
 /// multipliers λ (N for a distance row) and the constraint force Cᵀλ on
 /// each coordinate (N), both empty when the scene has no rows.
 struct ParticleOutput {
-  std::function<void(const std::vector<std::string>& rows)> begin;
+  /// The fixed constraint rows' names and their multipliers' units.
+  std::function<void(const std::vector<std::string>& rows, const std::vector<std::string>& units)> begin;
   std::function<void(double t, const double* q, const double* qd, int n, double energy,
                      const Eigen::VectorXd& multipliers, const Eigen::VectorXd& forces)>
       sample;

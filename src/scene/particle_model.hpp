@@ -43,6 +43,8 @@ struct Row {
   std::string name;
 
   Vector3d d(const double* r) const { return at(r, a) - (b >= 0 ? at(r, b) : p); }
+  /// Unit of the row's multiplier: N/m for the rows ½(|d|² − L²), N for gaps in m.
+  const char* multiplier_unit() const { return kind == Kind::link || kind == Kind::sphere ? "N/m" : "N"; }
   double value(const double* r) const {
     switch (kind) {
       case Kind::link: return 0.5 * (d(r).squaredNorm() - length * length);

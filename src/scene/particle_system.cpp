@@ -150,9 +150,13 @@ class ParticleSystem final : public lagrangian::System {
             lagrangian::detail::redundant_constraint_warning(model_.rows()[static_cast<std::size_t>(k)].name));
     }
     if (output_.begin) {
-      std::vector<std::string> names;
-      for (int k = 0; k < model_.fixed_rows(); ++k) names.push_back(model_.rows()[static_cast<std::size_t>(k)].name);
-      output_.begin(names);
+      std::vector<std::string> names, units;
+      for (int k = 0; k < model_.fixed_rows(); ++k) {
+        const Row& row = model_.rows()[static_cast<std::size_t>(k)];
+        names.push_back(row.name);
+        units.push_back(row.multiplier_unit());
+      }
+      output_.begin(names, units);
     }
     if (model_.has_contacts()) resolve_at(x, t0, nullptr);  // contacts closing or resting at t0
   }

@@ -236,6 +236,7 @@ RunResult run(const Scene& input, const RunControls& controls) {
       Columns columns;
       for (const Body& b : scene.bodies)
         for (const char* ax : {".x", ".y", ".z"}) columns.coordinates.push_back(b.name + ax);
+      columns.units.assign(columns.coordinates.size(), "m");
       columns.total_energy = false;
       if (want_csv) csv.emplace(traj);
       if (result.engine == "event_driven") {
@@ -248,9 +249,10 @@ RunResult run(const Scene& input, const RunControls& controls) {
         s.qd.resize(dim);
         detail::ParticleOutput output;
         // The header names the constraint rows (lambda_<row>, then Qc_<coordinate>).
-        output.begin = [&](const std::vector<std::string>& rows) {
+        output.begin = [&](const std::vector<std::string>& rows, const std::vector<std::string>& units) {
           if (!csv) return;
           columns.constraints = rows;
+          columns.constraint_units = units;
           csv->begin(columns);
         };
         output.sample = [&](double t, const double* q, const double* qd, int n, double energy,
@@ -285,7 +287,9 @@ RunResult run(const Scene& input, const RunControls& controls) {
     if (write) {
       if (scene.output.trajectory) result.files.push_back(traj);
       const std::string events = (fs::path(dir) / "events.csv").string();
-      result.report.write_events_csv(events);
+      // Every contact a scene can have, a particle scene's or a built-in
+      // model's, has a distance for its gap φ (m).
+      result.report.write_events_csv(events, "m");
       result.files.push_back(events);
       const std::string json = (fs::path(dir) / "report.json").string();
       write_report(scene, result, json);

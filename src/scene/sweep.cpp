@@ -171,7 +171,7 @@ SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
   }
   for (const SweepRecord& r : all) result.failed += r.ok() ? 0 : 1;
   const Table table = make_table(o, all);
-  lagrangian::detail::write_text_file(csv_path.string(), to_csv(table), "sweep table");
+  lagrangian::detail::write_text_file(csv_path.string(), to_csv(table, base), "sweep table");
   result.files.push_back(csv_path.string());
   result.header = table.header;
   if (o.plots) plot(o, table, base, result);

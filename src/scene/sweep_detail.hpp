@@ -62,7 +62,8 @@ struct Table {
 };
 
 Table make_table(const SweepOptions& o, const std::vector<SweepRecord>& records);
-std::string to_csv(const Table& t);
+/// The table as CSV, each column's unit in its header field ("t_final [s]").
+std::string to_csv(const Table& t, const Scene& scene);
 void plot(const SweepOptions& o, const Table& t, const Scene& scene, SweepResult& result);
 
 }  // namespace lagrangian::scene::detail

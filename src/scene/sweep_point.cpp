@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "sweep_detail.hpp"
+#include "lagrangian/detail/csv_header.hpp"
 #include "lagrangian/errors.hpp"
 #include "toml_document.hpp"
 #include "lagrangian/scene_models.hpp"
@@ -72,7 +73,8 @@ void first_times(const std::string& path, const SweepOptions& o, SweepRecord& re
   std::ifstream in(path);
   std::string line;
   if (!std::getline(in, line)) throw OptionError("cannot read the trajectory '" + path + "'");
-  const std::vector<std::string> names = split(line, ',');
+  std::vector<std::string> names = split(line, ',');
+  for (std::string& n : names) n = std::string(lagrangian::detail::csv_field_name(n));  // "x [m]" is x
   std::vector<Expression> exprs;
   for (const FirstTimeSpec& f : o.first_times) exprs.emplace_back(f.expression, names, "--first-time " + f.name);
   rec.first_times.assign(exprs.size(), kNaN);

@@ -7,6 +7,7 @@
 #include <cstdlib>
 
 #include "key_units.hpp"
+#include "lagrangian/detail/csv_header.hpp"
 #include "sweep_detail.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/plots.hpp"
@@ -125,9 +126,10 @@ Table make_table(const SweepOptions& o, const std::vector<SweepRecord>& records)
   return t;
 }
 
-std::string to_csv(const Table& t) {
+std::string to_csv(const Table& t, const Scene& scene) {
   std::string out;
-  for (std::size_t k = 0; k < t.header.size(); ++k) out += (k ? "," : "") + t.header[k];
+  for (std::size_t k = 0; k < t.header.size(); ++k)
+    out += (k ? "," : "") + lagrangian::detail::csv_field(t.header[k], column_unit(scene, t.header[k]));
   out += "\n";
   for (const auto& row : t.rows) {
     for (std::size_t k = 0; k < row.size(); ++k) out += (k ? "," : "") + row[k];

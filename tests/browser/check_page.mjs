@@ -24,9 +24,11 @@ if (!caseName) throw new Error('usage: node check_page.mjs LAGRANGIAN SCENE.toml
 
 // -- expected body centres (m) from one trajectory.csv row ----------------------------
 
-const col = (row, header, name) => {
-  const k = header.indexOf(name);
-  assert.ok(k >= 0, `trajectory.csv has no column '${name}' (header: ${header.slice(0, 12).join(',')}…)`);
+// The column headed "<name> [<unit>]": a length must be in m, an angle in rad.
+const col = (row, header, name, unit = 'm') => {
+  const field = `${name} [${unit}]`;
+  const k = header.indexOf(field);
+  assert.ok(k >= 0, `trajectory.csv has no column '${field}' (header: ${header.slice(0, 12).join(',')}…)`);
   return row[k];
 };
 // Particle scenes: each body's x, y, z columns, by the names the page shows.
@@ -39,7 +41,7 @@ const cases = {
   // Double pendulum (examples/scenes/double_pendulum.toml: l1 = l2 = 1 m):
   // pivot at the origin, angles from the downward vertical, y up, z = 0.
   double_pendulum: (row, header) => {
-    const t1 = col(row, header, 'theta1'), t2 = col(row, header, 'theta2');
+    const t1 = col(row, header, 'theta1', 'rad'), t2 = col(row, header, 'theta2', 'rad');
     const x1 = Math.sin(t1), y1 = -Math.cos(t1);
     return [[x1, y1, 0], [x1 + Math.sin(t2), y1 - Math.cos(t2), 0]];
   },

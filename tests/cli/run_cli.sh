@@ -33,7 +33,23 @@ for f in trajectory.csv events.csv report.json; do
   [ -s "$work/ball/$f" ] || { echo "FAIL: $work/ball/$f missing"; fails=$((fails + 1)); }
 done
 grep -q '"engine": "ode"' "$work/ball/report.json" || { echo "FAIL: report.json lacks the engine"; fails=$((fails + 1)); }
-head -1 "$work/ball/trajectory.csv" | grep -q '^t,ball.x,ball.y,ball.z,ball.x_dot' || { echo "FAIL: trajectory header"; fails=$((fails + 1)); }
+head -1 "$work/ball/trajectory.csv" | grep -q '^t \[s\],ball.x \[m\],ball.y \[m\],ball.z \[m\],ball.x_dot \[m/s\]' ||
+  { echo "FAIL: trajectory header"; fails=$((fails + 1)); }
+# Columns found by name and unit, as pandas would (df["ball.z [m]"]): the
+# drop height, and the first impact at sqrt(2h/g) with impulse m(1 + e)sqrt(2gh).
+/usr/bin/python3 - "$work/ball" <<'PY' || { echo "FAIL: the CSV files read by column name and unit"; fails=$((fails + 1)); }
+import csv, math, sys
+d = sys.argv[1]
+rows = list(csv.DictReader(open(d + "/trajectory.csv")))
+assert float(rows[0]["ball.z [m]"]) == 1.033 and float(rows[0]["t [s]"]) == 0, rows[0]
+assert all(float(r["energy [J]"]) > 0 for r in rows)
+first = next(csv.DictReader(open(d + "/events.csv")))
+h, g, m, e = 1.0, 9.81, 0.057, 0.8
+assert first["kind"] == "impact" and first["bodies"] == "ball-floor", first
+assert abs(float(first["t [s]"]) - math.sqrt(2 * h / g)) < 1e-9, first
+assert abs(float(first["impulse [N*s]"]) - m * (1 + e) * math.sqrt(2 * g * h)) < 1e-9, first
+assert abs(float(first["approach_speed [m/s]"]) - math.sqrt(2 * g * h)) < 1e-9, first
+PY
 # The animation page: written by default, listed, one self-contained file; --no-animation removes the old one.
 grep -q 'id="lagrangian-data"' "$work/ball/animation.html" || { echo "FAIL: animation.html missing"; fails=$((fails + 1)); }
 grep -q '^animation.html$' "$work/ball/.lagrangian-outputs" || { echo "FAIL: animation.html not in the manifest"; fails=$((fails + 1)); }
@@ -273,7 +289,7 @@ expect 2 "--at-initial-state: only with --modes" -- "$bin" inspect "$src/example
 ho="$src/examples/scenes/harmonic_oscillator.toml"
 expect 0 "local minimum of the action" -- "$bin" solve-bvp "$ho" --from 0.1 --to 0.2 --time 1 --out "$work/bvp" --no-plots
 [ -s "$work/bvp/bvp_path.csv" ] || { echo "FAIL: bvp_path.csv missing"; fails=$((fails + 1)); }
-head -1 "$work/bvp/bvp_path.csv" | grep -q '^t,x,x_dot,energy$' || { echo "FAIL: bvp_path.csv header"; fails=$((fails + 1)); }
+head -1 "$work/bvp/bvp_path.csv" | grep -q '^t \[s\],x \[m\],x_dot \[m/s\],energy \[J\]$' || { echo "FAIL: bvp_path.csv header"; fails=$((fails + 1)); }
 [ "$(wc -l < "$work/bvp/bvp_path.csv")" -eq 202 ] || { echo "FAIL: bvp_path.csv should have 201 rows"; fails=$((fails + 1)); }
 expect 0 "saddle point of the action.*1 negative eigenvalue" -- "$bin" solve-bvp "$ho" --from 0.1 --to 0.2 --time 0:2 --steps 100 --out "$work/bvp2" --no-plots
 if command -v gnuplot >/dev/null 2>&1; then

@@ -141,7 +141,7 @@ class ModelSystem final : public System {
   void start(double* x, double t0) override {
     State<n> x0(size_);
     split_state(x, x0.q, x0.qd);
-    Columns columns{coordinate_names(model_), {}, has_kinetic_potential_v<M>};
+    Columns columns{coordinate_names(model_), {}, has_kinetic_potential_v<M>, coordinate_units(model_), {}};
     if constexpr (has_constraints_v<M>) start_constraints(x0, columns);
     if constexpr (event_count_v<M> > 0) specs_ = event_specs(model_);
     if constexpr (has_particles_v<M>) {

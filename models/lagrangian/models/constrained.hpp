@@ -50,6 +50,7 @@ struct BeadOnRotatingWire {
         omega(require_finite("BeadOnRotatingWire", "omega", spin_rate)) {}
   std::string name() const { return "bead_on_rotating_wire"; }
   std::array<std::string_view, 2> coordinate_names() const { return {"x", "y"}; }
+  std::array<std::string_view, 2> coordinate_units() const { return {"m", "m"}; }
   std::array<std::string_view, 1> holonomic_names() const { return {"wire"}; }
   template <class S>
   S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
@@ -96,6 +97,7 @@ struct ParticleOnSphere {
         g(require_nonnegative("ParticleOnSphere", "g", gravity)) {}
   std::string name() const { return "particle_on_sphere"; }
   std::array<std::string_view, 3> coordinate_names() const { return {"x", "y", "z"}; }
+  std::array<std::string_view, 3> coordinate_units() const { return {"m", "m", "m"}; }
   /// One particle at (x, y, z): P and L are reported, L_z conserved.
   std::array<Particle, 1> particles() const { return {Particle{m, {0, 1, 2}}}; }
   std::array<std::string_view, 1> holonomic_names() const { return {"sphere"}; }
@@ -127,6 +129,7 @@ struct AtwoodMachine {
         c(require_finite("AtwoodMachine", "c", length)) {}
   std::string name() const { return "atwood_machine"; }
   std::array<std::string_view, 2> coordinate_names() const { return {"y1", "y2"}; }
+  std::array<std::string_view, 2> coordinate_units() const { return {"m", "m"}; }
   std::array<std::string_view, 1> holonomic_names() const { return {"string"}; }
   template <class S>
   S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
@@ -156,6 +159,7 @@ struct CartesianDoublePendulum {
         g(require_nonnegative("CartesianDoublePendulum", "g", gravity)) {}
   std::string name() const { return "cartesian_double_pendulum"; }
   std::array<std::string_view, 4> coordinate_names() const { return {"x1", "y1", "x2", "y2"}; }
+  std::array<std::string_view, 4> coordinate_units() const { return {"m", "m", "m", "m"}; }
   /// The two bobs in the x–y plane: P and L are reported (neither is
   /// conserved: the pivot and gravity act on the system).
   std::array<Particle, 2> particles() const { return {Particle{m1, {0, 1, -1}}, Particle{m2, {2, 3, -1}}}; }
@@ -189,6 +193,7 @@ struct KnifeEdge {
       : m(require_positive("KnifeEdge", "m", mass)), I(require_positive("KnifeEdge", "I", inertia)) {}
   std::string name() const { return "knife_edge"; }
   std::array<std::string_view, 3> coordinate_names() const { return {"x", "y", "phi"}; }
+  std::array<std::string_view, 3> coordinate_units() const { return {"m", "m", "rad"}; }
   std::array<std::string_view, 1> pfaffian_names() const { return {"no_sideslip"}; }
   template <class S>
   S kinetic(const Vec<S, 3>&, const Vec<S, 3>& qd, const S&) const {

@@ -152,6 +152,7 @@ struct SpheresOnLine {
     for (int i = 0; i < N; ++i) out.push_back("x" + std::to_string(i + 1));
     return out;
   }
+  std::vector<std::string> coordinate_units() const { return std::vector<std::string>(N, "m"); }
   std::vector<std::string> unilateral_names() const {
     std::vector<std::string> out;
     for (int i = 0; i + 1 < N; ++i) out.push_back(detail::sphere_name(i) + "-" + detail::sphere_name(i + 1));
@@ -240,6 +241,7 @@ struct BallAndPlane {
   }
   std::string name() const { return "ball_and_plane"; }
   std::array<std::string, 3> coordinate_names() const { return {"x", "y", "z"}; }
+  std::array<std::string, 3> coordinate_units() const { return {"m", "m", "m"}; }
   std::array<std::string, 1> unilateral_names() const { return {"ball-plane"}; }
   std::array<double, 1> restitution() const { return {e}; }
   std::array<Particle, 1> particles() const { return {Particle{m, {0, 1, 2}}}; }
@@ -305,6 +307,7 @@ struct SpheresInBox {
     }
     return out;
   }
+  std::vector<std::string> coordinate_units() const { return std::vector<std::string>(2 * N, "m"); }
   std::vector<std::string> unilateral_names() const {
     std::vector<std::string> out;
     for (int i = 0; i < N; ++i)

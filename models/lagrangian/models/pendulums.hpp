@@ -30,6 +30,7 @@ struct SimplePendulum {
         g(require_nonnegative("SimplePendulum", "g", gravity)) {}
   std::string name() const { return "simple_pendulum"; }
   std::array<std::string_view, 1> coordinate_names() const { return {"theta"}; }
+  std::array<std::string_view, 1> coordinate_units() const { return {"rad"}; }
   template <class S>
   S kinetic(const Vec<S, 1>&, const Vec<S, 1>& qd, const S&) const {
     return 0.5 * m * l * l * qd[0] * qd[0];
@@ -114,6 +115,7 @@ struct HarmonicOscillator {
         k(require_positive("HarmonicOscillator", "k", stiffness)) {}
   std::string name() const { return "harmonic_oscillator"; }
   std::array<std::string_view, 1> coordinate_names() const { return {"x"}; }
+  std::array<std::string_view, 1> coordinate_units() const { return {"m"}; }
   /// Angular frequency ω = √(k/m) (rad/s).
   double omega() const { return std::sqrt(k / m); }
   template <class S>
@@ -151,6 +153,7 @@ struct DoublePendulum {
         g(require_nonnegative("DoublePendulum", "g", gravity)) {}
   std::string name() const { return "double_pendulum"; }
   std::array<std::string_view, 2> coordinate_names() const { return {"theta1", "theta2"}; }
+  std::array<std::string_view, 2> coordinate_units() const { return {"rad", "rad"}; }
   template <class S>
   S kinetic(const Vec<S, 2>& q, const Vec<S, 2>& qd, const S&) const {
     using std::cos;
@@ -175,6 +178,7 @@ struct SphericalPendulum {
         g(require_nonnegative("SphericalPendulum", "g", gravity)) {}
   std::string name() const { return "spherical_pendulum"; }
   std::array<std::string_view, 2> coordinate_names() const { return {"theta", "phi"}; }
+  std::array<std::string_view, 2> coordinate_units() const { return {"rad", "rad"}; }
   template <class S>
   S kinetic(const Vec<S, 2>& q, const Vec<S, 2>& qd, const S&) const {
     using std::sin;
@@ -202,6 +206,7 @@ struct ElasticPendulum {
         g(require_nonnegative("ElasticPendulum", "g", gravity)) {}
   std::string name() const { return "elastic_pendulum"; }
   std::array<std::string_view, 2> coordinate_names() const { return {"r", "theta"}; }
+  std::array<std::string_view, 2> coordinate_units() const { return {"m", "rad"}; }
   template <class S>
   S kinetic(const Vec<S, 2>& q, const Vec<S, 2>& qd, const S&) const {
     return 0.5 * m * (qd[0] * qd[0] + q[0] * q[0] * qd[1] * qd[1]);
@@ -231,6 +236,7 @@ struct BeadOnRotatingHoop {
         g(require_nonnegative("BeadOnRotatingHoop", "g", gravity)) {}
   std::string name() const { return "bead_on_rotating_hoop"; }
   std::array<std::string_view, 1> coordinate_names() const { return {"theta"}; }
+  std::array<std::string_view, 1> coordinate_units() const { return {"rad"}; }
   /// The hoop's angle ωt enters the bead's position (R sinθ cos ωt,
   /// R sinθ sin ωt, −R cosθ); squaring its velocity, ωt cancels and leaves
   /// the azimuthal speed ω R sinθ.
@@ -257,6 +263,7 @@ struct KeplerPolar {
       : m(require_positive("KeplerPolar", "m", mass)), k(require_positive("KeplerPolar", "k", strength)) {}
   std::string name() const { return "kepler_polar"; }
   std::array<std::string_view, 2> coordinate_names() const { return {"r", "phi"}; }
+  std::array<std::string_view, 2> coordinate_units() const { return {"m", "rad"}; }
   template <class S>
   S kinetic(const Vec<S, 2>& q, const Vec<S, 2>& qd, const S&) const {
     return 0.5 * m * (qd[0] * qd[0] + q[0] * q[0] * qd[1] * qd[1]);
@@ -283,6 +290,7 @@ struct CartPendulum {
         g(require_nonnegative("CartPendulum", "g", gravity)) {}
   std::string name() const { return "cart_pendulum"; }
   std::array<std::string_view, 2> coordinate_names() const { return {"x", "theta"}; }
+  std::array<std::string_view, 2> coordinate_units() const { return {"m", "rad"}; }
   template <class S>
   S kinetic(const Vec<S, 2>& q, const Vec<S, 2>& qd, const S&) const {
     using std::cos;
@@ -311,6 +319,7 @@ struct DrivenPendulum {
         g(require_nonnegative("DrivenPendulum", "g", gravity)) {}
   std::string name() const { return "driven_pendulum"; }
   std::array<std::string_view, 1> coordinate_names() const { return {"theta"}; }
+  std::array<std::string_view, 1> coordinate_units() const { return {"rad"}; }
   template <class S>
   S kinetic(const Vec<S, 1>& q, const Vec<S, 1>& qd, const S& t) const {
     using std::sin;
@@ -339,6 +348,11 @@ struct PendulumChain {
     l.fill(require_positive("PendulumChain", "l", length));
   }
   std::string name() const { return "pendulum_chain_" + std::to_string(N); }
+  std::array<std::string_view, N> coordinate_units() const {
+    std::array<std::string_view, N> units;
+    units.fill("rad");
+    return units;
+  }
   template <class S>
   S kinetic(const Vec<S, N>& q, const Vec<S, N>& qd, const S&) const {
     using std::cos;

@@ -169,6 +169,7 @@ struct RelativeMotion {
     const char* axes[] = {"x", "y", "z"};
     return std::vector<std::string>(axes, axes + D);
   }
+  std::vector<std::string> coordinate_units() const { return std::vector<std::string>(D, "m"); }
   template <class S>
   S kinetic(const Vec<S, D>&, const Vec<S, D>& qd, const S&) const {
     S a = S(0);

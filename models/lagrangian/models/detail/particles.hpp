@@ -14,6 +14,7 @@ namespace lagrangian::models::detail {
 struct PlanarParticle {
   double m, g;
   std::array<std::string, 2> coordinate_names() const { return {"x", "y"}; }
+  std::array<std::string, 2> coordinate_units() const { return {"m", "m"}; }
   std::array<Particle, 1> particles() const { return {Particle{m, {0, 1, -1}}}; }
   template <class S>
   S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
@@ -38,6 +39,7 @@ struct ParticlePair {
       for (int k = 0; k < D; ++k) out.push_back(std::string(axes[k]) + std::to_string(b));
     return out;
   }
+  std::vector<std::string> coordinate_units() const { return std::vector<std::string>(2 * D, "m"); }
   std::array<Particle, 2> particles() const {
     return {Particle{m1, {0, 1, D == 3 ? 2 : -1}}, Particle{m2, {D, D + 1, D == 3 ? D + 2 : -1}}};
   }
