@@ -36,9 +36,10 @@ const char* to_string(EventKind k) {
 }
 
 std::vector<std::string> stepper_names() {
-  return {"rk4",         "dopri5",      "cash_karp54",
-          "fehlberg78",  "bulirsch_stoer", "rosenbrock4",
-          "variational", "symplectic_rkn_sb3a_mclachlan", "velocity_verlet"};
+  return {"rk4",         "dopri5",        "cash_karp54",
+          "fehlberg78",  "bulirsch_stoer", "gauss_radau15",
+          "rosenbrock4", "variational",    "symplectic_rkn_sb3a_mclachlan",
+          "velocity_verlet"};
 }
 
 bool fixed_step_method(const std::string& method) {

@@ -92,7 +92,8 @@ TEST(BadInput, OptionsNameFieldAndValue) {
   o.method = "euler";
   EXPECT_EQ(run(o),
             "simulation option 'method' is 'euler', which is not a stepper; choose one of: rk4, dopri5, cash_karp54, "
-            "fehlberg78, bulirsch_stoer, rosenbrock4, variational, symplectic_rkn_sb3a_mclachlan, velocity_verlet");
+            "fehlberg78, bulirsch_stoer, gauss_radau15, rosenbrock4, variational, symplectic_rkn_sb3a_mclachlan, "
+            "velocity_verlet");
   o = valid();
   o.max_steps = 0;
   EXPECT_EQ(run(o), "simulation option 'max_steps' must be at least 1, got 0");

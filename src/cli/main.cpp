@@ -218,7 +218,7 @@ int main(int argc, char** argv) {
   run->add_option("--set", set_texts, set_help);
   run->add_option("--t-end", t_end, "end time (s), overrides run.t_end");
   run->add_option("--method", method,
-                  "stepper: rk4, dopri5, cash_karp54, fehlberg78, bulirsch_stoer, rosenbrock4, variational, "
+                  "stepper: rk4, dopri5, cash_karp54, fehlberg78, bulirsch_stoer, gauss_radau15, rosenbrock4, variational, "
                   "symplectic_rkn_sb3a_mclachlan, velocity_verlet or event_driven");
   run->add_option("--rtol", rtol, "relative tolerance, overrides run.rtol");
   run->add_option("--atol", atol, "absolute tolerance, overrides run.atol");

@@ -29,6 +29,8 @@ void integrate(System& system, std::vector<double>& x, const SimulationOptions& 
       if (!system.integrate_inlined(run, x)) run_explicit(run, x);
     } else if (m == "rosenbrock4") {
       run_rosenbrock4(run, x);
+    } else if (m == "gauss_radau15") {
+      run_gauss_radau15(run, x);
     } else if (m == "symplectic_rkn_sb3a_mclachlan" || m == "velocity_verlet") {
       run_symplectic(run, x);
     } else if (m == "variational") {

@@ -25,6 +25,8 @@ void run_explicit_fixed(Run& run, StateVector& x);
 void run_explicit_dynamic(Run& run, StateVector& x);
 /// Odeint's rosenbrock4 (rosenbrock_loop.cpp).
 void run_rosenbrock4(Run& run, StateVector& x);
+/// The 15th-order Gauss–Radau stepper (gauss_radau_loop.cpp).
+void run_gauss_radau15(Run& run, StateVector& x);
 /// The fixed-step structure-preserving methods (fixed_grid_loops.cpp).
 void run_symplectic(Run& run, StateVector& x);
 void run_variational(Run& run, StateVector& x);

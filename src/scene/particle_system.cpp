@@ -639,9 +639,9 @@ ParticleRun run_particles(const Scene& scene, const ParticleOutput& output, cons
   if (method == "variational" || method == "symplectic_rkn_sb3a_mclachlan" || method == "velocity_verlet")
     throw OptionError("run.method: '" + method +
                       "' runs built-in models (model = ...) only; a scene of bodies runs with rk4, dopri5, "
-                      "cash_karp54, fehlberg78, bulirsch_stoer or rosenbrock4");
+                      "cash_karp54, fehlberg78, bulirsch_stoer, gauss_radau15 or rosenbrock4");
   if (method != "rk4" && method != "dopri5" && method != "cash_karp54" && method != "fehlberg78" &&
-      method != "bulirsch_stoer" && method != "rosenbrock4")
+      method != "bulirsch_stoer" && method != "gauss_radau15" && method != "rosenbrock4")
     throw OptionError("run.method: unknown stepper '" + method + "' for a particle scene");
   const auto wall_start = std::chrono::steady_clock::now();
   const SimulationOptions opt = options_of(scene.run);

@@ -1,0 +1,59 @@
+// The driver's loop for the 15th-order Gauss–Radau stepper (method
+// "gauss_radau15", detail/gauss_radau.hpp): adaptive steps, dense output
+// from the step's own polynomial for samples and events.
+
+#include <algorithm>
+
+#include "lagrangian/detail/gauss_radau.hpp"
+#include "loops.hpp"
+
+namespace lagrangian::detail {
+
+void run_gauss_radau15(Run& run, StateVector& x) {
+  const SimulationOptions& opt = run.options();
+  System& system = run.system();
+  std::uint64_t& evaluations = run.report().rhs_evaluations;
+  const auto f = [&](const double* xs, double* dxdt, double t) {
+    system.rhs(xs, dxdt, t);
+    ++evaluations;
+  };
+  const FirstOrderRhs rhs = function_ref<void(const double*, double*, double)>(f);
+  GaussRadau15 stepper(run.size());
+  stepper.start(x.data());
+  const bool moves = run.has_events() || run.has_constraints();
+  StateVector x_old = x;
+  double t = opt.t0;
+  double dt = opt.dt;
+  while (!reached(t, opt.t_end) && !run.stopped()) {
+    const bool clamped = t + dt > opt.t_end;
+    const double h = clamped ? opt.t_end - t : dt;
+    const GaussRadau15::Attempt a = stepper.attempt(rhs, t, h);
+    const double next = GaussRadau15::next_step(h, a.error, opt.rtol);
+    if (!a.converged || !(next >= 0.25 * h)) {
+      // The iteration did not reach round-off (the step is too long for
+      // it), or the error measure asks for a far shorter step: again.
+      const double shorter = a.converged ? next : 0.25 * h;
+      run.rejected(t, shorter);
+      dt = shorter;
+      continue;
+    }
+    const double t_old = t;
+    if (moves) x_old = x;
+    stepper.accept(h);
+    t = clamped ? opt.t_end : t + h;
+    stepper.state(x.data());
+    const auto interpolate = [&](double to, double* out) { stepper.dense((to - t_old) / h, out); };
+    if (moves) {
+      const bool event = run.handle_events(t_old, x_old.data(), t, x.data(), interpolator(interpolate));
+      const bool projected = run.stabilize(x.data(), t);
+      // An impact breaks the acceleration's polynomial; a projection moves
+      // the state by a rounding's worth and keeps it.
+      if (event || projected) stepper.moved(x.data(), event);
+    }
+    run.reset_rejections();
+    run.accepted(t_old, t, x.data(), interpolate);
+    dt = clamped ? std::max(dt, next) : next;
+  }
+}
+
+}  // namespace lagrangian::detail
