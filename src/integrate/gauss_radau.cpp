@@ -59,6 +59,11 @@ std::array<double, 8> compute_nodes() {
 /// b_{m−1} = Σ_{k ≥ m} C[k][m] g_k.
 struct Basis {
   std::array<std::array<double, K + 1>, K + 1> c{};
+  /// 1/h_k and 1/(h_k − h_j), j < k, for the divided differences.
+  std::array<double, K + 1> inv_h{};
+  std::array<std::array<double, K + 1>, K + 1> inv_gap{};
+  /// C(k + 1, j + 1), for re-expanding a polynomial about a new step.
+  std::array<std::array<double, K>, K> binomial{};
   Basis() {
     const auto& h = GaussRadau15::nodes();
     std::array<std::array<long double, K + 2>, K + 1> poly{};  // poly[k][m]
@@ -68,19 +73,22 @@ struct Basis {
         poly[k][m] = poly[k - 1][m - 1] - static_cast<long double>(h[k - 1]) * poly[k - 1][m];
     for (int k = 1; k <= K; ++k)
       for (int m = 1; m <= k; ++m) c[k][m] = static_cast<double>(poly[k][m]);
+    for (int k = 1; k <= K; ++k) {
+      inv_h[k] = 1.0 / h[static_cast<std::size_t>(k)];
+      for (int j = 1; j < k; ++j) inv_gap[k][j] = 1.0 / (h[static_cast<std::size_t>(k)] - h[static_cast<std::size_t>(j)]);
+    }
+    for (int k = 0; k < K; ++k)
+      for (int j = 0; j <= k; ++j) {
+        double r = 1;  // C(k + 1, j + 1)
+        for (int i = 1; i <= j + 1; ++i) r = r * (k + 1 - (j + 1) + i) / i;
+        binomial[k][j] = r;
+      }
   }
 };
 
 const Basis& basis() {
   static const Basis b;
   return b;
-}
-
-/// Binomial coefficient C(n, k) for n ≤ 8.
-double binomial(int n, int k) {
-  double r = 1;
-  for (int i = 1; i <= k; ++i) r = r * (n - k + i) / i;
-  return r;
 }
 
 /// Kahan's compensated sum: adds `in` to *p, carrying the lost low bits in
@@ -165,12 +173,13 @@ void GaussRadau15::predict(double dt) {
     std::fill(b_.begin(), b_.end(), 0.0);
     return;
   }
+  const auto& binomial = basis().binomial;
   double rp = r;
   for (int j = 0; j < K; ++j, rp *= r) {
     double* ej = &e_[static_cast<std::size_t>(j * n_)];
     for (int i = 0; i < n_; ++i) ej[i] = 0;
     for (int k = j; k < K; ++k) {
-      const double w = rp * binomial(k + 1, j + 1);
+      const double w = rp * binomial[static_cast<std::size_t>(k)][static_cast<std::size_t>(j)];
       const double* bk = &b_last_[static_cast<std::size_t>(k * n_)];
       for (int i = 0; i < n_; ++i) ej[i] += w * bk[i];
     }
@@ -183,7 +192,8 @@ void GaussRadau15::predict(double dt) {
 
 GaussRadau15::Attempt GaussRadau15::attempt(FirstOrderRhs f, double t, double dt) {
   const auto& h = nodes();
-  const auto& c = basis().c;
+  const Basis& basis_ = basis();
+  const auto& c = basis_.c;
   const std::size_t n = static_cast<std::size_t>(n_);
   if (!a0_valid_) {
     std::copy(q_.begin(), q_.end(), x_.begin());
@@ -227,10 +237,11 @@ GaussRadau15::Attempt GaussRadau15::attempt(FirstOrderRhs f, double t, double dt
       }
       f(x_.data(), dx_.data(), t + s * dt);
       const double* acc = dx_.data() + n_;
+      const auto& inv_gap = basis_.inv_gap[static_cast<std::size_t>(node)];
       for (std::size_t i = 0; i < n; ++i) {
         // The divided difference a[0, h₁, …, h_node].
-        double d = (acc[i] - a0_[i]) / s;
-        for (int j = 1; j < node; ++j) d = (d - g_[(j - 1) * n + i]) / (s - h[static_cast<std::size_t>(j)]);
+        double d = (acc[i] - a0_[i]) * basis_.inv_h[static_cast<std::size_t>(node)];
+        for (int j = 1; j < node; ++j) d = (d - g_[(j - 1) * n + i]) * inv_gap[static_cast<std::size_t>(j)];
         const double change = d - g_[(node - 1) * n + i];
         g_[(node - 1) * n + i] = d;
         for (int m = 1; m <= node; ++m) b_[(m - 1) * n + i] += c[node][m] * change;
@@ -268,15 +279,21 @@ void GaussRadau15::accept(double dt) {
   a00_ = a0_;
   const double dt2 = dt * dt;
   for (std::size_t i = 0; i < n; ++i) {
-    // Smallest terms first.
+    // Smallest terms first. The largest, q̇₀ Δt and q̈₀ Δt, are added with
+    // their products' rounding (exact by fma) and with the velocity's own
+    // compensation: the state's round-off then does not grow with the steps.
     for (int k = K - 1; k >= 0; --k) {
       const double bk = b_[static_cast<std::size_t>(k) * n + i];
       add_compensated(q_[i], cq_[i], dt2 * kPosition[static_cast<std::size_t>(k)] * bk);
       add_compensated(v_[i], cv_[i], dt * kVelocity[static_cast<std::size_t>(k)] * bk);
     }
     add_compensated(q_[i], cq_[i], 0.5 * dt2 * a0_[i]);
-    add_compensated(q_[i], cq_[i], dt * v0_[i]);
-    add_compensated(v_[i], cv_[i], dt * a0_[i]);
+    const double qv = dt * v0_[i];
+    add_compensated(q_[i], cq_[i], std::fma(dt, v0_[i], -qv) - dt * cv0_[i]);
+    add_compensated(q_[i], cq_[i], qv);
+    const double va = dt * a0_[i];
+    add_compensated(v_[i], cv_[i], std::fma(dt, a0_[i], -va));
+    add_compensated(v_[i], cv_[i], va);
   }
   b_last_ = b_;
   e_last_ = e_;

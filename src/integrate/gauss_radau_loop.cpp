@@ -3,14 +3,33 @@
 // from the step's own polynomial for samples and events.
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 
 #include "lagrangian/detail/gauss_radau.hpp"
+#include "lagrangian/errors.hpp"
 #include "loops.hpp"
 
 namespace lagrangian::detail {
 
+namespace {
+/// The smallest tolerance the error measure |b₆|/|q̈| can resolve: below
+/// about 1e-12 it is the round-off of a 7th divided difference, and steps
+/// chosen against a smaller tolerance shrink without end.
+constexpr double kSmallestTolerance = 1e-11;
+}  // namespace
+
 void run_gauss_radau15(Run& run, StateVector& x) {
   const SimulationOptions& opt = run.options();
+  const double eps = std::max(opt.rtol, kSmallestTolerance);
+  if (opt.rtol < kSmallestTolerance) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "gauss_radau15 ran at rtol %.0e, not %.3g: its error measure |b6|/|qdd| is round-off below that "
+                  "(the run's error is round-off from about 1e-9 on)",
+                  kSmallestTolerance, opt.rtol);
+    run.report().warnings.emplace_back(text);
+  }
   System& system = run.system();
   std::uint64_t& evaluations = run.report().rhs_evaluations;
   const auto f = [&](const double* xs, double* dxdt, double t) {
@@ -27,8 +46,19 @@ void run_gauss_radau15(Run& run, StateVector& x) {
   while (!reached(t, opt.t_end) && !run.stopped()) {
     const bool clamped = t + dt > opt.t_end;
     const double h = clamped ? opt.t_end - t : dt;
-    const GaussRadau15::Attempt a = stepper.attempt(rhs, t, h);
-    const double next = GaussRadau15::next_step(h, a.error, opt.rtol);
+    GaussRadau15::Attempt a;
+    try {
+      a = stepper.attempt(rhs, t, h);
+    } catch (const DynamicsError&) {
+      // f failed at a node of a step too long for the iteration, whose
+      // states strayed (a polar radius through 0): a shorter step, unless
+      // the step is already at the end of its resolution.
+      if (!(0.25 * h > 1e-15 * std::max(1.0, std::abs(t)))) throw;
+      run.rejected(t, 0.25 * h);
+      dt = 0.25 * h;
+      continue;
+    }
+    const double next = GaussRadau15::next_step(h, a.error, eps);
     if (!a.converged || !(next >= 0.25 * h)) {
       // The iteration did not reach round-off (the step is too long for
       // it), or the error measure asks for a far shorter step: again.

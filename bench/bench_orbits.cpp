@@ -1,0 +1,132 @@
+// Accuracy and cost on eccentric orbits: two bodies with m2/m1 = 1e-3,
+// G = a = 1, from periapsis, for e = 0.5, 0.9, 0.99, in three formulations
+// of the same motion (Cartesian coordinates of both bodies, the relative
+// coordinate with the reduced mass, and plane polar coordinates), each with
+// gauss_radau15 and with fehlberg78 and bulirsch_stoer at rtol 1e-15.
+// Prints the relative energy error at the end (the final state's energy
+// evaluated in long double) and the median wall time of the repeats (docs/performance.md, "Gauss–Radau on eccentric orbits").
+//
+// Usage: bench_orbits [ORBITS=1000] [REPEATS=3] [RTOL_RADAU=1e-9]
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "lagrangian/simulate.hpp"
+#include "lagrangian/models/pendulums.hpp"
+#include "lagrangian/models/two_body.hpp"
+
+namespace {
+
+using namespace lagrangian;
+namespace lm = lagrangian::models;
+
+struct Result {
+  double error = 0;  ///< |E(t_end) − E(0)| / |E(0)|
+  double wall = 0;   ///< median wall time (s)
+  std::uint64_t steps = 0, evaluations = 0;
+};
+
+/// The energy of a state, in long double so that its own round-off (T and V
+/// are 200 times |E| at the periapsis of e = 0.99) does not hide the
+/// integrator's: `energy(q, q̇)` of the formulation.
+template <int N, class M, class Energy>
+Result measure(const M& model, const State<N>& x0, SimulationOptions o, int repeats, const Energy& energy) {
+  Result r;
+  std::vector<double> walls;
+  for (int k = 0; k < repeats; ++k) {
+    Recorder<N> rec;
+    const auto start = std::chrono::steady_clock::now();
+    const RunReport rep = simulate(model, x0, o, rec);
+    walls.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    const long double e0 = energy(rec.samples.front()), e1 = energy(rec.samples.back());
+    r.error = static_cast<double>(std::abs((e1 - e0) / e0));
+    r.steps = rep.steps;
+    r.evaluations = rep.rhs_evaluations;
+  }
+  std::sort(walls.begin(), walls.end());
+  r.wall = walls[walls.size() / 2];
+  return r;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const double orbits = argc > 1 ? std::atof(argv[1]) : 1000;
+  const int repeats = argc > 2 ? std::atoi(argv[2]) : 3;
+  const double radau_rtol = argc > 3 ? std::atof(argv[3]) : 1e-9;
+  const double G = 1, a = 1, m1 = 1, m2 = 1e-3;
+  const double M = m1 + m2, mu = m1 * m2 / M, k = G * m1 * m2, gm = G * M;
+  const double period = 2 * std::acos(-1.0) * std::sqrt(a * a * a / gm);
+  std::printf("two bodies, m2/m1 = %g, G = a = 1, %g orbits from periapsis; relative energy error at the end, "
+              "median wall of %d\n",
+              m2 / m1, orbits, repeats);
+  std::printf("%-6s %-16s %-26s %12s %10s %10s %12s\n", "e", "formulation", "method", "|dE/E|", "wall (s)", "steps",
+              "evaluations");
+  for (const double e : {0.5, 0.9, 0.99}) {
+    const double rp = a * (1 - e), vp = std::sqrt(gm * (1 + e) / (a * (1 - e)));  // relative periapsis and speed
+    struct Method {
+      std::string name;
+      double rtol;
+    };
+    const std::vector<Method> methods{{"gauss_radau15", radau_rtol}, {"fehlberg78", 1e-15}, {"bulirsch_stoer", 1e-15}};
+    for (const Method& method : methods) {
+      SimulationOptions o;
+      o.method = method.name;
+      o.rtol = method.rtol;
+      o.atol = 1e-300;  // relative error only, as IAS15 controls it
+      o.t_end = orbits * period;
+      o.dt = 1e-3 * period;
+      o.output_interval = -1;
+      o.max_steps = 500'000'000;
+      const std::string label = method.name + " rtol " + [&] {
+        char b[16];
+        std::snprintf(b, sizeof b, "%.0e", method.rtol);
+        return std::string(b);
+      }();
+      auto row = [&](const char* form, const Result& r) {
+        std::printf("%-6.2f %-16s %-26s %12.2e %10.3f %10llu %12llu\n", e, form, label.c_str(), r.error, r.wall,
+                    static_cast<unsigned long long>(r.steps), static_cast<unsigned long long>(r.evaluations));
+        std::fflush(stdout);
+      };
+      {  // both bodies, centre of mass at rest at the origin
+        State<4> s;
+        s.q << -m2 / M * rp, 0, m1 / M * rp, 0;
+        s.qd << 0, -m2 / M * vp, 0, m1 / M * vp;
+        const auto energy = [&](const Sample<4>& x) {
+          using L = long double;
+          const L dx = L(x.q[2]) - x.q[0], dy = L(x.q[3]) - x.q[1];
+          const L v1 = L(x.qd[0]) * x.qd[0] + L(x.qd[1]) * x.qd[1], v2 = L(x.qd[2]) * x.qd[2] + L(x.qd[3]) * x.qd[3];
+          return L(0.5) * m1 * v1 + L(0.5) * m2 * v2 - k / std::sqrt(dx * dx + dy * dy);
+        };
+        row("two_body", measure(lm::TwoBody<2>(m1, m2, lm::NewtonianGravity{k}), s, o, repeats, energy));
+      }
+      {  // the relative coordinate, reduced mass μ
+        State<2> s;
+        s.q << rp, 0;
+        s.qd << 0, vp;
+        const auto energy = [&](const Sample<2>& x) {
+          using L = long double;
+          const L v2 = L(x.qd[0]) * x.qd[0] + L(x.qd[1]) * x.qd[1];
+          return L(0.5) * mu * v2 - k / std::sqrt(L(x.q[0]) * x.q[0] + L(x.q[1]) * x.q[1]);
+        };
+        row("reduced_mass", measure(lm::RelativeMotion<2>(mu, lm::NewtonianGravity{k}), s, o, repeats, energy));
+      }
+      {  // plane polar coordinates (r, φ) of the relative coordinate
+        State<2> s;
+        s.q << rp, 0;
+        s.qd << 0, vp / rp;
+        const auto energy = [&](const Sample<2>& x) {
+          using L = long double;
+          const L r = x.q[0], rd = x.qd[0], phid = x.qd[1];
+          return L(0.5) * mu * (rd * rd + r * r * phid * phid) - k / r;
+        };
+        row("kepler_polar", measure(lm::KeplerPolar(mu, k), s, o, repeats, energy));
+      }
+    }
+  }
+  return 0;
+}
