@@ -42,12 +42,12 @@ struct KeplerRhs {
 /// `steps` fixed steps of size dt from x (every step's iteration converged).
 template <class F>
 std::array<double, 4> fixed_steps(const F& f, std::array<double, 4> x, double t0, double dt, int steps) {
-  GaussRadau15 gr(2);
+  GaussRadau15<2> gr;
   gr.start(x.data());
   const auto rhs = lagrangian::detail::function_ref<void(const double*, double*, double)>(f);
   double t = t0;
   for (int k = 0; k < steps; ++k) {
-    const GaussRadau15::Attempt a = gr.attempt(rhs, t, dt);
+    const GaussRadau15<2>::Attempt a = gr.attempt(rhs, t, dt);
     EXPECT_LT(a.corrector_change, 1e-8) << "step " << k;
     gr.accept(dt);
     t += dt;
@@ -73,7 +73,7 @@ TEST(GaussRadau, NodesAreTheRadauNodesOfEverhartAndReinSpiegel) {
                                         0.734210177215410531523210605558,
                                         0.885320946839095768090359771030,
                                         0.977520613561287501891174488626};
-  const auto& h = GaussRadau15::nodes();
+  const auto& h = GaussRadau15<>::nodes();
   for (std::size_t k = 0; k < 8; ++k) EXPECT_NEAR(h[k], published[k], 2e-16) << k;
   // The 8-point Radau rule on them integrates s^m exactly for m ≤ 14: its
   // weights w (from the moments m = 0 … 7) also give the moments 8 … 14.

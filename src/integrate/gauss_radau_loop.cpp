@@ -17,19 +17,11 @@ namespace {
 /// about 1e-12 it is the round-off of a 7th divided difference, and steps
 /// chosen against a smaller tolerance shrink without end.
 constexpr double kSmallestTolerance = 1e-11;
-}  // namespace
 
-void run_gauss_radau15(Run& run, StateVector& x) {
+/// The loop on the stepper for N coordinates (N = 0: any).
+template <int N>
+void gauss_radau_loop(Run& run, StateVector& x, double eps) {
   const SimulationOptions& opt = run.options();
-  const double eps = std::max(opt.rtol, kSmallestTolerance);
-  if (opt.rtol < kSmallestTolerance) {
-    char text[200];
-    std::snprintf(text, sizeof text,
-                  "gauss_radau15 ran at rtol %.0e, not %.3g: its error measure |b6|/|qdd| is round-off below that "
-                  "(the run's error is round-off from about 1e-9 on)",
-                  kSmallestTolerance, opt.rtol);
-    run.report().warnings.emplace_back(text);
-  }
   System& system = run.system();
   std::uint64_t& evaluations = run.report().rhs_evaluations;
   const auto f = [&](const double* xs, double* dxdt, double t) {
@@ -37,7 +29,7 @@ void run_gauss_radau15(Run& run, StateVector& x) {
     ++evaluations;
   };
   const FirstOrderRhs rhs = function_ref<void(const double*, double*, double)>(f);
-  GaussRadau15 stepper(run.size());
+  GaussRadau15<N> stepper(run.size());
   stepper.start(x.data());
   const bool moves = run.has_events() || run.has_constraints();
   StateVector x_old = x;
@@ -46,7 +38,7 @@ void run_gauss_radau15(Run& run, StateVector& x) {
   while (!reached(t, opt.t_end) && !run.stopped()) {
     const bool clamped = t + dt > opt.t_end;
     const double h = clamped ? opt.t_end - t : dt;
-    GaussRadau15::Attempt a;
+    typename GaussRadau15<N>::Attempt a;
     try {
       a = stepper.attempt(rhs, t, h);
     } catch (const DynamicsError&) {
@@ -58,8 +50,8 @@ void run_gauss_radau15(Run& run, StateVector& x) {
       dt = 0.25 * h;
       continue;
     }
-    const double next = GaussRadau15::next_step(h, a.error, eps);
-    if (!a.converged || !(next >= 0.25 * h)) {
+    const double next = GaussRadau15<N>::next_step(h, a.error, eps);
+    if (!a.converged || !(next >= GaussRadau15<N>::kSafety * h)) {
       // The iteration did not reach round-off (the step is too long for
       // it), or the error measure asks for a far shorter step: again.
       const double shorter = a.converged ? next : 0.25 * h;
@@ -83,6 +75,32 @@ void run_gauss_radau15(Run& run, StateVector& x) {
     run.reset_rejections();
     run.accepted(t_old, t, x.data(), interpolate);
     dt = clamped ? std::max(dt, next) : next;
+  }
+}
+
+}  // namespace
+
+void run_gauss_radau15(Run& run, StateVector& x) {
+  const SimulationOptions& opt = run.options();
+  const double eps = std::max(opt.rtol, kSmallestTolerance);
+  if (opt.rtol < kSmallestTolerance) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "gauss_radau15 ran at rtol %.0e, not %.3g: its error measure |b6|/|qdd| is round-off below that "
+                  "(the run's error is round-off from about 1e-9 on)",
+                  kSmallestTolerance, opt.rtol);
+    run.report().warnings.emplace_back(text);
+  }
+  switch (run.size()) {
+    case 1: return gauss_radau_loop<1>(run, x, eps);
+    case 2: return gauss_radau_loop<2>(run, x, eps);
+    case 3: return gauss_radau_loop<3>(run, x, eps);
+    case 4: return gauss_radau_loop<4>(run, x, eps);
+    case 5: return gauss_radau_loop<5>(run, x, eps);
+    case 6: return gauss_radau_loop<6>(run, x, eps);
+    case 7: return gauss_radau_loop<7>(run, x, eps);
+    case 8: return gauss_radau_loop<8>(run, x, eps);
+    default: return gauss_radau_loop<0>(run, x, eps);
   }
 }
 

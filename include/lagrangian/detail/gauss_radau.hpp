@@ -26,8 +26,11 @@
 // with Kahan's compensation, so that the round-off of the sums does not
 // grow with the number of steps.
 
+#include <algorithm>
 #include <array>
-#include <cstdint>
+#include <cmath>
+#include <limits>
+#include <type_traits>
 #include <vector>
 
 #include "lagrangian/detail/roots.hpp"
@@ -38,21 +41,70 @@ namespace lagrangian::detail {
 /// stepper uses the second half of ẋ, q̈.
 using FirstOrderRhs = FunctionRef<void(const double* x, double* dxdt, double t)>;
 
-class GaussRadau15 {
- public:
+/// The constants of the method (computed once, src/integrate/gauss_radau.cpp).
+struct GaussRadauConstants {
+  static constexpr int K = 7;  ///< polynomial terms b₀ … b₆, nodes h₁ … h₇
   /// h₀ = 0 and the Gauss–Radau nodes h₁ … h₇ on [0, 1]: the roots of
   /// (P₇(u) + P₈(u))/(1 + u), u = 2h − 1, with Pₖ Legendre's polynomials.
-  static const std::array<double, 8>& nodes();
+  std::array<double, K + 1> h{};
+  /// c[k][m]: the coefficient of s^m in Newton's basis polynomial
+  /// N_k(s) = s (s − h₁)…(s − h_{k−1}); with q̈(s) = a₀ + Σ_k g_k N_k(s)
+  /// = a₀ + Σ_m b_{m−1} s^m, b_{m−1} = Σ_{k ≥ m} c[k][m] g_k.
+  std::array<std::array<double, K + 1>, K + 1> c{};
+  /// 1/h_k and 1/(h_k − h_j), j < k, for the divided differences.
+  std::array<double, K + 1> inv_h{};
+  std::array<std::array<double, K + 1>, K + 1> inv_gap{};
+  /// C(k + 1, j + 1), for re-expanding a polynomial about a new step.
+  std::array<std::array<double, K>, K> binomial{};
+  /// At node k (s = h_k): q = q₀ + Δt s q̇₀ + Δt² (half_s2[k] a₀ + Σ_j position[k][j] b_j)
+  /// and q̇ = q̇₀ + Δt (s a₀ + Σ_j velocity[k][j] b_j), with
+  /// position[k][j] = s^{j+3}/((j+2)(j+3)) and velocity[k][j] = s^{j+2}/(j+2).
+  std::array<std::array<double, K>, K + 1> position{}, velocity{};
+  std::array<double, K + 1> half_s2{};
+};
+const GaussRadauConstants& gauss_radau_constants();
 
-  /// A stepper for n coordinates (state of 2n values).
-  explicit GaussRadau15(int n);
+/// The stepper for N coordinates (state of 2N values); N = 0: any number,
+/// given at construction. Fixed N keeps every per-coordinate loop a
+/// compile-time one (compiled for N ≤ 8 in src/integrate/gauss_radau_loop.cpp).
+template <int N = 0>
+class GaussRadau15 {
+  static constexpr int K = GaussRadauConstants::K;
+  template <int M>
+  using Store = std::conditional_t<(N > 0), std::array<double, static_cast<std::size_t>(M * (N > 0 ? N : 1))>,
+                                   std::vector<double>>;
+
+ public:
+  /// h₀ = 0 and the Gauss–Radau nodes h₁ … h₇ (see GaussRadauConstants).
+  static const std::array<double, 8>& nodes() { return gauss_radau_constants().h; }
+
+  /// A stepper for n coordinates (n = N when N > 0).
+  explicit GaussRadau15(int n = N) : n_(N > 0 ? N : n) {
+    if constexpr (N == 0) {
+      for (auto* v : {&q_, &v_, &cq_, &cv_, &a0_, &q0_, &v0_, &cq0_, &cv0_, &a00_}) v->assign(static_cast<std::size_t>(n_), 0.0);
+      for (auto* v : {&b_, &g_, &e_, &b_last_, &e_last_}) v->assign(static_cast<std::size_t>(K * n_), 0.0);
+      x_.assign(static_cast<std::size_t>(2 * n_), 0.0);
+      dx_ = x_;
+    } else {
+      for (auto* v : {&b_, &g_, &e_, &b_last_, &e_last_}) v->fill(0.0);
+    }
+    gauss_radau_constants();
+  }
 
   /// Starts from the state x (2n values): no compensation, no prediction.
-  void start(const double* x);
+  void start(const double* x) { moved(x, true); }
   /// The state was changed between steps to x: by a projection onto the
   /// constraints (`discontinuous` false: the previous step's polynomial
   /// still predicts the next) or by an impact (true: it does not).
-  void moved(const double* x, bool discontinuous);
+  void moved(const double* x, bool discontinuous) {
+    for (int i = 0; i < n(); ++i) {
+      q_[at(i)] = x[i];
+      v_[at(i)] = x[n() + i];
+      cq_[at(i)] = cv_[at(i)] = 0.0;
+    }
+    a0_valid_ = false;
+    if (discontinuous) have_last_ = false;
+  }
 
   /// What an attempted step found.
   struct Attempt {
@@ -66,31 +118,234 @@ class GaussRadau15 {
   Attempt attempt(FirstOrderRhs f, double t, double dt);
   /// The next step after a step of size dt whose error measure was `error`,
   /// for the tolerance eps: dt (eps/error)^(1/7), at most 4 dt.
-  static double next_step(double dt, double error, double eps);
+  static double next_step(double dt, double error, double eps) {
+    if (!(error > 0)) return dt / kSafety;  // the polynomial is exact: grow by the most allowed
+    return std::min(dt * std::pow(eps / error, 1.0 / 7.0), dt / kSafety);
+  }
   /// Advances the state over the step just attempted (size dt) and predicts
   /// the polynomial of the next.
   void accept(double dt);
 
   /// The state (2n values) after the last accepted step.
-  void state(double* x) const;
+  void state(double* x) const {
+    for (int i = 0; i < n(); ++i) {
+      x[i] = q_[at(i)] - cq_[at(i)];
+      x[n() + i] = v_[at(i)] - cv_[at(i)];
+    }
+  }
   /// The state (2n values) at the fraction s ∈ [0, 1] of the last accepted
   /// step, from its polynomial.
   void dense(double s, double* x) const;
 
+  /// A step whose next step would be under this fraction of it is
+  /// rejected; steps grow by at most its inverse (Rein & Spiegel 2015).
+  static constexpr double kSafety = 0.25;
+
  private:
+  static constexpr int kMaxIterations = 12;
+  /// The iteration has converged when b₆ changes by less than this relative
+  /// to |q̈| (the round-off of double precision).
+  static constexpr double kConverged = 1e-16;
+  /// A stalled iteration is taken as converged (at its round-off floor)
+  /// below this: g₇, a 7th divided difference over nodes as close as 0.09,
+  /// carries up to about 1e4 ε of q̈'s round-off.
+  static constexpr double kStalled = 1e-12;
+  /// Past this growth of the step the previous polynomial predicts nothing.
+  static constexpr double kMaxPredictedRatio = 20;
+  // Coefficients of b_k in q (÷(k+2)(k+3)) and q̇ (÷(k+2)).
+  static constexpr std::array<double, K> kPosition{1.0 / 6, 1.0 / 12, 1.0 / 20, 1.0 / 30, 1.0 / 42, 1.0 / 56, 1.0 / 72};
+  static constexpr std::array<double, K> kVelocity{1.0 / 2, 1.0 / 3, 1.0 / 4, 1.0 / 5, 1.0 / 6, 1.0 / 7, 1.0 / 8};
+
+  static std::size_t at(int i) { return static_cast<std::size_t>(i); }
+  /// n: a compile-time constant when N > 0.
+  int n() const {
+    if constexpr (N > 0) {
+      return N;
+    } else {
+      return n_;
+    }
+  }
+  std::size_t at(int k, int i) const { return static_cast<std::size_t>(k * n() + i); }
+  /// Kahan's compensated sum: adds `in` to p, carrying the lost low bits
+  /// in c (the sum is p − c).
+  static void add_compensated(double& p, double& c, double in) {
+    const double y = in - c;
+    const double t = p + y;
+    c = (t - p) - y;
+    p = t;
+  }
   void predict(double dt);
 
   int n_;
-  std::vector<double> q_, v_, cq_, cv_;   // state and its compensation (q − cq is the sum)
-  std::vector<double> a0_;                // q̈ at the start of the step
+  Store<1> q_{}, v_{}, cq_{}, cv_{};  // state and its compensation (q − cq is the sum)
+  Store<1> a0_{};                     // q̈ at the start of the step
   bool a0_valid_ = false;
-  std::vector<double> b_, g_, e_;         // 7 × n each: b_k of the attempt, Newton g_k, its prediction
-  std::vector<double> b_last_, e_last_;   // the last accepted step's b and its prediction
+  Store<K> b_{}, g_{}, e_{};          // 7 × n each: b_k of the attempt, Newton g_k, its prediction
+  Store<K> b_last_{}, e_last_{};      // the last accepted step's b and its prediction
   double dt_last_ = 0;
   bool have_last_ = false;
   // The last accepted step, for dense output.
-  std::vector<double> q0_, v0_, cq0_, cv0_, a00_;
-  std::vector<double> x_, dx_;            // 2n: a node's state and its derivative
+  Store<1> q0_{}, v0_{}, cq0_{}, cv0_{}, a00_{};
+  Store<2> x_{}, dx_{};               // 2n: a node's state and its derivative
 };
+
+template <int N>
+void GaussRadau15<N>::predict(double dt) {
+  // The last step's polynomial about its end, in the new step's s:
+  // s_old = 1 + r s with r = dt/dt_last, so Σ_k b_k s_old^{k+1} gives
+  // e_j = r^{j+1} Σ_{k ≥ j} C(k+1, j+1) b_k for the power s^{j+1}. The
+  // difference between the last step's converged b and its own prediction
+  // is added to the new prediction (Everhart 1985).
+  const double r = have_last_ ? dt / dt_last_ : 0.0;
+  if (!have_last_ || !(r <= kMaxPredictedRatio)) {
+    std::fill(e_.begin(), e_.end(), 0.0);
+    std::fill(b_.begin(), b_.end(), 0.0);
+    return;
+  }
+  const auto& binomial = gauss_radau_constants().binomial;
+  double rp = r;
+  for (int j = 0; j < K; ++j, rp *= r)
+    for (int i = 0; i < n(); ++i) {
+      double s = 0;
+      for (int k = j; k < K; ++k) s += binomial[static_cast<std::size_t>(k)][static_cast<std::size_t>(j)] * b_last_[at(k, i)];
+      e_[at(j, i)] = rp * s;
+      b_[at(j, i)] = e_[at(j, i)] + (b_last_[at(j, i)] - e_last_[at(j, i)]);
+    }
+}
+
+template <int N>
+typename GaussRadau15<N>::Attempt GaussRadau15<N>::attempt(FirstOrderRhs f, double t, double dt) {
+  const GaussRadauConstants& gr = gauss_radau_constants();
+  const auto& h = gr.h;
+  const auto& c = gr.c;
+  if (!a0_valid_) {
+    for (int i = 0; i < n(); ++i) {
+      x_[at(i)] = q_[at(i)];
+      x_[at(n() + i)] = v_[at(i)];
+    }
+    f(x_.data(), dx_.data(), t);
+    for (int i = 0; i < n(); ++i) a0_[at(i)] = dx_[at(n() + i)];
+    a0_valid_ = true;
+  }
+  predict(dt);
+  // g from b: b_{m−1} = Σ_{k ≥ m} c[k][m] g_k, c[m][m] = 1, solved from m = 7 down.
+  for (int m = K; m >= 1; --m)
+    for (int i = 0; i < n(); ++i) {
+      double s = b_[at(m - 1, i)];
+      for (int k = m + 1; k <= K; ++k) s -= c[static_cast<std::size_t>(k)][static_cast<std::size_t>(m)] * g_[at(k - 1, i)];
+      g_[at(m - 1, i)] = s;
+    }
+  Attempt out;
+  double last_change = std::numeric_limits<double>::infinity();
+  // The scale of q̈ over the step: the largest |q̈| at its start and nodes
+  // (one node's alone may pass near zero).
+  double a0_scale = 0;
+  for (int i = 0; i < n(); ++i) a0_scale = std::max(a0_scale, std::abs(a0_[at(i)]));
+  double max_acc = a0_scale;
+  for (int it = 1; it <= kMaxIterations; ++it) {
+    out.iterations = it;
+    double max_change = 0;
+    max_acc = a0_scale;
+    for (int node = 1; node <= K; ++node) {
+      const std::size_t nd = static_cast<std::size_t>(node);
+      const double s = h[nd];
+      const auto& pw = gr.position[nd];
+      const auto& vw = gr.velocity[nd];
+      const double dts = dt * s, dt2 = dt * dt;
+      for (int i = 0; i < n(); ++i) {
+        // Sums in pairs rather than by Horner: shorter chains of dependent operations.
+        const auto term = [&](const std::array<double, K>& w, int k) { return w[static_cast<std::size_t>(k)] * b_[at(k, i)]; };
+        const double pq = ((term(pw, 0) + term(pw, 1)) + (term(pw, 2) + term(pw, 3))) +
+                          ((term(pw, 4) + term(pw, 5)) + term(pw, 6));
+        const double pv = ((term(vw, 0) + term(vw, 1)) + (term(vw, 2) + term(vw, 3))) +
+                          ((term(vw, 4) + term(vw, 5)) + term(vw, 6));
+        const double dq = dts * v_[at(i)] + dt2 * (gr.half_s2[nd] * a0_[at(i)] + pq);
+        const double dv = dt * (s * a0_[at(i)] + pv);
+        x_[at(i)] = q_[at(i)] + (dq - cq_[at(i)]);
+        x_[at(n() + i)] = v_[at(i)] + (dv - cv_[at(i)]);
+      }
+      f(x_.data(), dx_.data(), t + s * dt);
+      const double* acc = dx_.data() + n();
+      const auto& inv_gap = gr.inv_gap[nd];
+      const double inv_h = gr.inv_h[nd];
+      const auto& cn = c[nd];
+      for (int i = 0; i < n(); ++i) {
+        // The divided difference a[0, h₁, …, h_node], by the recursion on
+        // differences (exactly 0 for a constant q̈; a sum with explicit
+        // weights loses two digits to cancellation).
+        double d = (acc[i] - a0_[at(i)]) * inv_h;
+        for (int j = 1; j < node; ++j) d = (d - g_[at(j - 1, i)]) * inv_gap[static_cast<std::size_t>(j)];
+        const double change = d - g_[at(node - 1, i)];
+        g_[at(node - 1, i)] = d;
+        for (int m = 1; m <= node; ++m) b_[at(m - 1, i)] += cn[static_cast<std::size_t>(m)] * change;
+        max_acc = std::max(max_acc, std::abs(acc[i]));
+        if (node == K) max_change = std::max(max_change, std::abs(change));
+      }
+    }
+    out.corrector_change = max_acc > 0 ? max_change / max_acc : max_change;
+    if (!std::isfinite(out.corrector_change) || out.corrector_change < kConverged) break;
+    // Stalled: at the round-off floor when small; an early bump of a
+    // converging iteration may still go on, a later one is divergence.
+    if (it > 2 && out.corrector_change >= last_change && (out.corrector_change < kStalled || it > 4)) break;
+    last_change = out.corrector_change;
+  }
+  // Converged, or at the round-off floor of the divided differences.
+  out.converged = out.corrector_change < kStalled;
+  double max_b6 = 0;
+  for (int i = 0; i < n(); ++i) max_b6 = std::max(max_b6, std::abs(b_[at(6, i)]));
+  out.error = max_acc > 0 ? max_b6 / max_acc : (max_b6 > 0 ? std::numeric_limits<double>::infinity() : 0.0);
+  return out;
+}
+
+template <int N>
+void GaussRadau15<N>::accept(double dt) {
+  q0_ = q_;
+  v0_ = v_;
+  cq0_ = cq_;
+  cv0_ = cv_;
+  a00_ = a0_;
+  const double dt2 = dt * dt;
+  for (int i = 0; i < n(); ++i) {
+    // Smallest terms first. The largest, q̇₀ Δt and q̈₀ Δt, are added with
+    // their products' rounding (exact by fma) and with the velocity's own
+    // compensation: the state's round-off then does not grow with the steps.
+    double& q = q_[at(i)];
+    double& cq = cq_[at(i)];
+    double& v = v_[at(i)];
+    double& cv = cv_[at(i)];
+    for (int k = K - 1; k >= 0; --k) {
+      const double bk = b_[at(k, i)];
+      add_compensated(q, cq, dt2 * kPosition[static_cast<std::size_t>(k)] * bk);
+      add_compensated(v, cv, dt * kVelocity[static_cast<std::size_t>(k)] * bk);
+    }
+    add_compensated(q, cq, 0.5 * dt2 * a0_[at(i)]);
+    const double qv = dt * v0_[at(i)];
+    add_compensated(q, cq, std::fma(dt, v0_[at(i)], -qv) - dt * cv0_[at(i)]);
+    add_compensated(q, cq, qv);
+    const double va = dt * a0_[at(i)];
+    add_compensated(v, cv, std::fma(dt, a0_[at(i)], -va));
+    add_compensated(v, cv, va);
+  }
+  b_last_ = b_;
+  e_last_ = e_;
+  dt_last_ = dt;
+  have_last_ = true;
+  a0_valid_ = false;
+}
+
+template <int N>
+void GaussRadau15<N>::dense(double s, double* x) const {
+  const double dt = dt_last_;
+  for (int i = 0; i < n(); ++i) {
+    double pq = b_last_[at(6, i)] * kPosition[6];
+    double pv = b_last_[at(6, i)] * kVelocity[6];
+    for (int k = K - 2; k >= 0; --k) {
+      pq = b_last_[at(k, i)] * kPosition[static_cast<std::size_t>(k)] + s * pq;
+      pv = b_last_[at(k, i)] * kVelocity[static_cast<std::size_t>(k)] + s * pv;
+    }
+    x[i] = q0_[at(i)] + (dt * s * (v0_[at(i)] + dt * s * (0.5 * a00_[at(i)] + s * pq)) - cq0_[at(i)]);
+    x[n() + i] = v0_[at(i)] + (dt * s * (a00_[at(i)] + s * pv) - cv0_[at(i)]);
+  }
+}
 
 }  // namespace lagrangian::detail
