@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
       o.rtol = method.rtol;
       o.atol = 1e-300;  // relative error only, as IAS15 controls it
       o.t_end = orbits * period;
-      o.dt = 1e-3 * period;
+      o.dt = 1e-6 * period;  // a first step short enough for the periapsis of e = 0.99
       o.output_interval = -1;
       o.max_steps = 500'000'000;
       const std::string label = method.name + " rtol " + [&] {

@@ -32,7 +32,7 @@ void gauss_radau_loop(Run& run, StateVector& x, double eps) {
   GaussRadau15<N> stepper(run.size());
   stepper.start(x.data());
   const bool moves = run.has_events() || run.has_constraints();
-  StateVector x_old = x;
+  StateVector x_old = x, x_event = x;
   double t = opt.t0;
   double dt = opt.dt;
   while (!reached(t, opt.t_end) && !run.stopped()) {
@@ -50,7 +50,7 @@ void gauss_radau_loop(Run& run, StateVector& x, double eps) {
       dt = 0.25 * h;
       continue;
     }
-    const double next = GaussRadau15<N>::next_step(h, a.error, eps);
+    const double next = GaussRadau15<N>::next_step(h, a, eps);
     if (!a.converged || !(next >= GaussRadau15<N>::kSafety * h)) {
       // The iteration did not reach round-off (the step is too long for
       // it), or the error measure asks for a far shorter step: again.
@@ -66,11 +66,33 @@ void gauss_radau_loop(Run& run, StateVector& x, double eps) {
     stepper.state(x.data());
     const auto interpolate = [&](double to, double* out) { stepper.dense((to - t_old) / h, out); };
     if (moves) {
+      const double t_end = t;
       const bool event = run.handle_events(t_old, x_old.data(), t, x.data(), interpolator(interpolate));
+      bool continuous = false;
+      if (event && t > t_old && t < t_end) {
+        // An event inside the step that left the state as the polynomial
+        // has it there (a watched event, a stop): the step is taken again,
+        // to the event, for the method's order there and the state's
+        // compensation (the polynomial inside a step is less accurate than
+        // its end). An impact breaks the acceleration's polynomial.
+        interpolate(t, x_event.data());
+        continuous = true;
+        for (std::size_t i = 0; i < x.size(); ++i)
+          continuous = continuous && std::abs(x[i] - x_event[i]) <= 1e-14 * std::max(1.0, std::abs(x_event[i]));
+        if (continuous) {
+          stepper.rewind();
+          const double h_event = t - t_old;
+          if (stepper.attempt(rhs, t_old, h_event).converged) {
+            stepper.accept(h_event);
+            stepper.state(x.data());
+          } else {
+            stepper.moved(x.data(), false);  // the shorter step is no harder; should it be, the dense state
+          }
+        }
+      }
       const bool projected = run.stabilize(x.data(), t);
-      // An impact breaks the acceleration's polynomial; a projection moves
-      // the state by a rounding's worth and keeps it.
-      if (event || projected) stepper.moved(x.data(), event);
+      // A projection moves the state by a rounding's worth and keeps the polynomial.
+      if ((event && !continuous) || projected) stepper.moved(x.data(), event && !continuous);
     }
     run.reset_rejections();
     run.accepted(t_old, t, x.data(), interpolate);

@@ -82,11 +82,11 @@ class GaussRadau15 {
   explicit GaussRadau15(int n = N) : n_(N > 0 ? N : n) {
     if constexpr (N == 0) {
       for (auto* v : {&q_, &v_, &cq_, &cv_, &a0_, &q0_, &v0_, &cq0_, &cv0_, &a00_}) v->assign(static_cast<std::size_t>(n_), 0.0);
-      for (auto* v : {&b_, &g_, &e_, &b_last_, &e_last_}) v->assign(static_cast<std::size_t>(K * n_), 0.0);
+      for (auto* v : {&b_, &g_, &e_, &b_last_, &e_last_, &b_dense_, &b_before_, &e_before_}) v->assign(static_cast<std::size_t>(K * n_), 0.0);
       x_.assign(static_cast<std::size_t>(2 * n_), 0.0);
       dx_ = x_;
     } else {
-      for (auto* v : {&b_, &g_, &e_, &b_last_, &e_last_}) v->fill(0.0);
+      for (auto* v : {&b_, &g_, &e_, &b_last_, &e_last_, &b_dense_, &b_before_, &e_before_}) v->fill(0.0);
     }
     gauss_radau_constants();
   }
@@ -112,6 +112,10 @@ class GaussRadau15 {
     double corrector_change = 0;  ///< max |Δb₆| / max |q̈| of the last iteration
     bool converged = false;       ///< the iteration reached round-off
     double error = 0;             ///< max |b₆| / max |q̈|, the step's error measure
+    /// τ = √(2 |q̈|² / (|q⃛|² + |q̈| |q⁗|)) at the step's end (norms over all
+    /// coordinates; s), the time scale of the motion (Pham, Rein & Spiegel
+    /// 2024); 0 where it is not defined (q̈ = 0).
+    double timescale = 0;
   };
   /// Iterates the polynomial of a step of size dt from time t (the state is
   /// left as it was; accept() advances it).
@@ -122,9 +126,25 @@ class GaussRadau15 {
     if (!(error > 0)) return dt / kSafety;  // the polynomial is exact: grow by the most allowed
     return std::min(dt * std::pow(eps / error, 1.0 / 7.0), dt / kSafety);
   }
+  /// The next step: the larger of (7! eps)^(1/7) τ from the motion's time
+  /// scale (Pham, Rein & Spiegel 2024), which takes far fewer steps on
+  /// eccentric orbits, and the step from the error measure, which still
+  /// holds where q̈ passes through zero and τ with it (a pendulum at the
+  /// bottom); at most 4 dt.
+  static double next_step(double dt, const Attempt& a, double eps) {
+    const double by_error = next_step(dt, a.error, eps);
+    if (!(a.timescale > 0) || !std::isfinite(a.timescale)) return by_error;
+    return std::min(std::max(std::pow(5040.0 * eps, 1.0 / 7.0) * a.timescale, by_error), dt / kSafety);
+  }
   /// Advances the state over the step just attempted (size dt) and predicts
   /// the polynomial of the next.
   void accept(double dt);
+
+  /// Returns to the start of the last accepted step, as before accept():
+  /// to take a shorter step to an event inside it. (The polynomial inside
+  /// a step is of order 9 or so; only its end has the method's order 15,
+  /// so a state continued from inside a step would carry that error.)
+  void rewind();
 
   /// The state (2n values) after the last accepted step.
   void state(double* x) const {
@@ -186,6 +206,12 @@ class GaussRadau15 {
   bool have_last_ = false;
   // The last accepted step, for dense output.
   Store<1> q0_{}, v0_{}, cq0_{}, cv0_{}, a00_{};
+  Store<K> b_dense_{};
+  double dt_dense_ = 0;
+  // The prediction as it was before the last accepted step, for rewind().
+  Store<K> b_before_{}, e_before_{};
+  double dt_before_ = 0;
+  bool have_before_ = false;
   Store<2> x_{}, dx_{};               // 2n: a node's state and its derivative
 };
 
@@ -294,6 +320,25 @@ typename GaussRadau15<N>::Attempt GaussRadau15<N>::attempt(FirstOrderRhs f, doub
   double max_b6 = 0;
   for (int i = 0; i < n(); ++i) max_b6 = std::max(max_b6, std::abs(b_[at(6, i)]));
   out.error = max_acc > 0 ? max_b6 / max_acc : (max_b6 > 0 ? std::numeric_limits<double>::infinity() : 0.0);
+  // q̈, its first and second derivative in time at the end, s = 1:
+  // q̈ = a₀ + Σ b_k, q⃛ = Σ (k+1) b_k / Δt, q⁗ = Σ (k+1) k b_k / Δt².
+  double a2 = 0, j2 = 0, s2 = 0;
+  for (int i = 0; i < n(); ++i) {
+    double a = a0_[at(i)], jerk = 0, snap = 0;
+    for (int k = 0; k < K; ++k) {
+      const double bk = b_[at(k, i)];
+      a += bk;
+      jerk += (k + 1) * bk;
+      snap += (k + 1) * k * bk;
+    }
+    jerk /= dt;
+    snap /= dt * dt;
+    a2 += a * a;
+    j2 += jerk * jerk;
+    s2 += snap * snap;
+  }
+  const double denominator = j2 + std::sqrt(a2 * s2);
+  out.timescale = a2 > 0 && denominator > 0 ? std::sqrt(2 * a2 / denominator) : 0.0;
   return out;
 }
 
@@ -326,22 +371,42 @@ void GaussRadau15<N>::accept(double dt) {
     add_compensated(v, cv, std::fma(dt, a0_[at(i)], -va));
     add_compensated(v, cv, va);
   }
+  b_before_ = b_last_;
+  e_before_ = e_last_;
+  dt_before_ = dt_last_;
+  have_before_ = have_last_;
   b_last_ = b_;
   e_last_ = e_;
   dt_last_ = dt;
+  b_dense_ = b_;
+  dt_dense_ = dt;
   have_last_ = true;
   a0_valid_ = false;
 }
 
 template <int N>
+void GaussRadau15<N>::rewind() {
+  q_ = q0_;
+  v_ = v0_;
+  cq_ = cq0_;
+  cv_ = cv0_;
+  a0_ = a00_;
+  a0_valid_ = true;
+  b_last_ = b_before_;
+  e_last_ = e_before_;
+  dt_last_ = dt_before_;
+  have_last_ = have_before_;
+}
+
+template <int N>
 void GaussRadau15<N>::dense(double s, double* x) const {
-  const double dt = dt_last_;
+  const double dt = dt_dense_;
   for (int i = 0; i < n(); ++i) {
-    double pq = b_last_[at(6, i)] * kPosition[6];
-    double pv = b_last_[at(6, i)] * kVelocity[6];
+    double pq = b_dense_[at(6, i)] * kPosition[6];
+    double pv = b_dense_[at(6, i)] * kVelocity[6];
     for (int k = K - 2; k >= 0; --k) {
-      pq = b_last_[at(k, i)] * kPosition[static_cast<std::size_t>(k)] + s * pq;
-      pv = b_last_[at(k, i)] * kVelocity[static_cast<std::size_t>(k)] + s * pv;
+      pq = b_dense_[at(k, i)] * kPosition[static_cast<std::size_t>(k)] + s * pq;
+      pv = b_dense_[at(k, i)] * kVelocity[static_cast<std::size_t>(k)] + s * pv;
     }
     x[i] = q0_[at(i)] + (dt * s * (v0_[at(i)] + dt * s * (0.5 * a00_[at(i)] + s * pq)) - cq0_[at(i)]);
     x[n() + i] = v0_[at(i)] + (dt * s * (a00_[at(i)] + s * pv) - cv0_[at(i)]);
