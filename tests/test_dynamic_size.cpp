@@ -82,7 +82,7 @@ TEST(DynamicSize, SimulationMatchesFixedSize) {
   for (int i = 0; i < n; ++i) {
     x0.q[i] = y0.q[i] = 0.3 - 0.15 * i;
   }
-  for (const std::string method : {"dopri5", "rk4", "rosenbrock4"}) {
+  for (const std::string method : {"dopri5", "rk4", "gauss_radau15", "rosenbrock4"}) {
     SimulationOptions o;
     o.method = method;
     o.t_end = 2.0;

@@ -191,7 +191,7 @@ TEST(BadInput, NonFiniteStateMidRunStopsWithTimeAndState) {
   State<1> s;
   s.q[0] = 1.0;
   s.qd[0] = -10.0;  // reaches x = 0 at t ≈ 0.1
-  for (const std::string method : {"dopri5", "rk4", "cash_karp54", "fehlberg78", "bulirsch_stoer", "rosenbrock4"}) {
+  for (const std::string method : {"dopri5", "rk4", "cash_karp54", "fehlberg78", "bulirsch_stoer", "gauss_radau15", "rosenbrock4"}) {
     SimulationOptions o = valid();
     o.method = method;
     try {

@@ -284,6 +284,56 @@ TEST(GaussRadau, KeplerOrbitsKeepEnergyAndFollowTheClosedForm) {
   EXPECT_LT(dq, 1e-11);
 }
 
+TEST(GaussRadau, ALooserToleranceTakesLongerStepsForALargerError) {
+  // Three orbits of e = 0.9 against Kepler's equation: rtol loosens the
+  // method (its default keeps the error near round-off).
+  const lm::KeplerOrbit orbit(1.0, 0.9, 1.0);
+  const auto x0 = orbit.state(0.0);
+  State<2> s;
+  s.q << x0[0], x0[1];
+  s.qd << x0[2], x0[3];
+  const double T = 3 * orbit.period();
+  const auto end = orbit.state(T);
+  double prev_error = 0;
+  std::uint64_t prev_evaluations = ~std::uint64_t{0};
+  // (Beyond 1e-5 the longer steps need more iterations: no cheaper.)
+  for (double tol : {1e-9, 1e-7, 1e-5}) {
+    Recorder<2> rec;
+    const RunReport r = simulate(lm::RelativeMotion<2>(1.0, lm::NewtonianGravity{1.0}), s, radau(T, tol), rec);
+    const double error =
+        std::max(std::abs(rec.samples.back().q[0] - end[0]), std::abs(rec.samples.back().q[1] - end[1]));
+    std::printf("  rtol %.0e: error %.2e, %llu evaluations\n", tol, error,
+                static_cast<unsigned long long>(r.rhs_evaluations));
+    if (tol > 1e-9) {
+      EXPECT_GT(error, prev_error) << tol;
+      EXPECT_LT(r.rhs_evaluations, prev_evaluations) << tol;
+    }
+    prev_error = error;
+    prev_evaluations = r.rhs_evaluations;
+  }
+}
+
+TEST(GaussRadau, ChaoticDoublePendulumMatchesAnIndependentReference) {
+  // θ₁ = θ₂ = 2 rad from rest (m = l = 1, g = 9.81) to t = 5 s: the model's
+  // equations (automatic differentiation of T and V) against the state from
+  // hand-written equations integrated at 70 digits by Gragg–Bulirsch–Stoer
+  // extrapolation in mpmath (bench/reference/double_pendulum.txt).
+  State<2> s;
+  s.q << 2.0, 2.0;
+  s.qd << 0.0, 0.0;
+  Recorder<2> rec;
+  simulate(lm::DoublePendulum(1, 1, 1, 1, 9.81), s, radau(5.0, 1e-9), rec);
+  const auto& end = rec.samples.back();
+  const std::array<double, 4> reference{-1.410706688941584255, -4.041716878877189688, -1.984147306034064826,
+                                        -5.429525625408064226};
+  double error = 0;
+  for (int i = 0; i < 2; ++i)
+    error = std::max({error, std::abs(end.q[i] - reference[static_cast<std::size_t>(i)]),
+                      std::abs(end.qd[i] - reference[static_cast<std::size_t>(2 + i)])});
+  std::printf("  t = 5 s: max error %.2e\n", error);
+  EXPECT_LT(error, 1e-12);
+}
+
 TEST(GaussRadau, ConstrainedPendulumAgreesWithTheAngle) {
   // The pendulum as a constrained point (x, y, |r| = l) and as an angle θ,
   // both with this method: the same bob position after 5 s.

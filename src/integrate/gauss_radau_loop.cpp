@@ -18,6 +18,15 @@ namespace {
 /// chosen against a smaller tolerance shrink without end.
 constexpr double kSmallestTolerance = 1e-11;
 
+/// True when the events logged from index `from` on are all watched events
+/// (logged or stopping the run), and there is one at least.
+bool only_watched(const std::vector<EventRecord>& events, std::size_t from) {
+  if (events.size() <= from) return false;
+  for (std::size_t k = from; k < events.size(); ++k)
+    if (events[k].kind != EventKind::watched && events[k].kind != EventKind::stop) return false;
+  return true;
+}
+
 /// The loop on the stepper for N coordinates (N = 0: any).
 template <int N>
 void gauss_radau_loop(Run& run, StateVector& x, double eps) {
@@ -67,14 +76,16 @@ void gauss_radau_loop(Run& run, StateVector& x, double eps) {
     const auto interpolate = [&](double to, double* out) { stepper.dense((to - t_old) / h, out); };
     if (moves) {
       const double t_end = t;
+      const std::size_t logged = run.report().events.size();
       const bool event = run.handle_events(t_old, x_old.data(), t, x.data(), interpolator(interpolate));
       bool continuous = false;
-      if (event && t > t_old && t < t_end) {
-        // An event inside the step that left the state as the polynomial
-        // has it there (a watched event, a stop): the step is taken again,
-        // to the event, for the method's order there and the state's
-        // compensation (the polynomial inside a step is less accurate than
-        // its end). An impact breaks the acceleration's polynomial.
+      if (event && t > t_old && t < t_end && only_watched(run.report().events, logged)) {
+        // A watched event inside the step (a stop, or one only logged)
+        // leaves the state and the equations of motion as they were: the
+        // step is taken again, to the event, for the method's order there
+        // and the state's compensation (the polynomial inside a step is
+        // less accurate than its end). An impact, a rest or a lift-off
+        // changes the state or the equations, and restarts the stepper.
         interpolate(t, x_event.data());
         continuous = true;
         for (std::size_t i = 0; i < x.size(); ++i)
