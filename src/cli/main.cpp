@@ -282,7 +282,7 @@ int main(int argc, char** argv) {
   bench->add_option("scene", scene_path, "scene file (TOML); - reads it from standard input")->required();
   bench->add_option("--set", set_texts, set_help);
   bench->add_option("--methods", methods_text,
-                    "comma-separated steppers (default dopri5,cash_karp54,fehlberg78,bulirsch_stoer,rk4)");
+                    "comma-separated steppers (default dopri5,cash_karp54,fehlberg78,bulirsch_stoer,gauss_radau15,rk4)");
   bench->add_option("--tolerances", tolerances_text, "LOOSE:TIGHT rtol = atol range (default 1e-3:1e-13)");
   bench->add_option("--per-decade", per_decade, "tolerances (and rk4 step sizes) per decade (default 1)");
   bench->add_option("--dt", dt_text, "LARGE:SMALL step sizes of rk4 in s (default span/100:span/1e5)");

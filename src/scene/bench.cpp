@@ -385,7 +385,10 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
   const std::vector<double> dts = grid(dt_large, dt_small, options.per_decade);
   for (const std::string& m : options.methods) {
     if (is_adaptive(m)) {
-      for (double t : tols) configs.push_back({m, t, t, scene.run.dt});
+      // gauss_radau15 runs tolerances below 1e-11 at 1e-11 (its error
+      // measure is round-off there): those points would repeat that one.
+      for (double t : tols)
+        if (m != "gauss_radau15" || t >= 1e-11 * (1 - 1e-9)) configs.push_back({m, t, t, scene.run.dt});
     } else {
       for (double h : dts) configs.push_back({m, 0, 0, h});
     }
