@@ -73,7 +73,8 @@ void gauss_radau_loop(Run& run, StateVector& x, double eps) {
     stepper.accept(h);
     t = clamped ? opt.t_end : t + h;
     stepper.state(x.data());
-    const auto interpolate = [&](double to, double* out) { stepper.dense((to - t_old) / h, out); };
+    // The last accepted step: this one, or the shorter one to an event in it.
+    const auto interpolate = [&](double to, double* out) { stepper.dense((to - t_old) / stepper.dense_step(), out); };
     if (moves) {
       const double t_end = t;
       const std::size_t logged = run.report().events.size();

@@ -156,6 +156,8 @@ class GaussRadau15 {
   /// The state (2n values) at the fraction s ∈ [0, 1] of the last accepted
   /// step, from its polynomial.
   void dense(double s, double* x) const;
+  /// The size of the last accepted step (the one dense() covers).
+  double dense_step() const { return dt_dense_; }
 
   /// A step whose next step would be under this fraction of it is
   /// rejected; steps grow by at most its inverse (Rein & Spiegel 2015).
