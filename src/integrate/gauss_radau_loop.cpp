@@ -98,7 +98,9 @@ void gauss_radau_loop(Run& run, StateVector& x, double eps) {
             stepper.accept(h_event);
             stepper.state(x.data());
           } else {
-            stepper.moved(x.data(), false);  // the shorter step is no harder; should it be, the dense state
+            // A shorter step converges where the longer one did; should it
+            // not, the run goes on from the event's state on the polynomial.
+            stepper.moved(x.data(), false);
           }
         }
       }
