@@ -65,15 +65,6 @@ GaussRadauConstants make_constants() {
     g.inv_h[k] = 1.0 / h[k];
     for (std::size_t j = 1; j < k; ++j) g.inv_gap[k][j] = 1.0 / (h[k] - h[j]);
   }
-  for (std::size_t k = 1; k <= K; ++k) {
-    const long double s = h[k];
-    long double p = s * s * s, v = s * s;  // s^{j+3}, s^{j+2} for j = 0
-    for (std::size_t j = 0; j < K; ++j, p *= s, v *= s) {
-      g.position[k][j] = static_cast<double>(p / ((j + 2) * (j + 3)));
-      g.velocity[k][j] = static_cast<double>(v / (j + 2));
-    }
-    g.half_s2[k] = static_cast<double>(s * s / 2);
-  }
   for (int k = 0; k < K; ++k)
     for (int j = 0; j <= k; ++j) {
       double r = 1;  // C(k + 1, j + 1)

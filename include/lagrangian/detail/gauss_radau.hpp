@@ -56,11 +56,6 @@ struct GaussRadauConstants {
   std::array<std::array<double, K + 1>, K + 1> inv_gap{};
   /// C(k + 1, j + 1), for re-expanding a polynomial about a new step.
   std::array<std::array<double, K>, K> binomial{};
-  /// At node k (s = h_k): q = q₀ + Δt s q̇₀ + Δt² (half_s2[k] a₀ + Σ_j position[k][j] b_j)
-  /// and q̇ = q̇₀ + Δt (s a₀ + Σ_j velocity[k][j] b_j), with
-  /// position[k][j] = s^{j+3}/((j+2)(j+3)) and velocity[k][j] = s^{j+2}/(j+2).
-  std::array<std::array<double, K>, K + 1> position{}, velocity{};
-  std::array<double, K + 1> half_s2{};
 };
 const GaussRadauConstants& gauss_radau_constants();
 
@@ -197,6 +192,11 @@ class GaussRadau15 {
     p = t;
   }
   void predict(double dt);
+  /// The changes of q and q̇ (coordinate i) from a step's start to the
+  /// fraction s of it, for coefficients b, start velocity v0 and q̈ a0:
+  /// Δq = Δt s (v0 + Δt s (a0/2 + Σ_k b_k s^{k+1}/((k+2)(k+3)))),
+  /// Δq̇ = Δt s (a0 + Σ_k b_k s^{k+1}/(k+2)).
+  void increments(const Store<K>& b, int i, double v0, double a0, double s, double dt, double& dq, double& dv) const;
 
   int n_;
   Store<1> q_{}, v_{}, cq_{}, cv_{};  // state and its compensation (q − cq is the sum)
@@ -277,18 +277,9 @@ typename GaussRadau15<N>::Attempt GaussRadau15<N>::attempt(FirstOrderRhs f, doub
     for (int node = 1; node <= K; ++node) {
       const std::size_t nd = static_cast<std::size_t>(node);
       const double s = h[nd];
-      const auto& pw = gr.position[nd];
-      const auto& vw = gr.velocity[nd];
-      const double dts = dt * s, dt2 = dt * dt;
       for (int i = 0; i < n(); ++i) {
-        // Sums in pairs rather than by Horner: shorter chains of dependent operations.
-        const auto term = [&](const std::array<double, K>& w, int k) { return w[static_cast<std::size_t>(k)] * b_[at(k, i)]; };
-        const double pq = ((term(pw, 0) + term(pw, 1)) + (term(pw, 2) + term(pw, 3))) +
-                          ((term(pw, 4) + term(pw, 5)) + term(pw, 6));
-        const double pv = ((term(vw, 0) + term(vw, 1)) + (term(vw, 2) + term(vw, 3))) +
-                          ((term(vw, 4) + term(vw, 5)) + term(vw, 6));
-        const double dq = dts * v_[at(i)] + dt2 * (gr.half_s2[nd] * a0_[at(i)] + pq);
-        const double dv = dt * (s * a0_[at(i)] + pv);
+        double dq, dv;
+        increments(b_, i, v_[at(i)], a0_[at(i)], s, dt, dq, dv);
         x_[at(i)] = q_[at(i)] + (dq - cq_[at(i)]);
         x_[at(n() + i)] = v_[at(i)] + (dv - cv_[at(i)]);
       }
@@ -401,17 +392,25 @@ void GaussRadau15<N>::rewind() {
 }
 
 template <int N>
+void GaussRadau15<N>::increments(const Store<K>& b, int i, double v0, double a0, double s, double dt, double& dq,
+                                 double& dv) const {
+  double pq = b[at(6, i)] * kPosition[6];
+  double pv = b[at(6, i)] * kVelocity[6];
+  for (int k = K - 2; k >= 0; --k) {
+    pq = b[at(k, i)] * kPosition[static_cast<std::size_t>(k)] + s * pq;
+    pv = b[at(k, i)] * kVelocity[static_cast<std::size_t>(k)] + s * pv;
+  }
+  dq = dt * s * (v0 + dt * s * (0.5 * a0 + s * pq));
+  dv = dt * s * (a0 + s * pv);
+}
+
+template <int N>
 void GaussRadau15<N>::dense(double s, double* x) const {
-  const double dt = dt_dense_;
   for (int i = 0; i < n(); ++i) {
-    double pq = b_dense_[at(6, i)] * kPosition[6];
-    double pv = b_dense_[at(6, i)] * kVelocity[6];
-    for (int k = K - 2; k >= 0; --k) {
-      pq = b_dense_[at(k, i)] * kPosition[static_cast<std::size_t>(k)] + s * pq;
-      pv = b_dense_[at(k, i)] * kVelocity[static_cast<std::size_t>(k)] + s * pv;
-    }
-    x[i] = q0_[at(i)] + (dt * s * (v0_[at(i)] + dt * s * (0.5 * a00_[at(i)] + s * pq)) - cq0_[at(i)]);
-    x[n() + i] = v0_[at(i)] + (dt * s * (a00_[at(i)] + s * pv) - cv0_[at(i)]);
+    double dq, dv;
+    increments(b_dense_, i, v0_[at(i)], a00_[at(i)], s, dt_dense_, dq, dv);
+    x[i] = q0_[at(i)] + (dq - cq0_[at(i)]);
+    x[n() + i] = v0_[at(i)] + (dv - cv0_[at(i)]);
   }
 }
 
