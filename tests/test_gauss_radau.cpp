@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "lagrangian/detail/gauss_radau.hpp"
@@ -232,6 +233,38 @@ TEST(GaussRadau, BouncingBallImpactsToTheClosedForm) {
   }
   EXPECT_EQ(checked, 5);
   std::printf("  first 5 impacts within %.3e s of the closed form\n", worst);
+}
+
+TEST(GaussRadau, BouncingComesToRestAsWithDopri5) {
+  // The Zeno accumulation of a bouncing ball (e = 0.5) ends in a resting
+  // contact: the same impacts as dopri5, the bounce whose approach speed
+  // has fallen by e^20 < 1e-6 (zeno_speed_ratio) ending it. It comes at
+  // t₁ (1 + 2 Σ_{j=1}^{20} e^j), t₁ = √(2h/g); each impact is located to
+  // event_time_tolerance (1e-12 s).
+  const double e = 0.5, g = 9.81, h = 1.0;
+  State<3> s;
+  s.q << 0.0, 0.0, h + 0.1;
+  s.qd.setZero();
+  const auto rest_time = [&](const std::string& method, std::uint64_t& impacts) {
+    SimulationOptions o = radau(4.0);
+    o.method = method;
+    const RunReport r = simulate(lm::BallAndPlane(1.0, 0.1, e, g), s, o);
+    impacts = r.impacts;
+    for (const EventRecord& ev : r.events)
+      if (ev.kind == EventKind::rest) return ev.t;
+    return -1.0;
+  };
+  std::uint64_t impacts_radau = 0, impacts_dopri = 0;
+  const double t_radau = rest_time("gauss_radau15", impacts_radau);
+  const double t_dopri = rest_time("dopri5", impacts_dopri);
+  double t_rest = 1, ej = 1;
+  for (int j = 1; j <= 20; ++j) t_rest += 2 * (ej *= e);
+  t_rest *= std::sqrt(2 * h / g);
+  std::printf("  rest at %.15f s (dopri5 %.15f s, closed form %.15f s), %llu impacts\n", t_radau, t_dopri, t_rest,
+              static_cast<unsigned long long>(impacts_radau));
+  EXPECT_EQ(impacts_radau, 20u);
+  EXPECT_EQ(impacts_dopri, 20u);
+  EXPECT_NEAR(t_radau, t_rest, 20 * 1e-12);
 }
 
 TEST(GaussRadau, LinearDragIteratesTheVelocityDependentForce) {
