@@ -13,11 +13,6 @@
 namespace lagrangian::detail {
 
 namespace {
-/// The smallest tolerance the error measure |b₆|/|q̈| can resolve: below
-/// about 1e-12 it is the round-off of a 7th divided difference, and steps
-/// chosen against a smaller tolerance shrink without end.
-constexpr double kSmallestTolerance = 1e-11;
-
 /// True when the events logged from index `from` on are all watched events
 /// (logged or stopping the run), and there is one at least.
 bool only_watched(const std::vector<EventRecord>& events, std::size_t from) {
@@ -41,7 +36,7 @@ void gauss_radau_loop(Run& run, StateVector& x, double eps) {
   GaussRadau15<N> stepper(run.size());
   stepper.start(x.data());
   const bool moves = run.has_events() || run.has_constraints();
-  StateVector x_old = x, x_event = x;
+  StateVector x_old = x;
   double t = opt.t0;
   double dt = opt.dt;
   while (!reached(t, opt.t_end) && !run.stopped()) {
@@ -79,34 +74,28 @@ void gauss_radau_loop(Run& run, StateVector& x, double eps) {
       const double t_end = t;
       const std::size_t logged = run.report().events.size();
       const bool event = run.handle_events(t_old, x_old.data(), t, x.data(), interpolator(interpolate));
-      bool continuous = false;
-      if (event && t > t_old && t < t_end && only_watched(run.report().events, logged)) {
-        // A watched event inside the step (a stop, or one only logged)
-        // leaves the state and the equations of motion as they were: the
-        // step is taken again, to the event, for the method's order there
-        // and the state's compensation (the polynomial inside a step is
-        // less accurate than its end). An impact, a rest or a lift-off
-        // changes the state or the equations, and restarts the stepper.
-        interpolate(t, x_event.data());
-        continuous = true;
-        for (std::size_t i = 0; i < x.size(); ++i)
-          continuous = continuous && std::abs(x[i] - x_event[i]) <= 1e-14 * std::max(1.0, std::abs(x_event[i]));
-        if (continuous) {
-          stepper.rewind();
-          const double h_event = t - t_old;
-          if (stepper.attempt(rhs, t_old, h_event).converged) {
-            stepper.accept(h_event);
-            stepper.state(x.data());
-          } else {
-            // A shorter step converges where the longer one did; should it
-            // not, the run goes on from the event's state on the polynomial.
-            stepper.moved(x.data(), false);
-          }
+      // A watched event inside the step (a stop, or one only logged) leaves
+      // the state where the polynomial has it and the equations of motion
+      // as they were: the step is taken again, to the event, for the
+      // method's order there and the state's compensation (the polynomial
+      // inside a step is less accurate than its end). An impact, a rest or a
+      // lift-off changes the state or the equations, and restarts the stepper.
+      const bool watched = event && t > t_old && t < t_end && only_watched(run.report().events, logged);
+      if (watched) {
+        stepper.rewind();
+        const double h_event = t - t_old;
+        if (stepper.attempt(rhs, t_old, h_event).converged) {
+          stepper.accept(h_event);
+          stepper.state(x.data());
+        } else {
+          // A shorter step converges where the longer one did; should it
+          // not, the run goes on from the event's state on the polynomial.
+          stepper.moved(x.data(), false);
         }
       }
       const bool projected = run.stabilize(x.data(), t);
       // A projection moves the state by a rounding's worth and keeps the polynomial.
-      if ((event && !continuous) || projected) stepper.moved(x.data(), event && !continuous);
+      if ((event && !watched) || projected) stepper.moved(x.data(), event && !watched);
     }
     run.reset_rejections();
     run.accepted(t_old, t, x.data(), interpolate);
@@ -118,13 +107,13 @@ void gauss_radau_loop(Run& run, StateVector& x, double eps) {
 
 void run_gauss_radau15(Run& run, StateVector& x) {
   const SimulationOptions& opt = run.options();
-  const double eps = std::max(opt.rtol, kSmallestTolerance);
-  if (opt.rtol < kSmallestTolerance) {
+  const double eps = std::max(opt.rtol, kGaussRadauSmallestTolerance);
+  if (opt.rtol < kGaussRadauSmallestTolerance) {
     char text[200];
     std::snprintf(text, sizeof text,
                   "gauss_radau15 ran at rtol %.0e, not %.3g: its error measure |b6|/|qdd| is round-off below that "
                   "(the run's error is round-off from about 1e-9 on)",
-                  kSmallestTolerance, opt.rtol);
+                  kGaussRadauSmallestTolerance, opt.rtol);
     run.report().warnings.emplace_back(text);
   }
   switch (run.size()) {

@@ -15,6 +15,7 @@
 #include <sstream>
 #include <thread>
 
+#include "lagrangian/detail/gauss_radau.hpp"
 #include "lagrangian/detail/text_output.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/plots.hpp"
@@ -385,10 +386,11 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
   const std::vector<double> dts = grid(dt_large, dt_small, options.per_decade);
   for (const std::string& m : options.methods) {
     if (is_adaptive(m)) {
-      // gauss_radau15 runs tolerances below 1e-11 at 1e-11 (its error
-      // measure is round-off there): those points would repeat that one.
+      // gauss_radau15 runs tolerances below its smallest at that one (its
+      // error measure is round-off there): those points would repeat it.
+      const double smallest = lagrangian::detail::kGaussRadauSmallestTolerance;
       for (double t : tols)
-        if (m != "gauss_radau15" || t >= 1e-11 * (1 - 1e-9)) configs.push_back({m, t, t, scene.run.dt});
+        if (m != "gauss_radau15" || t >= smallest * (1 - 1e-9)) configs.push_back({m, t, t, scene.run.dt});
     } else {
       for (double h : dts) configs.push_back({m, 0, 0, h});
     }

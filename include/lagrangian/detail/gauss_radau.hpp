@@ -37,6 +37,12 @@
 
 namespace lagrangian::detail {
 
+/// The smallest tolerance the error measure |b₆|/|q̈| can resolve: below
+/// about 1e-12 it is the round-off of a 7th divided difference, and steps
+/// chosen against a smaller tolerance shrink without end. A run asking for
+/// less runs at this and says so.
+inline constexpr double kGaussRadauSmallestTolerance = 1e-11;
+
 /// f(x, ẋ, t) of the first-order system x = [q; q̇] (2n values): the
 /// stepper uses the second half of ẋ, q̈.
 using FirstOrderRhs = FunctionRef<void(const double* x, double* dxdt, double t)>;
@@ -76,12 +82,13 @@ class GaussRadau15 {
   /// A stepper for n coordinates (n = N when N > 0).
   explicit GaussRadau15(int n = N) : n_(N > 0 ? N : n) {
     if constexpr (N == 0) {
-      for (auto* v : {&q_, &v_, &cq_, &cv_, &a0_, &q0_, &v0_, &cq0_, &cv0_, &a00_}) v->assign(static_cast<std::size_t>(n_), 0.0);
-      for (auto* v : {&b_, &g_, &e_, &b_last_, &e_last_, &b_dense_, &b_before_, &e_before_}) v->assign(static_cast<std::size_t>(K * n_), 0.0);
+      for (Start* st : {&now_, &start_}) resize(*st);
+      for (Polynomial* p : {&last_, &before_, &dense_}) resize(*p);
+      for (auto* v : {&b_, &g_, &e_}) v->assign(static_cast<std::size_t>(K * n_), 0.0);
       x_.assign(static_cast<std::size_t>(2 * n_), 0.0);
       dx_ = x_;
     } else {
-      for (auto* v : {&b_, &g_, &e_, &b_last_, &e_last_, &b_dense_, &b_before_, &e_before_}) v->fill(0.0);
+      for (auto* v : {&b_, &g_, &e_}) v->fill(0.0);
     }
     gauss_radau_constants();
   }
@@ -93,12 +100,12 @@ class GaussRadau15 {
   /// still predicts the next) or by an impact (true: it does not).
   void moved(const double* x, bool discontinuous) {
     for (int i = 0; i < n(); ++i) {
-      q_[at(i)] = x[i];
-      v_[at(i)] = x[n() + i];
-      cq_[at(i)] = cv_[at(i)] = 0.0;
+      now_.q[at(i)] = x[i];
+      now_.v[at(i)] = x[n() + i];
+      now_.cq[at(i)] = now_.cv[at(i)] = 0.0;
     }
     a0_valid_ = false;
-    if (discontinuous) have_last_ = false;
+    if (discontinuous) last_.valid = false;
   }
 
   /// What an attempted step found.
@@ -144,15 +151,15 @@ class GaussRadau15 {
   /// The state (2n values) after the last accepted step.
   void state(double* x) const {
     for (int i = 0; i < n(); ++i) {
-      x[i] = q_[at(i)] - cq_[at(i)];
-      x[n() + i] = v_[at(i)] - cv_[at(i)];
+      x[i] = now_.q[at(i)] - now_.cq[at(i)];
+      x[n() + i] = now_.v[at(i)] - now_.cv[at(i)];
     }
   }
   /// The state (2n values) at the fraction s ∈ [0, 1] of the last accepted
   /// step, from its polynomial.
   void dense(double s, double* x) const;
   /// The size of the last accepted step (the one dense() covers).
-  double dense_step() const { return dt_dense_; }
+  double dense_step() const { return dense_.dt; }
 
   /// A step whose next step would be under this fraction of it is
   /// rejected; steps grow by at most its inverse (Rein & Spiegel 2015).
@@ -198,22 +205,33 @@ class GaussRadau15 {
   /// Δq̇ = Δt s (a0 + Σ_k b_k s^{k+1}/(k+2)).
   void increments(const Store<K>& b, int i, double v0, double a0, double s, double dt, double& dq, double& dv) const;
 
+  /// The state at a step's start, with its compensation (q − cq is the
+  /// sum), and q̈ there.
+  struct Start {
+    Store<1> q{}, v{}, cq{}, cv{}, a0{};
+  };
+  /// An accepted step's polynomial: its converged b, the prediction they
+  /// were iterated from, the step's size; `valid` false when there is none.
+  struct Polynomial {
+    Store<K> b{}, e{};
+    double dt = 0;
+    bool valid = false;
+  };
+  void resize(Start& s) const {
+    for (auto* v : {&s.q, &s.v, &s.cq, &s.cv, &s.a0}) v->assign(static_cast<std::size_t>(n_), 0.0);
+  }
+  void resize(Polynomial& p) const {
+    for (auto* v : {&p.b, &p.e}) v->assign(static_cast<std::size_t>(K * n_), 0.0);
+  }
+
   int n_;
-  Store<1> q_{}, v_{}, cq_{}, cv_{};  // state and its compensation (q − cq is the sum)
-  Store<1> a0_{};                     // q̈ at the start of the step
-  bool a0_valid_ = false;
+  Start now_;                         // the current state: the next step's start
+  bool a0_valid_ = false;             // now_.a0 is q̈ at now_
   Store<K> b_{}, g_{}, e_{};          // 7 × n each: b_k of the attempt, Newton g_k, its prediction
-  Store<K> b_last_{}, e_last_{};      // the last accepted step's b and its prediction
-  double dt_last_ = 0;
-  bool have_last_ = false;
-  // The last accepted step, for dense output.
-  Store<1> q0_{}, v0_{}, cq0_{}, cv0_{}, a00_{};
-  Store<K> b_dense_{};
-  double dt_dense_ = 0;
-  // The prediction as it was before the last accepted step, for rewind().
-  Store<K> b_before_{}, e_before_{};
-  double dt_before_ = 0;
-  bool have_before_ = false;
+  Polynomial last_;                   // the last accepted step's, predicting the next
+  Polynomial before_;                 // the one before it, for rewind()
+  Start start_;                       // the last accepted step's start, for dense() and rewind()
+  Polynomial dense_;                  // the last accepted step's, for dense()
   Store<2> x_{}, dx_{};               // 2n: a node's state and its derivative
 };
 
@@ -224,8 +242,8 @@ void GaussRadau15<N>::predict(double dt) {
   // e_j = r^{j+1} Σ_{k ≥ j} C(k+1, j+1) b_k for the power s^{j+1}. The
   // difference between the last step's converged b and its own prediction
   // is added to the new prediction (Everhart 1985).
-  const double r = have_last_ ? dt / dt_last_ : 0.0;
-  if (!have_last_ || !(r <= kMaxPredictedRatio)) {
+  const double r = last_.valid ? dt / last_.dt : 0.0;
+  if (!last_.valid || !(r <= kMaxPredictedRatio)) {
     std::fill(e_.begin(), e_.end(), 0.0);
     std::fill(b_.begin(), b_.end(), 0.0);
     return;
@@ -235,9 +253,9 @@ void GaussRadau15<N>::predict(double dt) {
   for (int j = 0; j < K; ++j, rp *= r)
     for (int i = 0; i < n(); ++i) {
       double s = 0;
-      for (int k = j; k < K; ++k) s += binomial[static_cast<std::size_t>(k)][static_cast<std::size_t>(j)] * b_last_[at(k, i)];
+      for (int k = j; k < K; ++k) s += binomial[static_cast<std::size_t>(k)][static_cast<std::size_t>(j)] * last_.b[at(k, i)];
       e_[at(j, i)] = rp * s;
-      b_[at(j, i)] = e_[at(j, i)] + (b_last_[at(j, i)] - e_last_[at(j, i)]);
+      b_[at(j, i)] = e_[at(j, i)] + (last_.b[at(j, i)] - last_.e[at(j, i)]);
     }
 }
 
@@ -248,11 +266,11 @@ typename GaussRadau15<N>::Attempt GaussRadau15<N>::attempt(FirstOrderRhs f, doub
   const auto& c = gr.c;
   if (!a0_valid_) {
     for (int i = 0; i < n(); ++i) {
-      x_[at(i)] = q_[at(i)];
-      x_[at(n() + i)] = v_[at(i)];
+      x_[at(i)] = now_.q[at(i)];
+      x_[at(n() + i)] = now_.v[at(i)];
     }
     f(x_.data(), dx_.data(), t);
-    for (int i = 0; i < n(); ++i) a0_[at(i)] = dx_[at(n() + i)];
+    for (int i = 0; i < n(); ++i) now_.a0[at(i)] = dx_[at(n() + i)];
     a0_valid_ = true;
   }
   predict(dt);
@@ -268,7 +286,7 @@ typename GaussRadau15<N>::Attempt GaussRadau15<N>::attempt(FirstOrderRhs f, doub
   // The scale of q̈ over the step: the largest |q̈| at its start and nodes
   // (one node's alone may pass near zero).
   double a0_scale = 0;
-  for (int i = 0; i < n(); ++i) a0_scale = std::max(a0_scale, std::abs(a0_[at(i)]));
+  for (int i = 0; i < n(); ++i) a0_scale = std::max(a0_scale, std::abs(now_.a0[at(i)]));
   double max_acc = a0_scale;
   for (int it = 1; it <= kMaxIterations; ++it) {
     out.iterations = it;
@@ -279,9 +297,9 @@ typename GaussRadau15<N>::Attempt GaussRadau15<N>::attempt(FirstOrderRhs f, doub
       const double s = h[nd];
       for (int i = 0; i < n(); ++i) {
         double dq, dv;
-        increments(b_, i, v_[at(i)], a0_[at(i)], s, dt, dq, dv);
-        x_[at(i)] = q_[at(i)] + (dq - cq_[at(i)]);
-        x_[at(n() + i)] = v_[at(i)] + (dv - cv_[at(i)]);
+        increments(b_, i, now_.v[at(i)], now_.a0[at(i)], s, dt, dq, dv);
+        x_[at(i)] = now_.q[at(i)] + (dq - now_.cq[at(i)]);
+        x_[at(n() + i)] = now_.v[at(i)] + (dv - now_.cv[at(i)]);
       }
       f(x_.data(), dx_.data(), t + s * dt);
       const double* acc = dx_.data() + n();
@@ -292,7 +310,7 @@ typename GaussRadau15<N>::Attempt GaussRadau15<N>::attempt(FirstOrderRhs f, doub
         // The divided difference a[0, h₁, …, h_node], by the recursion on
         // differences (exactly 0 for a constant q̈; a sum with explicit
         // weights loses two digits to cancellation).
-        double d = (acc[i] - a0_[at(i)]) * inv_h;
+        double d = (acc[i] - now_.a0[at(i)]) * inv_h;
         for (int j = 1; j < node; ++j) d = (d - g_[at(j - 1, i)]) * inv_gap[static_cast<std::size_t>(j)];
         const double change = d - g_[at(node - 1, i)];
         g_[at(node - 1, i)] = d;
@@ -317,7 +335,7 @@ typename GaussRadau15<N>::Attempt GaussRadau15<N>::attempt(FirstOrderRhs f, doub
   // q̈ = a₀ + Σ b_k, q⃛ = Σ (k+1) b_k / Δt, q⁗ = Σ (k+1) k b_k / Δt².
   double a2 = 0, j2 = 0, s2 = 0;
   for (int i = 0; i < n(); ++i) {
-    double a = a0_[at(i)], jerk = 0, snap = 0;
+    double a = now_.a0[at(i)], jerk = 0, snap = 0;
     for (int k = 0; k < K; ++k) {
       const double bk = b_[at(k, i)];
       a += bk;
@@ -337,58 +355,43 @@ typename GaussRadau15<N>::Attempt GaussRadau15<N>::attempt(FirstOrderRhs f, doub
 
 template <int N>
 void GaussRadau15<N>::accept(double dt) {
-  q0_ = q_;
-  v0_ = v_;
-  cq0_ = cq_;
-  cv0_ = cv_;
-  a00_ = a0_;
+  start_ = now_;
   const double dt2 = dt * dt;
   for (int i = 0; i < n(); ++i) {
     // Smallest terms first. The largest, q̇₀ Δt and q̈₀ Δt, are added with
     // their products' rounding (exact by fma) and with the velocity's own
     // compensation: the state's round-off then does not grow with the steps.
-    double& q = q_[at(i)];
-    double& cq = cq_[at(i)];
-    double& v = v_[at(i)];
-    double& cv = cv_[at(i)];
+    double& q = now_.q[at(i)];
+    double& cq = now_.cq[at(i)];
+    double& v = now_.v[at(i)];
+    double& cv = now_.cv[at(i)];
     for (int k = K - 1; k >= 0; --k) {
       const double bk = b_[at(k, i)];
       add_compensated(q, cq, dt2 * kPosition[static_cast<std::size_t>(k)] * bk);
       add_compensated(v, cv, dt * kVelocity[static_cast<std::size_t>(k)] * bk);
     }
-    add_compensated(q, cq, 0.5 * dt2 * a0_[at(i)]);
-    const double qv = dt * v0_[at(i)];
-    add_compensated(q, cq, std::fma(dt, v0_[at(i)], -qv) - dt * cv0_[at(i)]);
+    add_compensated(q, cq, 0.5 * dt2 * now_.a0[at(i)]);
+    const double qv = dt * start_.v[at(i)];
+    add_compensated(q, cq, std::fma(dt, start_.v[at(i)], -qv) - dt * start_.cv[at(i)]);
     add_compensated(q, cq, qv);
-    const double va = dt * a0_[at(i)];
-    add_compensated(v, cv, std::fma(dt, a0_[at(i)], -va));
+    const double va = dt * now_.a0[at(i)];
+    add_compensated(v, cv, std::fma(dt, now_.a0[at(i)], -va));
     add_compensated(v, cv, va);
   }
-  b_before_ = b_last_;
-  e_before_ = e_last_;
-  dt_before_ = dt_last_;
-  have_before_ = have_last_;
-  b_last_ = b_;
-  e_last_ = e_;
-  dt_last_ = dt;
-  b_dense_ = b_;
-  dt_dense_ = dt;
-  have_last_ = true;
+  before_ = last_;
+  last_.b = b_;
+  last_.e = e_;
+  last_.dt = dt;
+  last_.valid = true;
+  dense_ = last_;
   a0_valid_ = false;
 }
 
 template <int N>
 void GaussRadau15<N>::rewind() {
-  q_ = q0_;
-  v_ = v0_;
-  cq_ = cq0_;
-  cv_ = cv0_;
-  a0_ = a00_;
+  now_ = start_;
   a0_valid_ = true;
-  b_last_ = b_before_;
-  e_last_ = e_before_;
-  dt_last_ = dt_before_;
-  have_last_ = have_before_;
+  last_ = before_;
 }
 
 template <int N>
@@ -408,9 +411,9 @@ template <int N>
 void GaussRadau15<N>::dense(double s, double* x) const {
   for (int i = 0; i < n(); ++i) {
     double dq, dv;
-    increments(b_dense_, i, v0_[at(i)], a00_[at(i)], s, dt_dense_, dq, dv);
-    x[i] = q0_[at(i)] + (dq - cq0_[at(i)]);
-    x[n() + i] = v0_[at(i)] + (dv - cv0_[at(i)]);
+    increments(dense_.b, i, start_.v[at(i)], start_.a0[at(i)], s, dense_.dt, dq, dv);
+    x[i] = start_.q[at(i)] + (dq - start_.cq[at(i)]);
+    x[n() + i] = start_.v[at(i)] + (dv - start_.cv[at(i)]);
   }
 }
 
