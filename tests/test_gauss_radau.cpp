@@ -186,6 +186,24 @@ TEST(GaussRadau, ReversibleToRoundOff) {
 
 // -- in runs (simulate) ------------------------------------------------------------
 
+/// Kepler's problem as the relative motion of two bodies, μ = k = 1 (GM = 1).
+const lm::RelativeMotion<2> kKepler(1.0, lm::NewtonianGravity{1.0});
+
+/// The state of `orbit` at time t: position (m) and velocity (m/s).
+State<2> orbit_state(const lm::KeplerOrbit& orbit, double t) {
+  const auto x = orbit.state(t);
+  State<2> s;
+  s.q << x[0], x[1];
+  s.qd << x[2], x[3];
+  return s;
+}
+
+/// max_i |q_i − the orbit's position at t| (m).
+double position_error(const Sample<2>& x, const lm::KeplerOrbit& orbit, double t) {
+  const auto exact = orbit.state(t);
+  return std::max(std::abs(x.q[0] - exact[0]), std::abs(x.q[1] - exact[1]));
+}
+
 SimulationOptions radau(double t_end, double rtol = 1e-10) {
   SimulationOptions o;
   o.method = "gauss_radau15";
@@ -291,15 +309,9 @@ TEST(GaussRadau, KeplerOrbitsKeepEnergyAndFollowTheClosedForm) {
   // two bodies, μ = 1, k = 1): the energy to round-off and the position to
   // Kepler's equation.
   const lm::KeplerOrbit orbit(1.0, 0.9, 1.0);
-  const auto x0 = orbit.state(0.0);
-  State<2> s;
-  s.q << x0[0], x0[1];
-  s.qd << x0[2], x0[3];
   const double T = 10 * orbit.period();
   Recorder<2> rec;
-  const lm::RelativeMotion<2> model(1.0, lm::NewtonianGravity{1.0});
-  const RunReport r = simulate(model, s, radau(T, 1e-9), rec);
-  const auto end = orbit.state(T);
+  const RunReport r = simulate(kKepler, orbit_state(orbit, 0.0), radau(T, 1e-9), rec);
   // The energy ½|q̇|² − 1/|q| in long double: in double its own round-off at
   // periapsis (|V| = 20 |E|) would be as large as what is measured.
   const auto energy = [](const Sample<2>& x) {
@@ -308,7 +320,7 @@ TEST(GaussRadau, KeplerOrbitsKeepEnergyAndFollowTheClosedForm) {
   };
   const long double E0 = energy(rec.samples.front()), E1 = energy(rec.samples.back());
   const double dE = static_cast<double>(std::abs((E1 - E0) / E0));
-  const double dq = std::max(std::abs(rec.samples.back().q[0] - end[0]), std::abs(rec.samples.back().q[1] - end[1]));
+  const double dq = position_error(rec.samples.back(), orbit, T);
   std::printf("  10 orbits e = 0.9: |dE/E| %.2e, position %.2e, %llu steps, %llu evaluations\n", dE, dq,
               static_cast<unsigned long long>(r.steps), static_cast<unsigned long long>(r.rhs_evaluations));
   // Round-off: about 1e-15 of |E| per step near periapsis, a random walk over
@@ -321,20 +333,14 @@ TEST(GaussRadau, ALooserToleranceTakesLongerStepsForALargerError) {
   // Three orbits of e = 0.9 against Kepler's equation: rtol loosens the
   // method (its default keeps the error near round-off).
   const lm::KeplerOrbit orbit(1.0, 0.9, 1.0);
-  const auto x0 = orbit.state(0.0);
-  State<2> s;
-  s.q << x0[0], x0[1];
-  s.qd << x0[2], x0[3];
   const double T = 3 * orbit.period();
-  const auto end = orbit.state(T);
   double prev_error = 0;
   std::uint64_t prev_evaluations = ~std::uint64_t{0};
   // (Beyond 1e-5 the longer steps need more iterations: no cheaper.)
   for (double tol : {1e-9, 1e-7, 1e-5}) {
     Recorder<2> rec;
-    const RunReport r = simulate(lm::RelativeMotion<2>(1.0, lm::NewtonianGravity{1.0}), s, radau(T, tol), rec);
-    const double error =
-        std::max(std::abs(rec.samples.back().q[0] - end[0]), std::abs(rec.samples.back().q[1] - end[1]));
+    const RunReport r = simulate(kKepler, orbit_state(orbit, 0.0), radau(T, tol), rec);
+    const double error = position_error(rec.samples.back(), orbit, T);
     std::printf("  rtol %.0e: error %.2e, %llu evaluations\n", tol, error,
                 static_cast<unsigned long long>(r.rhs_evaluations));
     if (tol > 1e-9) {
@@ -373,14 +379,10 @@ TEST(GaussRadau, SamplesBetweenStepsFollowTheClosedForm) {
   // event, and the samples before it come from that shorter step): every
   // sample of three orbits of e = 0.5 against Kepler's equation.
   const lm::KeplerOrbit orbit(1.0, 0.5, 1.0);
-  const auto x0 = orbit.state(0.3);
-  State<2> s;
-  s.q << x0[0], x0[1];
-  s.qd << x0[2], x0[3];
   SimulationOptions o = radau(3 * orbit.period(), 1e-10);
   o.output_interval = 0.01;
   Recorder<2> rec;
-  const RunReport r = simulate(lm::RelativeMotion<2>(1.0, lm::NewtonianGravity{1.0}), s, o, rec);
+  const RunReport r = simulate(kKepler, orbit_state(orbit, 0.3), o, rec);
   EXPECT_EQ(r.events.size(), 3u);  // three periapses
   double worst = 0;
   for (const auto& x : rec.samples) {
