@@ -2,8 +2,10 @@
 #include <benchmark/benchmark.h>
 
 #include "hand_coded.hpp"
+#include "lagrangian/detail/constant_mass.hpp"
 #include "lagrangian/dynamics.hpp"
 #include "lagrangian/models/pendulums.hpp"
+#include "lagrangian/models/two_body.hpp"
 
 namespace {
 
@@ -60,6 +62,47 @@ void BM_DoublePendulum_AD(benchmark::State& st) {
   }
 }
 BENCHMARK(BM_DoublePendulum_AD);
+
+// Two bodies in Cartesian coordinates (n = 4, M diagonal): q̈ as a run
+// takes it (the model declares constant_mass_matrix: M factored once, then
+// ∇V alone), as accelerations() gives it (the AD pass for M, ∂L/∂q and the
+// mixed term, a diagonal M divided out), and by the general path (the same
+// pass, M factored and solved).
+lagrangian::models::TwoBody<2> two_body() { return {1.0, 1e-3, lagrangian::models::NewtonianGravity{1e-3}}; }
+
+enum class Path { run, accelerations, general };
+
+template <Path P>
+void two_body_qdd(benchmark::State& st) {
+  const auto model = two_body();
+  lagrangian::Workspace<4> ws;
+  Vec<double, 4> q(-2e-4, 0.1, 0.5, -0.2), qd(0.01, -0.03, -1.2, 0.8), qdd;
+  lagrangian::detail::ConstantMassAccelerations<lagrangian::models::TwoBody<2>> constant_mass;
+  constant_mass.prepare(model, ws, q, qd, 0.0);
+  for (auto _ : st) {
+    q[0] += 1e-9;
+    q[3] -= 1e-9;
+    qd[1] += 1e-9;
+    benchmark::DoNotOptimize(q.data());
+    benchmark::DoNotOptimize(qd.data());
+    if constexpr (P == Path::run) {
+      constant_mass(model, ws, q, qd, 0.0, qdd);
+    } else if constexpr (P == Path::accelerations) {
+      lagrangian::accelerations(model, ws, q, qd, 0.0, qdd);
+    } else {
+      lagrangian::evaluate(model, ws, q, qd, 0.0);
+      lagrangian::detail::factor_mass_matrix(ws, q, qd, 0.0);
+      qdd = ws.cholesky.solve(ws.rhs);
+    }
+    benchmark::DoNotOptimize(qdd.data());
+  }
+}
+void BM_TwoBody_ConstantMass(benchmark::State& st) { two_body_qdd<Path::run>(st); }
+void BM_TwoBody_AD(benchmark::State& st) { two_body_qdd<Path::accelerations>(st); }
+void BM_TwoBody_AD_GeneralSolve(benchmark::State& st) { two_body_qdd<Path::general>(st); }
+BENCHMARK(BM_TwoBody_ConstantMass);
+BENCHMARK(BM_TwoBody_AD);
+BENCHMARK(BM_TwoBody_AD_GeneralSolve);
 
 template <int N>
 void BM_Chain_Hand(benchmark::State& st) {

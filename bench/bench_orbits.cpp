@@ -2,7 +2,9 @@
 // G = a = 1, from periapsis, for e = 0.5, 0.9, 0.99, in three formulations
 // of the same motion (Cartesian coordinates of both bodies, the relative
 // coordinate with the reduced mass, and plane polar coordinates), each with
-// gauss_radau15 and with fehlberg78 and bulirsch_stoer at rtol 1e-15.
+// gauss_radau15 and with fehlberg78 and bulirsch_stoer at rtol 1e-15; and
+// for gauss_radau15 the reduced-mass problem with its force correctly
+// rounded (reduced_exact_f: the round-off floor of evaluations in double).
 // Prints the relative energy error at the end (the final state's energy
 // evaluated in long double) and the median wall time of the repeats (docs/performance.md, "Gauss–Radau on eccentric orbits").
 //
@@ -51,6 +53,29 @@ Result measure(const M& model, const State<N>& x0, SimulationOptions o, int repe
   r.wall = walls[walls.size() / 2];
   return r;
 }
+
+/// The reduced-mass problem with its force −k r/r³ computed in long double
+/// and rounded once, as a generalized force (V = 0): q̈ correctly rounded,
+/// the floor of what any evaluation in double can give. Only for
+/// gauss_radau15, to show where its energy error comes from.
+struct CorrectlyRoundedKepler {
+  static constexpr int coordinate_count = 2;
+  static constexpr bool constant_mass_matrix = true;
+  double mu, k;
+  template <class S>
+  S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
+    return 0.5 * mu * (qd[0] * qd[0] + qd[1] * qd[1]);
+  }
+  template <class S>
+  S potential(const Vec<S, 2>&, const S&) const {
+    return S(0);
+  }
+  Vec<double, 2> generalized_forces(const Vec<double, 2>& q, const Vec<double, 2>&, double) const {
+    using L = long double;
+    const L x = q[0], y = q[1], r2 = x * x + y * y, f = L(k) / (r2 * std::sqrt(r2));
+    return Vec<double, 2>(static_cast<double>(-f * x), static_cast<double>(-f * y));
+  }
+};
 
 }  // namespace
 
@@ -114,6 +139,8 @@ int main(int argc, char** argv) {
           return L(0.5) * mu * v2 - k / std::sqrt(L(x.q[0]) * x.q[0] + L(x.q[1]) * x.q[1]);
         };
         row("reduced_mass", measure(lm::RelativeMotion<2>(mu, lm::NewtonianGravity{k}), s, o, repeats, energy));
+        if (method.name == "gauss_radau15")
+          row("reduced_exact_f", measure(CorrectlyRoundedKepler{mu, k}, s, o, repeats, energy));
       }
       {  // plane polar coordinates (r, φ) of the relative coordinate
         State<2> s;

@@ -8,7 +8,10 @@
 #include <Eigen/LU>
 
 #include "lagrangian/lagrangian.hpp"
+#include "lagrangian/detail/constant_mass.hpp"
 #include "lagrangian/models/pendulums.hpp"
+#include "lagrangian/models/projectile.hpp"
+#include "lagrangian/models/two_body.hpp"
 
 namespace {
 
@@ -307,6 +310,242 @@ TEST(ModelSpelling, CoordinateCountAndTheOlderDofAgree) {
   EXPECT_EQ(ra.steps, rb.steps);
   EXPECT_EQ(ra.energy_final, rb.energy_final);
   EXPECT_LE(ra.energy_drift_max, 1e-8);
+}
+
+
+// -- models declaring constant_mass_matrix (T = ½ q̇ᵀ M q̇ + bᵀq̇ + c with
+// constant M, b, c): their q̈ against Newton's law written out by hand, the
+// run's results against the same model without the declaration, and a false
+// declaration stopping the run with an error that names it.
+
+namespace lm = lagrangian::models;
+
+/// The same model with the declaration withdrawn: the general equations of
+/// motion (one AD pass for M, ∂L/∂q and the mixed term, then M⁻¹).
+template <class M>
+struct General : M {
+  static constexpr bool constant_mass_matrix = false;
+  explicit General(M m) : M(std::move(m)) {}
+};
+
+template <class M>
+Vec<double, coordinate_count_v<M>> fast_qdd(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                                            const Vec<double, coordinate_count_v<M>>& qd, double t) {
+  constexpr int n = coordinate_count_v<M>;
+  lagrangian::detail::ConstantMassAccelerations<M> fast;
+  Workspace<n> ws;
+  fast.prepare(model, ws, q, qd, t);
+  Vec<double, n> out;
+  fast(model, ws, q, qd, t, out);
+  return out;
+}
+
+TEST(ConstantMass, TwoBodiesAccelerateAsNewtonsLawOfGravitation) {
+  // q̈₁ = k (r₂ − r₁)/(m₁ r³), q̈₂ = −k (r₂ − r₁)/(m₂ r³), in long double.
+  const double m1 = 1.0, m2 = 1e-3, k = 1e-3;
+  const lm::TwoBody<3> model(m1, m2, lm::NewtonianGravity{k});
+  static_assert(constant_mass_matrix_v<lm::TwoBody<3>>);
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  double worst_fast = 0, worst_general = 0;
+  for (int trial = 0; trial < 50; ++trial) {
+    Vec<double, 6> q, qd;
+    for (int i = 0; i < 6; ++i) {
+      q[i] = u(rng);
+      qd[i] = u(rng);
+    }
+    using L = long double;
+    L d[3], r2 = 0;
+    for (int c = 0; c < 3; ++c) {
+      d[c] = L(q[3 + c]) - L(q[c]);
+      r2 += d[c] * d[c];
+    }
+    const L f = L(k) / (r2 * std::sqrt(r2));
+    const Vec<double, 6> fast = fast_qdd(model, q, qd, 0.0);
+    const Vec<double, 6> general = accelerations(General(model), q, qd, 0.0);
+    for (int c = 0; c < 3; ++c)
+      for (const auto& [i, exact] : {std::pair{c, f * d[c] / m1}, std::pair{3 + c, -f * d[c] / m2}}) {
+        const double scale = static_cast<double>(f * std::sqrt(r2) / m2);
+        worst_fast = std::max(worst_fast, static_cast<double>(std::abs(fast[i] - exact)) / scale);
+        worst_general = std::max(worst_general, static_cast<double>(std::abs(general[i] - exact)) / scale);
+      }
+  }
+  std::printf("q̈ against Newton's law, relative to the largest |q̈|: constant M %.2e, general %.2e\n", worst_fast,
+              worst_general);
+  EXPECT_LE(worst_fast, 1e-15);
+  EXPECT_LE(worst_general, 1e-15);
+}
+
+/// Two carts on a line joined by a spring, their kinetic energy with a
+/// cross term and a term linear in the velocities (a gyroscopic-free b:
+/// constant, so it changes p but not the motion):
+///   T = ½ m₁ ẋ₁² + ½ m₂ ẋ₂² + c ẋ₁ẋ₂ + b ẋ₁,  V = ½ k (x₂ − x₁ − l)².
+/// M = [[m₁, c], [c, m₂]], so M q̈ = −∂V/∂q.
+struct CoupledCarts {
+  static constexpr int coordinate_count = 2;
+  static constexpr bool constant_mass_matrix = true;
+  double m1 = 2, m2 = 3, c = 0.5, b = 0.7, k = 40, l = 1;
+  template <class S>
+  S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
+    return 0.5 * m1 * qd[0] * qd[0] + 0.5 * m2 * qd[1] * qd[1] + c * qd[0] * qd[1] + b * qd[0];
+  }
+  template <class S>
+  S potential(const Vec<S, 2>& q, const S&) const {
+    const S s = q[1] - q[0] - l;
+    return 0.5 * k * s * s;
+  }
+};
+
+TEST(ConstantMass, ACrossTermInTIsSolvedWithTheFullMassMatrix) {
+  const CoupledCarts carts;
+  const Vec<double, 2> q(0.1, 1.4), qd(0.3, -0.2);
+  // −∂V/∂q = k s (1, −1), s = x₂ − x₁ − l; Cramer's rule for M q̈ = that.
+  const double s = q[1] - q[0] - carts.l, f0 = carts.k * s, f1 = -carts.k * s;
+  const double det = carts.m1 * carts.m2 - carts.c * carts.c;
+  const Vec<double, 2> exact((carts.m2 * f0 - carts.c * f1) / det, (carts.m1 * f1 - carts.c * f0) / det);
+  const Vec<double, 2> fast = fast_qdd(carts, q, qd, 0.0);
+  EXPECT_LE((fast - exact).norm(), 1e-14 * exact.norm());
+  EXPECT_LE((accelerations(General(carts), q, qd, 0.0) - exact).norm(), 1e-14 * exact.norm());
+}
+
+/// Three coupled oscillators, T = ½ q̇ᵀ M q̇ and V = ½ qᵀ K q with a full
+/// (tridiagonal) M: q̈ = −M⁻¹ K q, here against Eigen's LU solve.
+struct CoupledOscillators {
+  static constexpr int coordinate_count = 3;
+  static constexpr bool constant_mass_matrix = true;
+  Eigen::Matrix3d M{{2.0, 0.3, 0.0}, {0.3, 3.0, 0.2}, {0.0, 0.2, 1.0}};
+  Eigen::Matrix3d K{{5.0, -1.0, 0.0}, {-1.0, 4.0, -2.0}, {0.0, -2.0, 3.0}};
+  template <class S>
+  S kinetic(const Vec<S, 3>&, const Vec<S, 3>& qd, const S&) const {
+    S t = S(0);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) t += 0.5 * M(i, j) * qd[i] * qd[j];
+    return t;
+  }
+  template <class S>
+  S potential(const Vec<S, 3>& q, const S&) const {
+    S v = S(0);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) v += 0.5 * K(i, j) * q[i] * q[j];
+    return v;
+  }
+};
+
+TEST(ConstantMass, AFullMassMatrixIsFactoredOnce) {
+  const CoupledOscillators model;
+  const Vec<double, 3> q(0.3, -0.7, 1.1), qd(0.2, 0.1, -0.4);
+  const Eigen::Vector3d exact = model.M.lu().solve(-(model.K * q));
+  EXPECT_LE((fast_qdd(model, q, qd, 0.0) - exact).norm(), 1e-14 * exact.norm());
+}
+
+TEST(ConstantMass, RunsAgreeWithAndWithoutTheDeclaration) {
+  // The projectile with quadratic drag (forces from the Rayleigh function)
+  // and the pendulum: the same run, declared and withdrawn, to round-off.
+  SimulationOptions o;
+  o.method = "dopri5";
+  o.rtol = 1e-11;
+  o.atol = 1e-13;
+  o.t_end = 3.0;
+  o.output_interval = 0.5;
+  const auto compare = [&](const auto& model, const auto& x0) {
+    constexpr int n = coordinate_count_v<std::decay_t<decltype(model)>>;
+    Recorder<n> a, b;
+    simulate(model, x0, o, a);
+    simulate(General(model), x0, o, b);
+    EXPECT_EQ(a.samples.size(), b.samples.size());
+    double worst = a.samples.size() == b.samples.size() ? 0.0 : 1.0;
+    for (std::size_t i = 0; i < std::min(a.samples.size(), b.samples.size()); ++i)
+      worst = std::max({worst, (a.samples[i].q - b.samples[i].q).norm(), (a.samples[i].qd - b.samples[i].qd).norm()});
+    return worst;
+  };
+  State<2> ball;
+  ball.q << 0, 0;
+  ball.qd << 12, 9;
+  const double drag = compare(lm::Projectile<lm::Drag::quadratic>(0.5, 9.81, 0.0, 0.02), ball);
+  State<1> swing;
+  swing.q << 2.5;
+  swing.qd << 0;
+  const double pendulum = compare(lm::SimplePendulum(1.0, 0.8, 9.81), swing);
+  std::printf("declared against withdrawn: projectile with drag %.2e, pendulum %.2e\n", drag, pendulum);
+  EXPECT_LE(drag, 1e-12);
+  EXPECT_LE(pendulum, 1e-12);
+}
+
+/// The double pendulum (T depends on θ₁ − θ₂), declared constant.
+struct Declared : lm::DoublePendulum {
+  static constexpr bool constant_mass_matrix = true;
+  Declared() : lm::DoublePendulum() {}
+};
+
+/// T = m c² (1 − √(1 − ẋ²/c²)): depends on ẋ alone but is not quadratic.
+struct Relativistic {
+  static constexpr int coordinate_count = 1;
+  static constexpr bool constant_mass_matrix = true;
+  double m = 1, c = 3;
+  template <class S>
+  S kinetic(const Vec<S, 1>&, const Vec<S, 1>& qd, const S&) const {
+    using std::sqrt;
+    return m * c * c * (1.0 - sqrt(1.0 - qd[0] * qd[0] / (c * c)));
+  }
+  template <class S>
+  S potential(const Vec<S, 1>& q, const S&) const {
+    return 0.5 * q[0] * q[0];
+  }
+};
+
+/// T = ½ m₀ (1 + t) ẋ²: the coefficient of ẋ changes with t.
+struct Growing {
+  static constexpr int coordinate_count = 1;
+  static constexpr bool constant_mass_matrix = true;
+  template <class S>
+  S kinetic(const Vec<S, 1>&, const Vec<S, 1>& qd, const S& t) const {
+    return 0.5 * (1.0 + t) * qd[0] * qd[0];
+  }
+  template <class S>
+  S potential(const Vec<S, 1>& q, const S&) const {
+    return 0.5 * q[0] * q[0];
+  }
+};
+
+// False declarations: each stops the run at its start with a DynamicsError
+// naming the declaration and what is wrong.
+template <class M>
+std::string failure(const M& model, const State<coordinate_count_v<M>>& x0) {
+  SimulationOptions o;
+  o.t_end = 1.0;
+  try {
+    simulate(model, x0, o);
+  } catch (const DynamicsError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(ConstantMass, ADoublePendulumDeclaredConstantIsRefused) {
+  // T depends on θ₁ − θ₂; started with θ₁ = θ₂, where dT/dq vanishes at
+  // the first state, so only the check at a shifted configuration sees it.
+  State<2> x0;
+  x0.q << 0.4, 0.4;
+  x0.qd << 0, 0;
+  const std::string what = failure(Declared{}, x0);
+  EXPECT_NE(what.find("declares constant_mass_matrix"), std::string::npos) << what;
+  EXPECT_NE(what.find("dT/dq[0] is not zero"), std::string::npos) << what;
+}
+
+TEST(ConstantMass, ARelativisticKineticEnergyDeclaredConstantIsRefused) {
+  State<1> x0;
+  x0.q << 1;
+  x0.qd << 0;
+  const std::string what = failure(Relativistic{}, x0);
+  EXPECT_NE(what.find("its mass matrix M = d2T/dqd2 changes with the state"), std::string::npos) << what;
+}
+
+TEST(ConstantMass, AMassChangingInTimeDeclaredConstantIsRefused) {
+  State<1> x0;
+  x0.q << 1;
+  x0.qd << 0;
+  const std::string what = failure(Growing{}, x0);
+  EXPECT_NE(what.find("T's coefficient of qd[0] changes with q or t"), std::string::npos) << what;
 }
 
 }  // namespace

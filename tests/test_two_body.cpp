@@ -79,7 +79,11 @@ TEST(TwoBody, RelativeMotionEqualsTheReducedMassProblemOver100Orbits) {
   std::printf("100 orbits, e = 0.5: |r(two-body) - r(reduced)| max %.2e a; centre of mass %.2e; "
               "momentum %.2e; angular momentum %.2e; energy drift %.2e / %.2e\n",
               worst, worst_com, worst_p, worst_l, two.total_energy_drift_max, one.total_energy_drift_max);
-  EXPECT_LE(worst, 1e-10);      // a = 1
+  // The formulations agree as closely as each agrees with the closed form
+  // (asserted below): the two-body run's relative coordinate is off by at
+  // most twice its largest position error per axis, the reduced run's by
+  // its own (fehlberg78 at rtol 1e-14 leaves a few 1e-10 a either way).
+  EXPECT_LE(worst, std::sqrt(3.0) * (2 * two.reference_error_max + one.reference_error_max));
   EXPECT_LE(worst_com, 1e-11);
   EXPECT_LE(worst_p, 1e-13);
   EXPECT_LE(worst_l, 1e-11);

@@ -268,19 +268,41 @@ namespace detail {
 /// left out (the free motion of a contact model whose contacts are open).
 /// Inlined into its callers (the adapter's right-hand side among them), so
 /// that an evaluation is one call below the stepper's, into eom_pass.
+/// True when M's entries below the diagonal (those the Cholesky
+/// factorisation reads) are all zero.
+template <int N>
+bool diagonal_mass(const Mat<double, N>& mass) {
+  for (int j = 0; j < mass.cols(); ++j)
+    for (int i = j + 1; i < mass.rows(); ++i)
+      if (mass(i, j) != 0) return false;
+  return true;
+}
+
 template <class M>
 LAGRANGIAN_ALWAYS_INLINE void free_accelerations(const M& model, Workspace<coordinate_count_v<M>>& ws,
                                                  const Vec<double, coordinate_count_v<M>>& q,
                                                  const Vec<double, coordinate_count_v<M>>& qd, double t,
                                                  Vec<double, coordinate_count_v<M>>& out) {
   evaluate(model, ws, q, qd, t);
-  constexpr int n = coordinate_count_v<M>;  // Dynamic (-1) takes the LLT branch
+  constexpr int n = coordinate_count_v<M>;  // Dynamic (-1) takes the general branches
   // Cholesky pivots d_i (M = L D Lᵀ with unit L, d_i = L_chol,ii²) must be
   // positive with min d / max d ≥ singular_mass_tolerance.
   if constexpr (n == 1) {
     const double m = ws.mass(0, 0);
     if (!(std::isfinite(m) && m > 0)) detail::singular_mass_failure(ws, q, qd, t);
     out[0] = ws.rhs[0] / m;
+  } else if (diagonal_mass(ws.mass)) {
+    // Cartesian coordinates of particles, among others: the pivots are the
+    // diagonal, q̈_i = rhs_i / M_ii, each rounded once.
+    const auto d = ws.mass.diagonal();
+    double lo = d[0], hi = d[0];
+    for (int i = 1; i < d.size(); ++i) {
+      lo = std::min(lo, d[i]);
+      hi = std::max(hi, d[i]);
+    }
+    if (!(std::isfinite(lo) && std::isfinite(hi) && lo > 0 && lo >= singular_mass_tolerance * hi))
+      detail::singular_mass_failure(ws, q, qd, t);
+    out = ws.rhs.cwiseQuotient(d);
   } else if constexpr (n == 2) {
     // Closed form: d_0 = M00, d_1 = det / M00; Cramer's rule for q̈.
     const double a = ws.mass(0, 0), b = ws.mass(0, 1), c = ws.mass(1, 1);

@@ -17,8 +17,10 @@
 ///    Q = −∂D/∂q̇ (W), `coordinate_names()` returning n names,
 ///    `coordinate_units()` returning their n SI units ("m", "rad"; shown in
 ///    CSV headers and inspections), `name()`,
-///    and hand-coded `accelerations(q, qd, t, qdd)` (see
-///    has_explicit_accelerations_v).
+///    hand-coded `accelerations(q, qd, t, qdd)` (see
+///    has_explicit_accelerations_v), and `static constexpr bool
+///    constant_mass_matrix = true` when T depends on q̇ alone, at most
+///    quadratically (see constant_mass_matrix_v).
 /// Every function is a template on the scalar type S so that the same code
 /// runs on `double` and on AD scalars. Write ordinary C++: `S x = 0`, `auto`
 /// locals, `pow`, `abs`, `using std::cos; cos(x)` all work.
@@ -144,6 +146,19 @@ concept Model = detail::declares_coordinate_count<M> && detail::energies_for<M, 
 template <class M>
 inline constexpr bool has_kinetic_potential_v =
     detail::has_kinetic_for<M, double> && detail::has_potential_for<M, double>;
+
+/// True when the model declares `static constexpr bool constant_mass_matrix
+/// = true`: its kinetic energy depends on the velocities alone, at most
+/// quadratically, T = ½ q̇ᵀ M q̇ + bᵀ q̇ + c with M (kg, kg·m, kg·m²), b and c
+/// constant, as in Cartesian coordinates of particles. The Euler–Lagrange
+/// equations are then M q̈ = −∂V/∂q + Q − ∂D/∂q̇: simulate() checks the
+/// declaration and factors M once, at the run's start (T's q-derivatives
+/// and mixed term zero and M unchanged at two velocities and two
+/// configurations; a DynamicsError names the term otherwise), and each
+/// right-hand side then takes only V's gradient and the forces, not M.
+/// Used by unconstrained models (constrained ones solve with M each step).
+template <class M>
+inline constexpr bool constant_mass_matrix_v = requires { requires M::constant_mass_matrix; };
 
 /// True when the model gives non-conservative generalized forces Q(q, q̇, t).
 template <class M>

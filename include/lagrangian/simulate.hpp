@@ -115,6 +115,7 @@ RunReport simulate_impl(const M& model, const State<coordinate_count_v<M>>& init
   }
 
   ModelSystem<M> system(model, options, observer, report);
+  system.prepare(initial, options.t0);
   std::vector<double> x(static_cast<std::size_t>(2 * size));
   for (int i = 0; i < size; ++i) {
     x[static_cast<std::size_t>(i)] = initial.q[i];

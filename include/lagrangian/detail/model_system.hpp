@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "lagrangian/constraints.hpp"
+#include "lagrangian/detail/constant_mass.hpp"
 #include "lagrangian/detail/energy_scale.hpp"
 #include "lagrangian/detail/singular_values.hpp"
 #include "lagrangian/detail/contact_rules.hpp"
@@ -116,6 +117,12 @@ class ModelSystem final : public System {
   ModelSystem& operator=(const ModelSystem&) = delete;
 
   int coordinate_count() const override { return size_; }
+
+  /// Before the run, at its initial state: checks a constant_mass_matrix
+  /// declaration and factors M (DynamicsError when it does not hold).
+  void prepare(const State<n>& x0, double t0) {
+    if constexpr (!std::is_same_v<decltype(constant_mass_), None>) constant_mass_.prepare(model_, rhs_ws_, x0.q, x0.qd, t0);
+  }
 
   void rhs(const double* x, double* dxdt, double t) const override {
     if constexpr (n == Dynamic) {
@@ -320,6 +327,8 @@ class ModelSystem final : public System {
       constrained_accelerations(model_, rhs_ws_, ctx_->cw, q, qd, t, qdd, ctx_->omega, ctx_->active);
     } else if constexpr (has_explicit_accelerations_v<M>) {
       model_.accelerations(q, qd, t, qdd);
+    } else if constexpr (constant_mass_matrix_v<M>) {
+      constant_mass_(model_, rhs_ws_, q, qd, t, qdd);
     } else {
       free_accelerations(model_, rhs_ws_, q, qd, t, qdd);
     }
@@ -523,6 +532,10 @@ class ModelSystem final : public System {
   RunReport& report_;
   int size_;
   mutable Workspace<n> rhs_ws_{model_size(model_)};  ///< the right-hand side's
+  /// M factored once, for models declaring constant_mass_matrix
+  mutable std::conditional_t<constant_mass_matrix_v<M> && !has_constraints_v<M> && !has_explicit_accelerations_v<M>,
+                             ConstantMassAccelerations<M>, None>
+      constant_mass_{};
   Workspace<n> ws_{model_size(model_)};              ///< monitors' and events'
   [[no_unique_address]] std::conditional_t<has_constraints_v<M>, ConstraintContext<M>, None> context_{};
   ConstraintContext<M>* ctx_ = nullptr;  ///< &context_ for constrained models

@@ -23,6 +23,8 @@ namespace lagrangian::models {
 ///   T = ½ m l² θ̇²,  V = −m g l cos θ.
 struct SimplePendulum {
   static constexpr int coordinate_count = 1;
+  /// T = ½ m l² θ̇²: M constant (model.hpp, constant_mass_matrix_v).
+  static constexpr bool constant_mass_matrix = true;
   double m, l, g;
   explicit SimplePendulum(double mass = 1.0, double length = 1.0, double gravity = 9.81)
       : m(require_positive("SimplePendulum", "m", mass)),
@@ -109,6 +111,8 @@ struct SimplePendulum {
 ///   T = ½ m ẋ²,  V = ½ k x²,  ẍ = −ω² x with ω = √(k/m) (rad/s), period 2π/ω.
 struct HarmonicOscillator {
   static constexpr int coordinate_count = 1;
+  /// T = ½ m ẋ²: M constant (model.hpp, constant_mass_matrix_v).
+  static constexpr bool constant_mass_matrix = true;
   double m, k;
   explicit HarmonicOscillator(double mass = 1.0, double stiffness = 1.0)
       : m(require_positive("HarmonicOscillator", "m", mass)),

@@ -160,6 +160,8 @@ template <int D, class Potential = NewtonianGravity>
 struct RelativeMotion {
   static_assert(D == 2 || D == 3, "RelativeMotion is planar (D = 2) or spatial (D = 3)");
   static constexpr int coordinate_count = D;
+  /// T = ½ μ|ṙ|²: M constant (model.hpp, constant_mass_matrix_v).
+  static constexpr bool constant_mass_matrix = true;
   double mu;
   Potential U;
   RelativeMotion(double reduced, Potential potential)

@@ -12,6 +12,8 @@ namespace lagrangian::models::detail {
 /// A particle of mass m in a vertical plane, coordinates (x, y), gravity g
 /// along −y: T = ½ m (ẋ² + ẏ²), V = m g y.
 struct PlanarParticle {
+  /// T = ½ m|v|²: M constant (model.hpp, constant_mass_matrix_v).
+  static constexpr bool constant_mass_matrix = true;
   double m, g;
   std::array<std::string, 2> coordinate_names() const { return {"x", "y"}; }
   std::array<std::string, 2> coordinate_units() const { return {"m", "m"}; }
@@ -31,6 +33,8 @@ struct PlanarParticle {
 template <int D>
 struct ParticlePair {
   static_assert(D == 2 || D == 3, "a particle pair is planar (D = 2) or spatial (D = 3)");
+  /// T = ½ m|v|²: M constant (model.hpp, constant_mass_matrix_v).
+  static constexpr bool constant_mass_matrix = true;
   double m1, m2;
   std::vector<std::string> coordinate_names() const {
     const char* axes[] = {"x", "y", "z"};
