@@ -72,8 +72,9 @@ struct Workspace {
 
 /// Relative pivot below which the mass matrix is reported singular: with
 /// the Cholesky pivots d_i (M = L D Lᵀ, L unit lower triangular),
-/// min d / max d < 1e-14. Systems with n ≤ 2 are solved in closed form with
-/// the same criterion; larger ones with a fixed-size Eigen LLT.
+/// min d / max d < 1e-14. A diagonal M (its pivots are the diagonal) is
+/// divided out and systems with n ≤ 2 are solved in closed form, with the
+/// same criterion; larger ones with a fixed-size Eigen LLT.
 inline constexpr double singular_mass_tolerance = 1e-14;
 
 namespace detail {
@@ -264,10 +265,6 @@ void evaluate(const M& model, Workspace<coordinate_count_v<M>>& ws, const Vec<do
 }
 
 namespace detail {
-/// q̈ of the model's Lagrangian and forces alone, M q̈ = rhs, any constraints
-/// left out (the free motion of a contact model whose contacts are open).
-/// Inlined into its callers (the adapter's right-hand side among them), so
-/// that an evaluation is one call below the stepper's, into eom_pass.
 /// True when M's entries below the diagonal (those the Cholesky
 /// factorisation reads) are all zero.
 template <int N>
@@ -278,6 +275,10 @@ bool diagonal_mass(const Mat<double, N>& mass) {
   return true;
 }
 
+/// q̈ of the model's Lagrangian and forces alone, M q̈ = rhs, any constraints
+/// left out (the free motion of a contact model whose contacts are open).
+/// Inlined into its callers (the adapter's right-hand side among them), so
+/// that an evaluation is one call below the stepper's, into eom_pass.
 template <class M>
 LAGRANGIAN_ALWAYS_INLINE void free_accelerations(const M& model, Workspace<coordinate_count_v<M>>& ws,
                                                  const Vec<double, coordinate_count_v<M>>& q,
