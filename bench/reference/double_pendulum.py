@@ -14,19 +14,28 @@ in h^2 (the Gragg-Bulirsch-Stoer method, step sequence n = 2, 4, 6, ...),
 each macro step extrapolated until two successive diagonal entries agree to
 10^-(digits + 5), in mpmath's arbitrary precision (Debian's python3-mpmath).
 
-Usage: double_pendulum.py DIGITS MACRO_STEP T_END [T_END ...]
+Usage: double_pendulum.py DIGITS MACRO_STEP T_END [T_END ...] [--offset D]
 Prints the state at each T_END to 40 significant digits. Two runs at
 different precision and macro step agree to the digits stated in
-bench/reference/double_pendulum.txt, which records them.
+bench/reference/double_pendulum.txt, which records them. --offset D starts
+from theta1 = 2 + D instead: how far a change of the size of one rounding
+(D = 2^-52 ~ 2.2e-16, half an ulp of 2) carries by T_END, the floor of any
+integration in double precision.
 """
 import sys
 from mpmath import mp, mpf, sin, cos, nstr
 
 
 def main():
-    digits = int(sys.argv[1])
-    H = mpf(sys.argv[2])
-    ends = [mpf(a) for a in sys.argv[3:]]
+    args = sys.argv[1:]
+    offset = "0"
+    if "--offset" in args:
+        k = args.index("--offset")
+        offset = args[k + 1]
+        del args[k:k + 2]
+    digits = int(args[0])
+    H = mpf(args[1])
+    ends = [mpf(a) for a in args[2:]]
     mp.dps = digits
     m1 = m2 = l1 = l2 = mpf(1)
     g = mpf("9.81")
@@ -67,7 +76,7 @@ def main():
                 return row[-1]
         return None  # not converged: the caller halves the macro step
 
-    y = [mpf(2), mpf(2), mpf(0), mpf(0)]
+    y = [mpf(2) + mpf(offset), mpf(2), mpf(0), mpf(0)]
     t = mpf(0)
     for end in ends:
         while t < end:
