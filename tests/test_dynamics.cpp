@@ -312,7 +312,6 @@ TEST(ModelSpelling, CoordinateCountAndTheOlderDofAgree) {
   EXPECT_LE(ra.energy_drift_max, 1e-8);
 }
 
-
 // -- models declaring constant_mass_matrix (T = ½ q̇ᵀ M q̇ + bᵀq̇ + c with
 // constant M, b, c): their q̈ against Newton's law written out by hand, the
 // run's results against the same model without the declaration, and a false

@@ -26,8 +26,6 @@ class ConstantMassAccelerations {
   static_assert(has_kinetic_for<M, double> && has_potential_for<M, double>,
                 "lagrangian: constant_mass_matrix needs the model's kinetic() and potential(), not lagrangian()");
 
-  bool ready() const { return ready_; }
-
   /// Checks the declaration and factors M, at the run's first state (q, t):
   /// T's derivatives in q and its mixed term (∂²T/∂q̇∂q) q̇ + ∂²T/∂q̇∂t are
   /// exactly zero, and M is the same, at two velocities and two
@@ -67,7 +65,6 @@ class ConstantMassAccelerations {
       factor_mass_matrix(ws, q, qd, t);
       llt_ = ws.cholesky;
     }
-    ready_ = true;
   }
 
   /// q̈ from M q̈ = −∂V/∂q + Q − ∂D/∂q̇ (m/s² or rad/s²), into out.
@@ -113,13 +110,13 @@ class ConstantMassAccelerations {
   }
   [[noreturn]] static void declaration_failure(const std::string& why, const Vec<double, n>& q,
                                                const Vec<double, n>& v, double t) {
-    throw DynamicsError("model declares constant_mass_matrix (T a quadratic in the velocities with constant "
-                        "coefficients), but " +
-                        why + " at the test point " + describe_state(q, v, t) +
-                        " (the initial configuration, or it shifted, at test velocities); remove the declaration (the general equations of motion then apply)");
+    throw DynamicsError(
+        "model declares constant_mass_matrix (T a quadratic in the velocities with constant coefficients), but " +
+        why + " at the test point " + describe_state(q, v, t) +
+        " (the initial configuration, or it shifted, at test velocities); remove the declaration (the general "
+        "equations of motion then apply)");
   }
 
-  bool ready_ = false;
   bool diagonal_ = false;
   Vec<double, n> diagonal_values_;
   Mat<double, n> mass_;             // M and det M (n = 2)

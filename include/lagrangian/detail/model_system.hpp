@@ -121,7 +121,8 @@ class ModelSystem final : public System {
   /// Before the run, at its initial state: checks a constant_mass_matrix
   /// declaration and factors M (DynamicsError when it does not hold).
   void prepare(const State<n>& x0, double t0) {
-    if constexpr (!std::is_same_v<decltype(constant_mass_), None>) constant_mass_.prepare(model_, rhs_ws_, x0.q, x0.qd, t0);
+    if constexpr (!std::is_same_v<decltype(constant_mass_), None>)
+      constant_mass_.prepare(model_, rhs_ws_, x0.q, x0.qd, t0);
   }
 
   void rhs(const double* x, double* dxdt, double t) const override {
