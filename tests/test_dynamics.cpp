@@ -9,6 +9,7 @@
 
 #include "lagrangian/lagrangian.hpp"
 #include "lagrangian/detail/constant_mass.hpp"
+#include "lagrangian/models/impacts.hpp"
 #include "lagrangian/models/pendulums.hpp"
 #include "lagrangian/models/projectile.hpp"
 #include "lagrangian/models/two_body.hpp"
@@ -438,8 +439,8 @@ TEST(ConstantMass, AFullMassMatrixIsFactoredOnce) {
 }
 
 TEST(ConstantMass, RunsAgreeWithAndWithoutTheDeclaration) {
-  // The projectile with quadratic drag (forces from the Rayleigh function)
-  // and the pendulum: the same run, declared and withdrawn, to round-off.
+  // The projectile with quadratic drag (forces from the Rayleigh function),
+  // the pendulum and a bouncing ball: the same run, declared and withdrawn.
   SimulationOptions o;
   o.method = "dopri5";
   o.rtol = 1e-11;
@@ -465,9 +466,17 @@ TEST(ConstantMass, RunsAgreeWithAndWithoutTheDeclaration) {
   swing.q << 2.5;
   swing.qd << 0;
   const double pendulum = compare(lm::SimplePendulum(1.0, 0.8, 9.81), swing);
-  std::printf("declared against withdrawn: projectile with drag %.2e, pendulum %.2e\n", drag, pendulum);
+  // A ball bouncing on a tilted plane (e = 0.8): free flight between the
+  // contacts on the constant-M path, each impact by the constrained one.
+  State<3> ball3;
+  ball3.q << 0, 0, 1;
+  ball3.qd << 0.5, -0.2, 0;
+  const double bounces = compare(lm::BallAndPlane(1.0, 0.1, 0.8, 9.81, {0.1, 0.0, 1.0}), ball3);
+  std::printf("declared against withdrawn: projectile with drag %.2e, pendulum %.2e, bouncing ball %.2e\n", drag,
+              pendulum, bounces);
   EXPECT_LE(drag, 1e-12);
   EXPECT_LE(pendulum, 1e-12);
+  EXPECT_LE(bounces, 1e-10);
 }
 
 /// The double pendulum (T depends on θ₁ − θ₂), declared constant.
@@ -506,6 +515,16 @@ struct Growing {
   }
 };
 
+/// A ball on a plane whose inertia grows with height: a contact model that
+/// inherits the declaration but breaks it.
+struct HeavierHigher : lm::BallAndPlane {
+  HeavierHigher() : lm::BallAndPlane() {}
+  template <class S>
+  S kinetic(const Vec<S, 3>& q, const Vec<S, 3>& qd, const S&) const {
+    return 0.5 * m * (1.0 + 0.1 * q[2] * q[2]) * (qd[0] * qd[0] + qd[1] * qd[1] + qd[2] * qd[2]);
+  }
+};
+
 // False declarations: each stops the run at its start with a DynamicsError
 // naming the declaration and what is wrong.
 template <class M>
@@ -529,6 +548,17 @@ TEST(ConstantMass, ADoublePendulumDeclaredConstantIsRefused) {
   const std::string what = failure(Declared{}, x0);
   EXPECT_NE(what.find("declares constant_mass_matrix"), std::string::npos) << what;
   EXPECT_NE(what.find("dT/dq[0] is not zero"), std::string::npos) << what;
+}
+
+TEST(ConstantMass, AContactModelsDeclarationIsCheckedToo) {
+  // Contacts only: the free motion between them takes the constant-M path,
+  // so the declaration is checked before the run as for any model.
+  State<3> x0;
+  x0.q << 0, 0, 1;
+  x0.qd << 0, 0, 0;
+  const std::string what = failure(HeavierHigher{}, x0);
+  EXPECT_NE(what.find("declares constant_mass_matrix"), std::string::npos) << what;
+  EXPECT_NE(what.find("T's coefficient of qd[0] changes with q or t"), std::string::npos) << what;
 }
 
 TEST(ConstantMass, ARelativisticKineticEnergyDeclaredConstantIsRefused) {

@@ -156,7 +156,8 @@ inline constexpr bool has_kinetic_potential_v =
 /// and mixed term zero and M unchanged at two velocities and two
 /// configurations; a DynamicsError names the term otherwise), and each
 /// right-hand side then takes only V's gradient and the forces, not M.
-/// Used by unconstrained models (constrained ones solve with M each step).
+/// Used by unconstrained models and, between contacts, by models whose only
+/// constraints are contacts (others solve with M each step).
 template <class M>
 inline constexpr bool constant_mass_matrix_v = requires { requires M::constant_mass_matrix; };
 

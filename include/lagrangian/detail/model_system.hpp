@@ -105,6 +105,10 @@ class ModelSystem final : public System {
   /// The model declares contacts or watched events (the event code is compiled only then).
   static constexpr bool has_events_v = unilateral_count_v<M> > 0 || event_count_v<M> > 0;
   using Observer = ObserverRef<n>;
+  /// q̈ of the free motion from constant_mass_matrix: declared, no hand-coded
+  /// accelerations, and no constraints other than contacts.
+  static constexpr bool uses_constant_mass = constant_mass_matrix_v<M> && !has_explicit_accelerations_v<M> &&
+                                             holonomic_count_v<M> + pfaffian_count_v<M> == 0;
 
   ModelSystem(const M& model, const SimulationOptions& opt, Observer obs, RunReport& report)
       : model_(model), opt_(opt), obs_(obs), report_(report), size_(model_size(model)) {
@@ -121,8 +125,7 @@ class ModelSystem final : public System {
   /// Before the run, at its initial state: checks a constant_mass_matrix
   /// declaration and factors M (DynamicsError when it does not hold).
   void prepare(const State<n>& x0, double t0) {
-    if constexpr (!std::is_same_v<decltype(constant_mass_), None>)
-      constant_mass_.prepare(model_, rhs_ws_, x0.q, x0.qd, t0);
+    if constexpr (uses_constant_mass) constant_mass_.prepare(model_, rhs_ws_, x0.q, x0.qd, t0);
   }
 
   void rhs(const double* x, double* dxdt, double t) const override {
@@ -325,10 +328,18 @@ class ModelSystem final : public System {
  private:
   void accelerations_into(const Vec<double, n>& q, const Vec<double, n>& qd, double t, Vec<double, n>& qdd) const {
     if constexpr (has_constraints_v<M>) {
+      if constexpr (uses_constant_mass) {
+        if ((ctx_->active & unilateral_mask_v<M>) == 0) {  // contacts only, none touching: free motion
+          constant_mass_(model_, rhs_ws_, q, qd, t, qdd);
+          ctx_->cw.multipliers.setZero();
+          ctx_->cw.constraint_forces.setZero();
+          return;
+        }
+      }
       constrained_accelerations(model_, rhs_ws_, ctx_->cw, q, qd, t, qdd, ctx_->omega, ctx_->active);
     } else if constexpr (has_explicit_accelerations_v<M>) {
       model_.accelerations(q, qd, t, qdd);
-    } else if constexpr (constant_mass_matrix_v<M>) {
+    } else if constexpr (uses_constant_mass) {
       constant_mass_(model_, rhs_ws_, q, qd, t, qdd);
     } else {
       free_accelerations(model_, rhs_ws_, q, qd, t, qdd);
@@ -533,10 +544,9 @@ class ModelSystem final : public System {
   RunReport& report_;
   int size_;
   mutable Workspace<n> rhs_ws_{model_size(model_)};  ///< the right-hand side's
-  /// M factored once, for models declaring constant_mass_matrix
-  mutable std::conditional_t<constant_mass_matrix_v<M> && !has_constraints_v<M> && !has_explicit_accelerations_v<M>,
-                             ConstantMassAccelerations<M>, None>
-      constant_mass_{};
+  /// M factored once, for models declaring constant_mass_matrix (their
+  /// free motion, when their only constraints are contacts)
+  mutable std::conditional_t<uses_constant_mass, ConstantMassAccelerations<M>, None> constant_mass_{};
   Workspace<n> ws_{model_size(model_)};              ///< monitors' and events'
   [[no_unique_address]] std::conditional_t<has_constraints_v<M>, ConstraintContext<M>, None> context_{};
   ConstraintContext<M>* ctx_ = nullptr;  ///< &context_ for constrained models

@@ -137,6 +137,9 @@ template <int N>
 struct SpheresOnLine {
   static_assert(N >= 2 && N <= 64, "SpheresOnLine needs 2 to 64 spheres");
   static constexpr int coordinate_count = N;
+  /// T = Σ ½ m_i ẋ_i²: M constant (model.hpp, constant_mass_matrix_v; used
+  /// up to detail::kMaxSinglePassDof = 12 coordinates).
+  static constexpr bool constant_mass_matrix = coordinate_count <= lagrangian::detail::kMaxSinglePassDof;
   std::array<double, N> m{}, r{};
   double e = 1.0;
   SpheresOnLine(const std::array<double, N>& masses, const std::array<double, N>& radii, double restitution) : e(0) {
@@ -224,6 +227,8 @@ struct TwoSpheres : detail::ParticlePair<D> {
 /// with its lowest point at height h above a floor, it lands at t = √(2h/g).
 struct BallAndPlane {
   static constexpr int coordinate_count = 3;
+  /// T = ½ m|v|²: M constant (model.hpp, constant_mass_matrix_v).
+  static constexpr bool constant_mass_matrix = true;
   double m, R, g, e;
   std::array<double, 3> n;
   double d;
@@ -280,6 +285,9 @@ struct SpheresInBox {
   static constexpr int contacts = 4 * N + pairs;
   static_assert(N >= 1 && contacts <= 64, "SpheresInBox supports up to 64 contacts (N <= 8)");
   static constexpr int coordinate_count = 2 * N;
+  /// T = Σ ½ m_i |v_i|²: M constant (model.hpp, constant_mass_matrix_v;
+  /// used up to detail::kMaxSinglePassDof = 12 coordinates).
+  static constexpr bool constant_mass_matrix = coordinate_count <= lagrangian::detail::kMaxSinglePassDof;
   std::array<double, N> m{}, r{};
   double W, H, g, e_wall, e_pair;
   SpheresInBox(const std::array<double, N>& masses, const std::array<double, N>& radii, double width, double height,
