@@ -275,6 +275,41 @@ bool diagonal_mass(const Mat<double, N>& mass) {
   return true;
 }
 
+/// Throws (singular_mass_failure) unless the pivots of a diagonal ws.mass,
+/// its diagonal entries, are positive with min / max ≥
+/// singular_mass_tolerance.
+template <int N>
+void check_diagonal_pivots(const Workspace<N>& ws, const Vec<double, N>& q, const Vec<double, N>& qd, double t) {
+  const auto d = ws.mass.diagonal();
+  double lo = d[0], hi = d[0];
+  for (int i = 1; i < d.size(); ++i) {
+    lo = std::min(lo, d[i]);
+    hi = std::max(hi, d[i]);
+  }
+  if (!(std::isfinite(lo) && std::isfinite(hi) && lo > 0 && lo >= singular_mass_tolerance * hi))
+    singular_mass_failure(ws, q, qd, t);
+}
+
+/// det M of a 2 × 2 ws.mass, after checking its pivots d_0 = M00,
+/// d_1 = det / M00 as check_diagonal_pivots() does (singular_mass_failure
+/// otherwise).
+template <int N>
+double checked_determinant_2x2(const Workspace<N>& ws, const Vec<double, N>& q, const Vec<double, N>& qd, double t) {
+  const double a = ws.mass(0, 0), b = ws.mass(0, 1), c = ws.mass(1, 1);
+  const double det = a * c - b * b;
+  const double d1 = det / a;
+  if (!(std::isfinite(det) && a > 0 && d1 > 0 && std::min(a, d1) >= singular_mass_tolerance * std::max(a, d1)))
+    singular_mass_failure(ws, q, qd, t);
+  return det;
+}
+
+/// Cramer's rule for the 2 × 2 system M x = rhs with det M given.
+template <int N>
+void solve_2x2(const Mat<double, N>& mass, double det, const Vec<double, N>& rhs, Vec<double, N>& out) {
+  out[0] = (mass(1, 1) * rhs[0] - mass(0, 1) * rhs[1]) / det;
+  out[1] = (mass(0, 0) * rhs[1] - mass(0, 1) * rhs[0]) / det;
+}
+
 /// q̈ of the model's Lagrangian and forces alone, M q̈ = rhs, any constraints
 /// left out (the free motion of a contact model whose contacts are open).
 /// Inlined into its callers (the adapter's right-hand side among them), so
@@ -295,24 +330,10 @@ LAGRANGIAN_ALWAYS_INLINE void free_accelerations(const M& model, Workspace<coord
   } else if (diagonal_mass(ws.mass)) {
     // Cartesian coordinates of particles, among others: the pivots are the
     // diagonal, q̈_i = rhs_i / M_ii, each rounded once.
-    const auto d = ws.mass.diagonal();
-    double lo = d[0], hi = d[0];
-    for (int i = 1; i < d.size(); ++i) {
-      lo = std::min(lo, d[i]);
-      hi = std::max(hi, d[i]);
-    }
-    if (!(std::isfinite(lo) && std::isfinite(hi) && lo > 0 && lo >= singular_mass_tolerance * hi))
-      detail::singular_mass_failure(ws, q, qd, t);
-    out = ws.rhs.cwiseQuotient(d);
+    check_diagonal_pivots(ws, q, qd, t);
+    out = ws.rhs.cwiseQuotient(ws.mass.diagonal());
   } else if constexpr (n == 2) {
-    // Closed form: d_0 = M00, d_1 = det / M00; Cramer's rule for q̈.
-    const double a = ws.mass(0, 0), b = ws.mass(0, 1), c = ws.mass(1, 1);
-    const double det = a * c - b * b;
-    const double d1 = det / a;
-    if (!(std::isfinite(det) && a > 0 && d1 > 0 && std::min(a, d1) >= singular_mass_tolerance * std::max(a, d1)))
-      detail::singular_mass_failure(ws, q, qd, t);
-    out[0] = (c * ws.rhs[0] - b * ws.rhs[1]) / det;
-    out[1] = (a * ws.rhs[1] - b * ws.rhs[0]) / det;
+    solve_2x2(ws.mass, checked_determinant_2x2(ws, q, qd, t), ws.rhs, out);
   } else {
     detail::factor_mass_matrix(ws, q, qd, t);
     out = ws.cholesky.solve(ws.rhs);

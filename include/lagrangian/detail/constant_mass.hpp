@@ -3,10 +3,8 @@
 // checked and factored once per run, and each evaluation needs only ∇V and
 // the model's forces.
 
-#include <algorithm>
-#include <cmath>
-#include <sstream>
 #include <string>
+#include <utility>
 
 #include <Eigen/Cholesky>
 
@@ -46,21 +44,13 @@ class ConstantMassAccelerations {
         declaration_failure("its mass matrix M = d2T/dqd2 changes with the state", qc, vc, t);
     }
     ws.mass = mass;
+    mass_ = mass;
     diagonal_ = diagonal_mass(mass);
     if (diagonal_) {
-      diagonal_values_ = mass.diagonal();
-      const double lo = diagonal_values_.minCoeff(), hi = diagonal_values_.maxCoeff();
-      if (!(std::isfinite(lo) && std::isfinite(hi) && lo > 0 && lo >= singular_mass_tolerance * hi))
-        singular_mass_failure(ws, q, qd, t);
+      check_diagonal_pivots(ws, q, qd, t);
     } else if constexpr (n == 2) {
       // The closed form of free_accelerations (no factorisation compiled).
-      const double det = mass(0, 0) * mass(1, 1) - mass(0, 1) * mass(1, 0);
-      const double d1 = det / mass(0, 0);
-      if (!(std::isfinite(det) && mass(0, 0) > 0 && d1 > 0 &&
-            std::min(mass(0, 0), d1) >= singular_mass_tolerance * std::max(mass(0, 0), d1)))
-        singular_mass_failure(ws, q, qd, t);
-      det_ = det;
-      mass_ = mass;
+      det_ = checked_determinant_2x2(ws, q, qd, t);
     } else {
       factor_mass_matrix(ws, q, qd, t);
       llt_ = ws.cholesky;
@@ -77,11 +67,9 @@ class ConstantMassAccelerations {
     force_pass(model, ws, q, qd, t);
     for (int i = 0; i < n; ++i) ws.rhs[i] = ws.forces[i] - v.g[static_cast<std::size_t>(i)];
     if (diagonal_) {
-      out = ws.rhs.cwiseQuotient(diagonal_values_);
+      out = ws.rhs.cwiseQuotient(mass_.diagonal());
     } else if constexpr (n == 2) {
-      const Mat<double, n>& m = mass_;
-      out[0] = (m(1, 1) * ws.rhs[0] - m(0, 1) * ws.rhs[1]) / det_;
-      out[1] = (m(0, 0) * ws.rhs[1] - m(0, 1) * ws.rhs[0]) / det_;
+      solve_2x2(mass_, det_, ws.rhs, out);
     } else {
       out = llt_.solve(ws.rhs);
     }
@@ -118,10 +106,9 @@ class ConstantMassAccelerations {
   }
 
   bool diagonal_ = false;
-  Vec<double, n> diagonal_values_;
-  Mat<double, n> mass_;             // M and det M (n = 2)
-  double det_ = 0;
-  Eigen::LLT<Mat<double, n>> llt_;  // n > 2
+  Mat<double, n> mass_;             // M
+  double det_ = 0;                  // det M (n = 2, not diagonal)
+  Eigen::LLT<Mat<double, n>> llt_;  // n > 2, not diagonal
 };
 
 }  // namespace lagrangian::detail
