@@ -6,7 +6,9 @@
 #include <cmath>
 #include <cstring>
 #include <cstdio>
+#include <limits>
 #include <sstream>
+#include <string>
 
 #include "lagrangian/detail/csv_header.hpp"
 #include "lagrangian/detail/text_output.hpp"
@@ -115,6 +117,59 @@ void json_number(std::ostringstream& os, double v) {
 
 }  // namespace
 
+namespace {
+
+/// |Δ| / |initial| from a drift relative to the energy scale; NaN when the
+/// initial energy is 0.
+double relative_to_initial(double drift_of_scale, double scale, double initial) {
+  return initial != 0 ? drift_of_scale * scale / std::abs(initial) : std::numeric_limits<double>::quiet_NaN();
+}
+
+/// "energy function h: 3.2 J, drift |E - E0|/|E0| max 1.2e-13, final 1.1e-13 (of the energy scale 5 J: max 7e-14)":
+/// the conserved energy's drift relative to its initial value, and to the scale where that is 0.
+std::string energy_drift_line(const char* what, double initial, double drift_max, double drift_final,
+                              double scale) {
+  char buf[320];
+  if (initial != 0) {
+    std::snprintf(buf, sizeof buf,
+                  "%s: %.12g J, drift |E - E0|/|E0| max %.2e, final %.2e (of the energy scale %.4g J: max %.2e)\n", what,
+                  initial, relative_to_initial(drift_max, scale, initial),
+                  relative_to_initial(drift_final, scale, initial), scale, drift_max);
+  } else {
+    std::snprintf(buf, sizeof buf, "%s: 0 J, drift of the energy scale %.4g J (E0 = 0): max %.2e, final %.2e\n", what,
+                  scale, drift_max, drift_final);
+  }
+  return buf;
+}
+
+/// "energy function h: 0.5 J at t0, 0.42 J at t = 10 s: change -0.08 J (-16 % of |E0|); not conserved: why":
+/// an energy that the system's own terms change, given as the change it is, not as drift.
+std::string energy_change_line(const char* what, double initial, double final_value, double t_final,
+                               const char* why) {
+  char buf[512];
+  const double change = final_value - initial;
+  char share[64] = "";
+  if (initial != 0) std::snprintf(share, sizeof share, " (%+.3g %% of |E0|)", 100 * change / std::abs(initial));
+  std::snprintf(buf, sizeof buf, "%s: %.12g J at t0, %.12g J at t = %.6g s: change %+.6g J%s; not conserved: %s\n",
+                what, initial, final_value, t_final, change, share, why);
+  return buf;
+}
+
+}  // namespace
+
+double RunReport::energy_drift_relative_to_initial() const {
+  return relative_to_initial(energy_drift_final, energy_scale, energy_initial);
+}
+double RunReport::energy_drift_relative_to_initial_max() const {
+  return relative_to_initial(energy_drift_max, energy_scale, energy_initial);
+}
+double RunReport::total_energy_drift_relative_to_initial() const {
+  return relative_to_initial(total_energy_drift_final, energy_scale, total_energy_initial);
+}
+double RunReport::total_energy_drift_relative_to_initial_max() const {
+  return relative_to_initial(total_energy_drift_max, energy_scale, total_energy_initial);
+}
+
 void check_drift(RunReport& report, double rtol) {
   report.drift_bound = std::max(1e-2, 100 * rtol);
   report.drift_exceeded = false;
@@ -205,7 +260,11 @@ std::string RunReport::to_json() const {
                                                    {"energy_initial", energy_initial},
                                                    {"energy_final", energy_final},
                                                    {"energy_drift_max", energy_drift_max},
-                                                   {"energy_drift_final", energy_drift_final}};
+                                                   {"energy_drift_final", energy_drift_final},
+                                                   {"energy_drift_relative_to_initial",
+                                                    energy_drift_relative_to_initial()},
+                                                   {"energy_drift_relative_to_initial_max",
+                                                    energy_drift_relative_to_initial_max()}};
   for (const auto& [k, v] : energy) {
     os << ",\n  \"" << k << "\": ";
     json_number(os, v);
@@ -218,6 +277,13 @@ std::string RunReport::to_json() const {
     json_number(os, total_energy_drift_max);
     os << ",\n  \"total_energy_drift_final\": ";
     json_number(os, total_energy_drift_final);
+    os << ",\n  \"total_energy_final\": ";
+    json_number(os, total_energy_final);
+    os << ",\n  \"total_energy_is_h\": " << (total_energy_is_h ? "true" : "false");
+    os << ",\n  \"total_energy_drift_relative_to_initial\": ";
+    json_number(os, total_energy_drift_relative_to_initial());
+    os << ",\n  \"total_energy_drift_relative_to_initial_max\": ";
+    json_number(os, total_energy_drift_relative_to_initial_max());
   }
   os << ",\n  \"conserved_momenta\": [";
   for (std::size_t i = 0; i < conserved_momenta.size(); ++i) {
@@ -340,12 +406,26 @@ std::string RunReport::to_json() const {
                                                 {"approach_speed", e.approach_speed},
                                                 {"separation_speed", e.separation_speed},
                                                 {"ke_before", e.kinetic_energy_before},
-                                                {"ke_after", e.kinetic_energy_after}};
+                                                {"ke_after", e.kinetic_energy_after},
+                                                {"zeno_cutoff", e.zeno_cutoff}};
     for (const auto& [k, v] : f) {
       os << ", \"" << k << "\": ";
       json_number(os, v);
     }
     os << "}";
+  }
+  os << "], \"rests\": [";  // every rest, logged beyond the first 20 or not, with the Zeno rule's cut-off
+  bool first_rest = true;
+  for (const EventRecord& e : events) {
+    if (e.kind != EventKind::rest) continue;
+    os << (first_rest ? "" : ", ") << "{\"t\": ";
+    json_number(os, e.t);
+    os << ", \"name\": ";
+    detail::json_string(os, e.name);
+    os << ", \"zeno_cutoff\": ";
+    json_number(os, e.zeno_cutoff);
+    os << "}";
+    first_rest = false;
   }
   os << "]}";
   os << ",\n  \"t_final\": ";
@@ -421,14 +501,22 @@ std::string RunReport::summary() const {
                   steps ? static_cast<double>(newton_iterations) / static_cast<double>(steps) : 0.0);
     os << buf;
   }
-  std::snprintf(buf, sizeof buf, "energy function h: %.12g J, relative drift max %.2e, final %.2e%s\n", energy_initial,
-                energy_drift_max, energy_drift_final,
-                conservative ? "" : " (not conserved: forces, dissipation or explicit time dependence)");
-  os << buf;
+  if (conservative) {
+    os << energy_drift_line("energy function h", energy_initial, energy_drift_max, energy_drift_final, energy_scale);
+  } else {
+    os << energy_change_line("energy function h", energy_initial, energy_final, t_final,
+                             "forces, dissipation or explicit time dependence");
+  }
   if (has_total_energy) {
-    std::snprintf(buf, sizeof buf, "total energy T+V: %.12g J, relative drift max %.2e, final %.2e\n",
-                  total_energy_initial, total_energy_drift_max, total_energy_drift_final);
-    os << buf;
+    if (conservative && total_energy_is_h) {
+      os << energy_drift_line("total energy T+V", total_energy_initial, total_energy_drift_max,
+                              total_energy_drift_final, energy_scale);
+    } else {
+      os << energy_change_line("total energy T+V", total_energy_initial, total_energy_final, t_final,
+                               conservative ? "T is not homogeneous quadratic in the velocities (a moving "
+                                              "constraint or a drive), so h is the conserved energy and T + V changes"
+                                            : "forces, dissipation or explicit time dependence");
+    }
   }
   if (constrained) {
     const ConstraintReport& c = constraints;
@@ -451,13 +539,23 @@ std::string RunReport::summary() const {
       std::snprintf(buf, sizeof buf, "events: %llu (", total);
     }
     os << buf;
-    std::snprintf(buf, sizeof buf, "%llu impacts, %llu rests, %llu releases, %llu watched); impacts dissipated %.6g J\n",
+    // A watched event with action stop is logged twice, as the event and as the stop it made.
+    std::snprintf(buf, sizeof buf,
+                  "%llu impacts, %llu rests, %llu releases, %llu watched, %llu stops); impacts dissipated %.6g J\n",
                   static_cast<unsigned long long>(counts[0]), static_cast<unsigned long long>(counts[1]),
-                  static_cast<unsigned long long>(counts[2]), static_cast<unsigned long long>(counts[3] + counts[4]),
-                  impact_energy_loss);
+                  static_cast<unsigned long long>(counts[2]), static_cast<unsigned long long>(counts[3]),
+                  static_cast<unsigned long long>(counts[4]), impact_energy_loss);
     os << buf;
     for (const auto& e : events) {
-      if (e.kind == EventKind::rest || e.kind == EventKind::stop || e.kind == EventKind::release) {
+      if (e.kind == EventKind::rest && std::isfinite(e.zeno_cutoff) && e.zeno_cutoff > 0) {
+        // Only the digits the cut-off leaves known, and the cut-off said.
+        const double known = std::max(1.0, std::ceil(std::log10(std::max(std::abs(e.t), e.zeno_cutoff) / e.zeno_cutoff)));
+        std::snprintf(buf, sizeof buf,
+                      "event: rest %s at t = %.*g s (the Zeno rule ended the bounces there; those it cut off "
+                      "would take about %.2g s more)\n",
+                      e.name.c_str(), static_cast<int>(std::min(known, 15.0)), e.t, e.zeno_cutoff);
+        os << buf;
+      } else if (e.kind == EventKind::rest || e.kind == EventKind::stop || e.kind == EventKind::release) {
         std::snprintf(buf, sizeof buf, "event: %s %s at t = %.15g s\n", to_string(e.kind), e.name.c_str(), e.t);
         os << buf;
       }
@@ -474,7 +572,7 @@ std::string RunReport::summary() const {
     os << buf;
   }
   if (has_particles) {
-    // "linear momentum P0 = (…) kg m/s, conserved along x y: drift max …",
+    // "linear momentum P0 = (…) kg*m/s, conserved along x y: drift max …",
     // then one line for each component left out, with the reason.
     auto momentum = [&](const char* name, const char* symbol, const char* unit, const char* along,
                         const std::array<double, 3>& v0, const std::array<bool, 3>& conserved,
@@ -493,9 +591,9 @@ std::string RunReport::summary() const {
       for (std::size_t k = 0; k < 3; ++k)
         if (!conserved[k]) os << "  " << symbol << "_" << "xyz"[k] << " not conserved: " << reason[k] << "\n";
     };
-    momentum("linear momentum", "P", "kg m/s", "along", linear_momentum_initial, linear_momentum_conserved,
+    momentum("linear momentum", "P", "kg*m/s", "along", linear_momentum_initial, linear_momentum_conserved,
              linear_momentum_reason, linear_momentum_drift_max);
-    momentum("angular momentum", "L", "kg m^2/s", "about", angular_momentum_initial, angular_momentum_conserved,
+    momentum("angular momentum", "L", "kg*m^2/s", "about", angular_momentum_initial, angular_momentum_conserved,
              angular_momentum_reason, angular_momentum_drift_max);
   }
   for (const auto& m : conserved_momenta) {

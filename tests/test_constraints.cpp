@@ -2,8 +2,11 @@
 // forces, stabilisation holds the manifold, closed forms.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
+#include <string_view>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -146,7 +149,7 @@ TEST(Constraints, BaumgarteBoundsTheDrift) {
 }
 
 TEST(Constraints, AtwoodMachineAccelerationAndTension) {
-  const AtwoodMachine atwood(3.0, 1.0, 9.81, 0.0);
+  const AtwoodMachine atwood(3.0, 1.0, 9.81, 0.0, 5.0);  // the pulley 5 m up: out of reach in 1 s
   State<2> s;
   s.q << 1.0, -1.0;
   SimulationOptions o;
@@ -160,6 +163,120 @@ TEST(Constraints, AtwoodMachineAccelerationAndTension) {
     EXPECT_NEAR(r.q[0], 1.0 - 0.5 * a * r.t * r.t, 1e-9);
     EXPECT_NEAR(r.multipliers[0], tension, 1e-9);  // the string pulls both masses up (+∇g)
   }
+}
+
+TEST(Constraints, AtwoodMachineStopsWhereAMassReachesThePulley) {
+  // 3 kg and 1 kg from rest at y = 0, the axle d = 1 m up: the light mass rises as ½ a t² with
+  // a = g (m1 − m2)/(m1 + m2) and reaches the axle at t = √(2 d / a); the run stops there, naming the edge,
+  // and no sample has a mass above the pulley.
+  const AtwoodMachine atwood(3.0, 1.0, 9.81, 0.0, 1.0);
+  State<2> s;
+  SimulationOptions o;
+  o.t_end = 2.0;
+  o.output_interval = 0.01;
+  Recorder<2> rec;
+  const RunReport r = simulate(atwood, s, o, rec);
+  const double a = 9.81 * (3.0 - 1.0) / 4.0;
+  EXPECT_EQ(r.stopped_by, "mass2_at_pulley");
+  EXPECT_NEAR(r.stopped_at, std::sqrt(2 * 1.0 / a), 1e-9);
+  EXPECT_NEAR(r.t_final, std::sqrt(2 * 1.0 / a), 1e-9);
+  for (const auto& x : rec.samples) {
+    EXPECT_LE(x.q[0], 1.0 + 1e-9) << x.t;
+    EXPECT_LE(x.q[1], 1.0 + 1e-9) << x.t;
+  }
+  // A start with a mass above the pulley is beyond the model's domain: refused, naming the edge.
+  State<2> above;
+  above.q << -1.5, 1.5;
+  try {
+    simulate(atwood, above, o);
+    FAIL() << "a mass above the pulley was accepted";
+  } catch (const DomainError& e) {
+    EXPECT_NE(std::string(e.what()).find("mass2_at_pulley"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("-0.5"), std::string::npos) << e.what();  // c/2 + d − y2
+  }
+}
+
+TEST(Constraints, BeadLeavesTheRotatingWireAtItsEnd) {
+  // r = r0 cosh ωt from rest along the wire: the bead reaches the end r = L at t = acosh(L/r0)/ω.
+  const BeadOnRotatingWire bead(1.0, 2.0, 3.0);
+  State<2> s;
+  s.q << 0.5, 0.0;
+  s.qd << 0.0, 1.0;  // turning with the wire: ω r0
+  SimulationOptions o;
+  o.t_end = 5.0;
+  o.rtol = 1e-11;
+  o.atol = 1e-13;
+  const RunReport r = simulate(bead, s, o);
+  EXPECT_EQ(r.stopped_by, "bead_at_wire_end");
+  EXPECT_NEAR(r.stopped_at, std::acosh(3.0 / 0.5) / 2.0, 1e-9);
+}
+
+TEST(Constraints, MultiplierColumnsCarryTheirUnits) {
+  // λ ∂g/∂q is a generalized force: with g in m, λ is in N (the Atwood string's tension).
+  const std::string dir = (std::filesystem::temp_directory_path() / "lagrangian_multiplier_units").string();
+  std::filesystem::create_directories(dir);
+  const std::string path = dir + "/atwood.csv";
+  {
+    CsvSink csv(path);
+    SimulationOptions o;
+    o.t_end = 0.1;
+    simulate(AtwoodMachine(3.0, 1.0), State<2>{}, o, csv);
+    csv.finish();
+  }
+  std::ifstream in(path);
+  std::string header;
+  std::getline(in, header);
+  EXPECT_NE(header.find(",lambda_string [N],"), std::string::npos) << header;
+  EXPECT_NE(header.find(",Qc_y1 [N]"), std::string::npos) << header;
+  std::filesystem::remove_all(dir);
+}
+
+/// A vertical disk rolling without slipping on a plane (x, y contact point, φ heading, θ rolling angle):
+///   ẋ = R θ̇ cos φ,  ẏ = R θ̇ sin φ   (Pfaffian),  T = ½ m (ẋ² + ẏ²) + ½ I_a θ̇² + ½ I_d φ̇².
+struct RollingDisk {
+  static constexpr int coordinate_count = 4;
+  double m = 1.0, R = 0.3, Ia = 0.045, Id = 0.0225;
+  std::array<std::string_view, 2> pfaffian_names() const { return {"roll_x", "roll_y"}; }
+  template <class S>
+  S kinetic(const Vec<S, 4>&, const Vec<S, 4>& qd, const S&) const {
+    return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1]) + 0.5 * Ia * qd[3] * qd[3] + 0.5 * Id * qd[2] * qd[2];
+  }
+  template <class S>
+  S potential(const Vec<S, 4>&, const S&) const {
+    return S(0);
+  }
+  template <class S>
+  Vec<S, 2> pfaffian(const Vec<S, 4>& q, const Vec<S, 4>& qd, const S&) const {
+    using std::cos;
+    using std::sin;
+    return Vec<S, 2>(qd[0] - R * qd[3] * cos(q[2]), qd[1] - R * qd[3] * sin(q[2]));
+  }
+};
+
+TEST(Constraints, SamplesBetweenStepsMeetTheStepsTolerance) {
+  // The rolling disk's samples come from the dense output between steps; they are projected as the steps are, so the
+  // velocity residual at every sample is at the steps' level, not the interpolant's (1e-10 before).
+  const RollingDisk disk;
+  State<4> s;
+  s.qd << disk.R * 5.0, 0.0, 0.7, 5.0;  // rolling at θ̇ = 5 rad/s, turning at 0.7 rad/s
+  SimulationOptions o;
+  o.t_end = 10.0;
+  o.rtol = 1e-10;
+  o.atol = 1e-12;
+  o.output_interval = 0.0137;  // samples between the steps
+  Recorder<4> rec;
+  const RunReport r = simulate(disk, s, o, rec);
+  double worst = 0;
+  for (const auto& x : rec.samples) {
+    const double phi = x.q[2], w = x.qd[3];
+    worst = std::max({worst, std::abs(x.qd[0] - disk.R * w * std::cos(phi)), std::abs(x.qd[1] - disk.R * w * std::sin(phi))});
+  }
+  EXPECT_GT(rec.samples.size(), 700u);
+  EXPECT_LE(worst, 1e-14);
+  EXPECT_LE(r.constraints.max_velocity_residual, 1e-14);
+  // Free rolling: the contact point runs on a circle of radius v/φ̇ = 1.5/0.7 m about (0, v/φ̇).
+  const double rad = disk.R * 5.0 / 0.7;
+  for (const auto& x : rec.samples) EXPECT_NEAR(std::hypot(x.q[0], x.q[1] - rad), rad, 1e-8) << x.t;
 }
 
 TEST(Constraints, BeadOnRotatingWireFollowsCosh) {
@@ -176,6 +293,33 @@ TEST(Constraints, BeadOnRotatingWireFollowsCosh) {
   for (const auto& x : rec.samples) {
     const double rr = 0.1 * std::cosh(2.0 * x.t) + 0.05 / 2.0 * std::sinh(2.0 * x.t);
     EXPECT_NEAR(x.q.norm(), rr, 1e-8 * rr) << x.t;
+  }
+}
+
+TEST(Constraints, Rosenbrock4FollowsATimeDependentConstraint) {
+  // The wire spinning at ω = 2 rad/s (a rheonomic constraint, g depends on t): rosenbrock4 gives
+  // r = r0 cosh ωt + (ṙ0/ω) sinh ωt as the explicit steppers do.
+  const BeadOnRotatingWire bead(1.0, 2.0);
+  State<2> s;
+  s.q << 0.1, 0.0;
+  s.qd << 0.05, 0.2;
+  SimulationOptions o;
+  o.method = "rosenbrock4";
+  o.t_end = 2.0;
+  o.rtol = 1e-9;
+  o.atol = 1e-11;
+  o.output_interval = 0.25;
+  Recorder<2> rec;
+  const RunReport r = simulate(bead, s, o, rec);
+  EXPECT_EQ(r.method, "rosenbrock4");
+  ASSERT_EQ(rec.samples.size(), 9u);
+  for (const auto& x : rec.samples) {
+    const double rr = 0.1 * std::cosh(2.0 * x.t) + 0.05 / 2.0 * std::sinh(2.0 * x.t);
+    EXPECT_NEAR(x.q.norm(), rr, 1e-7 * rr) << x.t;
+    // on the wire: (x, y) along (cos ωt, sin ωt)
+    EXPECT_NEAR(x.q[0] * std::sin(2.0 * x.t) - x.q[1] * std::cos(2.0 * x.t), 0.0,
+                1e-12 * (1 + x.q.lpNorm<Eigen::Infinity>()))  // the projection's tolerance
+        << x.t;
   }
 }
 
@@ -213,28 +357,42 @@ TEST(Constraints, ReportedResidualsCoverTheSamples) {
   State<3> s;
   s.q << 0.0, 0.0, 0.3;
   s.qd << 1.5 * std::cos(0.3), 1.5 * std::sin(0.3), 0.8;
-  SimulationOptions o;
-  o.t_end = 10.0;
-  o.rtol = 1e-6;
-  o.output_interval = 0.01;
-  Recorder<3> rec;
-  const RunReport r = simulate(k, s, o, rec);
-  double worst = 0;
-  for (const auto& x : rec.samples)
-    worst = std::max(worst, std::abs(x.qd[0] * std::sin(x.q[2]) - x.qd[1] * std::cos(x.q[2])));
-  EXPECT_GT(worst, 1e-12);  // the dense output does leave the constraint
-  EXPECT_GE(r.constraints.max_velocity_residual, worst);
+  // Without stabilization the dense output between steps leaves the constraint, and the report's residual
+  // covers the samples; with projection (the default) the samples are projected as the steps are.
+  for (const Stabilization stab : {Stabilization::none, Stabilization::projection}) {
+    SCOPED_TRACE(to_string(stab));
+    SimulationOptions o;
+    o.t_end = 10.0;
+    o.rtol = 1e-6;
+    o.output_interval = 0.01;
+    o.stabilization = stab;
+    Recorder<3> rec;
+    const RunReport r = simulate(k, s, o, rec);
+    double worst = 0;
+    for (const auto& x : rec.samples)
+      worst = std::max(worst, std::abs(x.qd[0] * std::sin(x.q[2]) - x.qd[1] * std::cos(x.q[2])));
+    if (stab == Stabilization::none) {
+      EXPECT_GT(worst, 1e-12);
+    } else {
+      EXPECT_LE(worst, 1e-14);
+    }
+    EXPECT_GE(r.constraints.max_velocity_residual, worst);
 
-  const models::ParticleOnSphere sphere(1.0, 1.0, 9.81);
-  State<3> b;
-  b.q << std::sin(1.0), 0.0, -std::cos(1.0);
-  b.qd << 0.0, 1.5, 0.0;
-  Recorder<3> brec;
-  const RunReport rb = simulate(sphere, b, o, brec);
-  double off = 0;
-  for (const auto& x : brec.samples) off = std::max(off, std::abs(x.q.norm() - 1.0));
-  EXPECT_GT(off, 1e-12);
-  EXPECT_GE(rb.constraints.max_position_residual, off);
+    const models::ParticleOnSphere sphere(1.0, 1.0, 9.81);
+    State<3> b;
+    b.q << std::sin(1.0), 0.0, -std::cos(1.0);
+    b.qd << 0.0, 1.5, 0.0;
+    Recorder<3> brec;
+    const RunReport rb = simulate(sphere, b, o, brec);
+    double off = 0;
+    for (const auto& x : brec.samples) off = std::max(off, std::abs(x.q.norm() - 1.0));
+    if (stab == Stabilization::none) {
+      EXPECT_GT(off, 1e-12);
+    } else {
+      EXPECT_LE(off, o.projection_tolerance * 2);  // the projection's tolerance (1 + |q|∞), as at steps
+    }
+    EXPECT_GE(rb.constraints.max_position_residual, off);
+  }
 }
 
 // A free particle with two rheonomic constraints that its natural motion

@@ -1,6 +1,10 @@
 // Located events in runs: impact times, the Zeno accumulation, a box of
 // perfectly elastic spheres, Newton's cradle, an impact at t0. The edge
 // cases are in test_events_edge.cpp.
+#include <cmath>
+#include <cstdio>
+#include <string>
+
 #include "event_helpers.hpp"
 
 namespace {
@@ -86,6 +90,19 @@ TEST(Events, ZenoBouncesFollowTheGeometricSeriesThenTheBallRests) {
     if (ev.kind == EventKind::rest) {
       ++rests;
       EXPECT_NEAR(ev.t, t_inf, 1e-5);
+      // The Zeno rule cut the series off at ev.t: the bounces left would take e Δ / (1 − e) more, Δ the
+      // last flight, so the rest's time plus its cut-off is t∞ itself, and the summary shows the rest's
+      // time only to the digits the cut-off leaves known.
+      ASSERT_GT(ev.zeno_cutoff, 0.0);
+      EXPECT_LT(t_inf - ev.t, 1.5 * ev.zeno_cutoff);
+      EXPECT_NEAR(ev.t + ev.zeno_cutoff, t_inf, 1e-9);
+      const int digits = static_cast<int>(std::ceil(std::log10(ev.t / ev.zeno_cutoff)));
+      char shown[64];
+      std::snprintf(shown, sizeof shown, "at t = %.*g s (the Zeno rule", digits, ev.t);
+      const std::string text = r.summary();
+      EXPECT_NE(text.find(shown), std::string::npos) << text;
+      std::snprintf(shown, sizeof shown, "at t = %.15g s", ev.t);
+      EXPECT_EQ(text.find(shown), std::string::npos) << text;
     }
   }
   EXPECT_EQ(rests, 1);

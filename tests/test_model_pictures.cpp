@@ -294,10 +294,11 @@ Expected expected(const ModelSpec& spec) {
     e.plane = 2;
     e.up = {0, 1, 0};
   } else if (name == "bead_on_rotating_wire") {
-    from_model(e, lm::BeadOnRotatingWire(p("m"), p("omega")), 0);
-    e.masses = {p("m")};
-    e.radii = {0};
-    e.rods = {not_fixed};  // the wire from the axis out to the bead
+    // The bead, and two massless markers at the wire's ends joined by the wire, 2L long through the axis.
+    from_model(e, lm::BeadOnRotatingWire(p("m"), p("omega"), p("L")), 0);
+    e.masses = {p("m"), 0, 0};
+    e.radii = {0, 0.01 * p("L"), 0.01 * p("L")};
+    e.rods = {2 * p("L")};
     e.plane = 2;
   } else if (name == "particle_on_sphere") {
     from_model(e, lm::ParticleOnSphere(p("m"), p("R"), p("g")), p("g"));
@@ -305,7 +306,7 @@ Expected expected(const ModelSpec& spec) {
     e.radii = {0};
     e.on_sphere = {{0, 0}};
   } else if (name == "atwood_machine") {
-    from_model(e, lm::AtwoodMachine(p("m1"), p("m2"), p("g"), p("c")), p("g"));
+    from_model(e, lm::AtwoodMachine(p("m1"), p("m2"), p("g"), p("c"), p("d")), p("g"));
     e.masses = {p("m1"), p("m2")};
     e.radii = {0, 0};
     e.rods = {not_fixed, not_fixed};  // the two runs of the string: AtwoodString checks them
@@ -398,9 +399,9 @@ std::map<std::string, double> other_parameters(const std::string& name) {
       {"cart_pendulum", {{"M", 3.0}, {"l", 0.6}, {"k", 0.0}}},
       {"driven_pendulum", {{"l", 0.7}, {"a", 0.1}, {"Omega", 20.0}}},
       {"pendulum_chain_3", {{"m", 2.0}, {"l", 0.5}}},
-      {"bead_on_rotating_wire", {{"m", 2.0}, {"omega", 3.0}}},
+      {"bead_on_rotating_wire", {{"m", 2.0}, {"omega", 3.0}, {"L", 4.0}}},
       {"particle_on_sphere", {{"m", 0.5}, {"R", 2.0}}},
-      {"atwood_machine", {{"m1", 2.0}, {"m2", 5.0}, {"c", 1.0}}},
+      {"atwood_machine", {{"m1", 2.0}, {"m2", 5.0}, {"c", 1.0}, {"d", 2.5}}},
       {"cartesian_double_pendulum", {{"m2", 2.0}, {"l1", 0.6}, {"l2", 1.3}}},
       {"knife_edge", {{"m", 2.0}, {"I", 0.3}}},
       {"direct_impact", {{"m1", 3.0}, {"r1", 0.05}, {"r2", 0.2}}},

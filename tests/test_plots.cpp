@@ -248,7 +248,7 @@ TEST(Plots, ParticleSceneWithImpacts) {
   EXPECT_NE(script.find("'x (m)'"), std::string::npos);
   EXPECT_NE(script.find("'z (m)'"), std::string::npos);
   // e < 1: the energy plot is titled for what its steps are, not as an error.
-  EXPECT_NE(script.find("energy lost at the impacts (the steps), relative to E_scale"), std::string::npos);
+  EXPECT_NE(script.find("energy lost at the impacts (the steps), relative to |E0|"), std::string::npos);
   EXPECT_EQ(script.find("relative energy error"), std::string::npos);
   keep_sample(dir, "bouncing_balls");
 }
@@ -296,7 +296,7 @@ TEST(Plots, GeneralizedModelWithoutEvents) {
   EXPECT_NE(script.find("'theta_dot (rad/s)'"), std::string::npos);
   EXPECT_NE(script.find("'x_dot (m/s)'"), std::string::npos);
   EXPECT_EQ(script.find("$impacts"), std::string::npos);
-  EXPECT_NE(script.find("relative energy error (E_scale = 3.5 J)"), std::string::npos);
+  EXPECT_NE(script.find("relative energy error (of |E0|, E0 = 3.5 J)"), std::string::npos);
   keep_sample(dir, "cart_pendulum");
 }
 
@@ -323,6 +323,37 @@ TEST(Plots, SingleCoordinateHeaderOnlyEventsAndInferredNames) {
   const std::string script = read_all(spec.out_dir + "/plots.gp");
   EXPECT_NE(script.find("theta against time"), std::string::npos);
   keep_sample(dir, "pendulum");
+}
+
+TEST(Plots, AnEnergyConstantToRoundOffIsDrawnFlatAndSaidSo) {
+  // E = −3.555 J with round-off of a few ulps: the plot is of (E − E0)/|E0| on an axis ±1e-10 wide, so
+  // the round-off is not drawn at full height, and the title says how constant the energy was.
+  REQUIRE_GNUPLOT();
+  TempDir dir;
+  double span = 0;
+  {
+    std::ofstream f(dir / "trajectory.csv");
+    f.precision(17);
+    f << "t,theta,theta_dot,energy\n";
+    for (int i = 0; i <= 500; ++i) {
+      const double t = 0.01 * i, E = -3.555 + (i % 7 - 3) * 4.440892098500626e-16;
+      span = std::max(span, std::abs(E - (-3.555 + (0 % 7 - 3) * 4.440892098500626e-16)) / 3.555);
+      f << t << "," << 0.3 * std::cos(3.13 * t) << "," << -0.3 * 3.13 * std::sin(3.13 * t) << "," << E << "\n";
+    }
+  }
+  ASSERT_GT(span, 0.0);
+  PlotSpec spec;
+  spec.title = "link pendulum";
+  spec.trajectory_csv = dir / "trajectory.csv";
+  spec.out_dir = dir / "plots";
+  spec.energy_scale = 7.11;  // |T| + |V| at the bottom: not what the figure is relative to
+  const PlotResult r = lagrangian::make_plots(spec);
+  expect_images(r, spec.out_dir);
+  const std::string script = read_all(spec.out_dir + "/plots.gp");
+  EXPECT_NE(script.find("energy constant to "), std::string::npos) << script;
+  EXPECT_NE(script.find("of |E0|, E0 = -3.555 J"), std::string::npos) << script;
+  EXPECT_NE(script.find("set yrange [-1e-10:1e-10]"), std::string::npos) << script;
+  EXPECT_EQ(script.find("relative energy error"), std::string::npos);
 }
 
 TEST(Plots, LargeFilesAreThinned) {

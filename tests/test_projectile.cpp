@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "lagrangian/lagrangian.hpp"
@@ -182,6 +183,27 @@ TEST(Projectile, NLoptFindsTheTwoElevationsThatHitATarget) {
     EXPECT_NE(std::string(e.what()).find("the target (40, 6) m is out of reach at u = 10 m/s"), std::string::npos)
         << e.what();
   }
+}
+
+TEST(Projectile, AStartBelowItsPlaneIsRefusedNamingTheEdge) {
+  // The landing event (y − x tan β falls through 0) ends the model's domain: a projectile started under
+  // the plane would fly through the ground. 1 m below a 10° incline at x = 2 m: y − x tan β = −1 − 2 tan 10°.
+  const Projectile<> p(1.0, 9.81, 10 * kDeg);
+  State<2> s;
+  s.q << 2.0, -1.0;
+  s.qd << 3.0, 4.0;
+  try {
+    simulate(p, s, tight());
+    FAIL() << "a start below the plane was accepted";
+  } catch (const DomainError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("'landing'"), std::string::npos) << m;
+    char value[32];
+    std::snprintf(value, sizeof value, "%.6g", -1.0 - 2.0 * std::tan(10 * kDeg));
+    EXPECT_NE(m.find(std::string(value).substr(0, 6)), std::string::npos) << m;
+  }
+  // On the plane is inside the domain: the launch point itself.
+  EXPECT_NO_THROW(simulate(p, p.launch(10.0, 40 * kDeg), tight()));
 }
 
 TEST(Projectile, BadInputIsAClearError) {

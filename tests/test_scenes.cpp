@@ -2,6 +2,7 @@
 // against a closed form, a conservation law or a second formulation, and the
 // proof that undeclared effects are never evaluated.
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -9,6 +10,7 @@
 #include <iterator>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 #include <numbers>
 
@@ -298,6 +300,87 @@ TEST(Scenes, LinkPendulumWritesTheRodTension) {
     ++rows;
   }
   EXPECT_GT(rows, 50);
+  EXPECT_LT(worst, 1e-8);
+  std::filesystem::remove_all(dir);
+}
+
+// Reads trajectory.csv of `dir`: the header and each row's numbers.
+std::pair<std::string, std::vector<std::vector<double>>> read_trajectory(const std::filesystem::path& dir) {
+  std::ifstream in(dir / "trajectory.csv");
+  std::string header;
+  std::getline(in, header);
+  std::vector<std::vector<double>> rows;
+  for (std::string line; std::getline(in, line);) {
+    std::vector<double> v;
+    std::stringstream ss(line);
+    for (std::string cell; std::getline(ss, cell, ',');) v.push_back(std::stod(cell));
+    rows.push_back(std::move(v));
+  }
+  return {header, rows};
+}
+
+TEST(Scenes, SamplesBetweenStepsMeetTheConstraintsAsStepsDo) {
+  // The link pendulum sampled off its steps (every 0.0137 s): each sample is projected onto |r| = l and
+  // r·v = 0 as the steps are, so the residuals at the samples are round-off, not the interpolant's error.
+  const auto dir = std::filesystem::temp_directory_path() / "lagrangian_sample_residuals";
+  std::filesystem::remove_all(dir);
+  const double l = 1.0;
+  Scene s = base(10.0, 1e-8, 1e-10);
+  s.run.output_interval = 0.0137;
+  s.bodies.push_back({.name = "bob", .mass = 1.0, .position = {l * std::sin(1.2), 0, -l * std::cos(1.2)}});
+  s.gravity = UniformGravity{};
+  s.links.push_back({.name = "rod", .a = "bob", .anchor = {0, 0, 0}, .length = l});
+  s.output.directory = dir.string();
+  s.output.plots = false;
+  s.output.animation = false;
+  const RunResult r = run(s);
+  const auto [header, rows] = read_trajectory(dir);
+  ASSERT_GT(rows.size(), 700u);
+  double position = 0, velocity = 0, speed = 0;
+  for (const auto& v : rows) {
+    const Eigen::Vector3d q(v[1], v[2], v[3]), u(v[4], v[5], v[6]);
+    position = std::max(position, std::abs(q.norm() - l));
+    velocity = std::max(velocity, std::abs(q.dot(u)));
+    speed = std::max(speed, u.lpNorm<Eigen::Infinity>());
+  }
+  // The projection's tolerance, 1e-12 (1 + |r|∞) and 1e-12 (1 + |v|∞), at samples as at steps (the
+  // interpolant alone leaves ~1e-9 at rtol 1e-8).
+  EXPECT_LE(position, 2e-12);
+  EXPECT_LE(velocity, 1e-12 * (1 + speed));
+  EXPECT_LE(r.report.constraints.max_position_residual, 2e-12);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Scenes, SurfaceMultiplierColumnsAreTheNormalForce) {
+  // A bead bound to a sphere of radius ρ about the origin (row ½(|r|² − ρ²) in m², so λ is in N/m): the
+  // constraint force Qc = λ ∇row = λ r is along the normal n = r/ρ, and Newton's law along n gives it,
+  //   −m v²/ρ = Qc·n − m g n_z   (the centripetal acceleration, gravity (0, 0, −g)).
+  const auto dir = std::filesystem::temp_directory_path() / "lagrangian_surface_multipliers";
+  std::filesystem::remove_all(dir);
+  const double rho = 0.8, m = 0.3, g = 9.81;
+  Scene s = base(3.0);
+  s.run.output_interval = 0.05;
+  s.bodies.push_back({.name = "bead", .mass = m, .position = {rho * std::sin(0.8), 0, -rho * std::cos(0.8)},
+                      .velocity = {0, 1.1, 0}});
+  s.gravity = UniformGravity{{0, 0, -g}};
+  s.surfaces.push_back({.name = "shell", .body = "bead", .kind = Surface::Kind::sphere, .point = {0, 0, 0},
+                        .radius = rho});
+  s.output.directory = dir.string();
+  s.output.plots = false;
+  s.output.animation = false;
+  run(s);
+  const auto [header, rows] = read_trajectory(dir);
+  ASSERT_EQ(header, "t [s],bead.x [m],bead.y [m],bead.z [m],bead.x_dot [m/s],bead.y_dot [m/s],bead.z_dot [m/s],"
+                    "energy [J],lambda_shell [N/m],Qc_bead.x [N],Qc_bead.y [N],Qc_bead.z [N]");
+  double worst = 0;
+  for (const auto& v : rows) {
+    const Eigen::Vector3d r(v[1], v[2], v[3]), u(v[4], v[5], v[6]), Qc(v[9], v[10], v[11]);
+    const Eigen::Vector3d n = r / r.norm();  // outward
+    const double radial = -m * u.squaredNorm() / rho + m * g * n.z();
+    worst = std::max({worst, std::abs(Qc.dot(n) - radial), (Qc - Qc.dot(n) * n).norm(),
+                      std::abs(v[8] * r.norm() - Qc.dot(n))});
+  }
+  EXPECT_GT(rows.size(), 50u);
   EXPECT_LT(worst, 1e-8);
   std::filesystem::remove_all(dir);
 }

@@ -44,6 +44,7 @@
 #include "lagrangian/ad.hpp"
 #include "lagrangian/detail/min_norm_solver.hpp"
 #include "lagrangian/dynamics.hpp"
+#include "lagrangian/detail/csv_header.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/report.hpp"
@@ -198,6 +199,33 @@ std::vector<std::string> constraint_names(const M& model) {
     }
   }
   return names;
+}
+
+/// True when the model gives the units of its constraint functions.
+template <class M>
+inline constexpr bool has_constraint_units_v = requires(const M& m) {
+  { m.constraint_units() };
+};
+
+/// SI unit of each constraint's multiplier λ, in constraint_names() order:
+/// λ ∂g/∂q is a generalized force, so λ is work per unit of the constraint
+/// function, from the model's optional `constraint_units()` (the unit of
+/// each g, gap or Pfaffian row A δq): "m" gives "N", "rad" "N*m", "m^2"
+/// "N/m". "" for each when the model gives none. Throws ConstraintError
+/// when it gives a different number of units than constraints.
+template <class M>
+std::vector<std::string> multiplier_units(const M& model) {
+  const std::size_t count = constraint_names(model).size();
+  std::vector<std::string> units;
+  if constexpr (has_constraint_units_v<M>) {
+    for (const auto& u : model.constraint_units()) units.push_back(detail::csv_force_unit(u));
+    if (units.size() != count)
+      throw ConstraintError("constraint_units() gives " + std::to_string(units.size()) + " units for " +
+                            std::to_string(count) + " constraints");
+  } else {
+    units.resize(count);
+  }
+  return units;
 }
 
 /// The velocity-level constraint data at a state, for m = mh + mp rows.

@@ -26,6 +26,14 @@ class OptionError : public Error {
   using Error::Error;
 };
 
+/// The initial state lies beyond an edge of the model's domain, where a
+/// watched event that stops the run marks it (a mass above its pulley, a
+/// projectile below its plane): the message names the edge and the value.
+class DomainError : public OptionError {
+ public:
+  using OptionError::OptionError;
+};
+
 /// The dynamics cannot be evaluated at a state (singular mass matrix, …).
 class DynamicsError : public Error {
  public:

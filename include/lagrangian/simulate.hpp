@@ -65,6 +65,59 @@ void refuse_unsuited_method(const M& model, const State<coordinate_count_v<M>>& 
   }
 }
 
+/// A watched event that stops the run marks an edge of the model's domain
+/// (a mass reaching its pulley, a projectile reaching its plane). A start
+/// already beyond one — its function past 0 in the direction it is watched
+/// for — would run where the model does not hold, so it is refused with a
+/// DomainError naming the edge and the function's value.
+template <class M>
+void refuse_start_beyond_edges(const M& model, const State<coordinate_count_v<M>>& x0, double t0) {
+  if constexpr (event_count_v<M> > 0) {
+    const auto values = model.events(x0.q, x0.qd, t0);
+    const std::vector<EventSpec> specs = event_specs(model);
+    for (std::size_t i = 0; i < specs.size(); ++i) {
+      const EventSpec& e = specs[i];
+      const double v = values[static_cast<Eigen::Index>(i)];
+      if (e.action != EventAction::stop) continue;
+      const bool falling = e.direction == Direction::falling, rising = e.direction == Direction::rising;
+      if (!((falling && v < 0) || (rising && v > 0))) continue;
+      throw DomainError(model_name(model) + ": the initial state is beyond the edge '" + e.name +
+                        "' of the model's domain: its event function is " + detail::format_number(v) +
+                        " at t0, and the run stops where it " + (falling ? "falls" : "rises") +
+                        " through 0; start on the " + (falling ? "positive" : "negative") + " side");
+    }
+  }
+}
+
+/// A start where the model's energy is not finite is at a singularity of
+/// the model (r = 0 of a central force, two bodies at one place): refused
+/// with a DomainError naming T or V, its value and the coordinates.
+template <class M>
+void refuse_singular_start(const M& model, const State<coordinate_count_v<M>>& x0, double t0) {
+  if constexpr (has_kinetic_potential_v<M>) {
+    const double T = model.kinetic(x0.q, x0.qd, t0), V = model.potential(x0.q, t0);
+    if (std::isfinite(T) && std::isfinite(V)) return;
+    const auto names = coordinate_names(model);
+    std::ostringstream os;
+    os.precision(17);
+    os << model_name(model) << ": the initial state is a singularity of the model: "
+       << (std::isfinite(V) ? "the kinetic energy T = " : "the potential energy V = ") << (std::isfinite(V) ? T : V)
+       << " J at t0, where";
+    for (std::size_t i = 0; i < names.size(); ++i)
+      os << (i ? ", " : " ") << names[i] << " = " << x0.q[static_cast<Eigen::Index>(i)];
+    os << " (a collision, or the centre of a central force at r = 0); start away from it";
+    throw DomainError(os.str());
+  } else {
+    const double L = model.lagrangian(x0.q, x0.qd, t0);
+    if (std::isfinite(L)) return;
+    std::ostringstream os;
+    os.precision(17);
+    os << model_name(model) << ": the initial state is a singularity of the model: L = " << L
+       << " J at t0 (a collision, or the centre of a central force at r = 0); start away from it";
+    throw DomainError(os.str());
+  }
+}
+
 /// The body of simulate(), compiled once per model (the observer is erased):
 /// checks the input, fills the report's header, and runs the model's
 /// ModelSystem through the driver (integrate.hpp).
@@ -94,6 +147,8 @@ RunReport simulate_impl(const M& model, const State<coordinate_count_v<M>>& init
   }
 
   refuse_unsuited_method(model, initial, options);
+  refuse_start_beyond_edges(model, initial, options.t0);
+  refuse_singular_start(model, initial, options.t0);
 
   RunReport report;
   report.model = model_name(model);

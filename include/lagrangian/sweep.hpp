@@ -98,6 +98,8 @@ class Expression {
   /// expression and the problem (unknown name, syntax).
   Expression(const std::string& text, const std::vector<std::string>& variables, const std::string& what);
   double evaluate(const double* values) const;
+  /// True when the expression reads the variable in slot `k`.
+  bool uses(std::size_t k) const;
 
  private:
   struct Op {
@@ -118,8 +120,9 @@ struct SweepOptions {
   /// Column groups after the varied and set values and the status:
   /// "final" (t_final, q_<coordinate>, qd_<coordinate>), "events"
   /// (n_, first_, last_ per event kind — impact, rest, release, stop — and
-  /// per watched event name), "energy" (energy_drift_max, energy_drift_final,
-  /// impact_energy_loss), "error" (reference_error_final: against the
+  /// per watched event name), "energy" (energy_drift_max, energy_drift_final:
+  /// of the energy scale; energy_drift_relative_to_initial: |h − h0|/|h0| at
+  /// the end; impact_energy_loss), "error" (reference_error_final: against the
   /// model's closed form, empty without one), "cost" (steps,
   /// rejected_steps, rhs_evaluations), "wall" (wall_time_s; varies run to
   /// run, so not a default).
@@ -164,6 +167,7 @@ struct SweepRecord {
   std::vector<double> q, qd;     ///< final state
   double t_final = 0;
   double energy_drift_max = 0, energy_drift_final = 0, impact_energy_loss = 0;
+  double energy_drift_relative_to_initial = 0;  ///< RunReport::energy_drift_relative_to_initial(); NaN when h0 = 0
   bool has_reference = false;
   double reference_error_final = 0;
   std::uint64_t steps = 0, rejected_steps = 0, rhs_evaluations = 0;
@@ -190,7 +194,14 @@ struct SweepResult {
   std::vector<SweepRecord> records;     ///< by point index (rank 0; empty on other ranks)
   std::vector<std::string> files;       ///< files written (rank 0)
   std::string plot_note;                ///< why plots were skipped, if they were
+  std::vector<std::string> warnings;    ///< sweep_warnings() of the options
 };
+
+/// What about a sweep's options deserves a warning though it is not an
+/// error: a varied variable that no --set expression reads, so that every
+/// point runs the same scene. Throws OptionError as the sweep would for an
+/// expression that does not compile.
+std::vector<std::string> sweep_warnings(const SweepOptions& options);
 
 /// Runs the sweep of the scene file `scene_path` and (rank 0) writes
 /// `<out_dir>/sweep.csv` and the plots. Throws SceneError / OptionError for

@@ -106,6 +106,9 @@ struct Track {
   /// by sample, body by body, x y z.
   std::vector<double> positions;
   Series energy;                  ///< plotted when it has values (one per sample)
+  /// The run's energy scale (J; RunReport::energy_scale): the energy chart is
+  /// relative to it where E0 = 0. 0: relative to the largest |E| instead.
+  double energy_scale = 0;
   std::vector<Series> coordinates;  ///< plotted against time, one chart per unit
   std::vector<Event> events;
   /// Samples of the run these were thinned from (stated on the page); 0:

@@ -32,6 +32,7 @@
 #include "subcommands.hpp"
 #include "completion.hpp"
 #include "sweep_command.hpp"
+#include "written_files.hpp"
 
 namespace fs = std::filesystem;
 using namespace lagrangian;
@@ -147,9 +148,7 @@ void print_progress(const std::string& line) { std::cerr << "  " << line << "\n"
 void print_outputs(const std::string& plot_note, const std::vector<std::string>& files, bool quiet) {
   if (!quiet) {
     if (!plot_note.empty()) std::cout << "note: " << plot_note << "\n";
-    std::cout << "wrote:";
-    for (const auto& f : files) std::cout << " " << f;
-    std::cout << "\n";
+    cli::print_written(files);
   } else if (!plot_note.empty() && plot_note.rfind("plots failed", 0) == 0) {
     std::cerr << "lagrangian: " << plot_note << "\n";
   }

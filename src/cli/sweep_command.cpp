@@ -12,6 +12,7 @@
 #include "lagrangian/errors.hpp"
 #include "lagrangian/scene.hpp"
 #include "lagrangian/scene_io.hpp"
+#include "written_files.hpp"
 
 namespace lagrangian::cli {
 namespace {
@@ -112,6 +113,8 @@ int SweepCommand::run(int rank, int ranks, std::function<std::string(const std::
     o.png = s.output.png;
     o.svg = s.output.svg;
     o.cancel = &interrupt_requested;
+    if (speak)  // before the runs, which may be long
+      for (const std::string& w : scene::sweep_warnings(o)) std::cerr << "lagrangian: warning: " << w << "\n";
     std::signal(SIGINT, on_interrupt);
     std::signal(SIGTERM, on_interrupt);
     const scene::SweepResult r = scene::sweep(scene_path_, o);
@@ -122,9 +125,7 @@ int SweepCommand::run(int rank, int ranks, std::function<std::string(const std::
                   static_cast<unsigned long long>(r.failed), r.run_time_s, r.threads, r.threads == 1 ? "" : "s",
                   r.ranks, r.ranks == 1 ? "" : "s", static_cast<double>(r.points) / r.run_time_s);
       if (!r.plot_note.empty()) std::cout << "note: " << r.plot_note << "\n";
-      std::cout << "wrote:";
-      for (const auto& f : r.files) std::cout << " " << f;
-      std::cout << "\n";
+      print_written(r.files);
     } else if (r.plot_note.rfind("plots failed", 0) == 0) {
       std::cerr << "lagrangian: " << r.plot_note << "\n";
     }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "lagrangian/errors.hpp"
@@ -91,6 +92,11 @@ bool zeno_accumulation(const ContactHistory& history, double approach, double t,
   const bool accumulating = approach <= options.zeno_speed_ratio * history.approach_max ||
                             t - history.last_impact <= options.zeno_min_interval * std::max(1.0, std::abs(t));
   return accumulating && pressed();
+}
+
+double zeno_cutoff(const ContactHistory& history, double t, double e) {
+  if (!std::isfinite(history.last_impact) || !(e < 1)) return std::numeric_limits<double>::quiet_NaN();
+  return (t - history.last_impact) * e / (1 - e);
 }
 
 void EventProgress::check(double t_event, double t_step_start) {

@@ -96,7 +96,8 @@ void throw_non_finite_energy(double t, double energy, const double* x, int n) {
   os.precision(17);
   os << "the energy is not finite at t = " << t << " (E = " << energy << " J) although the state is: ";
   write_state(os, x, n);
-  os << "; its terms overflow double precision (about 1e308), so the run was stopped";
+  os << "; the state reached a singularity of the model (a collision, r = 0 of a central force) or its terms "
+        "overflow double precision (about 1e308), so the run was stopped";
   throw SimulationError(os.str(), t);
 }
 

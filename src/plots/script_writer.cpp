@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "gnuplot_text.hpp"
+#include "lagrangian/detail/energy_scale.hpp"
 
 namespace lagrangian::plots_detail {
 
@@ -513,45 +514,55 @@ void ScriptWriter::coordinates() {
 }
 
 void ScriptWriter::energy() {
-  const double s = spec_.energy_scale;
-  std::vector<std::pair<double, double>> errs = {
-      {(tr_.lo[cols_.energy] - tr_.first[cols_.energy]) / s, (tr_.hi[cols_.energy] - tr_.first[cols_.energy]) / s}};
-  if (cols_.total_energy)
-    errs.push_back({(tr_.lo[cols_.total_energy] - tr_.first[cols_.total_energy]) / s,
-                    (tr_.hi[cols_.total_energy] - tr_.first[cols_.total_energy]) / s});
+  // Each line is its energy's relative change (E − E0)/|E0| (relative to E_scale where E0 = 0) on an axis at
+  // least ±kEnergyChartFloor wide: round-off draws as the flat line it is, and the title says how constant.
+  const double scale = spec_.energy_scale;
+  struct Line {
+    int col;
+    double ref;
+    double lo, hi;  // the relative change's range
+  };
+  std::vector<Line> lines;
+  auto line = [&](int col) {
+    const double e0 = tr_.first[col], ref = e0 != 0 && std::isfinite(e0) ? std::abs(e0) : scale;
+    lines.push_back({col, ref, (tr_.lo[col] - e0) / ref, (tr_.hi[col] - e0) / ref});
+  };
+  line(cols_.energy);
+  if (cols_.total_energy) line(cols_.total_energy);
   double lo = 0, hi = 0;  // the range always shows 0
-  for (auto [a, b] : errs) {
-    if (std::isfinite(a)) lo = std::min(lo, a);
-    if (std::isfinite(b)) hi = std::max(hi, b);
+  for (const Line& l : lines) {
+    if (std::isfinite(l.lo)) lo = std::min(lo, l.lo);
+    if (std::isfinite(l.hi)) hi = std::max(hi, l.hi);
   }
-  std::pair<double, double> yr;
-  if (hi - lo > 0) {
-    yr = padded(lo, hi);
-  } else {
-    yr = {-1e-16, 1e-16};  // exactly conserved (to the last digit)
-  }
+  const double span = std::max(-lo, hi);
+  const bool flat = span <= lagrangian::detail::kEnergyChartFloor;
+  const std::pair<double, double> yr =
+      flat ? std::pair{-lagrangian::detail::kEnergyChartFloor, lagrangian::detail::kEnergyChartFloor} : padded(lo, hi);
+  const double e0 = tr_.first[cols_.energy];
+  const std::string ref_name = e0 != 0 ? "|E0|, E0 = " + short_num(e0) + " J" : "E_scale = " + short_num(scale) + " J";
   // With e < 1 the plot shows what the impacts took (the steps), with the
   // integration error between them: titled for that, not as an error.
-  const std::string what = impacts_lose_energy_
-                               ? "energy lost at the impacts (the steps), relative to E_scale = " + short_num(s) + " J"
-                               : "relative energy error (E_scale = " + short_num(s) + " J)";
+  const std::string what = impacts_lose_energy_ ? "energy lost at the impacts (the steps), relative to " + ref_name
+                           : flat ? (span > 0 ? "energy constant to " + short_num(span) + " of " + ref_name
+                                             : "energy constant to the last digit (" + ref_name + ")")
+                                  : "relative energy error (of " + ref_name + ")";
   os_ << "# 3. " << (impacts_lose_energy_ ? "Energy lost at the impacts" : "Relative energy error") << "\n";
   begin_plot("energy");
   os_ << "  set title " << gp_str(titled(spec_.title, what)) << "\n"
       << "  set xlabel 't (s)'\n"
-      << "  set ylabel '(E − E(t0)) / E_scale'\n"
+      << "  set ylabel " << gp_str(e0 != 0 ? "(E − E0) / |E0|" : "(E − E0) / E_scale") << "\n"
       << "  set format y " << (std::max(-yr.first, yr.second) < 1e-2 ? "'%.1e'" : "'%g'") << "\n"
       << "  set xrange " << range(time_range()) << "\n"
       << "  set yrange " << range(yr) << "\n"
       << "  set key outside right top\n";
   impact_axis();
-  const std::string h_err = "(column(" + std::to_string(cols_.energy + 1) + ") - E0)/Escale";
-  os_ << "  plot " << source({{h_err, "(energy - E0)/Escale"}}, true) << " with lines lt 1 title "
-      << (cols_.total_energy ? "'h = p·q̇ − L'" : "'energy'");
-  if (cols_.total_energy) {
-    const std::string e_err = "(column(" + std::to_string(cols_.total_energy + 1) + ") - Etot0)/Escale";
-    os_ << ", \\\n       " << source({{e_err, "(total_energy - Etot0)/Escale"}}, true)
-        << " with lines lt 2 dt 2 title 'T + V'";
+  const char* names[2][2] = {{"E0", "energy"}, {"Etot0", "total_energy"}};
+  for (std::size_t k = 0; k < lines.size(); ++k) {
+    const std::string expr = "(column(" + std::to_string(lines[k].col + 1) + ") - " + names[k][0] + ")/" + num(lines[k].ref);
+    const std::string shown = "(" + std::string(names[k][1]) + " - " + names[k][0] + ")/" + short_num(lines[k].ref);
+    os_ << (k ? ", \\\n       " : "  plot ") << source({{expr, shown}}, true)
+        << (k ? " with lines lt 2 dt 2 title 'T + V'"
+              : cols_.total_energy ? " with lines lt 1 title 'h = p·q̇ − L'" : " with lines lt 1 title 'energy'");
   }
   // With e < 1 the steps at the impacts are the energy they took, not error.
   os_ << impact_lines(true) << "\n";

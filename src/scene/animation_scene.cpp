@@ -158,6 +158,7 @@ SceneView scene_view(const Scene& scene, const RunResult& result) {
     track.positions = rows.q;  // x, y, z of each body in turn
   }
   track.energy = {result.engine == "event_driven" ? "kinetic energy T" : "energy E = T + V", "J", rows.energy};
+  track.energy_scale = result.report.energy_scale;
   // Coordinates: a model's, or the bodies' x, y, z for a few bodies.
   const ModelInfo* info = entry ? find_model(scene.model->name) : nullptr;
   if (entry || scene.bodies.size() <= 4) {

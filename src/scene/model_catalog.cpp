@@ -98,11 +98,13 @@ std::vector<ModelInfo> make_catalog() {
 
   // -- constrained systems (constrained.hpp) -----------------------------------
   c.push_back({"bead_on_rotating_wire",
-               "Bead on a straight horizontal wire spinning about a vertical axis (rheonomic holonomic constraint)",
+               "Bead on a straight horizontal wire spinning about a vertical axis (rheonomic holonomic constraint); "
+               "stops at the wire's end",
                {"x", "y"},
                {"m", "m"},
                {{"m", 1.0, "kg", "mass of the bead"},
-                {"omega", 2.0, "rad/s", "spin rate of the wire"}}});
+                {"omega", 2.0, "rad/s", "spin rate of the wire"},
+                {"L", 10.0, "m", "reach of the wire either side of the axis: the bead leaves its end at r = L"}}});
   c.push_back({"particle_on_sphere",
                "Particle on a sphere about the origin, gravity along -z: the spherical pendulum in Cartesian "
                "coordinates",
@@ -112,13 +114,15 @@ std::vector<ModelInfo> make_catalog() {
                 {"R", 1.0, "m", "radius of the sphere"},
                 {"g", 9.81, "m/s^2", "acceleration of gravity"}}});
   c.push_back({"atwood_machine",
-               "Atwood machine: two masses on a string over a massless pulley, y1 + y2 = c",
+               "Atwood machine: two masses on a string over a massless pulley, y1 + y2 = c; stops where a mass reaches "
+               "the pulley",
                {"y1", "y2"},
                {"m", "m"},
                {{"m1", 3.0, "kg", "first mass"},
                 {"m2", 1.0, "kg", "second mass"},
                 {"g", 9.81, "m/s^2", "acceleration of gravity"},
-                {"c", 0.0, "m", "string constant: y1 + y2 = c"}}});
+                {"c", 0.0, "m", "string constant: y1 + y2 = c"},
+                {"d", 1.0, "m", "height of the pulley's axle above c/2: a mass reaching it stops the run"}}});
   c.push_back({"cartesian_double_pendulum",
                "Double pendulum in Cartesian coordinates with two rod constraints",
                {"x1", "y1", "x2", "y2"},

@@ -45,7 +45,7 @@ std::string inspect_particles(const Scene& scene, bool as_json) {
     os << "  " << b.name << ": m = " << b.mass << " kg";
     if (b.radius > 0) os << ", R = " << b.radius << " m";
     os << ", r = (" << b.position.transpose() << ") m, v = (" << b.velocity.transpose() << ") m/s"
-       << ", p = m v = (" << (b.mass * b.velocity).transpose() << ") kg·m/s\n";
+       << ", p = m v = (" << (b.mass * b.velocity).transpose() << ") kg*m/s\n";
   }
   if (n > shown) os << "  … " << n - shown << " more\n";
   {
@@ -102,7 +102,7 @@ std::string inspect_particles(const Scene& scene, bool as_json) {
     P += b.mass * b.velocity;
     L += b.position.cross(b.mass * b.velocity);
   }
-  os << "momentum     P = (" << P.transpose() << ") kg·m/s, L about the origin = (" << L.transpose() << ") kg·m²/s\n";
+  os << "momentum     P = (" << P.transpose() << ") kg*m/s, L about the origin = (" << L.transpose() << ") kg*m^2/s\n";
   const double T = sys.kinetic(x.data()), V = sys.potential(x.data());
   os << "energy       T = " << T << " J, V = " << V << " J, E = T + V = " << T + V << " J\n";
   js.raw("P", json_numbers(P.data(), 3));

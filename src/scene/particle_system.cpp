@@ -111,6 +111,7 @@ class ParticleSystem final : public lagrangian::System {
     x_f_.assign(size, 0.0);
     buf_.assign(size, 0.0);
     scratch_.assign(size, 0.0);
+    sample_x_.assign(size, 0.0);
     if (opt_.stabilization == Stabilization::baumgarte) model_.omega = opt_.baumgarte_omega;
   }
 
@@ -161,7 +162,16 @@ class ParticleSystem final : public lagrangian::System {
     if (model_.has_contacts()) resolve_at(x, t0, nullptr);  // contacts closing or resting at t0
   }
 
-  void sample(double t, const double* x) override {
+  void sample(double t, const double* x_in) override {
+    // With projection (the default), a sample from the dense output between steps is projected onto the
+    // constraint rows as the steps are, so that samples meet the steps' tolerance; the integration's own
+    // state stays as it is.
+    const double* x = x_in;
+    if (!model_.rows().empty() && opt_.stabilization == Stabilization::projection) {
+      std::copy(x_in, x_in + 2 * model_.dim(), sample_x_.begin());
+      model_.project(sample_x_.data(), 1e-12);
+      x = sample_x_.data();
+    }
     const double T = model_.kinetic(x), V = model_.potential(x), E = T + V;
     if (!std::isfinite(E)) lagrangian::detail::throw_non_finite_energy(t, E, x, model_.dim());
     drift_ = std::max(drift_, std::abs(E - E0_ - shift_at(t)));
@@ -178,7 +188,7 @@ class ParticleSystem final : public lagrangian::System {
     rep_.angular_momentum_drift_max = std::max(rep_.angular_momentum_drift_max, rep_.angular_momentum_drift_final);
     if (rep_.constrained && !model_.rows().empty()) {
       rep_.constraints.min_rank = std::min(rep_.constraints.min_rank, rank(x));
-      record_residuals(x);  // samples come from the dense output between the steps, where no projection acts
+      record_residuals(x);
     }
     if (output_.sample) {
       if (model_.fixed_rows() > 0) multipliers_at(x, t);
@@ -197,7 +207,8 @@ class ParticleSystem final : public lagrangian::System {
   void finish(double t, const double* x, bool sample_end) override {
     if (sample_end) sample(t, x);
     const double E = model_.kinetic(x) + model_.potential(x);
-    rep_.energy_final = E;
+    rep_.energy_final = rep_.total_energy_final = E;
+    rep_.total_energy_is_h = true;  // particles in fixed surroundings: T is quadratic in the velocities
     rep_.energy_drift_final = rep_.total_energy_drift_final =
         std::abs(E - E0_ - shift_at(std::numeric_limits<double>::infinity())) / rep_.energy_scale;
     if (rep_.constrained) {
@@ -489,9 +500,11 @@ class ParticleSystem final : public lagrangian::System {
       const double T_after = model_.kinetic(x);
       impact_energy += T_after - T_before;
       rep_.impact_energy_loss += T_before - T_after;
+      const double cutoff = zeno ? lagrangian::detail::zeno_cutoff(c.history, t, c.e) : std::nan("");
       c.history.record(u_max, t);
       const double u_out = c.rate(x, x + dim);
       log_event(t, zeno ? EventKind::rest : EventKind::impact, c.name, J, u_max, u_out, T_before, T_after);
+      rep_.events.back().zeno_cutoff = cutoff;
       involved.push_back(&c);
       if (e == 0.0) plastic.push_back(&c);
       if (zeno) {
@@ -606,6 +619,7 @@ class ParticleSystem final : public lagrangian::System {
   ParticleRun& out_;
   RunReport& rep_;
   std::vector<double> f0_, f1_, x_f_, buf_, scratch_;
+  std::vector<double> sample_x_;  // a sample projected onto the constraint rows (2 dim)
   std::vector<double> lambda_end_;  ///< multipliers of the resting contacts at a step's end
   std::vector<Contact*> cand_, near_;
   StepPath path_;

@@ -189,6 +189,8 @@ RunReport run_model(const M& model, const State<coordinate_count_v<M>>& initial,
     return simulate(model, initial, options, observer);
   } catch (const ConstraintError& e) {
     throw SceneError("model.q", std::string("inconsistent initial state: ") + e.what());
+  } catch (const DomainError& e) {
+    throw SceneError("model.q", e.what());
   }
 }
 

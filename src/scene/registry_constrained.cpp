@@ -22,7 +22,7 @@ struct BeadOnRotatingWireDef {
   using Model = lm::BeadOnRotatingWire;
   static constexpr std::string_view name = "bead_on_rotating_wire";
   static constexpr std::string_view type = "models::BeadOnRotatingWire";
-  static Model build(const Parameters& p) { return Model(p["m"], p["omega"]); }
+  static Model build(const Parameters& p) { return Model(p["m"], p["omega"], p["L"]); }
   /// 1 m out along the wire at t0, turning with it (no radial speed).
   static State<2> initial(const Model& m, double t0) {
     const double c = std::cos(m.omega * t0), s = std::sin(m.omega * t0);
@@ -31,13 +31,25 @@ struct BeadOnRotatingWireDef {
     x.qd << -m.omega * s, m.omega * c;
     return x;
   }
-  /// The bead in the horizontal plane z = 0 (z up) and the wire from the vertical axis (a pivot at the
-  /// origin) out to the bead; the wire is a line through the axis, so this segment turns with it.
-  static view::Figure figure(const Model&) {
-    return pendulum_figure({"bead"}, {0, 0, 1});
+  /// The bead in the horizontal plane z = 0 (z up) and the whole wire, from one end to the other through the
+  /// vertical axis (a pivot at the origin): two small markers at its ends, joined by a rod, turn with it.
+  static view::Figure figure(const Model& m) {
+    view::Figure f;
+    f.bodies = {{.name = "bead"},
+                {.name = "wire end 1", .radius = 0.01 * m.L},
+                {.name = "wire end 2", .radius = 0.01 * m.L}};
+    f.rods = {{.a = 1, .b = 2}};
+    f.pivots = {{0, 0, 0}};
+    f.up = {0, 0, 1};
+    return f;
   }
-  /// The bead at (x, y, 0) (m).
-  static void place(const Model&, const double* q, double, view::Point* c) { c[0] = {q[0], q[1], 0}; }
+  /// The bead at (x, y, 0) and the wire's ends at ±L (cos ωt, sin ωt, 0) (m).
+  static void place(const Model& m, const double* q, double t, view::Point* c) {
+    const double ca = std::cos(m.omega * t), sa = std::sin(m.omega * t);
+    c[0] = {q[0], q[1], 0};
+    c[1] = {m.L * ca, m.L * sa, 0};
+    c[2] = {-m.L * ca, -m.L * sa, 0};
+  }
 };
 
 struct ParticleOnSphereDef {
@@ -67,20 +79,20 @@ struct AtwoodMachineDef {
   using Model = lm::AtwoodMachine;
   static constexpr std::string_view name = "atwood_machine";
   static constexpr std::string_view type = "models::AtwoodMachine";
-  static Model build(const Parameters& p) { return Model(p["m1"], p["m2"], p["g"], p["c"]); }
+  static Model build(const Parameters& p) { return Model(p["m1"], p["m2"], p["g"], p["c"], p["d"]); }
   /// Both masses at height c/2, at rest.
   static State<2> initial(const Model& m, double) {
     State<2> x;
     x.q << 0.5 * m.c, 0.5 * m.c;
     return x;
   }
-  /// The pulley's radius and the height of its centre above y = c/2 (m): the model fixes neither (any pulley
-  /// above the masses keeps y1 + y2 = c); they are only drawn.
-  static constexpr double pulley_radius = 0.1, pulley_height = 1.0;
-  /// In the vertical x–y plane (y up): the pulley (a circle, its axle a pivot) and the masses hanging from
-  /// either side of it on the string's straight runs, x = ∓pulley_radius.
+  /// The pulley's radius (m): the model's pulley is massless and its radius does not enter the motion; it
+  /// is only drawn.
+  static constexpr double pulley_radius = 0.1;
+  /// In the vertical x–y plane (y up): the pulley (a circle about its axle at the model's height c/2 + d, a
+  /// pivot) and the masses hanging from either side of it on the string's straight runs, x = ∓pulley_radius.
   static view::Figure figure(const Model& m) {
-    const double r = pulley_radius, h = 0.5 * m.c + pulley_height;
+    const double r = pulley_radius, h = m.pulley_axle();
     view::Figure f;
     f.bodies = {{.name = "mass1"}, {.name = "mass2"}};
     f.rods = {{.a = 0, .anchor = {-r, h, 0}}, {.a = 1, .anchor = {r, h, 0}}};

@@ -79,6 +79,7 @@ class Validator {
   void check_planes() const;
   void check_links() const;
   void check_surfaces() const;
+  void check_gravity_singularity() const;
 };
 
 }  // namespace lagrangian::scene::detail

@@ -28,6 +28,27 @@ void Validator::check_initial_state() const {
   check_planes();
   check_links();
   check_surfaces();
+  check_gravity_singularity();
+}
+
+/// Newtonian gravity between two bodies at the same place is infinite (V = −G m_a m_b / r at r = 0): the
+/// scene names the pair and their position keys instead of starting a run whose energy is not finite.
+/// Exact coincidence only (a map of the positions, linear in the number of bodies); spheres that overlap
+/// are refused by check_overlaps.
+void Validator::check_gravity_singularity() const {
+  if (!s_.newtonian_gravity || !(s_.newtonian_gravity->G > 0)) return;
+  std::map<std::array<double, 3>, std::size_t> at;
+  for (std::size_t i = 0; i < s_.bodies.size(); ++i) {
+    const Body& b = s_.bodies[i];
+    if (!(b.mass > 0)) continue;
+    const auto [it, fresh] = at.emplace(std::array<double, 3>{b.position[0], b.position[1], b.position[2]}, i);
+    if (fresh) continue;
+    const Body& a = s_.bodies[it->second];
+    fail(idx("bodies", i) + ".position",
+         "bodies " + quote_text(a.name) + " (" + idx("bodies", it->second) + ".position) and " + quote_text(b.name) +
+             " are both at " + format_vec(b.position) + " at t0: Newtonian gravity between them, V = -G m1 m2 / r, "
+             "is infinite at r = 0; place them apart");
+  }
 }
 
 void Validator::check_in_box() const {

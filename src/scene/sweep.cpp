@@ -148,6 +148,7 @@ SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
   const auto computed = std::chrono::steady_clock::now();
 
   SweepResult result;
+  result.warnings = sweep_warnings(o);
   result.points = n;
   result.threads = threads;
   result.ranks = o.ranks;

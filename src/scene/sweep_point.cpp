@@ -127,6 +127,7 @@ SweepRecord run_point(const Plan& plan, const SweepOptions& o, std::uint64_t ind
     rec.t_final = rep.t_final;
     rec.energy_drift_max = rep.energy_drift_max;
     rec.energy_drift_final = rep.energy_drift_final;
+    rec.energy_drift_relative_to_initial = rep.energy_drift_relative_to_initial();
     rec.impact_energy_loss = rep.impact_energy_loss;
     rec.has_reference = rep.has_reference;
     rec.reference_error_final = rep.reference_error_final;
@@ -190,8 +191,8 @@ std::string serialize(std::uint64_t index, const SweepRecord& r) {
     put(out, k < r.q.size() ? r.q[k] : kNaN);
     put(out, k < r.qd.size() ? r.qd[k] : kNaN);
   }
-  for (double v : {r.t_final, r.energy_drift_max, r.energy_drift_final, r.impact_energy_loss,
-                   r.reference_error_final, r.wall_time_s})
+  for (double v : {r.t_final, r.energy_drift_max, r.energy_drift_final, r.energy_drift_relative_to_initial,
+                   r.impact_energy_loss, r.reference_error_final, r.wall_time_s})
     put(out, v);
   put(out, static_cast<std::uint64_t>(r.has_reference));
   for (std::uint64_t v : {r.steps, r.rejected_steps, r.rhs_evaluations}) put(out, v);
@@ -260,8 +261,8 @@ void deserialize(const std::string& text, std::vector<SweepRecord>& slots, std::
       r.q.push_back(in.number());
       r.qd.push_back(in.number());
     }
-    for (double* v : {&r.t_final, &r.energy_drift_max, &r.energy_drift_final, &r.impact_energy_loss,
-                      &r.reference_error_final, &r.wall_time_s})
+    for (double* v : {&r.t_final, &r.energy_drift_max, &r.energy_drift_final, &r.energy_drift_relative_to_initial,
+                      &r.impact_energy_loss, &r.reference_error_final, &r.wall_time_s})
       *v = in.number();
     r.has_reference = in.count() != 0;
     for (std::uint64_t* v : {&r.steps, &r.rejected_steps, &r.rhs_evaluations}) *v = in.count();

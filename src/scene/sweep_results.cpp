@@ -80,7 +80,9 @@ Table make_table(const SweepOptions& o, const std::vector<SweepRecord>& records)
       for (const char* p : {"n_", "first_", "last_"}) t.header.push_back(p + g);
   for (const FirstTimeSpec& f : o.first_times) t.header.push_back("t_" + f.name);
   if (wants(o, "energy"))
-    for (const char* c : {"energy_drift_max", "energy_drift_final", "impact_energy_loss"}) t.header.emplace_back(c);
+    for (const char* c : {"energy_drift_max", "energy_drift_final", "energy_drift_relative_to_initial",
+                          "impact_energy_loss"})
+      t.header.emplace_back(c);
   if (wants(o, "error")) t.header.emplace_back("reference_error_final");
   if (wants(o, "cost"))
     for (const char* c : {"steps", "rejected_steps", "rhs_evaluations"}) t.header.emplace_back(c);
@@ -112,6 +114,7 @@ Table make_table(const SweepOptions& o, const std::vector<SweepRecord>& records)
     if (wants(o, "energy")) {
       num(r.energy_drift_max);
       num(r.energy_drift_final);
+      num(r.energy_drift_relative_to_initial);
       num(r.impact_energy_loss);
     }
     if (wants(o, "error")) num(r.has_reference ? r.reference_error_final : kNaN);

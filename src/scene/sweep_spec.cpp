@@ -187,6 +187,31 @@ Expression::Expression(const std::string& text, const std::vector<std::string>& 
   for (const auto& [code, value] : ops) ops_.push_back({code, value});
 }
 
+bool Expression::uses(std::size_t k) const {
+  for (const Op& op : ops_)
+    if (op.code == kVar && static_cast<std::size_t>(op.value) == k) return true;
+  return false;
+}
+
+std::vector<std::string> sweep_warnings(const SweepOptions& o) {
+  std::vector<std::string> variables;
+  for (const VarySpec& v : o.vary)
+    if (v.variable()) variables.push_back(v.key);
+  std::vector<Expression> exprs;
+  for (const SetSpec& s : o.set) exprs.emplace_back(s.expression, variables, "--set " + s.key);
+  std::vector<std::string> out;
+  for (std::size_t k = 0; k < variables.size(); ++k) {
+    bool used = false;
+    for (const Expression& e : exprs) used = used || e.uses(k);
+    if (!used)
+      out.push_back("--vary " + variables[k] + ": no --set expression uses the variable '" + variables[k] +
+                    "', so its values change nothing and points that differ only in it run the same scene; use "
+                    "it in --set KEY=EXPRESSION, or vary a scene key (a name with '.' or '[', such as "
+                    "model.parameters." + variables[k] + ")");
+  }
+  return out;
+}
+
 double Expression::evaluate(const double* values) const {
   double stack[64];
   int top = 0;

@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "check.hpp"
+#include "lagrangian/detail/energy_scale.hpp"
 #include "lagrangian/detail/text_output.hpp"
 #include "lagrangian/view.hpp"
 #include "page.hpp"
@@ -173,6 +174,41 @@ void series_json(std::ostringstream& os, const Series& s, const std::vector<std:
   os << "]}";
 }
 
+/// The energy as the page charts it: its relative change (E − E0)/|E0| (relative to the run's energy scale
+/// where E0 = 0, or the largest |E| without one) at each kept sample, computed here from the full-precision
+/// values, with E0, what it is relative to, the largest |change| and the chart's floor (kEnergyChartFloor:
+/// a smaller change draws flat).
+void energy_json(std::ostringstream& os, const Series& s, double scale, const std::vector<std::size_t>& kept) {
+  double e0 = std::nan(""), largest = 0;
+  for (double v : s.values)
+    if (std::isfinite(v)) {
+      if (!std::isfinite(e0)) e0 = v;
+      largest = std::max(largest, std::abs(v));
+    }
+  const bool of_e0 = std::isfinite(e0) && e0 != 0, of_scale = !of_e0 && scale > 0;
+  const double ref = of_e0 ? std::abs(e0) : of_scale ? scale : largest > 0 ? largest : 1.0;
+  double span = 0;
+  std::vector<double> change(kept.size(), std::nan(""));
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    const double v = s.values[kept[k]];
+    if (!std::isfinite(v)) continue;
+    change[k] = (v - e0) / ref;
+    span = std::max(span, std::abs(change[k]));
+  }
+  for (double v : s.values)  // samples between the kept ones count for the span too
+    if (std::isfinite(v)) span = std::max(span, std::abs(v - e0) / ref);
+  os << "{\"name\":";
+  json_string(os, s.name);
+  os << ",\"unit\":";
+  json_string(os, s.unit);
+  os << ",\"e0\":" << number(std::isfinite(e0) ? e0 : 0.0, 17) << ",\"relative_to\":";
+  json_string(os, of_e0 ? "|E0|" : of_scale ? "the energy scale " + number(scale, 4) + " J" : "max |E|");
+  os << ",\"reference\":" << number(ref, 17) << ",\"span\":" << number(span, 3)
+     << ",\"floor\":" << number(lagrangian::detail::kEnergyChartFloor, 3) << ",\"values\":[";
+  for (std::size_t k = 0; k < kept.size(); ++k) os << (k ? "," : "") << number(change[k], 9);
+  os << "]}";
+}
+
 bool moves(const Series& s) {
   if (s.values.empty()) return false;
   const auto [lo, hi] = std::minmax_element(s.values.begin(), s.values.end());
@@ -295,7 +331,7 @@ Written write_animation(const std::string& path, const Figure& figure, const Tra
   if (track.energy.values.empty()) {
     os << "null";
   } else {
-    series_json(os, track.energy, kept);
+    energy_json(os, track.energy, track.energy_scale, kept);
   }
   os << ",\"coordinates\":[";
   std::size_t plotted = 0, moving = 0;

@@ -50,6 +50,13 @@ const cases = {
     [col(row, header, 'x1'), col(row, header, 'y1'), 0],
     [col(row, header, 'x2'), col(row, header, 'y2'), 0],
   ],
+  // Atwood machine (examples/scenes/atwood_machine.toml: c = 0, d = 1 m): the masses hang at x = ∓0.1 m (the
+  // pulley's radius) at heights y1, y2, never above the pulley's axle at c/2 + d = 1 m.
+  atwood: (row, header) => {
+    const y1 = col(row, header, 'y1'), y2 = col(row, header, 'y2');
+    assert.ok(y1 <= 1 + 1e-9 && y2 <= 1 + 1e-9, `a mass above the pulley: y1 = ${y1}, y2 = ${y2}`);
+    return [[-0.1, y1, 0], [0.1, y2, 0]];
+  },
   // Oblique impact of two spheres in the plane, likewise.
   oblique_impact: (row, header) => [
     [col(row, header, 'x1'), col(row, header, 'y1'), 0],
@@ -178,6 +185,28 @@ try {
   assert.ok(checked > 0, 'no body was on screen at the sampled times');
   // Most bodies are seen in their own colour, in plain view (the gas: dozens).
   assert.ok(plain >= Math.min(10, picks.length * info.bodies.length) / 2, `only ${plain} bodies seen in plain view`);
+
+  // The energy chart shows the relative change (E − E0)/|E0| of trajectory.csv's energy column (of the run's
+  // energy scale, report.json's, when E0 = 0) on an axis at least ±1e-10 wide: round-off is not drawn at full
+  // height, and the title says "constant to" exactly when the change stays below that floor.
+  {
+    const k = header.findIndex((h) => h.startsWith('energy ['));
+    assert.ok(k >= 0, 'trajectory.csv has no energy column');
+    const E = rows.map((r) => r[k]).filter(Number.isFinite);
+    const scale = JSON.parse(readFileSync(join(outDir, 'report.json'), 'utf8')).report.energy_scale;
+    const ref = E[0] !== 0 ? Math.abs(E[0]) : scale;
+    const rel = E.map((v) => (v - E[0]) / ref);
+    const span = Math.max(...rel.map(Math.abs)), floor = 1e-10;
+    const charts = await page.evaluate(() => window.lagrangian.charts());
+    const chart = charts[0];
+    assert.ok(chart.title.includes('E0') || chart.title.includes('constant to'), `energy chart title '${chart.title}'`);
+    assert.equal(chart.title.includes('constant to'), span <= floor,
+                 `energy chart title '${chart.title}' for a relative change of ${span}`);
+    const lo = Math.min(-floor, ...rel), hi = Math.max(floor, ...rel);
+    const near = (a, b) => Math.abs(a - b) <= 1e-8 * Math.max(Math.abs(b), floor);
+    assert.ok(near(chart.ymin, lo) && near(chart.ymax, hi),
+              `energy axis [${chart.ymin}, ${chart.ymax}], the CSV's relative change spans [${lo}, ${hi}]`);
+  }
 
   // Playing advances time.
   await page.evaluate(() => { window.lagrangian.seek(window.lagrangian.data.frames.t[0]); window.lagrangian.play(true); });

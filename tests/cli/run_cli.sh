@@ -3,7 +3,7 @@
 # failed, 2 bad input), the files a run writes, and the one-line errors.
 # Usage: run_cli.sh LAGRANGIAN_BINARY SOURCE_DIR WORK_DIR
 set -uo pipefail
-bin=$1
+bin=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")  # absolute: some checks run from another directory
 src=$2
 work=$3
 rm -rf "$work"
@@ -22,6 +22,9 @@ expect 0 "" -- "$bin" list --help
 # list: built-in models and example scenes.
 expect 0 "double_pendulum" -- "$bin" list
 expect 0 "bouncing_ball.toml" -- "$bin" list
+# The README says how many built-in models there are: as many as list shows.
+models=$("$bin" list | sed -n '/^Built-in models/,/^$/p' | grep -c '^  [a-z]')
+grep -q "^$models built-in generalized-coordinate models" "$src/README.md" || { echo "FAIL: README's model count is not list's $models"; fails=$((fails + 1)); }
 # list MODEL: the coordinates with units and the parameters with defaults.
 expect 0 "^  theta2 +rad$" -- "$bin" list double_pendulum
 expect 0 "^  g +9.81 +m/s\^2 +acceleration of gravity$" -- "$bin" list double_pendulum
@@ -309,6 +312,51 @@ expect 2 "solve-bvp: .*particle scene" -- "$bin" solve-bvp "$src/examples/scenes
 expect 2 "declares constraints" -- "$bin" solve-bvp "$src/examples/scenes/cartesian_double_pendulum.toml" --from 0,-1,0,-2 --to 0.1,-1,0.1,-2 --time 1 --out "$work/x"
 expect 2 "dissipation" -- "$bin" solve-bvp "$src/examples/scenes/projectile_linear_drag.toml" --from 0,0 --to 10,0 --time 1 --out "$work/x"
 [ ! -e "$work/x/bvp_path.csv" ] || { echo "FAIL: bad solve-bvp input wrote bvp_path.csv"; fails=$((fails + 1)); }
+
+# The energy figure users quote is relative to the initial energy: report.json's
+# energy_drift_relative_to_initial is |h(t_end) - h0| / |h0| of trajectory.csv's first and last
+# rows, computed here in exact rational arithmetic (within a factor 2: h is evaluated in double).
+expect 0 "drift \|E - E0\|/\|E0\| max" -- "$bin" run "$src/examples/scenes/kepler.toml" --set model.qd[1]=1.9 --rtol 1e-8 --atol 1e-10 --out "$work/kepler_drift" --no-plots --no-animation
+/usr/bin/python3 - "$work/kepler_drift" <<'PY' || { echo "FAIL: report.json's relative energy drift against the CSV"; fails=$((fails + 1)); }
+import csv, json, sys
+from fractions import Fraction
+d = sys.argv[1]
+rows = list(csv.DictReader(open(d + "/trajectory.csv")))
+e0, e1 = Fraction(rows[0]["energy [J]"]), Fraction(rows[-1]["energy [J]"])
+exact = abs(e1 - e0) / abs(e0)
+report = json.load(open(d + "/report.json"))["report"]
+got = report["energy_drift_relative_to_initial"]
+assert exact > 0, exact
+assert float(exact) / 2 <= got <= 2 * float(exact), (got, float(exact))
+# and not the figure relative to the energy scale, which reads smaller for this orbit (e ~ 0.44)
+assert report["energy_drift_final"] < got / 1.5, (report["energy_drift_final"], got)
+PY
+
+# Built-in models state their domain: the Atwood machine stops where the light mass reaches the pulley
+# (t = sqrt(2 d / a) = 0.63855 s, a = g (m1 - m2)/(m1 + m2) = 4.905 m/s^2, d = 1 m), naming the edge; a start
+# beyond an edge is bad input naming the key.
+expect 0 "stopped by event mass2_at_pulley at t = 0.63855" -- "$bin" run "$src/examples/scenes/atwood_machine.toml" --out "$work/atwood" --no-plots --no-animation
+grep -q '"stopped_by": "mass2_at_pulley"' "$work/atwood/report.json" || { echo "FAIL: atwood report.json stopped_by"; fails=$((fails + 1)); }
+head -1 "$work/atwood/trajectory.csv" | grep -q ',lambda_string \[N\],Qc_y1 \[N\],Qc_y2 \[N\]$' || { echo "FAIL: atwood multiplier column unit"; head -1 "$work/atwood/trajectory.csv"; fails=$((fails + 1)); }
+expect 2 "model.q.*beyond the edge 'mass1_at_pulley'" -- "$bin" run "$src/examples/scenes/atwood_machine.toml" --set 'model.q[0]=1.5' --set 'model.q[1]=-1.5' --out "$work/x" --no-plots
+expect 0 "stopped by event bead_at_wire_end at t = 1.4966" -- "$bin" run "$src/examples/scenes/bead_on_rotating_wire.toml" --out "$work/wire" --no-plots --no-animation
+expect 0 "" -- "$bin" run "$src/examples/scenes/oblique_impact.toml" --out "$work/oblique" --no-plots --no-animation
+head -1 "$work/oblique/trajectory.csv" | grep -q ',lambda_s1-s2 \[N\],' || { echo "FAIL: oblique impact multiplier column unit"; head -1 "$work/oblique/trajectory.csv"; fails=$((fails + 1)); }
+# A singular start is bad input naming the keys: r = 0 of the Kepler problem, two bodies at one place.
+expect 2 "model.q.*singularity of the model: the potential energy V = -inf" -- "$bin" run "$src/examples/scenes/kepler.toml" --set 'model.q[0]=0' --out "$work/x" --no-plots
+sed 's/^position = \[1.5, 0.0, 0.0\]/position = [-0.5, 0.0, 0.0]/' "$src/examples/scenes/binary_star.toml" > "$work/together.toml"
+expect 2 "bodies\[1\].position.*'primary' \(bodies\[0\].position\) and 'secondary' are both at" -- "$bin" run "$work/together.toml" --out "$work/x" --no-plots
+# One notation for units: inspect of a particle scene and of a model, and the summary.
+out=$("$bin" inspect "$src/examples/scenes/bouncing_ball.toml" 2>&1)
+grep -q 'kg\*m/s' <<<"$out" && ! grep -q 'kg·m' <<<"$out" || { echo "FAIL: inspect's momentum unit"; fails=$((fails + 1)); }
+# The bouncing ball's rest: only the digits the Zeno cut-off leaves known, and the cut-off said.
+expect 0 "rest ball-floor at t = 4\.0637[0-9]{0,3} s \(the Zeno rule ended the bounces there; those it cut off would take about" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --out "$work/ball_rest" --no-plots --no-animation
+# wrote: names every file the same way: relative to the working directory when inside it.
+out=$(cd "$work" && "$bin" run "$src/examples/scenes/bouncing_ball.toml" --out ball_rel --no-plots --animate-to "$work/ball_rel.gif" --animate-seconds 1 2>&1)
+wrote=$(grep '^wrote:' <<<"$out")
+if [ -z "$wrote" ] || grep -qE ' /' <<<"$wrote" || ! grep -q ' ball_rel.gif' <<<"$wrote"; then
+  echo "FAIL: wrote: mixes absolute and relative paths: $wrote"; fails=$((fails + 1))
+fi
 
 if [ "$fails" -ne 0 ]; then
   echo "$fails CLI check(s) failed"

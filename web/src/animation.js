@@ -287,7 +287,7 @@ function placeCamera() {
 // -- the charts: energy and coordinates against time --------------------------------
 
 const charts = [];
-function addChart(title, series, unit) {
+function addChart(title, series, unit, floor = 0) {
   const box = document.createElement('div');
   box.className = 'chart';
   const label = document.createElement('div');
@@ -296,7 +296,7 @@ function addChart(title, series, unit) {
   const canvas = document.createElement('canvas');
   box.append(label, canvas);
   document.getElementById('charts').appendChild(box);
-  const chart = { canvas, series, unit };
+  const chart = { canvas, series, unit, floor, title };
   canvas.addEventListener('pointerdown', (e) => {
     const r = canvas.getBoundingClientRect();
     const u = (e.clientX - r.left - chart.x0) / chart.w;
@@ -304,7 +304,15 @@ function addChart(title, series, unit) {
   });
   charts.push(chart);
 }
-if (data.energy) addChart(data.energy.name + ' (' + data.energy.unit + ')', [data.energy], data.energy.unit);
+// The energy chart: the relative change (E − E0)/|E0| computed by the writer, on an axis at least ±floor wide,
+// so that round-off draws as the flat line it is; the title says how constant the energy was.
+if (data.energy) {
+  const e = data.energy, sig = (v) => Number(v.toPrecision(10)).toString();
+  const title = e.span <= e.floor
+    ? `${e.name}: ${sig(e.e0)} ${e.unit}, constant to ${e.span.toPrecision(2)} of ${e.relative_to}`
+    : `${e.name}: (E − E0) / ${e.relative_to}, E0 = ${sig(e.e0)} ${e.unit}`;
+  addChart(title, [{ name: e.name, unit: '', values: e.values }], '', e.floor);
+}
 {
   const byUnit = new Map();
   for (const s of data.coordinates) {
@@ -328,12 +336,13 @@ function drawChart(chart, t) {
   let ymin = Infinity, ymax = -Infinity;
   for (const s of chart.series) for (const v of s.values) if (Number.isFinite(v)) { ymin = Math.min(ymin, v); ymax = Math.max(ymax, v); }
   if (!isFinite(ymin)) { ymin = 0; ymax = 1; }
+  if (chart.floor > 0) { ymin = Math.min(ymin, -chart.floor); ymax = Math.max(ymax, chart.floor); }
   if (!(ymax - ymin > 1e-12 * Math.max(Math.abs(ymin), Math.abs(ymax)))) {
     const m = ymax !== 0 ? Math.abs(ymax) * 1e-3 : 1;  // a constant: centred in a band of ±0.1 %
     ymin -= m; ymax += m;
   }
   const x0 = 58, w = W - x0 - 8, y0 = 6, h = H - y0 - 18;
-  chart.x0 = x0; chart.w = w;
+  chart.x0 = x0; chart.w = w; chart.ymin = ymin; chart.ymax = ymax;
   const t0 = times[0], t1 = times[nFrames - 1] > t0 ? times[nFrames - 1] : t0 + 1;
   const X = (tt) => x0 + ((tt - t0) / (t1 - t0)) * w, Y = (v) => y0 + (1 - (v - ymin) / (ymax - ymin)) * h;
   ctx.strokeStyle = '#999'; ctx.lineWidth = 1; ctx.strokeRect(x0, y0, w, h);
@@ -580,6 +589,8 @@ window.lagrangian = {
       return [px[0], px[1], px[2]];
     });
   },
+  /// The charts as drawn: each one's title and vertical axis range [ymin, ymax].
+  charts() { drawNow(); return charts.map((c) => ({ title: c.title, ymin: c.ymin, ymax: c.ymax })); },
   /// A body's colour, [r, g, b] in 0..255 (sRGB).
   bodyColor(b) { const h = colorOf(b).getHex(); return [(h >> 16) & 255, (h >> 8) & 255, h & 255]; },
   ready: true,

@@ -96,6 +96,13 @@ Predicate predicate(const F& f) {
 bool zeno_accumulation(const ContactHistory& history, double approach, double t, const SimulationOptions& options,
                        Predicate pressed);
 
+/// The Zeno rule's cut-off at an impact that it ends: an estimate of the
+/// time the bounces left would have taken, had each flight shrunk by the
+/// contact's restitution e as under a constant pressing force (a ball on a
+/// floor): (t − its last impact) e / (1 − e) (s). The rest's time is known
+/// to about that much. NaN when there was no earlier impact or e = 1.
+double zeno_cutoff(const ContactHistory& history, double t, double e);
+
 /// Stops a run whose events make no progress: more than 100 events at the
 /// same instant, each found at the start of the step.
 class EventProgress {

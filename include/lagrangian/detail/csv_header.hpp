@@ -43,11 +43,13 @@ inline std::string csv_rate_unit(std::string_view unit) {
 }
 
 /// Unit of the generalized force on a coordinate in `unit` (work per unit
-/// of the coordinate): "m" → "N", "rad" → "N*m", other u → "J/u"; "" stays "".
+/// of the coordinate): "m" → "N", "rad" → "N*m", "m^2" → "N/m", other u →
+/// "J/u"; "" stays "".
 inline std::string csv_force_unit(std::string_view unit) {
   if (unit.empty()) return {};
   if (unit == "m") return "N";
   if (unit == "rad") return "N*m";
+  if (unit == "m^2") return "N/m";
   return "J/" + std::string(unit);
 }
 

@@ -126,6 +126,7 @@ void ModelSystem<M>::start_constraints(State<n>& x0, Columns& columns) {
     report_.constrained = true;
     cr.names = constraint_names(model_);
     columns.constraints = cr.names;
+    columns.constraint_units = multiplier_units(model_);
     cr.stabilization = to_string(opt_.stabilization);
     cr.baumgarte_omega = opt_.stabilization == Stabilization::baumgarte ? opt_.baumgarte_omega : 0.0;
     // A violated position constraint is said as such before the rank is
@@ -214,6 +215,20 @@ void ModelSystem<M>::start_constraints(State<n>& x0, Columns& columns) {
       if ((holo && !(std::abs(cs.position[i]) <= 1e-9 * qs)) || !(std::abs(cs.velocity[i]) <= 1e-9 * vs))
         throw violation(i, cs.position[i], cs.velocity[i], holo);
     }
+  }
+}
+
+template <class M>
+void ModelSystem<M>::project_sample(Sample<n>& s) {
+  if constexpr (has_constraints_v<M>) {
+    if (opt_.stabilization != Stabilization::projection) return;
+    if (only_contacts_v && (active() & unilateral_mask_v<M>) == 0) return;  // free flight: nothing to hold
+    try {
+      project_positions_with(model_, s.q, s.t, opt_.projection_tolerance, 20, active(), ctx_->positions);
+    } catch (const ConstraintError& e) {
+      throw SimulationError(std::string("projection of the sample failed: ") + e.what(), s.t);
+    }
+    project_velocities_with(model_, ws_, s.q, s.qd, s.t, active(), ctx_->velocities);
   }
 }
 

@@ -176,6 +176,7 @@ void ModelSystem<M>::resolve_contacts(double* x, double t, int trigger) {
       } catch (const DynamicsError& err) {
         throw SimulationError(std::string("impact failed: ") + err.what(), t);
       }
+      const double cutoff = zeno ? zeno_cutoff(history_[js], t, restitution_[js]) : std::nan("");
       history_[js].record(approach, t);
       involved[js] = true;
       rested[js] = zeno;
@@ -189,6 +190,7 @@ void ModelSystem<M>::resolve_contacts(double* x, double t, int trigger) {
       rec.separation_speed = res.separation_speed;
       rec.kinetic_energy_before = res.kinetic_energy_before;
       rec.kinetic_energy_after = res.kinetic_energy_after;
+      rec.zeno_cutoff = cutoff;
       report_.events.push_back(rec);
       if (!zeno) ++report_.impacts;
       report_.impact_energy_loss += res.kinetic_energy_before - res.kinetic_energy_after;

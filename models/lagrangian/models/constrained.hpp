@@ -12,6 +12,7 @@
 #include <string_view>
 
 #include "lagrangian/detail/compiled_models.hpp"
+#include "lagrangian/impact.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/models/detail/particles.hpp"
 #include "lagrangian/params.hpp"
@@ -31,6 +32,7 @@ struct BeadOnWire : detail::PlanarParticle {
         alpha(require_finite("BeadOnWire", "alpha", angle)) {}
   std::string name() const { return "bead_on_wire"; }
   std::array<std::string_view, 1> holonomic_names() const { return {"wire"}; }
+  std::array<std::string_view, 1> constraint_units() const { return {"m"}; }  ///< g in m: λ in N
   template <class S>
   Vec<S, 1> holonomic(const Vec<S, 2>& q, const S&) const {
     return Vec<S, 1>(q[0] * std::sin(alpha) - q[1] * std::cos(alpha));
@@ -42,16 +44,30 @@ struct BeadOnWire : detail::PlanarParticle {
 /// (x, y) in the horizontal plane, no gravity in that plane.
 ///   g = x sin ωt − y cos ωt = 0.  Radially r̈ = ω² r, so
 ///   r(t) = r0 cosh ωt + (ṙ0/ω) sinh ωt.
+/// Domain: the wire reaches L (m) either side of the axis; the bead slides
+/// off its end where r = L, the watched event "bead_at_wire_end"
+/// (L − r falls through 0), which stops the run.
 struct BeadOnRotatingWire {
   static constexpr int coordinate_count = 2;
-  double m, omega;
-  explicit BeadOnRotatingWire(double mass = 1.0, double spin_rate = 2.0)
+  double m, omega, L;
+  explicit BeadOnRotatingWire(double mass = 1.0, double spin_rate = 2.0, double half_length = 10.0)
       : m(require_positive("BeadOnRotatingWire", "m", mass)),
-        omega(require_finite("BeadOnRotatingWire", "omega", spin_rate)) {}
+        omega(require_finite("BeadOnRotatingWire", "omega", spin_rate)),
+        L(require_positive("BeadOnRotatingWire", "L", half_length)) {}
   std::string name() const { return "bead_on_rotating_wire"; }
   std::array<std::string_view, 2> coordinate_names() const { return {"x", "y"}; }
   std::array<std::string_view, 2> coordinate_units() const { return {"m", "m"}; }
   std::array<std::string_view, 1> holonomic_names() const { return {"wire"}; }
+  std::array<std::string_view, 1> constraint_units() const { return {"m"}; }  ///< g in m: λ in N
+  /// L − r (m): the bead's distance from the wire's end.
+  template <class S>
+  Vec<S, 1> events(const Vec<S, 2>& q, const Vec<S, 2>&, const S&) const {
+    using std::sqrt;
+    return Vec<S, 1>(L - sqrt(q[0] * q[0] + q[1] * q[1]));
+  }
+  std::array<EventSpec, 1> event_specs() const {
+    return {EventSpec{"bead_at_wire_end", Direction::falling, EventAction::stop}};
+  }
   template <class S>
   S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
     return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1]);
@@ -79,6 +95,7 @@ struct CartesianPendulum : detail::PlanarParticle {
         l(require_positive("CartesianPendulum", "l", length)) {}
   std::string name() const { return "cartesian_pendulum"; }
   std::array<std::string_view, 1> holonomic_names() const { return {"rod"}; }
+  std::array<std::string_view, 1> constraint_units() const { return {"m"}; }  ///< g in m: λ in N
   template <class S>
   Vec<S, 1> holonomic(const Vec<S, 2>& q, const S&) const {
     using std::sqrt;
@@ -101,6 +118,7 @@ struct ParticleOnSphere {
   /// One particle at (x, y, z): P and L are reported, L_z conserved.
   std::array<Particle, 1> particles() const { return {Particle{m, {0, 1, 2}}}; }
   std::array<std::string_view, 1> holonomic_names() const { return {"sphere"}; }
+  std::array<std::string_view, 1> constraint_units() const { return {"m"}; }  ///< g in m: λ in N
   template <class S>
   S kinetic(const Vec<S, 3>&, const Vec<S, 3>& qd, const S&) const {
     return 0.5 * m * qd.squaredNorm();
@@ -116,21 +134,41 @@ struct ParticleOnSphere {
   }
 };
 
-/// Atwood machine: masses m1, m2 at heights y1, y2 on an inextensible string
-/// over a massless pulley; g_string = y1 + y2 − c = 0.
+/// Atwood machine: masses m1, m2 at heights y1, y2 (m, up) on an
+/// inextensible string over a massless pulley whose axle is at height
+/// c/2 + d; g_string = y1 + y2 − c = 0.
 /// Closed form: ÿ1 = −(m1 − m2) g / (m1 + m2), tension 2 m1 m2 g / (m1 + m2).
+/// Domain: a mass reaching the pulley (y_i = c/2 + d) ends the model's
+/// motion: the watched events "mass1_at_pulley" and "mass2_at_pulley"
+/// (c/2 + d − y_i falls through 0) stop the run. The string never goes
+/// slack: its tension, the multiplier, is 2 m1 m2 g / (m1 + m2) ≥ 0 at every
+/// state, whatever the velocities.
 struct AtwoodMachine {
   static constexpr int coordinate_count = 2;
-  double m1, m2, g, c;
-  explicit AtwoodMachine(double mass1 = 3.0, double mass2 = 1.0, double gravity = 9.81, double length = 0.0)
+  double m1, m2, g, c, d;
+  explicit AtwoodMachine(double mass1 = 3.0, double mass2 = 1.0, double gravity = 9.81, double length = 0.0,
+                         double pulley_height = 1.0)
       : m1(require_positive("AtwoodMachine", "m1", mass1)),
         m2(require_positive("AtwoodMachine", "m2", mass2)),
         g(require_nonnegative("AtwoodMachine", "g", gravity)),
-        c(require_finite("AtwoodMachine", "c", length)) {}
+        c(require_finite("AtwoodMachine", "c", length)),
+        d(require_positive("AtwoodMachine", "d", pulley_height)) {}
   std::string name() const { return "atwood_machine"; }
   std::array<std::string_view, 2> coordinate_names() const { return {"y1", "y2"}; }
   std::array<std::string_view, 2> coordinate_units() const { return {"m", "m"}; }
   std::array<std::string_view, 1> holonomic_names() const { return {"string"}; }
+  std::array<std::string_view, 1> constraint_units() const { return {"m"}; }  ///< g in m: λ, the tension, in N
+  /// Height of the pulley's axle (m), where a mass reaches the pulley.
+  double pulley_axle() const { return 0.5 * c + d; }
+  /// c/2 + d − y_i (m): each mass's distance below the pulley's axle.
+  template <class S>
+  Vec<S, 2> events(const Vec<S, 2>& q, const Vec<S, 2>&, const S&) const {
+    return Vec<S, 2>(pulley_axle() - q[0], pulley_axle() - q[1]);
+  }
+  std::array<EventSpec, 2> event_specs() const {
+    return {EventSpec{"mass1_at_pulley", Direction::falling, EventAction::stop},
+            EventSpec{"mass2_at_pulley", Direction::falling, EventAction::stop}};
+  }
   template <class S>
   S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
     return 0.5 * m1 * qd[0] * qd[0] + 0.5 * m2 * qd[1] * qd[1];
@@ -164,6 +202,7 @@ struct CartesianDoublePendulum {
   /// conserved: the pivot and gravity act on the system).
   std::array<Particle, 2> particles() const { return {Particle{m1, {0, 1, -1}}, Particle{m2, {2, 3, -1}}}; }
   std::array<std::string_view, 2> holonomic_names() const { return {"rod1", "rod2"}; }
+  std::array<std::string_view, 2> constraint_units() const { return {"m", "m"}; }  ///< g in m: λ in N
   template <class S>
   S kinetic(const Vec<S, 4>&, const Vec<S, 4>& qd, const S&) const {
     return 0.5 * m1 * (qd[0] * qd[0] + qd[1] * qd[1]) + 0.5 * m2 * (qd[2] * qd[2] + qd[3] * qd[3]);
@@ -195,6 +234,8 @@ struct KnifeEdge {
   std::array<std::string_view, 3> coordinate_names() const { return {"x", "y", "phi"}; }
   std::array<std::string_view, 3> coordinate_units() const { return {"m", "m", "rad"}; }
   std::array<std::string_view, 1> pfaffian_names() const { return {"no_sideslip"}; }
+  /// A δq = δx sin φ − δy cos φ is a sideways displacement (m): λ, the side force, in N.
+  std::array<std::string_view, 1> constraint_units() const { return {"m"}; }
   template <class S>
   S kinetic(const Vec<S, 3>&, const Vec<S, 3>& qd, const S&) const {
     return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1]) + 0.5 * I * qd[2] * qd[2];
@@ -227,6 +268,7 @@ struct ParticleOffSphere : detail::PlanarParticle {
         R(require_positive("ParticleOffSphere", "R", radius)) {}
   std::string name() const { return "particle_off_sphere"; }
   std::array<std::string_view, 1> unilateral_names() const { return {"surface"}; }
+  std::array<std::string_view, 1> constraint_units() const { return {"m"}; }  ///< gap in m: λ in N
   template <class S>
   Vec<S, 1> unilateral(const Vec<S, 2>& q, const S&) const {
     using std::sqrt;

@@ -161,6 +161,8 @@ struct SpheresOnLine {
     for (int i = 0; i + 1 < N; ++i) out.push_back(detail::sphere_name(i) + "-" + detail::sphere_name(i + 1));
     return out;
   }
+  /// Every gap in m: each λ in N.
+  std::vector<std::string> constraint_units() const { return std::vector<std::string>(N - 1, "m"); }
   std::array<double, N - 1> restitution() const {
     std::array<double, N - 1> out;
     out.fill(e);
@@ -204,6 +206,7 @@ struct TwoSpheres : detail::ParticlePair<D> {
         e(require_in_range("TwoSpheres", "e", restitution, 0.0, 1.0)) {}
   std::string name() const { return D == 2 ? "two_spheres_2d" : "two_spheres_3d"; }
   std::array<std::string, 1> unilateral_names() const { return {"s1-s2"}; }
+  std::array<std::string, 1> constraint_units() const { return {"m"}; }  ///< gap in m: λ in N
   std::array<double, 1> restitution() const { return {e}; }
   template <class S>
   S potential(const Vec<S, coordinate_count>&, const S&) const {
@@ -248,6 +251,7 @@ struct BallAndPlane {
   std::array<std::string, 3> coordinate_names() const { return {"x", "y", "z"}; }
   std::array<std::string, 3> coordinate_units() const { return {"m", "m", "m"}; }
   std::array<std::string, 1> unilateral_names() const { return {"ball-plane"}; }
+  std::array<std::string, 1> constraint_units() const { return {"m"}; }  ///< gap in m: λ in N
   std::array<double, 1> restitution() const { return {e}; }
   std::array<Particle, 1> particles() const { return {Particle{m, {0, 1, 2}}}; }
   template <class S>
@@ -324,6 +328,8 @@ struct SpheresInBox {
       for (int j = i + 1; j < N; ++j) out.push_back(detail::sphere_name(i) + "-" + detail::sphere_name(j));
     return out;
   }
+  /// Every gap in m: each λ in N.
+  std::vector<std::string> constraint_units() const { return std::vector<std::string>(4 * N + N * (N - 1) / 2, "m"); }
   std::array<Particle, N> particles() const {
     std::array<Particle, N> out;
     for (int i = 0; i < N; ++i) out[static_cast<std::size_t>(i)] = {m[static_cast<std::size_t>(i)], {2 * i, 2 * i + 1, -1}};
