@@ -9,8 +9,19 @@
 // evaluated in long double) and the median wall time of the repeats (docs/performance.md, "Gauss–Radau on eccentric orbits").
 //
 // Usage: bench_orbits [ORBITS=1000] [REPEATS=3] [RTOL_RADAU=1e-9]
+//        bench_orbits --case E RATIO F0 [ORBITS=1000] [RTOL=1e-9]
+//
+// --case runs one case of the same-run comparison with REBOUND's IAS15
+// (bench/peers/run_ias15.sh, bench/peers/ias15_orbits.c): m1 = 1,
+// m2 = RATIO, G = a = 1, the relative orbit of eccentricity E started at
+// true anomaly F0 (rad), gauss_radau15 at RTOL once in each formulation, one
+// line each:
+//   gauss_radau15 FORMULATION E RATIO F0 |dE/E0| WALL_S CPU_S STEPS EVALUATIONS
+// with |dE/E0| as above and WALL_S / CPU_S the wall and process CPU time of
+// simulate() alone.
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -26,9 +37,16 @@ namespace {
 using namespace lagrangian;
 namespace lm = lagrangian::models;
 
+double cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
 struct Result {
   double error = 0;  ///< |E(t_end) − E(0)| / |E(0)|
   double wall = 0;   ///< median wall time (s)
+  double cpu = 0;    ///< process CPU time of the run of median wall time (s)
   std::uint64_t steps = 0, evaluations = 0;
 };
 
@@ -38,19 +56,22 @@ struct Result {
 template <int N, class M, class Energy>
 Result measure(const M& model, const State<N>& x0, SimulationOptions o, int repeats, const Energy& energy) {
   Result r;
-  std::vector<double> walls;
+  std::vector<std::pair<double, double>> walls;  // (wall, CPU)
   for (int k = 0; k < repeats; ++k) {
     Recorder<N> rec;
+    const double cpu_start = cpu_seconds();
     const auto start = std::chrono::steady_clock::now();
     const RunReport rep = simulate(model, x0, o, rec);
-    walls.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    walls.emplace_back(wall, cpu_seconds() - cpu_start);
     const long double e0 = energy(rec.samples.front()), e1 = energy(rec.samples.back());
     r.error = static_cast<double>(std::abs((e1 - e0) / e0));
     r.steps = rep.steps;
     r.evaluations = rep.rhs_evaluations;
   }
   std::sort(walls.begin(), walls.end());
-  r.wall = walls[walls.size() / 2];
+  r.wall = walls[walls.size() / 2].first;
+  r.cpu = walls[walls.size() / 2].second;
   return r;
 }
 
@@ -77,9 +98,78 @@ struct CorrectlyRoundedKepler {
   }
 };
 
+/// One case of the comparison with IAS15 (--case): gauss_radau15 at `rtol`
+/// in the three formulations, the relative orbit of eccentricity e started at
+/// true anomaly f0, masses 1 and `ratio`; one line per formulation.
+int run_case(double e, double ratio, double f0, double orbits, double rtol, const char* const* text) {
+  const double G = 1, a = 1, m1 = 1, m2 = ratio;
+  const double M = m1 + m2, mu = m1 * m2 / M, k = G * m1 * m2, gm = G * M;
+  const double period = 2 * std::acos(-1.0) * std::sqrt(a * a * a / gm);
+  // r = p/(1 + e cos f), v = √(GM/p) (−sin f, e + cos f) (as ias15_orbits.c)
+  const double p = a * (1 - e * e), r = p / (1 + e * std::cos(f0)), h = std::sqrt(gm / p);
+  const double x = r * std::cos(f0), y = r * std::sin(f0), vx = -h * std::sin(f0), vy = h * (e + std::cos(f0));
+  SimulationOptions o;
+  o.method = "gauss_radau15";
+  o.rtol = rtol;
+  o.atol = 1e-300;
+  o.t_end = orbits * period;
+  o.dt = 1e-6 * period;
+  o.output_interval = -1;
+  o.max_steps = 500'000'000;
+  auto row = [&](const char* form, const Result& res) {
+    std::printf("gauss_radau15 %s %s %s %s %.6e %.6e %.6e %llu %llu\n", form, text[0], text[1], text[2], res.error,
+                res.wall, res.cpu, static_cast<unsigned long long>(res.steps),
+                static_cast<unsigned long long>(res.evaluations));
+    std::fflush(stdout);
+  };
+  {  // both bodies, centre of mass at rest at the origin (the energy as in main)
+    State<4> s;
+    s.q << -m2 / M * x, -m2 / M * y, m1 / M * x, m1 / M * y;
+    s.qd << -m2 / M * vx, -m2 / M * vy, m1 / M * vx, m1 / M * vy;
+    const auto energy = [&](const Sample<4>& z) {
+      using L = long double;
+      const L dx = L(z.q[2]) - z.q[0], dy = L(z.q[3]) - z.q[1];
+      const L v1 = L(z.qd[0]) * z.qd[0] + L(z.qd[1]) * z.qd[1], v2 = L(z.qd[2]) * z.qd[2] + L(z.qd[3]) * z.qd[3];
+      return L(0.5) * m1 * v1 + L(0.5) * m2 * v2 - k / std::sqrt(dx * dx + dy * dy);
+    };
+    row("two_body", measure(lm::TwoBody<2>(m1, m2, lm::NewtonianGravity{k}), s, o, 1, energy));
+  }
+  {  // the relative coordinate, reduced mass μ
+    State<2> s;
+    s.q << x, y;
+    s.qd << vx, vy;
+    const auto energy = [&](const Sample<2>& z) {
+      using L = long double;
+      const L v2 = L(z.qd[0]) * z.qd[0] + L(z.qd[1]) * z.qd[1];
+      return L(0.5) * mu * v2 - k / std::sqrt(L(z.q[0]) * z.q[0] + L(z.q[1]) * z.q[1]);
+    };
+    row("reduced_mass", measure(lm::RelativeMotion<2>(mu, lm::NewtonianGravity{k}), s, o, 1, energy));
+  }
+  {  // plane polar coordinates (r, φ): ṙ = √(GM/p) e sin f, r φ̇ = √(GM/p) (1 + e cos f)
+    State<2> s;
+    s.q << r, f0;
+    s.qd << h * e * std::sin(f0), h * (1 + e * std::cos(f0)) / r;
+    const auto energy = [&](const Sample<2>& z) {
+      using L = long double;
+      const L rr = z.q[0], rd = z.qd[0], phid = z.qd[1];
+      return L(0.5) * mu * (rd * rd + rr * rr * phid * phid) - k / rr;
+    };
+    row("kepler_polar", measure(lm::KeplerPolar(mu, k), s, o, 1, energy));
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc > 1 && std::string(argv[1]) == "--case") {
+    if (argc < 5) {
+      std::fprintf(stderr, "usage: %s --case E RATIO F0 [ORBITS=1000] [RTOL=1e-9]\n", argv[0]);
+      return 2;
+    }
+    return run_case(std::atof(argv[2]), std::atof(argv[3]), std::atof(argv[4]), argc > 5 ? std::atof(argv[5]) : 1000,
+                    argc > 6 ? std::atof(argv[6]) : 1e-9, argv + 2);
+  }
   const double orbits = argc > 1 ? std::atof(argv[1]) : 1000;
   const int repeats = argc > 2 ? std::atoi(argv[2]) : 3;
   const double radau_rtol = argc > 3 ? std::atof(argv[3]) : 1e-9;

@@ -2,10 +2,13 @@
 # The side-by-side comparisons of docs/performance.md ("Against what users
 # would pick instead"), with one command:
 #   1. lagrangian bench on the double pendulum from (2, 2) rad: error at
-#      t = 5 s and energy drift at t = 20 s, per stepper and tolerance;
+#      t = 5 s (against the shipped mpmath reference) and the runs to t = 20 s,
+#      per stepper and tolerance;
 #   2. the same system derived by SymPy and integrated by SciPy's solve_ivp
 #      (DOP853, RK45, Radau) at the same tolerances: time, error, the speed
-#      ratio at equal error, and SymPy's derivation time;
+#      ratio at equal error, and SymPy's derivation time; both sides' energy
+#      error at t = 20 s as |E(20) - E(0)| / |E(0)| (lagrangian's from one
+#      `lagrangian run` per stepper and tolerance);
 #   3. lagrangian's "derivation": the compile time of a file that evaluates
 #      the AD-derived q'' (bench/peers/derive_double_pendulum.cpp), and one
 #      evaluation;
@@ -30,7 +33,7 @@ echo "== 1. lagrangian bench (t = 5 s and t = 20 s)"
 
 echo "== 2. SymPy + SciPy"
 "$py" "$root/bench/peers/sympy_scipy.py" --ours-error "$out/t5/bench.json" --ours-energy "$out/t20/bench.json" \
-  --out "$out" --repeat "$repeat"
+  --lagrangian "$bin" --scene "$scene" --out "$out" --repeat "$repeat"
 
 echo "== 3. lagrangian's derivation: compile time of the AD q'' and one evaluation"
 eigen=$(pkg-config --cflags eigen3 2>/dev/null || echo -I/usr/include/eigen3)

@@ -20,6 +20,7 @@
 #include "lagrangian/errors.hpp"
 #include "lagrangian/plots.hpp"
 #include "lagrangian/report.hpp"
+#include "lagrangian/scene_models.hpp"
 #include "lagrangian/scene_run.hpp"
 
 namespace lagrangian::scene {
@@ -28,7 +29,29 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr const char* kReferenceMethod = "fehlberg78";
+constexpr double kInf = std::numeric_limits<double>::infinity();
+/// The reference run's stepper where there is neither a closed form nor a
+/// shipped reference: the most accurate the project has (docs/accuracy.md,
+/// "Gauss–Radau to round-off"), at its tightest tolerance.
+constexpr const char* kReferenceMethod = "gauss_radau15";
+constexpr double kReferenceTightest = lagrangian::detail::kGaussRadauSmallestTolerance;
+
+/// bench/reference/double_pendulum.txt: the chaotic double pendulum of
+/// bench/scenes/double_pendulum_chaotic.toml (m1 = m2 = l1 = l2 = 1,
+/// g = 9.81, θ1 = θ2 = 2 rad at rest from t = 0) at t = 5 s and 20 s,
+/// computed in mpmath at 60 and 70 digits (the two agree to 1e-37), rounded
+/// to double here. tests/test_bench.cpp checks these against the file.
+struct ShippedReference {
+  double t_end;
+  std::array<double, 2> q, qd;
+};
+constexpr std::array<ShippedReference, 2> kDoublePendulumReference{
+    ShippedReference{5.0,
+                     {-1.410706688941584255089104615020398236118, -4.041716878877189687566077358790925909559},
+                     {-1.984147306034064825616346511085029318764, -5.429525625408064226171414122363918190494}},
+    ShippedReference{20.0,
+                     {0.1331110409533288179392626946627098523853, -30.15572941228644871906116174598442574834},
+                     {3.892915415262310090929197793596436874494, 4.799273316583681084173939753666041202325}}};
 /// Everything a bench writes (removed before a bench starts and when it fails).
 constexpr const char* kOutputs[] = {"work_precision.csv",        "bench.json",                "bench.gp",
                                     "work_precision_time.png",   "work_precision_time.svg",   "work_precision_rhs.png",
@@ -104,6 +127,41 @@ std::string machine_description(const std::string& load_before) {
   return out;
 }
 
+/// The shipped reference of the scene, when the scene is exactly the one it
+/// was computed for: the built-in double_pendulum with every parameter at
+/// m1 = m2 = l1 = l2 = 1, g = 9.81 (defaults and overrides alike), q(0) =
+/// (2, 2) rad, q̇(0) = 0, t0 = 0, t_end 5 s or 20 s, nothing else in the
+/// scene. Anything else (another parameter, a body, an effect) gets nullptr.
+const ShippedReference* shipped_reference(const Scene& s) {
+  if (!s.model || s.model->name != "double_pendulum" || !s.bodies.empty() || s.gas || !s.declared().empty())
+    return nullptr;
+  if (s.model->q != std::vector<double>{2.0, 2.0} || s.model->qd != std::vector<double>{0.0, 0.0}) return nullptr;
+  if (s.run.t0 != 0.0) return nullptr;
+  const ModelInfo* info = find_model("double_pendulum");
+  if (!info) return nullptr;
+  const std::map<std::string, double> want{{"m1", 1.0}, {"m2", 1.0}, {"l1", 1.0}, {"l2", 1.0}, {"g", 9.81}};
+  if (info->parameters.size() != want.size()) return nullptr;
+  for (const ParameterInfo& p : info->parameters) {
+    const auto given = s.model->parameters.find(p.name);
+    const double value = given != s.model->parameters.end() ? given->second : p.default_value;
+    const auto w = want.find(p.name);
+    if (w == want.end() || value != w->second) return nullptr;
+  }
+  for (const auto& [name, value] : s.model->parameters)
+    if (!want.count(name)) return nullptr;
+  for (const ShippedReference& r : kDoublePendulumReference)
+    if (s.run.t_end == r.t_end) return &r;
+  return nullptr;
+}
+
+/// Half an ulp of the largest |x_i|: the rounding of a value good to many
+/// more digits than a double holds.
+double half_ulp_max(const std::array<double, 2>& x) {
+  double e = 0;
+  for (double v : x) e = std::max(e, 0.5 * (std::nextafter(std::abs(v), kInf) - std::abs(v)));
+  return e;
+}
+
 /// The scene set up for one bench run: method, tolerances, step, samples at
 /// the ends only, no outputs, the ODE engine for particle scenes.
 Scene configured(const Scene& scene, const std::string& method, double rtol, double atol, double dt) {
@@ -160,6 +218,11 @@ std::string csv_text(const Scene& scene, const BenchResult& r) {
      << "# error: " << r.error_measure << "\n";
   if (!r.reference.empty())
     os << "# reference: " << r.reference << "\n";
+  for (const BenchPoint& p : r.points)
+    if (p.is_reference)
+      os << "# the row " << p.method << " rtol " << fmt(p.rtol, "%.3g")
+         << " is the reference run itself: its error is the reference's estimate (resolved = 0)\n";
+  for (const std::string& w : r.warnings) os << "# warning: " << w << "\n";
   os << "# wall_time_s: median of the repeats; machine: " << r.machine << "\n"
      << "method,adaptive,rtol,atol,dt,status,error,wall_time_s,wall_time_min_s,wall_time_max_s,repeats,steps,"
         "rejected_steps,rhs_evaluations,energy_drift,momentum_drift,constraint_residual,t_final,resolved\n";
@@ -191,6 +254,8 @@ std::string json_text(const Scene& scene, const BenchOptions& o, const BenchResu
   os << ",\n  \"t0\": " << json_number(scene.run.t0) << ", \"t_end\": " << json_number(scene.run.t_end);
   os << ",\n  \"closed_form\": " << (r.closed_form ? "true" : "false") << ",\n  \"error_measure\": ";
   json_string(os, r.error_measure);
+  os << ",\n  \"reference_kind\": ";
+  json_string(os, r.reference_kind);
   os << ",\n  \"reference\": ";
   json_string(os, r.reference);
   os << ",\n  \"reference_accuracy\": " << json_number(r.reference_accuracy)
@@ -200,6 +265,12 @@ std::string json_text(const Scene& scene, const BenchOptions& o, const BenchResu
     for (std::size_t k = 0; k < v->size(); ++k) os << (k ? ", " : "") << json_number((*v)[k]);
     os << "]";
   }
+  os << ",\n  \"warnings\": [";
+  for (std::size_t k = 0; k < r.warnings.size(); ++k) {
+    if (k) os << ", ";
+    json_string(os, r.warnings[k]);
+  }
+  os << "]";
   os << ",\n  \"machine\": ";
   json_string(os, r.machine);
   os << ",\n  \"settings\": {\"methods\": [";
@@ -229,7 +300,8 @@ std::string json_text(const Scene& scene, const BenchOptions& o, const BenchResu
        << ", \"momentum_drift\": " << json_number(ok ? p.momentum_drift : kNaN)
        << ", \"constraint_residual\": " << json_number(ok ? p.constraint_residual : kNaN)
        << ", \"t_final\": " << json_number(ok ? p.t_final : kNaN)
-       << ", \"resolved\": " << (p.resolved ? "true" : "false") << "}";
+       << ", \"resolved\": " << (p.resolved ? "true" : "false")
+       << ", \"is_reference\": " << (p.is_reference ? "true" : "false") << "}";
   }
   os << "\n  ]\n}\n";
   return os.str();
@@ -308,7 +380,9 @@ std::string BenchResult::table() const {
                   fmt(p.error, "%.3e").c_str(), fmt(1e3 * p.wall_time_s, "%.4g").c_str(),
                   static_cast<unsigned long long>(p.steps), static_cast<unsigned long long>(p.rhs_evaluations),
                   opt(p.energy_drift).c_str(), opt(p.momentum_drift).c_str(), opt(p.constraint_residual).c_str(),
-                  p.resolved ? "" : "  (below the reference's accuracy)");
+                  p.is_reference ? "  (the reference run: its estimated error)"
+                  : p.resolved   ? ""
+                                 : "  (below the reference's accuracy)");
     os << line;
   }
   os << "time: median of the repeats; machine: " << machine << "\n";
@@ -335,29 +409,63 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
   }
   remove_outputs(dir);
 
-  // The reference: the model's closed form, or a tight run checked against a
-  // run at 10× its tolerance. A failing reference run is retried 10× looser,
-  // down to 1e-11.
+  // The reference, the most accurate the project has: the model's closed
+  // form; else the shipped multiple-precision reference when the scene is
+  // exactly the one it was computed for; else gauss_radau15 at its tightest
+  // tolerance (rtol = atol = max(reference_tolerance, 1e-11); retried 10×
+  // looser, up to 1e-9, if it fails), whose error is estimated by a second
+  // gauss_radau15 run at 10× its tolerance.
   auto say = [&](const std::string& line) {
     if (options.progress) options.progress(line);
   };
+  auto warn = [&](const std::string& line) { result.warnings.push_back(line); };
+  const ShippedReference* shipped = nullptr;
   RunResult reference;
-  double tol = options.reference_tolerance;
-  for (;;) {
-    try {
-      reference = run_quiet(configured(scene, kReferenceMethod, tol, tol, scene.run.dt));
-      break;
-    } catch (const SimulationError&) {
-      if (tol * 10 > 1e-11) throw;
-      tol *= 10;
+  double tol = std::max(options.reference_tolerance, kReferenceTightest);
+  if (options.reference_tolerance < kReferenceTightest * (1 - 1e-9))
+    warn("reference tolerance " + fmt(options.reference_tolerance, "%.3g") + " is below " + kReferenceMethod +
+         "'s tightest tolerance " + fmt(kReferenceTightest, "%.0e") + " (its error measure |b6|/|q''| is round-off "
+         "there): a reference run uses " + fmt(kReferenceTightest, "%.0e"));
+  // The closed form, if any, comes with the report of any run: one cheap run
+  // tells (its result is the reference state only in the third case).
+  {
+    for (;;) {
+      try {
+        reference = run_quiet(configured(scene, kReferenceMethod, tol, tol, scene.run.dt));
+        break;
+      } catch (const SimulationError&) {
+        if (tol * 10 > 1e-9 * (1 + 1e-9)) throw;
+        tol *= 10;
+      }
     }
   }
   result.closed_form = reference.report.has_reference;
+  if (!result.closed_form) shipped = shipped_reference(scene);
+  const std::string units = scene.model ? "the model's coordinates" : "m, positions";
   if (result.closed_form) {
+    result.reference_kind = "closed_form";
     result.error_measure =
         "max_i |q_i(t_end) - q_i(t_end) of the closed form| (true error, units of q: " +
         std::string(scene.model ? "the model's coordinates" : "m") + ")";
+  } else if (shipped) {
+    result.reference_kind = "shipped";
+    result.reference_q.assign(shipped->q.begin(), shipped->q.end());
+    result.reference_qd.assign(shipped->qd.begin(), shipped->qd.end());
+    // The 60- and 70-digit runs agree to 1e-37: the reference's error as a
+    // double is its rounding.
+    result.reference_accuracy = half_ulp_max(shipped->q);
+    result.reference_time_s = kNaN;
+    result.error_measure = "max_i |q_i(t_end) - q_i,ref(t_end)| against the shipped reference (units of q: " +
+                           units + ")";
+    result.reference = "bench/reference/double_pendulum.txt at t = " + fmt(shipped->t_end, "%g") +
+                       " s (Gragg-Bulirsch-Stoer in mpmath at 60 and 70 digits, which agree to 1e-37); its error "
+                       "as doubles is their rounding, at most " +
+                       fmt(result.reference_accuracy, "%.1e");
+    say("reference: " + result.reference);
   } else {
+    result.reference_kind = "run";
+    result.reference_method = kReferenceMethod;
+    result.reference_tolerance = tol;
     say("reference: " + std::string(kReferenceMethod) + " at rtol = atol = " + fmt(tol, "%.0e"));
     result.reference_time_s = reference.report.wall_time_s;
     result.reference_q = reference.q_final;
@@ -366,12 +474,13 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
     result.reference_accuracy = state_difference(reference.q_final, check.q_final);
     if (!std::isfinite(result.reference_accuracy))
       throw SimulationError("bench: the reference runs ended in states of different sizes", scene.run.t_end);
-    result.error_measure = std::string("max_i |q_i(t_end) - q_i,ref(t_end)| against a reference run (units of q: ") +
-                           (scene.model ? "the model's coordinates" : "m, positions") + ")";
+    result.error_measure = "max_i |q_i(t_end) - q_i,ref(t_end)| against a reference run (units of q: " + units + ")";
     result.reference = std::string(kReferenceMethod) + " at rtol = atol = " + fmt(tol, "%.0e") + " (" +
-                       std::to_string(reference.report.steps) + " steps); its error is estimated as " +
-                       fmt(result.reference_accuracy, "%.1e") + " by comparison with a run at " +
-                       fmt(10 * tol, "%.0e");
+                       std::to_string(reference.report.steps) + " steps; the tightest it runs at); its error is "
+                       "estimated as " + fmt(result.reference_accuracy, "%.1e") +
+                       " = max_i |q_i - q_i,ref| of a second " + kReferenceMethod + " run at " + fmt(10 * tol, "%.0e") +
+                       " (at these tolerances both are round-off, so this is the size of the reference's error, "
+                       "not a bound)";
   }
 
   // The configurations.
@@ -387,10 +496,18 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
   for (const std::string& m : options.methods) {
     if (is_adaptive(m)) {
       // gauss_radau15 runs tolerances below its smallest at that one (its
-      // error measure is round-off there): those points would repeat it.
+      // error measure is round-off there): those points would repeat it, so
+      // they are dropped, and the user is told which.
       const double smallest = lagrangian::detail::kGaussRadauSmallestTolerance;
-      for (double t : tols)
+      std::string dropped;
+      for (double t : tols) {
         if (m != "gauss_radau15" || t >= smallest * (1 - 1e-9)) configs.push_back({m, t, t, scene.run.dt});
+        else dropped += (dropped.empty() ? "" : ", ") + fmt(t, "%.3g");
+      }
+      if (!dropped.empty())
+        warn(m + ": tolerances " + dropped + " dropped: below " + fmt(smallest, "%.0e") + " its error measure " +
+             "|b6|/|q''| is round-off and it runs at " + fmt(smallest, "%.0e") + ", so those rows would repeat the " +
+             fmt(smallest, "%.0e") + " row");
     } else {
       for (double h : dts) configs.push_back({m, 0, 0, h});
     }
@@ -412,6 +529,9 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
     p.rtol = c.rtol;
     p.atol = c.atol;
     p.dt = c.dt;
+    p.is_reference = result.reference_kind == "run" && c.method == result.reference_method &&
+                     c.rtol == result.reference_tolerance && c.atol == result.reference_tolerance &&
+                     c.dt == scene.run.dt;
     scenes.push_back(configured(scene, c.method, p.adaptive ? c.rtol : scene.run.rtol,
                                 p.adaptive ? c.atol : scene.run.atol, c.dt));
   }
@@ -428,11 +548,14 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
           p.rejected_steps = rep.rejected_steps;
           p.rhs_evaluations = rep.rhs_evaluations;
           p.t_final = rep.t_final;
-          p.error = result.closed_form ? rep.reference_error_final : state_difference(r.q_final, reference.q_final);
+          p.error = result.closed_form ? rep.reference_error_final : state_difference(r.q_final, result.reference_q);
+          // The reference run itself (deterministic: the same state): its
+          // error is the reference's estimate, not a measurement.
+          if (p.is_reference) p.error = result.reference_accuracy;
           p.energy_drift = rep.conservative ? rep.energy_drift_max : kNaN;
           p.momentum_drift = momentum_drift(rep);
           p.constraint_residual = rep.constrained ? rep.constraints.max_position_residual : kNaN;
-          p.resolved = result.closed_form || p.error > 2 * result.reference_accuracy;
+          p.resolved = result.closed_form || (!p.is_reference && p.error > 2 * result.reference_accuracy);
           if (!std::isfinite(p.error)) throw SimulationError("the error is not finite", rep.t_final);
         }
       } catch (const SimulationError& e) {
@@ -482,7 +605,10 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
     plot.note = (result.closed_form ? std::string("error: max_i |q_i - q_i,exact| at t = ")
                                     : std::string("error: max_i |q_i - q_i,ref| at t = ")) +
                 fmt(scene.run.t_end, "%.6g") + " s" +
-                (result.closed_form ? "" : "; reference: " + std::string(kReferenceMethod) + " at " + fmt(tol, "%.0e")) +
+                (result.reference_kind == "run"
+                     ? "; reference: " + std::string(kReferenceMethod) + " at " + fmt(tol, "%.0e")
+                     : result.reference_kind == "shipped" ? "; reference: bench/reference/double_pendulum.txt (mpmath)"
+                                                          : "") +
                 "; time: median of " + std::to_string(options.repeat) + "; " +
                 read_first_line_with("/proc/cpuinfo", "model name");
     plot.reference_accuracy = result.reference_accuracy;

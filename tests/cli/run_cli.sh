@@ -255,6 +255,11 @@ if command -v gnuplot >/dev/null 2>&1; then
 fi
 expect 0 "error: .*reference run" -- "$bin" bench "$src/examples/scenes/double_pendulum.toml" --t-end 1 \
   --methods dopri5 --tolerances 1e-4:1e-5 --repeat 1 --out "$work/bench_ref" --no-plots
+# gauss_radau15 drops tolerances below 1e-11 (it runs them at 1e-11) and says so on stderr and in bench.json.
+expect 0 "warning: gauss_radau15: tolerances 1e-12, 1e-13 dropped" -- "$bin" bench "$src/examples/scenes/kepler.toml" \
+  --t-end 6.283185307179586 --methods gauss_radau15 --tolerances 1e-10:1e-13 --repeat 1 --out "$work/bench_radau" --no-plots -q
+grep -q '"warnings": \[".*1e-12, 1e-13' "$work/bench_radau/bench.json" ||
+  { echo "FAIL: bench.json does not name the dropped tolerances"; fails=$((fails + 1)); }
 expect 2 "--methods: unknown stepper 'dopri'; did you mean 'dopri5'" -- "$bin" bench "$src/examples/scenes/kepler.toml" --methods dopri --out "$work/x"
 expect 2 "--tolerances: 'abc' is not a number, got '1e-3:abc'" -- "$bin" bench "$src/examples/scenes/kepler.toml" --tolerances 1e-3:abc --out "$work/x"
 expect 2 "--tolerances: .*loosest first.*1e-13:1e-3" -- "$bin" bench "$src/examples/scenes/kepler.toml" --tolerances 1e-13:1e-3 --out "$work/x"
