@@ -797,6 +797,41 @@ TEST(Scenes, TheEventDrivenEngineNeedsSphereContactsDeclared) {
   EXPECT_NEAR(pos(r, 1)[0], 0.8, 1e-15);
 }
 
+// A gas without [contacts.spheres] runs on the ODE engine, each wall impact
+// cutting a step. Free flight has no error, so the trial steps grow until
+// they span the rest of the run and hold a crossing of most walls; the
+// engine used to locate every one of them on the step's interpolant at every
+// step, so the work per step grew with the run (1000 spheres, 0.02 s: about
+// 10^3 s). Only the earliest closing is needed: the located contacts are
+// counted, about one per step, whatever the run's length.
+TEST(Scenes, AGasAgainstItsWallsLocatesAboutOneContactPerStep) {
+  auto walls_only = [](double t_end) {
+    Scene s = base(t_end, 1e-10, 1e-12);
+    s.gas = GasFill{.count = 125, .mass = 1.0, .radius = 0.01, .speed = 1.0, .seed = 3};
+    s.box = BoxContact{{0, 0, 0}, {1, 1, 1}, 1.0};
+    return run(s, quiet());
+  };
+  const RunResult short_run = walls_only(1.0), long_run = walls_only(4.0);
+  EXPECT_EQ(long_run.engine, "ode");
+  EXPECT_GT(short_run.report.impacts, 20u);
+  EXPECT_GT(long_run.report.impacts, 3 * short_run.report.impacts);
+  auto per_step = [](const RunResult& r) {
+    return static_cast<double>(r.contact_locations) / static_cast<double>(r.report.steps);
+  };
+  // Every crossing of a trial step located: about 190 a step (half the
+  // 375 wall contacts cross in a step spanning the rest of the run).
+  EXPECT_LT(per_step(short_run), 5.0) << short_run.contact_locations << " in " << short_run.report.steps;
+  EXPECT_LT(per_step(long_run), 5.0) << long_run.contact_locations << " in " << long_run.report.steps;
+  EXPECT_LT(per_step(long_run), 1.5 * per_step(short_run));  // does not grow with the run
+  // Elastic walls: the energy is kept and every sphere stays in the box.
+  EXPECT_LT(long_run.report.energy_drift_max, 1e-9);
+  for (int i = 0; i < 125; ++i)
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_GE(pos(long_run, i)[k], 0.01 - 1e-9);
+      EXPECT_LE(pos(long_run, i)[k], 0.99 + 1e-9);
+    }
+}
+
 // Built-in models of particles draw every body's path in space, not a
 // configuration-space path: two bodies, the oblique impact, Newton's cradle.
 TEST(Scenes, ModelsOfParticlesPlotEveryBodysPath) {

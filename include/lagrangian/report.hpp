@@ -285,11 +285,14 @@ struct RunReport {
   /// Explicit adaptive steppers: the largest |eigenvalue| ρ of ∂f/∂x at the
   /// end of the run (1/s), estimated by power iteration on (∂f/∂x)² with
   /// finite differences of f; 0 when not estimated. When the step size at
-  /// the end times ρ exceeds 1 and the run's first stretch at tolerances 100
-  /// times tighter takes under 1.5 times as many steps, the steps were
-  /// limited by stability, not accuracy (a stiff problem), and `warnings`
-  /// says so (the test made with dopri5 for bulirsch_stoer; "may" where it
-  /// cannot be made).
+  /// the end times ρ exceeds 1, the run's first stretch at tolerances 100
+  /// times tighter takes under 1.5 times as many steps (the steps were
+  /// limited by stability, not accuracy; the test made with dopri5 for
+  /// bulirsch_stoer; "may" where it cannot be made), and rosenbrock4, run
+  /// again over the whole run at the same tolerances and sample times, used
+  /// fewer evaluations of f than the run (a stiff problem), `warnings` says
+  /// so with both counts. Without that measurement there is no warning:
+  /// rosenbrock4 is never recommended where it was measured slower.
   double stiffness_rho = 0;
   /// Run-level warnings (e.g. an explicit stepper on a stiff problem).
   std::vector<std::string> warnings;

@@ -3,6 +3,7 @@
 // options.t0 with x (2n values) and leaves the end state in x.
 
 #include <algorithm>
+#include <cstdint>
 
 #include "lagrangian/detail/controlled_loop.hpp"
 #include "lagrangian/detail/run.hpp"
@@ -30,6 +31,24 @@ void run_gauss_radau15(Run& run, StateVector& x);
 /// The fixed-step structure-preserving methods (fixed_grid_loops.cpp).
 void run_symplectic(Run& run, StateVector& x);
 void run_variational(Run& run, StateVector& x);
+
+/// The work of a probe integration (stiffness.cpp): accepted steps and
+/// evaluations of f (a Jacobian's included), and whether it reached the end
+/// of its stretch, was stopped at its cap, or failed (f throwing, a
+/// non-finite state, a step underflow).
+struct ProbeCost {
+  enum class Outcome { failed, capped, reached };
+  std::uint64_t steps = 0, evaluations = 0;
+  Outcome outcome = Outcome::failed;
+};
+
+/// rosenbrock4 as run_rosenbrock4 runs it (the autonomous form, the
+/// Jacobian by central differences), from (x, t) to t_end at (rtol, atol),
+/// starting with the step dt, its steps landing on the sample times
+/// grid_t0 + k grid (grid > 0), on f as the system has it; stopped
+/// (capped) once it has used more than max_evaluations evaluations of f.
+ProbeCost rosenbrock4_probe(const System& system, StateVector x, double t, double t_end, double dt, double rtol,
+                            double atol, double grid_t0, double grid, std::uint64_t max_evaluations);
 
 /// Estimates ρ, the largest |eigenvalue| of ∂f/∂x at the end state x
 /// (stiffness.cpp): sets report.stiffness_rho and warns when the final step

@@ -36,6 +36,7 @@ struct ParticleRun {
   RunReport report;
   std::map<std::string, std::uint64_t> effect_evaluations;
   std::vector<double> q_final, qd_final;
+  std::uint64_t contact_locations = 0;  ///< see RunResult::contact_locations
 };
 
 /// The right-hand side ẋ = [v; a] a particle scene composes when it is built

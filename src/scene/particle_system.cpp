@@ -220,6 +220,7 @@ class ParticleSystem final : public lagrangian::System {
     out_.qd_final.assign(x + dim, x + 2 * dim);
     out_.effect_evaluations = model_.counts();
     rep_.rhs_evaluations = model_.rhs_evaluations;  // every evaluation, the contacts' too
+    out_.contact_locations = contact_locations_;
   }
 
   /// Constraint rows: the links and surfaces, and resting contacts.
@@ -287,22 +288,41 @@ class ParticleSystem final : public lagrangian::System {
         lift_off = static_cast<std::ptrdiff_t>(k);
       }
     }
-    // Closing: the open contacts the broad phase keeps.
+    // Closing: the open contacts the broad phase keeps. Only the earliest
+    // event of the step matters, so the contacts that cross zero (open at
+    // the step's start, closed at its end) are located in the order of
+    // their chord estimate, and one still open on the step path at the
+    // earliest time found so far closes after it and is not located. Without
+    // this every crossing in the step was located on the interpolant, and a
+    // step of free flight can hold thousands (a gas against its walls: the
+    // steps grow until they span the rest of the run, and each is cut at
+    // the first wall impact).
     model_.candidates(x_old, x, f0_.data() + dim, f1_.data() + dim, t - t_old, cand_);
     const double touch = lagrangian::detail::contact_touch_tolerance(x, dim);
     path_.reset(t_old, t, x_old, x, dim);
+    order_.clear();
     for (Contact* c : cand_) {
       const GapRate a{c->gap(x_old), c->rate(x_old, x_old + dim)};
       const GapRate b{c->gap(x), c->rate(x, x + dim)};
       if (a.gap > touch && b.gap > touch && a.rate < 0 && b.rate > 0 && open_throughout(*c, interp, a, b, touch))
         continue;  // passes by: a dip of the gap that stays above the touch tolerance
+      if (a.gap > touch && b.gap > touch && !(a.rate < 0 && b.rate > 0)) continue;  // open throughout: no crossing
+      const bool crossing = a.gap > touch && b.gap < 0;
+      const double key = crossing ? t_old + (t - t_old) * (a.gap / (a.gap - b.gap)) : t_old;
+      order_.push_back({key, crossing, c, a, b});
+    }
+    std::sort(order_.begin(), order_.end(), [](const Pending& p, const Pending& q) { return p.key < q.key; });
+    for (const Pending& p : order_) {
+      Contact* c = p.contact;
+      if (p.crossing && best_t < t && open_on_path(*c, interp, best_t, touch)) continue;  // closes after best_t
       auto on_step = [&](double ts) {
         interp(ts, buf_.data());
         return GapRate{c->gap(buf_.data()), c->rate(buf_.data(), buf_.data() + dim)};
       };
-      const Closing found = lagrangian::detail::locate_closing(t_old, t, a, b, touch, opt_.contact_touch_speed,
+      ++contact_locations_;
+      const Closing found = lagrangian::detail::locate_closing(t_old, t, p.a, p.b, touch, opt_.contact_touch_speed,
                                                                lagrangian::detail::gap_function(on_step));
-      if (found.kind == Closing::Kind::penetrated) lagrangian::detail::throw_penetrated(c->name, t_old, a.gap);
+      if (found.kind == Closing::Kind::penetrated) lagrangian::detail::throw_penetrated(c->name, t_old, p.a.gap);
       if (found.kind != Closing::Kind::none && found.t < best_t) {
         best_t = found.t;
         closing = c;
@@ -343,6 +363,17 @@ class ParticleSystem final : public lagrangian::System {
     const double tm =
         lagrangian::detail::stationary_time(path_.t0(), path_.t1(), a, b, lagrangian::detail::gap_function(on_path));
     return on_path(tm).gap > touch;
+  }
+
+  /// True when contact c is open beyond `touch` at time ts of the step, on
+  /// the step path (which reproduces the interpolant to rounding, far below
+  /// the touch tolerance).
+  bool open_on_path(const Contact& c, const StepInterpolant& interp, double ts, double touch) {
+    path_.prepare(interp);
+    Vector3d ra, va, rb = Vector3d::Zero(), vb = Vector3d::Zero();
+    path_.body(c.a, ts, ra, va);
+    if (c.pair) path_.body(c.b, ts, rb, vb);
+    return c.gap_rate(ra, va, rb, vb).gap > touch;
   }
 
   /// The constraint residuals at x into the report's maxima (at accepted
@@ -622,6 +653,16 @@ class ParticleSystem final : public lagrangian::System {
   std::vector<double> sample_x_;  // a sample projected onto the constraint rows (2 dim)
   std::vector<double> lambda_end_;  ///< multipliers of the resting contacts at a step's end
   std::vector<Contact*> cand_, near_;
+  /// A candidate contact to locate in a step: `key` orders them (the chord
+  /// estimate of a crossing; the step's start for the others).
+  struct Pending {
+    double key;
+    bool crossing;
+    Contact* contact;
+    GapRate a, b;
+  };
+  std::vector<Pending> order_;
+  std::uint64_t contact_locations_ = 0;  ///< contacts located on a step's interpolant (root searches)
   StepPath path_;
   lagrangian::detail::EventProgress progress_;
   double E0_ = 0, shift_ = 0;

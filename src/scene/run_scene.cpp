@@ -269,6 +269,7 @@ RunResult run(const Scene& input, const RunControls& controls) {
         auto run = detail::run_particles(scene, output, tick);
         result.report = std::move(run.report);
         result.effect_evaluations = std::move(run.effect_evaluations);
+        result.contact_locations = run.contact_locations;
         result.q_final = std::move(run.q_final);
         result.qd_final = std::move(run.qd_final);
       }
