@@ -174,7 +174,7 @@ def ours_energy_at_end(data, lagrangian, scene, energy, out):
         if r.returncode != 0:
             raise SystemExit(f"peers: {' '.join(cmd)} failed: {r.stderr.strip()}")
         with open(os.path.join(d, "report.json")) as f:
-            report = json.load(f)
+            report = json.load(f)["report"]  # the run's report, inside the scene's
         drift = report.get("energy_drift_relative_to_initial")
         if drift is not None:
             sources.add("report.json energy_drift_relative_to_initial")
