@@ -113,18 +113,41 @@ inline constexpr bool uses_block_passes = coordinate_count_v<M> == Dynamic || co
 template <class M>
 inline constexpr int ad_directions = uses_block_passes<M> ? 2 * kBlock : coordinate_count_v<M>;
 
-template <class M, class S>
-concept has_kinetic_for = requires(const M& m, const Vec<S, coordinate_count_v<M>>& q, const S& t) {
-  { m.kinetic(q, q, t) } -> std::convertible_to<S>;
+/// R is a result a model function may give for scalar type S: convertible
+/// to S and, when S is an AD number, not a plain arithmetic type (a double
+/// would have dropped the derivatives S carries).
+template <class R, class S>
+concept scalar_result_for =
+    std::convertible_to<R, S> && (std::is_arithmetic_v<S> || !std::is_arithmetic_v<std::remove_cvref_t<R>>);
+
+// T, V and L callable on an object of type Obj (const M& as the library
+// calls them, or M& to diagnose a missing const) with K-vectors of S:
+// `..._callable` with any result, `..._for_object` with a result for S.
+template <class Obj, class S, int K>
+concept kinetic_callable = requires(Obj m, const Vec<S, K>& q, const S& t) { m.kinetic(q, q, t); };
+template <class Obj, class S, int K>
+concept potential_callable = requires(Obj m, const Vec<S, K>& q, const S& t) { m.potential(q, t); };
+template <class Obj, class S, int K>
+concept lagrangian_callable = requires(Obj m, const Vec<S, K>& q, const S& t) { m.lagrangian(q, q, t); };
+template <class Obj, class S, int K>
+concept kinetic_for_object = requires(Obj m, const Vec<S, K>& q, const S& t) {
+  { m.kinetic(q, q, t) } -> scalar_result_for<S>;
 };
-template <class M, class S>
-concept has_potential_for = requires(const M& m, const Vec<S, coordinate_count_v<M>>& q, const S& t) {
-  { m.potential(q, t) } -> std::convertible_to<S>;
+template <class Obj, class S, int K>
+concept potential_for_object = requires(Obj m, const Vec<S, K>& q, const S& t) {
+  { m.potential(q, t) } -> scalar_result_for<S>;
 };
-template <class M, class S>
-concept has_lagrangian_for = requires(const M& m, const Vec<S, coordinate_count_v<M>>& q, const S& t) {
-  { m.lagrangian(q, q, t) } -> std::convertible_to<S>;
+template <class Obj, class S, int K>
+concept lagrangian_for_object = requires(Obj m, const Vec<S, K>& q, const S& t) {
+  { m.lagrangian(q, q, t) } -> scalar_result_for<S>;
 };
+
+template <class M, class S>
+concept has_kinetic_for = kinetic_for_object<const M&, S, coordinate_count_v<M>>;
+template <class M, class S>
+concept has_potential_for = potential_for_object<const M&, S, coordinate_count_v<M>>;
+template <class M, class S>
+concept has_lagrangian_for = lagrangian_for_object<const M&, S, coordinate_count_v<M>>;
 
 // The AD scalars the dynamics instantiates model functions with.
 template <class M>
@@ -134,6 +157,34 @@ using FirstOrderJet = ad::Jet<double, ad_directions<M>, 1>;
 
 template <class M, class S>
 concept energies_for = (has_kinetic_for<M, S> && has_potential_for<M, S>) || has_lagrangian_for<M, S>;
+
+// What check_model() asks only once a model has failed energies_for, to
+// name the mistake (so a valid model pays nothing for them).
+
+/// T and V (or L) callable with S and n-vectors, but only on a non-const model.
+template <class M, class S>
+concept energies_need_mutable_model =
+    (kinetic_callable<M&, S, coordinate_count_v<M>> && potential_callable<M&, S, coordinate_count_v<M>>) ||
+    lagrangian_callable<M&, S, coordinate_count_v<M>>;
+
+/// True when some of T, V, L takes vectors of a size K other than the
+/// model's n (K = 1 … 16, or Dynamic).
+template <class M, int... K>
+constexpr bool energies_take_other_size(std::integer_sequence<int, K...>) {
+  constexpr int n = coordinate_count_v<M>;
+  auto takes = []<int Size>(std::integral_constant<int, Size>) {
+    return Size != n && (kinetic_callable<M&, double, Size> || potential_callable<M&, double, Size> ||
+                         lagrangian_callable<M&, double, Size>);
+  };
+  return (takes(std::integral_constant<int, K + 1>{}) || ...) || takes(std::integral_constant<int, Dynamic>{});
+}
+
+/// T and V (or L) callable with the AD number S but giving a plain number.
+template <class M, class S>
+concept energies_return_plain_number =
+    (kinetic_callable<const M&, S, coordinate_count_v<M>> &&
+     potential_callable<const M&, S, coordinate_count_v<M>>) ||
+    lagrangian_callable<const M&, S, coordinate_count_v<M>>;
 
 }  // namespace detail
 
@@ -224,23 +275,49 @@ inline constexpr bool has_particles_v = requires(const M& m) {
   { *std::begin(m.particles()) } -> std::convertible_to<Particle>;
 };
 
-/// Checks a model and stops compilation with one sentence per missing piece.
-/// Called by every public entry point that takes a model.
+/// Checks a model and stops compilation with one sentence naming what is
+/// missing or wrong: no coordinate_count; no T and V (or L); T, V or L not
+/// const, taking a Vec of another size than n, returning double, or not a
+/// template on the scalar. Called by every public entry point that takes a
+/// model.
 template <class M>
 constexpr void check_model() {
   static_assert(detail::declares_coordinate_count<M>,
                 "lagrangian: a model must declare `static constexpr int coordinate_count = n;` (n >= 1 generalized "
                 "coordinates), or `coordinate_count = lagrangian::Dynamic` together with `int size() const`");
-  if constexpr (detail::declares_coordinate_count<M>) {
-    static_assert(detail::energies_for<M, double>,
-                  "lagrangian: a model must define `template <class S> S kinetic(const Vec<S, n>& q, const Vec<S, "
-                  "n>& qd, const S& t) const` and `template <class S> S potential(const Vec<S, n>& q, const S& t) "
-                  "const`, or a direct `lagrangian(q, qd, t)`; none was found callable with double");
-    static_assert(!detail::energies_for<M, double> ||
-                      (detail::energies_for<M, detail::EomJet<M>> &&
-                       detail::energies_for<M, detail::FirstOrderJet<M>>),
-                  "lagrangian: the model's kinetic/potential/lagrangian must be templates on the scalar type S "
-                  "(they are called with automatic-differentiation scalars, not only with double)");
+  // At most one sentence: the first mistake found, most specific first.
+  if constexpr (!detail::declares_coordinate_count<M>) {
+    return;  // said above
+  } else if constexpr (constexpr bool callable = detail::energies_for<M, double>; !callable) {
+    if constexpr (detail::energies_need_mutable_model<M, double>) {
+      static_assert(callable,
+                    "lagrangian: the model's kinetic/potential/lagrangian must be const member functions: add `const` "
+                    "after the parameter list, `S kinetic(...) const` (the library calls them on a const model)");
+    } else if constexpr (detail::energies_take_other_size<M>(std::make_integer_sequence<int, 16>{})) {
+      static_assert(callable,
+                    "lagrangian: the model's kinetic/potential/lagrangian take a Vec<S, k> whose size k is not the "
+                    "model's coordinate_count n: declare the parameters as `const Vec<S, n>&` with n = "
+                    "coordinate_count");
+    } else {
+      static_assert(callable,
+                    "lagrangian: a model must define `template <class S> S kinetic(const Vec<S, n>& q, const Vec<S, "
+                    "n>& qd, const S& t) const` and `template <class S> S potential(const Vec<S, n>& q, const S& t) "
+                    "const`, or a direct `lagrangian(q, qd, t)`; none was found callable with double");
+    }
+  } else if constexpr (constexpr bool differentiable = detail::energies_for<M, detail::EomJet<M>> &&
+                                                      detail::energies_for<M, detail::FirstOrderJet<M>>;
+                       !differentiable) {
+    if constexpr (detail::energies_return_plain_number<M, detail::EomJet<M>> ||
+                  detail::energies_return_plain_number<M, detail::FirstOrderJet<M>>) {
+      static_assert(differentiable,
+                    "lagrangian: the model's kinetic/potential/lagrangian must return the scalar type S, not double: "
+                    "write `template <class S> S kinetic(...) const` (with automatic-differentiation scalars a "
+                    "double result would drop the derivatives)");
+    } else {
+      static_assert(differentiable,
+                    "lagrangian: the model's kinetic/potential/lagrangian must be templates on the scalar type S "
+                    "(they are called with automatic-differentiation scalars, not only with double)");
+    }
   }
 }
 

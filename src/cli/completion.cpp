@@ -1,93 +1,103 @@
-// The bash completion script, written from the CLI11 application.
+// What the completion scripts offer, read from the CLI11 application and
+// from the library's own lists of names.
 
 #include "completion.hpp"
 
-#include <sstream>
-#include <vector>
+#include <algorithm>
 
+#include "lagrangian/discrete.hpp"
 #include "lagrangian/report.hpp"
 #include "lagrangian/scene_models.hpp"
+#include "lagrangian/sweep.hpp"
 
 namespace lagrangian::cli {
 namespace {
 
-std::string words(const std::vector<std::string>& list) {
-  std::string out;
-  for (const std::string& w : list) out += (out.empty() ? "" : " ") + w;
+using Kind = CompletionValues::Kind;
+
+/// A help text up to its first clause (". ", ": ", "; ", " (" or ", e.g."),
+/// for a one-line description in a menu.
+std::string first_clause(const std::string& text) {
+  std::size_t end = text.size();
+  for (const char* stop : {". ", ": ", "; ", " (", ", e.g.", ".\n"}) end = std::min(end, text.find(stop));
+  std::string out = text.substr(0, end);
+  std::replace(out.begin(), out.end(), '\n', ' ');
   return out;
+}
+
+/// The steppers `--method` accepts: stepper_names() and event_driven.
+std::vector<std::string> method_words() {
+  std::vector<std::string> methods = stepper_names();
+  methods.push_back("event_driven");
+  return methods;
+}
+
+/// What may follow the option named `name` (its long name, "--method").
+CompletionValues option_values(const std::string& name) {
+  if (name == "--method") return {Kind::words, method_words()};
+  if (name == "--methods") return {Kind::word_list, method_words()};
+  if (name == "--stabilization")
+    return {Kind::words,
+            {to_string(Stabilization::none), to_string(Stabilization::baumgarte),
+             to_string(Stabilization::projection)}};
+  if (name == "--rule") return {Kind::words, {to_string(DiscreteRule::midpoint), to_string(DiscreteRule::trapezoidal)}};
+  if (name == "--output") return {Kind::word_list, scene::SweepOptions::output_groups()};
+  if (name == "--out") return {Kind::directory, {}};
+  if (name == "--animate-to") return {Kind::video, {}};
+  return {};
+}
+
+/// What fills the positional argument of the subcommand `command`.
+CompletionValues positional_values(const std::string& command) {
+  if (command == "list") {
+    std::vector<std::string> models;
+    for (const auto& m : scene::builtin_models()) models.push_back(m.name);
+    return {Kind::words, models};
+  }
+  if (command == "completion") return {Kind::words, completion_shells()};
+  return {Kind::scene, {}};
+}
+
+/// The options of `app` (not its positionals), each name once, --help first.
+std::vector<CompletionOption> options_of(const CLI::App& app) {
+  std::vector<CompletionOption> options;
+  std::vector<std::string> seen;
+  const CLI::Option* help = app.get_help_ptr();
+  std::vector<const CLI::Option*> all = app.get_options([](const CLI::Option*) { return true; });
+  std::stable_partition(all.begin(), all.end(), [&](const CLI::Option* o) { return o == help; });
+  for (const CLI::Option* opt : all) {
+    if (opt->get_positional()) continue;
+    CompletionOption o;
+    for (const std::string& l : opt->get_lnames()) o.names.push_back("--" + l);
+    for (const std::string& s : opt->get_snames()) o.names.push_back("-" + s);
+    std::erase_if(o.names, [&](const std::string& n) { return std::find(seen.begin(), seen.end(), n) != seen.end(); });
+    if (o.names.empty()) continue;
+    seen.insert(seen.end(), o.names.begin(), o.names.end());
+    o.takes_value = opt->get_expected_max() != 0;
+    o.repeatable = opt->get_expected_max() > 1;
+    o.help = first_clause(opt->get_description());
+    if (o.takes_value) o.values = option_values(o.names.front());
+    options.push_back(std::move(o));
+  }
+  return options;
 }
 
 }  // namespace
 
-std::string bash_completion(const CLI::App& app) {
-  std::vector<std::string> subs, valued;  // subcommands; options that take a value
-  std::ostringstream cases;
+std::vector<std::string> completion_shells() { return {"bash", "zsh"}; }
+
+CompletionSpec completion_spec(const CLI::App& app) {
+  CompletionSpec spec;
+  spec.top_options = options_of(app);
   for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
-    subs.push_back(sub->get_name());
-    std::vector<std::string> opts{"--help"};
-    for (const CLI::Option* opt : sub->get_options([](const CLI::Option*) { return true; })) {
-      if (opt->get_positional()) continue;
-      const bool flag = opt->get_expected_max() == 0;  // takes no value
-      for (const std::string& l : opt->get_lnames()) {
-        opts.push_back("--" + l);
-        if (!flag) valued.push_back("--" + l);
-      }
-      for (const std::string& s : opt->get_snames()) {
-        opts.push_back("-" + s);
-        if (!flag) valued.push_back("-" + s);
-      }
-    }
-    cases << "    " << sub->get_name() << ") opts=\"" << words(opts) << "\" ;;\n";
+    CompletionCommand c;
+    c.name = sub->get_name();
+    c.help = first_clause(sub->get_description());
+    c.options = options_of(*sub);
+    c.positional = positional_values(c.name);
+    spec.commands.push_back(std::move(c));
   }
-  std::vector<std::string> models;
-  for (const auto& m : scene::builtin_models()) models.push_back(m.name);
-  std::vector<std::string> methods = stepper_names();
-  methods.push_back("event_driven");
-
-  std::string pattern;  // the subcommands as a case pattern
-  for (const std::string& s : subs) pattern += (pattern.empty() ? "" : "|") + s;
-
-  std::ostringstream rest;
-  rest << "# bash completion for lagrangian, written by `lagrangian completion bash`.\n"
-       << "# Load: source <(lagrangian completion bash)\n"
-       << "_lagrangian() {\n"
-       << "  local cur=\"${COMP_WORDS[COMP_CWORD]}\" prev=\"${COMP_WORDS[COMP_CWORD-1]}\" cmd=\"\" w opts\n"
-       << "  for w in \"${COMP_WORDS[@]:1:COMP_CWORD-1}\"; do\n"
-       << "    case \"$w\" in " << pattern << ") cmd=\"$w\"; break ;; esac\n"
-       << "  done\n";
-  rest << "  if [ -z \"$cmd\" ]; then\n"
-       << "    COMPREPLY=($(compgen -W \"" << words(subs) << " --help --version\" -- \"$cur\"))\n"
-       << "    return\n"
-       << "  fi\n"
-       << "  case \"$prev\" in\n"
-       << "    --method|--methods) COMPREPLY=($(compgen -W \"" << words(methods) << "\" -- \"${cur##*,}\"))\n"
-       << "      [ \"$prev\" = --methods ] && [[ \"$cur\" == *,* ]] && COMPREPLY=(\"${COMPREPLY[@]/#/${cur%,*},}\")\n"
-       << "      return ;;\n"
-       << "    --out) mapfile -t COMPREPLY < <(compgen -d -- \"$cur\"); return ;;\n"
-       << "    --animate-to) mapfile -t COMPREPLY < <(compgen -f -X '!*.@(mp4|webm|gif)' -- \"$cur\"; compgen -d -- "
-          "\"$cur\");"
-          " return ;;\n";
-  std::string value_pattern;
-  for (const std::string& v : valued)
-    if (v != "--method" && v != "--methods" && v != "--out" && v != "--animate-to")
-      value_pattern += (value_pattern.empty() ? "" : "|") + v;
-  if (!value_pattern.empty()) rest << "    " << value_pattern << ") COMPREPLY=(); return ;;\n";
-  rest << "  esac\n"
-       << "  case \"$cmd\" in\n"
-       << cases.str() << "  esac\n"
-       << "  if [[ \"$cur\" == -* ]]; then\n"
-       << "    COMPREPLY=($(compgen -W \"$opts\" -- \"$cur\"))\n"
-       << "  elif [ \"$cmd\" = list ]; then\n"
-       << "    COMPREPLY=($(compgen -W \"" << words(models) << "\" -- \"$cur\"))\n"
-       << "  elif [ \"$cmd\" != completion ]; then\n"
-       << "    mapfile -t COMPREPLY < <(compgen -f -X '!*.toml' -- \"$cur\"; compgen -d -- \"$cur\")\n"
-       << "  else\n"
-       << "    COMPREPLY=($(compgen -W \"bash\" -- \"$cur\"))\n"
-       << "  fi\n"
-       << "}\n"
-       << "shopt -s extglob\n"
-       << "complete -o filenames -F _lagrangian lagrangian\n";
-  return rest.str();
+  return spec;
 }
 
 }  // namespace lagrangian::cli

@@ -299,9 +299,9 @@ int main(int argc, char** argv) {
   CLI::App* sweep = sweep_command.add(app);
 
   CLI::App* completion = app.add_subcommand(
-      "completion", "Print a bash completion script: source <(lagrangian completion bash)");
+      "completion", "Print a shell completion script: source <(lagrangian completion bash), or zsh");
   std::string shell;
-  completion->add_option("shell", shell, "the shell (bash)")->required();
+  completion->add_option("shell", shell, "the shell: bash or zsh")->required();
 
   if (const auto word = cli::unknown_subcommand(app, argc, argv)) {
     std::cerr << "lagrangian: " << cli::unknown_subcommand_message(app, *word) << "\n";
@@ -315,11 +315,14 @@ int main(int argc, char** argv) {
   }
 
   if (completion->parsed()) {
-    if (shell != "bash") {
-      std::cerr << "lagrangian: completion: unknown shell '" << shell << "' (bash is supported)\n";
+    if (shell == "bash") {
+      std::cout << cli::bash_completion(app);
+    } else if (shell == "zsh") {
+      std::cout << cli::zsh_completion(app);
+    } else {
+      std::cerr << "lagrangian: completion: unknown shell '" << shell << "' (bash and zsh are supported)\n";
       return kBadInput;
     }
-    std::cout << cli::bash_completion(app);
     return kOk;
   }
   if (lst->parsed()) return list_name.empty() ? list(argv[0]) : list_model(list_name);

@@ -85,29 +85,7 @@ expect 2 "<stdin>:1: name: expected a string, got integer 3" -- sh -c "echo 'nam
 "$bin" run "$src/examples/scenes/bouncing_ball.toml" --out "$work/quiet" --no-plots 2>"$work/stderr.txt" >/dev/null
 [ ! -s "$work/stderr.txt" ] || { echo "FAIL: stderr not empty in a pipe"; cat "$work/stderr.txt"; fails=$((fails + 1)); }
 
-# Bash completion, made from the command's own subcommands and options.
-"$bin" completion bash > "$work/completion.bash" || { echo "FAIL: completion bash"; fails=$((fails + 1)); }
-completes() {  # completes WORD... -> the candidates for the last word, joined by '|'
-  bash -c 'source "$1"; shift; COMP_WORDS=("$@"); COMP_CWORD=$(($# - 1)); _lagrangian; IFS="|"; echo "${COMPREPLY[*]}"' \
-    _ "$work/completion.bash" lagrangian "$@"
-}
-check_completion() {  # EXPECTED WORD...
-  local want=$1; shift
-  local got; got=$(completes "$@")
-  [ "$got" = "$want" ] || { echo "FAIL: completing '$*' gave '$got', expected '$want'"; fails=$((fails + 1)); }
-}
-check_completion "run" ru
-check_completion "--no-animation" run x.toml --no-an
-check_completion "--animate-to|--animate-seconds" run x.toml --anim
-check_completion "dopri5" run x.toml --method dop
-check_completion "double_pendulum" list double_p
-check_completion "$src/examples/scenes/bouncing_ball.toml" run "$src/examples/scenes/bouncing_b"
-check_completion "" run x.toml --rtol 1
-check_completion "$src/examples/scenes/bouncing_ball.toml" run --no-plots -q "$src/examples/scenes/bouncing_b"  # after flags
-mkdir -p "$work/a dir" && : > "$work/a dir/my scene.toml"
-check_completion "$work/a dir/my scene.toml" run "$work/a dir/my"  # one candidate, spaces and all
-check_completion "--equilibria" inspect x.toml --equi
-expect 2 "completion: unknown shell 'zsh'" -- "$bin" completion zsh
+# Shell completion: tests/cli/completion_cli.sh.
 
 # inspect --json: the same facts as one JSON object (read here by Python's json module).
 json_check() {  # SCENE PYTHON-ASSERTIONS (d: the parsed object)
