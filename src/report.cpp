@@ -115,10 +115,6 @@ void json_number(std::ostringstream& os, double v) {
   }
 }
 
-}  // namespace
-
-namespace {
-
 /// |Δ| / |initial| from a drift relative to the energy scale; NaN when the
 /// initial energy is 0.
 double relative_to_initial(double drift_of_scale, double scale, double initial) {
