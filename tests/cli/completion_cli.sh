@@ -3,8 +3,8 @@
 # options once, the fixed choices of the options that have them, and scene
 # files, models and shells where those are expected.
 # The bash script is run (bash's programmable completion, driven by hand);
-# the zsh script is checked against `lagrangian SUBCOMMAND --help`, and run
-# through `zsh -n` when zsh is installed.
+# the zsh script is checked against `lagrangian SUBCOMMAND --help`, and
+# loaded into zsh's completion system (scripts/setup installs zsh).
 # Usage: completion_cli.sh LAGRANGIAN_BINARY SOURCE_DIR WORK_DIR
 set -uo pipefail
 bin=$1
@@ -73,6 +73,10 @@ grep -qxF '  compdef _lagrangian lagrangian' "$zsh_script" || fail "zsh: no comp
 bash -n "$zsh_script" || fail "zsh: quotes or case/esac unbalanced (bash -n)"
 if command -v zsh > /dev/null; then
   zsh -n "$zsh_script" || fail "zsh -n"
+  # Loaded into a real zsh with its completion system, the script defines _lagrangian and binds it.
+  zsh -fc 'autoload -Uz compinit && compinit -u -d "$2/zcompdump" && source "$1" && (( $+functions[_lagrangian] )) &&
+           [[ $_comps[lagrangian] == _lagrangian ]]' _ "$zsh_script" "$work" ||
+    fail "zsh: the script does not load and bind _lagrangian"
 else
   echo "note: zsh is not installed; its script is checked by its text only"
 fi
