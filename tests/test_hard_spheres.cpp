@@ -11,14 +11,18 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <limits>
 #include <new>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "lagrangian/errors.hpp"
 #include "lagrangian/hard_spheres.hpp"
+#include "lagrangian/scene.hpp"
+#include "lagrangian/scene_run.hpp"
 
 // Allocation count: the global operator new is replaced by a counting one.
 // GCC cannot see that these new/delete pairs both use malloc/free.
@@ -687,6 +691,52 @@ TEST(HardSpheres, ValidationNamesTheSphereAndTheValue) {
   bad = HardSphereOptions{};
   bad.output_interval = -1;
   expect_option_error(two_in_unit_box(), bad, {"output_interval", "-1"});
+}
+
+// An impact whose impulse overflows a double stops the run (record) rather
+// than logging J = inf. The inputs are valid, here as a scene on the
+// event-driven engine: a sphere of m = 1e308 kg moves at 1 m/s towards the
+// elastic face z_min of its box, ½ m v² = 5e307 J and m v = 1e308 N s are
+// finite, but the impulse (1 + e) m u = 2e308 N s is not (the loss,
+// ½ m (1 − e²) u², is 0). A run into a directory where the same scene with
+// m = 1 kg wrote its outputs leaves none of them behind.
+TEST(HardSpheres, AnImpactWithANonFiniteImpulseStopsTheRunAndLeavesNoOutput) {
+  const auto dir = std::filesystem::temp_directory_path() / "lagrangian_hard_spheres_nonfinite_impulse";
+  std::filesystem::remove_all(dir);
+  scene::Scene s;
+  s.name = "nonfinite impulse";
+  s.run.engine = "event_driven";
+  s.run.t_end = 2.0;
+  s.run.output_interval = 0.25;
+  s.box = scene::BoxContact{{-1, -1, -1}, {1, 1, 1}, 1.0};
+  s.sphere_contacts = scene::SphereContacts{1.0, {}};
+  s.bodies.push_back({.name = "ball", .mass = 1.0, .radius = 0.1, .position = {0, 0, 0}, .velocity = {0, 0, -1}});
+  s.output.directory = dir.string();
+  s.output.plots = false;
+  const scene::RunResult ok = scene::run(s);  // m = 1 kg: one impact, at t = 0.9 s, with J = 2 N s
+  ASSERT_EQ(ok.engine, "event_driven");
+  ASSERT_EQ(ok.report.impacts, 1u);
+  EXPECT_EQ(ok.report.events.at(0).name, "ball-wall:z_min");
+  EXPECT_DOUBLE_EQ(ok.report.events.at(0).impulse, 2.0);
+  for (const char* f : {"trajectory.csv", "events.csv", "report.json"}) ASSERT_TRUE(std::filesystem::exists(dir / f)) << f;
+
+  s.bodies[0].mass = 1e308;
+  try {
+    scene::run(s);
+    FAIL() << "the run finished";
+  } catch (const SimulationError& e) {
+    const std::string what = e.what();
+    EXPECT_DOUBLE_EQ(e.time(), 0.9);  // the sphere's surface reaches z = -1
+    std::ostringstream expected;
+    expected.precision(17);
+    expected << "hard spheres: an impact at t = " << e.time()
+             << " gave a non-finite impulse or energy loss (J = inf N s, loss 0 J): its values overflow double "
+                "precision, so the run was stopped";
+    EXPECT_EQ(what, expected.str());
+  }
+  for (const char* f : {"trajectory.csv", "events.csv", "report.json", "trajectory.csv.partial"})
+    EXPECT_FALSE(std::filesystem::exists(dir / f)) << f << " survived the failed run";
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -728,6 +729,51 @@ TEST(Scenes, AFailedRunLeavesNoOutputThatLooksComplete) {
   for (const auto& p : plots) EXPECT_FALSE(std::filesystem::exists(p)) << p << " survived a run without plots";
   for (const char* f : {"trajectory.csv", "events.csv", "report.json"}) EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
   EXPECT_TRUE(std::filesystem::exists(dir / "notes.png"));
+  std::filesystem::remove_all(dir);
+}
+
+/// An impact whose impulse overflows a double stops the run (log_event)
+/// rather than logging J = inf and carrying on with infinite velocities.
+/// The inputs are valid: a ball of m = 1e308 kg falls at 1 m/s onto an
+/// elastic floor, ½ m v² = 5e307 J and m v = 1e308 N s are finite, but the
+/// impulse (1 + e) m u = 2e308 N s is not (nor is the kinetic energy after
+/// it: NaN). A run into a directory where the same scene with m = 1 kg wrote its
+/// outputs leaves none of them behind.
+TEST(Scenes, AnImpactWithANonFiniteImpulseStopsTheRunAndLeavesNoOutput) {
+  const auto dir = std::filesystem::temp_directory_path() / "lagrangian_nonfinite_impulse";
+  std::filesystem::remove_all(dir);
+  Scene s = base(2.0);
+  s.run.engine = "ode";
+  s.bodies.push_back({.name = "ball", .mass = 1.0, .radius = 0.1, .position = {0, 0, 1}, .velocity = {0, 0, -1}});
+  s.planes.push_back({.name = "floor", .point = {0, 0, 0}, .normal = {0, 0, 1}, .restitution = 1.0});
+  s.output.directory = dir.string();
+  s.output.plots = false;
+  const RunResult ok = run(s);  // the same scene at m = 1 kg: one impact at t = 0.9 s, all outputs written
+  ASSERT_EQ(ok.report.impacts, 1u);
+  EXPECT_NEAR(ok.report.events.at(0).impulse, 2.0, 1e-12);
+  for (const char* f : {"trajectory.csv", "events.csv", "report.json"}) ASSERT_TRUE(std::filesystem::exists(dir / f)) << f;
+
+  s.bodies[0].mass = 1e308;
+  try {
+    run(s);
+    FAIL() << "the run finished";
+  } catch (const SimulationError& e) {
+    const std::string what = e.what();
+    EXPECT_NEAR(e.time(), 0.9, 1e-9);  // the ball's surface reaches the floor
+    std::ostringstream head;
+    head.precision(17);
+    head << "impact ball-floor at t = " << e.time()
+         << " gave a non-finite impulse or energy (J = inf N s, kinetic energy " << 0.5 * 1e308 << " -> ";
+    const std::string tail = " J): its values overflow double precision, so the run was stopped";
+    ASSERT_TRUE(what.starts_with(head.str())) << what;
+    ASSERT_TRUE(what.ends_with(tail)) << what;
+    // The velocity after the impulse is M⁻¹Jᵀ·inf, whose zero components
+    // give 0·inf = NaN: the kinetic energy after it is NaN.
+    const std::string after = what.substr(head.str().size(), what.size() - head.str().size() - tail.size());
+    EXPECT_TRUE(std::isnan(std::strtod(after.c_str(), nullptr))) << after;
+  }
+  for (const char* f : {"trajectory.csv", "events.csv", "report.json", "trajectory.csv.partial"})
+    EXPECT_FALSE(std::filesystem::exists(dir / f)) << f << " survived the failed run";
   std::filesystem::remove_all(dir);
 }
 
