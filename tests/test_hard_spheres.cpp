@@ -729,7 +729,7 @@ TEST(HardSpheres, AnImpactWithANonFiniteImpulseStopsTheRunAndLeavesNoOutput) {
     EXPECT_DOUBLE_EQ(e.time(), 0.9);  // the sphere's surface reaches z = -1
     std::ostringstream expected;
     expected.precision(17);
-    expected << "hard spheres: an impact at t = " << e.time()
+    expected << "hard spheres: the impact ball-wall:z_min at t = " << e.time()
              << " gave a non-finite impulse or energy loss (J = inf N s, loss 0 J): its values overflow double "
                 "precision, so the run was stopped";
     EXPECT_EQ(what, expected.str());
@@ -737,6 +737,30 @@ TEST(HardSpheres, AnImpactWithANonFiniteImpulseStopsTheRunAndLeavesNoOutput) {
   for (const char* f : {"trajectory.csv", "events.csv", "report.json", "trajectory.csv.partial"})
     EXPECT_FALSE(std::filesystem::exists(dir / f)) << f << " survived the failed run";
   std::filesystem::remove_all(dir);
+}
+
+// Two spheres of 1e200 kg meeting head on at 1 m/s each: every value is finite (½ m v² = 5e199 J, the
+// impulse 2 μ u = 2e200 N s with μ = m/2), though the product m_1 m_2 of the reduced mass's usual formula
+// is not; the elastic impact swaps the velocities as for any equal masses.
+TEST(HardSpheres, HeavySpheresCollideWithoutAFalseOverflow) {
+  scene::Scene s;
+  s.name = "heavy pair";
+  s.run.engine = "event_driven";
+  s.run.t_end = 1.0;
+  s.run.output_interval = 0.0;
+  s.box = scene::BoxContact{{-2, -2, -2}, {2, 2, 2}, 1.0};
+  s.sphere_contacts = scene::SphereContacts{1.0, {}};
+  s.bodies.push_back({.name = "a", .mass = 1e200, .radius = 0.1, .position = {-0.5, 0, 0}, .velocity = {1, 0, 0}});
+  s.bodies.push_back({.name = "b", .mass = 1e200, .radius = 0.1, .position = {0.5, 0, 0}, .velocity = {-1, 0, 0}});
+  scene::RunControls quiet;
+  quiet.write_outputs = false;
+  const scene::RunResult r = scene::run(s, quiet);
+  ASSERT_EQ(r.report.impacts, 1u);
+  EXPECT_EQ(r.report.events.at(0).name, "a-b");
+  EXPECT_NEAR(r.report.events.at(0).t, 0.4, 1e-12);
+  EXPECT_NEAR(r.report.events.at(0).impulse, 2e200, 1e-15 * 2e200);
+  EXPECT_DOUBLE_EQ(r.qd_final.at(0), -1.0);
+  EXPECT_DOUBLE_EQ(r.qd_final.at(3), 1.0);
 }
 
 }  // namespace

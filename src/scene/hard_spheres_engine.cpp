@@ -363,12 +363,16 @@ class Engine {
     return now_ - p.last_impact < opt_.collapse_time ? 1.0 : e;  // TC model
   }
 
-  void record(RunReport& rep, std::string name, double impulse, double u, double sep, double loss) {
+  /// Logs an impact; `name()` gives its name ("s1-s2", "s1-wall:z_min"), made only when it is logged or
+  /// when its values overflow, which stops the run naming it.
+  template <class Name>
+  void record(RunReport& rep, const Name& name, double impulse, double u, double sep, double loss) {
     if (!std::isfinite(impulse) || !std::isfinite(loss)) {
       std::ostringstream os;
       os.precision(17);
-      os << "hard spheres: an impact at t = " << now_ << " gave a non-finite impulse or energy loss (J = " << impulse
-         << " N s, loss " << loss << " J): its values overflow double precision, so the run was stopped";
+      os << "hard spheres: the impact " << name() << " at t = " << now_
+         << " gave a non-finite impulse or energy loss (J = " << impulse << " N s, loss " << loss
+         << " J): its values overflow double precision, so the run was stopped";
       throw SimulationError(os.str(), now_);
     }
     ++rep.impacts;
@@ -376,7 +380,7 @@ class Engine {
       EventRecord r;
       r.t = now_;
       r.kind = EventKind::impact;
-      r.name = std::move(name);
+      r.name = name();
       r.impulse = impulse;
       r.approach_speed = u;
       r.separation_speed = sep;
@@ -389,7 +393,6 @@ class Engine {
     loss_ += loss;
   }
 
-  bool recording(const RunReport& rep) const { return rep.events.size() < opt_.max_recorded_events; }
 
   void pair_impact(std::uint32_t i, std::uint32_t j, RunReport& rep) {
     Body& p = bodies_[i];
@@ -402,7 +405,7 @@ class Engine {
     const double vn = (p.v - q.v).dot(n);
     if (vn >= 0) return;  // a graze: nothing changes, the other predictions stand
     const double e = std::max(restitution_now(p, sys_.pair_restitution), restitution_now(q, sys_.pair_restitution));
-    const double mu = p.mass * q.mass / (p.mass + q.mass);
+    const double mu = p.mass / (1 + p.mass / q.mass);  // m_p m_q / (m_p + m_q), without overflowing the product
     const double u = -vn;
     const double J = (1 + e) * mu * u;
     p.r0 = ri;
@@ -414,7 +417,7 @@ class Engine {
     ++q.count;
     p.last_impact = q.last_impact = now_;
     const double loss = 0.5 * mu * (1 - e * e) * u * u;
-    record(rep, recording(rep) ? names_[i] + "-" + names_[j] : std::string(), J, u, (p.v - q.v).dot(n), loss);
+    record(rep, [&] { return names_[i] + "-" + names_[j]; }, J, u, (p.v - q.v).dot(n), loss);
     predict_all(i, j, -1);
     predict_all(j, i, -1);
   }
@@ -445,13 +448,12 @@ class Engine {
     ++p.count;
     p.last_impact = now_;
     const double loss = 0.5 * p.mass * (1 - e * e) * u * u;
-    std::string name;
-    if (recording(rep)) name = names_[i] + "-" + (w < 6 ? std::string(kBoxWall[w]) : wall_names_[w - 6]);
     // the stretch of [t0, t_end] this impact falls in (RunReport::wall_impulse_blocks)
     constexpr int kB = RunReport::kWallImpulseBlocks;
     const int block = std::clamp(static_cast<int>((now_ - opt_.t0) / (t_end_ - opt_.t0) * kB), 0, kB - 1);
     wall_impulse_[w * kB + static_cast<std::size_t>(block)] += (1 + e) * p.mass * u;
-    record(rep, std::move(name), (1 + e) * p.mass * u, u, sep, loss);
+    record(rep, [&] { return names_[i] + "-" + (w < 6 ? std::string(kBoxWall[w]) : wall_names_[w - 6]); },
+           (1 + e) * p.mass * u, u, sep, loss);
     predict_all(i, -1, static_cast<int>(w));
   }
 
