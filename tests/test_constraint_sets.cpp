@@ -72,6 +72,7 @@ TEST(Constraints, ConvenienceFormNeedsNoHandSpelledWorkspace) {
 // independent one fixing y.
 struct RedundantPendulum : CartesianPendulum {
   std::array<std::string_view, 3> holonomic_names() const { return {"rod", "rod_again", "level"}; }
+  std::array<std::string_view, 3> constraint_units() const { return {"m", "m", "m"}; }
   template <class S>
   Vec<S, 3> holonomic(const Vec<S, 2>& q, const S&) const {
     using std::sqrt;
@@ -94,6 +95,7 @@ TEST(Constraints, RedundantConstraintsAreNamed) {
 // finite multipliers (minimum-norm split of the tension) and a warning.
 struct DoubledRod : CartesianPendulum {
   std::array<std::string_view, 2> holonomic_names() const { return {"rod", "rod_copy"}; }
+  std::array<std::string_view, 2> constraint_units() const { return {"m", "m"}; }
   template <class S>
   Vec<S, 2> holonomic(const Vec<S, 2>& q, const S&) const {
     using std::sqrt;
@@ -186,7 +188,7 @@ TEST(Constraints, CsvCarriesMultipliersAndConstraintForces) {
   std::ifstream in(path);
   std::string header;
   std::getline(in, header);
-  EXPECT_EQ(header, "t [s],x [m],y [m],x_dot [m/s],y_dot [m/s],energy [J],total_energy [J],lambda_rod,Qc_x [N],Qc_y [N]");
+  EXPECT_EQ(header, "t [s],x [m],y [m],x_dot [m/s],y_dot [m/s],energy [J],total_energy [J],lambda_rod [N],Qc_x [N],Qc_y [N]");
   std::filesystem::remove(path);
 }
 

@@ -29,6 +29,7 @@
 #include "lagrangian/integrate.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/observers.hpp"
+#include "lagrangian/params.hpp"
 #include "lagrangian/properties.hpp"
 #include "lagrangian/report.hpp"
 #include "lagrangian/variational.hpp"
@@ -107,7 +108,7 @@ void refuse_singular_start(const M& model, const State<coordinate_count_v<M>>& x
       os << (i ? ", " : " ") << names[i] << " = " << x0.q[static_cast<Eigen::Index>(i)];
     os << " (a collision, or the centre of a central force at r = 0); start away from it";
     throw DomainError(os.str());
-  } else {
+  } else if constexpr (detail::has_lagrangian_for<M, double>) {
     const double L = model.lagrangian(x0.q, x0.qd, t0);
     if (std::isfinite(L)) return;
     std::ostringstream os;

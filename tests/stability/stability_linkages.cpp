@@ -92,6 +92,7 @@ TEST(StabilityLinkages, FourBarThroughTheSingularPose) {
 struct DoubledRod : models::CartesianPendulum {
   static constexpr bool structure_preserving = true;  // runs with method variational
   std::array<std::string, 2> holonomic_names() const { return {"rod", "rod_again"}; }
+  std::array<std::string, 2> constraint_units() const { return {"m", "m"}; }  // the base class declares one
   template <class S>
   Vec<S, 2> holonomic(const Vec<S, 2>& q, const S& t) const {
     const S g = models::CartesianPendulum::holonomic(q, t)[0];
