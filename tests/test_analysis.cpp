@@ -255,3 +255,73 @@ TEST(Modes, NotAnEquilibriumIsReported) {
   const std::string text = format_modes(md, {"theta"}, {"rad"});
   EXPECT_NE(text.find("not an equilibrium"), std::string::npos);
 }
+
+namespace {
+
+/// The starts `lagrangian inspect --equilibria` uses (registry_analysis.hpp,
+/// AnalysisRequest::starts), written out again: q0, then count − 1 Halton
+/// points (bases 2, 3, 5, 7) over q0 ± max(1, 2|q0|) for coordinates in metres.
+std::vector<Eigen::VectorXd> inspect_starts(const Eigen::VectorXd& q0, int count) {
+  const int bases[] = {2, 3, 5, 7};
+  std::vector<Eigen::VectorXd> starts{q0};
+  for (int s = 1; s < count; ++s) {
+    Eigen::VectorXd q(q0.size());
+    for (int i = 0; i < q.size(); ++i) {
+      double f = 1, u = 0;
+      for (int k = s; k > 0; k /= bases[i]) {
+        f /= bases[i];
+        u += f * (k % bases[i]);
+      }
+      q[i] = q0[i] + std::max(1.0, 2 * std::abs(q0[i])) * (2 * u - 1);
+    }
+    starts.push_back(q);
+  }
+  return starts;
+}
+
+}  // namespace
+
+// examples/scenes/cartesian_double_pendulum.toml (m1 = m2 = 1 kg, l1 = l2 =
+// 1 m, g = 9.81) from the 16 starts of `inspect --equilibria`: the plain
+// searches found three of the four equilibria (not bob 1 up with bob 2
+// hanging below it); deflation finds the fourth. Both rods vertical, bob 1 at
+// y1 = ±l1 and bob 2 at y2 = y1 ± l2:
+//   down-down U = −(m1 + m2) g l1 − m2 g l2   minimum (the only stable one)
+//   down-up   U = −(m1 + m2) g l1 + m2 g l2   saddle
+//   up-down   U =  (m1 + m2) g l1 − m2 g l2   saddle
+//   up-up     U =  (m1 + m2) g l1 + m2 g l2   maximum
+TEST(Equilibria, CartesianDoublePendulumAllFourFromTheInspectStarts) {
+  const double m1 = 1.0, m2 = 1.0, l1 = 1.0, l2 = 1.0, g = 9.81;
+  const lm::CartesianDoublePendulum cdp(m1, m2, l1, l2, g);
+  Eigen::VectorXd q0(4);
+  q0 << 0.8414709848078965, -0.5403023058681398, 1.3208965234120995, -1.4178848677585125;  // the scene's q
+  EquilibriumOptions opt;
+  opt.starts = inspect_starts(q0, 16);
+  const std::vector<Equilibrium> eq = find_equilibria(cdp, opt);
+  ASSERT_EQ(eq.size(), 4u);
+  struct Expected {
+    double y1, y2, U;
+    EquilibriumKind kind;
+  };
+  const Expected expected[] = {  // sorted by U
+      {-l1, -l1 - l2, -(m1 + m2) * g * l1 - m2 * g * l2, EquilibriumKind::minimum},
+      {-l1, -l1 + l2, -(m1 + m2) * g * l1 + m2 * g * l2, EquilibriumKind::saddle},
+      {l1, l1 - l2, (m1 + m2) * g * l1 - m2 * g * l2, EquilibriumKind::saddle},
+      {l1, l1 + l2, (m1 + m2) * g * l1 + m2 * g * l2, EquilibriumKind::maximum}};
+  int stable = 0;
+  for (std::size_t k = 0; k < 4; ++k) {
+    const Equilibrium& e = eq[k];
+    EXPECT_NEAR(e.q[0], 0.0, 1e-10) << k;
+    EXPECT_NEAR(e.q[1], expected[k].y1, 1e-10) << k;
+    EXPECT_NEAR(e.q[2], 0.0, 1e-10) << k;
+    EXPECT_NEAR(e.q[3], expected[k].y2, 1e-10) << k;
+    EXPECT_NEAR(e.potential, expected[k].U, 1e-10) << k;
+    EXPECT_EQ(e.kind, expected[k].kind) << k << ": " << to_string(e.kind);
+    EXPECT_EQ(e.stable, k == 0) << k;
+    stable += e.stable ? 1 : 0;
+  }
+  EXPECT_EQ(stable, 1);
+  // Without deflation the same starts miss one: what the test above guards.
+  opt.deflation = false;
+  EXPECT_LT(find_equilibria(cdp, opt).size(), 4u);
+}

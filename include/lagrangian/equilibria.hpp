@@ -40,7 +40,7 @@ struct Equilibrium {
   EquilibriumKind kind = EquilibriumKind::degenerate;
   bool stable = false;          ///< kind == minimum
   int zero_eigenvalues = 0;     ///< eigenvalues of K_t counted as zero
-  std::string found_by;         ///< "minimisation" (NLopt, then Newton) or "Newton" (on ∇U = Gᵀλ)
+  std::string found_by;         ///< "minimisation" (NLopt, then Newton), "Newton" (on ∇U = Gᵀλ) or "Newton with deflation"
 };
 
 /// Options of find_equilibria().
@@ -51,6 +51,12 @@ struct EquilibriumOptions {
   double t = 0;                     ///< time at which L and g are frozen (s)
   bool minimise = true;             ///< run NLopt (LD_LBFGS, or LD_SLSQP with constraints) from each start
   bool newton = true;               ///< run Newton's method on ∇U = Gᵀλ, g = 0 from each start (finds saddles and maxima)
+  /// After the searches above, Newton's method again from every start on the
+  /// deflated system μ(q) F(q, λ), μ = Πᵢ (‖q − q*ᵢ‖⁻² + 1) over the equilibria
+  /// q*ᵢ found so far (their basins no longer attract), repeated from a start
+  /// while it finds a new one; found_by "Newton with deflation".
+  bool deflation = true;
+  int max_deflations_per_start = 8;  ///< deflated searches from one start at most
   double dedupe_tolerance = 1e-6;   ///< equilibria closer than this (∞-norm, relative to 1 + ‖q‖) are one
   double zero_tolerance = 1e-8;     ///< |eigenvalue| ≤ this × max |eigenvalue| counts as zero
   int max_iterations = 100;         ///< Newton iterations per start
@@ -72,7 +78,8 @@ std::vector<Equilibrium> equilibria_of(const RestModel& model, const Equilibrium
 /// Equilibria of `model` (stationary points of U = −L(q, 0, t) on g(q) = 0)
 /// from every start in `options`: NLopt minimisation (polished by Newton)
 /// finds minima; Newton's method on ∇U = Gᵀλ, g = 0 also finds saddles and
-/// maxima near a start. Duplicates (within dedupe_tolerance, periodic
+/// maxima near a start; deflated Newton from the same starts finds further
+/// ones whose basins no start lay in (EquilibriumOptions::deflation). Duplicates (within dedupe_tolerance, periodic
 /// coordinates wrapped) are merged; the result is sorted by U. Each is
 /// classified by the eigenvalues of K_t. Throws AnalysisError for models with
 /// Pfaffian or unilateral constraints or generalized forces, and OptionError

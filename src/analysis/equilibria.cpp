@@ -1,6 +1,7 @@
 // Equilibria (equilibria.hpp) on the RestModel interface, compiled once:
-// NLopt minimisation of U, Newton's method on ∇U = Gᵀλ, g = 0, and the
-// classification by the Hessian of U on the constraint manifold.
+// NLopt minimisation of U, Newton's method on ∇U = Gᵀλ, g = 0 (plain and
+// deflated), and the classification by the Hessian of U on the constraint
+// manifold.
 
 #include "lagrangian/equilibria.hpp"
 
@@ -29,9 +30,54 @@ void wrap_periodic(Eigen::VectorXd& q, const std::vector<double>& periods) {
   }
 }
 
-/// Newton's method on F(q, λ) = [∇U − Gᵀλ; g] = 0 from q (projected onto g = 0 first).
+/// Deflation of known roots r₁ … r_k (Farrell, Birkisson & Funke, SIAM J.
+/// Sci. Comput. 37 (2015) A2026): Newton's method is run on
+///
+///     F̃(q, λ) = μ(q) F(q, λ),   μ(q) = Πᵢ (‖q − rᵢ‖^(−p) + σ),  p = 2, σ = 1,
+///
+/// (q − rᵢ with periodic coordinates wrapped), whose roots are those of F
+/// except the rᵢ: near rᵢ, μ → ∞ and F̃ does not vanish there. With the
+/// undeflated step δ = −J⁺F, the step of F̃ is, by Sherman–Morrison,
+///
+///     δ̃ = δ / (1 − ∇(ln μ)ᵀ δ_q),   ∇ ln μ = Σᵢ −p ‖dᵢ‖^(−p−2) dᵢ / (‖dᵢ‖^(−p) + σ),
+///
+/// so no other system is solved. A start that would converge to a known
+/// root is pushed off it toward another.
+struct Deflation {
+  const std::vector<Eigen::VectorXd>* roots = nullptr;
+  const std::vector<double>* periods = nullptr;
+  static constexpr double power = 2.0;
+  static constexpr double shift = 1.0;
+  bool active() const { return roots && !roots->empty(); }
+  Eigen::VectorXd offset(const Eigen::VectorXd& q, const Eigen::VectorXd& r) const {
+    Eigen::VectorXd d = q - r;
+    wrap_periodic(d, *periods);
+    return d;
+  }
+  /// μ(q).
+  double factor(const Eigen::VectorXd& q) const {
+    double mu = 1.0;
+    for (const Eigen::VectorXd& r : *roots) mu *= std::pow(offset(q, r).norm(), -power) + shift;
+    return mu;
+  }
+  /// ∇ ln μ(q).
+  Eigen::VectorXd log_gradient(const Eigen::VectorXd& q) const {
+    Eigen::VectorXd grad = Eigen::VectorXd::Zero(q.size());
+    for (const Eigen::VectorXd& r : *roots) {
+      const Eigen::VectorXd d = offset(q, r);
+      const double dn = d.norm();
+      const double inv = std::pow(dn, -power);
+      grad += (-power * std::pow(dn, -power - 2.0) / (inv + shift)) * d;
+    }
+    return grad;
+  }
+};
+
+/// Newton's method on F(q, λ) = [∇U − Gᵀλ; g] = 0 from q (projected onto g = 0 first),
+/// on the deflated F̃ = μ F when `deflation` is active (see Deflation).
 /// Returns true and writes q, λ when it converges.
-bool newton_equilibrium(const RestModel& model, Eigen::VectorXd& q, Eigen::VectorXd& lambda, int max_iterations) {
+bool newton_equilibrium(const RestModel& model, Eigen::VectorXd& q, Eigen::VectorXd& lambda, int max_iterations,
+                        const Deflation& deflation = {}) {
   const int n = model.coordinate_count();
   const int m = model.holonomic_count();
   if (m > 0 && !model.project(q)) return false;
@@ -62,19 +108,26 @@ bool newton_equilibrium(const RestModel& model, Eigen::VectorXd& q, Eigen::Vecto
   double force_scale = Jac.topLeftCorner(n, n).cwiseAbs().maxCoeff() * (1.0 + q.lpNorm<Eigen::Infinity>()) +
                        F.head(n).lpNorm<Eigen::Infinity>();
   if (!(force_scale > 0)) force_scale = 1.0;
+  const bool deflated = deflation.active();
   for (int it = 0; it < max_iterations; ++it) {
     if (!F.allFinite() || !Jac.allFinite()) return false;
-    const Eigen::VectorXd step = min_norm_solve(Jac, -F);
+    Eigen::VectorXd step = min_norm_solve(Jac, -F);
+    if (deflated) {
+      const double denominator = 1.0 - deflation.log_gradient(q).dot(step.head(n));
+      if (!(std::abs(denominator) > 1e-300)) return false;
+      step /= denominator;
+    }
     if (!step.allFinite()) return false;
-    // Backtracking on ‖F‖ (at most 20 halvings).
-    const double f0 = F.norm();
+    // Backtracking on ‖F‖, or ‖μ F‖ when deflated (at most 20 halvings).
+    const double f0 = deflated ? deflation.factor(q) * F.norm() : F.norm();
     double alpha = 1.0;
     Eigen::VectorXd qn, ln, Fn;
     for (int b = 0; b < 20; ++b) {
       qn = q + alpha * step.head(n);
       ln = m > 0 ? Eigen::VectorXd(lambda + alpha * step.tail(m)) : lambda;
       evaluate(qn, ln, Fn, nullptr);
-      if (Fn.allFinite() && Fn.norm() <= (1 - 1e-4 * alpha) * f0) break;
+      const double fn = deflated ? deflation.factor(qn) * Fn.norm() : Fn.norm();
+      if (Fn.allFinite() && fn <= (1 - 1e-4 * alpha) * f0) break;
       alpha *= 0.5;
     }
     if (!Fn.allFinite()) return false;
@@ -201,6 +254,31 @@ std::vector<Equilibrium> equilibria_of(const RestModel& model, const Equilibrium
       Eigen::VectorXd q = start;
       Eigen::VectorXd lambda;
       if (newton_equilibrium(model, q, lambda, options.max_iterations)) add(q, lambda, "Newton");
+    }
+  }
+  // Deflation (see Deflation): from every start again, Newton's method on
+  // μ F with every equilibrium found so far deflated, then polished on F
+  // itself; repeated from the same start while it finds a new one.
+  // A deflated iteration can also run off to where ∇U fades (a Kepler
+  // potential at 1e34 m); such points, beyond 10 (1 + max ‖start‖∞), are
+  // not taken.
+  double reach = 0;
+  for (const Eigen::VectorXd& start : options.starts) reach = std::max(reach, start.lpNorm<Eigen::Infinity>());
+  reach = 10.0 * (1.0 + reach);
+  if (options.newton && options.deflation) {
+    for (const Eigen::VectorXd& start : options.starts) {
+      for (int round = 0; round < options.max_deflations_per_start && !found.empty(); ++round) {
+        std::vector<Eigen::VectorXd> roots;
+        for (const Equilibrium& f : found) roots.push_back(f.q);
+        Eigen::VectorXd q = start;
+        Eigen::VectorXd lambda;
+        if (!newton_equilibrium(model, q, lambda, options.max_iterations, Deflation{&roots, &options.periods})) break;
+        if (!newton_equilibrium(model, q, lambda, options.max_iterations)) break;
+        if (!(q.lpNorm<Eigen::Infinity>() <= reach)) break;
+        const std::size_t before = found.size();
+        add(q, lambda, "Newton with deflation");
+        if (found.size() == before) break;
+      }
     }
   }
   std::stable_sort(found.begin(), found.end(),
