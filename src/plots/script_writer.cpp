@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "gnuplot_text.hpp"
-#include "lagrangian/detail/energy_scale.hpp"
+#include "lagrangian/detail/energy_chart.hpp"
 
 namespace lagrangian::plots_detail {
 
@@ -524,7 +524,7 @@ void ScriptWriter::energy() {
   };
   std::vector<Line> lines;
   auto line = [&](int col) {
-    const double e0 = tr_.first[col], ref = e0 != 0 && std::isfinite(e0) ? std::abs(e0) : scale;
+    const double e0 = tr_.first[col], ref = lagrangian::detail::energy_chart_reference(e0, scale);
     lines.push_back({col, ref, (tr_.lo[col] - e0) / ref, (tr_.hi[col] - e0) / ref});
   };
   line(cols_.energy);

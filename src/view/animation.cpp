@@ -12,7 +12,7 @@
 #include <stdexcept>
 
 #include "check.hpp"
-#include "lagrangian/detail/energy_scale.hpp"
+#include "lagrangian/detail/energy_chart.hpp"
 #include "lagrangian/detail/text_output.hpp"
 #include "lagrangian/view.hpp"
 #include "page.hpp"
@@ -186,7 +186,8 @@ void energy_json(std::ostringstream& os, const Series& s, double scale, const st
       largest = std::max(largest, std::abs(v));
     }
   const bool of_e0 = std::isfinite(e0) && e0 != 0, of_scale = !of_e0 && scale > 0;
-  const double ref = of_e0 ? std::abs(e0) : of_scale ? scale : largest > 0 ? largest : 1.0;
+  const double ref =
+      lagrangian::detail::energy_chart_reference(e0, of_scale ? scale : largest > 0 ? largest : 1.0);
   double span = 0;
   std::vector<double> change(kept.size(), std::nan(""));
   for (std::size_t k = 0; k < kept.size(); ++k) {

@@ -7,12 +7,6 @@
 
 namespace lagrangian::detail {
 
-/// The energy charts (the animation page, energy.png) plot the relative
-/// change (E − E0)/|E0| on an axis at least ±kEnergyChartFloor wide: a
-/// change below it is round-off or tolerance, drawn as the flat line it is,
-/// and the chart's title says how constant the energy was.
-inline constexpr double kEnergyChartFloor = 1e-10;
-
 /// The largest |h| (or |E|) and |T| + |V| met so far (J): the energy the
 /// motion moves around, so that a start at E = 0 (a pendulum let go from the
 /// horizontal, a parabolic orbit) does not make rounding look like drift.
