@@ -167,13 +167,14 @@ class ParticleSystem final : public lagrangian::System {
     // constraint rows as the steps are, so that samples meet the steps' tolerance; the integration's own
     // state stays as it is.
     const double* x = x_in;
-    if (!model_.rows().empty() && opt_.stabilization == Stabilization::projection) {
+    if (projects()) {
       std::copy(x_in, x_in + 2 * model_.dim(), sample_x_.begin());
       model_.project(sample_x_.data(), 1e-12);
       x = sample_x_.data();
     }
     const double T = model_.kinetic(x), V = model_.potential(x), E = T + V;
     if (!std::isfinite(E)) lagrangian::detail::throw_non_finite_energy(t, E, x, model_.dim());
+    E_last_ = E;
     drift_ = std::max(drift_, std::abs(E - E0_ - shift_at(t)));
     scale_.meet(E);
     scale_.meet(T, V);
@@ -206,7 +207,7 @@ class ParticleSystem final : public lagrangian::System {
 
   void finish(double t, const double* x, bool sample_end) override {
     if (sample_end) sample(t, x);
-    const double E = model_.kinetic(x) + model_.potential(x);
+    const double E = E_last_;  // the last sample is at the end: its energy, as the CSV's last row has it
     rep_.energy_final = rep_.total_energy_final = E;
     rep_.total_energy_is_h = true;  // particles in fixed surroundings: T is quadratic in the velocities
     rep_.energy_drift_final = rep_.total_energy_drift_final =
@@ -226,10 +227,13 @@ class ParticleSystem final : public lagrangian::System {
   /// Constraint rows: the links and surfaces, and resting contacts.
   bool has_constraints() const override { return model_.fixed_rows() > 0 || model_.has_contacts(); }
 
+  /// Constraint rows are held by projection (the default stabilization), at steps and at samples.
+  bool projects() const { return !model_.rows().empty() && opt_.stabilization == Stabilization::projection; }
+
   bool stabilize(double* x, double t, bool allow_projection) override {
     (void)t;
     bool moved = false;
-    if (allow_projection && !model_.rows().empty() && opt_.stabilization == Stabilization::projection) {
+    if (allow_projection && projects()) {
       const auto ps = std::chrono::steady_clock::now();
       const int it = model_.project(x, 1e-12);
       if (it >= 0) {
@@ -665,6 +669,7 @@ class ParticleSystem final : public lagrangian::System {
   std::uint64_t contact_locations_ = 0;  ///< contacts located on a step's interpolant (root searches)
   StepPath path_;
   lagrangian::detail::EventProgress progress_;
+  double E_last_ = 0;  ///< E at the last sample (J)
   double E0_ = 0, shift_ = 0;
   double drift_ = 0;  // J: max |E − E0 − shifts| so far (rescale_drift)
   lagrangian::detail::EnergyScale scale_;

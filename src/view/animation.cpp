@@ -188,16 +188,12 @@ void energy_json(std::ostringstream& os, const Series& s, double scale, const st
   const bool of_e0 = std::isfinite(e0) && e0 != 0, of_scale = !of_e0 && scale > 0;
   const double ref =
       lagrangian::detail::energy_chart_reference(e0, of_scale ? scale : largest > 0 ? largest : 1.0);
-  double span = 0;
-  std::vector<double> change(kept.size(), std::nan(""));
-  for (std::size_t k = 0; k < kept.size(); ++k) {
-    const double v = s.values[kept[k]];
-    if (!std::isfinite(v)) continue;
-    change[k] = (v - e0) / ref;
-    span = std::max(span, std::abs(change[k]));
-  }
-  for (double v : s.values)  // samples between the kept ones count for the span too
+  double span = 0;  // over every sample, those between the kept ones too
+  for (double v : s.values)
     if (std::isfinite(v)) span = std::max(span, std::abs(v - e0) / ref);
+  std::vector<double> change(kept.size(), std::nan(""));
+  for (std::size_t k = 0; k < kept.size(); ++k)
+    if (const double v = s.values[kept[k]]; std::isfinite(v)) change[k] = (v - e0) / ref;
   os << "{\"name\":";
   json_string(os, s.name);
   os << ",\"unit\":";

@@ -494,6 +494,10 @@ class ModelSystem final : public System {
   /// the steps are, so that samples meet the same tolerance as steps; the
   /// integration's own state is left as it is.
   void project_sample(Sample<n>& s);
+  /// Projects (q, q̇) onto the active constraints at t: positions by Newton
+  /// steps to projection_tolerance, then velocities; returns the position
+  /// iterations. A projection that fails stops the run (SimulationError).
+  int project_onto_constraints(Vec<double, n>& q, Vec<double, n>& qd, double t);
 
   /// Gaps within this of zero count as touching: 1e-9 (1 + ‖q‖∞).
   double contact_touch_tolerance(const double* x) const { return detail::contact_touch_tolerance(x, size_); }

@@ -33,13 +33,7 @@ bool ModelSystem<M>::stabilize(double* x, double t, bool allow_projection) {
     bool changed = false;
     if (allow_projection && opt_.stabilization == Stabilization::projection) {
       const auto start = std::chrono::steady_clock::now();
-      try {
-        cr.projection_iterations += static_cast<std::uint64_t>(
-            project_positions_with(model_, q, t, opt_.projection_tolerance, 20, active(), ctx_->positions));
-      } catch (const ConstraintError& e) {
-        throw SimulationError(std::string("projection failed: ") + e.what(), t);
-      }
-      project_velocities_with(model_, ws_, q, qd, t, active(), ctx_->velocities);
+      cr.projection_iterations += static_cast<std::uint64_t>(project_onto_constraints(q, qd, t));
       ++cr.projections;
       for (int i = 0; i < n; ++i) {
         changed = changed || x[i] != q[i] || x[n + i] != qd[i];
@@ -219,16 +213,23 @@ void ModelSystem<M>::start_constraints(State<n>& x0, Columns& columns) {
 }
 
 template <class M>
+int ModelSystem<M>::project_onto_constraints(Vec<double, n>& q, Vec<double, n>& qd, double t) {
+  int iterations = 0;
+  try {
+    iterations = project_positions_with(model_, q, t, opt_.projection_tolerance, 20, active(), ctx_->positions);
+  } catch (const ConstraintError& e) {
+    throw SimulationError(std::string("projection failed: ") + e.what(), t);
+  }
+  project_velocities_with(model_, ws_, q, qd, t, active(), ctx_->velocities);
+  return iterations;
+}
+
+template <class M>
 void ModelSystem<M>::project_sample(Sample<n>& s) {
   if constexpr (has_constraints_v<M>) {
     if (opt_.stabilization != Stabilization::projection) return;
     if (only_contacts_v && (active() & unilateral_mask_v<M>) == 0) return;  // free flight: nothing to hold
-    try {
-      project_positions_with(model_, s.q, s.t, opt_.projection_tolerance, 20, active(), ctx_->positions);
-    } catch (const ConstraintError& e) {
-      throw SimulationError(std::string("projection of the sample failed: ") + e.what(), s.t);
-    }
-    project_velocities_with(model_, ws_, s.q, s.qd, s.t, active(), ctx_->velocities);
+    project_onto_constraints(s.q, s.qd, s.t);
   }
 }
 
