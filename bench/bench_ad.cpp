@@ -6,6 +6,7 @@
 #include "lagrangian/dynamics.hpp"
 #include "lagrangian/models/pendulums.hpp"
 #include "lagrangian/models/two_body.hpp"
+#include "runtime_chain.hpp"
 
 namespace {
 
@@ -104,11 +105,22 @@ BENCHMARK(BM_TwoBody_ConstantMass);
 BENCHMARK(BM_TwoBody_AD);
 BENCHMARK(BM_TwoBody_AD_GeneralSolve);
 
+// N-link pendulum chains: hand-coded M, f + LLT; AD with N fixed at compile
+// time; AD with N chosen at run time (the same chain, dof = Dynamic).
+template <int N>
+Vec<double, N> chain_q() {
+  return Vec<double, N>::LinSpaced(N, 0.1, 0.9);
+}
+template <int N>
+Vec<double, N> chain_qd() {
+  return Vec<double, N>::LinSpaced(N, -0.5, 0.5);
+}
+
 template <int N>
 void BM_Chain_Hand(benchmark::State& st) {
   const PendulumChain<N> p;
   bench::ChainHand<N> hand;
-  Vec<double, N> q = Vec<double, N>::LinSpaced(0.1, 0.9), qd = Vec<double, N>::LinSpaced(-0.5, 0.5), qdd;
+  Vec<double, N> q = chain_q<N>(), qd = chain_qd<N>(), qdd;
   for (auto _ : st) {
     q.array() += 1e-9;
     qd[0] += 1e-9;
@@ -118,13 +130,12 @@ void BM_Chain_Hand(benchmark::State& st) {
     benchmark::DoNotOptimize(qdd.data());
   }
 }
-BENCHMARK(BM_Chain_Hand<10>);
 
 template <int N>
 void BM_Chain_AD(benchmark::State& st) {
   const PendulumChain<N> p;
   lagrangian::Workspace<N> ws;
-  Vec<double, N> q = Vec<double, N>::LinSpaced(0.1, 0.9), qd = Vec<double, N>::LinSpaced(-0.5, 0.5), qdd;
+  Vec<double, N> q = chain_q<N>(), qd = chain_qd<N>(), qdd;
   for (auto _ : st) {
     q.array() += 1e-9;
     qd[0] += 1e-9;
@@ -134,7 +145,31 @@ void BM_Chain_AD(benchmark::State& st) {
     benchmark::DoNotOptimize(qdd.data());
   }
 }
-BENCHMARK(BM_Chain_AD<10>);
+
+template <int N>
+void BM_Chain_AD_RunTimeSize(benchmark::State& st) {
+  const lagrangian::test_models::RuntimeChain p{N};
+  lagrangian::Workspace<lagrangian::Dynamic> ws(N);
+  Eigen::VectorXd q = chain_q<N>(), qd = chain_qd<N>(), qdd(N);
+  for (auto _ : st) {
+    q.array() += 1e-9;
+    qd[0] += 1e-9;
+    benchmark::DoNotOptimize(q.data());
+    benchmark::DoNotOptimize(qd.data());
+    lagrangian::accelerations(p, ws, q, qd, 0.0, qdd);
+    benchmark::DoNotOptimize(qdd.data());
+  }
+}
+
+#define LAGRANGIAN_CHAIN_BENCHMARKS(N)           \
+  BENCHMARK(BM_Chain_Hand<N>);                   \
+  BENCHMARK(BM_Chain_AD<N>);                     \
+  BENCHMARK(BM_Chain_AD_RunTimeSize<N>)
+LAGRANGIAN_CHAIN_BENCHMARKS(2);
+LAGRANGIAN_CHAIN_BENCHMARKS(5);
+LAGRANGIAN_CHAIN_BENCHMARKS(10);
+LAGRANGIAN_CHAIN_BENCHMARKS(20);
+LAGRANGIAN_CHAIN_BENCHMARKS(40);
 
 }  // namespace
 

@@ -12,6 +12,7 @@
 #include "lagrangian/lagrangian.hpp"
 #include "lagrangian/models/constrained.hpp"
 #include "lagrangian/models/pendulums.hpp"
+#include "runtime_chain.hpp"
 
 // GCC cannot see that these new/delete pairs both use malloc/free.
 #pragma GCC diagnostic ignored "-Wmismatched-new-delete"
@@ -93,6 +94,35 @@ TEST(NoAllocation, AccelerationsDoNotAllocate) {
   EXPECT_EQ(allocations_in_accelerations(DrivenPendulum()), 0);
 }
 
+// Chains of 20 and 40 coordinates keep their Hessians in blocks from a
+// per-thread pool, and run-time sized models their numbers in per-thread
+// vectors: both are taken on a thread's first evaluation, and never again
+// (70 run-time coordinates take the block passes, with the same numbers).
+template <class M>
+long allocations_after_the_first_call(const M& model, int n) {
+  Workspace<coordinate_count_v<M>> ws(n);
+  Vec<double, coordinate_count_v<M>> q = Vec<double, coordinate_count_v<M>>::Constant(n, 0.3);
+  Vec<double, coordinate_count_v<M>> qd = Vec<double, coordinate_count_v<M>>::Constant(n, -0.2);
+  double sink = accelerations(model, ws, q, qd, 0.0)[0];
+  const long before = g_allocations.load();
+  for (int i = 0; i < 200; ++i) {
+    q[0] += 1e-4;
+    qd[n - 1] -= 1e-4;
+    sink += accelerations(model, ws, q, qd, 0.0)[0];
+  }
+  EXPECT_TRUE(std::isfinite(sink));
+  return g_allocations.load() - before;
+}
+
+TEST(NoAllocation, LargeAndRunTimeSizedAccelerationsDoNotAllocate) {
+  EXPECT_EQ(allocations_after_the_first_call(PendulumChain<20>(), 20), 0);
+  EXPECT_EQ(allocations_after_the_first_call(PendulumChain<40>(), 40), 0);
+  for (const int n : {3, 10, 40, 70}) {
+    const test_models::RuntimeChain chain{n};
+    EXPECT_EQ(allocations_after_the_first_call(chain, n), 0) << "n = " << n;
+  }
+}
+
 TEST(NoAllocation, ConstrainedAccelerationsDoNotAllocate) {
   const CartesianDoublePendulum model;
   Workspace<4> ws;
@@ -136,6 +166,27 @@ TEST(NoAllocation, AllocationCountOfARunDoesNotGrowWithSteps) {
   // the uBLAS-based rosenbrock4; docs/performance.md says so.
   for (const std::string method : {"dopri5", "rk4", "cash_karp54", "fehlberg78", "gauss_radau15", "variational"}) {
     EXPECT_EQ(count(method, 1.0), count(method, 10.0)) << method;
+  }
+  // A run-time sized model (a 10-link chain): the same.
+  const test_models::RuntimeChain chain{10};
+  State<Dynamic> c0(10);
+  c0.q.setConstant(0.3);
+  auto count_chain = [&](const std::string& method, double t_end) {
+    SimulationOptions o;
+    o.method = method;
+    o.t_end = t_end;
+    o.output_interval = -1;
+    const long start = g_allocations.load();
+    const RunReport r = simulate(chain, c0, o);
+    EXPECT_GT(r.steps, 10u);
+    return g_allocations.load() - start;
+  };
+  // (The thread's first evaluation takes its per-thread vectors of numbers
+  // and Hessian blocks: a first run is made before counting.)
+  simulate(chain, c0, SimulationOptions{});
+  for (const std::string method : {"dopri5", "fehlberg78", "gauss_radau15"}) {
+    const long shorter = count_chain(method, 2.0);
+    EXPECT_EQ(shorter, count_chain(method, 8.0)) << "run-time size, " << method;
   }
 }
 

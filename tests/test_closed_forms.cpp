@@ -1,7 +1,9 @@
-// Closed forms of the harmonic oscillator and of the plane pendulum at any
-// amplitude (Jacobi elliptic functions), checked against tight numerical runs
-// of the equations of motion the framework derives, against conservation of
-// energy, against the small-angle limit and the known period series.
+// Closed forms of the harmonic oscillator, of the plane pendulum at any
+// amplitude (Jacobi elliptic functions) and of a relativistic particle in a
+// uniform field (a Lagrangian not quadratic in the velocities), checked
+// against tight numerical runs of the equations of motion the framework
+// derives, against conservation of energy, against the small-angle limit and
+// the known period series.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -205,6 +207,60 @@ TEST(SimplePendulum, ClosedFormOnTheSeparatrixAndWithoutGravity) {
   // Without gravity: uniform rotation.
   const SimplePendulum free(1.0, 1.0, 0.0);
   EXPECT_DOUBLE_EQ(free.reference(state(0.5, 2.0), 3.0).q[0], 6.5);
+}
+
+// A relativistic particle in a uniform field g along −z (SI units, with a
+// small c so that the motion is strongly relativistic):
+//   L = −m c² √(1 − |v|²/c²) − m g z,
+// not quadratic in v, so M = ∂²L/∂v² = γ m (I + γ² v vᵀ/c²) depends on the
+// velocity. With p = γ m v: p_x is conserved, p_z = p_z0 − m g t, and with
+// k² = m²c² + p_x², E = c √(k² + p_z²) (conserved, with the potential: h),
+// dx/dt = p_x c / √(k² + p_z²) and dz/dt = p_z c / √(k² + p_z²) integrate to
+//   x(t) = x0 + (p_x c / (m g)) (asinh(p_z0 / k) − asinh(p_z / k)),
+//   z(t) = z0 + (c / (m g)) (√(k² + p_z0²) − √(k² + p_z²)).
+struct RelativisticParticle {
+  static constexpr int coordinate_count = 2;  // x, z (m)
+  double m = 1.0, c = 2.0, g = 9.81;
+  template <class S>
+  S lagrangian(const Vec<S, 2>& q, const Vec<S, 2>& qd, const S&) const {
+    using std::sqrt;
+    return -m * c * c * sqrt(1.0 - (qd[0] * qd[0] + qd[1] * qd[1]) / (c * c)) - m * g * q[1];
+  }
+};
+
+TEST(RelativisticParticle, NonQuadraticLagrangianFollowsItsClosedForm) {
+  const RelativisticParticle model;
+  const double m = model.m, c = model.c, g = model.g;
+  State<2> s0;
+  s0.q << 0.0, 0.0;
+  s0.qd << 1.2, 1.5;  // |v| = 1.92 m/s: γ = 3.6
+  // The velocity-dependent mass matrix: M(v) = γ m (I + γ² v vᵀ / c²).
+  const double v2 = s0.qd.squaredNorm(), gamma = 1.0 / std::sqrt(1.0 - v2 / (c * c));
+  const Mat<double, 2> m_exact =
+      gamma * m * (Mat<double, 2>::Identity() + gamma * gamma * s0.qd * s0.qd.transpose() / (c * c));
+  EXPECT_LE((mass_matrix(model, s0.q, s0.qd) - m_exact).norm(), 1e-13 * m_exact.norm());
+  const Vec<double, 2> p0 = gamma * m * s0.qd;
+  EXPECT_LE((momenta(model, s0.q, s0.qd) - p0).norm(), 1e-14 * p0.norm());
+
+  const double k = std::sqrt(m * m * c * c + p0[0] * p0[0]);
+  Recorder<2> rec;
+  const RunReport r = simulate(model, s0, tight("dopri5", 1.0, 1e-12, 0.25), rec);
+  ASSERT_EQ(rec.samples.size(), 5u);
+  double worst = 0;
+  for (const auto& s : rec.samples) {
+    const double pz = p0[1] - m * g * s.t;
+    const double x = (p0[0] * c / (m * g)) * (std::asinh(p0[1] / k) - std::asinh(pz / k));
+    const double z = (c / (m * g)) * (std::sqrt(k * k + p0[1] * p0[1]) - std::sqrt(k * k + pz * pz));
+    const double root = std::sqrt(k * k + pz * pz);
+    worst = std::max({worst, std::abs(s.q[0] - x), std::abs(s.q[1] - z), std::abs(s.qd[0] - p0[0] * c / root),
+                      std::abs(s.qd[1] - pz * c / root)});
+  }
+  EXPECT_LE(worst, 1e-9);
+  // By t = 1 s the particle moves at 0.95 c, downwards.
+  EXPECT_GT(rec.samples.back().qd.norm(), 0.95 * c);
+  EXPECT_LT(rec.samples.back().qd[1], 0.0);
+  // h = γ m c² + m g z is conserved.
+  EXPECT_LE(r.energy_drift_max, 1e-10);
 }
 
 }  // namespace

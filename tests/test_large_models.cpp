@@ -1,5 +1,5 @@
 // Fixed-size models of 20 and 40 coordinates compile and simulate: their
-// derivatives come from block passes (detail::uses_block_passes), and they
+// derivatives come from one pass (their Hessians in pooled blocks), and they
 // agree with the same chain written with a run-time size, derivative by
 // derivative and along a run. They have not opted in to the
 // structure-preserving methods, and a run that asks for one is told how.
@@ -10,6 +10,7 @@
 #include <string>
 
 #include "lagrangian/lagrangian.hpp"
+#include "hand_coded.hpp"
 #include "lagrangian/models/pendulums.hpp"
 #include "runtime_chain.hpp"
 
@@ -20,7 +21,7 @@ using test_models::RuntimeChain;
 
 template <int N>
 void derivatives_agree() {
-  static_assert(detail::uses_block_passes<models::PendulumChain<N>>);
+  static_assert(!detail::uses_block_passes<models::PendulumChain<N>>);
   const models::PendulumChain<N> fixed(1.0, 1.0, 9.81);
   const RuntimeChain dyn{N};
   std::mt19937_64 rng(7 + N);
@@ -76,6 +77,99 @@ void simulation_agrees(double t_end) {
     FAIL() << "variational ran a model that did not opt in";
   } catch (const OptionError& e) {
     EXPECT_NE(std::string(e.what()).find("structure_preserving = true"), std::string::npos) << e.what();
+  }
+}
+
+// The uniform chain (m = l = 1) in closed form, for any n:
+//   M_ij = (n − max(i, j)) cos(θi − θj),
+//   f_i = −Σ_j (n − max(i, j)) sin(θi − θj) θ̇j² − (n − i) g sin θi   (M q̈ = f),
+//   h = T + V = ½ q̇ᵀ M q̇ − Σ_i (n − i) g cos θi.
+struct ClosedFormChain {
+  Eigen::MatrixXd mass;
+  Eigen::VectorXd force;
+  double energy;
+  ClosedFormChain(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, double g) {
+    const int n = static_cast<int>(q.size());
+    mass.resize(n, n);
+    force.resize(n);
+    energy = 0;
+    for (int i = 0; i < n; ++i) {
+      force[i] = -(n - i) * g * std::sin(q[i]);
+      energy -= (n - i) * g * std::cos(q[i]);
+      for (int j = 0; j < n; ++j) {
+        const double w = n - std::max(i, j);
+        mass(i, j) = w * std::cos(q[i] - q[j]);
+        force[i] -= w * std::sin(q[i] - q[j]) * qd[j] * qd[j];
+      }
+    }
+    energy += 0.5 * qd.dot(mass * qd);
+  }
+};
+
+// M, p, h and q̈ of a chain from AD agree with the closed form to 1e-13
+// (q̈ as the residual of M q̈ = f: the solve's own rounding grows with M's
+// condition number, the residual does not). Returns q̈.
+template <class M>
+Eigen::VectorXd expect_closed_form(const M& model, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                   const char* which) {
+  const int n = static_cast<int>(q.size());
+  const ClosedFormChain exact(q, qd, 9.81);
+  const Vec<double, coordinate_count_v<M>> qv = q, qdv = qd;
+  const Eigen::MatrixXd m = mass_matrix(model, qv, qdv);
+  const Eigen::VectorXd p = momenta(model, qv, qdv);
+  const Eigen::VectorXd a = accelerations(model, qv, qdv);
+  const double h = energy_function(model, qv, qdv);
+  EXPECT_LE((m - exact.mass).lpNorm<Eigen::Infinity>(), 1e-13 * exact.mass.lpNorm<Eigen::Infinity>())
+      << which << ", n = " << n;
+  const Eigen::VectorXd p_exact = exact.mass * qd;
+  EXPECT_LE((p - p_exact).lpNorm<Eigen::Infinity>(), 1e-13 * p_exact.lpNorm<Eigen::Infinity>()) << which << ", n = " << n;
+  EXPECT_LE(std::abs(h - exact.energy), 1e-13 * std::abs(exact.energy)) << which << ", n = " << n;
+  const double scale = exact.force.lpNorm<Eigen::Infinity>() +
+                       exact.mass.lpNorm<Eigen::Infinity>() * a.lpNorm<Eigen::Infinity>();
+  EXPECT_LE((exact.mass * a - exact.force).lpNorm<Eigen::Infinity>(), 1e-13 * scale) << which << ", n = " << n;
+  return a;
+}
+
+// Fixed sizes (one pass; inline Hessians up to 12 coordinates, pooled
+// above), the same chain with a run-time size (one pass at width n), and the
+// hand-coded chain of the benchmarks (M and f by formula, an Eigen LLT).
+template <int N>
+void every_formulation_agrees() {
+  std::mt19937_64 rng(11 + N);
+  const State<N> s = test_models::random_chain_state<N>(rng);
+  const Eigen::VectorXd q = s.q, qd = s.qd;
+  const Eigen::VectorXd fixed = expect_closed_form(models::PendulumChain<N>(1.0, 1.0, 9.81), q, qd, "fixed size");
+  const Eigen::VectorXd dyn = expect_closed_form(RuntimeChain{N}, q, qd, "run-time size");
+  bench::ChainHand<N> hand;
+  Vec<double, N> by_hand;
+  hand.qdd(models::PendulumChain<N>(1.0, 1.0, 9.81), s.q, s.qd, by_hand);
+  const double tol = 1e-11 * by_hand.template lpNorm<Eigen::Infinity>();
+  EXPECT_LE((fixed - Eigen::VectorXd(by_hand)).lpNorm<Eigen::Infinity>(), tol) << "n = " << N;
+  EXPECT_LE((dyn - Eigen::VectorXd(by_hand)).lpNorm<Eigen::Infinity>(), tol) << "n = " << N;
+}
+
+TEST(ChainsOfEverySize, FixedRunTimeAndHandCodedAgreeWithTheClosedForm) {
+  every_formulation_agrees<2>();
+  every_formulation_agrees<5>();
+  every_formulation_agrees<10>();
+  every_formulation_agrees<13>();
+  every_formulation_agrees<20>();
+  every_formulation_agrees<40>();
+}
+
+// Run-time sizes up to kRunTimeCapacity take one pass; larger ones the
+// block passes, with the same numbers at width 2 kBlock.
+TEST(ChainsOfEverySize, RunTimeSizesAroundTheCapacityAgreeWithTheClosedForm) {
+  static_assert(detail::kRunTimeCapacity == 64);
+  for (const int n : {63, 64, 65, 70}) {
+    std::mt19937_64 rng(5 + n);
+    std::uniform_real_distribution<double> u(-1.5, 1.5);
+    Eigen::VectorXd q(n), qd(n);
+    for (int i = 0; i < n; ++i) {
+      q[i] = u(rng);
+      qd[i] = u(rng);
+    }
+    expect_closed_form(RuntimeChain{n}, q, qd, "run-time size");
   }
 }
 

@@ -23,6 +23,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -108,21 +109,43 @@ S lagrangian_of(const M& model, const Vec<S, coordinate_count_v<M>>& q, const Ve
   }
 }
 
-/// Run-time sized and large models (uses_block_passes): the same quantities from passes over pairs of
-/// coordinate blocks (a, b), each seeding the 2·kBlock directions of the two
-/// blocks; the pass (a, b) gives the M entries of rows a × columns b, the
-/// pass (a, a) also ∂L/∂q, p and the mixed term of block a.
-template <class M>
+/// Per-thread vectors of n numbers of type J for the passes over run-time
+/// sized models: allocated when a thread first needs them and again only
+/// when n changes, never per call.
+template <class J>
+Vec<J, Dynamic>& jet_vector(int which, int n) {
+  thread_local Vec<J, Dynamic> vectors[2];
+  Vec<J, Dynamic>& v = vectors[which];
+  if (v.size() != n) v.resize(n);
+  return v;
+}
+
+/// Vectors of n numbers J: the per-thread ones of jet_vector() for
+/// run-time sizes, `local` (emplaced on the caller's stack) for fixed sizes.
+template <class J, int N>
+Vec<J, N>& jet_storage(std::optional<Vec<J, N>>& local, int which, int n) {
+  if constexpr (N == Dynamic) {
+    return jet_vector<J>(which, n);
+  } else {
+    (void)which, (void)n;
+    return local.emplace();
+  }
+}
+
+/// The largest models (fixed n > kMaxSinglePassDof, run-time n >
+/// kRunTimeCapacity): the same quantities from passes over pairs of
+/// coordinate blocks (a, b) with numbers J of 2·kBlock directions, each
+/// seeding the directions of the two blocks; the pass (a, b) gives the M
+/// entries of rows a × columns b, the pass (a, a) also ∂L/∂q, p and the
+/// mixed term of block a.
+template <class J, class M>
 void eom_pass_blocks(const M& model, Workspace<coordinate_count_v<M>>& ws, const Vec<double, coordinate_count_v<M>>& q,
                      const Vec<double, coordinate_count_v<M>>& qd, double t) {
-  using J = ad::EomJet<2 * kBlock>;
   const int n = static_cast<int>(q.size());
   const int blocks = (n + kBlock - 1) / kBlock;
-  Vec<J, coordinate_count_v<M>> qj, qdj;
-  if constexpr (coordinate_count_v<M> == Dynamic) {
-    qj.resize(n);
-    qdj.resize(n);
-  }
+  std::optional<Vec<J, coordinate_count_v<M>>> local_q, local_qd;
+  auto& qj = jet_storage<J>(local_q, 0, n);
+  auto& qdj = jet_storage<J>(local_qd, 1, n);
   for (int a = 0; a < blocks; ++a) {
     for (int b = a; b < blocks; ++b) {
       for (int k = 0; k < n; ++k) {
@@ -157,31 +180,53 @@ void eom_pass_blocks(const M& model, Workspace<coordinate_count_v<M>>& ws, const
   }
 }
 
+/// One pass with numbers J of n directions over the coordinate vectors qj,
+/// qdj (of J): L, ∂L/∂q, p, M and the mixed term.
+template <class J, class M, class JVec>
+LAGRANGIAN_FLATTEN void eom_single_pass(const M& model, Workspace<coordinate_count_v<M>>& ws, JVec& qj, JVec& qdj,
+                                        const Vec<double, coordinate_count_v<M>>& q,
+                                        const Vec<double, coordinate_count_v<M>>& qd, double t) {
+  const int n = static_cast<int>(q.size());
+  for (int k = 0; k < n; ++k) {
+    qj[k] = J::position(q[k], qd[k], k);
+    qdj[k] = J::velocity(qd[k], k);
+  }
+  J l = lagrangian_of(model, qj, qdj, J::time(t));
+  ws.lagrangian = l.v;
+  for (int i = 0; i < n; ++i) {
+    ws.dL_dq[i] = l.grad_q(i);
+    ws.momenta[i] = l.grad_qd(i);
+    ws.mixed[i] = l.mixed(i);
+  }
+  l.hessian_to(ws.mass);
+}
+
 /// The Euler–Lagrange pass: L, ∂L/∂q, p, M and the mixed term from one
-/// evaluation of T and V (or L) on ad::EomJet numbers.
+/// evaluation of T and V (or L) on ad::EomJet numbers (block passes for
+/// the largest models).
 template <class M>
 LAGRANGIAN_FLATTEN void eom_pass(const M& model, Workspace<coordinate_count_v<M>>& ws,
                                  const Vec<double, coordinate_count_v<M>>& q,
                                  const Vec<double, coordinate_count_v<M>>& qd, double t) {
   constexpr int n = coordinate_count_v<M>;
-  if constexpr (uses_block_passes<M>) {
-    eom_pass_blocks(model, ws, q, qd, t);
+  if constexpr (n == Dynamic) {
+    using J = EomJet<M>;  // run-time width, one instantiation of T and V
+    const int size = static_cast<int>(q.size());
+    if (size > kRunTimeCapacity) {
+      ad::WidthScope width(2 * kBlock);
+      eom_pass_blocks<J>(model, ws, q, qd, t);
+    } else {
+      ad::WidthScope width(size);
+      eom_single_pass<J>(model, ws, jet_vector<J>(0, size), jet_vector<J>(1, size), q, qd, t);
+    }
+  } else if constexpr (uses_block_passes<M>) {
+    ad::WidthScope width(2 * kBlock);
+    eom_pass_blocks<EomJet<M>>(model, ws, q, qd, t);
   } else {
     using J = ad::EomJet<n>;
     Vec<J, n> qj;
     Vec<J, n> qdj;
-    for (int k = 0; k < n; ++k) {
-      qj[k] = J::position(q[k], qd[k], k);
-      qdj[k] = J::velocity(qd[k], k);
-    }
-    J l = lagrangian_of(model, qj, qdj, J::time(t));
-    ws.lagrangian = l.v;
-    for (int i = 0; i < n; ++i) {
-      ws.dL_dq[i] = l.grad_q(i);
-      ws.momenta[i] = l.grad_qd(i);
-      ws.mixed[i] = l.mixed(i);
-    }
-    l.hessian_to(ws.mass);
+    eom_single_pass<J>(model, ws, qj, qdj, q, qd, t);
   }
 }
 
@@ -201,8 +246,11 @@ LAGRANGIAN_FLATTEN void force_pass(const M& model, Workspace<coordinate_count_v<
     constexpr int w = ad_directions<M>;
     using J = ad::Jet<double, w, 1>;
     const int size = static_cast<int>(q.size());
-    Vec<J, n> qj = q.template cast<J>();
-    Vec<J, n> qdj = qd.template cast<J>();
+    std::optional<Vec<J, n>> local_q, local_qd;
+    Vec<J, n>& qj = jet_storage<J>(local_q, 0, size);
+    Vec<J, n>& qdj = jet_storage<J>(local_qd, 1, size);
+    qj = q.template cast<J>();
+    qdj = qd.template cast<J>();
     for (int start = 0; start < size; start += w) {
       for (int k = start; k < std::min(size, start + w); ++k) qdj[k] = J::variable(qd[k], k - start);
       const J d = J(model.dissipation(qj, qdj));
@@ -381,7 +429,7 @@ Vec<double, coordinate_count_v<M>> momenta(const M& model, const Vec<double, coo
                             double t = 0.0) {
   check_model<M>();
   constexpr int n = coordinate_count_v<M>;
-  if constexpr (detail::uses_block_passes<M>) {
+  if constexpr (n == Dynamic || detail::uses_block_passes<M>) {
     Workspace<n> ws(static_cast<int>(q.size()));
     detail::eom_pass(model, ws, q, qd, t);
     return ws.momenta;

@@ -97,21 +97,32 @@ concept declares_coordinate_count =
     });
 
 /// Coordinates per block in the block-wise derivative passes used for
-/// run-time sized models and large fixed-size ones (each pass seeds two blocks).
+/// the largest models (each pass seeds two blocks).
 inline constexpr int kBlock = 4;
 /// Largest fixed n whose equations of motion come from one pass with
-/// ad::EomJet<n>. Such a number holds an n × n velocity Hessian, so a
-/// vector of n of them grows as n³ (Eigen refuses fixed-size objects above
-/// 128 kB on the stack: n = 40 needs about 0.5 MB) and its compile time as
-/// n²; larger models take the block passes with ad::EomJet<2 kBlock>, whose
-/// size and compile time do not depend on n.
-inline constexpr int kMaxSinglePassDof = 12;
-/// True when a model's derivatives come from passes over pairs of coordinate blocks.
+/// ad::EomJet<n>. Above 12 coordinates such a number keeps its n × n
+/// velocity Hessian in a pooled block, not in itself, so the vectors of n
+/// numbers the pass hands to T and V grow as n², not n³; Eigen refuses
+/// fixed-size objects above 128 kB, which a vector of 73 numbers would be.
+/// Larger models take the block passes with ad::EomJet<4 kBlock, true>
+/// numbers at width 2 kBlock (about 0.4 kB each: up to about 300
+/// coordinates).
+inline constexpr int kMaxSinglePassDof = 64;
+/// Largest run-time size whose equations of motion come from one pass:
+/// run-time sized models take ad::EomJet<kRunTimeCapacity, true>, numbers
+/// with room for this many directions of which they use n (their width, set
+/// for the pass); larger ones take the block passes with the same numbers
+/// at width 2 kBlock, so a model's functions are instantiated once.
+inline constexpr int kRunTimeCapacity = 64;
+/// True when a fixed-size model's derivatives come from passes over pairs
+/// of coordinate blocks (n > kMaxSinglePassDof).
 template <class M>
-inline constexpr bool uses_block_passes = coordinate_count_v<M> == Dynamic || coordinate_count_v<M> > kMaxSinglePassDof;
-/// Number of AD directions for a model: n, or two blocks for block passes.
+inline constexpr bool uses_block_passes = coordinate_count_v<M> != Dynamic && coordinate_count_v<M> > kMaxSinglePassDof;
+/// Number of first-order AD directions for a model: n, or two blocks for
+/// run-time sized models and block passes.
 template <class M>
-inline constexpr int ad_directions = uses_block_passes<M> ? 2 * kBlock : coordinate_count_v<M>;
+inline constexpr int ad_directions =
+    coordinate_count_v<M> == Dynamic || uses_block_passes<M> ? 2 * kBlock : coordinate_count_v<M>;
 
 /// R is a result a model function may give for scalar type S: convertible
 /// to S and, when S is an AD number, not a plain arithmetic type (a double
@@ -151,7 +162,9 @@ concept has_lagrangian_for = lagrangian_for_object<const M&, S, coordinate_count
 
 // The AD scalars the dynamics instantiates model functions with.
 template <class M>
-using EomJet = ad::EomJet<ad_directions<M>>;
+using EomJet = std::conditional_t<
+    coordinate_count_v<M> == Dynamic, ad::EomJet<kRunTimeCapacity, true>,
+    std::conditional_t<uses_block_passes<M>, ad::EomJet<4 * kBlock, true>, ad::EomJet<ad_directions<M>>>>;
 template <class M>
 using FirstOrderJet = ad::Jet<double, ad_directions<M>, 1>;
 

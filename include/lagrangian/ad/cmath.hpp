@@ -63,8 +63,8 @@ LAGRANGIAN_AD_UNARY(atanh, atanh(x), T(1) / (T(1) - x * x), T(2) * x / ((T(1) - 
 
 template <class J>
 inline constexpr bool memoize_trig_v = false;
-template <int N>
-inline constexpr bool memoize_trig_v<EomJet<N>> = EomJet<N>::memoize_trig;
+template <int N, bool R>
+inline constexpr bool memoize_trig_v<EomJet<N, R>> = EomJet<N, R>::memoize_trig;
 
 namespace detail {
 /// sin x and cos x, evaluated once (g++ fuses the two calls into sincos).

@@ -34,15 +34,15 @@ struct LagrangianAdNumTraits : NumTraits<T> {
 };
 template <class T, int N, int O>
 struct NumTraits<lagrangian::ad::Jet<T, N, O>> : LagrangianAdNumTraits<lagrangian::ad::Jet<T, N, O>, T, N> {};
-template <int N>
-struct NumTraits<lagrangian::ad::EomJet<N>> : LagrangianAdNumTraits<lagrangian::ad::EomJet<N>, double, N> {};
-template <int N, typename BinaryOp>
-struct ScalarBinaryOpTraits<lagrangian::ad::EomJet<N>, double, BinaryOp> {
-  using ReturnType = lagrangian::ad::EomJet<N>;
+template <int N, bool R>
+struct NumTraits<lagrangian::ad::EomJet<N, R>> : LagrangianAdNumTraits<lagrangian::ad::EomJet<N, R>, double, N> {};
+template <int N, bool R, typename BinaryOp>
+struct ScalarBinaryOpTraits<lagrangian::ad::EomJet<N, R>, double, BinaryOp> {
+  using ReturnType = lagrangian::ad::EomJet<N, R>;
 };
-template <int N, typename BinaryOp>
-struct ScalarBinaryOpTraits<double, lagrangian::ad::EomJet<N>, BinaryOp> {
-  using ReturnType = lagrangian::ad::EomJet<N>;
+template <int N, bool R, typename BinaryOp>
+struct ScalarBinaryOpTraits<double, lagrangian::ad::EomJet<N, R>, BinaryOp> {
+  using ReturnType = lagrangian::ad::EomJet<N, R>;
 };
 template <class T, int N, int O, typename BinaryOp>
 struct ScalarBinaryOpTraits<lagrangian::ad::Jet<T, N, O>, T, BinaryOp> {

@@ -11,12 +11,71 @@
 #include <ostream>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 #include <Eigen/Core>
 
 #include "lagrangian/ad/traits.hpp"
 
 namespace lagrangian::ad {
+
+namespace detail {
+/// Per-thread free list of blocks of type B (the Hessian parts of large
+/// ad::EomJet numbers). A block is allocated only when the list is empty,
+/// so once a thread has evaluated a model, later evaluations allocate
+/// nothing; the blocks are freed when the thread ends.
+template <class B>
+class SecondPool {
+ public:
+  static B* take() {
+    std::vector<B*>& f = list().free;
+    if (f.empty()) return new B;
+    B* b = f.back();
+    f.pop_back();
+    return b;
+  }
+  static void give(B* b) { list().free.push_back(b); }
+
+ private:
+  struct List {
+    std::vector<B*> free;
+    List() { free.reserve(64); }
+    ~List() {
+      for (B* b : free) delete b;
+    }
+    List(const List&) = delete;
+    List& operator=(const List&) = delete;
+  };
+  static List& list() {
+    thread_local List l;
+    return l;
+  }
+};
+
+/// The number of directions the run-time-width numbers of this thread
+/// carry (EomJet<C, true>): set for a pass by WidthScope.
+inline constinit thread_local int eom_width = 0;
+}  // namespace detail
+
+/// Run-time widths are rounded up to a multiple of this (the directions
+/// beyond the model's n stay zero), so that loops over them run in whole
+/// unrolled chunks.
+inline constexpr int kWidthStep = 4;
+
+/// Sets the width of this thread's run-time-width EomJet numbers for a
+/// scope (a pass), and restores the previous width at its end.
+class WidthScope {
+ public:
+  explicit WidthScope(int width) : previous_(detail::eom_width) {
+    detail::eom_width = (width + kWidthStep - 1) / kWidthStep * kWidthStep;
+  }
+  ~WidthScope() { detail::eom_width = previous_; }
+  WidthScope(const WidthScope&) = delete;
+  WidthScope& operator=(const WidthScope&) = delete;
+
+ private:
+  int previous_;
+};
 
 // -- EomJet: the number type of the Euler–Lagrange pass ----------------------------
 
@@ -49,17 +108,28 @@ namespace lagrangian::ad {
 ///   that carries it (T = Σ ½ m_k |v_k|² costs one pass per four squares).
 /// Read the parts through grad_q(), grad_qd(), mixed(), hess() and
 /// hessian_to(). Measurements in docs/performance.md.
-template <int N>
+template <int N, bool RunTimeWidth>
 class EomJet {
   static_assert(N >= 1, "ad::EomJet needs at least one coordinate");
   using Vector = std::array<double, N>;
   static constexpr int kNone = -2;   // no first-order dependence stored
-  static constexpr int kDense = -1;  // all N entries stored
+  static constexpr int kDense = -1;  // all width() entries stored
   // Single-index storage and pending terms pay off from a few coordinates
   // on; below that, full storage and immediate updates are cheaper.
   static constexpr bool kSparse = N > 4;
+  // Largest N whose Hessian parts live in the number itself.
+  static constexpr int kInlineHessianMax = 12;
 
  public:
+  /// The number of directions: N, or for run-time-width numbers (N their
+  /// capacity) the width set by the current WidthScope.
+  static constexpr int width() {
+    if constexpr (RunTimeWidth) {
+      return detail::eom_width;
+    } else {
+      return N;
+    }
+  }
   static constexpr int hessian_size = N * (N + 1) / 2;
   /// Pending rank-one terms a number holds before it sums them into its
   /// dense rows.
@@ -79,11 +149,13 @@ class EomJet {
   /// Zero. (User-provided on purpose: value-initialisation, as Eigen does
   /// for its elements, then runs this constructor instead of zeroing every
   /// part.)
-  constexpr EomJet() : level(0), v(0.0), d(0.0), state_(kNone) {}
+  constexpr EomJet() : level(0), v(0.0), d(0.0), state_(kNone) { null_second(); }
   /// A constant. Implicit, so `S x = 0` and `x * 2` work.
   template <class A>
     requires std::is_arithmetic_v<A>
-  constexpr EomJet(A value) : level(0), v(static_cast<double>(value)), d(0.0), state_(kNone) {}
+  constexpr EomJet(A value) : level(0), v(static_cast<double>(value)), d(0.0), state_(kNone) {
+    null_second();
+  }
 
   /// Coordinate q_k with velocity q̇_k (its derivative along the path).
   static constexpr EomJet position(double q, double qd, int k) {
@@ -93,7 +165,7 @@ class EomJet {
       r.state_ = k;
     } else {
       r.state_ = kDense;
-      r.gq_.fill(0.0);
+      set_zero(r.gq_, kDense);
     }
     r.gq_[k] = 1.0;
     return r;
@@ -108,9 +180,9 @@ class EomJet {
       r.c_[k] = 0.0;
     } else {
       r.state_ = kDense;
-      r.gq_.fill(0.0);
-      r.gv_.fill(0.0);
-      r.c_.fill(0.0);
+      set_zero(r.gq_, kDense);
+      set_zero(r.gv_, kDense);
+      set_zero(r.c_, kDense);
     }
     r.gv_[k] = 1.0;
     r.lo_ = k;
@@ -134,11 +206,13 @@ class EomJet {
   /// ∂²x/∂q̇_i∂s = Σ_j ∂²x/∂q̇_i∂q_j q̇_j + ∂²x/∂q̇_i∂t; zero below level 1.
   constexpr double mixed(int i) const { return level >= 1 && stored(i) ? c_[i] : 0.0; }
   /// H_ij = ∂²x/∂q̇_i∂q̇_j (symmetric); zero below level 2.
-  constexpr double hess(int i, int j) const {
+  constexpr double hess(int i, int j) const {  // (i, j by value: swapped below)
     if (level < 2) return 0.0;
+    if constexpr (kTriangle)  // (the block holds the lower triangle)
+      if (j > i) std::swap(i, j);
     double h = 0.0;
-    if (dense_ && i >= lo_ && i < hi_) h = H_[i * N + j];
-    for (int k = 0; k < nterms_; ++k) h += terms_[k].at(i, j);
+    if (dense_ && i >= lo_ && i < hi_ && j >= lo_) h = H()[i * N + j];  // (row stride N)
+    for (int k = 0; k < nterms_; ++k) h += terms()[k].at(i, j);
     return h;
   }
   /// Writes the full symmetric H into the N×N matrix `m` (any type with
@@ -154,8 +228,14 @@ class EomJet {
     m.setZero();
     if (level < 2 || (!dense_ && nterms_ == 0)) return;
     if constexpr (lazy_terms > 0) flush();  // (small systems hold no pending terms)
-    for (int i = lo_; i < hi_; ++i)
-      for (int j = 0; j < N; ++j) m(i, j) = H_[i * N + j];
+    const double* h = H();
+    if constexpr (kTriangle) {
+      for (int i = lo_; i < hi_; ++i)
+        for (int j = lo_; j <= i; ++j) m(i, j) = m(j, i) = h[i * N + j];
+    } else {
+      for (int i = lo_; i < hi_; ++i)
+        for (int j = 0; j < width(); ++j) m(i, j) = h[i * N + j];
+    }
   }
 
   /// Raises the level to L, zero-filling the parts that become valid.
@@ -194,8 +274,10 @@ class EomJet {
     }
     if (level == 2) {
       if (dense_)
-        for (int i = lo_ * N; i < hi_ * N; ++i) H_[i] *= s;
-      for (int k = 0; k < nterms_; ++k) terms_[k].f *= s;
+        rows_of(H(), lo_, hi_, [&](double* row, int jlo, int jhi) {
+          for (int j = jlo; j < jhi; ++j) row[j] *= s;
+        });
+      for (int k = 0; k < nterms_; ++k) terms()[k].f *= s;
     }
     return *this;
   }
@@ -354,13 +436,13 @@ class EomJet {
     r.state_ = kDense;
     r.v = f0;
     r.d = fa * a.d + fb * b.d;
-    for (int i = 0; i < N; ++i) r.gq_[i] = fa * a.gq_[i] + fb * b.gq_[i];
+    dense_loop([&](int i) { r.gq_[i] = fa * a.gq_[i] + fb * b.gq_[i]; });
     if (L == 2) {
-      for (int i = 0; i < N; ++i) {
+      dense_loop([&](int i) {
         r.gv_[i] = fa * a.gv_[i] + fb * b.gv_[i];
         r.c_[i] = fa * a.c_[i] + fb * b.c_[i] + faa * a.gv_[i] * a.d + fbb * b.gv_[i] * b.d +
                   fab * (a.gv_[i] * b.d + b.gv_[i] * a.d);
-      }
+      });
       r.set_hull(a, b);
       r.dense_ = false;
       r.nterms_ = 0;
@@ -389,9 +471,7 @@ class EomJet {
     bool sq;
     Vector u, w;
     constexpr Term() {}
-    constexpr Term(const Term& o) : f(o.f), ulo(o.ulo), uhi(o.uhi), wlo(o.wlo), whi(o.whi), sq(o.sq), u(o.u) {
-      if (!sq) w = o.w;
-    }
+    constexpr Term(const Term& o) { *this = o; }
     constexpr Term& operator=(const Term& o) {
       f = o.f;
       ulo = o.ulo;
@@ -399,13 +479,22 @@ class EomJet {
       wlo = o.wlo;
       whi = o.whi;
       sq = o.sq;
-      u = o.u;
-      if (!sq) w = o.w;
+      if constexpr (kPooled) {  // (u and w are read only on their supports)
+        for (int i = ulo; i < uhi; ++i) u[i] = o.u[i];
+        if (!sq)
+          for (int i = wlo; i < whi; ++i) w[i] = o.w[i];
+      } else {
+        u = o.u;
+        if (!sq) w = o.w;
+      }
       return *this;
     }
     /// The term's (i, j) entry.
     constexpr double at(int i, int j) const {
-      return sq ? f * u[i] * u[j] : f * (u[i] * w[j] + w[i] * u[j]);
+      const double ui = i >= ulo && i < uhi ? u[i] : 0.0, uj = j >= ulo && j < uhi ? u[j] : 0.0;
+      if (sq) return f * ui * uj;
+      const double wi = i >= wlo && i < whi ? w[i] : 0.0, wj = j >= wlo && j < whi ? w[j] : 0.0;
+      return f * (ui * wj + wi * uj);
     }
   };
 
@@ -419,20 +508,74 @@ class EomJet {
   Vector gq_;  // stored entries valid
   Vector gv_;  // stored entries valid at level >= 1
   Vector c_;   // stored entries valid at level >= 1
-  std::array<Term, lazy_terms> terms_;
-  std::array<double, N * N> H_;  // row-major; rows [lo_, hi_) valid when dense_
+  /// The Hessian parts: pending terms, then the dense block (row-major;
+  /// rows [lo_, hi_) valid when dense_).
+  struct Second {
+    std::array<Term, lazy_terms> terms;
+    std::array<double, N * N> H;
+  };
+  // Small systems keep the Hessian parts in the number; larger ones in a
+  // block taken from a per-thread pool when the number first needs one (a
+  // number at level 2), so that a vector of n numbers stays small (an
+  // n × n block per number would make it grow as n³).
+  static constexpr bool kPooled = N > kInlineHessianMax;
+  static_assert(kPooled || !RunTimeWidth, "ad::EomJet: run-time width needs a capacity above kInlineHessianMax");
+  static_assert(!RunTimeWidth || N % kWidthStep == 0, "ad::EomJet: a run-time-width capacity is whole chunks");
+  // Pending terms summed piece by piece over their supports into the lower
+  // triangle of the dense block (which then holds only that triangle).
+  static constexpr bool kTriangle = kPooled;
+  using SecondStorage = std::conditional_t<kPooled, Second*, Second>;
+  SecondStorage second_;
+
+  /// The block of a number at level 2 that holds a dense block or terms.
+  constexpr const Second& sec() const {
+    if constexpr (kPooled) {
+      return *second_;
+    } else {
+      return second_;
+    }
+  }
+  /// The block, taken from the pool if the number has none yet.
+  constexpr Second& sec() {
+    if constexpr (kPooled) {
+      if (second_ == nullptr) second_ = detail::SecondPool<Second>::take();
+      return *second_;
+    } else {
+      return second_;
+    }
+  }
+  constexpr double* H() { return sec().H.data(); }
+  constexpr const double* H() const { return sec().H.data(); }
+  constexpr Term* terms() { return sec().terms.data(); }
+  constexpr const Term* terms() const { return sec().terms.data(); }
 
   // For results whose every valid part is written by the operation.
-  constexpr explicit EomJet(Uninitialized) {}
+  constexpr explicit EomJet(Uninitialized) { null_second(); }
+  constexpr void null_second() {
+    if constexpr (kPooled) second_ = nullptr;
+  }
 
   constexpr bool stored(int i) const { return state_ == kDense || state_ == i; }
 
+  /// Calls f(i) for i in [0, width()): a fixed-length loop over N (unrolled
+  /// by the compiler), or for run-time widths (multiples of kWidthStep) a
+  /// loop over chunks of kWidthStep indices, each chunk unrolled.
+  template <class F>
+  static constexpr void dense_loop(F&& f) {
+    if constexpr (RunTimeWidth) {
+      const int w = width();
+      for (int i = 0; i < w; i += kWidthStep)
+        for (int k = 0; k < kWidthStep; ++k) f(i + k);
+    } else {
+      for (int i = 0; i < N; ++i) f(i);
+    }
+  }
   /// Calls f(i) for every stored index of storage s: a fixed-length loop
   /// over N (unrolled by the compiler) when dense, one call when single.
   template <class F>
   static constexpr void each(int s, F&& f) {
     if (s == kDense) {
-      for (int i = 0; i < N; ++i) f(i);
+      dense_loop(f);
     } else if (kSparse && s >= 0) {
       f(s);
     }
@@ -447,14 +590,14 @@ class EomJet {
   }
   static constexpr void set_zero(Vector& x, int s) {
     if (s == kDense) {
-      x.fill(0.0);
+      dense_loop([&](int i) { x[i] = 0.0; });
     } else if (s >= 0) {
       x[s] = 0.0;
     }
   }
   static constexpr void scale(Vector& x, int s, double f) {
     if (s == kDense) {
-      for (int i = 0; i < N; ++i) x[i] *= f;
+      dense_loop([&](int i) { x[i] *= f; });
     } else if (s >= 0) {
       x[s] *= f;
     }
@@ -462,7 +605,7 @@ class EomJet {
   /// r = f a in storage s, for a stored as sa (s holds sa).
   static constexpr void put(Vector& r, int s, double f, const Vector& a, int sa) {
     if (s == kDense && sa == kDense) {
-      for (int i = 0; i < N; ++i) r[i] = f * a[i];
+      dense_loop([&](int i) { r[i] = f * a[i]; });
     } else {
       set_zero(r, s);
       if (sa >= 0) r[sa] = f * a[sa];
@@ -471,7 +614,7 @@ class EomJet {
   /// r = f a + g b in storage s, for a and b stored as sa.
   static constexpr void put2(Vector& r, int s, double f, const Vector& a, double g, const Vector& b, int sa) {
     if (s == kDense && sa == kDense) {
-      for (int i = 0; i < N; ++i) r[i] = f * a[i] + g * b[i];
+      dense_loop([&](int i) { r[i] = f * a[i] + g * b[i]; });
     } else {
       set_zero(r, s);
       if (sa >= 0) r[sa] = f * a[sa] + g * b[sa];
@@ -480,7 +623,7 @@ class EomJet {
   /// r += f a, for a stored as sa (r's storage holds sa).
   static constexpr void add(Vector& r, double f, const Vector& a, int sa) {
     if (sa == kDense) {
-      for (int i = 0; i < N; ++i) r[i] += f * a[i];
+      dense_loop([&](int i) { r[i] += f * a[i]; });
     } else if (sa >= 0) {
       r[sa] += f * a[sa];
     }
@@ -488,7 +631,7 @@ class EomJet {
   /// r += f a + g b, for a and b stored as sa.
   static constexpr void add2(Vector& r, double f, const Vector& a, double g, const Vector& b, int sa) {
     if (sa == kDense) {
-      for (int i = 0; i < N; ++i) r[i] += f * a[i] + g * b[i];
+      dense_loop([&](int i) { r[i] += f * a[i] + g * b[i]; });
     } else if (sa >= 0) {
       r[sa] += f * a[sa] + g * b[sa];
     }
@@ -498,8 +641,29 @@ class EomJet {
 
   /// The velocity support holding both factors' supports.
   constexpr void set_hull(const EomJet& a, const EomJet& b);
+  /// Calls f(row, jlo, jhi) for the valid entries [jlo, jhi) of each row i
+  /// in [lo, hi) of the dense block h of a number with velocity support
+  /// [lo, hi): the whole row of an inline block; the lower triangle
+  /// [lo, i] of a pooled one (which holds only that triangle).
+  /// (The rows of an inline block are contiguous: they are passed as one.)
+  template <class F>
+  static constexpr void rows_of(double* h, int lo, int hi, F&& f) {
+    if constexpr (kPooled) {
+      for (int i = lo; i < hi; ++i) f(h + i * N, lo, i + 1);
+    } else {
+      f(h + lo * N, 0, (hi - lo) * N);
+    }
+  }
+  /// x = y for the first width() entries.
+  static constexpr void copy_vector(Vector& x, const Vector& y) {
+    if constexpr (RunTimeWidth) {
+      dense_loop([&](int i) { x[i] = y[i]; });
+    } else {
+      x = y;
+    }
+  }
   /// Zeroes the rows [lo, hi) of the dense block.
-  static constexpr void zero_rows(std::array<double, N * N>& H, int lo, int hi);
+  static constexpr void zero_rows(double* H, int lo, int hi);
   /// Grows the velocity support to [lo, hi) ⊇ [lo_, hi_), zero-filling the
   /// new rows of the dense block (its columns outside the support are
   /// zeros already).
@@ -512,22 +676,48 @@ class EomJet {
     if constexpr (lazy_terms > 0) {
       std::array<const double*, 2 * lazy_terms> x{}, y{};
       std::array<double, 2 * lazy_terms> f{};
+      std::array<int, 2 * lazy_terms> xlo{}, xhi{}, ylo{}, yhi{};
       int np = 0;
+      const Term* ts = terms();
       for (int k = 0; k < nterms_; ++k) {
-        const Term& t = terms_[k];
+        const Term& t = ts[k];
         x[np] = t.u.data();
         y[np] = t.sq ? t.u.data() : t.w.data();
+        xlo[np] = t.ulo;
+        xhi[np] = t.uhi;
+        ylo[np] = t.wlo;
+        yhi[np] = t.whi;
         f[np++] = t.f;
         if (!t.sq) {
           x[np] = t.w.data();
           y[np] = t.u.data();
+          xlo[np] = t.wlo;
+          xhi[np] = t.whi;
+          ylo[np] = t.ulo;
+          yhi[np] = t.uhi;
           f[np++] = t.f;
         }
       }
+      if constexpr (kTriangle) {
+        // Large n: each piece touches only its rows and columns (its
+        // vectors are zero outside their supports) and, H being symmetric,
+        // only the lower triangle, in loops of run-time length over
+        // contiguous entries.
+        double* h = H();
+        for (int p = 0; p < np; ++p) {
+          const double* xp = x[p];
+          const double* yp = y[p];
+          const double fp = f[p];
+          for (int i = xlo[p]; i < xhi[p]; ++i)
+            axpy(h + i * N, fp * xp[i], yp, ylo[p], yhi[p] < i + 1 ? yhi[p] : i + 1);  // the lower triangle
+        }
+        nterms_ = 0;
+        return;
+      }
       for (int i = lo_; i < hi_; ++i) {
-        double* row = H_.data() + i * N;
+        double* row = H() + i * N;
         double acc[N];  // local: provably apart from the pieces' vectors
-        for (int j = 0; j < N; ++j) acc[j] = row[j];
+        for (int j = 0; j < N; ++j) acc[j] = row[j];  // (N ≤ kInlineHessianMax: fixed width)
         for (int p = 0; p < np; ++p) {
           const double c = f[p] * x[p][i];
           const double* yp = y[p];
@@ -538,13 +728,17 @@ class EomJet {
       nterms_ = 0;
     }
   }
+  /// row[j] += c y[j] for j in [lo, hi).
+  static void axpy(double* __restrict row, double c, const double* __restrict y, int lo, int hi) {
+    for (int j = lo; j < hi; ++j) row[j] += c * y[j];
+  }
   /// A free slot for a pending term (flushing the pending terms when every
   /// slot is taken). The term's supports must lie inside [lo_, hi_).
   constexpr Term& new_term()
     requires(lazy_terms > 0)
   {
     if (nterms_ == lazy_terms) flush();
-    return terms_[nterms_++];
+    return terms()[nterms_++];
   }
   /// gv of a, in full (zero where a stores nothing).
   static constexpr void full_gv(Vector& out, const EomJet& a);
@@ -565,7 +759,10 @@ class EomJet {
   constexpr EomJet& accumulate(const EomJet& b, double sign);
 
  public:
-  constexpr EomJet(const EomJet& o) : level(o.level), v(o.v), d(o.d) { copy_parts(o); }
+  constexpr EomJet(const EomJet& o) : level(o.level), v(o.v), d(o.d) {
+    if constexpr (kPooled) second_ = nullptr;
+    copy_parts(o);
+  }
   constexpr EomJet& operator=(const EomJet& o) {
     level = o.level;
     v = o.v;
@@ -573,9 +770,35 @@ class EomJet {
     copy_parts(o);
     return *this;
   }
+  /// Moves take the pooled block over instead of copying it.
+  constexpr EomJet(EomJet&& o) noexcept
+    requires kPooled
+      : level(o.level), v(o.v), d(o.d) {
+    second_ = std::exchange(o.second_, nullptr);
+    copy_first(o);
+  }
+  constexpr EomJet& operator=(EomJet&& o) noexcept
+    requires kPooled
+  {
+    level = o.level;
+    v = o.v;
+    d = o.d;
+    std::swap(second_, o.second_);
+    copy_first(o);
+    return *this;
+  }
+  constexpr ~EomJet()
+    requires kPooled
+  {
+    if (second_ != nullptr) detail::SecondPool<Second>::give(second_);
+  }
+  constexpr ~EomJet() = default;
 
  private:
   constexpr void copy_parts(const EomJet& o);
+  /// The first-order parts and the support and Hessian bookkeeping (not the
+  /// Hessian block itself) of o.
+  constexpr void copy_first(const EomJet& o);
 };
 
 }  // namespace lagrangian::ad

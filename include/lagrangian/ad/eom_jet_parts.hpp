@@ -10,29 +10,47 @@
 
 namespace lagrangian::ad {
 
-template <int N>
-constexpr void EomJet<N>::zero_rows(std::array<double, N * N>& H, int lo, int hi) {
-  for (int i = lo * N; i < hi * N; ++i) H[i] = 0.0;
+template <int N, bool R>
+constexpr void EomJet<N, R>::zero_rows(double* H, int lo, int hi) {
+  rows_of(H, lo, hi, [](double* row, int jlo, int jhi) {
+    for (int j = jlo; j < jhi; ++j) row[j] = 0.0;
+  });
 }
 
-template <int N>
-constexpr void EomJet<N>::widen(int lo, int hi) {
+template <int N, bool R>
+constexpr void EomJet<N, R>::widen(int lo, int hi) {
   if (lo == lo_ && hi == hi_) return;
   if (level == 2 && dense_) {
     if (lo_ == hi_) {
-      zero_rows(H_, lo, hi);
+      zero_rows(H(), lo, hi);
+    } else if constexpr (kPooled) {
+      // The triangle on [lo, hi) less the one on [lo_, hi_): new rows,
+      // and the old rows' columns [lo, lo_).
+      double* h = H();
+      for (int i = lo; i < hi; ++i) {
+        double* row = h + i * N;
+        const int jhi = (i >= lo_ && i < hi_) ? lo_ : i + 1;
+        for (int j = lo; j < jhi; ++j) row[j] = 0.0;
+      }
     } else {
-      zero_rows(H_, lo, lo_);
-      zero_rows(H_, hi_, hi);
+      zero_rows(H(), lo, lo_);
+      zero_rows(H(), hi_, hi);
     }
   }
   lo_ = lo;
   hi_ = hi;
 }
 
-template <int N>
-constexpr void EomJet<N>::full_gv(typename EomJet<N>::Vector& out, const EomJet& a) {
-  if (a.state_ == kDense) {
+template <int N, bool R>
+constexpr void EomJet<N, R>::full_gv(typename EomJet<N, R>::Vector& out, const EomJet& a) {
+  if constexpr (kPooled) {  // (read only on the support [a.lo_, a.hi_))
+    if (a.state_ == kDense) {
+      for (int i = a.lo_; i < a.hi_; ++i) out[i] = a.gv_[i];
+    } else if (a.state_ >= 0) {
+      for (int i = a.lo_; i < a.hi_; ++i) out[i] = 0.0;
+      out[a.state_] = a.gv_[a.state_];
+    }
+  } else if (a.state_ == kDense) {
     out = a.gv_;
   } else {
     out.fill(0.0);
@@ -40,21 +58,22 @@ constexpr void EomJet<N>::full_gv(typename EomJet<N>::Vector& out, const EomJet&
   }
 }
 
-template <int N>
-constexpr void EomJet<N>::ensure_dense() {
+template <int N, bool R>
+constexpr void EomJet<N, R>::ensure_dense() {
   if (!dense_) {
-    zero_rows(H_, lo_, hi_);
+    zero_rows(H(), lo_, hi_);
     dense_ = true;
   }
 }
 
-template <int N>
-constexpr void EomJet<N>::push_square(double f, const EomJet& a) {
+template <int N, bool R>
+constexpr void EomJet<N, R>::push_square(double f, const EomJet& a) {
   if constexpr (lazy_terms == 0) {
     ensure_dense();
+    double* h = H();
     for (int i = a.lo_; i < a.hi_; ++i) {
       const double fi = f * a.gv_[i];
-      for (int j = 0; j < N; ++j) H_[i * N + j] += fi * a.gv_[j];
+      for (int j = 0; j < N; ++j) h[i * N + j] += fi * a.gv_[j];
     }
   } else {
     Term& t = new_term();
@@ -66,13 +85,14 @@ constexpr void EomJet<N>::push_square(double f, const EomJet& a) {
   }
 }
 
-template <int N>
-constexpr void EomJet<N>::push_symmetric(double f, const EomJet& a, const EomJet& b) {
+template <int N, bool R>
+constexpr void EomJet<N, R>::push_symmetric(double f, const EomJet& a, const EomJet& b) {
   if constexpr (lazy_terms == 0) {
     ensure_dense();
+    double* h = H();
     for (int i = lo_; i < hi_; ++i) {
       const double fa = f * a.gv_[i], fb = f * b.gv_[i];
-      for (int j = 0; j < N; ++j) H_[i * N + j] += fa * b.gv_[j] + fb * a.gv_[j];
+      for (int j = 0; j < N; ++j) h[i * N + j] += fa * b.gv_[j] + fb * a.gv_[j];
     }
   } else {
     Term& t = new_term();
@@ -87,35 +107,43 @@ constexpr void EomJet<N>::push_symmetric(double f, const EomJet& a, const EomJet
   }
 }
 
-template <int N>
-constexpr void EomJet<N>::add_hessian_of(const EomJet& a, double f) {
+template <int N, bool R>
+constexpr void EomJet<N, R>::add_hessian_of(const EomJet& a, double f) {
   if (a.dense_) {
+    double* h = H();
+    const std::ptrdiff_t offset = a.H() - h;
     if (!dense_ && a.lo_ == lo_ && a.hi_ == hi_) {
-      for (int i = lo_ * N; i < hi_ * N; ++i) H_[i] = f * a.H_[i];
+      rows_of(h, lo_, hi_, [&](double* row, int jlo, int jhi) {
+        const double* from = row + offset;
+        for (int j = jlo; j < jhi; ++j) row[j] = f * from[j];
+      });
       dense_ = true;
     } else {
       if (!dense_) {
-        zero_rows(H_, lo_, hi_);
+        zero_rows(h, lo_, hi_);
         dense_ = true;
       }
-      for (int i = a.lo_ * N; i < a.hi_ * N; ++i) H_[i] += f * a.H_[i];
+      rows_of(h, a.lo_, a.hi_, [&](double* row, int jlo, int jhi) {
+        const double* from = row + offset;
+        for (int j = jlo; j < jhi; ++j) row[j] += f * from[j];
+      });
     }
   }
   if constexpr (lazy_terms > 0)
     for (int k = 0; k < a.nterms_; ++k) {
       Term& t = new_term();
-      t = a.terms_[k];
+      t = a.terms()[k];
       t.f *= f;
     }
 }
 
-template <int N>
-constexpr void EomJet<N>::convert(int s) {
+template <int N, bool R>
+constexpr void EomJet<N, R>::convert(int s) {
   if (s == state_) return;
   auto move = [&](Vector& x) {
     if (state_ >= 0) {  // single → dense
       const double keep = x[state_];
-      x.fill(0.0);
+      set_zero(x, kDense);
       x[state_] = keep;
     } else {  // nothing → s
       set_zero(x, s);
@@ -129,8 +157,8 @@ constexpr void EomJet<N>::convert(int s) {
   state_ = s;
 }
 
-template <int N>
-constexpr void EomJet<N>::set_hull(const EomJet& a, const EomJet& b) {
+template <int N, bool R>
+constexpr void EomJet<N, R>::set_hull(const EomJet& a, const EomJet& b) {
   if (a.lo_ == a.hi_) {
     lo_ = b.lo_;
     hi_ = b.hi_;
@@ -143,8 +171,8 @@ constexpr void EomJet<N>::set_hull(const EomJet& a, const EomJet& b) {
   }
 }
 
-template <int N>
-constexpr EomJet<N> EomJet<N>::scaled(const EomJet& a, double f, double s) {
+template <int N, bool R>
+constexpr EomJet<N, R> EomJet<N, R>::scaled(const EomJet& a, double f, double s) {
   EomJet r{Uninitialized{}};
   r.level = a.level;
   r.state_ = a.state_;
@@ -167,8 +195,8 @@ constexpr EomJet<N> EomJet<N>::scaled(const EomJet& a, double f, double s) {
   return r;
 }
 
-template <int N>
-constexpr EomJet<N> EomJet<N>::combined(const EomJet& a, const EomJet& b, double sign) {
+template <int N, bool R>
+constexpr EomJet<N, R> EomJet<N, R>::combined(const EomJet& a, const EomJet& b, double sign) {
   if (a.level != b.level || a.state_ != b.state_) {
     EomJet r = a;
     r.accumulate(b, sign);
@@ -197,8 +225,8 @@ constexpr EomJet<N> EomJet<N>::combined(const EomJet& a, const EomJet& b, double
   return r;
 }
 
-template <int N>
-constexpr EomJet<N>& EomJet<N>::accumulate(const EomJet& b, double sign) {
+template <int N, bool R>
+constexpr EomJet<N, R>& EomJet<N, R>::accumulate(const EomJet& b, double sign) {
   convert(joint(state_, b.state_));
   raise(b.level);
   v += sign * b.v;
@@ -219,14 +247,32 @@ constexpr EomJet<N>& EomJet<N>::accumulate(const EomJet& b, double sign) {
   return *this;
 }
 
-template <int N>
-constexpr void EomJet<N>::copy_parts(const EomJet& o) {
+template <int N, bool R>
+constexpr void EomJet<N, R>::copy_parts(const EomJet& o) {
+  copy_first(o);
+  if (o.level == 2 && (o.dense_ || o.nterms_ > 0)) {
+    Term* ts = terms();
+    const Term* os = o.terms();
+    for (int k = 0; k < nterms_; ++k) ts[k] = os[k];
+    if (dense_) {
+      double* h = H();
+      const std::ptrdiff_t offset = o.H() - h;
+      rows_of(h, lo_, hi_, [&](double* row, int jlo, int jhi) {
+        const double* from = row + offset;
+        for (int j = jlo; j < jhi; ++j) row[j] = from[j];
+      });
+    }
+  }
+}
+
+template <int N, bool R>
+constexpr void EomJet<N, R>::copy_first(const EomJet& o) {
   state_ = o.state_;
   if (state_ == kDense) {
-    gq_ = o.gq_;
+    copy_vector(gq_, o.gq_);
     if (o.level >= 1) {
-      gv_ = o.gv_;
-      c_ = o.c_;
+      copy_vector(gv_, o.gv_);
+      copy_vector(c_, o.c_);
     }
   } else if (state_ >= 0) {
     gq_[state_] = o.gq_[state_];
@@ -242,9 +288,6 @@ constexpr void EomJet<N>::copy_parts(const EomJet& o) {
   if (o.level == 2) {
     dense_ = o.dense_;
     nterms_ = o.nterms_;
-    for (int k = 0; k < nterms_; ++k) terms_[k] = o.terms_[k];
-    if (dense_)
-      for (int i = lo_ * N; i < hi_ * N; ++i) H_[i] = o.H_[i];
   }
 }
 

@@ -32,13 +32,13 @@ constexpr int packed(int i, int j, int n) { return i * n - (i * (i - 1)) / 2 + (
 template <class X>
 inline constexpr bool is_jet_v = detail::is_jet<std::remove_cvref_t<X>>::value;
 
-template <int N>
+template <int N, bool RunTimeWidth = false>
 class EomJet;
 namespace detail {
 template <class X>
 struct is_eom_jet : std::false_type {};
-template <int N>
-struct is_eom_jet<EomJet<N>> : std::true_type {};
+template <int N, bool R>
+struct is_eom_jet<EomJet<N, R>> : std::true_type {};
 }  // namespace detail
 
 /// The AD number types of this header: Jet and EomJet. The <cmath>

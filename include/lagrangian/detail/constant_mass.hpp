@@ -20,7 +20,7 @@ class ConstantMassAccelerations {
   static constexpr int n = coordinate_count_v<M>;
   static_assert(n != Dynamic && !uses_block_passes<M>,
                 "lagrangian: constant_mass_matrix is for models with a fixed coordinate_count of at most "
-                "kMaxSinglePassDof (12)");
+                "kMaxSinglePassDof (64)");
   static_assert(has_kinetic_for<M, double> && has_potential_for<M, double>,
                 "lagrangian: constant_mass_matrix needs the model's kinetic() and potential(), not lagrangian()");
 

@@ -138,7 +138,7 @@ struct SpheresOnLine {
   static_assert(N >= 2 && N <= 64, "SpheresOnLine needs 2 to 64 spheres");
   static constexpr int coordinate_count = N;
   /// T = Σ ½ m_i ẋ_i²: M constant (model.hpp, constant_mass_matrix_v; used
-  /// up to detail::kMaxSinglePassDof = 12 coordinates).
+  /// up to detail::kMaxSinglePassDof = 64 coordinates).
   static constexpr bool constant_mass_matrix = coordinate_count <= lagrangian::detail::kMaxSinglePassDof;
   std::array<double, N> m{}, r{};
   double e = 1.0;
@@ -290,7 +290,7 @@ struct SpheresInBox {
   static_assert(N >= 1 && contacts <= 64, "SpheresInBox supports up to 64 contacts (N <= 8)");
   static constexpr int coordinate_count = 2 * N;
   /// T = Σ ½ m_i |v_i|²: M constant (model.hpp, constant_mass_matrix_v;
-  /// used up to detail::kMaxSinglePassDof = 12 coordinates).
+  /// used up to detail::kMaxSinglePassDof = 64 coordinates).
   static constexpr bool constant_mass_matrix = coordinate_count <= lagrangian::detail::kMaxSinglePassDof;
   std::array<double, N> m{}, r{};
   double W, H, g, e_wall, e_pair;
