@@ -8,12 +8,11 @@
 
 namespace lagrangian::test_models {
 
-/// The N-link chain of models::PendulumChain with N chosen at run time, plus
-/// an optional linear damping D = ½ c Σ θ̇ᵢ².
+/// The N-link chain of models::PendulumChain with N chosen at run time.
 struct RuntimeChain {
   static constexpr int dof = Dynamic;
   int n;
-  double m = 1.0, l = 1.0, g = 9.81, c = 0.0;
+  double m = 1.0, l = 1.0, g = 9.81;
   int size() const { return n; }
   template <class S>
   S kinetic(const Vec<S, Dynamic>& q, const Vec<S, Dynamic>& qd, const S&) const {
@@ -37,6 +36,11 @@ struct RuntimeChain {
     }
     return V;
   }
+};
+
+/// The same chain with a linear damping D = ½ c Σ θ̇ᵢ².
+struct DampedRuntimeChain : RuntimeChain {
+  double c = 0.0;
   template <class S>
   S dissipation(const Vec<S, Dynamic>&, const Vec<S, Dynamic>& qd) const {
     S d = 0;

@@ -237,9 +237,8 @@ S messy_lagrangian(const std::array<S, N>& q, const std::array<S, N>& v, const S
   return -(-r);
 }
 
-template <int N>
+template <int N, class E = lagrangian::ad::EomJet<N>>
 void check_parts_against_jet(unsigned seed) {
-  using E = lagrangian::ad::EomJet<N>;
   constexpr int M = 2 * N + 1;  // q, q̇, t
   using R = Jet<double, M, 2>;
   std::mt19937_64 rng(seed);
@@ -288,6 +287,40 @@ void check_parts_against_jet(unsigned seed) {
 // updates); N = 7 single-coordinate storage and pending rank-one terms.
 TEST(EomJet, EveryPartMatchesSecondOrderJetSmallSystem) { eom::check_parts_against_jet<4>(11); }
 TEST(EomJet, EveryPartMatchesSecondOrderJetLargerSystem) { eom::check_parts_against_jet<7>(12); }
+// N = 14: the Hessian parts in a pooled block, summed into its lower
+// triangle; and 7 directions of numbers with room for 16 whose width is set
+// at run time (rounded up to 8: the eighth direction is never seeded).
+TEST(EomJet, EveryPartMatchesSecondOrderJetPooledHessian) { eom::check_parts_against_jet<14>(13); }
+TEST(EomJet, EveryPartMatchesSecondOrderJetRunTimeWidth) {
+  const lagrangian::ad::WidthScope width(7);
+  eom::check_parts_against_jet<7, lagrangian::ad::EomJet<16, true>>(14);
+}
+
+// x += x and x -= x on a number holding pending Hessian terms: 2x and 0.
+template <class E>
+void check_self_accumulation() {
+  const E a = E::velocity(0.7, 0), b = E::velocity(-1.3, 1), q = E::position(0.4, 0.7, 2);
+  E x = a * b + sin(q) * a * a;  // level 2, pending terms
+  const E twice = 2.0 * x;
+  E y = x;
+  x += x;
+  y -= y;
+  EXPECT_EQ(x.v, twice.v);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(x.grad_qd(i), twice.grad_qd(i));
+    EXPECT_EQ(x.mixed(i), twice.mixed(i));
+    EXPECT_EQ(y.grad_qd(i), 0.0);
+    for (int j = 0; j < 3; ++j) {
+      EXPECT_DOUBLE_EQ(x.hess(i, j), twice.hess(i, j));
+      EXPECT_EQ(y.hess(i, j), 0.0);
+    }
+  }
+  EXPECT_NE(twice.hess(0, 1), 0.0);
+}
+TEST(EomJet, AddingANumberToItselfDoublesIt) {
+  check_self_accumulation<lagrangian::ad::EomJet<6>>();
+  check_self_accumulation<lagrangian::ad::EomJet<20>>();
+}
 
 // The memoised sine and cosine return exactly what <cmath> returns, however
 // the arguments repeat and collide in the memo.

@@ -121,6 +121,10 @@ TEST(NoAllocation, LargeAndRunTimeSizedAccelerationsDoNotAllocate) {
     const test_models::RuntimeChain chain{n};
     EXPECT_EQ(allocations_after_the_first_call(chain, n), 0) << "n = " << n;
   }
+  // Damping: ∂D/∂q̇ from first-order numbers, in per-thread vectors too.
+  test_models::DampedRuntimeChain damped{{10}};
+  damped.c = 0.3;
+  EXPECT_EQ(allocations_after_the_first_call(damped, 10), 0);
 }
 
 TEST(NoAllocation, ConstrainedAccelerationsDoNotAllocate) {

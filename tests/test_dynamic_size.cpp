@@ -100,7 +100,7 @@ TEST(DynamicSize, SimulationMatchesFixedSize) {
 }
 
 TEST(DynamicSize, DissipationIsDifferentiatedBlockwise) {
-  RuntimeChain dyn{6};
+  test_models::DampedRuntimeChain dyn{{6}};
   dyn.c = 0.7;
   Eigen::VectorXd q = Eigen::VectorXd::LinSpaced(6, 0.1, 0.6), qd = Eigen::VectorXd::LinSpaced(6, -1.0, 1.5);
   EXPECT_LE((nonconservative_forces(dyn, q, qd) + dyn.c * qd).norm(), 1e-14);

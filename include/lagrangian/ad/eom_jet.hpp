@@ -106,6 +106,11 @@ class WidthScope {
 ///   hold more sums its pending terms into its rows, all in one pass. Each
 ///   term is so summed into a matrix once, instead of once per operation
 ///   that carries it (T = Σ ½ m_k |v_k|² costs one pass per four squares).
+///   Above kInlineHessianMax directions the dense rows and pending terms
+///   live in a block from a per-thread pool (SecondPool), which holds only
+///   the lower triangle of the rows on the support.
+/// With RunTimeWidth, N is a capacity: the numbers carry the width() first
+/// directions, set for a pass by a WidthScope (run-time sized models).
 /// Read the parts through grad_q(), grad_qd(), mixed(), hess() and
 /// hessian_to(). Measurements in docs/performance.md.
 template <int N, bool RunTimeWidth>
@@ -273,10 +278,15 @@ class EomJet {
       scale(c_, state_, s);
     }
     if (level == 2) {
-      if (dense_)
-        rows_of(H(), lo_, hi_, [&](double* row, int jlo, int jhi) {
-          for (int j = jlo; j < jhi; ++j) row[j] *= s;
-        });
+      if (dense_) {
+        double* h = H();
+        if constexpr (kPooled) {
+          for (int i = lo_; i < hi_; ++i)
+            for (int j = lo_; j <= i; ++j) h[i * N + j] *= s;
+        } else {
+          for (int i = lo_ * N; i < hi_ * N; ++i) h[i] *= s;
+        }
+      }
       for (int k = 0; k < nterms_; ++k) terms()[k].f *= s;
     }
     return *this;
@@ -480,9 +490,8 @@ class EomJet {
       whi = o.whi;
       sq = o.sq;
       if constexpr (kPooled) {  // (u and w are read only on their supports)
-        for (int i = ulo; i < uhi; ++i) u[i] = o.u[i];
-        if (!sq)
-          for (int i = wlo; i < whi; ++i) w[i] = o.w[i];
+        copy_range(u.data(), o.u.data(), ulo, uhi);
+        if (!sq) copy_range(w.data(), o.w.data(), wlo, whi);
       } else {
         u = o.u;
         if (!sq) w = o.w;
@@ -641,19 +650,8 @@ class EomJet {
 
   /// The velocity support holding both factors' supports.
   constexpr void set_hull(const EomJet& a, const EomJet& b);
-  /// Calls f(row, jlo, jhi) for the valid entries [jlo, jhi) of each row i
-  /// in [lo, hi) of the dense block h of a number with velocity support
-  /// [lo, hi): the whole row of an inline block; the lower triangle
-  /// [lo, i] of a pooled one (which holds only that triangle).
-  /// (The rows of an inline block are contiguous: they are passed as one.)
-  template <class F>
-  static constexpr void rows_of(double* h, int lo, int hi, F&& f) {
-    if constexpr (kPooled) {
-      for (int i = lo; i < hi; ++i) f(h + i * N, lo, i + 1);
-    } else {
-      f(h + lo * N, 0, (hi - lo) * N);
-    }
-  }
+  // The dense block: whole rows [lo_, hi_) inline; pooled, the lower
+  // triangle of those rows within the support, columns [lo_, i] of row i.
   /// x = y for the first width() entries.
   static constexpr void copy_vector(Vector& x, const Vector& y) {
     if constexpr (RunTimeWidth) {
@@ -703,13 +701,24 @@ class EomJet {
         // vectors are zero outside their supports) and, H being symmetric,
         // only the lower triangle, in loops of run-time length over
         // contiguous entries.
+        // Pieces with the same supports (the x and y components of one
+        // velocity, squared) are summed in pairs, each row loaded once per pair.
         double* h = H();
+        std::array<bool, 2 * lazy_terms> done{};
         for (int p = 0; p < np; ++p) {
-          const double* xp = x[p];
-          const double* yp = y[p];
-          const double fp = f[p];
-          for (int i = xlo[p]; i < xhi[p]; ++i)
-            axpy(h + i * N, fp * xp[i], yp, ylo[p], yhi[p] < i + 1 ? yhi[p] : i + 1);  // the lower triangle
+          if (done[p]) continue;
+          int q = p + 1;
+          while (q < np && (done[q] || xlo[q] != xlo[p] || xhi[q] != xhi[p] || ylo[q] != ylo[p] || yhi[q] != yhi[p]))
+            ++q;
+          for (int i = xlo[p]; i < xhi[p]; ++i) {
+            const int end = yhi[p] < i + 1 ? yhi[p] : i + 1;  // the lower triangle
+            if (q < np) {
+              axpy2(h + i * N, f[p] * x[p][i], y[p], f[q] * x[q][i], y[q], ylo[p], end);
+            } else {
+              axpy(h + i * N, f[p] * x[p][i], y[p], ylo[p], end);
+            }
+          }
+          if (q < np) done[q] = true;
         }
         nterms_ = 0;
         return;
@@ -728,9 +737,22 @@ class EomJet {
       nterms_ = 0;
     }
   }
+  /// to[i] = f from[i] for i in [lo, hi).
+  static constexpr void scale_range(double* __restrict to, double f, const double* __restrict from, int lo, int hi) {
+    for (int i = lo; i < hi; ++i) to[i] = f * from[i];
+  }
+  /// to[i] = from[i] for i in [lo, hi).
+  static constexpr void copy_range(double* __restrict to, const double* __restrict from, int lo, int hi) {
+    for (int i = lo; i < hi; ++i) to[i] = from[i];
+  }
   /// row[j] += c y[j] for j in [lo, hi).
   static void axpy(double* __restrict row, double c, const double* __restrict y, int lo, int hi) {
     for (int j = lo; j < hi; ++j) row[j] += c * y[j];
+  }
+  /// row[j] += c y[j] + e z[j] for j in [lo, hi).
+  static void axpy2(double* __restrict row, double c, const double* __restrict y, double e,
+                    const double* __restrict z, int lo, int hi) {
+    for (int j = lo; j < hi; ++j) row[j] += c * y[j] + e * z[j];
   }
   /// A free slot for a pending term (flushing the pending terms when every
   /// slot is taken). The term's supports must lie inside [lo_, hi_).

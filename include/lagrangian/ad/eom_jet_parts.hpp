@@ -12,9 +12,12 @@ namespace lagrangian::ad {
 
 template <int N, bool R>
 constexpr void EomJet<N, R>::zero_rows(double* H, int lo, int hi) {
-  rows_of(H, lo, hi, [](double* row, int jlo, int jhi) {
-    for (int j = jlo; j < jhi; ++j) row[j] = 0.0;
-  });
+  if constexpr (kPooled) {
+    for (int i = lo; i < hi; ++i)
+      for (int j = lo; j <= i; ++j) H[i * N + j] = 0.0;
+  } else {
+    for (int i = lo * N; i < hi * N; ++i) H[i] = 0.0;
+  }
 }
 
 template <int N, bool R>
@@ -111,22 +114,22 @@ template <int N, bool R>
 constexpr void EomJet<N, R>::add_hessian_of(const EomJet& a, double f) {
   if (a.dense_) {
     double* h = H();
-    const std::ptrdiff_t offset = a.H() - h;
-    if (!dense_ && a.lo_ == lo_ && a.hi_ == hi_) {
-      rows_of(h, lo_, hi_, [&](double* row, int jlo, int jhi) {
-        const double* from = row + offset;
-        for (int j = jlo; j < jhi; ++j) row[j] = f * from[j];
-      });
-      dense_ = true;
-    } else {
-      if (!dense_) {
-        zero_rows(h, lo_, hi_);
-        dense_ = true;
+    const double* ha = a.H();
+    const bool copy = !dense_ && a.lo_ == lo_ && a.hi_ == hi_;
+    if (!copy && !dense_) zero_rows(h, lo_, hi_);
+    dense_ = true;
+    if constexpr (kPooled) {
+      for (int i = a.lo_; i < a.hi_; ++i) {
+        if (copy) {
+          scale_range(h + i * N, f, ha + i * N, a.lo_, i + 1);
+        } else {
+          axpy(h + i * N, f, ha + i * N, a.lo_, i + 1);
+        }
       }
-      rows_of(h, a.lo_, a.hi_, [&](double* row, int jlo, int jhi) {
-        const double* from = row + offset;
-        for (int j = jlo; j < jhi; ++j) row[j] += f * from[j];
-      });
+    } else if (copy) {
+      for (int i = lo_ * N; i < hi_ * N; ++i) h[i] = f * ha[i];
+    } else {
+      for (int i = a.lo_ * N; i < a.hi_ * N; ++i) h[i] += f * ha[i];
     }
   }
   if constexpr (lazy_terms > 0)
@@ -227,6 +230,7 @@ constexpr EomJet<N, R> EomJet<N, R>::combined(const EomJet& a, const EomJet& b, 
 
 template <int N, bool R>
 constexpr EomJet<N, R>& EomJet<N, R>::accumulate(const EomJet& b, double sign) {
+  if (&b == this) return *this *= 1.0 + sign;  // x += x, x -= x
   convert(joint(state_, b.state_));
   raise(b.level);
   v += sign * b.v;
@@ -256,11 +260,12 @@ constexpr void EomJet<N, R>::copy_parts(const EomJet& o) {
     for (int k = 0; k < nterms_; ++k) ts[k] = os[k];
     if (dense_) {
       double* h = H();
-      const std::ptrdiff_t offset = o.H() - h;
-      rows_of(h, lo_, hi_, [&](double* row, int jlo, int jhi) {
-        const double* from = row + offset;
-        for (int j = jlo; j < jhi; ++j) row[j] = from[j];
-      });
+      const double* oh = o.H();
+      if constexpr (kPooled) {
+        for (int i = lo_; i < hi_; ++i) copy_range(h + i * N, oh + i * N, lo_, i + 1);
+      } else {
+        for (int i = lo_ * N; i < hi_ * N; ++i) h[i] = oh[i];
+      }
     }
   }
 }
