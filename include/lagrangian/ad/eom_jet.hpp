@@ -233,7 +233,7 @@ class EomJet {
     m.setZero();
     if (level < 2 || (!dense_ && nterms_ == 0)) return;
     if constexpr (lazy_terms > 0) flush();  // (small systems hold no pending terms)
-    const double* h = H();
+    const auto& h = H();
     if constexpr (kTriangle) {
       for (int i = lo_; i < hi_; ++i)
         for (int j = lo_; j <= i; ++j) m(i, j) = m(j, i) = h[i * N + j];
@@ -279,7 +279,7 @@ class EomJet {
     }
     if (level == 2) {
       if (dense_) {
-        double* h = H();
+        auto& h = H();
         if constexpr (kPooled) {
           for (int i = lo_; i < hi_; ++i)
             for (int j = lo_; j <= i; ++j) h[i * N + j] *= s;
@@ -553,8 +553,10 @@ class EomJet {
       return second_;
     }
   }
-  constexpr double* H() { return sec().H.data(); }
-  constexpr const double* H() const { return sec().H.data(); }
+  // (The array itself, not a pointer into it: indexing a member array lets
+  // the compiler see that H does not overlap gq_, gv_ and c_.)
+  constexpr std::array<double, N * N>& H() { return sec().H; }
+  constexpr const std::array<double, N * N>& H() const { return sec().H; }
   constexpr Term* terms() { return sec().terms.data(); }
   constexpr const Term* terms() const { return sec().terms.data(); }
 
@@ -661,7 +663,7 @@ class EomJet {
     }
   }
   /// Zeroes the rows [lo, hi) of the dense block.
-  static constexpr void zero_rows(double* H, int lo, int hi);
+  static constexpr void zero_rows(std::array<double, N * N>& H, int lo, int hi);
   /// Grows the velocity support to [lo, hi) ⊇ [lo_, hi_), zero-filling the
   /// new rows of the dense block (its columns outside the support are
   /// zeros already).
@@ -703,7 +705,7 @@ class EomJet {
         // contiguous entries.
         // Pieces with the same supports (the x and y components of one
         // velocity, squared) are summed in pairs, each row loaded once per pair.
-        double* h = H();
+        auto& h = H();
         std::array<bool, 2 * lazy_terms> done{};
         for (int p = 0; p < np; ++p) {
           if (done[p]) continue;
@@ -713,9 +715,9 @@ class EomJet {
           for (int i = xlo[p]; i < xhi[p]; ++i) {
             const int end = yhi[p] < i + 1 ? yhi[p] : i + 1;  // the lower triangle
             if (q < np) {
-              axpy2(h + i * N, f[p] * x[p][i], y[p], f[q] * x[q][i], y[q], ylo[p], end);
+              axpy2(h.data() + i * N, f[p] * x[p][i], y[p], f[q] * x[q][i], y[q], ylo[p], end);
             } else {
-              axpy(h + i * N, f[p] * x[p][i], y[p], ylo[p], end);
+              axpy(h.data() + i * N, f[p] * x[p][i], y[p], ylo[p], end);
             }
           }
           if (q < np) done[q] = true;
@@ -724,7 +726,7 @@ class EomJet {
         return;
       }
       for (int i = lo_; i < hi_; ++i) {
-        double* row = H() + i * N;
+        double* row = H().data() + i * N;
         double acc[N];  // local: provably apart from the pieces' vectors
         for (int j = 0; j < N; ++j) acc[j] = row[j];  // (N ≤ kInlineHessianMax: fixed width)
         for (int p = 0; p < np; ++p) {

@@ -11,7 +11,7 @@
 namespace lagrangian::ad {
 
 template <int N, bool R>
-constexpr void EomJet<N, R>::zero_rows(double* H, int lo, int hi) {
+constexpr void EomJet<N, R>::zero_rows(std::array<double, N * N>& H, int lo, int hi) {
   if constexpr (kPooled) {
     for (int i = lo; i < hi; ++i)
       for (int j = lo; j <= i; ++j) H[i * N + j] = 0.0;
@@ -29,9 +29,9 @@ constexpr void EomJet<N, R>::widen(int lo, int hi) {
     } else if constexpr (kPooled) {
       // The triangle on [lo, hi) less the one on [lo_, hi_): new rows,
       // and the old rows' columns [lo, lo_).
-      double* h = H();
+      auto& h = H();
       for (int i = lo; i < hi; ++i) {
-        double* row = h + i * N;
+        double* row = h.data() + i * N;
         const int jhi = (i >= lo_ && i < hi_) ? lo_ : i + 1;
         for (int j = lo; j < jhi; ++j) row[j] = 0.0;
       }
@@ -73,7 +73,7 @@ template <int N, bool R>
 constexpr void EomJet<N, R>::push_square(double f, const EomJet& a) {
   if constexpr (lazy_terms == 0) {
     ensure_dense();
-    double* h = H();
+    auto& h = H();
     for (int i = a.lo_; i < a.hi_; ++i) {
       const double fi = f * a.gv_[i];
       for (int j = 0; j < N; ++j) h[i * N + j] += fi * a.gv_[j];
@@ -92,7 +92,7 @@ template <int N, bool R>
 constexpr void EomJet<N, R>::push_symmetric(double f, const EomJet& a, const EomJet& b) {
   if constexpr (lazy_terms == 0) {
     ensure_dense();
-    double* h = H();
+    auto& h = H();
     for (int i = lo_; i < hi_; ++i) {
       const double fa = f * a.gv_[i], fb = f * b.gv_[i];
       for (int j = 0; j < N; ++j) h[i * N + j] += fa * b.gv_[j] + fb * a.gv_[j];
@@ -113,17 +113,17 @@ constexpr void EomJet<N, R>::push_symmetric(double f, const EomJet& a, const Eom
 template <int N, bool R>
 constexpr void EomJet<N, R>::add_hessian_of(const EomJet& a, double f) {
   if (a.dense_) {
-    double* h = H();
-    const double* ha = a.H();
+    auto& h = H();
+    const auto& ha = a.H();
     const bool copy = !dense_ && a.lo_ == lo_ && a.hi_ == hi_;
     if (!copy && !dense_) zero_rows(h, lo_, hi_);
     dense_ = true;
     if constexpr (kPooled) {
       for (int i = a.lo_; i < a.hi_; ++i) {
         if (copy) {
-          scale_range(h + i * N, f, ha + i * N, a.lo_, i + 1);
+          scale_range(h.data() + i * N, f, ha.data() + i * N, a.lo_, i + 1);
         } else {
-          axpy(h + i * N, f, ha + i * N, a.lo_, i + 1);
+          axpy(h.data() + i * N, f, ha.data() + i * N, a.lo_, i + 1);
         }
       }
     } else if (copy) {
@@ -259,10 +259,10 @@ constexpr void EomJet<N, R>::copy_parts(const EomJet& o) {
     const Term* os = o.terms();
     for (int k = 0; k < nterms_; ++k) ts[k] = os[k];
     if (dense_) {
-      double* h = H();
-      const double* oh = o.H();
+      auto& h = H();
+      const auto& oh = o.H();
       if constexpr (kPooled) {
-        for (int i = lo_; i < hi_; ++i) copy_range(h + i * N, oh + i * N, lo_, i + 1);
+        for (int i = lo_; i < hi_; ++i) copy_range(h.data() + i * N, oh.data() + i * N, lo_, i + 1);
       } else {
         for (int i = lo_ * N; i < hi_ * N; ++i) h[i] = oh[i];
       }
