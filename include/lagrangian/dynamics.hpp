@@ -37,9 +37,11 @@
 #if defined(__GNUC__)
 #define LAGRANGIAN_FLATTEN __attribute__((flatten))
 #define LAGRANGIAN_ALWAYS_INLINE __attribute__((always_inline)) inline
+#define LAGRANGIAN_NOINLINE __attribute__((noinline))
 #else
 #define LAGRANGIAN_FLATTEN
 #define LAGRANGIAN_ALWAYS_INLINE inline
+#define LAGRANGIAN_NOINLINE
 #endif
 
 namespace lagrangian {
@@ -183,9 +185,9 @@ void eom_pass_blocks(const M& model, Workspace<coordinate_count_v<M>>& ws, const
 /// One pass with numbers J of n directions over the coordinate vectors qj,
 /// qdj (of J): L, ∂L/∂q, p, M and the mixed term.
 template <class J, class M, class JVec>
-LAGRANGIAN_FLATTEN void eom_single_pass(const M& model, Workspace<coordinate_count_v<M>>& ws, JVec& qj, JVec& qdj,
-                                        const Vec<double, coordinate_count_v<M>>& q,
-                                        const Vec<double, coordinate_count_v<M>>& qd, double t) {
+LAGRANGIAN_ALWAYS_INLINE void eom_single_pass(const M& model, Workspace<coordinate_count_v<M>>& ws, JVec& qj,
+                                              JVec& qdj, const Vec<double, coordinate_count_v<M>>& q,
+                                              const Vec<double, coordinate_count_v<M>>& qd, double t) {
   const int n = static_cast<int>(q.size());
   for (int k = 0; k < n; ++k) {
     qj[k] = J::position(q[k], qd[k], k);
@@ -201,13 +203,25 @@ LAGRANGIAN_FLATTEN void eom_single_pass(const M& model, Workspace<coordinate_cou
   l.hessian_to(ws.mass);
 }
 
-/// The Euler–Lagrange pass: L, ∂L/∂q, p, M and the mixed term from one
-/// evaluation of T and V (or L) on ad::EomJet numbers (block passes for
-/// the largest models).
+/// The pass of a fixed-size model with inline Hessians (n ≤ 12):
+/// `flatten`ed, every EomJet operation of T and V inlined into it.
 template <class M>
-LAGRANGIAN_FLATTEN void eom_pass(const M& model, Workspace<coordinate_count_v<M>>& ws,
-                                 const Vec<double, coordinate_count_v<M>>& q,
-                                 const Vec<double, coordinate_count_v<M>>& qd, double t) {
+LAGRANGIAN_FLATTEN void eom_pass_inline(const M& model, Workspace<coordinate_count_v<M>>& ws,
+                                        const Vec<double, coordinate_count_v<M>>& q,
+                                        const Vec<double, coordinate_count_v<M>>& qd, double t) {
+  using J = ad::EomJet<coordinate_count_v<M>>;
+  Vec<J, coordinate_count_v<M>> qj, qdj;
+  eom_single_pass<J>(model, ws, qj, qdj, q, qd, t);
+}
+
+/// The pass of a larger fixed-size model (pooled Hessians) or of a run-time
+/// sized one. Not flattened: an operation costs O(n) and more here, so a
+/// call per operation is cheap, while inlining every one of them into one
+/// function would cost the user's compile seconds per model.
+template <class M>
+LAGRANGIAN_NOINLINE void eom_pass_large(const M& model, Workspace<coordinate_count_v<M>>& ws,
+                                        const Vec<double, coordinate_count_v<M>>& q,
+                                        const Vec<double, coordinate_count_v<M>>& qd, double t) {
   constexpr int n = coordinate_count_v<M>;
   if constexpr (n == Dynamic) {
     using J = EomJet<M>;  // run-time width, one instantiation of T and V
@@ -224,9 +238,23 @@ LAGRANGIAN_FLATTEN void eom_pass(const M& model, Workspace<coordinate_count_v<M>
     eom_pass_blocks<EomJet<M>>(model, ws, q, qd, t);
   } else {
     using J = ad::EomJet<n>;
-    Vec<J, n> qj;
-    Vec<J, n> qdj;
+    Vec<J, n> qj, qdj;
     eom_single_pass<J>(model, ws, qj, qdj, q, qd, t);
+  }
+}
+
+/// The Euler–Lagrange pass: L, ∂L/∂q, p, M and the mixed term from one
+/// evaluation of T and V (or L) on ad::EomJet numbers (block passes for
+/// the largest models).
+template <class M>
+LAGRANGIAN_ALWAYS_INLINE void eom_pass(const M& model, Workspace<coordinate_count_v<M>>& ws,
+                                       const Vec<double, coordinate_count_v<M>>& q,
+                                       const Vec<double, coordinate_count_v<M>>& qd, double t) {
+  constexpr int n = coordinate_count_v<M>;
+  if constexpr (n != Dynamic && n <= ad::EomJet<1>::kInlineHessianMax) {
+    eom_pass_inline(model, ws, q, qd, t);
+  } else {
+    eom_pass_large(model, ws, q, qd, t);
   }
 }
 

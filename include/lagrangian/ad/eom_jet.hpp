@@ -122,10 +122,10 @@ class EomJet {
   // Single-index storage and pending terms pay off from a few coordinates
   // on; below that, full storage and immediate updates are cheaper.
   static constexpr bool kSparse = N > 4;
-  // Largest N whose Hessian parts live in the number itself.
-  static constexpr int kInlineHessianMax = 12;
 
  public:
+  /// Largest N whose Hessian parts live in the number itself.
+  static constexpr int kInlineHessianMax = 12;
   /// The number of directions: N, or for run-time-width numbers (N their
   /// capacity) the width set by the current WidthScope.
   static constexpr int width() {
