@@ -184,10 +184,12 @@ void eom_pass_blocks(const M& model, Workspace<coordinate_count_v<M>>& ws, const
 
 /// One pass with numbers J of n directions over the coordinate vectors qj,
 /// qdj (of J): L, ∂L/∂q, p, M and the mixed term.
+/// (Not always_inline: g++ does not flatten the body of an always_inline
+/// callee into a `flatten` caller.)
 template <class J, class M, class JVec>
-LAGRANGIAN_ALWAYS_INLINE void eom_single_pass(const M& model, Workspace<coordinate_count_v<M>>& ws, JVec& qj,
-                                              JVec& qdj, const Vec<double, coordinate_count_v<M>>& q,
-                                              const Vec<double, coordinate_count_v<M>>& qd, double t) {
+inline void eom_single_pass(const M& model, Workspace<coordinate_count_v<M>>& ws, JVec& qj, JVec& qdj,
+                            const Vec<double, coordinate_count_v<M>>& q, const Vec<double, coordinate_count_v<M>>& qd,
+                            double t) {
   const int n = static_cast<int>(q.size());
   for (int k = 0; k < n; ++k) {
     qj[k] = J::position(q[k], qd[k], k);
