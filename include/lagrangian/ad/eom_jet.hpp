@@ -533,13 +533,29 @@ class EomJet {
   // Pending terms summed piece by piece over their supports into the lower
   // triangle of the dense block (which then holds only that triangle).
   static constexpr bool kTriangle = kPooled;
-  using SecondStorage = std::conditional_t<kPooled, Second*, Second>;
+  /// Owns a pooled block: a copy starts without one (it takes its own when
+  /// it needs one), a move takes the block over, the destructor gives it back.
+  struct PooledBlock {
+    Second* p = nullptr;
+    PooledBlock() = default;
+    PooledBlock(const PooledBlock&) {}
+    PooledBlock& operator=(const PooledBlock&) { return *this; }
+    PooledBlock(PooledBlock&& o) noexcept : p(std::exchange(o.p, nullptr)) {}
+    PooledBlock& operator=(PooledBlock&& o) noexcept {
+      std::swap(p, o.p);
+      return *this;
+    }
+    ~PooledBlock() {
+      if (p != nullptr) detail::SecondPool<Second>::give(p);
+    }
+  };
+  using SecondStorage = std::conditional_t<kPooled, PooledBlock, Second>;
   SecondStorage second_;
 
   /// The block of a number at level 2 that holds a dense block or terms.
   constexpr const Second& sec() const {
     if constexpr (kPooled) {
-      return *second_;
+      return *second_.p;
     } else {
       return second_;
     }
@@ -547,8 +563,8 @@ class EomJet {
   /// The block, taken from the pool if the number has none yet.
   constexpr Second& sec() {
     if constexpr (kPooled) {
-      if (second_ == nullptr) second_ = detail::SecondPool<Second>::take();
-      return *second_;
+      if (second_.p == nullptr) second_.p = detail::SecondPool<Second>::take();
+      return *second_.p;
     } else {
       return second_;
     }
@@ -562,9 +578,7 @@ class EomJet {
 
   // For results whose every valid part is written by the operation.
   constexpr explicit EomJet(Uninitialized) { null_second(); }
-  constexpr void null_second() {
-    if constexpr (kPooled) second_ = nullptr;
-  }
+  constexpr void null_second() {}  // (a pooled number's block holder starts empty)
 
   constexpr bool stored(int i) const { return state_ == kDense || state_ == i; }
 
@@ -783,10 +797,7 @@ class EomJet {
   constexpr EomJet& accumulate(const EomJet& b, double sign);
 
  public:
-  constexpr EomJet(const EomJet& o) : level(o.level), v(o.v), d(o.d) {
-    if constexpr (kPooled) second_ = nullptr;
-    copy_parts(o);
-  }
+  constexpr EomJet(const EomJet& o) : level(o.level), v(o.v), d(o.d) { copy_parts(o); }
   constexpr EomJet& operator=(const EomJet& o) {
     level = o.level;
     v = o.v;
@@ -794,29 +805,28 @@ class EomJet {
     copy_parts(o);
     return *this;
   }
-  /// Moves take the pooled block over instead of copying it.
-  constexpr EomJet(EomJet&& o) noexcept
-    requires kPooled
-      : level(o.level), v(o.v), d(o.d) {
-    second_ = std::exchange(o.second_, nullptr);
-    copy_first(o);
+  /// Moves take a pooled block over instead of copying it (inline blocks are
+  /// copied, their valid rows only).
+  constexpr EomJet(EomJet&& o) noexcept : level(o.level), v(o.v), d(o.d) {
+    if constexpr (kPooled) {
+      second_ = std::move(o.second_);
+      copy_first(o);
+    } else {
+      copy_parts(o);
+    }
   }
-  constexpr EomJet& operator=(EomJet&& o) noexcept
-    requires kPooled
-  {
+  constexpr EomJet& operator=(EomJet&& o) noexcept {
     level = o.level;
     v = o.v;
     d = o.d;
-    std::swap(second_, o.second_);
-    copy_first(o);
+    if constexpr (kPooled) {
+      second_ = std::move(o.second_);
+      copy_first(o);
+    } else {
+      copy_parts(o);
+    }
     return *this;
   }
-  constexpr ~EomJet()
-    requires kPooled
-  {
-    if (second_ != nullptr) detail::SecondPool<Second>::give(second_);
-  }
-  constexpr ~EomJet() = default;
 
  private:
   constexpr void copy_parts(const EomJet& o);
