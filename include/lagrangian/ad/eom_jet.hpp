@@ -154,13 +154,11 @@ class EomJet {
   /// Zero. (User-provided on purpose: value-initialisation, as Eigen does
   /// for its elements, then runs this constructor instead of zeroing every
   /// part.)
-  constexpr EomJet() : level(0), v(0.0), d(0.0), state_(kNone) { null_second(); }
+  constexpr EomJet() : level(0), v(0.0), d(0.0), state_(kNone) {}
   /// A constant. Implicit, so `S x = 0` and `x * 2` work.
   template <class A>
     requires std::is_arithmetic_v<A>
-  constexpr EomJet(A value) : level(0), v(static_cast<double>(value)), d(0.0), state_(kNone) {
-    null_second();
-  }
+  constexpr EomJet(A value) : level(0), v(static_cast<double>(value)), d(0.0), state_(kNone) {}
 
   /// Coordinate q_k with velocity q̇_k (its derivative along the path).
   static constexpr EomJet position(double q, double qd, int k) {
@@ -213,7 +211,7 @@ class EomJet {
   /// H_ij = ∂²x/∂q̇_i∂q̇_j (symmetric); zero below level 2.
   constexpr double hess(int i, int j) const {  // (i, j by value: swapped below)
     if (level < 2) return 0.0;
-    if constexpr (kTriangle)  // (the block holds the lower triangle)
+    if constexpr (kPooled)  // (the block holds the lower triangle)
       if (j > i) std::swap(i, j);
     double h = 0.0;
     if (dense_ && i >= lo_ && i < hi_ && j >= lo_) h = H()[i * N + j];  // (row stride N)
@@ -234,7 +232,7 @@ class EomJet {
     if (level < 2 || (!dense_ && nterms_ == 0)) return;
     if constexpr (lazy_terms > 0) flush();  // (small systems hold no pending terms)
     const auto& h = H();
-    if constexpr (kTriangle) {
+    if constexpr (kPooled) {
       for (int i = lo_; i < hi_; ++i)
         for (int j = lo_; j <= i; ++j) m(i, j) = m(j, i) = h[i * N + j];
     } else {
@@ -530,9 +528,6 @@ class EomJet {
   static constexpr bool kPooled = N > kInlineHessianMax;
   static_assert(kPooled || !RunTimeWidth, "ad::EomJet: run-time width needs a capacity above kInlineHessianMax");
   static_assert(!RunTimeWidth || N % kWidthStep == 0, "ad::EomJet: a run-time-width capacity is whole chunks");
-  // Pending terms summed piece by piece over their supports into the lower
-  // triangle of the dense block (which then holds only that triangle).
-  static constexpr bool kTriangle = kPooled;
   /// Owns a pooled block: a copy starts without one (it takes its own when
   /// it needs one), a move takes the block over, the destructor gives it back.
   struct PooledBlock {
@@ -577,8 +572,7 @@ class EomJet {
   constexpr const Term* terms() const { return sec().terms.data(); }
 
   // For results whose every valid part is written by the operation.
-  constexpr explicit EomJet(Uninitialized) { null_second(); }
-  constexpr void null_second() {}  // (a pooled number's block holder starts empty)
+  constexpr explicit EomJet(Uninitialized) {}
 
   constexpr bool stored(int i) const { return state_ == kDense || state_ == i; }
 
@@ -712,7 +706,7 @@ class EomJet {
           f[np++] = t.f;
         }
       }
-      if constexpr (kTriangle) {
+      if constexpr (kPooled) {
         // Large n: each piece touches only its rows and columns (its
         // vectors are zero outside their supports) and, H being symmetric,
         // only the lower triangle, in loops of run-time length over
