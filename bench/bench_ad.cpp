@@ -131,11 +131,11 @@ void BM_Chain_Hand(benchmark::State& st) {
   }
 }
 
-template <int N>
-void BM_Chain_AD(benchmark::State& st) {
-  const PendulumChain<N> p;
-  lagrangian::Workspace<N> ws;
-  Vec<double, N> q = chain_q<N>(), qd = chain_qd<N>(), qdd;
+// q̈ by AD of the chain `p` with q, q̇ of type V (fixed or run-time size).
+template <class Model, class V, int N>
+void chain_ad_loop(benchmark::State& st, const Model& p,
+                   lagrangian::Workspace<lagrangian::coordinate_count_v<Model>>& ws) {
+  V q = chain_q<N>(), qd = chain_qd<N>(), qdd(N);
   for (auto _ : st) {
     q.array() += 1e-9;
     qd[0] += 1e-9;
@@ -147,18 +147,17 @@ void BM_Chain_AD(benchmark::State& st) {
 }
 
 template <int N>
+void BM_Chain_AD(benchmark::State& st) {
+  const PendulumChain<N> p;
+  lagrangian::Workspace<N> ws;
+  chain_ad_loop<PendulumChain<N>, Vec<double, N>, N>(st, p, ws);
+}
+
+template <int N>
 void BM_Chain_AD_RunTimeSize(benchmark::State& st) {
   const lagrangian::test_models::RuntimeChain p{N};
   lagrangian::Workspace<lagrangian::Dynamic> ws(N);
-  Eigen::VectorXd q = chain_q<N>(), qd = chain_qd<N>(), qdd(N);
-  for (auto _ : st) {
-    q.array() += 1e-9;
-    qd[0] += 1e-9;
-    benchmark::DoNotOptimize(q.data());
-    benchmark::DoNotOptimize(qd.data());
-    lagrangian::accelerations(p, ws, q, qd, 0.0, qdd);
-    benchmark::DoNotOptimize(qdd.data());
-  }
+  chain_ad_loop<lagrangian::test_models::RuntimeChain, Eigen::VectorXd, N>(st, p, ws);
 }
 
 #define LAGRANGIAN_CHAIN_BENCHMARKS(N)           \

@@ -11,71 +11,14 @@
 #include <ostream>
 #include <type_traits>
 #include <utility>
-#include <vector>
 
 #include <Eigen/Core>
 
+#include "lagrangian/ad/second_pool.hpp"
 #include "lagrangian/ad/traits.hpp"
+#include "lagrangian/ad/width_scope.hpp"
 
 namespace lagrangian::ad {
-
-namespace detail {
-/// Per-thread free list of blocks of type B (the Hessian parts of large
-/// ad::EomJet numbers). A block is allocated only when the list is empty,
-/// so once a thread has evaluated a model, later evaluations allocate
-/// nothing; the blocks are freed when the thread ends.
-template <class B>
-class SecondPool {
- public:
-  static B* take() {
-    std::vector<B*>& f = list().free;
-    if (f.empty()) return new B;
-    B* b = f.back();
-    f.pop_back();
-    return b;
-  }
-  static void give(B* b) { list().free.push_back(b); }
-
- private:
-  struct List {
-    std::vector<B*> free;
-    List() { free.reserve(64); }
-    ~List() {
-      for (B* b : free) delete b;
-    }
-    List(const List&) = delete;
-    List& operator=(const List&) = delete;
-  };
-  static List& list() {
-    thread_local List l;
-    return l;
-  }
-};
-
-/// The number of directions the run-time-width numbers of this thread
-/// carry (EomJet<C, true>): set for a pass by WidthScope.
-inline constinit thread_local int eom_width = 0;
-}  // namespace detail
-
-/// Run-time widths are rounded up to a multiple of this (the directions
-/// beyond the model's n stay zero), so that loops over them run in whole
-/// unrolled chunks.
-inline constexpr int kWidthStep = 4;
-
-/// Sets the width of this thread's run-time-width EomJet numbers for a
-/// scope (a pass), and restores the previous width at its end.
-class WidthScope {
- public:
-  explicit WidthScope(int width) : previous_(detail::eom_width) {
-    detail::eom_width = (width + kWidthStep - 1) / kWidthStep * kWidthStep;
-  }
-  ~WidthScope() { detail::eom_width = previous_; }
-  WidthScope(const WidthScope&) = delete;
-  WidthScope& operator=(const WidthScope&) = delete;
-
- private:
-  int previous_;
-};
 
 // -- EomJet: the number type of the Euler–Lagrange pass ----------------------------
 
@@ -310,94 +253,7 @@ class EomJet {
   ///   c = a c_b + b c_a + gv_a d_b + gv_b d_a,
   ///   H = a H_b + b H_a + gv_a gv_bᵀ + gv_b gv_aᵀ (the last two as one
   ///   pending term).
-  friend constexpr EomJet operator*(const EomJet& a, const EomJet& b) {
-    EomJet r{Uninitialized{}};
-    r.level = (a.level == 2 || b.level == 2) ? 2 : a.level + b.level;
-    r.state_ = joint(a.state_, b.state_);
-    r.v = a.v * b.v;
-    r.d = a.v * b.d + b.v * a.d;
-    const int s = r.state_;
-    if (&a == &b) {  // a square: (a²)' = 2 a a', (a²)'' = 2 a a'' + 2 a' a'ᵀ
-      const double a2 = 2.0 * a.v;
-      each(s, [&](int i) { r.gq_[i] = a2 * a.gq_[i]; });
-      if (a.level >= 1) {
-        const double d2 = 2.0 * a.d;
-        each(s, [&](int i) {
-          r.gv_[i] = a2 * a.gv_[i];
-          r.c_[i] = a2 * a.c_[i] + d2 * a.gv_[i];
-        });
-        r.lo_ = a.lo_;
-        r.hi_ = a.hi_;
-        r.dense_ = false;
-        r.nterms_ = 0;
-        if (a.level == 2) r.add_hessian_of(a, a2);
-        r.push_square(2.0, a);
-      }
-      return r;
-    }
-    if (s >= 0 || (a.state_ == kDense && b.state_ == kDense)) {
-      // Both factors stored alike (or one holds nothing): one fused pass.
-      if (a.state_ == kNone) {
-        each(s, [&](int i) { r.gq_[i] = a.v * b.gq_[i]; });
-      } else if (b.state_ == kNone) {
-        each(s, [&](int i) { r.gq_[i] = b.v * a.gq_[i]; });
-      } else {
-        each(s, [&](int i) { r.gq_[i] = a.v * b.gq_[i] + b.v * a.gq_[i]; });
-      }
-      if (a.level >= 1 && b.level >= 1) {
-        each(s, [&](int i) {
-          r.gv_[i] = a.v * b.gv_[i] + b.v * a.gv_[i];
-          r.c_[i] = a.v * b.c_[i] + b.v * a.c_[i] + a.gv_[i] * b.d + b.gv_[i] * a.d;
-        });
-      } else if (a.level >= 1) {
-        each(s, [&](int i) {
-          r.gv_[i] = b.v * a.gv_[i];
-          r.c_[i] = b.v * a.c_[i] + a.gv_[i] * b.d;
-        });
-      } else if (b.level >= 1) {
-        each(s, [&](int i) {
-          r.gv_[i] = a.v * b.gv_[i];
-          r.c_[i] = a.v * b.c_[i] + b.gv_[i] * a.d;
-        });
-      }
-    } else {
-      // Mixed storage: the result is dense; each factor adds its share.
-      put(r.gq_, s, b.v, a.gq_, a.state_);
-      add(r.gq_, a.v, b.gq_, b.state_);
-      if (a.level >= 1) {
-        put(r.gv_, s, b.v, a.gv_, a.state_);
-        put2(r.c_, s, b.v, a.c_, b.d, a.gv_, a.state_);
-        if (b.level >= 1) {
-          add(r.gv_, a.v, b.gv_, b.state_);
-          add2(r.c_, a.v, b.c_, a.d, b.gv_, b.state_);
-        }
-      } else if (b.level >= 1) {
-        put(r.gv_, s, a.v, b.gv_, b.state_);
-        put2(r.c_, s, a.v, b.c_, a.d, b.gv_, b.state_);
-      }
-    }
-    if (a.level >= 1 && b.level >= 1) {
-      r.set_hull(a, b);
-    } else if (a.level >= 1) {
-      r.lo_ = a.lo_;
-      r.hi_ = a.hi_;
-    } else if (b.level >= 1) {
-      r.lo_ = b.lo_;
-      r.hi_ = b.hi_;
-    }
-    if (r.level == 2) {
-      r.dense_ = false;
-      r.nterms_ = 0;
-      // H from the factors' own Hessians ...
-      if (a.level == 2) r.add_hessian_of(a, b.v);
-      if (b.level == 2) r.add_hessian_of(b, a.v);
-      // ... plus the outer products of the velocity gradients.
-      if (a.level >= 1 && b.level >= 1) {
-        r.push_symmetric(1.0, a, b);
-      }
-    }
-    return r;
-  }
+  friend constexpr EomJet operator*(const EomJet& a, const EomJet& b) { return product(a, b); }
 
   friend constexpr bool operator==(const EomJet& a, const EomJet& b) { return a.v == b.v; }
   friend constexpr auto operator<=>(const EomJet& a, const EomJet& b) { return a.v <=> b.v; }
@@ -408,59 +264,14 @@ class EomJet {
   /// f(a) from f, f', f'': gq = f' gq_a, gv = f' gv_a,
   /// c = f' c_a + f'' gv_a d_a, H = f' H_a + f'' gv_a gv_aᵀ.
   friend constexpr EomJet chain(const EomJet& a, double f0, double f1, double f2) {
-    EomJet r{Uninitialized{}};
-    r.level = a.level == 0 ? 0 : 2;
-    r.state_ = a.state_;
-    r.v = f0;
-    r.d = f1 * a.d;
-    each(a.state_, [&](int i) { r.gq_[i] = f1 * a.gq_[i]; });
-    if (a.level >= 1) {
-      const double f2d = f2 * a.d;
-      each(a.state_, [&](int i) {
-        r.gv_[i] = f1 * a.gv_[i];
-        r.c_[i] = f1 * a.c_[i] + f2d * a.gv_[i];
-      });
-      r.lo_ = a.lo_;
-      r.hi_ = a.hi_;
-      r.dense_ = false;
-      r.nterms_ = 0;
-      if (a.level == 2) r.add_hessian_of(a, f1);
-      if (f2 != 0.0) r.push_square(f2, a);
-    }
-    return r;
+    return chain_rule(a, f0, f1, f2);
   }
 
   /// f(a, b) from the value, first and second partials (rare functions:
   /// both arguments are first brought to dense storage).
-  LAGRANGIAN_COLD friend constexpr EomJet chain2(EomJet a, EomJet b, double f0, double fa, double fb, double faa, double fab,
-                                 double fbb) {
-    const int L = (a.level == 0 && b.level == 0) ? 0 : 2;
-    a.convert(kDense);
-    b.convert(kDense);
-    a.raise(L >= 1 ? 1 : 0);
-    b.raise(L >= 1 ? 1 : 0);
-    EomJet r{Uninitialized{}};
-    r.level = L;
-    r.state_ = kDense;
-    r.v = f0;
-    r.d = fa * a.d + fb * b.d;
-    dense_loop([&](int i) { r.gq_[i] = fa * a.gq_[i] + fb * b.gq_[i]; });
-    if (L == 2) {
-      dense_loop([&](int i) {
-        r.gv_[i] = fa * a.gv_[i] + fb * b.gv_[i];
-        r.c_[i] = fa * a.c_[i] + fb * b.c_[i] + faa * a.gv_[i] * a.d + fbb * b.gv_[i] * b.d +
-                  fab * (a.gv_[i] * b.d + b.gv_[i] * a.d);
-      });
-      r.set_hull(a, b);
-      r.dense_ = false;
-      r.nterms_ = 0;
-      if (a.level == 2) r.add_hessian_of(a, fa);
-      if (b.level == 2) r.add_hessian_of(b, fb);
-      r.push_square(faa, a);
-      r.push_square(fbb, b);
-      r.push_symmetric(fab, a, b);
-    }
-    return r;
+  friend constexpr EomJet chain2(const EomJet& a, const EomJet& b, double f0, double fa, double fb, double faa,
+                                 double fab, double fbb) {
+    return chain2_rule(a, b, f0, fa, fb, faa, fab, fbb);
   }
 
   friend constexpr EomJet reciprocal(const EomJet& a) {
@@ -679,74 +490,8 @@ class EomJet {
   /// Sums the pending terms into the dense rows: as P rank-one pieces
   /// f_p x_p y_pᵀ (a square is one piece, a symmetric term two), each row
   /// i gets Σ_p (f_p x_p,i) y_p in one branch-free pass of fixed length.
-  LAGRANGIAN_COLD constexpr void flush() {
-    ensure_dense();
-    if constexpr (lazy_terms > 0) {
-      std::array<const double*, 2 * lazy_terms> x{}, y{};
-      std::array<double, 2 * lazy_terms> f{};
-      std::array<int, 2 * lazy_terms> xlo{}, xhi{}, ylo{}, yhi{};
-      int np = 0;
-      const Term* ts = terms();
-      for (int k = 0; k < nterms_; ++k) {
-        const Term& t = ts[k];
-        x[np] = t.u.data();
-        y[np] = t.sq ? t.u.data() : t.w.data();
-        xlo[np] = t.ulo;
-        xhi[np] = t.uhi;
-        ylo[np] = t.wlo;
-        yhi[np] = t.whi;
-        f[np++] = t.f;
-        if (!t.sq) {
-          x[np] = t.w.data();
-          y[np] = t.u.data();
-          xlo[np] = t.wlo;
-          xhi[np] = t.whi;
-          ylo[np] = t.ulo;
-          yhi[np] = t.uhi;
-          f[np++] = t.f;
-        }
-      }
-      if constexpr (kPooled) {
-        // Large n: each piece touches only its rows and columns (its
-        // vectors are zero outside their supports) and, H being symmetric,
-        // only the lower triangle, in loops of run-time length over
-        // contiguous entries.
-        // Pieces with the same supports (the x and y components of one
-        // velocity, squared) are summed in pairs, each row loaded once per pair.
-        auto& h = H();
-        std::array<bool, 2 * lazy_terms> done{};
-        for (int p = 0; p < np; ++p) {
-          if (done[p]) continue;
-          int q = p + 1;
-          while (q < np && (done[q] || xlo[q] != xlo[p] || xhi[q] != xhi[p] || ylo[q] != ylo[p] || yhi[q] != yhi[p]))
-            ++q;
-          for (int i = xlo[p]; i < xhi[p]; ++i) {
-            const int end = yhi[p] < i + 1 ? yhi[p] : i + 1;  // the lower triangle
-            if (q < np) {
-              axpy2(h.data() + i * N, f[p] * x[p][i], y[p], f[q] * x[q][i], y[q], ylo[p], end);
-            } else {
-              axpy(h.data() + i * N, f[p] * x[p][i], y[p], ylo[p], end);
-            }
-          }
-          if (q < np) done[q] = true;
-        }
-        nterms_ = 0;
-        return;
-      }
-      for (int i = lo_; i < hi_; ++i) {
-        double* row = H().data() + i * N;
-        double acc[N];  // local: provably apart from the pieces' vectors
-        for (int j = 0; j < N; ++j) acc[j] = row[j];  // (N ≤ kInlineHessianMax: fixed width)
-        for (int p = 0; p < np; ++p) {
-          const double c = f[p] * x[p][i];
-          const double* yp = y[p];
-          for (int j = 0; j < N; ++j) acc[j] += c * yp[j];
-        }
-        for (int j = 0; j < N; ++j) row[j] = acc[j];
-      }
-      nterms_ = 0;
-    }
-  }
+  /// (Kept out of line: it runs a few times per pass.)
+  LAGRANGIAN_COLD void flush();
   /// to[i] = f from[i] for i in [lo, hi).
   static constexpr void scale_range(double* __restrict to, double f, const double* __restrict from, int lo, int hi) {
     for (int i = lo; i < hi; ++i) to[i] = f * from[i];
@@ -789,6 +534,13 @@ class EomJet {
   static constexpr EomJet combined(const EomJet& a, const EomJet& b, double sign);
   /// this += sign b.
   constexpr EomJet& accumulate(const EomJet& b, double sign);
+  /// a b (eom_jet_rules.hpp; a square when a and b are one number).
+  static constexpr EomJet product(const EomJet& a, const EomJet& b);
+  /// f(a) from f, f', f''.
+  static constexpr EomJet chain_rule(const EomJet& a, double f0, double f1, double f2);
+  /// f(a, b) from the value, first and second partials (out of line: rare).
+  LAGRANGIAN_COLD static EomJet chain2_rule(EomJet a, EomJet b, double f0, double fa, double fb, double faa,
+                                                      double fab, double fbb);
 
  public:
   constexpr EomJet(const EomJet& o) : level(o.level), v(o.v), d(o.d) { copy_parts(o); }
@@ -832,3 +584,4 @@ class EomJet {
 }  // namespace lagrangian::ad
 
 #include "lagrangian/ad/eom_jet_parts.hpp"  // IWYU pragma: export
+#include "lagrangian/ad/eom_jet_rules.hpp"  // IWYU pragma: export

@@ -45,6 +45,76 @@ constexpr void EomJet<N, R>::widen(int lo, int hi) {
 }
 
 template <int N, bool R>
+void EomJet<N, R>::flush() {
+  ensure_dense();
+  if constexpr (lazy_terms > 0) {
+    std::array<const double*, 2 * lazy_terms> x{}, y{};
+    std::array<double, 2 * lazy_terms> f{};
+    std::array<int, 2 * lazy_terms> xlo{}, xhi{}, ylo{}, yhi{};
+    int np = 0;
+    const Term* ts = terms();
+    for (int k = 0; k < nterms_; ++k) {
+      const Term& t = ts[k];
+      x[np] = t.u.data();
+      y[np] = t.sq ? t.u.data() : t.w.data();
+      xlo[np] = t.ulo;
+      xhi[np] = t.uhi;
+      ylo[np] = t.wlo;
+      yhi[np] = t.whi;
+      f[np++] = t.f;
+      if (!t.sq) {
+        x[np] = t.w.data();
+        y[np] = t.u.data();
+        xlo[np] = t.wlo;
+        xhi[np] = t.whi;
+        ylo[np] = t.ulo;
+        yhi[np] = t.uhi;
+        f[np++] = t.f;
+      }
+    }
+    if constexpr (kPooled) {
+      // Large n: each piece touches only its rows and columns (its
+      // vectors are zero outside their supports) and, H being symmetric,
+      // only the lower triangle, in loops of run-time length over
+      // contiguous entries.
+      // Pieces with the same supports (the x and y components of one
+      // velocity, squared) are summed in pairs, each row loaded once per pair.
+      auto& h = H();
+      std::array<bool, 2 * lazy_terms> done{};
+      for (int p = 0; p < np; ++p) {
+        if (done[p]) continue;
+        int q = p + 1;
+        while (q < np && (done[q] || xlo[q] != xlo[p] || xhi[q] != xhi[p] || ylo[q] != ylo[p] || yhi[q] != yhi[p]))
+          ++q;
+        for (int i = xlo[p]; i < xhi[p]; ++i) {
+          const int end = yhi[p] < i + 1 ? yhi[p] : i + 1;  // the lower triangle
+          if (q < np) {
+            axpy2(h.data() + i * N, f[p] * x[p][i], y[p], f[q] * x[q][i], y[q], ylo[p], end);
+          } else {
+            axpy(h.data() + i * N, f[p] * x[p][i], y[p], ylo[p], end);
+          }
+        }
+        if (q < np) done[q] = true;
+      }
+      nterms_ = 0;
+      return;
+    }
+    for (int i = lo_; i < hi_; ++i) {
+      double* row = H().data() + i * N;
+      double acc[N];  // local: provably apart from the pieces' vectors
+      for (int j = 0; j < N; ++j) acc[j] = row[j];  // (N ≤ kInlineHessianMax: fixed width)
+      for (int p = 0; p < np; ++p) {
+        const double c = f[p] * x[p][i];
+        const double* yp = y[p];
+        for (int j = 0; j < N; ++j) acc[j] += c * yp[j];
+      }
+      for (int j = 0; j < N; ++j) row[j] = acc[j];
+    }
+    nterms_ = 0;
+  }
+}
+
+template <int N, bool R>
 constexpr void EomJet<N, R>::full_gv(typename EomJet<N, R>::Vector& out, const EomJet& a) {
   if constexpr (kPooled) {  // (read only on the support [a.lo_, a.hi_))
     if (a.state_ == kDense) {
