@@ -97,11 +97,13 @@ class EomJet {
   /// Zero. (User-provided on purpose: value-initialisation, as Eigen does
   /// for its elements, then runs this constructor instead of zeroing every
   /// part.)
-  constexpr EomJet() : level(0), v(0.0), d(0.0), state_(kNone) {}
+  constexpr EomJet() : level(0), v(0.0), d(0.0), state_(kNone) { init_constant(); }
   /// A constant. Implicit, so `S x = 0` and `x * 2` work.
   template <class A>
     requires std::is_arithmetic_v<A>
-  constexpr EomJet(A value) : level(0), v(static_cast<double>(value)), d(0.0), state_(kNone) {}
+  constexpr EomJet(A value) : level(0), v(static_cast<double>(value)), d(0.0), state_(kNone) {
+    init_constant();
+  }
 
   /// Coordinate q_k with velocity q̇_k (its derivative along the path).
   static constexpr EomJet position(double q, double qd, int k) {
@@ -281,6 +283,17 @@ class EomJet {
 
  private:
   struct Uninitialized {};
+  // Small numbers (full storage) also set the parts a constant never reads:
+  // g++ cannot follow the storage state through its flattened passes and
+  // would warn that they are read uninitialised.
+  constexpr void init_constant() {
+    if constexpr (!kSparse) {
+      lo_ = hi_ = 0;
+      dense_ = false;
+      nterms_ = 0;
+      gq_.fill(0.0);
+    }
+  }
 
   /// A pending part of H: f u uᵀ (square) or f (u wᵀ + w uᵀ); u and w are
   /// stored in full, zero outside the rows [ulo, uhi) and [wlo, whi).

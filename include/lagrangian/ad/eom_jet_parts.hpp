@@ -8,6 +8,14 @@
 
 // IWYU pragma: private, include "lagrangian/ad/eom_jet.hpp"
 
+// (g++ cannot follow which parts a number's storage state makes valid
+// through the flattened passes, and warns of parts that are never read.)
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+
 namespace lagrangian::ad {
 
 template <int N, bool R>
@@ -367,3 +375,7 @@ constexpr void EomJet<N, R>::copy_first(const EomJet& o) {
 }
 
 }  // namespace lagrangian::ad
+
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif

@@ -6,6 +6,14 @@
 
 // IWYU pragma: private, include "lagrangian/ad/eom_jet.hpp"
 
+// (g++ cannot follow which parts a number's storage state makes valid
+// through the flattened passes, and warns of parts that are never read.)
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+
 namespace lagrangian::ad {
 
 template <int N, bool R>
@@ -155,3 +163,7 @@ EomJet<N, R> EomJet<N, R>::chain2_rule(EomJet a, EomJet b, double f0, double fa,
 }
 
 }  // namespace lagrangian::ad
+
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
