@@ -87,6 +87,12 @@ class EomJet {
   /// once (T and V of a chain), a small cost on a miss otherwise.
   static constexpr bool memoize_trig = kSparse;
   using value_type = double;
+  /// Makes this thread's pool of Hessian blocks exist now. A thread_local
+  /// that keeps numbers holding blocks calls it before it is constructed, so
+  /// that it is destroyed before the pool when the thread ends.
+  static void prepare_thread() {
+    if constexpr (kPooled) detail::SecondPool<Second>::give(detail::SecondPool<Second>::take());
+  }
 
   // (No default member initialisers: results of operations set exactly the
   // fields their level needs; the constructors below set the rest.)

@@ -1,0 +1,166 @@
+#pragma once
+/// \file text/text_model.hpp
+/// A model stated as text: coordinates, T and V (and optionally generalized
+/// forces Q and a Rayleigh dissipation D) as expressions of q, q̇, t and named
+/// parameters (text/expression.hpp), read once when the model is built and
+/// evaluated on the library's own number types, so p = ∂L/∂q̇, M, the mixed
+/// term and q̈ come from the same automatic differentiation as for a C++
+/// model. A text model is a run-time sized model (coordinate_count =
+/// Dynamic) and works with simulate(), dof_report(), equilibria, modes and
+/// the boundary-value problem like any other.
+///
+/// \code
+/// lagrangian::text::Definition d;
+/// d.coordinates = {"theta", "phi"};
+/// d.kinetic = "0.5*m*l^2*(theta_dot^2 + sin(theta)^2*phi_dot^2)";
+/// d.potential = "-m*g*l*cos(theta)";
+/// d.parameters = {{"m", 1.0}, {"l", 1.0}, {"g", 9.81}};
+/// const lagrangian::text::TextModel pendulum(d);
+/// \endcode
+///
+/// Two types, so that what a model does not declare costs nothing:
+/// `TextModel` (T and V: conservative) and `ForcedTextModel` (also Q and D;
+/// an absent one is zero). `make()` checks a definition against the type.
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "lagrangian/ad/eom_jet.hpp"
+#include "lagrangian/detail/compiled_models.hpp"
+#include "lagrangian/model.hpp"
+#include "lagrangian/text/evaluate.hpp"
+#include "lagrangian/text/expression.hpp"
+
+namespace lagrangian::text {
+
+/// A system as text. Every expression may use the coordinates, their
+/// velocities `<coordinate>_dot`, t and the parameters (D: not t).
+struct Definition {
+  std::string name = "text model";       ///< for reports
+  std::vector<std::string> coordinates;  ///< names of q_i (at least one)
+  std::vector<std::string> units;        ///< SI unit of each q_i ("m", "rad"); empty: none given
+  std::string kinetic;                   ///< T(q, q̇, t) (J)
+  std::string potential;                 ///< V(q, t) (J); empty: 0
+  std::vector<std::string> forces;       ///< Q_i(q, q̇, t), one per coordinate (N or N·m); empty: none
+  std::string dissipation;               ///< Rayleigh D(q, q̇) (W), Q −= ∂D/∂q̇; empty: none
+  std::vector<std::pair<std::string, double>> parameters;  ///< named constants (SI units)
+  /// Prefix of the field names in error messages ("model." in scenes).
+  std::string field_prefix;
+};
+
+/// A definition read: its expressions parsed (as written, for display) and
+/// bound to the parameter values (for evaluation).
+struct Parsed {
+  Definition definition;
+  Symbols symbols;
+  Expression kinetic, potential, dissipation;  ///< as written
+  std::vector<Expression> forces;
+  Expression kinetic_bound, potential_bound, dissipation_bound;  ///< parameters replaced by their values
+  std::vector<Expression> forces_bound;
+  bool has_forces = false, has_dissipation = false;
+};
+
+/// Reads and checks a definition: names (valid, distinct, not a function,
+/// `t` or `pi`), units (none or one per coordinate), finite parameters, one
+/// force per coordinate, V and D free of q̇ and D free of t, every
+/// expression well formed. Throws ExpressionError naming the field.
+std::shared_ptr<const Parsed> read(const Definition& d);
+
+namespace detail {
+
+/// This thread's slots for evaluating expressions on S (allocated once per
+/// thread and number type, grown only for a longer expression).
+template <class S>
+std::vector<S>& slots() {
+  struct Holder {
+    std::vector<S> v;
+    Holder() {
+      if constexpr (requires { S::prepare_thread(); }) S::prepare_thread();
+    }
+  };
+  thread_local Holder h;
+  return h.v;
+}
+
+}  // namespace detail
+
+/// A text model; `Forced`: it declares Q and D (see the file comment).
+template <bool Forced>
+class BasicTextModel {
+ public:
+  static constexpr int coordinate_count = Dynamic;
+
+  /// Reads `d` (throws ExpressionError naming the field). A definition with
+  /// forces or a dissipation function needs ForcedTextModel.
+  explicit BasicTextModel(const Definition& d) : BasicTextModel(read(d)) {}
+  explicit BasicTextModel(std::shared_ptr<const Parsed> p) : p_(std::move(p)) {
+    if (!Forced && (p_->has_forces || p_->has_dissipation))
+      throw ExpressionError(p_->definition.field_prefix + (p_->has_forces ? "forces" : "dissipation"), 0,
+                            "declared, so the model is a ForcedTextModel, not a TextModel");
+  }
+
+  int size() const { return static_cast<int>(p_->definition.coordinates.size()); }
+  std::string name() const { return p_->definition.name; }
+  const std::vector<std::string>& coordinate_names() const { return p_->definition.coordinates; }
+  std::vector<std::string> coordinate_units() const {
+    return p_->definition.units.empty() ? std::vector<std::string>(p_->definition.coordinates.size())
+                                        : p_->definition.units;
+  }
+  /// The definition as read.
+  const Parsed& parsed() const { return *p_; }
+
+  /// T (J).
+  template <class S>
+  S kinetic(const Vec<S, Dynamic>& q, const Vec<S, Dynamic>& qd, const S& t) const {
+    return evaluate(p_->kinetic_bound, q, qd, t, detail::slots<S>());
+  }
+  /// V (J).
+  template <class S>
+  S potential(const Vec<S, Dynamic>& q, const S& t) const {
+    return evaluate(p_->potential_bound, q, q, t, detail::slots<S>());
+  }
+  /// Q (N or N·m per coordinate), into a per-thread vector (no allocation
+  /// per call).
+  Eigen::Map<const Eigen::VectorXd> generalized_forces(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                                      double t) const
+    requires Forced
+  {
+    thread_local Eigen::VectorXd out;
+    const int n = size();
+    if (out.size() < n) out.resize(n);
+    for (int i = 0; i < n; ++i) {
+      const Expression& e = p_->forces_bound.empty() ? zero() : p_->forces_bound[static_cast<std::size_t>(i)];
+      out[i] = evaluate(e, q, qd, t, detail::slots<double>());
+    }
+    return {out.data(), n};
+  }
+  /// Rayleigh D (W).
+  template <class S>
+  S dissipation(const Vec<S, Dynamic>& q, const Vec<S, Dynamic>& qd) const
+    requires Forced
+  {
+    return evaluate(p_->dissipation_bound, q, qd, S(0.0), detail::slots<S>());
+  }
+
+ private:
+  static const Expression& zero() {
+    static const Expression z{{Node{}}};
+    return z;
+  }
+  std::shared_ptr<const Parsed> p_;
+};
+
+/// T and V only: a conservative text model.
+using TextModel = BasicTextModel<false>;
+/// T, V, Q and D.
+using ForcedTextModel = BasicTextModel<true>;
+
+}  // namespace lagrangian::text
+
+// simulate() for the text models is compiled once, in the library (src/text/).
+LAGRANGIAN_EXTERN_SIMULATE(lagrangian::text::TextModel)
+LAGRANGIAN_EXTERN_SIMULATE(lagrangian::text::ForcedTextModel)

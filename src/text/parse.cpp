@@ -1,0 +1,370 @@
+// Reading an expression into nodes (text/expression.hpp): a recursive-descent
+// parser over a builder that stores equal nodes once and folds constants.
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <numbers>
+#include <string>
+#include <tuple>
+#include <utility>
+
+#include "lagrangian/text/evaluate.hpp"
+#include "lagrangian/text/expression.hpp"
+
+namespace lagrangian::text {
+
+ExpressionError::ExpressionError(std::string field, int column, const std::string& what)
+    : Error(field + (column > 0 ? " (column " + std::to_string(column) + ")" : std::string()) + ": " + what),
+      field_(std::move(field)),
+      column_(column) {}
+
+namespace {
+
+struct Function {
+  std::string_view name;
+  Op op;
+  int arguments;
+};
+
+constexpr std::array<Function, 17> kFunctions{{{"sin", Op::sin, 1},
+                                               {"cos", Op::cos, 1},
+                                               {"tan", Op::tan, 1},
+                                               {"asin", Op::asin, 1},
+                                               {"acos", Op::acos, 1},
+                                               {"atan", Op::atan, 1},
+                                               {"sinh", Op::sinh, 1},
+                                               {"cosh", Op::cosh, 1},
+                                               {"tanh", Op::tanh, 1},
+                                               {"exp", Op::exp, 1},
+                                               {"log", Op::log, 1},
+                                               {"sqrt", Op::sqrt, 1},
+                                               {"abs", Op::abs, 1},
+                                               {"atan2", Op::atan2, 2},
+                                               {"pow", Op::pow, 2},
+                                               {"min", Op::min, 2},
+                                               {"max", Op::max, 2}}};
+
+const Function* find_function(std::string_view name) {
+  for (const Function& f : kFunctions)
+    if (f.name == name) return &f;
+  return nullptr;
+}
+
+bool is_leaf(Op op) {
+  return op == Op::constant || op == Op::coordinate || op == Op::velocity || op == Op::time || op == Op::parameter;
+}
+
+/// Appends nodes, returning the index of an equal node when there is one,
+/// and folding operations on constants (and the identities x + 0, x·1, x·0,
+/// x/1, x^1, x^0, −(−x)) as it goes.
+class Builder {
+ public:
+  explicit Builder(Expression& e) : e_(e) {}
+
+  int constant(double v) { return add({Op::constant, -1, -1, -1, v}); }
+  int leaf(Op op, int index) { return add({op, -1, -1, index, 0.0}); }
+
+  int unary(Op op, int a, double value = 0.0) {
+    const Node& x = e_.nodes[static_cast<std::size_t>(a)];
+    if (op == Op::pow_const) {
+      if (value == 1.0) return a;
+      if (value == 0.0) return constant(1.0);
+    }
+    if (op == Op::neg && x.op == Op::neg) return x.a;
+    const Node n{op, a, -1, -1, value};
+    if (x.op == Op::constant) return constant(apply(n, x.value, x.value));
+    return add(n);
+  }
+
+  int binary(Op op, int a, int b) {
+    const Node x = e_.nodes[static_cast<std::size_t>(a)], y = e_.nodes[static_cast<std::size_t>(b)];
+    const bool xc = x.op == Op::constant, yc = y.op == Op::constant;
+    if (xc && yc) return constant(apply(Node{op, a, b, -1, 0.0}, x.value, y.value));
+    switch (op) {
+      case Op::add:
+        if (xc && x.value == 0.0) return b;
+        if (yc && y.value == 0.0) return a;
+        break;
+      case Op::sub:
+        if (yc && y.value == 0.0) return a;
+        if (xc && x.value == 0.0) return unary(Op::neg, b);
+        break;
+      case Op::mul:
+        if ((xc && x.value == 0.0) || (yc && y.value == 0.0)) return constant(0.0);
+        if (xc && x.value == 1.0) return b;
+        if (yc && y.value == 1.0) return a;
+        break;
+      case Op::div:
+        if (yc && y.value == 1.0) return a;
+        if (xc && x.value == 0.0) return constant(0.0);
+        break;
+      case Op::pow:
+        if (yc) return unary(Op::pow_const, a, y.value);
+        break;
+      default:
+        break;
+    }
+    return add({op, a, b, -1, 0.0});
+  }
+
+  /// Copies node `n` of another expression whose operands are already
+  /// copied to `a` and `b` (used by bind_parameters()).
+  int copy(const Node& n, int a, int b) {
+    if (is_leaf(n.op)) return add(n);
+    if (n.b >= 0) return binary(n.op, a, b);
+    return unary(n.op, a, n.value);
+  }
+
+ private:
+  int add(const Node& n) {
+    const auto key = std::make_tuple(static_cast<int>(n.op), n.a, n.b, n.index, n.value);
+    if (auto it = seen_.find(key); it != seen_.end()) return it->second;
+    e_.nodes.push_back(n);
+    const int i = static_cast<int>(e_.nodes.size()) - 1;
+    seen_.emplace(key, i);
+    return i;
+  }
+
+  Expression& e_;
+  std::map<std::tuple<int, int, int, int, double>, int> seen_;
+};
+
+/// The nodes `root` reads, in their order, `root` last: what folding and
+/// sharing left unread is dropped.
+Expression reachable(const Expression& e, int root) {
+  std::vector<char> used(e.nodes.size(), 0);
+  used[static_cast<std::size_t>(root)] = 1;
+  for (int i = root; i >= 0; --i) {
+    const Node& n = e.nodes[static_cast<std::size_t>(i)];
+    if (!used[static_cast<std::size_t>(i)]) continue;
+    if (n.a >= 0) used[static_cast<std::size_t>(n.a)] = 1;
+    if (n.b >= 0) used[static_cast<std::size_t>(n.b)] = 1;
+  }
+  Expression out;
+  std::vector<int> at(e.nodes.size(), -1);
+  for (int i = 0; i <= root; ++i) {
+    if (!used[static_cast<std::size_t>(i)]) continue;
+    Node n = e.nodes[static_cast<std::size_t>(i)];
+    if (n.a >= 0) n.a = at[static_cast<std::size_t>(n.a)];
+    if (n.b >= 0) n.b = at[static_cast<std::size_t>(n.b)];
+    at[static_cast<std::size_t>(i)] = static_cast<int>(out.nodes.size());
+    out.nodes.push_back(n);
+  }
+  return out;
+}
+
+class Parser {
+ public:
+  Parser(std::string_view s, const Symbols& symbols, const std::string& field)
+      : s_(s), symbols_(symbols), field_(field), b_(e_) {}
+
+  Expression run() {
+    skip();
+    if (pos_ == s_.size()) throw ExpressionError(field_, 0, "the expression is empty");
+    const int root = sum();
+    skip();
+    if (pos_ < s_.size()) fail(pos_, std::string("unexpected '") + s_[pos_] + "'");
+    return reachable(e_, root);
+  }
+
+ private:
+  [[noreturn]] void fail(std::size_t at, const std::string& what) const {
+    throw ExpressionError(field_, static_cast<int>(at) + 1, what);
+  }
+
+  void skip() {
+    while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_]))) ++pos_;
+  }
+  bool accept(char c) {
+    skip();
+    if (pos_ < s_.size() && s_[pos_] == c) {
+      ++pos_;
+      return true;
+    }
+    return false;
+  }
+  bool accept_power() {
+    skip();
+    if (pos_ < s_.size() && s_[pos_] == '^') {
+      ++pos_;
+      return true;
+    }
+    if (pos_ + 1 < s_.size() && s_[pos_] == '*' && s_[pos_ + 1] == '*') {
+      pos_ += 2;
+      return true;
+    }
+    return false;
+  }
+
+  int sum() {
+    int x = product();
+    for (;;) {
+      if (accept('+')) {
+        x = b_.binary(Op::add, x, product());
+      } else if (accept('-')) {
+        x = b_.binary(Op::sub, x, product());
+      } else {
+        return x;
+      }
+    }
+  }
+
+  int product() {
+    int x = signed_factor();
+    for (;;) {
+      skip();
+      if (pos_ + 1 < s_.size() && s_[pos_] == '*' && s_[pos_ + 1] == '*') return x;  // a power: not here
+      if (accept('*')) {
+        x = b_.binary(Op::mul, x, signed_factor());
+      } else if (accept('/')) {
+        x = b_.binary(Op::div, x, signed_factor());
+      } else {
+        return x;
+      }
+    }
+  }
+
+  int signed_factor() {
+    if (accept('-')) return b_.unary(Op::neg, signed_factor());
+    if (accept('+')) return signed_factor();
+    return power();
+  }
+
+  int power() {
+    const int base = primary();
+    if (accept_power()) return b_.binary(Op::pow, base, signed_factor());  // right-associative
+    return base;
+  }
+
+  int primary() {
+    skip();
+    if (pos_ == s_.size()) fail(pos_, "the expression ends where a number, a name or '(' was expected");
+    const char c = s_[pos_];
+    if (c == '(') {
+      ++pos_;
+      const int x = sum();
+      if (!accept(')')) fail(pos_, "')' expected");
+      return x;
+    }
+    if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') return number();
+    if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') return name();
+    fail(pos_, std::string("unexpected '") + c + "'");
+  }
+
+  int number() {
+    const std::size_t start = pos_;
+    while (pos_ < s_.size() && (std::isdigit(static_cast<unsigned char>(s_[pos_])) || s_[pos_] == '.')) ++pos_;
+    if (pos_ < s_.size() && (s_[pos_] == 'e' || s_[pos_] == 'E')) {
+      std::size_t p = pos_ + 1;
+      if (p < s_.size() && (s_[p] == '+' || s_[p] == '-')) ++p;
+      if (p < s_.size() && std::isdigit(static_cast<unsigned char>(s_[p]))) {
+        pos_ = p;
+        while (pos_ < s_.size() && std::isdigit(static_cast<unsigned char>(s_[pos_]))) ++pos_;
+      }
+    }
+    const std::string text(s_.substr(start, pos_ - start));
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (end != text.c_str() + text.size() || !std::isfinite(v)) fail(start, "'" + text + "' is not a number");
+    return b_.constant(v);
+  }
+
+  int name() {
+    const std::size_t start = pos_;
+    while (pos_ < s_.size() && (std::isalnum(static_cast<unsigned char>(s_[pos_])) || s_[pos_] == '_')) ++pos_;
+    const std::string id(s_.substr(start, pos_ - start));
+    if (accept('(')) return call(id, start);
+    if (find_function(id)) fail(start, "'" + id + "' is a function: write " + id + "(...)");
+    if (id == "t") return b_.leaf(Op::time, -1);
+    if (id == "pi") return b_.constant(std::numbers::pi);
+    const auto& qs = symbols_.coordinates;
+    for (std::size_t i = 0; i < qs.size(); ++i) {
+      if (id == qs[i]) return b_.leaf(Op::coordinate, static_cast<int>(i));
+      if (id == qs[i] + "_dot") return b_.leaf(Op::velocity, static_cast<int>(i));
+    }
+    const auto& ps = symbols_.parameters;
+    for (std::size_t i = 0; i < ps.size(); ++i)
+      if (id == ps[i]) return b_.leaf(Op::parameter, static_cast<int>(i));
+    fail(start, "unknown name '" + id + "'; " + known_names());
+  }
+
+  int call(const std::string& id, std::size_t start) {
+    const Function* f = find_function(id);
+    if (!f) {
+      std::string all;
+      for (const Function& g : kFunctions) all += (all.empty() ? "" : " ") + std::string(g.name);
+      fail(start, "unknown function '" + id + "'; the functions are " + all);
+    }
+    std::vector<int> args;
+    if (!accept(')')) {
+      args.push_back(sum());
+      while (accept(',')) args.push_back(sum());
+      if (!accept(')')) fail(pos_, "')' or ',' expected in the arguments of " + id);
+    }
+    if (static_cast<int>(args.size()) != f->arguments)
+      fail(start, id + " takes " + std::to_string(f->arguments) + " argument" + (f->arguments == 1 ? "" : "s") +
+                      ", not " + std::to_string(args.size()));
+    return f->arguments == 1 ? b_.unary(f->op, args[0]) : b_.binary(f->op, args[0], args[1]);
+  }
+
+  std::string known_names() const {
+    auto list = [](const std::vector<std::string>& v, const std::string& suffix) {
+      std::string out;
+      for (const std::string& s : v) out += (out.empty() ? "" : ", ") + s + suffix;
+      return out.empty() ? std::string("none") : out;
+    };
+    return "the names here are the coordinates (" + list(symbols_.coordinates, "") + "), their velocities (" +
+           list(symbols_.coordinates, "_dot") + "), the parameters (" + list(symbols_.parameters, "") +
+           "), t and pi";
+  }
+
+  std::string_view s_;
+  const Symbols& symbols_;
+  const std::string& field_;
+  std::size_t pos_ = 0;
+  Expression e_;
+  Builder b_;
+};
+
+}  // namespace
+
+bool Expression::reads_velocities() const {
+  for (const Node& n : nodes)
+    if (n.op == Op::velocity) return true;
+  return false;
+}
+
+bool Expression::reads_time() const {
+  for (const Node& n : nodes)
+    if (n.op == Op::time) return true;
+  return false;
+}
+
+Expression parse(std::string_view source, const Symbols& symbols, const std::string& field) {
+  return Parser(source, symbols, field).run();
+}
+
+Expression bind_parameters(const Expression& e, const std::vector<double>& parameter_values) {
+  Expression out;
+  Builder b(out);
+  std::vector<int> at(e.nodes.size());
+  for (std::size_t i = 0; i < e.nodes.size(); ++i) {
+    const Node& n = e.nodes[i];
+    const int a = n.a >= 0 ? at[static_cast<std::size_t>(n.a)] : -1;
+    const int c = n.b >= 0 ? at[static_cast<std::size_t>(n.b)] : -1;
+    at[i] = n.op == Op::parameter ? b.constant(parameter_values.at(static_cast<std::size_t>(n.index)))
+                                  : b.copy(n, a, c);
+  }
+  return at.empty() ? out : reachable(out, at.back());
+}
+
+bool valid_name(std::string_view name) {
+  if (name.empty() || !(std::isalpha(static_cast<unsigned char>(name[0])) || name[0] == '_')) return false;
+  for (char c : name)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
+  return name != "t" && name != "pi" && !find_function(name);
+}
+
+}  // namespace lagrangian::text

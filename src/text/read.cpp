@@ -1,0 +1,78 @@
+// Reading and checking a text model's definition (text/text_model.hpp).
+#include <cmath>
+#include <set>
+#include <string>
+
+#include "lagrangian/text/text_model.hpp"
+
+namespace lagrangian::text {
+
+namespace {
+
+bool reads(const Expression& e, Op op) {
+  for (const Node& n : e.nodes)
+    if (n.op == op) return true;
+  return false;
+}
+
+}  // namespace
+
+std::shared_ptr<const Parsed> read(const Definition& d) {
+  auto p = std::make_shared<Parsed>();
+  p->definition = d;
+  const std::string& pre = d.field_prefix;
+  if (d.coordinates.empty()) throw ExpressionError(pre + "coordinates", 0, "at least one coordinate is needed");
+  std::set<std::string> names;
+  auto check_name = [&](const std::string& name, const std::string& field) {
+    if (!valid_name(name))
+      throw ExpressionError(field, 0,
+                            "'" + name +
+                                "' cannot name a coordinate or parameter: a letter or '_' first, then letters, "
+                                "digits and '_'; not t, pi or a function name");
+    if (!names.insert(name).second) throw ExpressionError(field, 0, "'" + name + "' is named twice");
+  };
+  for (const std::string& q : d.coordinates) {
+    check_name(q, pre + "coordinates");
+    p->symbols.coordinates.push_back(q);
+  }
+  for (const std::string& q : d.coordinates) names.insert(q + "_dot");
+  std::vector<double> values;
+  for (const auto& [name, value] : d.parameters) {
+    check_name(name, pre + "parameters." + name);
+    if (!std::isfinite(value)) throw ExpressionError(pre + "parameters." + name, 0, "the value is not finite");
+    p->symbols.parameters.push_back(name);
+    values.push_back(value);
+  }
+  if (!d.units.empty() && d.units.size() != d.coordinates.size())
+    throw ExpressionError(pre + "units", 0,
+                          "one unit per coordinate: " + std::to_string(d.units.size()) + " units for " +
+                              std::to_string(d.coordinates.size()) + " coordinates");
+  if (d.kinetic.empty()) throw ExpressionError(pre + "kinetic", 0, "T is missing");
+
+  p->kinetic = parse(d.kinetic, p->symbols, pre + "kinetic");
+  p->potential = parse(d.potential.empty() ? std::string("0") : d.potential, p->symbols, pre + "potential");
+  if (reads(p->potential, Op::velocity))
+    throw ExpressionError(pre + "potential", 0, "V depends on q and t only; a velocity appears in it");
+  p->kinetic_bound = bind_parameters(p->kinetic, values);
+  p->potential_bound = bind_parameters(p->potential, values);
+
+  if (!d.forces.empty()) {
+    if (d.forces.size() != d.coordinates.size())
+      throw ExpressionError(pre + "forces", 0,
+                            "one generalized force per coordinate: " + std::to_string(d.forces.size()) +
+                                " for " + std::to_string(d.coordinates.size()) + " coordinates");
+    for (std::size_t i = 0; i < d.forces.size(); ++i) {
+      p->forces.push_back(parse(d.forces[i], p->symbols, pre + "forces[" + std::to_string(i) + "]"));
+      p->forces_bound.push_back(bind_parameters(p->forces.back(), values));
+    }
+    p->has_forces = true;
+  }
+  p->dissipation = parse(d.dissipation.empty() ? std::string("0") : d.dissipation, p->symbols, pre + "dissipation");
+  if (reads(p->dissipation, Op::time))
+    throw ExpressionError(pre + "dissipation", 0, "D depends on q and q̇ only; t appears in it");
+  p->dissipation_bound = bind_parameters(p->dissipation, values);
+  p->has_dissipation = !d.dissipation.empty();
+  return p;
+}
+
+}  // namespace lagrangian::text

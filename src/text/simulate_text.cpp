@@ -1,0 +1,6 @@
+// simulate() compiled once, in the library, for the conservative text model
+// (see lagrangian/detail/compiled_models.hpp).
+#include "lagrangian/simulate.hpp"
+#include "lagrangian/text/text_model.hpp"
+
+LAGRANGIAN_INSTANTIATE_SIMULATE(lagrangian::text::TextModel)

@@ -1,0 +1,258 @@
+// Models stated as text (text/text_model.hpp): the expression reader
+// against hand-evaluated values and its errors, and text models against
+// the built-in C++ models and closed forms.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <string>
+
+#include "lagrangian/lagrangian.hpp"
+#include "lagrangian/models/pendulums.hpp"
+#include "lagrangian/text/evaluate.hpp"
+#include "lagrangian/text/text_model.hpp"
+
+namespace {
+
+using namespace lagrangian;
+using text::Definition;
+
+double value_of(const std::string& source, std::vector<double> q = {}, std::vector<double> qd = {}, double t = 0.0,
+                const std::vector<std::pair<std::string, double>>& parameters = {}) {
+  text::Symbols symbols;
+  for (std::size_t i = 0; i < q.size(); ++i) symbols.coordinates.push_back(i == 0 ? "x" : "y");
+  std::vector<double> values;
+  for (const auto& [name, v] : parameters) {
+    symbols.parameters.push_back(name);
+    values.push_back(v);
+  }
+  const text::Expression e = text::parse(source, symbols, "f");
+  std::vector<double> slots;
+  const double free = text::evaluate(e, q, qd, t, slots, values.data());
+  // Binding the parameters first folds them; the value is the same.
+  const double bound = text::evaluate(text::bind_parameters(e, values), q, qd, t, slots);
+  EXPECT_EQ(free, bound) << source;
+  return free;
+}
+
+TEST(TextExpression, PrecedenceAssociativityAndFunctions) {
+  EXPECT_EQ(value_of("1 + 2 * 3"), 7.0);
+  EXPECT_EQ(value_of("(1 + 2) * 3"), 9.0);
+  EXPECT_EQ(value_of("2 ^ 3 ^ 2"), 512.0);  // right-associative: 2^9
+  EXPECT_EQ(value_of("2 ** 3 ** 2"), 512.0);
+  EXPECT_EQ(value_of("-2 ^ 2"), -4.0);  // −(2²)
+  EXPECT_EQ(value_of("2 ^ -1"), 0.5);
+  EXPECT_EQ(value_of("8 / 4 / 2"), 1.0);  // left-associative
+  EXPECT_EQ(value_of("10 - 4 - 3"), 3.0);
+  EXPECT_EQ(value_of("--3"), 3.0);
+  EXPECT_EQ(value_of("2 * -3"), -6.0);
+  EXPECT_DOUBLE_EQ(value_of("1.5e2 + 2E-1 + .5"), 150.7);
+  EXPECT_DOUBLE_EQ(value_of("pi"), std::numbers::pi);
+  EXPECT_DOUBLE_EQ(value_of("atan2(1, -1)"), 0.75 * std::numbers::pi);
+  EXPECT_EQ(value_of("min(3, -2) + max(3, -2)"), 1.0);
+  EXPECT_EQ(value_of("pow(2, 10)"), 1024.0);
+  EXPECT_EQ(value_of("abs(-2.5) + sqrt(16)"), 6.5);
+  EXPECT_DOUBLE_EQ(value_of("exp(log(3)) + sinh(0) + cosh(0) + tanh(0)"), 4.0);
+  EXPECT_DOUBLE_EQ(value_of("asin(1) + acos(1) + atan(1)"), 0.75 * std::numbers::pi);
+  EXPECT_DOUBLE_EQ(value_of("sin(x)^2 + cos(x)^2 + tan(0)", {0.7}), 1.0);
+  EXPECT_EQ(value_of("x * y_dot - y * x_dot + t", {2, 3}, {5, 7}, 0.5), 2 * 7 - 3 * 5 + 0.5);
+  EXPECT_EQ(value_of("0.5 * m * x_dot^2", {0}, {3}, 0, {{"m", 4.0}}), 18.0);
+  EXPECT_EQ(value_of("x^y", {2, 3}, {0, 0}), 8.0);
+}
+
+TEST(TextExpression, EqualSubexpressionsAreStoredOnceAndConstantsFolded) {
+  text::Symbols s{{"x"}, {"m"}};
+  const text::Expression e = text::parse("sin(x)*sin(x) + 2*3*x", s, "f");
+  // x, sin x, sin x · sin x, 6, 6x, the sum: six nodes.
+  EXPECT_EQ(e.nodes.size(), 6u);
+  const text::Expression b = text::bind_parameters(text::parse("0.5*m*x^2", s, "f"), {4.0});
+  // m bound: 0.5·4 folds to 2; then x, x², 2, 2·x².
+  EXPECT_EQ(b.nodes.size(), 4u);
+  EXPECT_FALSE(e.reads_velocities());
+  EXPECT_TRUE(text::parse("x_dot", s, "f").reads_velocities());
+  EXPECT_TRUE(text::parse("t*x", s, "f").reads_time());
+}
+
+std::string error_of(const std::string& source) {
+  try {
+    text::parse(source, {{"theta"}, {"m", "g"}}, "model.kinetic");
+  } catch (const text::ExpressionError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(TextExpression, ErrorsNameTheFieldTheColumnAndTheProblem) {
+  EXPECT_EQ(error_of("0.5*m*thta_dot^2"),
+            "model.kinetic (column 7): unknown name 'thta_dot'; the names here are the coordinates (theta), their "
+            "velocities (theta_dot), the parameters (m, g), t and pi");
+  EXPECT_EQ(error_of("sin theta"), "model.kinetic (column 1): 'sin' is a function: write sin(...)");
+  EXPECT_EQ(error_of("atan2(theta)"), "model.kinetic (column 1): atan2 takes 2 arguments, not 1");
+  EXPECT_EQ(error_of("cosine(theta)").substr(0, 58),
+            "model.kinetic (column 1): unknown function 'cosine'; the f");
+  EXPECT_EQ(error_of("(theta + 1"), "model.kinetic (column 11): ')' expected");
+  EXPECT_EQ(error_of("theta +"),
+            "model.kinetic (column 8): the expression ends where a number, a name or '(' was expected");
+  EXPECT_EQ(error_of("theta $ 2"), "model.kinetic (column 7): unexpected '$'");
+  EXPECT_EQ(error_of("  "), "model.kinetic: the expression is empty");
+  EXPECT_EQ(error_of("1.2.3"), "model.kinetic (column 1): '1.2.3' is not a number");
+}
+
+Definition double_pendulum_text(const models::DoublePendulum& p) {
+  Definition d;
+  d.name = "double pendulum as text";
+  d.coordinates = {"th1", "th2"};
+  d.units = {"rad", "rad"};
+  // T of the two bobs, v₁ = l₁θ̇₁, v₂ = v₁ + l₂θ̇₂ at an angle θ₁ − θ₂.
+  d.kinetic = "0.5*(m1 + m2)*l1^2*th1_dot^2 + 0.5*m2*l2^2*th2_dot^2 + m2*l1*l2*th1_dot*th2_dot*cos(th1 - th2)";
+  d.potential = "-(m1 + m2)*g*l1*cos(th1) - m2*g*l2*cos(th2)";
+  d.parameters = {{"m1", p.m1}, {"m2", p.m2}, {"l1", p.l1}, {"l2", p.l2}, {"g", p.g}};
+  return d;
+}
+
+TEST(TextModel, DoublePendulumAgreesWithTheBuiltInModel) {
+  const models::DoublePendulum built_in(1.3, 0.7, 1.1, 0.8, 9.81);
+  const text::TextModel text_model(double_pendulum_text(built_in));
+  EXPECT_EQ(text_model.size(), 2);
+  EXPECT_EQ(text_model.coordinate_names()[1], "th2");
+  std::mt19937_64 rng(20261127);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  Workspace<2> ws;
+  Workspace<Dynamic> wsx(2);
+  for (int k = 0; k < 50; ++k) {
+    Vec<double, 2> q(u(rng), u(rng)), qd(u(rng), u(rng));
+    const Eigen::VectorXd qx = q, qdx = qd;
+    const Vec<double, 2> a = accelerations(built_in, ws, q, qd, 0.0);
+    const Eigen::VectorXd b = accelerations(text_model, wsx, qx, qdx, 0.0);
+    EXPECT_LE((a - b).lpNorm<Eigen::Infinity>(), 1e-13 * std::max(1.0, a.lpNorm<Eigen::Infinity>()));
+    const Vec<double, 2> pa = momenta(built_in, q, qd, 0.0);
+    const Eigen::VectorXd pb = momenta(text_model, qx, qdx, 0.0);
+    EXPECT_LE((pa - pb).lpNorm<Eigen::Infinity>(), 1e-13 * std::max(1.0, pa.lpNorm<Eigen::Infinity>()));
+    const Mat<double, 2> ma = mass_matrix(built_in, q, qd, 0.0);
+    const Eigen::MatrixXd mb = mass_matrix(text_model, qx, qdx, 0.0);
+    EXPECT_LE((ma - mb).lpNorm<Eigen::Infinity>(), 1e-13 * ma.lpNorm<Eigen::Infinity>());
+  }
+}
+
+TEST(TextModel, SphericalPendulumRunsAsTheBuiltInModelDoes) {
+  Definition d;
+  d.coordinates = {"theta", "phi"};
+  d.kinetic = "0.5*m*l^2*(theta_dot^2 + sin(theta)^2*phi_dot^2)";
+  d.potential = "-m*g*l*cos(theta)";
+  d.parameters = {{"m", 1.0}, {"l", 1.0}, {"g", 9.81}};
+  const text::TextModel text_model(d);
+  const models::SphericalPendulum built_in(1.0, 1.0, 9.81);
+  SimulationOptions o;
+  o.t_end = 10.0;
+  o.rtol = 1e-12;
+  o.atol = 1e-12;
+  o.output_interval = 1.0;
+  State<2> s0;
+  s0.q << 1.0, 0.0;
+  s0.qd << 0.0, 2.0;
+  State<Dynamic> x0(2);
+  x0.q = s0.q;
+  x0.qd = s0.qd;
+  Recorder<2> a;
+  Recorder<Dynamic> b;
+  const RunReport ra = simulate(built_in, s0, o, a);
+  const RunReport rb = simulate(text_model, x0, o, b);
+  ASSERT_EQ(a.samples.size(), b.samples.size());
+  double worst = 0;
+  for (std::size_t k = 0; k < a.samples.size(); ++k)
+    worst = std::max({worst, (a.samples[k].q - b.samples[k].q).lpNorm<Eigen::Infinity>(),
+                      (a.samples[k].qd - b.samples[k].qd).lpNorm<Eigen::Infinity>()});
+  EXPECT_LE(worst, 1e-9);
+  // p_φ = m l² sin²θ φ̇ is conserved (φ is cyclic), and so is the energy.
+  const double p_phi0 = std::sin(1.0) * std::sin(1.0) * 2.0;
+  for (const auto& s : b.samples)
+    EXPECT_NEAR(std::sin(s.q[0]) * std::sin(s.q[0]) * s.qd[1], p_phi0, 1e-9);
+  EXPECT_LE(rb.energy_drift_max, 1e-9);
+  EXPECT_TRUE(rb.conservative);
+  EXPECT_EQ(ra.steps, rb.steps);
+}
+
+// A damped oscillator, m ẍ = −k x − c ẋ, stated twice: with a Rayleigh
+// function D = ½ c ẋ² and with a generalized force Q = −c ẋ. Underdamped,
+// from x(0) = x0 at rest: x(t) = x0 e^(−γt) (cos ω_d t + (γ/ω_d) sin ω_d t),
+// γ = c/(2m), ω_d = √(k/m − γ²).
+TEST(TextModel, DampingAsDissipationAndAsForceFollowTheClosedForm) {
+  const double m = 2.0, k = 8.0, c = 0.6, x0 = 0.3;
+  const double gamma = c / (2 * m), wd = std::sqrt(k / m - gamma * gamma);
+  Definition d;
+  d.coordinates = {"x"};
+  d.units = {"m"};
+  d.kinetic = "0.5*m*x_dot^2";
+  d.potential = "0.5*k*x^2";
+  d.parameters = {{"m", m}, {"k", k}, {"c", c}};
+  Definition with_d = d, with_q = d;
+  with_d.dissipation = "0.5*c*x_dot^2";
+  with_q.forces = {"-c*x_dot"};
+  EXPECT_THROW(text::TextModel{with_d}, text::ExpressionError);  // a conservative type would drop D
+  const text::ForcedTextModel by_d(with_d), by_q(with_q);
+  SimulationOptions o;
+  o.t_end = 8.0;
+  o.rtol = 1e-12;
+  o.atol = 1e-13;
+  o.output_interval = 0.5;
+  State<Dynamic> s0(1);
+  s0.q[0] = x0;
+  for (const text::ForcedTextModel* model : {&by_d, &by_q}) {
+    Recorder<Dynamic> rec;
+    const RunReport r = simulate(*model, s0, o, rec);
+    EXPECT_FALSE(r.conservative);
+    double worst = 0;
+    for (const auto& s : rec.samples) {
+      const double x = x0 * std::exp(-gamma * s.t) * (std::cos(wd * s.t) + gamma / wd * std::sin(wd * s.t));
+      worst = std::max(worst, std::abs(s.q[0] - x));
+    }
+    EXPECT_LE(worst, 1e-9) << (model == &by_d ? "D" : "Q");
+    EXPECT_EQ(rec.samples.size(), 17u);
+  }
+}
+
+TEST(TextModel, DefinitionErrorsNameTheField) {
+  auto error_of_definition = [](const Definition& d) -> std::string {
+    try {
+      text::read(d);
+    } catch (const text::ExpressionError& e) {
+      return e.what();
+    }
+    return "(no error)";
+  };
+  Definition d;
+  d.field_prefix = "model.";
+  d.coordinates = {"x"};
+  d.kinetic = "0.5*x_dot^2";
+  EXPECT_EQ(error_of_definition(d), "(no error)");
+  Definition e = d;
+  e.potential = "x_dot";
+  EXPECT_EQ(error_of_definition(e), "model.potential: V depends on q and t only; a velocity appears in it");
+  e = d;
+  e.coordinates = {"x", "x"};
+  EXPECT_EQ(error_of_definition(e), "model.coordinates: 'x' is named twice");
+  e = d;
+  e.coordinates = {"sin"};
+  EXPECT_EQ(error_of_definition(e).substr(0, 55), "model.coordinates: 'sin' cannot name a coordinate or pa");
+  e = d;
+  e.units = {"m", "m"};
+  EXPECT_EQ(error_of_definition(e), "model.units: one unit per coordinate: 2 units for 1 coordinates");
+  e = d;
+  e.forces = {"1", "2"};
+  EXPECT_EQ(error_of_definition(e), "model.forces: one generalized force per coordinate: 2 for 1 coordinates");
+  e = d;
+  e.dissipation = "t*x_dot^2";
+  EXPECT_EQ(error_of_definition(e), "model.dissipation: D depends on q and q̇ only; t appears in it");
+  e = d;
+  e.parameters = {{"x_dot", 1.0}};
+  EXPECT_EQ(error_of_definition(e), "model.parameters.x_dot: 'x_dot' is named twice");
+  e = d;
+  e.parameters = {{"k", std::nan("")}};
+  EXPECT_EQ(error_of_definition(e), "model.parameters.k: the value is not finite");
+  e = d;
+  e.kinetic = "";
+  EXPECT_EQ(error_of_definition(e), "model.kinetic: T is missing");
+}
+
+}  // namespace
