@@ -10,6 +10,7 @@
 #include <new>
 
 #include "lagrangian/lagrangian.hpp"
+#include "lagrangian/text/text_model.hpp"
 #include "lagrangian/models/constrained.hpp"
 #include "lagrangian/models/pendulums.hpp"
 #include "runtime_chain.hpp"
@@ -125,6 +126,20 @@ TEST(NoAllocation, LargeAndRunTimeSizedAccelerationsDoNotAllocate) {
   test_models::DampedRuntimeChain damped{{10}};
   damped.c = 0.3;
   EXPECT_EQ(allocations_after_the_first_call(damped, 10), 0);
+}
+
+// A model stated as text evaluates its expressions in per-thread slots,
+// taken on a thread's first evaluation; its forces in a per-thread vector.
+TEST(NoAllocation, TextModelAccelerationsDoNotAllocate) {
+  text::Definition d;
+  d.coordinates = {"a", "b"};
+  d.kinetic = "0.5*(m1 + m2)*a_dot^2 + 0.5*m2*b_dot^2 + m2*a_dot*b_dot*cos(a - b)";
+  d.potential = "-(m1 + m2)*g*cos(a) - m2*g*cos(b)";
+  d.parameters = {{"m1", 1.0}, {"m2", 2.0}, {"g", 9.81}};
+  EXPECT_EQ(allocations_after_the_first_call(text::TextModel(d), 2), 0);
+  d.forces = {"-0.1*a_dot", "sin(t)"};
+  d.dissipation = "0.2*b_dot^2";
+  EXPECT_EQ(allocations_after_the_first_call(text::ForcedTextModel(d), 2), 0);
 }
 
 TEST(NoAllocation, ConstrainedAccelerationsDoNotAllocate) {

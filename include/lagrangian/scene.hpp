@@ -168,12 +168,26 @@ struct BoxContact {
 
 // -- built-in model ---------------------------------------------------------------
 
-/// One of the built-in generalized-coordinate models (`lagrangian list`).
+/// A model stated by expressions (text/text_model.hpp): T, V and
+/// optionally Q and D of the coordinates, their velocities `<name>_dot`, t
+/// and the parameters of ModelSpec::parameters.
+struct TextModelSpec {
+  std::vector<std::string> coordinates;  ///< names of q_i
+  std::vector<std::string> units;        ///< SI unit of each q_i; empty: none given
+  std::string kinetic;                   ///< T (J)
+  std::string potential;                 ///< V (J); empty: 0
+  std::vector<std::string> forces;       ///< generalized forces Q_i; empty: none
+  std::string dissipation;               ///< Rayleigh D (W); empty: none
+};
+
+/// A generalized-coordinate model: one of the built-in models (`lagrangian
+/// list`), or one stated by expressions (`text`).
 struct ModelSpec {
-  std::string name;                          ///< registry name, e.g. "double_pendulum"
-  std::map<std::string, double> parameters;  ///< overrides of the model's defaults (SI units)
+  std::string name;                          ///< registry name, e.g. "double_pendulum"; empty for a text model
+  std::map<std::string, double> parameters;  ///< overrides of the model's defaults; a text model's parameters (SI units)
   std::vector<double> q;                     ///< q(t0); empty: the model's default state
-  std::vector<double> qd;                    ///< q̇(t0); empty: the model's default state
+  std::vector<double> qd;                    ///< q̇(t0); empty: the model's default state (a text model: 0)
+  std::optional<TextModelSpec> text;         ///< set for a model stated by expressions
 };
 
 // -- run and outputs --------------------------------------------------------------

@@ -16,6 +16,7 @@
 #include "lagrangian/errors.hpp"
 #include "lagrangian/plots.hpp"
 #include "lagrangian/scene_models.hpp"
+#include "text_model_spec.hpp"
 
 namespace lagrangian::scene {
 namespace {
@@ -28,7 +29,7 @@ const detail::ModelEntry& model_entry(const Scene& input, const std::string& opt
   if (!input.model)
     throw OptionError(option + ": works on scenes of a built-in model ([model]); '" + input.name +
                       "' is a particle scene (bodies), which has no generalized-coordinate model to analyse");
-  const detail::ModelEntry* entry = detail::find_entry(input.model->name);
+  const detail::ModelEntry* entry = detail::entry_for(*input.model);
   if (!entry) throw SceneError("model.name", "unknown model '" + input.model->name + "'", input.source);
   return *entry;
 }
@@ -123,7 +124,7 @@ BvpRun solve_bvp(const Scene& scene, const BvpRequest& request) {
     throw OptionError(std::string("--rule: ") + e.what());
   }
   BvpRun run;
-  const ModelInfo* info = find_model(scene.model->name);
+  const std::optional<ModelInfo> info = detail::model_info(*scene.model);
   if (info) {
     run.coordinates = info->coordinates;
     run.units = info->units;

@@ -19,6 +19,7 @@
 #include "lagrangian/detail/contact_names.hpp"
 #include "lagrangian/detail/scene_registry.hpp"
 #include "lagrangian/errors.hpp"
+#include "text_model_spec.hpp"
 
 namespace lagrangian::scene::detail {
 namespace {
@@ -133,7 +134,7 @@ view::Figure particle_figure(const Scene& scene) {
 SceneView scene_view(const Scene& scene, const RunResult& result) {
   const std::string traj = (std::filesystem::path(scene.output.directory) / "trajectory.csv").string();
   const std::size_t n = result.report.coordinates.size();
-  const ModelEntry* entry = scene.model ? find_entry(scene.model->name) : nullptr;
+  const ModelEntry* entry = scene.model ? entry_for(*scene.model) : nullptr;
   view::Figure figure;
   if (entry) {
     std::vector<double> none;
@@ -160,7 +161,7 @@ SceneView scene_view(const Scene& scene, const RunResult& result) {
   track.energy = {result.engine == "event_driven" ? "kinetic energy T" : "energy E = T + V", "J", rows.energy};
   track.energy_scale = result.report.energy_scale;
   // Coordinates: a model's, or the bodies' x, y, z for a few bodies.
-  const ModelInfo* info = entry ? find_model(scene.model->name) : nullptr;
+  const std::optional<ModelInfo> info = entry ? model_info(*scene.model) : std::nullopt;
   if (entry || scene.bodies.size() <= 4) {
     for (std::size_t c = 0; c < n; ++c) {
       view::Series s{result.report.coordinates[c], info && c < info->units.size() ? info->units[c] : "m", {}};

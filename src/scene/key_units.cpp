@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "lagrangian/scene_models.hpp"
+#include "text_model_spec.hpp"
 
 namespace lagrangian::scene::detail {
 namespace {
@@ -14,7 +15,7 @@ namespace {
 /// A coordinate's unit: a model's from the catalog, a body's x, y, z in m.
 std::string coordinate_unit(const Scene& scene, const std::string& name) {
   if (scene.model) {
-    if (const ModelInfo* info = find_model(scene.model->name))
+    if (const auto info = model_info(*scene.model))
       for (std::size_t i = 0; i < info->coordinates.size() && i < info->units.size(); ++i)
         if (info->coordinates[i] == name) return info->units[i];
     return "";
@@ -35,6 +36,7 @@ std::string last_name(const std::string& key) {
 std::string velocity_unit(const std::string& u) { return u.empty() ? "1/s" : u + "/s"; }
 
 std::string momentum_unit(const std::string& u) {
+  if (u.empty()) return "";
   if (u == "rad") return "kg*m^2/s";
   return "kg*" + u + "/s";
 }
@@ -43,13 +45,13 @@ std::string key_unit(const Scene& scene, const std::string& key) {
   if (key.starts_with("model.parameters.")) {
     if (!scene.model) return "";
     const std::string name = key.substr(std::string_view("model.parameters.").size());
-    if (const ModelInfo* info = find_model(scene.model->name))
+    if (const auto info = model_info(*scene.model))
       for (const ParameterInfo& p : info->parameters)
         if (p.name == name) return p.unit == "1" ? "" : p.unit;  // dimensionless: no unit shown
     return "";
   }
   if (key.starts_with("model.q[") || key.starts_with("model.qd[")) {
-    const ModelInfo* info = scene.model ? find_model(scene.model->name) : nullptr;
+    const std::optional<ModelInfo> info = scene.model ? model_info(*scene.model) : std::nullopt;
     const std::size_t open = key.find('[');
     const std::size_t i = std::stoul(key.substr(open + 1));
     if (!info || i >= info->units.size()) return "";

@@ -35,6 +35,8 @@ const ModelEntry* find_entry(const std::string& name) {
   return it != all.end() && it->name == name ? &*it : nullptr;
 }
 
+const ModelEntry* entry_for(const ModelSpec& spec) { return spec.text ? &text_entry() : find_entry(spec.name); }
+
 const ModelInfo& catalog_entry(std::string_view name) {
   const ModelInfo* info = find_model(std::string(name));
   if (!info) throw std::logic_error("built-in model '" + std::string(name) + "' is registered but not in the catalog");

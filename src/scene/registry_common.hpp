@@ -216,7 +216,8 @@ std::string energy_not_conserved_because(const M& model, const State<coordinate_
 template <class M>
 std::string inspect_model(const M& model, const ModelInfo& info, std::string_view type, const Parameters& params,
                           const State<coordinate_count_v<M>>& s, double t0, bool as_json = false) {
-  constexpr int n = coordinate_count_v<M>;
+  constexpr int n = coordinate_count_v<M>;   // (Dynamic for a run-time sized model)
+  const int size = static_cast<int>(s.q.size());  // the number of coordinates
   std::ostringstream os;
   os << inspect_header(info, type, params);
   JsonObject js;  // the same facts as JSON (inspect --json)
@@ -231,13 +232,13 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
   const Vec<double, n> p = momenta(model, s.q, s.qd, t0);
   os << "\nInitial state at t0 = " << number(t0) << " s\n";
   std::vector<std::vector<std::string>> rows{{"coordinate", "q", "", "qdot", "", "p = dL/dqdot", ""}};
-  for (int i = 0; i < n; ++i)
+  for (int i = 0; i < size; ++i)
     rows.push_back({names[static_cast<std::size_t>(i)], number(s.q[i]), unit(i), number(s.qd[i]),
                     velocity_unit(unit(i)), number(p[i]), momentum_unit(unit(i))});
   os << columns(rows);
   {
     std::vector<std::string> items;
-    for (int i = 0; i < n; ++i) {
+    for (int i = 0; i < size; ++i) {
       JsonObject c;
       c.string("name", names[static_cast<std::size_t>(i)]);
       c.string("unit", unit(i));
@@ -349,8 +350,8 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
   JsonObject dj;
   if constexpr (has_generalized_forces_v<M>) {
     const Vec<double, n> q = model.generalized_forces(s.q, s.qd, t0);
-    decl.push_back({"generalized forces Q", "yes", "Q(t0) = " + numbers(q.data(), n)});
-    dj.raw("generalized_forces", json_numbers(q.data(), n));
+    decl.push_back({"generalized forces Q", "yes", "Q(t0) = " + numbers(q.data(), size)});
+    dj.raw("generalized_forces", json_numbers(q.data(), size));
   } else {
     decl.push_back({"generalized forces Q", "none"});
     dj.raw("generalized_forces", "null");
@@ -358,8 +359,8 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
   if constexpr (has_dissipation_v<M>) {
     Vec<double, n> qd_force = nonconservative_forces(model, s.q, s.qd, t0);
     if constexpr (has_generalized_forces_v<M>) qd_force -= model.generalized_forces(s.q, s.qd, t0);
-    decl.push_back({"dissipation D", "yes", "-dD/dqdot at t0 = " + numbers(qd_force.data(), n)});
-    dj.raw("dissipation_forces", json_numbers(qd_force.data(), n));
+    decl.push_back({"dissipation D", "yes", "-dD/dqdot at t0 = " + numbers(qd_force.data(), size)});
+    dj.raw("dissipation_forces", json_numbers(qd_force.data(), size));
   } else {
     decl.push_back({"dissipation D", "none"});
     dj.raw("dissipation_forces", "null");

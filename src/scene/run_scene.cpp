@@ -22,6 +22,7 @@
 #include "gas_check.hpp"
 #include "output_manifest.hpp"
 #include "particle_engine.hpp"
+#include "text_model_spec.hpp"
 
 namespace lagrangian::scene {
 namespace {
@@ -152,7 +153,7 @@ PlotSpec plot_spec(const Scene& scene, const RunResult& r) {
   p.png = scene.output.png;
   p.svg = scene.output.svg;
   if (scene.model) {
-    const ModelInfo* info = find_model(scene.model->name);
+    const std::optional<ModelInfo> info = detail::model_info(*scene.model);
     if (info) p.units = info->units;
   }
   if (p.units.size() != p.coordinates.size()) {
@@ -178,7 +179,7 @@ PlotSpec plot_spec(const Scene& scene, const RunResult& r) {
         p.planes.push_back(plane("", scene.box->min, n));
         p.planes.push_back(plane("", scene.box->max, -n));
       }
-  } else if (const detail::ModelEntry* entry = detail::find_entry(scene.model->name)) {
+  } else if (const detail::ModelEntry* entry = detail::entry_for(*scene.model)) {
     // A model of particles: every body's path in space, with its planes (an incline, a floor).
     const std::vector<std::array<int, 3>> axes = entry->particle_axes(*scene.model);
     std::vector<double> none;
@@ -218,7 +219,7 @@ RunResult run(const Scene& input, const RunControls& controls) {
     if (write) remove_outputs(dir);
     const bool want_csv = write && scene.output.trajectory;
     if (result.engine == "model") {
-      const detail::ModelEntry* entry = detail::find_entry(scene.model->name);
+      const detail::ModelEntry* entry = detail::entry_for(*scene.model);
       if (!entry) throw SceneError("model.name", "unknown model '" + scene.model->name + "'", scene.source);
       try {
         detail::FinalState last;
@@ -357,7 +358,7 @@ std::string inspect(const Scene& input, bool as_json) {
   Scene scene = input;
   scene.expand_gas();
   if (scene.model) {
-    const detail::ModelEntry* entry = detail::find_entry(scene.model->name);
+    const detail::ModelEntry* entry = detail::entry_for(*scene.model);
     if (!entry) throw SceneError("model.name", "unknown model '" + scene.model->name + "'", scene.source);
     try {
       return entry->inspect(*scene.model, scene.run.t0, as_json);

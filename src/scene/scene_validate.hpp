@@ -49,6 +49,7 @@ class Validator {
 
   // -- model --
   void check_model() const;
+  void check_text_model() const;
 
   // -- bodies and gas --
   void check_bodies();

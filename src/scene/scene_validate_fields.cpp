@@ -11,9 +11,11 @@
 
 #include "lagrangian/scene.hpp"
 #include "lagrangian/scene_models.hpp"
+#include "lagrangian/text/text_model.hpp"
 #include "scene_gas_fill.hpp"
 #include "scene_messages.hpp"
 #include "scene_validate.hpp"
+#include "text_model_spec.hpp"
 
 namespace lagrangian::scene {
 
@@ -125,6 +127,10 @@ void Validator::check_model() const {
   if (event_driven())
     fail(s_.run.engine == "event_driven" ? "run.engine" : "run.method",
          "the event-driven engine runs bodies in a box, not a built-in [model]");
+  if (m.text) {
+    check_text_model();
+    return;
+  }
   if (m.name.empty()) fail("model.name", "missing: name a built-in model");
   const ModelInfo* info = find_model(m.name);
   if (info == nullptr) {
@@ -146,6 +152,30 @@ void Validator::check_model() const {
     if (v.empty()) return;
     if (v.size() != n)
       fail(key, "expected " + std::to_string(n) + " values (" + detail::join(info->coordinates) + "), got " +
+                    std::to_string(v.size()));
+    for (std::size_t i = 0; i < v.size(); ++i) finite(idx(key, i), v[i]);
+  };
+  check_state("model.q", m.q);
+  check_state("model.qd", m.qd);
+}
+
+void Validator::check_text_model() const {
+  const ModelSpec& m = *s_.model;
+  try {
+    lagrangian::text::read(detail::text_definition(m));
+  } catch (const lagrangian::text::ExpressionError& e) {
+    // The message without its field, which the scene error puts first.
+    const std::string what = e.what();
+    std::string rest = what.substr(std::min(what.size(), e.field().size()));
+    if (const std::size_t colon = rest.find(": "); colon != std::string::npos) rest = rest.substr(colon + 2);
+    fail(e.field(), e.column() > 0 ? "column " + std::to_string(e.column()) + ": " + rest : rest);
+  }
+  const std::size_t n = m.text->coordinates.size();
+  if (m.q.empty()) fail("model.q", "a model stated by expressions needs its initial coordinates q");
+  auto check_state = [&](const std::string& key, const std::vector<double>& v) {
+    if (v.empty()) return;
+    if (v.size() != n)
+      fail(key, "expected " + std::to_string(n) + " values (" + detail::join(m.text->coordinates) + "), got " +
                     std::to_string(v.size()));
     for (std::size_t i = 0; i < v.size(); ++i) finite(idx(key, i), v[i]);
   };

@@ -18,6 +18,7 @@
 #include "toml_document.hpp"
 #include "lagrangian/scene_models.hpp"
 #include "lagrangian/scene_run.hpp"
+#include "text_model_spec.hpp"
 
 namespace lagrangian::scene::detail {
 
@@ -48,7 +49,7 @@ namespace lagrangian::scene::detail {
 std::vector<std::string> trajectory_names(const Scene& scene) {
   std::vector<std::string> coords;
   if (scene.model) {
-    if (const ModelInfo* info = find_model(scene.model->name)) coords = info->coordinates;
+    if (const auto info = detail::model_info(*scene.model)) coords = info->coordinates;
   } else {
     Scene expanded = scene;
     expanded.expand_gas();

@@ -465,9 +465,29 @@ class Reader {
 
   void read_model(const toml::table& t) {
     const std::string p = "model";
-    keys(t, p, {"name", "q", "qd", "parameters"});
+    keys(t, p, {"name", "q", "qd", "parameters", "coordinates", "units", "kinetic", "potential", "forces", "dissipation"});
     ModelSpec m;
-    m.name = string(required(t, p, "name"), "model.name");
+    if (get(t, p, "kinetic") || get(t, p, "coordinates")) {
+      // A model stated by expressions (TextModelSpec).
+      if (get(t, p, "name"))
+        fail("model.name",
+             "names a built-in model; a model stated by its kinetic energy has none (the scene's top-level name "
+             "names it)");
+      TextModelSpec x;
+      x.coordinates = strings(required(t, p, "coordinates"), "model.coordinates");
+      x.kinetic = string(required(t, p, "kinetic"), "model.kinetic");
+      if (auto* n = get(t, p, "units")) x.units = strings(*n, "model.units");
+      if (auto* n = get(t, p, "potential")) x.potential = string(*n, "model.potential");
+      if (auto* n = get(t, p, "forces")) x.forces = strings(*n, "model.forces");
+      if (auto* n = get(t, p, "dissipation")) x.dissipation = string(*n, "model.dissipation");
+      m.text = std::move(x);
+    } else {
+      for (const char* key : {"units", "potential", "forces", "dissipation"})
+        if (get(t, p, key))
+          fail(std::string("model.") + key,
+               "belongs to a model stated by expressions, which needs 'coordinates' and 'kinetic'");
+      m.name = string(required(t, p, "name"), "model.name");
+    }
     if (auto* n = get(t, p, "q")) m.q = numbers(*n, "model.q");
     if (auto* n = get(t, p, "qd")) m.qd = numbers(*n, "model.qd");
     if (auto* pt = table(t, p, "parameters")) {

@@ -30,6 +30,19 @@ expect 0 "^  theta2 +rad$" -- "$bin" list double_pendulum
 expect 0 "^  g +9.81 +m/s\^2 +acceleration of gravity$" -- "$bin" list double_pendulum
 expect 2 "list: unknown model 'double_pendlum'; did you mean 'double_pendulum'" -- "$bin" list double_pendlum
 
+# A model stated by T and V in the scene runs with no compiler: the summary,
+# the CSV header with the coordinates' units, and errors with file, line,
+# key and column.
+expect 0 "momentum of cyclic phi: 1.41614683655" -- "$bin" run "$src/examples/scenes/spherical_pendulum_text.toml" --out "$work/text" --no-plots --no-animation
+head -1 "$work/text/trajectory.csv" | grep -q '^t \[s\],theta \[rad\],phi \[rad\],theta_dot \[rad/s\],phi_dot \[rad/s\]' ||
+  { echo "FAIL: text model trajectory header"; fails=$((fails + 1)); }
+sed 's/theta_dot^2 +/thta_dot^2 +/' "$src/examples/scenes/spherical_pendulum_text.toml" > "$work/text_bad.toml"
+expect 2 "text_bad.toml:13: model.kinetic: column 12: unknown name 'thta_dot'" -- "$bin" run "$work/text_bad.toml" --out "$work/text_bad"
+[ ! -e "$work/text_bad" ] || { echo "FAIL: a scene with a bad expression left $work/text_bad"; fails=$((fails + 1)); }
+expect 0 "p_phi = 1.41614683655 kg\*m\^2/s \(conserved\)" -- "$bin" inspect "$src/examples/scenes/spherical_pendulum_text.toml"
+expect 0 "2 runs \(0 failed\)" -- "$bin" sweep "$src/examples/scenes/spherical_pendulum_text.toml" --vary model.parameters.l=0.5:1.0:2 --set run.t_end=1 --out "$work/text_sweep" --no-plots
+grep -q '^1,1,1,ok,1,' "$work/text_sweep/sweep.csv" || { echo "FAIL: text model sweep row"; fails=$((fails + 1)); }
+
 # A run writes its files and prints a summary with the cost and the accuracy.
 expect 0 "RHS evaluations.*wall" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --out "$work/ball" --no-plots
 for f in trajectory.csv events.csv report.json; do

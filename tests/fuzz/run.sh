@@ -53,6 +53,9 @@ sources=(
   "$src/src/scene/scene_validate_initial.cpp"
   "$src/src/scene/toml_scene.cpp"
   "$src/src/scene/model_catalog.cpp"
+  "$src/src/scene/text_model_spec.cpp"
+  "$src/src/text/parse.cpp"
+  "$src/src/text/read.cpp"
   "$src/src/report.cpp"
   "$src/src/params.cpp"
 )

@@ -72,5 +72,10 @@ void add_orbit_models(std::vector<ModelEntry>& out);  // two-body, Kepler, proje
 /// Every entry, sorted by name (built once); one per builtin_models() entry.
 const std::vector<ModelEntry>& model_entries();
 const ModelEntry* find_entry(const std::string& name);
+/// The entry of a model stated by expressions (ModelSpec::text).
+const ModelEntry& text_entry();
+/// The entry that runs `spec`: text_entry() for a text model, else the
+/// built-in model it names (nullptr when there is none).
+const ModelEntry* entry_for(const ModelSpec& spec);
 
 }  // namespace lagrangian::scene::detail

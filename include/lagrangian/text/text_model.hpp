@@ -32,25 +32,11 @@
 #include "lagrangian/ad/eom_jet.hpp"
 #include "lagrangian/detail/compiled_models.hpp"
 #include "lagrangian/model.hpp"
+#include "lagrangian/text/definition.hpp"
 #include "lagrangian/text/evaluate.hpp"
 #include "lagrangian/text/expression.hpp"
 
 namespace lagrangian::text {
-
-/// A system as text. Every expression may use the coordinates, their
-/// velocities `<coordinate>_dot`, t and the parameters (D: not t).
-struct Definition {
-  std::string name = "text model";       ///< for reports
-  std::vector<std::string> coordinates;  ///< names of q_i (at least one)
-  std::vector<std::string> units;        ///< SI unit of each q_i ("m", "rad"); empty: none given
-  std::string kinetic;                   ///< T(q, q̇, t) (J)
-  std::string potential;                 ///< V(q, t) (J); empty: 0
-  std::vector<std::string> forces;       ///< Q_i(q, q̇, t), one per coordinate (N or N·m); empty: none
-  std::string dissipation;               ///< Rayleigh D(q, q̇) (W), Q −= ∂D/∂q̇; empty: none
-  std::vector<std::pair<std::string, double>> parameters;  ///< named constants (SI units)
-  /// Prefix of the field names in error messages ("model." in scenes).
-  std::string field_prefix;
-};
 
 /// A definition read: its expressions parsed (as written, for display) and
 /// bound to the parameter values (for evaluation).

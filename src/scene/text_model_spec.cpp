@@ -1,0 +1,34 @@
+// A scene's model stated by expressions, as the text layer reads it.
+#include "text_model_spec.hpp"
+
+namespace lagrangian::scene::detail {
+
+lagrangian::text::Definition text_definition(const ModelSpec& m) {
+  lagrangian::text::Definition d;
+  d.name = "text";
+  d.coordinates = m.text->coordinates;
+  d.units = m.text->units;
+  d.kinetic = m.text->kinetic;
+  d.potential = m.text->potential;
+  d.forces = m.text->forces;
+  d.dissipation = m.text->dissipation;
+  for (const auto& [name, value] : m.parameters) d.parameters.emplace_back(name, value);
+  d.field_prefix = "model.";
+  return d;
+}
+
+std::optional<ModelInfo> model_info(const ModelSpec& m) {
+  if (!m.text) {
+    if (const ModelInfo* info = find_model(m.name)) return *info;
+    return std::nullopt;
+  }
+  ModelInfo info;
+  info.name = "text";
+  info.description = "a model stated in the scene by its kinetic and potential energy";
+  info.coordinates = m.text->coordinates;
+  info.units = m.text->units.empty() ? std::vector<std::string>(m.text->coordinates.size()) : m.text->units;
+  for (const auto& [name, value] : m.parameters) info.parameters.push_back({name, value, "", ""});
+  return info;
+}
+
+}  // namespace lagrangian::scene::detail

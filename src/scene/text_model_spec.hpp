@@ -1,0 +1,22 @@
+#pragma once
+// Internal: a scene's model stated by expressions (TextModelSpec) as the
+// text layer's Definition, and the model facts (coordinates, units,
+// parameters) of either kind of [model] in one shape.
+
+#include <optional>
+
+#include "lagrangian/scene.hpp"
+#include "lagrangian/scene_models.hpp"
+#include "lagrangian/text/definition.hpp"
+
+namespace lagrangian::scene::detail {
+
+/// The definition of a text model (m.text set), its errors keyed "model.…".
+lagrangian::text::Definition text_definition(const ModelSpec& m);
+
+/// The facts of the model: the catalog entry of a built-in model, or those
+/// of a text model (named "text", its parameters with their given values
+/// as defaults); nullopt for an unknown built-in name.
+std::optional<ModelInfo> model_info(const ModelSpec& m);
+
+}  // namespace lagrangian::scene::detail

@@ -1,0 +1,112 @@
+// Scenes whose [model] is stated by expressions (TextModelSpec): read, run
+// and inspected like a built-in model, and checked against one.
+#include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "lagrangian/scene.hpp"
+#include "lagrangian/scene_io.hpp"
+#include "lagrangian/scene_run.hpp"
+
+namespace {
+
+using namespace lagrangian::scene;
+
+const char* kOutputsOff = R"toml(
+[run]
+t_end = 5.0
+rtol = 1e-12
+atol = 1e-12
+[output]
+directory = "out-text-scene"
+trajectory = false
+plots = false
+animation = false
+)toml";
+
+std::string spherical_text(const std::string& kinetic) {
+  return std::string("name = \"spherical pendulum\"\n") + kOutputsOff + R"toml(
+[model]
+coordinates = ["theta", "phi"]
+units = ["rad", "rad"]
+kinetic = ")toml" + kinetic + R"toml("
+potential = "-m*g*l*cos(theta)"
+q = [1.0, 0.0]
+qd = [0.0, 2.0]
+[model.parameters]
+m = 1.5
+l = 0.8
+g = 9.81
+)toml";
+}
+
+TEST(TextScene, RunsAsTheBuiltInSphericalPendulumDoes) {
+  const Scene text = parse_scene(spherical_text("0.5*m*l^2*(theta_dot^2 + sin(theta)^2*phi_dot^2)"));
+  ASSERT_TRUE(text.model && text.model->text);
+  const Scene built_in = parse_scene(std::string("name = \"built-in\"\n") + kOutputsOff + R"toml(
+[model]
+name = "spherical_pendulum"
+q = [1.0, 0.0]
+qd = [0.0, 2.0]
+[model.parameters]
+m = 1.5
+l = 0.8
+g = 9.81
+)toml");
+  const RunResult a = run(text), b = run(built_in);
+  EXPECT_EQ(a.engine, "model");
+  ASSERT_EQ(a.q_final.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_NEAR(a.q_final[i], b.q_final[i], 1e-9);
+    EXPECT_NEAR(a.qd_final[i], b.qd_final[i], 1e-9);
+  }
+  EXPECT_TRUE(a.report.conservative);
+  EXPECT_LE(a.report.energy_drift_max, 1e-9);
+  EXPECT_EQ(a.report.coordinates, (std::vector<std::string>{"theta", "phi"}));
+}
+
+TEST(TextScene, InspectShowsTheMomentaAndTheCyclicCoordinate) {
+  const std::string out = inspect(parse_scene(spherical_text("0.5*m*l^2*(theta_dot^2 + sin(theta)^2*phi_dot^2)")));
+  // p_φ = m l² sin²θ φ̇ = 1.5 · 0.64 · sin²(1) · 2 at the initial state.
+  const double p_phi = 1.5 * 0.64 * std::sin(1.0) * std::sin(1.0) * 2.0;
+  char expected[64];
+  std::snprintf(expected, sizeof expected, "p_phi = %.12g kg*m^2/s (conserved)", p_phi);
+  EXPECT_NE(out.find(expected), std::string::npos) << out;
+  EXPECT_NE(out.find("text::TextModel"), std::string::npos) << out;
+  // The state table has a row per coordinate, with p: the row of φ ends in p_φ.
+  char row_end[64];
+  std::snprintf(row_end, sizeof row_end, "%.12g  kg*m^2/s\n", p_phi);
+  const std::size_t state = out.find("Initial state");
+  ASSERT_NE(state, std::string::npos);
+  EXPECT_NE(out.find("\n  theta ", state), std::string::npos) << out;
+  const std::size_t phi_row = out.find("\n  phi ", state);
+  ASSERT_NE(phi_row, std::string::npos) << out;
+  EXPECT_EQ(out.find(row_end, phi_row), out.find('\n', phi_row + 1) - std::string(row_end).size() + 1) << out;
+}
+
+std::string error_of(const std::string& toml) {
+  try {
+    parse_scene(toml, "pendulum.toml").validate();
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(TextScene, ErrorsNameTheFileLineKeyAndColumn) {
+  const std::string unknown = error_of(spherical_text("0.5*m*l^2*(thta_dot^2 + sin(theta)^2*phi_dot^2)"));
+  EXPECT_NE(unknown.find("pendulum.toml:16"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("model.kinetic"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("column 12: unknown name 'thta_dot'"), std::string::npos) << unknown;
+  std::string named = spherical_text("0.5*m*l^2*theta_dot^2");
+  named.replace(named.find("[model]\n"), 8, "[model]\nname = \"spherical_pendulum\"\n");
+  EXPECT_NE(error_of(named).find("model.name"), std::string::npos) << error_of(named);
+  std::string no_q = spherical_text("0.5*m*l^2*theta_dot^2");
+  no_q.erase(no_q.find("q = [1.0, 0.0]\n"), 15);
+  EXPECT_NE(error_of(no_q).find("model.q: a model stated by expressions needs its initial coordinates q"),
+            std::string::npos)
+      << error_of(no_q);
+}
+
+}  // namespace
