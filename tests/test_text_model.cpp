@@ -212,6 +212,117 @@ TEST(TextModel, DampingAsDissipationAndAsForceFollowTheClosedForm) {
   }
 }
 
+std::string momentum_formula(const std::string& kinetic, const std::vector<std::string>& coordinates, int i) {
+  const text::Symbols s{coordinates, {"m", "l", "m1", "m2", "l1", "l2"}};
+  return text::to_text(text::derivative(text::parse(kinetic, s, "T"), text::Op::velocity, i), s);
+}
+
+TEST(TextFormula, MomentaPrintAsACourseWritesThem) {
+  EXPECT_EQ(momentum_formula("0.5*m*l^2*theta_dot^2", {"theta"}, 0), "m*l^2*theta_dot");
+  const std::string spherical = "0.5*m*l^2*(theta_dot^2 + sin(theta)^2*phi_dot^2)";
+  EXPECT_EQ(momentum_formula(spherical, {"theta", "phi"}, 0), "m*l^2*theta_dot");
+  EXPECT_EQ(momentum_formula(spherical, {"theta", "phi"}, 1), "m*l^2*sin(theta)^2*phi_dot");
+  EXPECT_EQ(momentum_formula("0.5*m*(x_dot^2 + y_dot^2) - m*x_dot*y_dot", {"x", "y"}, 1), "m*y_dot - m*x_dot");
+  EXPECT_EQ(momentum_formula("m*sqrt(1 + x_dot^2)", {"x"}, 0), "m*x_dot/sqrt(1 + x_dot^2)");
+}
+
+// The printed momenta read back and evaluated against p from automatic
+// differentiation (two derivations of one quantity), at random states of a
+// double pendulum and of a T with every function the derivative knows.
+TEST(TextFormula, MomentaFormulasAgreeWithAutomaticDifferentiation) {
+  const models::DoublePendulum dp(1.3, 0.7, 1.1, 0.8, 9.81);
+  Definition odd;
+  odd.coordinates = {"x", "y"};
+  odd.kinetic =
+      "0.5*m*(x_dot^2 + y_dot^2)*(2 + sin(x)*cos(y)) + exp(0.1*x_dot*y_dot) + log(2 + x_dot^2) + sqrt(1 + y_dot^2)"
+      " + tan(0.2*x_dot) + asin(0.1*y_dot) + acos(0.1*x_dot) + atan(x_dot*y) + sinh(0.3*y_dot) + cosh(0.2*x_dot)"
+      " + tanh(y_dot) + abs(x_dot + 3) + atan2(y_dot, 2 + x_dot^2) + (1 + x_dot^2)^(1.5 + 0.1*y_dot^2)"
+      " + x_dot/(2 + y_dot^2)";
+  odd.potential = "m*x^2";
+  odd.parameters = {{"m", 1.7}};
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (const Definition& d : {double_pendulum_text(dp), odd}) {
+    const text::TextModel model(d);
+    const text::Parsed& p = model.parsed();
+    std::vector<double> values;
+    for (const auto& [name, v] : d.parameters) values.push_back(v);
+    for (int k = 0; k < 20; ++k) {
+      const Eigen::VectorXd q = Eigen::Vector2d(u(rng), u(rng)), qd = Eigen::Vector2d(u(rng), u(rng));
+      const Eigen::VectorXd ad = momenta(model, q, qd, 0.0);
+      for (int i = 0; i < 2; ++i) {
+        const std::string formula =
+            text::to_text(text::derivative(p.kinetic, text::Op::velocity, i), p.symbols);
+        const text::Expression back = text::parse(formula, p.symbols, "p");
+        std::vector<double> slots;
+        const double value = text::evaluate(back, q, qd, 0.0, slots, values.data());
+        EXPECT_NEAR(value, ad[i], 1e-12 * std::max(1.0, std::abs(ad[i]))) << formula;
+      }
+    }
+  }
+}
+
+// The analyses on a run-time sized model (second derivatives by passes over
+// pairs of blocks). Double pendulum, m1 = m2, l1 = l2 = l: the equilibria
+// are (0, 0) (stable), (0, π), (π, 0), (π, π), and the modes about (0, 0)
+// have ω² = (g/l)(2 ∓ √2).
+TEST(TextAnalysis, DoublePendulumEquilibriaAndModesFollowTheClosedForm) {
+  const double l = 0.7, g = 9.81;
+  const text::TextModel model(double_pendulum_text(models::DoublePendulum(1.0, 1.0, l, l, g)));
+  EquilibriumOptions o;
+  o.periods = {2 * std::numbers::pi, 2 * std::numbers::pi};
+  for (const double a : {0.3, 2.9})
+    for (const double b : {-0.4, 3.0}) o.starts.push_back(Eigen::Vector2d(a, b));
+  const std::vector<Equilibrium> eq = find_equilibria(model, o);
+  ASSERT_EQ(eq.size(), 4u);
+  int stable = 0;
+  for (const Equilibrium& e : eq) {
+    for (int i = 0; i < 2; ++i) {
+      const double x = std::abs(e.q[i]);
+      EXPECT_TRUE(x < 1e-9 || std::abs(x - std::numbers::pi) < 1e-9) << e.q.transpose();
+    }
+    if (e.stable) {
+      ++stable;
+      EXPECT_LT(e.q.norm(), 1e-9);
+    }
+  }
+  EXPECT_EQ(stable, 1);
+  const Modes m = small_oscillations(model, Eigen::VectorXd(Eigen::Vector2d(0.0, 0.0)));
+  ASSERT_EQ(m.omega_squared.size(), 2);
+  EXPECT_NEAR(m.omega_squared[0], g / l * (2 - std::sqrt(2.0)), 1e-10);
+  EXPECT_NEAR(m.omega_squared[1], g / l * (2 + std::sqrt(2.0)), 1e-10);
+}
+
+// The stationary-action boundary-value problem of an oscillator stated as
+// text: x(0) = a, x(T) = b has x(t) = [a sin ω(T − t) + b sin ωt]/sin ωT;
+// the midpoint rule's nodes converge to it at second order.
+TEST(TextAnalysis, BoundaryValueProblemConvergesToTheClosedForm) {
+  Definition d;
+  d.coordinates = {"x"};
+  d.kinetic = "0.5*m*x_dot^2";
+  d.potential = "0.5*k*x^2";
+  d.parameters = {{"m", 2.0}, {"k", 8.0}};
+  const text::TextModel model(d);
+  const double w = 2.0, a = 0.1, b = 0.2, T = 1.0;
+  double previous = 0;
+  for (const int steps : {50, 100}) {
+    BvpOptions o;
+    o.steps = steps;
+    const BvpResult r = solve_bvp(model, Eigen::VectorXd::Constant(1, a), Eigen::VectorXd::Constant(1, b), 0.0, T, o);
+    double worst = 0;
+    for (std::size_t k = 0; k < r.t.size(); ++k) {
+      const double t = r.t[k];
+      worst = std::max(worst, std::abs(r.q(static_cast<Eigen::Index>(k), 0) -
+                                       (a * std::sin(w * (T - t)) + b * std::sin(w * t)) / std::sin(w * T)));
+    }
+    EXPECT_LT(worst, 1e-4);
+    if (steps == 100) {
+      EXPECT_NEAR(previous / worst, 4.0, 0.2);  // second order
+    }
+    previous = worst;
+  }
+}
+
 TEST(TextModel, DefinitionErrorsNameTheField) {
   auto error_of_definition = [](const Definition& d) -> std::string {
     try {

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "lagrangian/detail/scene_registry.hpp"
 #include "lagrangian/scene.hpp"
 #include "lagrangian/scene_io.hpp"
 #include "lagrangian/scene_run.hpp"
@@ -85,6 +86,41 @@ TEST(TextScene, InspectShowsTheMomentaAndTheCyclicCoordinate) {
   EXPECT_EQ(out.find(row_end, phi_row), out.find('\n', phi_row + 1) - std::string(row_end).size() + 1) << out;
 }
 
+std::string with_points(const std::string& points) {
+  std::string toml = spherical_text("0.5*m*l^2*(theta_dot^2 + sin(theta)^2*phi_dot^2)");
+  toml.replace(toml.find("[model.parameters]"), 0, points);
+  return toml;
+}
+
+const char* kBob = R"toml(
+[[model.points]]
+name = "bob"
+mass = 1.5
+x = "l*sin(theta)*cos(phi)"
+y = "l*sin(theta)*sin(phi)"
+z = "-l*cos(theta)"
+)toml";
+
+TEST(TextScene, PointsArePlacedByTheirExpressions) {
+  const Scene scene = parse_scene(with_points(kBob));
+  const auto& entry = detail::text_entry();
+  const double t[2] = {0.0, 1.0}, q[4] = {1.0, 0.0, 0.4, 2.5};
+  std::vector<double> xyz;
+  const lagrangian::view::Figure f = entry.picture(*scene.model, t, q, 2, xyz);
+  ASSERT_EQ(f.bodies.size(), 1u);
+  EXPECT_EQ(f.bodies[0].name, "bob");
+  EXPECT_TRUE(f.rods.empty());  // rods not asked for
+  EXPECT_EQ(f.up[2], 1.0);
+  ASSERT_EQ(xyz.size(), 6u);
+  const double l = 0.8;
+  for (int r = 0; r < 2; ++r) {
+    const double th = q[2 * r], ph = q[2 * r + 1];
+    EXPECT_NEAR(xyz[3 * r + 0], l * std::sin(th) * std::cos(ph), 1e-15);
+    EXPECT_NEAR(xyz[3 * r + 1], l * std::sin(th) * std::sin(ph), 1e-15);
+    EXPECT_NEAR(xyz[3 * r + 2], -l * std::cos(th), 1e-15);
+  }
+}
+
 std::string error_of(const std::string& toml) {
   try {
     parse_scene(toml, "pendulum.toml").validate();
@@ -107,6 +143,14 @@ TEST(TextScene, ErrorsNameTheFileLineKeyAndColumn) {
   EXPECT_NE(error_of(no_q).find("model.q: a model stated by expressions needs its initial coordinates q"),
             std::string::npos)
       << error_of(no_q);
+  std::string moving = kBob;
+  moving.replace(moving.find("l*sin(theta)*cos(phi)"), 21, "theta_dot");
+  EXPECT_NE(error_of(with_points(moving)).find("model.points[0].x: a point's position depends on q and t only"),
+            std::string::npos)
+      << error_of(with_points(moving));
+  EXPECT_NE(error_of(with_points(std::string(kBob) + kBob)).find("model.points[1].name: 'bob' names two points"),
+            std::string::npos)
+      << error_of(with_points(std::string(kBob) + kBob));
 }
 
 }  // namespace

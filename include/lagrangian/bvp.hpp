@@ -99,7 +99,6 @@ BvpResult solve_bvp(const M& model, const Vec<double, coordinate_count_v<M>>& a,
                     const Vec<double, coordinate_count_v<M>>& b, double t0, double t1,
                     const BvpOptions& options = {}) {
   check_model<M>();
-  detail::require_static_size<M>();
   detail::refuse_for_bvp(model);
   return detail::bvp_of(detail::ActionModelOf<M>(model), a, b, t0, t1, options);
 }
@@ -118,7 +117,6 @@ ActionMinimum minimise_action(const M& model, const Vec<double, coordinate_count
                               const Vec<double, coordinate_count_v<M>>& b, double t0,
                               double t1, const BvpOptions& options = {}) {
   check_model<M>();
-  detail::require_static_size<M>();
   detail::refuse_for_bvp(model);
   return detail::action_minimum_of(detail::ActionModelOf<M>(model), a, b, t0, t1, options);
 }

@@ -21,13 +21,14 @@
 /// are the Jacobians Newton's method needs for those equations.
 ///
 /// Everything comes from one forward pass over L with second-order
-/// ad::Jet numbers in the 2n directions (q0, q1). Models with a compile-time
-/// number of coordinates only.
+/// ad::Jet numbers in the 2n directions (q0, q1); for a run-time sized model,
+/// passes over pairs of blocks of them (detail/second_derivatives.hpp).
 
 #include <stdexcept>
 #include <string>
 
 #include "lagrangian/ad.hpp"
+#include "lagrangian/detail/second_derivatives.hpp"
 #include "lagrangian/dynamics.hpp"
 #include "lagrangian/model.hpp"
 
@@ -76,6 +77,11 @@ S discrete_lagrangian_of(const M& model, const Vec<S, coordinate_count_v<M>>& q0
   return 0.5 * h * (lagrangian_of(model, q0, v, S(t)) + lagrangian_of(model, q1, v, S(t + h)));
 }
 
+template <class M>
+DiscreteLagrangian<coordinate_count_v<M>> discrete_lagrangian_derivatives_fixed(
+    const M& model, const Vec<double, coordinate_count_v<M>>& q0, const Vec<double, coordinate_count_v<M>>& q1,
+    double t, double h, DiscreteRule rule);
+
 }  // namespace detail
 
 /// The discrete Lagrangian L_d(q0, q1) of `model` over [t, t + h] (J·s).
@@ -94,8 +100,39 @@ DiscreteLagrangian<coordinate_count_v<M>> discrete_lagrangian_derivatives(
     const M& model, const Vec<double, coordinate_count_v<M>>& q0, const Vec<double, coordinate_count_v<M>>& q1,
     double t, double h, DiscreteRule rule = DiscreteRule::midpoint) {
   check_model<M>();
-  static_assert(coordinate_count_v<M> != Dynamic,
-                "lagrangian: discrete Lagrangians need a compile-time number of coordinates");
+  constexpr int n = coordinate_count_v<M>;
+  if constexpr (n == Dynamic) {
+    // Passes over pairs of blocks of the 2n variables (q0, q1).
+    const int size = static_cast<int>(q0.size());
+    Eigen::VectorXd x(2 * size);
+    x << q0, q1;
+    Eigen::VectorXd g;
+    Eigen::MatrixXd hs;
+    DiscreteLagrangian<n> out;
+    detail::second_derivatives_by_blocks(
+        2 * size, x,
+        [&](const auto& xj) {
+          using J = typename std::decay_t<decltype(xj)>::Scalar;
+          const Vec<J, Dynamic> a = xj.head(size), b = xj.tail(size);
+          return detail::discrete_lagrangian_of<M, J>(model, a, b, t, h, rule);
+        },
+        out.value, g, hs);
+    out.d1 = g.head(size);
+    out.d2 = g.tail(size);
+    out.d11 = hs.topLeftCorner(size, size);
+    out.d12 = hs.topRightCorner(size, size);
+    out.d22 = hs.bottomRightCorner(size, size);
+    return out;
+  } else {
+    return detail::discrete_lagrangian_derivatives_fixed(model, q0, q1, t, h, rule);
+  }
+}
+
+namespace detail {
+template <class M>
+DiscreteLagrangian<coordinate_count_v<M>> discrete_lagrangian_derivatives_fixed(
+    const M& model, const Vec<double, coordinate_count_v<M>>& q0, const Vec<double, coordinate_count_v<M>>& q1,
+    double t, double h, DiscreteRule rule) {
   constexpr int n = coordinate_count_v<M>;
   using J = ad::Jet<double, 2 * n, 2>;
   Vec<J, n> a, b;
@@ -117,5 +154,6 @@ DiscreteLagrangian<coordinate_count_v<M>> discrete_lagrangian_derivatives(
   }
   return out;
 }
+}  // namespace detail
 
 }  // namespace lagrangian

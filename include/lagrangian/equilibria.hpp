@@ -87,7 +87,6 @@ std::vector<Equilibrium> equilibria_of(const RestModel& model, const Equilibrium
 template <class M>
 std::vector<Equilibrium> find_equilibria(const M& model, const EquilibriumOptions& options) {
   check_model<M>();
-  detail::require_static_size<M>();
   detail::refuse_for_equilibria(model);
   return detail::equilibria_of(detail::RestModelOf<M>(model, options.t), options);
 }

@@ -15,6 +15,7 @@
 #include "lagrangian/constraints.hpp"
 #include "lagrangian/dynamics.hpp"
 #include "lagrangian/errors.hpp"
+#include "lagrangian/detail/second_derivatives.hpp"
 #include "lagrangian/model.hpp"
 
 namespace lagrangian {
@@ -47,10 +48,12 @@ struct QuadraticLagrangian {
 
 namespace detail {
 
+// (The fixed-size passes, defined below their public callers.)
 template <class M>
-void require_static_size() {
-  static_assert(coordinate_count_v<M> != Dynamic, "lagrangian: the analyses need a compile-time number of coordinates");
-}
+PotentialDerivatives potential_derivatives_fixed(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                                                 double t);
+template <class M>
+QuadraticLagrangian quadratic_lagrangian_fixed(const M& model, const Vec<double, coordinate_count_v<M>>& q, double t);
 
 /// Orthonormal basis of the null space of G (m×n), by SVD; the identity for m = 0.
 Eigen::MatrixXd tangent_basis(const Eigen::MatrixXd& G, int n);
@@ -62,7 +65,31 @@ template <class M>
 PotentialDerivatives potential_derivatives(const M& model, const Vec<double, coordinate_count_v<M>>& q,
                                            double t = 0.0) {
   check_model<M>();
-  detail::require_static_size<M>();
+  constexpr int n = coordinate_count_v<M>;
+  if constexpr (n == Dynamic) {
+    const int size = static_cast<int>(q.size());
+    PotentialDerivatives d;
+    detail::second_derivatives_by_blocks(
+        size, q,
+        [&](const auto& qj) {
+          using J = typename std::decay_t<decltype(qj)>::Scalar;
+          const Vec<J, Dynamic> zero = Vec<J, Dynamic>::Constant(size, J(0.0));
+          return detail::lagrangian_of(model, qj, zero, J(t));
+        },
+        d.value, d.gradient, d.hessian);
+    d.value = -d.value;
+    d.gradient = -d.gradient;
+    d.hessian = -d.hessian;
+    return d;
+  } else {
+    return detail::potential_derivatives_fixed(model, q, t);
+  }
+}
+
+namespace detail {
+template <class M>
+PotentialDerivatives potential_derivatives_fixed(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                                                 double t) {
   constexpr int n = coordinate_count_v<M>;
   using J = ad::Jet<double, n, 2>;
   Vec<J, n> qj, zero;
@@ -81,12 +108,44 @@ PotentialDerivatives potential_derivatives(const M& model, const Vec<double, coo
   }
   return d;
 }
+}  // namespace detail
 
 /// The second-order expansion of L about (q, 0) (see QuadraticLagrangian).
 template <class M>
 QuadraticLagrangian quadratic_lagrangian(const M& model, const Vec<double, coordinate_count_v<M>>& q, double t = 0.0) {
   check_model<M>();
-  detail::require_static_size<M>();
+  constexpr int n = coordinate_count_v<M>;
+  if constexpr (n == Dynamic) {
+    // Variables (q, q̇) at q̇ = 0.
+    const int size = static_cast<int>(q.size());
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(2 * size);
+    x.head(size) = q;
+    double value = 0;
+    Eigen::VectorXd g;
+    Eigen::MatrixXd h;
+    detail::second_derivatives_by_blocks(
+        2 * size, x,
+        [&](const auto& xj) {
+          using J = typename std::decay_t<decltype(xj)>::Scalar;
+          const Vec<J, Dynamic> qj = xj.head(size), qdj = xj.tail(size);
+          return detail::lagrangian_of(model, qj, qdj, J(t));
+        },
+        value, g, h);
+    QuadraticLagrangian r;
+    r.potential = -value;
+    r.force = g.head(size);
+    r.mass = h.bottomRightCorner(size, size);
+    r.stiffness = -h.topLeftCorner(size, size);
+    r.mixed = h.bottomLeftCorner(size, size);
+    return r;
+  } else {
+    return detail::quadratic_lagrangian_fixed(model, q, t);
+  }
+}
+
+namespace detail {
+template <class M>
+QuadraticLagrangian quadratic_lagrangian_fixed(const M& model, const Vec<double, coordinate_count_v<M>>& q, double t) {
   constexpr int n = coordinate_count_v<M>;
   using J = ad::Jet<double, 2 * n, 2>;
   Vec<J, n> qj, qdj;
@@ -111,6 +170,7 @@ QuadraticLagrangian quadratic_lagrangian(const M& model, const Vec<double, coord
   }
   return r;
 }
+}  // namespace detail
 
 namespace detail {
 
@@ -127,7 +187,7 @@ HolonomicDerivatives holonomic_derivatives(const M& model, const Vec<double, coo
   constexpr int m = holonomic_count_v<M>;
   HolonomicDerivatives d;
   d.value.resize(m);
-  d.jacobian.resize(m, n);
+  d.jacobian.resize(m, q.size());
   if constexpr (m > 0) {
     using J = ad::Jet<double, n, 2>;
     Vec<J, n> qj;

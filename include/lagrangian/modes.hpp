@@ -57,7 +57,6 @@ template <class M>
 Modes small_oscillations(const M& model, const Vec<double, coordinate_count_v<M>>& q, double t = 0.0,
                          double zero_tolerance = 1e-9) {
   check_model<M>();
-  detail::require_static_size<M>();
   detail::refuse_for_equilibria(model);
   return detail::modes_of(detail::RestModelOf<M>(model, t), q, zero_tolerance);
 }

@@ -178,6 +178,14 @@ struct TextModelSpec {
   std::string potential;                 ///< V (J); empty: 0
   std::vector<std::string> forces;       ///< generalized forces Q_i; empty: none
   std::string dissipation;               ///< Rayleigh D (W); empty: none
+  /// A point drawn on the animation page: x, y, z (m) as expressions of q and t.
+  struct Point {
+    std::string name;
+    double mass = 0;     ///< kg (0: drawn only)
+    std::string x, y, z; ///< empty: 0
+  };
+  std::vector<Point> points;  ///< [[model.points]]
+  bool rods = false;          ///< rods from the origin through consecutive points
 };
 
 /// A generalized-coordinate model: one of the built-in models (`lagrangian

@@ -120,13 +120,14 @@ BvpResult solve_model_bvp(const M& model, const ModelInfo& info, const BvpReques
                       "; boundary-value problems by stationary action are solved for unconstrained conservative "
                       "models only");
   } else {
-    const std::string coords = std::to_string(n) + (n == 1 ? " coordinate" : " coordinates");
+    const int size = model_size(model);
+    const std::string coords = std::to_string(size) + (size == 1 ? " coordinate" : " coordinates");
     auto vec = [&](const std::vector<double>& v, const char* flag) {
-      if (v.size() != static_cast<std::size_t>(n))
+      if (v.size() != static_cast<std::size_t>(size))
         throw OptionError(std::string("command line: ") + flag + ": " + std::to_string(v.size()) +
                           " values given; model '" + info.name + "' has " + coords);
-      Vec<double, n> out;
-      for (int i = 0; i < n; ++i) out[i] = v[static_cast<std::size_t>(i)];
+      Vec<double, n> out(size);
+      for (int i = 0; i < size; ++i) out[i] = v[static_cast<std::size_t>(i)];
       return out;
     };
     BvpOptions opt;

@@ -215,7 +215,8 @@ std::string energy_not_conserved_because(const M& model, const State<coordinate_
 /// conserved quantities and the declared forces, contacts and events.
 template <class M>
 std::string inspect_model(const M& model, const ModelInfo& info, std::string_view type, const Parameters& params,
-                          const State<coordinate_count_v<M>>& s, double t0, bool as_json = false) {
+                          const State<coordinate_count_v<M>>& s, double t0, bool as_json = false,
+                          const std::vector<std::string>& momentum_formulas = {}) {
   constexpr int n = coordinate_count_v<M>;   // (Dynamic for a run-time sized model)
   const int size = static_cast<int>(s.q.size());  // the number of coordinates
   std::ostringstream os;
@@ -250,6 +251,19 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
       items.push_back(c.str());
     }
     js.raw("coordinates", json_array(items));
+  }
+  // The momenta as formulas (models stated by expressions: p_i = ∂T/∂q̇_i).
+  if (!momentum_formulas.empty()) {
+    os << "\nGeneralized momenta p = dL/dqdot\n";
+    std::vector<std::vector<std::string>> lines;
+    JsonObject f;
+    for (int i = 0; i < size; ++i) {
+      const std::string& c = names[static_cast<std::size_t>(i)];
+      lines.push_back({"p_" + c, "=", momentum_formulas[static_cast<std::size_t>(i)]});
+      f.string(c, momentum_formulas[static_cast<std::size_t>(i)]);
+    }
+    os << columns(lines);
+    js.raw("momentum_formulas", f.str());
   }
 
   // Constraints and degrees of freedom.

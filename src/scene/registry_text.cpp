@@ -48,6 +48,21 @@ RunReport run_text(const ModelSpec& spec, const SimulationOptions& options, cons
   return with_model(spec, [&](const auto& model) { return run_model(model, s0, options, csv_path, tick, final_state); });
 }
 
+/// p_i = ∂T/∂q̇_i as formulas in the scene's names (V has no velocities);
+/// "(no formula: …)" where T takes min or max of a velocity.
+std::vector<std::string> momentum_formulas(const lagrangian::text::Parsed& p) {
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < p.symbols.coordinates.size(); ++i) {
+    try {
+      out.push_back(lagrangian::text::to_text(
+          lagrangian::text::derivative(p.kinetic, lagrangian::text::Op::velocity, static_cast<int>(i)), p.symbols));
+    } catch (const lagrangian::text::ExpressionError&) {
+      out.push_back("(no formula: T takes min or max of a velocity)");
+    }
+  }
+  return out;
+}
+
 std::string_view type_of(const lagrangian::text::TextModel&) { return "text::TextModel"; }
 std::string_view type_of(const lagrangian::text::ForcedTextModel&) { return "text::ForcedTextModel"; }
 
@@ -55,24 +70,69 @@ std::string inspect_text(const ModelSpec& spec, double t0, bool as_json) {
   const ModelInfo info = *model_info(spec);
   const Parameters p(info, spec);
   const State<Dynamic> s0 = initial_of(spec);
-  return with_model(spec, [&](const auto& model) { return inspect_model(model, info, type_of(model), p, s0, t0, as_json); });
+  return with_model(spec, [&](const auto& model) {
+    return inspect_model(model, info, type_of(model), p, s0, t0, as_json, momentum_formulas(model.parsed()));
+  });
 }
 
-// Equilibria, modes and the boundary-value problem are built on fixed-size
-// numbers (linearisation.hpp, discrete.hpp): not yet for text models.
-std::string analyse_text(const ModelSpec& spec, double, const AnalysisRequest&) {
-  parsed_of(spec);
-  throw OptionError("inspect --equilibria/--modes: not available yet for a model stated by expressions");
+/// Equilibria and modes: of T and V (Q is refused as for a built-in model;
+/// D does not move equilibria, and the modes are those without it).
+std::string analyse_text(const ModelSpec& spec, double t0, const AnalysisRequest& request) {
+  const ModelInfo info = *model_info(spec);
+  const State<Dynamic> s0 = initial_of(spec);
+  std::shared_ptr<const lagrangian::text::Parsed> p = parsed_of(spec);
+  if (p->has_forces)
+    throw AnalysisError("model '" + info.name +
+                        "': equilibria and modes need a model without generalized forces; this one declares them");
+  std::string note;
+  if (p->has_dissipation) {
+    auto conservative = std::make_shared<lagrangian::text::Parsed>(*p);
+    conservative->has_dissipation = false;
+    p = conservative;
+    note = "note: the model declares a dissipation function; it does not move equilibria, and the modes below are "
+           "those of the undamped system\n";
+  }
+  return note + analyse_model(lagrangian::text::TextModel(p), info, s0, t0, request);
 }
 
-BvpResult bvp_text(const ModelSpec& spec, const BvpRequest&, DiscreteRule) {
-  parsed_of(spec);
-  throw OptionError("solve-bvp: not available yet for a model stated by expressions");
+BvpResult bvp_text(const ModelSpec& spec, const BvpRequest& request, DiscreteRule rule) {
+  const ModelInfo info = *model_info(spec);
+  const std::shared_ptr<const lagrangian::text::Parsed> p = parsed_of(spec);
+  if (p->has_forces || p->has_dissipation)
+    throw OptionError("solve-bvp: model '" + info.name + "' declares " +
+                      (p->has_forces ? "generalized forces" : "a dissipation function") +
+                      "; boundary-value problems by stationary action are solved for unconstrained conservative "
+                      "models only");
+  return solve_model_bvp(lagrangian::text::TextModel(p), info, request, rule);
 }
 
-view::Figure picture_text(const ModelSpec&, const double*, const double*, std::size_t, std::vector<double>& xyz) {
-  xyz.clear();
-  return {};
+/// The points of [[model.points]] (none: an empty figure), with rods from a
+/// pivot at the origin through them when `rods` is set; up is +z, or +y
+/// when every point has z = 0 (a plane motion drawn in x–y).
+view::Figure picture_text(const ModelSpec& spec, const double* t, const double* q, std::size_t rows,
+                          std::vector<double>& xyz) {
+  const std::shared_ptr<const lagrangian::text::Parsed> p = parsed_of(spec);
+  const auto& points = p->definition.points;
+  view::Figure f;
+  bool planar = true;
+  for (std::size_t b = 0; b < points.size(); ++b) {
+    f.bodies.push_back({points[b].name, 0.0, -1});
+    const lagrangian::text::Expression& z = p->points[b][2];
+    planar = planar && z.nodes.size() == 1 && z.nodes[0].op == lagrangian::text::Op::constant && z.nodes[0].value == 0;
+    if (p->definition.rods) f.rods.push_back({static_cast<int>(b), static_cast<int>(b) - 1, {0, 0, 0}});
+  }
+  if (p->definition.rods && !points.empty()) f.pivots = {{0, 0, 0}};
+  f.up = planar ? view::Point{0, 1, 0} : view::Point{0, 0, 1};
+  const std::size_t nb = points.size(), n = p->definition.coordinates.size();
+  xyz.assign(rows * nb * 3, 0.0);
+  std::vector<double> slots;
+  for (std::size_t r = 0; r < rows; ++r) {
+    const Eigen::Map<const Eigen::VectorXd> qr(q + r * n, static_cast<Eigen::Index>(n));
+    for (std::size_t b = 0; b < nb; ++b)
+      for (std::size_t a = 0; a < 3; ++a)
+        xyz[(r * nb + b) * 3 + a] = lagrangian::text::evaluate(p->points[b][a], qr, qr, t[r], slots);
+  }
+  return f;
 }
 
 std::vector<std::array<int, 3>> no_particles(const ModelSpec&) { return {}; }

@@ -322,7 +322,13 @@ RunResult run(const Scene& input, const RunControls& controls) {
     }
   }
   const bool video = write && !controls.video_path.empty();
-  if (write && scene.output.trajectory && (scene.output.animation || video)) {
+  if (write && scene.model && scene.model->text && scene.model->text->points.empty() &&
+      (scene.output.animation || video)) {
+    // Nothing to draw in space: the coordinates and energy are in the plots.
+    result.animation_note =
+        "animation: not written: the model places no points in space ([[model.points]]); its coordinates and "
+        "energy are in the plots";
+  } else if (write && scene.output.trajectory && (scene.output.animation || video)) {
     std::optional<detail::SceneView> v;
     try {
       v = detail::scene_view(scene, result);

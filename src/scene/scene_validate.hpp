@@ -50,6 +50,9 @@ class Validator {
   // -- model --
   void check_model() const;
   void check_text_model() const;
+  /// q or q̇ (`key`): empty, or one finite value per coordinate.
+  void check_state(const std::string& key, const std::vector<double>& v,
+                   const std::vector<std::string>& coordinates) const;
 
   // -- bodies and gas --
   void check_bodies();

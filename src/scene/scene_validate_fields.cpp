@@ -147,16 +147,17 @@ void Validator::check_model() const {
                     detail::unknown_hint(name, params));
     finite(key, value);
   }
-  const std::size_t n = info->coordinates.size();
-  auto check_state = [&](const std::string& key, const std::vector<double>& v) {
-    if (v.empty()) return;
-    if (v.size() != n)
-      fail(key, "expected " + std::to_string(n) + " values (" + detail::join(info->coordinates) + "), got " +
-                    std::to_string(v.size()));
-    for (std::size_t i = 0; i < v.size(); ++i) finite(idx(key, i), v[i]);
-  };
-  check_state("model.q", m.q);
-  check_state("model.qd", m.qd);
+  check_state("model.q", m.q, info->coordinates);
+  check_state("model.qd", m.qd, info->coordinates);
+}
+
+void Validator::check_state(const std::string& key, const std::vector<double>& v,
+                            const std::vector<std::string>& coordinates) const {
+  if (v.empty()) return;
+  if (v.size() != coordinates.size())
+    fail(key, "expected " + std::to_string(coordinates.size()) + " values (" + detail::join(coordinates) + "), got " +
+                  std::to_string(v.size()));
+  for (std::size_t i = 0; i < v.size(); ++i) finite(idx(key, i), v[i]);
 }
 
 void Validator::check_text_model() const {
@@ -170,17 +171,9 @@ void Validator::check_text_model() const {
     if (const std::size_t colon = rest.find(": "); colon != std::string::npos) rest = rest.substr(colon + 2);
     fail(e.field(), e.column() > 0 ? "column " + std::to_string(e.column()) + ": " + rest : rest);
   }
-  const std::size_t n = m.text->coordinates.size();
   if (m.q.empty()) fail("model.q", "a model stated by expressions needs its initial coordinates q");
-  auto check_state = [&](const std::string& key, const std::vector<double>& v) {
-    if (v.empty()) return;
-    if (v.size() != n)
-      fail(key, "expected " + std::to_string(n) + " values (" + detail::join(m.text->coordinates) + "), got " +
-                    std::to_string(v.size()));
-    for (std::size_t i = 0; i < v.size(); ++i) finite(idx(key, i), v[i]);
-  };
-  check_state("model.q", m.q);
-  check_state("model.qd", m.qd);
+  check_state("model.q", m.q, m.text->coordinates);
+  check_state("model.qd", m.qd, m.text->coordinates);
 }
 
 // -- bodies and gas --

@@ -13,6 +13,8 @@ lagrangian::text::Definition text_definition(const ModelSpec& m) {
   d.forces = m.text->forces;
   d.dissipation = m.text->dissipation;
   for (const auto& [name, value] : m.parameters) d.parameters.emplace_back(name, value);
+  for (const TextModelSpec::Point& pt : m.text->points) d.points.push_back({pt.name, pt.mass, pt.x, pt.y, pt.z});
+  d.rods = m.text->rods;
   d.field_prefix = "model.";
   return d;
 }

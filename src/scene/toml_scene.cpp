@@ -465,7 +465,8 @@ class Reader {
 
   void read_model(const toml::table& t) {
     const std::string p = "model";
-    keys(t, p, {"name", "q", "qd", "parameters", "coordinates", "units", "kinetic", "potential", "forces", "dissipation"});
+    keys(t, p, {"name", "q", "qd", "parameters", "coordinates", "units", "kinetic", "potential", "forces", "dissipation",
+                "points", "rods"});
     ModelSpec m;
     if (get(t, p, "kinetic") || get(t, p, "coordinates")) {
       // A model stated by expressions (TextModelSpec).
@@ -480,9 +481,23 @@ class Reader {
       if (auto* n = get(t, p, "potential")) x.potential = string(*n, "model.potential");
       if (auto* n = get(t, p, "forces")) x.forces = strings(*n, "model.forces");
       if (auto* n = get(t, p, "dissipation")) x.dissipation = string(*n, "model.dissipation");
+      if (auto* n = get(t, p, "rods")) x.rods = boolean(*n, "model.rods");
+      for_each_table(
+          t, "points",
+          [&](const toml::table& pt, const std::string& key) {
+            keys(pt, key, {"name", "mass", "x", "y", "z"});
+            TextModelSpec::Point point;
+            point.name = string(required(pt, key, "name"), key + ".name");
+            if (auto* n = get(pt, key, "mass")) point.mass = number(*n, key + ".mass");
+            if (auto* n = get(pt, key, "x")) point.x = string(*n, key + ".x");
+            if (auto* n = get(pt, key, "y")) point.y = string(*n, key + ".y");
+            if (auto* n = get(pt, key, "z")) point.z = string(*n, key + ".z");
+            x.points.push_back(std::move(point));
+          },
+          p);
       m.text = std::move(x);
     } else {
-      for (const char* key : {"units", "potential", "forces", "dissipation"})
+      for (const char* key : {"units", "potential", "forces", "dissipation", "points", "rods"})
         if (get(t, p, key))
           fail(std::string("model.") + key,
                "belongs to a model stated by expressions, which needs 'coordinates' and 'kinetic'");

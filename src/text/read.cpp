@@ -72,6 +72,27 @@ std::shared_ptr<const Parsed> read(const Definition& d) {
     throw ExpressionError(pre + "dissipation", 0, "D depends on q and q̇ only; t appears in it");
   p->dissipation_bound = bind_parameters(p->dissipation, values);
   p->has_dissipation = !d.dissipation.empty();
+
+  std::set<std::string> point_names;
+  for (std::size_t i = 0; i < d.points.size(); ++i) {
+    const Point& pt = d.points[i];
+    const std::string key = pre + "points[" + std::to_string(i) + "]";
+    if (pt.name.empty()) throw ExpressionError(key + ".name", 0, "a point needs a name");
+    if (!point_names.insert(pt.name).second)
+      throw ExpressionError(key + ".name", 0, "'" + pt.name + "' names two points");
+    if (!(std::isfinite(pt.mass) && pt.mass >= 0))
+      throw ExpressionError(key + ".mass", 0, "must be finite and >= 0 (kg)");
+    std::array<Expression, 3> xyz;
+    const std::string* axes[3] = {&pt.x, &pt.y, &pt.z};
+    for (int a = 0; a < 3; ++a) {
+      const std::string field = key + "." + "xyz"[a];
+      const Expression e = parse(axes[a]->empty() ? std::string("0") : *axes[a], p->symbols, field);
+      if (reads(e, Op::velocity))
+        throw ExpressionError(field, 0, "a point's position depends on q and t only; a velocity appears in it");
+      xyz[static_cast<std::size_t>(a)] = bind_parameters(e, values);
+    }
+    p->points.push_back(std::move(xyz));
+  }
   return p;
 }
 

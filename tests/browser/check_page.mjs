@@ -45,6 +45,13 @@ const cases = {
     const x1 = Math.sin(t1), y1 = -Math.cos(t1);
     return [[x1, y1, 0], [x1 + Math.sin(t2), y1 - Math.cos(t2), 0]];
   },
+  // The spherical pendulum stated by expressions
+  // (examples/scenes/spherical_pendulum_text.toml: l = 1 m), bob at
+  // (sin θ cos φ, sin θ sin φ, −cos θ) from the pivot at the origin, z up.
+  spherical_text: (row, header) => {
+    const th = col(row, header, 'theta', 'rad'), ph = col(row, header, 'phi', 'rad');
+    return [[Math.sin(th) * Math.cos(ph), Math.sin(th) * Math.sin(ph), -Math.cos(th)]];
+  },
   // Two bodies in the plane, Cartesian coordinates of each.
   two_body: (row, header) => [
     [col(row, header, 'x1'), col(row, header, 'y1'), 0],

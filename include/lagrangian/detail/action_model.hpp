@@ -37,11 +37,10 @@ class ActionModelOf final : public ActionModel {
  public:
   static constexpr int n = coordinate_count_v<M>;
   explicit ActionModelOf(const M& model) : model_(model) {}
-  int coordinate_count() const override { return n; }
+  int coordinate_count() const override { return model_size(model_); }
   void segment(const double* q0, const double* q1, double t, double h, DiscreteRule rule,
                SegmentDerivatives& out) const override {
-    const DiscreteLagrangian<n> d = discrete_lagrangian_derivatives(model_, Vec<double, n>(Eigen::Map<const Vec<double, n>>(q0)),
-                                                                    Vec<double, n>(Eigen::Map<const Vec<double, n>>(q1)), t, h, rule);
+    const DiscreteLagrangian<n> d = discrete_lagrangian_derivatives(model_, at(q0), at(q1), t, h, rule);
     out.value = d.value;
     out.d1 = d.d1;
     out.d2 = d.d2;
@@ -50,17 +49,20 @@ class ActionModelOf final : public ActionModel {
     out.d22 = d.d22;
   }
   void at_rest(const double* q, double t, Eigen::MatrixXd& mass, Eigen::VectorXd& momenta_out) const override {
-    const Vec<double, n> x = Eigen::Map<const Vec<double, n>>(q);
-    const Vec<double, n> zero = Vec<double, n>::Zero();
+    const Vec<double, n> x = at(q);
+    const Vec<double, n> zero = Vec<double, n>::Zero(model_size(model_));
     mass = mass_matrix(model_, x, zero, t);
     momenta_out = momenta(model_, x, zero, t);
   }
   double energy(const double* q, const double* qd, double t) const override {
-    return energy_function(model_, Vec<double, n>(Eigen::Map<const Vec<double, n>>(q)),
-                           Vec<double, n>(Eigen::Map<const Vec<double, n>>(qd)), t);
+    return energy_function(model_, at(q), at(qd), t);
   }
 
  private:
+  /// The n values at v as a vector.
+  Vec<double, n> at(const double* v) const {
+    return Eigen::Map<const Vec<double, n>>(v, model_size(model_));
+  }
   const M& model_;
 };
 

@@ -31,7 +31,7 @@ template <class M>
 class RestModelOf final : public RestModel {
  public:
   RestModelOf(const M& model, double t) : model_(model), t_(t) {}
-  int coordinate_count() const override { return coordinate_count_v<M>; }
+  int coordinate_count() const override { return model_size(model_); }
   int holonomic_count() const override { return holonomic_count_v<M>; }
   PotentialDerivatives potential(const Eigen::VectorXd& q) const override {
     return potential_derivatives(model_, Vec<double, coordinate_count_v<M>>(q), t_);

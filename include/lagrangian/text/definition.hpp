@@ -9,6 +9,15 @@
 
 namespace lagrangian::text {
 
+/// A point of the system placed by expressions of q and t (m): what the
+/// animation page draws, and with a mass, what the momenta P and L of the
+/// report sum.
+struct Point {
+  std::string name;
+  double mass = 0;  ///< kg; 0: a point drawn, not weighed
+  std::string x, y, z;  ///< coordinates (m); empty: 0
+};
+
 /// A system as text. Every expression may use the coordinates, their
 /// velocities `<coordinate>_dot`, t and the parameters (D: not t).
 struct Definition {
@@ -20,6 +29,10 @@ struct Definition {
   std::vector<std::string> forces;       ///< Q_i(q, q̇, t), one per coordinate (N or N·m); empty: none
   std::string dissipation;               ///< Rayleigh D(q, q̇) (W), Q −= ∂D/∂q̇; empty: none
   std::vector<std::pair<std::string, double>> parameters;  ///< named constants (SI units)
+  std::vector<Point> points;  ///< points to draw (none: nothing is drawn in space)
+  /// Draw rods from the origin to the first point and between consecutive
+  /// points (a chain hanging from a pivot at the origin).
+  bool rods = false;
   /// Prefix of the field names in error messages ("model." in scenes).
   std::string field_prefix;
 };

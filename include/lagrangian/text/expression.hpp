@@ -109,6 +109,18 @@ Expression parse(std::string_view source, const Symbols& symbols, const std::str
 /// subexpression of constants folded into one constant (what is evaluated).
 Expression bind_parameters(const Expression& e, const std::vector<double>& parameter_values);
 
+/// ∂e/∂v, v the coordinate (`variable` = Op::coordinate) or velocity
+/// (Op::velocity) of index `index`, as an expression over the same names,
+/// folded as parse() folds (for display: `inspect` prints p = ∂T/∂q̇ with
+/// it; the equations of motion come from automatic differentiation).
+/// Throws ExpressionError for min or max of v, which have no formula.
+Expression derivative(const Expression& e, Op variable, int index);
+
+/// `e` as text, which parse() reads back to an expression of the same value
+/// (products regrouped), with the names of `symbols` and numbers to 12
+/// significant digits.
+std::string to_text(const Expression& e, const Symbols& symbols);
+
 /// True when `name` can name a coordinate or a parameter: a letter or `_`
 /// first, then letters, digits and `_`; not a function name, `t` or `pi`.
 bool valid_name(std::string_view name);

@@ -22,6 +22,7 @@
 /// `TextModel` (T and V: conservative) and `ForcedTextModel` (also Q and D;
 /// an absent one is zero). `make()` checks a definition against the type.
 
+#include <array>
 #include <memory>
 #include <string>
 #include <utility>
@@ -31,6 +32,7 @@
 
 #include "lagrangian/ad/eom_jet.hpp"
 #include "lagrangian/detail/compiled_models.hpp"
+#include "lagrangian/dynamics.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/text/definition.hpp"
 #include "lagrangian/text/evaluate.hpp"
@@ -48,6 +50,8 @@ struct Parsed {
   Expression kinetic_bound, potential_bound, dissipation_bound;  ///< parameters replaced by their values
   std::vector<Expression> forces_bound;
   bool has_forces = false, has_dissipation = false;
+  /// Each point's x, y and z, bound (functions of q and t).
+  std::vector<std::array<Expression, 3>> points;
 };
 
 /// Reads and checks a definition: names (valid, distinct, not a function,
@@ -147,6 +151,15 @@ using ForcedTextModel = BasicTextModel<true>;
 
 }  // namespace lagrangian::text
 
-// simulate() for the text models is compiled once, in the library (src/text/).
+// simulate() and the Euler–Lagrange pass of the text models are compiled
+// once, in the library (src/text/).
+#define LAGRANGIAN_TEXT_EOM_PASS(...)                                                                         \
+  void lagrangian::detail::eom_pass_large<__VA_ARGS__>(const __VA_ARGS__&, ::lagrangian::Workspace<::lagrangian::Dynamic>&, \
+                                                       const ::lagrangian::Vec<double, ::lagrangian::Dynamic>&,            \
+                                                       const ::lagrangian::Vec<double, ::lagrangian::Dynamic>&, double);
+#if !(defined(LAGRANGIAN_TRAP_FE_INVALID) && LAGRANGIAN_TRAP_FE_INVALID)
+extern template LAGRANGIAN_TEXT_EOM_PASS(lagrangian::text::TextModel)
+extern template LAGRANGIAN_TEXT_EOM_PASS(lagrangian::text::ForcedTextModel)
+#endif
 LAGRANGIAN_EXTERN_SIMULATE(lagrangian::text::TextModel)
 LAGRANGIAN_EXTERN_SIMULATE(lagrangian::text::ForcedTextModel)
