@@ -139,7 +139,7 @@ TEST(NoAllocation, TextModelAccelerationsDoNotAllocate) {
   EXPECT_EQ(allocations_after_the_first_call(text::TextModel(d), 2), 0);
   d.forces = {"-0.1*a_dot", "sin(t)"};
   d.dissipation = "0.2*b_dot^2";
-  EXPECT_EQ(allocations_after_the_first_call(text::ForcedTextModel(d), 2), 0);
+  EXPECT_EQ(allocations_after_the_first_call(text::TextModel(d), 2), 0);
 }
 
 TEST(NoAllocation, ConstrainedAccelerationsDoNotAllocate) {

@@ -189,8 +189,11 @@ TEST(TextModel, DampingAsDissipationAndAsForceFollowTheClosedForm) {
   Definition with_d = d, with_q = d;
   with_d.dissipation = "0.5*c*x_dot^2";
   with_q.forces = {"-c*x_dot"};
-  EXPECT_THROW(text::TextModel{with_d}, text::ExpressionError);  // a conservative type would drop D
-  const text::ForcedTextModel by_d(with_d), by_q(with_q);
+  const text::TextModel by_d(with_d), by_q(with_q);
+  EXPECT_TRUE(by_d.uses_dissipation());
+  EXPECT_FALSE(by_d.uses_generalized_forces());
+  EXPECT_TRUE(by_q.uses_generalized_forces());
+  EXPECT_FALSE(by_q.uses_dissipation());
   SimulationOptions o;
   o.t_end = 8.0;
   o.rtol = 1e-12;
@@ -198,7 +201,7 @@ TEST(TextModel, DampingAsDissipationAndAsForceFollowTheClosedForm) {
   o.output_interval = 0.5;
   State<Dynamic> s0(1);
   s0.q[0] = x0;
-  for (const text::ForcedTextModel* model : {&by_d, &by_q}) {
+  for (const text::TextModel* model : {&by_d, &by_q}) {
     Recorder<Dynamic> rec;
     const RunReport r = simulate(*model, s0, o, rec);
     EXPECT_FALSE(r.conservative);

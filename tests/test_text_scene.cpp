@@ -26,13 +26,8 @@ plots = false
 animation = false
 )toml";
 
-std::string spherical_text(const std::string& kinetic) {
-  return std::string("name = \"spherical pendulum\"\n") + kOutputsOff + R"toml(
-[model]
-coordinates = ["theta", "phi"]
-units = ["rad", "rad"]
-kinetic = ")toml" + kinetic + R"toml("
-potential = "-m*g*l*cos(theta)"
+// The state and parameters both spherical pendulums below share.
+const char* kStateAndParameters = R"toml(
 q = [1.0, 0.0]
 qd = [0.0, 2.0]
 [model.parameters]
@@ -40,21 +35,21 @@ m = 1.5
 l = 0.8
 g = 9.81
 )toml";
+
+std::string spherical_text(const std::string& kinetic) {
+  return std::string("name = \"spherical pendulum\"\n") + kOutputsOff + R"toml(
+[model]
+coordinates = ["theta", "phi"]
+units = ["rad", "rad"]
+kinetic = ")toml" + kinetic + R"toml("
+potential = "-m*g*l*cos(theta)")toml" + kStateAndParameters;
 }
 
 TEST(TextScene, RunsAsTheBuiltInSphericalPendulumDoes) {
   const Scene text = parse_scene(spherical_text("0.5*m*l^2*(theta_dot^2 + sin(theta)^2*phi_dot^2)"));
   ASSERT_TRUE(text.model && text.model->text);
-  const Scene built_in = parse_scene(std::string("name = \"built-in\"\n") + kOutputsOff + R"toml(
-[model]
-name = "spherical_pendulum"
-q = [1.0, 0.0]
-qd = [0.0, 2.0]
-[model.parameters]
-m = 1.5
-l = 0.8
-g = 9.81
-)toml");
+  const Scene built_in = parse_scene(std::string("name = \"built-in\"\n") + kOutputsOff +
+                                     "[model]\nname = \"spherical_pendulum\"" + kStateAndParameters);
   const RunResult a = run(text), b = run(built_in);
   EXPECT_EQ(a.engine, "model");
   ASSERT_EQ(a.q_final.size(), 2u);

@@ -68,13 +68,13 @@ struct BvpResult {
 namespace detail {
 
 template <class M>
-void refuse_for_bvp(const M&) {
+void refuse_for_bvp(const M& model) {
   if constexpr (has_constraints_v<M>)
     throw AnalysisError("stationary action: the model declares " + std::to_string(constraint_count_v<M>) +
                         " constraints; boundary-value problems are solved for unconstrained models only");
-  if constexpr (has_generalized_forces_v<M> || has_dissipation_v<M>)
+  if (uses_generalized_forces(model) || uses_dissipation(model))
     throw AnalysisError("stationary action: the model declares " +
-                        std::string(has_generalized_forces_v<M> ? "generalized forces Q" : "a dissipation function D") +
+                        std::string(uses_generalized_forces(model) ? "generalized forces Q" : "a dissipation function D") +
                         ", which no action accounts for; boundary-value problems need a conservative model");
 }
 

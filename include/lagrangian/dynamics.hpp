@@ -277,11 +277,16 @@ LAGRANGIAN_FLATTEN void force_pass(const M& model, Workspace<coordinate_count_v<
                                    const Vec<double, coordinate_count_v<M>>& qd, double t) {
   constexpr int n = coordinate_count_v<M>;
   if constexpr (has_generalized_forces_v<M>) {
-    ws.forces = model.generalized_forces(q, qd, t);
+    if (uses_generalized_forces(model)) {
+      ws.forces = model.generalized_forces(q, qd, t);
+    } else {
+      ws.forces.setZero(q.size());
+    }
   } else {
     ws.forces.setZero(q.size());
   }
   if constexpr (has_dissipation_v<M>) {
+    if (!uses_dissipation(model)) return;
     // ∂D/∂q̇ in blocks of the Jet's width (one block when n is fixed).
     constexpr int w = ad_directions<M>;
     using J = ad::Jet<double, w, 1>;

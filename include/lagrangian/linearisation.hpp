@@ -211,14 +211,14 @@ HolonomicDerivatives holonomic_derivatives(const M& model, const Vec<double, coo
 }
 
 template <class M>
-void refuse_for_equilibria(const M&) {
+void refuse_for_equilibria(const M& model) {
   if constexpr (pfaffian_count_v<M> > 0)
     throw AnalysisError("equilibria: the model declares " + std::to_string(pfaffian_count_v<M>) +
                         " Pfaffian (nonholonomic) constraints; only holonomic constraints are supported");
   if constexpr (unilateral_count_v<M> > 0)
     throw AnalysisError("equilibria: the model declares " + std::to_string(unilateral_count_v<M>) +
                         " unilateral constraints (contacts); resting contacts are not supported");
-  if constexpr (has_generalized_forces_v<M>)
+  if (uses_generalized_forces(model))
     throw AnalysisError("equilibria: the model declares generalized forces Q, which are not derived from a "
                         "potential; equilibria of U = -L(q, 0) would ignore them");
 }

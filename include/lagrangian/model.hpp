@@ -14,7 +14,10 @@
 ///  - optionally `Vec<S, n> generalized_forces(q, qd, t) const` — the
 ///    non-conservative generalized forces Q (N or N·m per coordinate),
 ///    `S dissipation(q, qd) const` — the Rayleigh function D with
-///    Q = −∂D/∂q̇ (W), `coordinate_names()` returning n names,
+///    Q = −∂D/∂q̇ (W), with `bool uses_generalized_forces() const` and
+///    `bool uses_dissipation() const` when only the run knows whether they
+///    are in effect (see uses_generalized_forces()), `coordinate_names()`
+///    returning n names,
 ///    `coordinate_units()` returning their n SI units ("m", "rad"; shown in
 ///    CSV headers and inspections), `name()`,
 ///    hand-coded `accelerations(q, qd, t, qdd)` (see
@@ -238,6 +241,39 @@ inline constexpr bool has_dissipation_v = requires(const M& m,
                                                    const Vec<detail::FirstOrderJet<M>, coordinate_count_v<M>>& q) {
   { m.dissipation(q, q) } -> std::convertible_to<detail::FirstOrderJet<M>>;
 };
+
+/// True when the model's generalized forces are in effect: it declares them
+/// and, if it says at run time which of its declared parts it uses
+/// (`bool uses_generalized_forces() const`, as models read from text do),
+/// it uses them. A declared part that is not used costs one branch per
+/// right-hand side and leaves the run conservative.
+template <class M>
+bool uses_generalized_forces(const M& model) {
+  if constexpr (!has_generalized_forces_v<M>) {
+    (void)model;
+    return false;
+  } else if constexpr (requires { { model.uses_generalized_forces() } -> std::convertible_to<bool>; }) {
+    return model.uses_generalized_forces();
+  } else {
+    (void)model;
+    return true;
+  }
+}
+
+/// True when the model's dissipation function is in effect (as
+/// uses_generalized_forces(), with `bool uses_dissipation() const`).
+template <class M>
+bool uses_dissipation(const M& model) {
+  if constexpr (!has_dissipation_v<M>) {
+    (void)model;
+    return false;
+  } else if constexpr (requires { { model.uses_dissipation() } -> std::convertible_to<bool>; }) {
+    return model.uses_dissipation();
+  } else {
+    (void)model;
+    return true;
+  }
+}
 
 /// True when the model also supplies hand-coded equations of motion
 /// `void accelerations(const Vec<double, n>& q, const Vec<double, n>& qd, double t, Vec<double, n>& qdd) const`.

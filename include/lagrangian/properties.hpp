@@ -125,10 +125,8 @@ std::string separability_problem(const M& model, const State<coordinate_count_v<
   } else if constexpr (has_constraints_v<M>) {
     (void)model, (void)s, (void)t;
     return "it has constraints";
-  } else if constexpr (has_generalized_forces_v<M> || has_dissipation_v<M>) {
-    (void)model, (void)s, (void)t;
-    return "it has generalized forces or dissipation";
   } else {
+    if (uses_generalized_forces(model) || uses_dissipation(model)) return "it has generalized forces or dissipation";
     if (!is_autonomous(model, s, t)) return "L depends explicitly on time";
     const auto m0 = mass_matrix(model, s.q, s.qd, t);
     const double scale = m0.template lpNorm<Eigen::Infinity>();

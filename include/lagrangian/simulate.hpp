@@ -161,7 +161,7 @@ RunReport simulate_impl(const M& model, const State<coordinate_count_v<M>>& init
   report.dt = options.dt;
   report.t0 = options.t0;
   report.t_end = options.t_end;
-  report.conservative = !has_generalized_forces_v<M> && !has_dissipation_v<M> &&
+  report.conservative = !uses_generalized_forces(model) && !uses_dissipation(model) &&
                         is_autonomous(model, initial, options.t0) &&
                         constraints_workless(model, initial, options.t0);
 

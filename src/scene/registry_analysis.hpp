@@ -54,20 +54,22 @@ template <class M>
 std::string analyse_model(const M& model, const ModelInfo& info, const State<coordinate_count_v<M>>& initial, double t0,
                           const AnalysisRequest& request) {
   constexpr int n = coordinate_count_v<M>;
-  if constexpr (pfaffian_count_v<M> > 0 || unilateral_count_v<M> > 0 || has_generalized_forces_v<M>) {
+  if constexpr (pfaffian_count_v<M> > 0 || unilateral_count_v<M> > 0) {
     (void)model;
     (void)initial;
     (void)t0;
     (void)request;
     throw AnalysisError("model '" + info.name + "': equilibria and modes need a model without " +
-                        (pfaffian_count_v<M> > 0   ? std::string("Pfaffian constraints")
-                         : unilateral_count_v<M> > 0 ? std::string("unilateral constraints (contacts)")
-                                                     : std::string("generalized forces")) +
+                        (pfaffian_count_v<M> > 0 ? std::string("Pfaffian constraints")
+                                                 : std::string("unilateral constraints (contacts)")) +
                         "; this one declares them");
   } else {
+    if (uses_generalized_forces(model))
+      throw AnalysisError("model '" + info.name +
+                          "': equilibria and modes need a model without generalized forces; this one declares them");
     const std::vector<std::string> names = coordinate_names(model);
     std::string out;
-    if (has_dissipation_v<M>)
+    if (uses_dissipation(model))
       out += "note: the model declares a dissipation function; it does not move equilibria, and the modes below are "
              "those of the undamped system\n";
     if (!is_autonomous(model, initial, t0)) {
@@ -109,17 +111,19 @@ std::string analyse_model(const M& model, const ModelInfo& info, const State<coo
 template <class M>
 BvpResult solve_model_bvp(const M& model, const ModelInfo& info, const BvpRequest& request, DiscreteRule rule) {
   constexpr int n = coordinate_count_v<M>;
-  if constexpr (has_constraints_v<M> || has_generalized_forces_v<M> || has_dissipation_v<M>) {
+  auto refuse = [&](const std::string& what) {
+    return OptionError("solve-bvp: model '" + info.name + "' declares " + what +
+                       "; boundary-value problems by stationary action are solved for unconstrained conservative "
+                       "models only");
+  };
+  if constexpr (has_constraints_v<M>) {
     (void)model;
     (void)request;
     (void)rule;
-    throw OptionError("solve-bvp: model '" + info.name + "' declares " +
-                      (has_constraints_v<M>         ? std::string("constraints")
-                       : has_generalized_forces_v<M> ? std::string("generalized forces")
-                                                     : std::string("a dissipation function")) +
-                      "; boundary-value problems by stationary action are solved for unconstrained conservative "
-                      "models only");
+    throw refuse("constraints");
   } else {
+    if (uses_generalized_forces(model)) throw refuse("generalized forces");
+    if (uses_dissipation(model)) throw refuse("a dissipation function");
     const int size = model_size(model);
     const std::string coords = std::to_string(size) + (size == 1 ? " coordinate" : " coordinates");
     auto vec = [&](const std::vector<double>& v, const char* flag) {

@@ -201,8 +201,8 @@ RunReport run_model(const M& model, const State<coordinate_count_v<M>>& initial,
 template <class M>
 std::string energy_not_conserved_because(const M& model, const State<coordinate_count_v<M>>& s, double t0) {
   std::vector<std::string> why;
-  if (has_generalized_forces_v<M>) why.emplace_back("generalized forces Q are declared");
-  if (has_dissipation_v<M>) why.emplace_back("a dissipation function D is declared");
+  if (uses_generalized_forces(model)) why.emplace_back("generalized forces Q are declared");
+  if (uses_dissipation(model)) why.emplace_back("a dissipation function D is declared");
   if (!is_autonomous(model, s, t0)) why.emplace_back("L depends explicitly on t");
   if (!lagrangian::detail::constraints_workless(model, s, t0)) why.emplace_back("moving constraints do work");
   std::string out;
@@ -362,17 +362,20 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
   os << "\nDeclared\n";
   std::vector<std::vector<std::string>> decl;
   JsonObject dj;
+  // Q(t0) alone, and −∂D/∂q̇ alone (the forces less Q).
+  Vec<double, n> q_force = Vec<double, n>::Zero(size);
   if constexpr (has_generalized_forces_v<M>) {
-    const Vec<double, n> q = model.generalized_forces(s.q, s.qd, t0);
-    decl.push_back({"generalized forces Q", "yes", "Q(t0) = " + numbers(q.data(), size)});
-    dj.raw("generalized_forces", json_numbers(q.data(), size));
+    if (uses_generalized_forces(model)) q_force = model.generalized_forces(s.q, s.qd, t0);
+  }
+  if (uses_generalized_forces(model)) {
+    decl.push_back({"generalized forces Q", "yes", "Q(t0) = " + numbers(q_force.data(), size)});
+    dj.raw("generalized_forces", json_numbers(q_force.data(), size));
   } else {
     decl.push_back({"generalized forces Q", "none"});
     dj.raw("generalized_forces", "null");
   }
-  if constexpr (has_dissipation_v<M>) {
-    Vec<double, n> qd_force = nonconservative_forces(model, s.q, s.qd, t0);
-    if constexpr (has_generalized_forces_v<M>) qd_force -= model.generalized_forces(s.q, s.qd, t0);
+  if (uses_dissipation(model)) {
+    const Vec<double, n> qd_force = nonconservative_forces(model, s.q, s.qd, t0) - q_force;
     decl.push_back({"dissipation D", "yes", "-dD/dqdot at t0 = " + numbers(qd_force.data(), size)});
     dj.raw("dissipation_forces", json_numbers(qd_force.data(), size));
   } else {

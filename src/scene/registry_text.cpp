@@ -1,6 +1,6 @@
 // The registry entry of a model stated by expressions (TextModelSpec,
-// text/text_model.hpp): built from the scene's [model] table on every call,
-// as a TextModel, or a ForcedTextModel when Q or D is given.
+// text/text_model.hpp): a text::TextModel built from the scene's [model]
+// table on every call.
 
 #include <memory>
 #include <string>
@@ -21,14 +21,6 @@ std::shared_ptr<const lagrangian::text::Parsed> parsed_of(const ModelSpec& spec)
   }
 }
 
-/// Calls f with the model: a ForcedTextModel when Q or D is given.
-template <class F>
-auto with_model(const ModelSpec& spec, F&& f) {
-  const std::shared_ptr<const lagrangian::text::Parsed> p = parsed_of(spec);
-  if (p->has_forces || p->has_dissipation) return f(lagrangian::text::ForcedTextModel(p));
-  return f(lagrangian::text::TextModel(p));
-}
-
 /// spec.q and spec.qd (zero when not given), checked against the coordinates.
 State<Dynamic> initial_of(const ModelSpec& spec) {
   const ModelInfo info = *model_info(spec);
@@ -45,7 +37,7 @@ State<Dynamic> initial_of(const ModelSpec& spec) {
 RunReport run_text(const ModelSpec& spec, const SimulationOptions& options, const std::string& csv_path,
                    const SampleTick& tick, FinalState* final_state) {
   const State<Dynamic> s0 = initial_of(spec);
-  return with_model(spec, [&](const auto& model) { return run_model(model, s0, options, csv_path, tick, final_state); });
+  return run_model(lagrangian::text::TextModel(parsed_of(spec)), s0, options, csv_path, tick, final_state);
 }
 
 /// p_i = ∂T/∂q̇_i as formulas in the scene's names (V has no velocities);
@@ -63,47 +55,20 @@ std::vector<std::string> momentum_formulas(const lagrangian::text::Parsed& p) {
   return out;
 }
 
-std::string_view type_of(const lagrangian::text::TextModel&) { return "text::TextModel"; }
-std::string_view type_of(const lagrangian::text::ForcedTextModel&) { return "text::ForcedTextModel"; }
-
 std::string inspect_text(const ModelSpec& spec, double t0, bool as_json) {
   const ModelInfo info = *model_info(spec);
   const Parameters p(info, spec);
   const State<Dynamic> s0 = initial_of(spec);
-  return with_model(spec, [&](const auto& model) {
-    return inspect_model(model, info, type_of(model), p, s0, t0, as_json, momentum_formulas(model.parsed()));
-  });
+  const lagrangian::text::TextModel model(parsed_of(spec));
+  return inspect_model(model, info, "text::TextModel", p, s0, t0, as_json, momentum_formulas(model.parsed()));
 }
 
-/// Equilibria and modes: of T and V (Q is refused as for a built-in model;
-/// D does not move equilibria, and the modes are those without it).
 std::string analyse_text(const ModelSpec& spec, double t0, const AnalysisRequest& request) {
-  const ModelInfo info = *model_info(spec);
-  const State<Dynamic> s0 = initial_of(spec);
-  std::shared_ptr<const lagrangian::text::Parsed> p = parsed_of(spec);
-  if (p->has_forces)
-    throw AnalysisError("model '" + info.name +
-                        "': equilibria and modes need a model without generalized forces; this one declares them");
-  std::string note;
-  if (p->has_dissipation) {
-    auto conservative = std::make_shared<lagrangian::text::Parsed>(*p);
-    conservative->has_dissipation = false;
-    p = conservative;
-    note = "note: the model declares a dissipation function; it does not move equilibria, and the modes below are "
-           "those of the undamped system\n";
-  }
-  return note + analyse_model(lagrangian::text::TextModel(p), info, s0, t0, request);
+  return analyse_model(lagrangian::text::TextModel(parsed_of(spec)), *model_info(spec), initial_of(spec), t0, request);
 }
 
 BvpResult bvp_text(const ModelSpec& spec, const BvpRequest& request, DiscreteRule rule) {
-  const ModelInfo info = *model_info(spec);
-  const std::shared_ptr<const lagrangian::text::Parsed> p = parsed_of(spec);
-  if (p->has_forces || p->has_dissipation)
-    throw OptionError("solve-bvp: model '" + info.name + "' declares " +
-                      (p->has_forces ? "generalized forces" : "a dissipation function") +
-                      "; boundary-value problems by stationary action are solved for unconstrained conservative "
-                      "models only");
-  return solve_model_bvp(lagrangian::text::TextModel(p), info, request, rule);
+  return solve_model_bvp(lagrangian::text::TextModel(parsed_of(spec)), *model_info(spec), request, rule);
 }
 
 /// The points of [[model.points]] (none: an empty figure), with rods from a

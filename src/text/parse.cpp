@@ -1,14 +1,15 @@
 // Reading an expression into nodes (text/expression.hpp): a recursive-descent
 // parser over a builder that stores equal nodes once and folds constants.
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
-#include <map>
+#include <initializer_list>
 #include <numbers>
 #include <string>
-#include <tuple>
 #include <utility>
+#include <vector>
 
 #include "builder.hpp"
 #include "lagrangian/text/expression.hpp"
@@ -99,33 +100,19 @@ class Parser {
     return false;
   }
 
-  int sum() {
-    int x = product();
-    for (;;) {
-      if (accept('+')) {
-        x = b_.binary(Op::add, x, product());
-      } else if (accept('-')) {
-        x = b_.binary(Op::sub, x, product());
-      } else {
-        return x;
-      }
-    }
-  }
-
-  int product() {
-    int x = signed_factor();
+  /// next (op next)*, left-associative, for the operators of `ops`.
+  int left_associative(int (Parser::*next)(), std::initializer_list<std::pair<char, Op>> ops) {
+    int x = (this->*next)();
     for (;;) {
       skip();
       if (pos_ + 1 < s_.size() && s_[pos_] == '*' && s_[pos_ + 1] == '*') return x;  // a power: not here
-      if (accept('*')) {
-        x = b_.binary(Op::mul, x, signed_factor());
-      } else if (accept('/')) {
-        x = b_.binary(Op::div, x, signed_factor());
-      } else {
-        return x;
-      }
+      const auto op = std::find_if(ops.begin(), ops.end(), [&](const auto& o) { return accept(o.first); });
+      if (op == ops.end()) return x;
+      x = b_.binary(op->second, x, (this->*next)());
     }
   }
+  int sum() { return left_associative(&Parser::product, {{'+', Op::add}, {'-', Op::sub}}); }
+  int product() { return left_associative(&Parser::signed_factor, {{'*', Op::mul}, {'/', Op::div}}); }
 
   int signed_factor() {
     if (accept('-')) return b_.unary(Op::neg, signed_factor());

@@ -1,5 +1,5 @@
 // simulate() and the Euler–Lagrange pass compiled once, in the library, for
-// the conservative text model (see lagrangian/detail/compiled_models.hpp and
+// text models (see lagrangian/detail/compiled_models.hpp and
 // lagrangian/text/text_model.hpp).
 #include "lagrangian/simulate.hpp"
 #include "lagrangian/text/text_model.hpp"

@@ -18,9 +18,10 @@
 /// const lagrangian::text::TextModel pendulum(d);
 /// \endcode
 ///
-/// Two types, so that what a model does not declare costs nothing:
-/// `TextModel` (T and V: conservative) and `ForcedTextModel` (also Q and D;
-/// an absent one is zero). `make()` checks a definition against the type.
+/// Q and D are optional: a model whose definition gives neither runs as a
+/// conservative model, its energy monitored, and pays for neither (the
+/// library asks `uses_generalized_forces()` and `uses_dissipation()` at run
+/// time).
 
 #include <array>
 #include <memory>
@@ -78,20 +79,14 @@ std::vector<S>& slots() {
 
 }  // namespace detail
 
-/// A text model; `Forced`: it declares Q and D (see the file comment).
-template <bool Forced>
-class BasicTextModel {
+/// A model stated as text (see the file comment).
+class TextModel {
  public:
   static constexpr int coordinate_count = Dynamic;
 
-  /// Reads `d` (throws ExpressionError naming the field). A definition with
-  /// forces or a dissipation function needs ForcedTextModel.
-  explicit BasicTextModel(const Definition& d) : BasicTextModel(read(d)) {}
-  explicit BasicTextModel(std::shared_ptr<const Parsed> p) : p_(std::move(p)) {
-    if (!Forced && (p_->has_forces || p_->has_dissipation))
-      throw ExpressionError(p_->definition.field_prefix + (p_->has_forces ? "forces" : "dissipation"), 0,
-                            "declared, so the model is a ForcedTextModel, not a TextModel");
-  }
+  /// Reads `d` (throws ExpressionError naming the field).
+  explicit TextModel(const Definition& d) : TextModel(read(d)) {}
+  explicit TextModel(std::shared_ptr<const Parsed> p) : p_(std::move(p)) {}
 
   int size() const { return static_cast<int>(p_->definition.coordinates.size()); }
   std::string name() const { return p_->definition.name; }
@@ -113,41 +108,32 @@ class BasicTextModel {
   S potential(const Vec<S, Dynamic>& q, const S& t) const {
     return evaluate(p_->potential_bound, q, q, t, detail::slots<S>());
   }
+
+  /// Whether the definition gives Q and D: a run of a model without them
+  /// skips both passes and is conservative (see uses_generalized_forces()).
+  bool uses_generalized_forces() const { return p_->has_forces; }
+  bool uses_dissipation() const { return p_->has_dissipation; }
   /// Q (N or N·m per coordinate), into a per-thread vector (no allocation
-  /// per call).
+  /// per call); zero when the definition gives none.
   Eigen::Map<const Eigen::VectorXd> generalized_forces(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
-                                                      double t) const
-    requires Forced
-  {
+                                                      double t) const {
     thread_local Eigen::VectorXd out;
     const int n = size();
     if (out.size() < n) out.resize(n);
-    for (int i = 0; i < n; ++i) {
-      const Expression& e = p_->forces_bound.empty() ? zero() : p_->forces_bound[static_cast<std::size_t>(i)];
-      out[i] = evaluate(e, q, qd, t, detail::slots<double>());
-    }
+    for (int i = 0; i < n; ++i)
+      out[i] = p_->has_forces ? evaluate(p_->forces_bound[static_cast<std::size_t>(i)], q, qd, t, detail::slots<double>())
+                              : 0.0;
     return {out.data(), n};
   }
-  /// Rayleigh D (W).
+  /// Rayleigh D (W); zero when the definition gives none.
   template <class S>
-  S dissipation(const Vec<S, Dynamic>& q, const Vec<S, Dynamic>& qd) const
-    requires Forced
-  {
+  S dissipation(const Vec<S, Dynamic>& q, const Vec<S, Dynamic>& qd) const {
     return evaluate(p_->dissipation_bound, q, qd, S(0.0), detail::slots<S>());
   }
 
  private:
-  static const Expression& zero() {
-    static const Expression z{{Node{}}};
-    return z;
-  }
   std::shared_ptr<const Parsed> p_;
 };
-
-/// T and V only: a conservative text model.
-using TextModel = BasicTextModel<false>;
-/// T, V, Q and D.
-using ForcedTextModel = BasicTextModel<true>;
 
 }  // namespace lagrangian::text
 
@@ -159,7 +145,5 @@ using ForcedTextModel = BasicTextModel<true>;
                                                        const ::lagrangian::Vec<double, ::lagrangian::Dynamic>&, double);
 #if !(defined(LAGRANGIAN_TRAP_FE_INVALID) && LAGRANGIAN_TRAP_FE_INVALID)
 extern template LAGRANGIAN_TEXT_EOM_PASS(lagrangian::text::TextModel)
-extern template LAGRANGIAN_TEXT_EOM_PASS(lagrangian::text::ForcedTextModel)
 #endif
 LAGRANGIAN_EXTERN_SIMULATE(lagrangian::text::TextModel)
-LAGRANGIAN_EXTERN_SIMULATE(lagrangian::text::ForcedTextModel)

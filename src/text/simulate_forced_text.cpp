@@ -1,8 +1,0 @@
-// simulate() and the Euler–Lagrange pass compiled once, in the library, for
-// the text model with forces and dissipation (see lagrangian/detail/compiled_models.hpp and
-// lagrangian/text/text_model.hpp).
-#include "lagrangian/simulate.hpp"
-#include "lagrangian/text/text_model.hpp"
-
-LAGRANGIAN_INSTANTIATE_SIMULATE(lagrangian::text::ForcedTextModel)
-template LAGRANGIAN_TEXT_EOM_PASS(lagrangian::text::ForcedTextModel)
