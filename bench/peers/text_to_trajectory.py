@@ -9,7 +9,8 @@ both sides by the same strings for T and V. Each side goes from the text to
 the state at t = 5 s:
   * lagrangian: `lagrangian run` on a scene with those strings (a new
     process: reading, parsing, integrating, writing trajectory.csv and
-    report.json; no plots, no page), dopri5 at rtol = atol = 1e-10;
+    report.json; no plots, no page), fehlberg78 (eighth order, as DOP853) at
+    rtol = atol = 1e-10 unless --method/--tol say otherwise;
   * SymPy + SciPy: parse_expr of the strings, LagrangesMethod,
     form_lagranges_equations, rhs (M q'' = f solved), lambdify with `math`,
     solve_ivp with DOP853 at rtol = atol = 1e-10 (inside one Python process
@@ -19,6 +20,7 @@ against the 36-digit reference of bench/reference/double_pendulum.txt.
 Each side runs --repeat times (median wall time).
 
 Usage: /usr/bin/python3 bench/peers/text_to_trajectory.py build/bin/lagrangian [--repeat 5]
+           [--method fehlberg78] [--tol 1e-10]
 """
 
 import argparse
@@ -43,6 +45,7 @@ TOL = 1e-10
 
 SCENE = """name = "double pendulum from text"
 [run]
+method = "{method}"
 t_end = {t_end}
 rtol = {tol}
 atol = {tol}
@@ -73,11 +76,11 @@ def reference(root):
     return values["theta1"], values["theta2"]
 
 
-def ours(program, directory):
+def ours(program, directory, method, tol):
     """Wall time of `lagrangian run` from the text to t = 5 s, and theta(5)."""
     scene = os.path.join(directory, "text.toml")
     with open(scene, "w") as f:
-        f.write(SCENE.format(t_end=T_END, tol=TOL, kinetic=KINETIC, potential=POTENTIAL, q0=Q0[0], q1=Q0[1],
+        f.write(SCENE.format(method=method, t_end=T_END, tol=tol, kinetic=KINETIC, potential=POTENTIAL, q0=Q0[0], q1=Q0[1],
                              parameters="\n".join(f"{k} = {v}" for k, v in PARAMETERS.items())))
     out = os.path.join(directory, "out")
     start = time.perf_counter()
@@ -114,13 +117,15 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("lagrangian", help="the lagrangian program")
     ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--method", default="fehlberg78", help="lagrangian's stepper")
+    ap.add_argument("--tol", type=float, default=TOL, help="lagrangian's rtol = atol")
     args = ap.parse_args()
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     ref = reference(root)
     ours_times, theirs_times, phases = [], [], []
     with tempfile.TemporaryDirectory() as d:
         for _ in range(args.repeat):  # alternating, so that both see the same machine
-            wall, theta = ours(args.lagrangian, d)
+            wall, theta = ours(args.lagrangian, d, args.method, args.tol)
             ours_times.append(wall)
             ours_error = max(abs(theta[0] - ref[0]), abs(theta[1] - ref[1]))
             wall, phase, theta = sympy_scipy()
@@ -128,7 +133,7 @@ def main():
             phases.append(phase)
             theirs_error = max(abs(theta[0] - ref[0]), abs(theta[1] - ref[1]))
     a, b = statistics.median(ours_times), statistics.median(theirs_times)
-    print(f"lagrangian run (text model, dopri5 {TOL:g}): {a * 1e3:.1f} ms (median of {args.repeat}; "
+    print(f"lagrangian run (text model, {args.method} {args.tol:g}): {a * 1e3:.1f} ms (median of {args.repeat}; "
           f"range {min(ours_times) * 1e3:.1f}-{max(ours_times) * 1e3:.1f}), error at t = 5 s {ours_error:.2e} rad")
     derive, lam, solve = (statistics.median(p[i] for p in phases) for i in range(3))
     print(f"SymPy + SciPy (DOP853 {TOL:g}): {b * 1e3:.1f} ms (median; range {min(theirs_times) * 1e3:.1f}-"

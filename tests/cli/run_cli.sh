@@ -42,6 +42,24 @@ expect 2 "text_bad.toml:13: model.kinetic: column 12: unknown name 'thta_dot'" -
 expect 0 "p_phi = 1.41614683655 kg\*m\^2/s \(conserved\)" -- "$bin" inspect "$src/examples/scenes/spherical_pendulum_text.toml"
 expect 0 "2 runs \(0 failed\)" -- "$bin" sweep "$src/examples/scenes/spherical_pendulum_text.toml" --vary model.parameters.l=0.5:1.0:2 --set run.t_end=1 --out "$work/text_sweep" --no-plots
 grep -q '^1,1,1,ok,1,' "$work/text_sweep/sweep.csv" || { echo "FAIL: text model sweep row"; fails=$((fails + 1)); }
+expect 0 "^fehlberg78 +1e-08 " -- "$bin" bench "$src/examples/scenes/spherical_pendulum_text.toml" --methods fehlberg78 --tolerances 1e-6:1e-8 --out "$work/text_bench" --no-plots
+# The harmonic oscillator as text: equilibrium x = 0 with omega = 2 rad/s
+# (k/m = 4), and its boundary-value problem; with D, solve-bvp refuses.
+cat > "$work/text_oscillator.toml" <<'TOML'
+[model]
+coordinates = ["x"]
+units = ["m"]
+kinetic = "0.5*m*x_dot^2"
+potential = "0.5*k*x^2"
+q = [0.3]
+[model.parameters]
+m = 2.0
+k = 8.0
+TOML
+expect 0 "^  1 +4 +2 +0.31830989" -- "$bin" inspect "$work/text_oscillator.toml" --equilibria --modes
+expect 0 "action" -- "$bin" solve-bvp "$work/text_oscillator.toml" --from 0.1 --to 0.2 --time 1 --out "$work/text_bvp" --no-plots
+sed 's/^potential = .*/&\ndissipation = "0.5*x_dot^2"/' "$work/text_oscillator.toml" > "$work/text_damped.toml"
+expect 2 "solve-bvp: model 'text' declares a dissipation function" -- "$bin" solve-bvp "$work/text_damped.toml" --from 0.1 --to 0.2 --time 1 --out "$work/text_bvp2"
 
 # A run writes its files and prints a summary with the cost and the accuracy.
 expect 0 "RHS evaluations.*wall" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --out "$work/ball" --no-plots
