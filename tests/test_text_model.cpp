@@ -173,6 +173,39 @@ TEST(TextModel, SphericalPendulumRunsAsTheBuiltInModelDoes) {
   EXPECT_EQ(ra.steps, rb.steps);
 }
 
+// A rheonomic model: the pendulum whose pivot moves as y_p = a cos Ωt, its T
+// written from the bob's velocity (ẋ, ẏ) = (l cos θ θ̇, −aΩ sin Ωt +
+// l sin θ θ̇), against the built-in DrivenPendulum (T expanded there).
+TEST(TextModel, TimeInTAndVRunsAsTheBuiltInDrivenPendulumDoes) {
+  const double m = 1.2, l = 0.9, a = 0.05, w = 30.0, g = 9.81;
+  Definition d;
+  d.coordinates = {"theta"};
+  d.kinetic = "0.5*m*((l*cos(theta)*theta_dot)^2 + (-a*Omega*sin(Omega*t) + l*sin(theta)*theta_dot)^2)";
+  d.potential = "m*g*(a*cos(Omega*t) - l*cos(theta))";
+  d.parameters = {{"m", m}, {"l", l}, {"a", a}, {"Omega", w}, {"g", g}};
+  const text::TextModel text_model(d);
+  const models::DrivenPendulum built_in(m, l, a, w, g);
+  SimulationOptions o;
+  o.t_end = 3.0;
+  o.rtol = 1e-12;
+  o.atol = 1e-12;
+  o.output_interval = 0.5;
+  State<1> s0;
+  s0.q << 2.5;
+  State<Dynamic> x0(1);
+  x0.q << 2.5;
+  Recorder<1> ra;
+  Recorder<Dynamic> rb;
+  simulate(built_in, s0, o, ra);
+  const RunReport r = simulate(text_model, x0, o, rb);
+  ASSERT_EQ(ra.samples.size(), rb.samples.size());
+  for (std::size_t k = 0; k < ra.samples.size(); ++k) {
+    EXPECT_NEAR(ra.samples[k].q[0], rb.samples[k].q[0], 1e-9) << "t = " << ra.samples[k].t;
+    EXPECT_NEAR(ra.samples[k].qd[0], rb.samples[k].qd[0], 1e-8) << "t = " << ra.samples[k].t;
+  }
+  EXPECT_FALSE(r.conservative);  // L depends on t
+}
+
 // A damped oscillator, m ẍ = −k x − c ẋ, stated twice: with a Rayleigh
 // function D = ½ c ẋ² and with a generalized force Q = −c ẋ. Underdamped,
 // from x(0) = x0 at rest: x(t) = x0 e^(−γt) (cos ω_d t + (γ/ω_d) sin ω_d t),
