@@ -1,6 +1,9 @@
 #pragma once
 /// \file plots.hpp
 /// Plots of a finished run, drawn by gnuplot from the files the run wrote.
+/// Target `lagrangian::scene`. For a model of your own, scene::run_and_write()
+/// (scene_model_run.hpp) runs it and makes these plots, the CSV, the report
+/// and the animation page in one call.
 ///
 /// make_plots() reads `trajectory.csv` (header
 /// `t,<coordinates...>,<coordinate>_dot...,energy[,total_energy][,lambda_…,Qc_…]`)

@@ -33,6 +33,7 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -188,14 +189,22 @@ struct TextModelSpec {
   bool rods = false;          ///< rods from the origin through consecutive points
 };
 
+namespace detail {
+class UserModel;  // detail/model_run.hpp
+}
+
 /// A generalized-coordinate model: one of the built-in models (`lagrangian
-/// list`), or one stated by expressions (`text`).
+/// list`), one stated by expressions (`text`), or a C++ model handed to
+/// scene::run_model() (`user`).
 struct ModelSpec {
   std::string name;                          ///< registry name, e.g. "double_pendulum"; empty for a text model
   std::map<std::string, double> parameters;  ///< overrides of the model's defaults; a text model's parameters (SI units)
   std::vector<double> q;                     ///< q(t0); empty: the model's default state
   std::vector<double> qd;                    ///< q̇(t0); empty: the model's default state (a text model: 0)
   std::optional<TextModelSpec> text;         ///< set for a model stated by expressions
+  /// Set by scene::run_model() (scene_model_run.hpp): a C++ model with its
+  /// initial state (name, parameters, q and qd then stay empty).
+  std::shared_ptr<const detail::UserModel> user;
 };
 
 // -- run and outputs --------------------------------------------------------------

@@ -10,7 +10,10 @@
 /// circles) and a Track (where the bodies are at each sample, in metres, and
 /// the series plotted against time). `lagrangian run` writes one for every
 /// scene (`--no-animation` or `output.animation = false` to skip); from C++,
-/// fill a Figure and a Track from a run's samples and call write_animation().
+/// scene::run_and_write() (scene_model_run.hpp) writes it for a model of
+/// particles in one call, or fill a Figure and a Track from a run's samples
+/// and call write_animation(). Target `lagrangian::view` (linked by
+/// `lagrangian::scene`).
 ///
 /// The page: play/pause (space bar), speed, a time slider, trails on/off, a
 /// camera that orbits (drag), pans (right or shift drag) and zooms (wheel);

@@ -35,7 +35,10 @@ const ModelEntry* find_entry(const std::string& name) {
   return it != all.end() && it->name == name ? &*it : nullptr;
 }
 
-const ModelEntry* entry_for(const ModelSpec& spec) { return spec.text ? &text_entry() : find_entry(spec.name); }
+const ModelEntry* entry_for(const ModelSpec& spec) {
+  if (spec.user) return &user_entry();
+  return spec.text ? &text_entry() : find_entry(spec.name);
+}
 
 const ModelInfo& catalog_entry(std::string_view name) {
   const ModelInfo* info = find_model(std::string(name));

@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "lagrangian/constraints.hpp"
+#include "lagrangian/detail/model_run.hpp"
 #include "lagrangian/detail/scene_registry.hpp"
 #include "lagrangian/dynamics.hpp"
 #include "lagrangian/errors.hpp"
@@ -137,61 +138,6 @@ State<N> initial_state(const ModelInfo& info, const ModelSpec& spec, const State
   if (!spec.qd.empty())
     for (int i = 0; i < N; ++i) s.qd[i] = spec.qd[static_cast<std::size_t>(i)];
   return s;
-}
-
-// -- running --------------------------------------------------------------------
-
-/// The observer of a scene run: CSV rows (committed by finish(), which
-/// simulate() calls only on success) and a progress tick per sample.
-template <int N>
-struct SceneObserver {
-  CsvSink* csv = nullptr;
-  const SampleTick* tick = nullptr;
-  FinalState* final_state = nullptr;
-  void begin(const Columns& c) {
-    if (csv) csv->begin(c);
-  }
-  void operator()(const Sample<N>& s) {
-    if (csv) (*csv)(s);
-    if (tick) (*tick)(s.t);
-    if (final_state) {
-      final_state->t = s.t;
-      final_state->q.assign(s.q.data(), s.q.data() + s.q.size());
-      final_state->qd.assign(s.qd.data(), s.qd.data() + s.qd.size());
-    }
-  }
-  void finish() {
-    if (csv) csv->finish();
-  }
-};
-
-/// Runs simulate() on a built-in model, writing the trajectory to `csv_path`
-/// when it is not empty (through `<csv_path>.partial`, renamed only when the
-/// run succeeds), calling tick(t) for every sample and keeping the last
-/// sample in `*final_state` when given. An initial state that
-/// violates the model's constraints is a SceneError keyed "model.q"; a file
-/// that cannot be created is keyed "output.directory".
-template <class M>
-RunReport run_model(const M& model, const State<coordinate_count_v<M>>& initial, const SimulationOptions& options,
-                    const std::string& csv_path, const SampleTick& tick, FinalState* final_state = nullptr) {
-  std::optional<CsvSink> csv;
-  if (!csv_path.empty()) {
-    try {
-      csv.emplace(csv_path);
-    } catch (const SceneError&) {
-      throw;
-    } catch (const OptionError& e) {
-      throw SceneError("output.directory", e.what());
-    }
-  }
-  SceneObserver<coordinate_count_v<M>> observer{csv ? &*csv : nullptr, tick ? &tick : nullptr, final_state};
-  try {
-    return simulate(model, initial, options, observer);
-  } catch (const ConstraintError& e) {
-    throw SceneError("model.q", std::string("inconsistent initial state: ") + e.what());
-  } catch (const DomainError& e) {
-    throw SceneError("model.q", e.what());
-  }
 }
 
 // -- inspection -----------------------------------------------------------------

@@ -194,6 +194,14 @@ PlotSpec plot_spec(const Scene& scene, const RunResult& r) {
   return p;
 }
 
+/// A text model without points or a C++ model without particles: nothing
+/// in space for the animation page.
+bool nothing_to_draw(const Scene& scene) {
+  if (!scene.model || !(scene.model->text || scene.model->user)) return false;
+  std::vector<double> none;
+  return detail::entry_for(*scene.model)->picture(*scene.model, nullptr, nullptr, 0, none).bodies.empty();
+}
+
 }  // namespace
 
 RunResult run(const Scene& input, const RunControls& controls) {
@@ -322,12 +330,12 @@ RunResult run(const Scene& input, const RunControls& controls) {
     }
   }
   const bool video = write && !controls.video_path.empty();
-  if (write && scene.model && scene.model->text && scene.model->text->points.empty() &&
-      (scene.output.animation || video)) {
+  if (write && (scene.output.animation || video) && nothing_to_draw(scene)) {
     // Nothing to draw in space: the coordinates and energy are in the plots.
-    result.animation_note =
-        "animation: not written: the model places no points in space ([[model.points]]); its coordinates and "
-        "energy are in the plots";
+    result.animation_note = scene.model->text ? "animation: not written: the model places no points in space "
+                                                "([[model.points]]); its coordinates and energy are in the plots"
+                                              : "animation: not written: the model declares no particles() to "
+                                                "draw; its coordinates and energy are in the plots";
   } else if (write && scene.output.trajectory && (scene.output.animation || video)) {
     std::optional<detail::SceneView> v;
     try {

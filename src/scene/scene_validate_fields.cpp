@@ -131,6 +131,7 @@ void Validator::check_model() const {
     check_text_model();
     return;
   }
+  if (m.user) return;  // a C++ model with its own state (scene::run_model)
   if (m.name.empty()) fail("model.name", "missing: name a built-in model");
   const ModelInfo* info = find_model(m.name);
   if (info == nullptr) {

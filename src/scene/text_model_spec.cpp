@@ -1,6 +1,8 @@
 // A scene's model stated by expressions, as the text layer reads it.
 #include "text_model_spec.hpp"
 
+#include "lagrangian/detail/model_run.hpp"
+
 namespace lagrangian::scene::detail {
 
 lagrangian::text::Definition text_definition(const ModelSpec& m) {
@@ -20,6 +22,7 @@ lagrangian::text::Definition text_definition(const ModelSpec& m) {
 }
 
 std::optional<ModelInfo> model_info(const ModelSpec& m) {
+  if (m.user) return m.user->info();
   if (!m.text) {
     if (const ModelInfo* info = find_model(m.name)) return *info;
     return std::nullopt;

@@ -14,9 +14,9 @@ namespace lagrangian::scene::detail {
 /// The definition of a text model (m.text set), its errors keyed "model.…".
 lagrangian::text::Definition text_definition(const ModelSpec& m);
 
-/// The facts of the model: the catalog entry of a built-in model, or those
-/// of a text model (named "text", its parameters with their given values
-/// as defaults); nullopt for an unknown built-in name.
+/// The facts of the model: the catalog entry of a built-in model, those of
+/// a text model (named "text", its parameters with their given values as
+/// defaults) or of a user's C++ model; nullopt for an unknown built-in name.
 std::optional<ModelInfo> model_info(const ModelSpec& m);
 
 }  // namespace lagrangian::scene::detail

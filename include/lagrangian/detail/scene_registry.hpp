@@ -74,8 +74,10 @@ const std::vector<ModelEntry>& model_entries();
 const ModelEntry* find_entry(const std::string& name);
 /// The entry of a model stated by expressions (ModelSpec::text).
 const ModelEntry& text_entry();
-/// The entry that runs `spec`: text_entry() for a text model, else the
-/// built-in model it names (nullptr when there is none).
+/// The entry of a C++ model handed to scene::run_model() (ModelSpec::user).
+const ModelEntry& user_entry();
+/// The entry that runs `spec`: user_entry() or text_entry() for those
+/// models, else the built-in model it names (nullptr when there is none).
 const ModelEntry* entry_for(const ModelSpec& spec);
 
 }  // namespace lagrangian::scene::detail
