@@ -260,6 +260,9 @@ TEST(TextFormula, MomentaPrintAsACourseWritesThem) {
   EXPECT_EQ(momentum_formula(spherical, {"theta", "phi"}, 1), "m*l^2*sin(theta)^2*phi_dot");
   EXPECT_EQ(momentum_formula("0.5*m*(x_dot^2 + y_dot^2) - m*x_dot*y_dot", {"x", "y"}, 1), "m*y_dot - m*x_dot");
   EXPECT_EQ(momentum_formula("m*sqrt(1 + x_dot^2)", {"x"}, 0), "m*x_dot/sqrt(1 + x_dot^2)");
+  // min and max: a formula while the velocity is not among their arguments.
+  EXPECT_EQ(momentum_formula("min(m, l)*x_dot", {"x"}, 0), "min(m, l)");
+  EXPECT_THROW(momentum_formula("max(x_dot, 0)*x_dot", {"x"}, 0), text::ExpressionError);
 }
 
 // The printed momenta read back and evaluated against p from automatic

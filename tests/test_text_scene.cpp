@@ -116,6 +116,21 @@ TEST(TextScene, PointsArePlacedByTheirExpressions) {
   }
 }
 
+// The bob of mass m at θ = 1, φ = 0 moving with φ̇ = 2 (l = 0.8 m):
+// r = (l sin θ, 0, −l cos θ), v = (0, l sin θ φ̇, 0), so P = m v and
+// L = m r × v = m (l² sin θ cos θ φ̇, 0, l² sin² θ φ̇): L_z is p_φ.
+TEST(TextScene, InspectSumsThePointMassesIntoPAndL) {
+  const std::string out = inspect(parse_scene(with_points(kBob)));
+  const double m = 1.5, l = 0.8, th = 1.0, w = 2.0;
+  char expected[256];
+  std::snprintf(expected, sizeof expected,
+                "P = [0, %.12g, 0] kg*m/s, L = [%.12g, 0, %.12g] kg*m^2/s about the origin; centre of mass [%.12g, 0, "
+                "%.12g] m",
+                m * l * std::sin(th) * w, m * l * l * std::sin(th) * std::cos(th) * w,
+                m * l * l * std::sin(th) * std::sin(th) * w, l * std::sin(th), -l * std::cos(th));
+  EXPECT_NE(out.find(expected), std::string::npos) << expected << "\n" << out;
+}
+
 std::string error_of(const std::string& toml) {
   try {
     parse_scene(toml, "pendulum.toml").validate();

@@ -73,8 +73,8 @@ void refuse_for_bvp(const M& model) {
     throw AnalysisError("stationary action: the model declares " + std::to_string(constraint_count_v<M>) +
                         " constraints; boundary-value problems are solved for unconstrained models only");
   if (uses_generalized_forces(model) || uses_dissipation(model))
-    throw AnalysisError("stationary action: the model declares " +
-                        std::string(uses_generalized_forces(model) ? "generalized forces Q" : "a dissipation function D") +
+    throw AnalysisError(std::string("stationary action: the model declares ") +
+                        (uses_generalized_forces(model) ? "generalized forces Q" : "a dissipation function D") +
                         ", which no action accounts for; boundary-value problems need a conservative model");
 }
 

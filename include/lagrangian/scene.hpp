@@ -198,7 +198,8 @@ class UserModel;  // detail/model_run.hpp
 /// scene::run_model() (`user`).
 struct ModelSpec {
   std::string name;                          ///< registry name, e.g. "double_pendulum"; empty for a text model
-  std::map<std::string, double> parameters;  ///< overrides of the model's defaults; a text model's parameters (SI units)
+  /// Overrides of a built-in model's defaults, or a text model's parameters (SI units).
+  std::map<std::string, double> parameters;
   std::vector<double> q;                     ///< q(t0); empty: the model's default state
   std::vector<double> qd;                    ///< q̇(t0); empty: the model's default state (a text model: 0)
   std::optional<TextModelSpec> text;         ///< set for a model stated by expressions

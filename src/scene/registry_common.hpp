@@ -156,13 +156,28 @@ std::string energy_not_conserved_because(const M& model, const State<coordinate_
   return out;
 }
 
-/// The inspection text of a built-in model at (initial, t0): coordinates,
+/// A point mass at a state (m, m/s): what the inspection sums into the
+/// centre of mass, P and L.
+struct PointMass {
+  double mass = 0;
+  std::array<double, 3> r{}, v{};
+};
+
+/// What an inspection shows beyond what the model's type tells: for a model
+/// stated by expressions, its momenta as formulas and its points' masses.
+struct InspectExtras {
+  std::vector<std::string> momentum_formulas;  ///< p_i = ∂T/∂q̇_i, one per coordinate
+  std::vector<PointMass> points;               ///< the points with a mass, at the inspected state
+};
+
+/// The inspection text of a model at (initial, t0): coordinates,
 /// parameters, state and momenta, constraints and degrees of freedom,
 /// conserved quantities and the declared forces, contacts and events.
 template <class M>
 std::string inspect_model(const M& model, const ModelInfo& info, std::string_view type, const Parameters& params,
                           const State<coordinate_count_v<M>>& s, double t0, bool as_json = false,
-                          const std::vector<std::string>& momentum_formulas = {}) {
+                          const InspectExtras& extras = {}) {
+  const std::vector<std::string>& momentum_formulas = extras.momentum_formulas;
   constexpr int n = coordinate_count_v<M>;   // (Dynamic for a run-time sized model)
   const int size = static_cast<int>(s.q.size());  // the number of coordinates
   std::ostringstream os;
@@ -388,32 +403,49 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
     decl.push_back({"watched events", "none"});
     dj.raw("watched_events", "[]");
   }
+  // The point masses: the model's particles (placed by their coordinates)
+  // or a text model's points with a mass.
+  std::vector<PointMass> masses = extras.points;
   if constexpr (has_particles_v<M>) {
-    // P = Σ m v and L = Σ m r × v about the origin, as the runs report them.
-    std::array<double, 3> P{}, L{};
-    int count = 0;
     for (const Particle& part : model.particles()) {
-      std::array<double, 3> r{}, v{};
+      PointMass pm;
+      pm.mass = part.mass;
       for (std::size_t a = 0; a < 3; ++a) {
         const int i = part.axes[a];
         if (i >= 0) {
-          r[a] = s.q[i];
-          v[a] = s.qd[i];
+          pm.r[a] = s.q[i];
+          pm.v[a] = s.qd[i];
         }
       }
-      for (std::size_t a = 0; a < 3; ++a) P[a] += part.mass * v[a];
-      L[0] += part.mass * (r[1] * v[2] - r[2] * v[1]);
-      L[1] += part.mass * (r[2] * v[0] - r[0] * v[2]);
-      L[2] += part.mass * (r[0] * v[1] - r[1] * v[0]);
-      ++count;
+      masses.push_back(pm);
     }
-    decl.push_back({"particles", std::to_string(count),
+  }
+  if (!masses.empty()) {
+    // P = Σ m v, L = Σ m r × v about the origin (as the runs report them) and
+    // the centre of mass Σ m r / Σ m.
+    std::array<double, 3> P{}, L{}, centre{};
+    double total = 0;
+    for (const PointMass& pm : masses) {
+      const auto& r = pm.r;
+      const auto& v = pm.v;
+      for (std::size_t a = 0; a < 3; ++a) {
+        P[a] += pm.mass * v[a];
+        centre[a] += pm.mass * r[a];
+      }
+      L[0] += pm.mass * (r[1] * v[2] - r[2] * v[1]);
+      L[1] += pm.mass * (r[2] * v[0] - r[0] * v[2]);
+      L[2] += pm.mass * (r[0] * v[1] - r[1] * v[0]);
+      total += pm.mass;
+    }
+    for (double& c : centre) c /= total;
+    decl.push_back({"particles", std::to_string(masses.size()),
                     "P = " + numbers(P.data(), 3) + " kg*m/s, L = " + numbers(L.data(), 3) +
-                        " kg*m^2/s about the origin"});
+                        " kg*m^2/s about the origin; centre of mass " + numbers(centre.data(), 3) + " m"});
     JsonObject pj;
-    pj.integer("count", count);
+    pj.integer("count", static_cast<int>(masses.size()));
     pj.raw("P", json_numbers(P.data(), 3));
     pj.raw("L", json_numbers(L.data(), 3));
+    pj.raw("centre_of_mass", json_numbers(centre.data(), 3));
     js.raw("particles", pj.str());
   } else {
     js.raw("particles", "null");

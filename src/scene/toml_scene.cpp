@@ -465,8 +465,9 @@ class Reader {
 
   void read_model(const toml::table& t) {
     const std::string p = "model";
-    keys(t, p, {"name", "q", "qd", "parameters", "coordinates", "units", "kinetic", "potential", "forces", "dissipation",
-                "points", "rods"});
+    keys(t, p,
+         {"name", "q", "qd", "parameters", "coordinates", "units", "kinetic", "potential", "forces", "dissipation",
+          "points", "rods"});
     ModelSpec m;
     if (get(t, p, "kinetic") || get(t, p, "coordinates")) {
       // A model stated by expressions (TextModelSpec).

@@ -173,7 +173,8 @@ Expression derivative(const Expression& e, Op variable, int index) {
         const bool constant_a = out.nodes[static_cast<std::size_t>(da)] == Node{Op::constant, -1, -1, -1, 0.0};
         const bool constant_b = out.nodes[static_cast<std::size_t>(db)] == Node{Op::constant, -1, -1, -1, 0.0};
         if (!constant_a || !constant_b)
-          throw ExpressionError("", 0, std::string(function_name(n.op)) + " of the variable has no formula for its derivative");
+          throw ExpressionError("derivative", 0,
+                                std::string(function_name(n.op)) + " of the variable has no formula for its derivative");
         r = zero;
         break;
       }

@@ -30,7 +30,8 @@ void second_derivatives_by_blocks(int nv, const Eigen::VectorXd& x, F&& f, doubl
     for (int b = a; b < blocks; ++b) {
       for (int k = 0; k < nv; ++k) xj[k] = J(x[k]);
       auto seed = [&](int block, int offset) {
-        for (int k = block * B; k < std::min(nv, (block + 1) * B); ++k) xj[k] = J::variable(x[k], offset + k - block * B);
+        for (int k = block * B; k < std::min(nv, (block + 1) * B); ++k)
+          xj[k] = J::variable(x[k], offset + k - block * B);
       };
       seed(a, 0);
       if (b != a) seed(b, B);

@@ -10,8 +10,8 @@
 namespace lagrangian::text {
 
 /// A point of the system placed by expressions of q and t (m): what the
-/// animation page draws, and with a mass, what the momenta P and L of the
-/// report sum.
+/// animation page draws, and with a mass, what `inspect` sums into the
+/// centre of mass and the momenta P and L.
 struct Point {
   std::string name;
   double mass = 0;  ///< kg; 0: a point drawn, not weighed

@@ -120,9 +120,10 @@ class TextModel {
     thread_local Eigen::VectorXd out;
     const int n = size();
     if (out.size() < n) out.resize(n);
-    for (int i = 0; i < n; ++i)
-      out[i] = p_->has_forces ? evaluate(p_->forces_bound[static_cast<std::size_t>(i)], q, qd, t, detail::slots<double>())
-                              : 0.0;
+    for (int i = 0; i < n; ++i) {
+      const std::size_t k = static_cast<std::size_t>(i);
+      out[i] = p_->has_forces ? evaluate(p_->forces_bound[k], q, qd, t, detail::slots<double>()) : 0.0;
+    }
     return {out.data(), n};
   }
   /// Rayleigh D (W); zero when the definition gives none.
@@ -139,10 +140,11 @@ class TextModel {
 
 // simulate() and the Euler–Lagrange pass of the text models are compiled
 // once, in the library (src/text/).
-#define LAGRANGIAN_TEXT_EOM_PASS(...)                                                                         \
-  void lagrangian::detail::eom_pass_large<__VA_ARGS__>(const __VA_ARGS__&, ::lagrangian::Workspace<::lagrangian::Dynamic>&, \
-                                                       const ::lagrangian::Vec<double, ::lagrangian::Dynamic>&,            \
-                                                       const ::lagrangian::Vec<double, ::lagrangian::Dynamic>&, double);
+#define LAGRANGIAN_TEXT_EOM_PASS(...)                                                               \
+  void lagrangian::detail::eom_pass_large<__VA_ARGS__>(                                                    \
+      const __VA_ARGS__&, ::lagrangian::Workspace<::lagrangian::Dynamic>&,                                 \
+      const ::lagrangian::Vec<double, ::lagrangian::Dynamic>&, const ::lagrangian::Vec<double, ::lagrangian::Dynamic>&, \
+      double);
 #if !(defined(LAGRANGIAN_TRAP_FE_INVALID) && LAGRANGIAN_TRAP_FE_INVALID)
 extern template LAGRANGIAN_TEXT_EOM_PASS(lagrangian::text::TextModel)
 #endif
