@@ -131,6 +131,22 @@ TEST(TextScene, InspectSumsThePointMassesIntoPAndL) {
   EXPECT_NE(out.find(expected), std::string::npos) << expected << "\n" << out;
 }
 
+// Called without validation, the registry's entry words a bad expression
+// as validation does.
+TEST(TextScene, TheEntryNamesABadExpressionAsValidationDoes) {
+  Scene s = parse_scene(spherical_text("0.5*m*theta_dot^2"));
+  s.model->text->kinetic = "0.5*m*thta_dot^2";  // (parse_scene validates; the entry alone does not)
+  std::string key, message;
+  try {
+    detail::text_entry().inspect(*s.model, 0.0, false);
+  } catch (const SceneError& e) {
+    key = e.key();
+    message = e.message();
+  }
+  EXPECT_EQ(key, "model.kinetic");
+  EXPECT_EQ(message.substr(0, 35), "column 7: unknown name 'thta_dot'; ");
+}
+
 std::string error_of(const std::string& toml) {
   try {
     parse_scene(toml, "pendulum.toml").validate();

@@ -17,7 +17,7 @@ std::shared_ptr<const lagrangian::text::Parsed> parsed_of(const ModelSpec& spec)
   try {
     return lagrangian::text::read(text_definition(spec));
   } catch (const lagrangian::text::ExpressionError& e) {
-    throw SceneError(e.field(), e.what());
+    throw SceneError(e.field(), scene_message(e));
   }
 }
 

@@ -166,11 +166,7 @@ void Validator::check_text_model() const {
   try {
     lagrangian::text::read(detail::text_definition(m));
   } catch (const lagrangian::text::ExpressionError& e) {
-    // The message without its field, which the scene error puts first.
-    const std::string what = e.what();
-    std::string rest = what.substr(std::min(what.size(), e.field().size()));
-    if (const std::size_t colon = rest.find(": "); colon != std::string::npos) rest = rest.substr(colon + 2);
-    fail(e.field(), e.column() > 0 ? "column " + std::to_string(e.column()) + ": " + rest : rest);
+    fail(e.field(), detail::scene_message(e));
   }
   if (m.q.empty()) fail("model.q", "a model stated by expressions needs its initial coordinates q");
   check_state("model.q", m.q, m.text->coordinates);

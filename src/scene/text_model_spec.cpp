@@ -21,6 +21,10 @@ lagrangian::text::Definition text_definition(const ModelSpec& m) {
   return d;
 }
 
+std::string scene_message(const lagrangian::text::ExpressionError& e) {
+  return e.column() > 0 ? "column " + std::to_string(e.column()) + ": " + e.message() : e.message();
+}
+
 std::optional<ModelInfo> model_info(const ModelSpec& m) {
   if (m.user) return m.user->info();
   if (!m.text) {

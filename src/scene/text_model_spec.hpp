@@ -4,15 +4,21 @@
 // parameters) of either kind of [model] in one shape.
 
 #include <optional>
+#include <string>
 
 #include "lagrangian/scene.hpp"
 #include "lagrangian/scene_models.hpp"
 #include "lagrangian/text/definition.hpp"
+#include "lagrangian/text/expression.hpp"
 
 namespace lagrangian::scene::detail {
 
 /// The definition of a text model (m.text set), its errors keyed "model.…".
 lagrangian::text::Definition text_definition(const ModelSpec& m);
+
+/// What an expression error says after its key in a scene error:
+/// "column N: what is wrong", or what is wrong alone.
+std::string scene_message(const lagrangian::text::ExpressionError& e);
 
 /// The facts of the model: the catalog entry of a built-in model, those of
 /// a text model (named "text", its parameters with their given values as

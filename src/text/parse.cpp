@@ -19,7 +19,8 @@ namespace lagrangian::text {
 ExpressionError::ExpressionError(std::string field, int column, const std::string& what)
     : Error(field + (column > 0 ? " (column " + std::to_string(column) + ")" : std::string()) + ": " + what),
       field_(std::move(field)),
-      column_(column) {}
+      column_(column),
+      message_(what) {}
 
 namespace {
 

@@ -35,10 +35,13 @@ class ExpressionError : public Error {
   /// 1-based column of the offending character in the expression (0: the
   /// expression as a whole).
   int column() const noexcept { return column_; }
+  /// What is wrong, without the field and the column.
+  const std::string& message() const noexcept { return message_; }
 
  private:
   std::string field_;
   int column_;
+  std::string message_;
 };
 
 /// What a node computes. a and b are the indices of its operands.
