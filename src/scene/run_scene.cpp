@@ -194,12 +194,14 @@ PlotSpec plot_spec(const Scene& scene, const RunResult& r) {
   return p;
 }
 
-/// A text model without points or a C++ model without particles: nothing
-/// in space for the animation page.
+/// A model whose picture has no bodies (a text model without points, a C++
+/// model without particles; every built-in model draws some): nothing in
+/// space for the animation page.
 bool nothing_to_draw(const Scene& scene) {
-  if (!scene.model || !(scene.model->text || scene.model->user)) return false;
+  const detail::ModelEntry* entry = scene.model ? detail::entry_for(*scene.model) : nullptr;
+  if (!entry) return false;
   std::vector<double> none;
-  return detail::entry_for(*scene.model)->picture(*scene.model, nullptr, nullptr, 0, none).bodies.empty();
+  return entry->picture(*scene.model, nullptr, nullptr, 0, none).bodies.empty();
 }
 
 }  // namespace

@@ -25,7 +25,6 @@ ExpressionError::ExpressionError(std::string field, int column, const std::strin
 namespace {
 
 using detail::Builder;
-using detail::is_leaf;
 using detail::reachable;
 
 struct Function {

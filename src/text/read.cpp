@@ -7,16 +7,6 @@
 
 namespace lagrangian::text {
 
-namespace {
-
-bool reads(const Expression& e, Op op) {
-  for (const Node& n : e.nodes)
-    if (n.op == op) return true;
-  return false;
-}
-
-}  // namespace
-
 std::shared_ptr<const Parsed> read(const Definition& d) {
   auto p = std::make_shared<Parsed>();
   p->definition = d;
@@ -51,7 +41,7 @@ std::shared_ptr<const Parsed> read(const Definition& d) {
 
   p->kinetic = parse(d.kinetic, p->symbols, pre + "kinetic");
   p->potential = parse(d.potential.empty() ? std::string("0") : d.potential, p->symbols, pre + "potential");
-  if (reads(p->potential, Op::velocity))
+  if (p->potential.reads_velocities())
     throw ExpressionError(pre + "potential", 0, "V depends on q and t only; a velocity appears in it");
   p->kinetic_bound = bind_parameters(p->kinetic, values);
   p->potential_bound = bind_parameters(p->potential, values);
@@ -68,7 +58,7 @@ std::shared_ptr<const Parsed> read(const Definition& d) {
     p->has_forces = true;
   }
   p->dissipation = parse(d.dissipation.empty() ? std::string("0") : d.dissipation, p->symbols, pre + "dissipation");
-  if (reads(p->dissipation, Op::time))
+  if (p->dissipation.reads_time())
     throw ExpressionError(pre + "dissipation", 0, "D depends on q and q̇ only; t appears in it");
   p->dissipation_bound = bind_parameters(p->dissipation, values);
   p->has_dissipation = !d.dissipation.empty();
@@ -87,7 +77,7 @@ std::shared_ptr<const Parsed> read(const Definition& d) {
     for (int a = 0; a < 3; ++a) {
       const std::string field = key + "." + "xyz"[a];
       const Expression e = parse(axes[a]->empty() ? std::string("0") : *axes[a], p->symbols, field);
-      if (reads(e, Op::velocity))
+      if (e.reads_velocities())
         throw ExpressionError(field, 0, "a point's position depends on q and t only; a velocity appears in it");
       xyz[static_cast<std::size_t>(a)] = bind_parameters(e, values);
     }
