@@ -153,6 +153,35 @@ TEST(NoAllocation, ConstrainedAccelerationsDoNotAllocate) {
   EXPECT_TRUE(qdd.allFinite());
 }
 
+// A text model with a holonomic constraint, a Pfaffian one and a contact
+// (counted at run time): its constraint rows come from per-thread vectors,
+// into a workspace sized once.
+TEST(NoAllocation, ConstrainedTextModelAccelerationsDoNotAllocate) {
+  text::Definition d;
+  d.coordinates = {"x", "y", "phi"};
+  d.kinetic = "0.5*m*(x_dot^2 + y_dot^2) + 0.5*I*phi_dot^2";
+  d.potential = "m*g*y";
+  d.holonomic = {"sqrt(x^2 + y^2) - l"};
+  d.pfaffian = {"phi_dot - 0.1*x_dot"};
+  d.contacts = {{"floor", "y + 2*l", 0.5, "m"}};
+  d.parameters = {{"m", 1.0}, {"I", 0.2}, {"g", 9.81}, {"l", 1.0}};
+  const text::TextModel model(d);
+  Workspace<Dynamic> ws(3);
+  ConstraintWorkspaceFor<text::TextModel> cw = constraint_workspace(model);
+  Vec<double, Dynamic> q(3), qd(3), qdd(3);
+  q << 0.6, -0.8, 0.0;
+  qd << 0.8, 0.6, 0.08;
+  constrained_accelerations(model, ws, cw, q, qd, 0.0, qdd, 10.0, all_active);
+  const long before = g_allocations.load();
+  for (int i = 0; i < 100; ++i) {
+    qd[2] += 1e-4;
+    constrained_accelerations(model, ws, cw, q, qd, 0.0, qdd, 10.0, all_active);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_TRUE(qdd.allFinite());
+  EXPECT_EQ(cw.multipliers.size(), 3);
+}
+
 TEST(NoAllocation, AllocationCountOfARunDoesNotGrowWithSteps) {
   // A counting check that can fail: confirm the counter sees allocations,
   // by new and (outside AddressSanitizer) by the C allocator.

@@ -1029,7 +1029,7 @@ TEST(SceneExamples, EveryExampleSceneParses) {
   const fs::path dir = fs::path(LAGRANGIAN_SOURCE_DIR) / "examples" / "scenes";
   if (!fs::is_directory(dir)) GTEST_SKIP() << dir << " does not exist";
   int n = 0;
-  for (const auto& entry : fs::directory_iterator(dir)) {
+  for (const auto& entry : fs::recursive_directory_iterator(dir)) {  // text/ too
     if (entry.path().extension() != ".toml") continue;
     ++n;
     EXPECT_NO_THROW({

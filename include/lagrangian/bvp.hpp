@@ -69,8 +69,8 @@ namespace detail {
 
 template <class M>
 void refuse_for_bvp(const M& model) {
-  if constexpr (has_constraints_v<M>)
-    throw AnalysisError("stationary action: the model declares " + std::to_string(constraint_count_v<M>) +
+  if (has_constraints(model))
+    throw AnalysisError("stationary action: the model declares " + std::to_string(constraint_count(model)) +
                         " constraints; boundary-value problems are solved for unconstrained models only");
   if (uses_generalized_forces(model) || uses_dissipation(model))
     throw AnalysisError(std::string("stationary action: the model declares ") +

@@ -64,23 +64,33 @@ concept fixed_column = requires {
   { R::RowsAtCompileTime } -> std::convertible_to<int>;
   { R::ColsAtCompileTime } -> std::convertible_to<int>;
 } && R::ColsAtCompileTime == 1 && R::RowsAtCompileTime >= 1;
+/// True when R is a column vector whose number of rows is known at run time only.
+template <class R>
+concept dynamic_column = requires {
+  { R::RowsAtCompileTime } -> std::convertible_to<int>;
+  { R::ColsAtCompileTime } -> std::convertible_to<int>;
+} && R::ColsAtCompileTime == 1 && R::RowsAtCompileTime == Dynamic;
 
-/// Rows of a constraint function's result R; a result that is not a
-/// fixed-size column vector stops compilation with one sentence and counts
-/// as no rows, so nothing else is compiled for it.
+/// Rows of a constraint function's result R: its compile-time rows, or
+/// Dynamic for a run-time sized column (whose model then says the count,
+/// see holonomic_count()). Any other result stops compilation with one
+/// sentence and counts as no rows, so nothing else is compiled for it.
 template <class R, int kind>
 constexpr int rows_of() {
-  static_assert(fixed_column<R> || kind != 0,
-                "lagrangian: holonomic(q, t) must return lagrangian::Vec<S, m> with a compile-time m, one entry per "
-                "constraint (also for a single constraint: Vec<S, 1>), not a scalar or a run-time sized vector");
-  static_assert(fixed_column<R> || kind != 1,
-                "lagrangian: unilateral(q, t) must return lagrangian::Vec<S, u> with a compile-time u, one entry per "
-                "contact (also for a single contact: Vec<S, 1>), not a scalar or a run-time sized vector");
-  static_assert(fixed_column<R> || kind != 2,
-                "lagrangian: pfaffian(q, qd, t) must return lagrangian::Vec<S, k> with a compile-time k, one entry per "
-                "constraint (also for a single constraint: Vec<S, 1>), not a scalar or a run-time sized vector");
+  constexpr bool column = fixed_column<R> || dynamic_column<R>;
+  static_assert(column || kind != 0,
+                "lagrangian: holonomic(q, t) must return lagrangian::Vec<S, m>, one entry per constraint (also for a "
+                "single constraint: Vec<S, 1>), not a scalar");
+  static_assert(column || kind != 1,
+                "lagrangian: unilateral(q, t) must return lagrangian::Vec<S, u>, one entry per contact (also for a "
+                "single contact: Vec<S, 1>), not a scalar");
+  static_assert(column || kind != 2,
+                "lagrangian: pfaffian(q, qd, t) must return lagrangian::Vec<S, k>, one entry per constraint (also for "
+                "a single constraint: Vec<S, 1>), not a scalar");
   if constexpr (fixed_column<R>) {
     return R::RowsAtCompileTime;
+  } else if constexpr (dynamic_column<R>) {
+    return Dynamic;
   } else {
     return 0;
   }
@@ -118,10 +128,16 @@ constexpr int pfaffian_rows() {
 }
 }  // namespace detail
 
-/// Number of holonomic constraints a model declares (0 when none).
+namespace detail {
+/// a + b for row counts, Dynamic when either is.
+constexpr int add_rows(int a, int b) { return a == Dynamic || b == Dynamic ? Dynamic : a + b; }
+}  // namespace detail
+
+/// Number of holonomic constraints a model declares (0 when none, Dynamic
+/// when the model says it at run time).
 template <class M>
 inline constexpr int holonomic_count_v = detail::holonomic_rows<M>();
-/// Number of Pfaffian constraints a model declares (0 when none).
+/// Number of Pfaffian constraints a model declares (0 when none, or Dynamic).
 template <class M>
 inline constexpr int pfaffian_count_v = detail::pfaffian_rows<M>();
 /// Number of unilateral constraints g(q, t) ≥ 0 a model declares.
@@ -129,10 +145,88 @@ template <class M>
 inline constexpr int unilateral_count_v = detail::unilateral_rows<M>();
 /// Rows at the position level: holonomic, then unilateral.
 template <class M>
-inline constexpr int position_rows_v = holonomic_count_v<M> + unilateral_count_v<M>;
-/// Total number of constraint rows: holonomic, unilateral, Pfaffian (in that order).
+inline constexpr int position_rows_v = detail::add_rows(holonomic_count_v<M>, unilateral_count_v<M>);
+/// Total number of constraint rows: holonomic, unilateral, Pfaffian (in
+/// that order); Dynamic when any kind is counted at run time.
 template <class M>
-inline constexpr int constraint_count_v = holonomic_count_v<M> + unilateral_count_v<M> + pfaffian_count_v<M>;
+inline constexpr int constraint_count_v = detail::add_rows(position_rows_v<M>, pfaffian_count_v<M>);
+/// True when the model declares constraints (for run-time counts: may
+/// declare; has_constraints(model) says whether it does).
+template <class M>
+inline constexpr bool has_constraints_v = constraint_count_v<M> != 0;
+/// True when the model's constraint counts are known at run time only: its
+/// holonomic(q, t), unilateral(q, t) and pfaffian(q, qd, t) return run-time
+/// sized vectors and it says their lengths by `int holonomic_count() const`,
+/// `int unilateral_count() const` and `int pfaffian_count() const` (a
+/// model says the counts of the kinds it declares). At most 64 contacts.
+template <class M>
+inline constexpr bool runtime_constraint_counts_v = constraint_count_v<M> == Dynamic;
+
+/// Holonomic constraints of `model` (m), at run time.
+template <class M>
+int holonomic_count(const M& model) {
+  if constexpr (holonomic_count_v<M> == Dynamic) {
+    static_assert(requires { { model.holonomic_count() } -> std::convertible_to<int>; },
+                  "lagrangian: a model whose holonomic(q, t) returns a run-time sized vector says its length by "
+                  "int holonomic_count() const");
+    return model.holonomic_count();
+  } else {
+    (void)model;
+    return holonomic_count_v<M>;
+  }
+}
+/// Pfaffian constraints of `model` (k), at run time.
+template <class M>
+int pfaffian_count(const M& model) {
+  if constexpr (pfaffian_count_v<M> == Dynamic) {
+    static_assert(requires { { model.pfaffian_count() } -> std::convertible_to<int>; },
+                  "lagrangian: a model whose pfaffian(q, qd, t) returns a run-time sized vector says its length by "
+                  "int pfaffian_count() const");
+    return model.pfaffian_count();
+  } else {
+    (void)model;
+    return pfaffian_count_v<M>;
+  }
+}
+/// Unilateral constraints (contacts) of `model`, at run time (at most 64,
+/// the bits of an ActiveSet).
+template <class M>
+int unilateral_count(const M& model) {
+  if constexpr (unilateral_count_v<M> == Dynamic) {
+    static_assert(requires { { model.unilateral_count() } -> std::convertible_to<int>; },
+                  "lagrangian: a model whose unilateral(q, t) returns a run-time sized vector says its length by "
+                  "int unilateral_count() const");
+    return model.unilateral_count();
+  } else {
+    (void)model;
+    return unilateral_count_v<M>;
+  }
+}
+/// Position-level rows (holonomic, then unilateral) of `model`.
+template <class M>
+int position_rows(const M& model) {
+  return holonomic_count(model) + unilateral_count(model);
+}
+/// All constraint rows of `model`.
+template <class M>
+int constraint_count(const M& model) {
+  return position_rows(model) + pfaffian_count(model);
+}
+/// True when `model` has constraints at run time.
+template <class M>
+bool has_constraints(const M& model) {
+  if constexpr (!has_constraints_v<M>) {
+    (void)model;
+    return false;
+  } else {
+    return constraint_count(model) > 0;
+  }
+}
+/// True when `model` has bilateral constraints (holonomic or Pfaffian), not only contacts.
+template <class M>
+bool has_bilateral_constraints(const M& model) {
+  return holonomic_count(model) + pfaffian_count(model) > 0;
+}
 /// Set of active unilateral constraints: bit j for unilateral constraint j.
 using ActiveSet = std::uint64_t;
 /// Every unilateral constraint active.
@@ -140,12 +234,20 @@ inline constexpr ActiveSet all_active = ~ActiveSet{0};
 namespace detail {
 constexpr ActiveSet low_bits(int count) { return count >= 64 ? ~ActiveSet{0} : (ActiveSet{1} << count) - 1; }
 }  // namespace detail
-/// The bits of a model's unilateral constraints in an ActiveSet.
+/// The bits of a model's unilateral constraints in an ActiveSet (for a
+/// compile-time count).
 template <class M>
-inline constexpr ActiveSet unilateral_mask_v = detail::low_bits(unilateral_count_v<M>);
-/// True when the model declares any constraint.
+inline constexpr ActiveSet unilateral_mask_v = detail::low_bits(unilateral_count_v<M> == Dynamic ? 64 : unilateral_count_v<M>);
+/// The bits of `model`'s unilateral constraints in an ActiveSet.
 template <class M>
-inline constexpr bool has_constraints_v = constraint_count_v<M> > 0;
+ActiveSet unilateral_mask(const M& model) {
+  if constexpr (unilateral_count_v<M> == Dynamic) {
+    return detail::low_bits(unilateral_count(model));
+  } else {
+    (void)model;
+    return unilateral_mask_v<M>;
+  }
+}
 
 /// Relative tolerance of the rank decisions: a singular value σ_i counts when
 /// σ_i > rank_tolerance · σ_max (and σ_max > 0).
@@ -174,28 +276,28 @@ void append_constraint_names(std::vector<std::string>& out, const Names* given, 
 template <class M>
 std::vector<std::string> constraint_names(const M& model) {
   std::vector<std::string> names;
-  if constexpr (holonomic_count_v<M> > 0) {
+  if constexpr (holonomic_count_v<M> != 0) {
     if constexpr (requires { model.holonomic_names(); }) {
       const auto given = model.holonomic_names();
-      detail::append_constraint_names(names, &given, holonomic_count_v<M>, "g", "holonomic_names", "holonomic");
+      detail::append_constraint_names(names, &given, holonomic_count(model), "g", "holonomic_names", "holonomic");
     } else {
-      detail::append_constraint_names<std::vector<std::string>>(names, nullptr, holonomic_count_v<M>, "g", "", "");
+      detail::append_constraint_names<std::vector<std::string>>(names, nullptr, holonomic_count(model), "g", "", "");
     }
   }
-  if constexpr (unilateral_count_v<M> > 0) {
+  if constexpr (unilateral_count_v<M> != 0) {
     if constexpr (requires { model.unilateral_names(); }) {
       const auto given = model.unilateral_names();
-      detail::append_constraint_names(names, &given, unilateral_count_v<M>, "u", "unilateral_names", "unilateral");
+      detail::append_constraint_names(names, &given, unilateral_count(model), "u", "unilateral_names", "unilateral");
     } else {
-      detail::append_constraint_names<std::vector<std::string>>(names, nullptr, unilateral_count_v<M>, "u", "", "");
+      detail::append_constraint_names<std::vector<std::string>>(names, nullptr, unilateral_count(model), "u", "", "");
     }
   }
-  if constexpr (pfaffian_count_v<M> > 0) {
+  if constexpr (pfaffian_count_v<M> != 0) {
     if constexpr (requires { model.pfaffian_names(); }) {
       const auto given = model.pfaffian_names();
-      detail::append_constraint_names(names, &given, pfaffian_count_v<M>, "a", "pfaffian_names", "Pfaffian");
+      detail::append_constraint_names(names, &given, pfaffian_count(model), "a", "pfaffian_names", "Pfaffian");
     } else {
-      detail::append_constraint_names<std::vector<std::string>>(names, nullptr, pfaffian_count_v<M>, "a", "", "");
+      detail::append_constraint_names<std::vector<std::string>>(names, nullptr, pfaffian_count(model), "a", "", "");
     }
   }
   return names;
@@ -237,139 +339,265 @@ struct ConstraintState {
   Vec<double, C> gamma;                  ///< γ: C q̈ + γ = 0
 };
 
-/// Evaluates g, G, ġ, γ (holonomic) and φ, A, β (Pfaffian) by AD.
-template <class M>
-ConstraintState<coordinate_count_v<M>, constraint_count_v<M>> constraint_state(const M& model,
-    const Vec<double, coordinate_count_v<M>>& q,
-                                                               const Vec<double, coordinate_count_v<M>>& qd, double t) {
+namespace detail {
+/// The rows of one constraint function, checked against the model's count.
+template <class R>
+void check_rows(const R& rows, int expected, const char* function) {
+  if (static_cast<int>(rows.size()) != expected)
+    throw ConstraintError(std::string(function) + " returned " + std::to_string(rows.size()) + " values for " +
+                          std::to_string(expected) + " constraints");
+}
+}  // namespace detail
+
+/// Evaluates g, G, ġ, γ (holonomic) and φ, A, β (Pfaffian) by AD into `cs`,
+/// sized to the model's rows (nothing allocated when `cs` has those sizes
+/// already). For a run-time sized model (n = Dynamic) the Jacobians come
+/// from first-order passes over blocks of coordinates, and a Pfaffian
+/// row's affinity in q̇ is the model's to ensure (a text model checks it
+/// when read); a fixed-size model's is checked here.
+template <class M, class CS>
+void constraint_state_into(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                           const Vec<double, coordinate_count_v<M>>& qd, double t, CS& cs) {
   constexpr int n = coordinate_count_v<M>;
-  constexpr int mh = holonomic_count_v<M>;
-  constexpr int mu = unilateral_count_v<M>;
-  constexpr int mp = pfaffian_count_v<M>;
-  constexpr int mpos = mh + mu;
-  ConstraintState<n, constraint_count_v<M>> cs;
-  cs.jacobian.setZero();
-  cs.position.setZero();
-  // Position-level rows (holonomic, then unilateral) from the same two passes.
-  auto position_rows = [&](int offset, auto&& fn) {
-    using J1 = ad::Jet<double, n, 1>;
-    Vec<J1, n> qj;
-    for (int k = 0; k < n; ++k) qj[k] = J1::variable(q[k], k);
-    const auto g1 = fn(qj, J1(t));
+  const int size = static_cast<int>(q.size());
+  const int mh = holonomic_count(model);
+  const int mu = unilateral_count(model);
+  const int mp = pfaffian_count(model);
+  const int mpos = mh + mu;
+  cs.jacobian.setZero(mpos + mp, size);
+  cs.position.setZero(mpos + mp);
+  cs.velocity.resize(mpos + mp);
+  cs.gamma.resize(mpos + mp);
+  // Position-level rows (holonomic, then unilateral): g and G = ∂g/∂q from
+  // first-order passes, ġ and γ from one second-order pass along (q̇, 1).
+  auto position_rows = [&](int offset, int rows, const char* function, auto&& fn) {
+    if constexpr (n == Dynamic) {
+      using J1 = detail::FirstOrderJet<M>;
+      constexpr int w = detail::ad_directions<M>;
+      auto& qj = detail::jet_vector<J1>(0, size);
+      for (int k = 0; k < size; ++k) qj[k] = J1(q[k]);
+      for (int start = 0; start < std::max(size, 1); start += w) {
+        const int end = std::min(size, start + w);
+        for (int k = start; k < end; ++k) qj[k] = J1::variable(q[k], k - start);
+        const auto g1 = fn(qj, J1(t));
+        detail::check_rows(g1, rows, function);
+        for (int i = 0; i < rows; ++i) {
+          cs.position[offset + i] = g1[i].v;
+          for (int k = start; k < end; ++k) cs.jacobian(offset + i, k) = g1[i].g[k - start];
+        }
+        for (int k = start; k < end; ++k) qj[k] = J1(q[k]);
+      }
+    } else {
+      using J1 = ad::Jet<double, n, 1>;
+      Vec<J1, n> qj;
+      for (int k = 0; k < n; ++k) qj[k] = J1::variable(q[k], k);
+      const auto g1 = fn(qj, J1(t));
+      for (int i = 0; i < rows; ++i) {
+        cs.position[offset + i] = g1[i].v;
+        for (int k = 0; k < n; ++k) cs.jacobian(offset + i, k) = g1[i].g[k];
+      }
+    }
     // Path derivatives: a second-order Jet in the single direction (q̇, 1).
     using J2 = ad::Jet<double, 1, 2>;
-    Vec<J2, n> qp;
-    for (int k = 0; k < n; ++k) {
+    std::optional<Vec<J2, n>> local;
+    auto& qp = detail::jet_storage<J2>(local, 0, size);
+    for (int k = 0; k < size; ++k) {
       qp[k] = J2(q[k]);
       qp[k].g[0] = qd[k];
     }
     J2 tp(t);
     tp.g[0] = 1.0;
     const auto g2 = fn(qp, tp);
-    for (int i = 0; i < g1.size(); ++i) {
-      cs.position[offset + i] = g1[i].v;
-      for (int k = 0; k < n; ++k) cs.jacobian(offset + i, k) = g1[i].g[k];
+    detail::check_rows(g2, rows, function);
+    for (int i = 0; i < rows; ++i) {
       cs.velocity[offset + i] = g2[i].g[0];
       cs.gamma[offset + i] = g2[i].hess(0, 0);
     }
   };
-  if constexpr (mh > 0) {
-    position_rows(0, [&](const auto& qq, const auto& tt) { return model.holonomic(qq, tt); });
+  if constexpr (holonomic_count_v<M> != 0) {
+    if (mh > 0)
+      position_rows(0, mh, "holonomic()", [&](const auto& qq, const auto& tt) { return model.holonomic(qq, tt); });
   }
-  if constexpr (mu > 0) {
-    position_rows(mh, [&](const auto& qq, const auto& tt) { return model.unilateral(qq, tt); });
+  if constexpr (unilateral_count_v<M> != 0) {
+    if (mu > 0)
+      position_rows(mh, mu, "unilateral()", [&](const auto& qq, const auto& tt) { return model.unilateral(qq, tt); });
   }
-  (void)mpos;
-  if constexpr (mp > 0) {
-    using J = ad::EomJet<n>;
-    Vec<J, n> qj, qdj;
-    for (int k = 0; k < n; ++k) {
-      qj[k] = J::position(q[k], qd[k], k);
-      qdj[k] = J::velocity(qd[k], k);
-    }
-    const Vec<J, mp> phi = model.pfaffian(qj, qdj, J::time(t));
-    for (int i = 0; i < mp; ++i) {
-      if (phi[i].level == 2) {
-        throw ConstraintError("Pfaffian constraint " + constraint_names(model)[static_cast<std::size_t>(mpos + i)] +
-                              " is not affine in the velocities (A(q, t) qd + a(q, t) is required)");
+  if constexpr (pfaffian_count_v<M> != 0) {
+    if (mp == 0) return;
+    if constexpr (n == Dynamic) {
+      // A = ∂φ/∂q̇ (and φ) by first-order passes over blocks of q̇ ...
+      using J1 = detail::FirstOrderJet<M>;
+      constexpr int w = detail::ad_directions<M>;
+      auto& qj = detail::jet_vector<J1>(0, size);
+      auto& qdj = detail::jet_vector<J1>(1, size);
+      for (int k = 0; k < size; ++k) {
+        qj[k] = J1(q[k]);
+        qdj[k] = J1(qd[k]);
       }
-      cs.velocity[mpos + i] = phi[i].v;
-      for (int k = 0; k < n; ++k) cs.jacobian(mpos + i, k) = phi[i].grad_qd(k);
-      cs.gamma[mpos + i] = phi[i].d;  // ∂φ/∂q q̇ + ∂φ/∂t at fixed q̇
+      for (int start = 0; start < std::max(size, 1); start += w) {
+        const int end = std::min(size, start + w);
+        for (int k = start; k < end; ++k) qdj[k] = J1::variable(qd[k], k - start);
+        const auto phi = model.pfaffian(qj, qdj, J1(t));
+        detail::check_rows(phi, mp, "pfaffian()");
+        for (int i = 0; i < mp; ++i) {
+          cs.velocity[mpos + i] = phi[i].v;
+          for (int k = start; k < end; ++k) cs.jacobian(mpos + i, k) = phi[i].g[k - start];
+        }
+        for (int k = start; k < end; ++k) qdj[k] = J1(qd[k]);
+      }
+      // ... and γ = ∂φ/∂q q̇ + ∂φ/∂t at fixed q̇ by one pass along (q̇, 1).
+      using J = ad::Jet<double, 1, 1>;
+      auto& qp = detail::jet_vector<J>(0, size);
+      auto& qdp = detail::jet_vector<J>(1, size);
+      for (int k = 0; k < size; ++k) {
+        qp[k] = J(q[k]);
+        qp[k].g[0] = qd[k];
+        qdp[k] = J(qd[k]);
+      }
+      J tp(t);
+      tp.g[0] = 1.0;
+      const auto phi = model.pfaffian(qp, qdp, tp);
+      detail::check_rows(phi, mp, "pfaffian()");
+      for (int i = 0; i < mp; ++i) cs.gamma[mpos + i] = phi[i].g[0];
+    } else {
+      using J = ad::EomJet<n>;
+      Vec<J, n> qj, qdj;
+      for (int k = 0; k < n; ++k) {
+        qj[k] = J::position(q[k], qd[k], k);
+        qdj[k] = J::velocity(qd[k], k);
+      }
+      const auto phi = model.pfaffian(qj, qdj, J::time(t));
+      detail::check_rows(phi, mp, "pfaffian()");
+      for (int i = 0; i < mp; ++i) {
+        if (phi[i].level == 2) {
+          throw ConstraintError("Pfaffian constraint " + constraint_names(model)[static_cast<std::size_t>(mpos + i)] +
+                                " is not affine in the velocities (A(q, t) qd + a(q, t) is required)");
+        }
+        cs.velocity[mpos + i] = phi[i].v;
+        for (int k = 0; k < n; ++k) cs.jacobian(mpos + i, k) = phi[i].grad_qd(k);
+        cs.gamma[mpos + i] = phi[i].d;  // ∂φ/∂q q̇ + ∂φ/∂t at fixed q̇
+      }
     }
   }
+}
+
+/// Evaluates g, G, ġ, γ (holonomic) and φ, A, β (Pfaffian) by AD.
+template <class M>
+ConstraintState<coordinate_count_v<M>, constraint_count_v<M>> constraint_state(const M& model,
+                                                                               const Vec<double, coordinate_count_v<M>>& q,
+                                                                               const Vec<double, coordinate_count_v<M>>& qd,
+                                                                               double t) {
+  ConstraintState<coordinate_count_v<M>, constraint_count_v<M>> cs;
+  constraint_state_into(model, q, qd, t, cs);
   return cs;
 }
 
 /// Zeroes the rows of inactive unilateral constraints, which then carry no
 /// force (their multipliers come out zero).
 template <class M, class CS>
-void drop_inactive(CS& cs, ActiveSet active) {
-  for (int j = 0; j < unilateral_count_v<M>; ++j) {
-    if (!((active >> j) & 1u)) {
-      const int r = holonomic_count_v<M> + j;
-      cs.jacobian.row(r).setZero();
-      cs.position[r] = cs.velocity[r] = cs.gamma[r] = 0.0;
+void drop_inactive(const M& model, CS& cs, ActiveSet active) {
+  if constexpr (unilateral_count_v<M> != 0) {
+    const int mh = holonomic_count(model), mu = unilateral_count(model);
+    for (int j = 0; j < mu; ++j) {
+      if (!((active >> j) & 1u)) {
+        const int r = mh + j;
+        cs.jacobian.row(r).setZero();
+        cs.position[r] = cs.velocity[r] = cs.gamma[r] = 0.0;
+      }
     }
+  } else {
+    (void)model, (void)cs, (void)active;
+  }
+}
+/// The same for a model whose constraint counts are known at compile time.
+template <class M, class CS>
+void drop_inactive(CS& cs, ActiveSet active) {
+  static_assert(!runtime_constraint_counts_v<M>, "lagrangian: use drop_inactive(model, cs, active)");
+  if constexpr (unilateral_count_v<M> > 0) {
+    for (int j = 0; j < unilateral_count_v<M>; ++j) {
+      if (!((active >> j) & 1u)) {
+        const int r = holonomic_count_v<M> + j;
+        cs.jacobian.row(r).setZero();
+        cs.position[r] = cs.velocity[r] = cs.gamma[r] = 0.0;
+      }
+    }
+  } else {
+    (void)cs, (void)active;
   }
 }
 
-/// Scratch space of a constrained evaluation.
+/// Scratch space of a constrained evaluation, for n coordinates and c
+/// constraint rows (the template sizes, or given at run time for Dynamic).
 template <int N, int C>
 struct ConstraintWorkspace {
+  ConstraintWorkspace() : ConstraintWorkspace(N == Dynamic ? 0 : N, C == Dynamic ? 0 : C) {}
+  ConstraintWorkspace(int n, int c)
+      : minv_ct(n, c), schur(c, c), schur_solver(c, c), multipliers(c), constraint_forces(n), free(n), target(c) {}
   Eigen::Matrix<double, N, C> minv_ct;  ///< M⁻¹ Cᵀ
   Mat<double, C> schur;                 ///< S = C M⁻¹ Cᵀ
   /// S⁺ by a decomposition compiled once in the library (min_norm_solver.hpp),
   /// its storage allocated once here.
-  detail::MinNormSolver schur_solver{C, C};
-  Vec<double, C> multipliers;           ///< λ
-  Vec<double, N> constraint_forces;     ///< Cᵀ λ
+  detail::MinNormSolver schur_solver;
+  Vec<double, C> multipliers;        ///< λ
+  Vec<double, N> constraint_forces;  ///< Cᵀ λ
+  Vec<double, N> free;               ///< M⁻¹ f
+  Vec<double, C> target;             ///< −γ − b − C M⁻¹ f
+  ConstraintState<N, C> state;       ///< C, g, ġ, γ at the last evaluation
 };
 
 /// The ConstraintWorkspace of model M (its n coordinates and all its constraint rows).
 template <class M>
 using ConstraintWorkspaceFor = ConstraintWorkspace<coordinate_count_v<M>, constraint_count_v<M>>;
 
+/// A ConstraintWorkspaceFor<M> sized for `model` (needed when its sizes are run-time ones).
+template <class M>
+ConstraintWorkspaceFor<M> constraint_workspace(const M& model) {
+  return ConstraintWorkspaceFor<M>(model_size(model), constraint_count(model));
+}
+
 /// q̈ and λ of a constrained model (see the file comment for the system).
 /// `omega` > 0 adds the Baumgarte term with that rate (1/s); unilateral
 /// constraints not in `active` are left out. A model whose only constraints
 /// are unilateral, none of them active, takes the unconstrained path (λ = 0).
+/// Nothing is allocated when `cw` is sized for the model.
 template <class M>
 void constrained_accelerations(const M& model, Workspace<coordinate_count_v<M>>& ws, ConstraintWorkspaceFor<M>& cw,
                                const Vec<double, coordinate_count_v<M>>& q, const Vec<double, coordinate_count_v<M>>& qd,
                                double t, Vec<double, coordinate_count_v<M>>& out, double omega = 0.0,
                                ActiveSet active = all_active) {
-  constexpr int mh = position_rows_v<M>;
-  if constexpr (holonomic_count_v<M> + pfaffian_count_v<M> == 0) {
-    if ((active & unilateral_mask_v<M>) == 0) {  // contacts only, none touching: free motion
-      detail::free_accelerations(model, ws, q, qd, t, out);
-      cw.multipliers.setZero();
-      cw.constraint_forces.setZero();
-      return;
-    }
+  if (!has_bilateral_constraints(model) && (active & unilateral_mask(model)) == 0) {
+    // contacts only, none touching (or no constraints at all): free motion
+    detail::free_accelerations(model, ws, q, qd, t, out);
+    cw.multipliers.setZero();
+    cw.constraint_forces.setZero();
+    return;
   }
   evaluate(model, ws, q, qd, t);
   detail::factor_mass_matrix(ws, q, qd, t);
-  auto cs = constraint_state(model, q, qd, t);
-  drop_inactive<M>(cs, active);
-  Vec<double, constraint_count_v<M>> target = -cs.gamma;
+  auto& cs = cw.state;
+  constraint_state_into(model, q, qd, t, cs);
+  drop_inactive(model, cs, active);
+  const int rows = static_cast<int>(cs.position.size());
+  const int mh = position_rows(model);
+  cw.target = -cs.gamma;
   if (omega > 0) {
-    for (int i = 0; i < constraint_count_v<M>; ++i) {
+    for (int i = 0; i < rows; ++i) {
       if (i < mh) {
-        target[i] -= 2.0 * omega * cs.velocity[i] + omega * omega * cs.position[i];
+        cw.target[i] -= 2.0 * omega * cs.velocity[i] + omega * omega * cs.position[i];
       } else {
-        target[i] -= omega * cs.velocity[i];
+        cw.target[i] -= omega * cs.velocity[i];
       }
     }
   }
   cw.minv_ct = ws.cholesky.solve(cs.jacobian.transpose());
-  cw.schur = cs.jacobian * cw.minv_ct;
+  cw.schur.noalias() = cs.jacobian * cw.minv_ct;
   cw.schur_solver.factorize(cw.schur.data());
-  const Vec<double, coordinate_count_v<M>> free = ws.cholesky.solve(ws.rhs);
-  target -= cs.jacobian * free;
-  cw.schur_solver.solve(target.data(), cw.multipliers.data());
-  cw.constraint_forces = cs.jacobian.transpose() * cw.multipliers;
-  out = free + cw.minv_ct * cw.multipliers;
+  cw.free = ws.cholesky.solve(ws.rhs);
+  cw.target.noalias() -= cs.jacobian * cw.free;
+  cw.schur_solver.solve(cw.target.data(), cw.multipliers.data());
+  cw.constraint_forces.noalias() = cs.jacobian.transpose() * cw.multipliers;
+  out = cw.free;
+  out.noalias() += cw.minv_ct * cw.multipliers;
 }
 
 /// Convenience form of constrained_accelerations() that allocates its own
@@ -383,7 +611,7 @@ Vec<double, coordinate_count_v<M>> constrained_accelerations(const M& model,
                                               const Vec<double, coordinate_count_v<M>>& qd, double t = 0.0,
                                               Vec<double, constraint_count_v<M>>* multipliers = nullptr) {
   Workspace<coordinate_count_v<M>> ws(static_cast<int>(q.size()));
-  ConstraintWorkspaceFor<M> cw;
+  ConstraintWorkspaceFor<M> cw = constraint_workspace(model);
   Vec<double, coordinate_count_v<M>> qdd(q.size());
   constrained_accelerations(model, ws, cw, q, qd, t, qdd);
   if (multipliers) *multipliers = cw.multipliers;
@@ -454,18 +682,18 @@ DofReport dof_report(const M& model, const State<coordinate_count_v<M>>& s, doub
   check_model<M>();
   DofReport r;
   r.coordinates = model_size(model);
-  r.holonomic = holonomic_count_v<M>;
-  r.pfaffian = pfaffian_count_v<M>;
-  r.unilateral = unilateral_count_v<M>;
-  if constexpr (has_constraints_v<M>) {
+  r.holonomic = holonomic_count(model);
+  r.pfaffian = pfaffian_count(model);
+  r.unilateral = unilateral_count(model);
+  if (has_constraints(model)) {
     auto cs = constraint_state(model, s.q, s.qd, t);
-    drop_inactive<M>(cs, ActiveSet{0});  // bilateral rows only
+    drop_inactive(model, cs, ActiveSet{0});  // bilateral rows only
     const auto names = constraint_names(model);
-    r.holonomic_rank = detail::numeric_rank(cs.jacobian.topRows(holonomic_count_v<M>));
+    r.holonomic_rank = detail::numeric_rank(cs.jacobian.topRows(r.holonomic));
     r.velocity_rank = detail::numeric_rank(cs.jacobian, &r.singular_values);
     // The contact rows, zeroed above, add no rank and are not redundant.
-    for (int i : detail::rows_adding_no_rank(Eigen::MatrixXd(cs.jacobian), constraint_count_v<M>)) {
-      const bool unilateral = i >= holonomic_count_v<M> && i < position_rows_v<M>;
+    for (int i : detail::rows_adding_no_rank(Eigen::MatrixXd(cs.jacobian), constraint_count(model))) {
+      const bool unilateral = i >= r.holonomic && i < r.holonomic + r.unilateral;
       if (!unilateral) r.redundant.push_back(names[static_cast<std::size_t>(i)]);
     }
   }
@@ -486,20 +714,22 @@ namespace detail {
 template <class M>
 int project_positions_with(const M& model, Vec<double, coordinate_count_v<M>>& q, double t, double tolerance,
                            int max_iterations, ActiveSet active, MinNormSolver& solver) {
-  constexpr int mh = position_rows_v<M>;
-  if constexpr (mh == 0) {
+  constexpr int mh_v = position_rows_v<M>;
+  if constexpr (mh_v == 0) {
     return 0;
   } else {
-    const Vec<double, coordinate_count_v<M>> zero = Vec<double, coordinate_count_v<M>>::Zero();
+    const int mh = position_rows(model);
+    if (mh == 0) return 0;
+    const Vec<double, coordinate_count_v<M>> zero = Vec<double, coordinate_count_v<M>>::Zero(q.size());
     for (int it = 0; it < max_iterations; ++it) {
       auto cs = constraint_state(model, q, zero, t);
-      drop_inactive<M>(cs, active);
-      const Vec<double, mh> g = cs.position.head(mh);
+      drop_inactive(model, cs, active);
+      const Vec<double, mh_v> g = cs.position.head(mh);
       const double scale = 1.0 + q.template lpNorm<Eigen::Infinity>();
       if (g.template lpNorm<Eigen::Infinity>() <= tolerance * scale) return it;
-      const Eigen::Matrix<double, mh, coordinate_count_v<M>> G = cs.jacobian.topRows(mh);
+      const Eigen::Matrix<double, mh_v, coordinate_count_v<M>> G = cs.jacobian.topRows(mh);
       solver.factorize(G.data());
-      Vec<double, coordinate_count_v<M>> dq;
+      Vec<double, coordinate_count_v<M>> dq(q.size());
       solver.solve(g.data(), dq.data());
       q -= dq;
       if (!q.allFinite()) break;
@@ -523,9 +753,10 @@ void project_velocities_with(const M& model, Workspace<coordinate_count_v<M>>& w
                              const Vec<double, coordinate_count_v<M>>& q, Vec<double, coordinate_count_v<M>>& qd,
                              double t, ActiveSet active, MinNormSolver& solver) {
   if constexpr (has_constraints_v<M>) {
+    if (!has_constraints(model)) return;
     evaluate(model, ws, q, qd, t);
     auto cs = constraint_state(model, q, qd, t);
-    drop_inactive<M>(cs, active);
+    drop_inactive(model, cs, active);
     detail::factor_mass_matrix(ws, q, qd, t);
     const Eigen::Matrix<double, coordinate_count_v<M>, constraint_count_v<M>> minv_ct =
         ws.cholesky.solve(cs.jacobian.transpose());
@@ -533,7 +764,7 @@ void project_velocities_with(const M& model, Workspace<coordinate_count_v<M>>& w
     const Mat<double, c> schur = cs.jacobian * minv_ct;
     solver.factorize(schur.data());
     const Vec<double, c> residual = cs.velocity;
-    Vec<double, c> correction;
+    Vec<double, c> correction(residual.size());
     solver.solve(residual.data(), correction.data());
     qd -= minv_ct * correction;
   }
@@ -551,7 +782,7 @@ int project_positions(const M& model, Vec<double, coordinate_count_v<M>>& q, dou
   if constexpr (position_rows_v<M> == 0) {
     return 0;
   } else {
-    detail::MinNormSolver solver(position_rows_v<M>, coordinate_count_v<M>);
+    detail::MinNormSolver solver(position_rows(model), model_size(model));
     return detail::project_positions_with(model, q, t, tolerance, max_iterations, active, solver);
   }
 }
@@ -563,7 +794,7 @@ void project_velocities(const M& model, Workspace<coordinate_count_v<M>>& ws,
                         const Vec<double, coordinate_count_v<M>>& q, Vec<double, coordinate_count_v<M>>& qd,
                         double t, ActiveSet active = all_active) {
   if constexpr (has_constraints_v<M>) {
-    detail::MinNormSolver solver(constraint_count_v<M>, constraint_count_v<M>);
+    detail::MinNormSolver solver(constraint_count(model), constraint_count(model));
     detail::project_velocities_with(model, ws, q, qd, t, active, solver);
   }
 }

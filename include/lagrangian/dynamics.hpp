@@ -438,15 +438,22 @@ LAGRANGIAN_ALWAYS_INLINE void free_accelerations(const M& model, Workspace<coord
 /// caller storage `out` (the hot-path form: no heap, no copy). Throws
 /// DynamicsError naming the state when M is singular or not positive
 /// definite. A model with constraints does not compile here: its q̈ comes
-/// from constrained_accelerations().
+/// from constrained_accelerations(); one that counts its constraints at run
+/// time (a text model) throws DynamicsError when it has any.
 template <class M>
 void accelerations(const M& model, Workspace<coordinate_count_v<M>>& ws, const Vec<double, coordinate_count_v<M>>& q,
                    const Vec<double, coordinate_count_v<M>>& qd, double t, Vec<double, coordinate_count_v<M>>& out) {
-  static_assert(!detail::declares_constraints_c<M>,
+  static_assert(!detail::declares_constraints_c<M> || detail::counts_constraints_at_run_time_c<M>,
                 "lagrangian: accelerations() would ignore this model's constraints; use "
                 "constrained_accelerations(model, ws, cw, q, qd, t, qdd) with a ConstraintWorkspaceFor<M> cw "
                 "(lagrangian/constraints.hpp), or simulate()");
-  if constexpr (!detail::declares_constraints_c<M>) detail::free_accelerations(model, ws, q, qd, t, out);
+  if constexpr (detail::counts_constraints_at_run_time_c<M>) {
+    if (const int rows = detail::run_time_constraint_rows(model); rows > 0)
+      throw DynamicsError("accelerations() would ignore this model's " + std::to_string(rows) +
+                          " constraints; use constrained_accelerations(), or simulate()");
+  }
+  if constexpr (!detail::declares_constraints_c<M> || detail::counts_constraints_at_run_time_c<M>)
+    detail::free_accelerations(model, ws, q, qd, t, out);
 }
 
 /// q̈ written into ws.accelerations and returned by reference.

@@ -39,8 +39,10 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 
@@ -110,22 +112,27 @@ inline constexpr int event_count_v = detail::event_rows<M>();
 
 /// The contacts' restitution coefficients, checked: throws ParameterError
 /// naming the contact and the value unless each is in [0, 1].
+/// (A std::array for a compile-time number of contacts, a std::vector for a
+/// run-time one.)
 template <class M>
-std::array<double, unilateral_count_v<M>> restitution_coefficients(const M& model) {
-  std::array<double, unilateral_count_v<M>> e{};
+auto restitution_coefficients(const M& model) {
+  constexpr int u = unilateral_count_v<M>;
+  std::conditional_t<u == Dynamic, std::vector<double>, std::array<double, u == Dynamic ? 0 : u>> e{};
+  const int count = unilateral_count(model);
+  if constexpr (u == Dynamic) e.assign(static_cast<std::size_t>(count), 0.0);
   if constexpr (has_restitution_v<M>) {
     const auto given = model.restitution();
     const auto names = constraint_names(model);
-    if (static_cast<int>(std::size(given)) != unilateral_count_v<M>)
+    if (static_cast<int>(std::size(given)) != count)
       throw ParameterError(model_name(model) + ": restitution() gives " + std::to_string(std::size(given)) +
-                           " coefficients for " + std::to_string(unilateral_count_v<M>) + " contacts");
-    for (int j = 0; j < unilateral_count_v<M>; ++j) {
+                           " coefficients for " + std::to_string(count) + " contacts");
+    for (int j = 0; j < count; ++j) {
       const double v = given[static_cast<std::size_t>(j)];
       if (!(v >= 0.0 && v <= 1.0)) {
         std::ostringstream os;
         os.precision(17);
         os << model_name(model) << ": restitution of contact "
-           << names[static_cast<std::size_t>(holonomic_count_v<M> + j)] << " must be in [0, 1], got " << v;
+           << names[static_cast<std::size_t>(holonomic_count(model) + j)] << " must be in [0, 1], got " << v;
         throw ParameterError(os.str());
       }
       e[static_cast<std::size_t>(j)] = v;
@@ -149,22 +156,27 @@ std::vector<EventSpec> event_specs(const M& model) {
 }
 
 /// Gap and normal velocity of every contact at a state: φ_j(q, t) and
-/// φ̇_j = ∂φ_j/∂q q̇ + ∂φ_j/∂t (one first-order pass along (q̇, 1)).
+/// φ̇_j = ∂φ_j/∂q q̇ + ∂φ_j/∂t (one first-order pass along (q̇, 1)). For a
+/// run-time number of contacts `gap` and `rate` must have that size.
 template <class M>
 void contact_gaps(const M& model, const Vec<double, coordinate_count_v<M>>& q,
                   const Vec<double, coordinate_count_v<M>>& qd, double t,
                   Vec<double, unilateral_count_v<M>>& gap, Vec<double, unilateral_count_v<M>>& rate) {
   using J = ad::Jet<double, 1, 1>;
   constexpr int n = coordinate_count_v<M>;
-  Vec<J, n> qp;
-  for (int k = 0; k < n; ++k) {
+  const int size = static_cast<int>(q.size());
+  std::optional<Vec<J, n>> local;
+  auto& qp = detail::jet_storage<J>(local, 0, size);
+  for (int k = 0; k < size; ++k) {
     qp[k] = J(q[k]);
     qp[k].g[0] = qd[k];
   }
   J tp(t);
   tp.g[0] = 1.0;
   const auto phi = model.unilateral(qp, tp);
-  for (int j = 0; j < unilateral_count_v<M>; ++j) {
+  const int count = unilateral_count(model);
+  detail::check_rows(phi, count, "unilateral()");
+  for (int j = 0; j < count; ++j) {
     gap[j] = phi[j].v;
     rate[j] = phi[j].g[0];
   }
@@ -210,12 +222,12 @@ ImpactResult<coordinate_count_v<M>> restitution_impact(const M& model, Workspace
                                                        const Vec<double, coordinate_count_v<M>>& q,
                                                        Vec<double, coordinate_count_v<M>>& qd, double t, int contact,
                                                        double e, bool only_approaching) {
-  static_assert(unilateral_count_v<M> > 0, "apply_impact needs a model with contacts (unilateral constraints)");
+  static_assert(unilateral_count_v<M> != 0, "apply_impact needs a model with contacts (unilateral constraints)");
   constexpr int n = coordinate_count_v<M>;
   constexpr int c = constraint_count_v<M>;
-  if (contact < 0 || contact >= unilateral_count_v<M>)
+  if (contact < 0 || contact >= unilateral_count(model))
     throw OptionError("apply_impact: contact index " + std::to_string(contact) + " is outside [0, " +
-                      std::to_string(unilateral_count_v<M>) + ")");
+                      std::to_string(unilateral_count(model)) + ")");
   if (!(e >= 0.0 && e <= 1.0)) {
     std::ostringstream os;
     os.precision(17);
@@ -229,8 +241,8 @@ ImpactResult<coordinate_count_v<M>> restitution_impact(const M& model, Workspace
   detail::factor_mass_matrix(ws, q, qd, t);
   r.kinetic_energy_before = detail::kinetic_for_log(model, ws, q, qd, t);
   auto cs = constraint_state(model, q, qd, t);
-  drop_inactive<M>(cs, ActiveSet{1} << contact);  // the bilateral rows and this contact's row
-  const int row = holonomic_count_v<M> + contact;
+  drop_inactive(model, cs, ActiveSet{1} << contact);  // the bilateral rows and this contact's row
+  const int row = holonomic_count(model) + contact;
   const double v_minus = cs.velocity[row];
   r.generalized_impulse = Vec<double, n>::Zero(q.size());
   if (only_approaching && !(v_minus < 0.0)) {
@@ -242,9 +254,10 @@ ImpactResult<coordinate_count_v<M>> restitution_impact(const M& model, Workspace
   target[row] = -(1.0 + e) * v_minus;
   const Eigen::Matrix<double, n, c> minv_kt = ws.cholesky.solve(cs.jacobian.transpose());
   const Mat<double, c> schur = cs.jacobian * minv_kt;
-  detail::MinNormSolver solver(c, c);
+  const int rows = static_cast<int>(target.size());
+  detail::MinNormSolver solver(rows, rows);
   solver.factorize(schur.data(), rank_tolerance);
-  Vec<double, c> mu;
+  Vec<double, c> mu(rows);
   solver.solve(target.data(), mu.data());
   const Vec<double, n> dqd = minv_kt * mu;
   qd += dqd;

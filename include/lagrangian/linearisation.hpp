@@ -184,11 +184,31 @@ struct HolonomicDerivatives {
 template <class M>
 HolonomicDerivatives holonomic_derivatives(const M& model, const Vec<double, coordinate_count_v<M>>& q, double t) {
   constexpr int n = coordinate_count_v<M>;
-  constexpr int m = holonomic_count_v<M>;
+  const int m = holonomic_count(model);
   HolonomicDerivatives d;
   d.value.resize(m);
   d.jacobian.resize(m, q.size());
-  if constexpr (m > 0) {
+  if constexpr (holonomic_count_v<M> != 0 && n == Dynamic) {
+    // Row by row, from passes over pairs of coordinate blocks.
+    const int size = static_cast<int>(q.size());
+    for (int i = 0; i < m; ++i) {
+      double value = 0;
+      Eigen::VectorXd gradient;
+      Eigen::MatrixXd hessian;
+      detail::second_derivatives_by_blocks(
+          size, q,
+          [&](const auto& qj) {
+            using J = typename std::decay_t<decltype(qj)>::Scalar;
+            const auto g = model.holonomic(qj, J(t));
+            check_rows(g, m, "holonomic()");
+            return J(g[i]);
+          },
+          value, gradient, hessian);
+      d.value[i] = value;
+      d.jacobian.row(i) = gradient.transpose();
+      d.hessians.push_back(hessian);
+    }
+  } else if constexpr (holonomic_count_v<M> != 0) {
     using J = ad::Jet<double, n, 2>;
     Vec<J, n> qj;
     for (int k = 0; k < n; ++k) qj[k] = J::variable(q[k], k);
@@ -212,11 +232,11 @@ HolonomicDerivatives holonomic_derivatives(const M& model, const Vec<double, coo
 
 template <class M>
 void refuse_for_equilibria(const M& model) {
-  if constexpr (pfaffian_count_v<M> > 0)
-    throw AnalysisError("equilibria: the model declares " + std::to_string(pfaffian_count_v<M>) +
+  if (pfaffian_count(model) > 0)
+    throw AnalysisError("equilibria: the model declares " + std::to_string(pfaffian_count(model)) +
                         " Pfaffian (nonholonomic) constraints; only holonomic constraints are supported");
-  if constexpr (unilateral_count_v<M> > 0)
-    throw AnalysisError("equilibria: the model declares " + std::to_string(unilateral_count_v<M>) +
+  if (unilateral_count(model) > 0)
+    throw AnalysisError("equilibria: the model declares " + std::to_string(unilateral_count(model)) +
                         " unilateral constraints (contacts); resting contacts are not supported");
   if (uses_generalized_forces(model))
     throw AnalysisError("equilibria: the model declares generalized forces Q, which are not derived from a "

@@ -570,6 +570,21 @@ concept has_unilateral_c = requires(const M& m, const Vec<double, coordinate_cou
 };
 template <class M>
 concept declares_constraints_c = has_holonomic_c<M> || has_pfaffian_c<M> || has_unilateral_c<M>;
+/// A model that counts its constraints at run time (constraints.hpp) and
+/// may have none.
+template <class M>
+concept counts_constraints_at_run_time_c = requires(const M& m) { m.holonomic_count(); } ||
+                                           requires(const M& m) { m.pfaffian_count(); } ||
+                                           requires(const M& m) { m.unilateral_count(); };
+/// The constraint rows such a model has now.
+template <class M>
+int run_time_constraint_rows(const M& m) {
+  int rows = 0;
+  if constexpr (requires { m.holonomic_count(); }) rows += m.holonomic_count();
+  if constexpr (requires { m.pfaffian_count(); }) rows += m.pfaffian_count();
+  if constexpr (requires { m.unilateral_count(); }) rows += m.unilateral_count();
+  return rows;
+}
 }  // namespace detail
 
 }  // namespace lagrangian

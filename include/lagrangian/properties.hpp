@@ -83,7 +83,8 @@ bool constraints_workless(const M& model, const State<coordinate_count_v<M>>& s,
     const auto probes = probe_states(s);
     for (std::size_t k = 0; k < probes.size(); ++k) {
       const double tk = t + 0.37 * static_cast<double>(k) * (1.0 + std::abs(t));
-      const auto cs = constraint_state(model, probes[k].q, Vec<double, coordinate_count_v<M>>::Zero().eval(), tk);
+      const auto cs =
+          constraint_state(model, probes[k].q, Vec<double, coordinate_count_v<M>>::Zero(s.q.size()).eval(), tk);
       if (!cs.velocity.isZero(0.0)) return false;
     }
     return true;
@@ -122,10 +123,11 @@ std::string separability_problem(const M& model, const State<coordinate_count_v<
   if constexpr (declares_separable<M>) {
     (void)s, (void)t;
     return M::separable ? std::string() : model_name(model) + " declares separable = false";
-  } else if constexpr (has_constraints_v<M>) {
+  } else if constexpr (has_constraints_v<M> && !runtime_constraint_counts_v<M>) {
     (void)model, (void)s, (void)t;
     return "it has constraints";
   } else {
+    if (has_constraints(model)) return "it has constraints";
     if (uses_generalized_forces(model) || uses_dissipation(model)) return "it has generalized forces or dissipation";
     if (!is_autonomous(model, s, t)) return "L depends explicitly on time";
     const auto m0 = mass_matrix(model, s.q, s.qd, t);

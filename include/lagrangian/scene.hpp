@@ -42,6 +42,7 @@
 
 #include "lagrangian/errors.hpp"
 #include "lagrangian/report.hpp"
+#include "lagrangian/text/definition.hpp"
 
 namespace lagrangian::scene {
 
@@ -170,8 +171,9 @@ struct BoxContact {
 // -- built-in model ---------------------------------------------------------------
 
 /// A model stated by expressions (text/text_model.hpp): T, V and
-/// optionally Q and D of the coordinates, their velocities `<name>_dot`, t
-/// and the parameters of ModelSpec::parameters.
+/// optionally Q, D and holonomic and Pfaffian constraints, of the
+/// coordinates, their velocities `<name>_dot`, t and the parameters of
+/// ModelSpec::parameters.
 struct TextModelSpec {
   std::vector<std::string> coordinates;  ///< names of q_i
   std::vector<std::string> units;        ///< SI unit of each q_i; empty: none given
@@ -179,6 +181,11 @@ struct TextModelSpec {
   std::string potential;                 ///< V (J); empty: 0
   std::vector<std::string> forces;       ///< generalized forces Q_i; empty: none
   std::string dissipation;               ///< Rayleigh D (W); empty: none
+  std::vector<std::string> holonomic;    ///< holonomic constraints g_i(q, t) = 0; empty: none
+  std::vector<std::string> pfaffian;     ///< Pfaffian constraints A_i(q, t)·q̇ + a_i(q, t) = 0; empty: none
+  std::vector<std::string> constraint_names;  ///< one per constraint (holonomic, then Pfaffian); empty: g0, …, a0, …
+  std::vector<std::string> constraint_units;  ///< unit of each constraint function; empty: none given
+  std::vector<lagrangian::text::Contact> contacts;  ///< [[model.contacts]]: gaps ≥ 0 with restitution
   /// A point drawn on the animation page: x, y, z (m) as expressions of q and t.
   struct Point {
     std::string name;

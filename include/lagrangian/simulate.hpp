@@ -165,9 +165,12 @@ RunReport simulate_impl(const M& model, const State<coordinate_count_v<M>>& init
                         is_autonomous(model, initial, options.t0) &&
                         constraints_workless(model, initial, options.t0);
 
-  if constexpr (!has_constraints_v<M>) {
-    Workspace<n> ws(size);
-    free_accelerations(model, ws, initial.q, initial.qd, options.t0, ws.accelerations);  // a singular M at t0 is an input error
+  if constexpr (!has_constraints_v<M> || runtime_constraint_counts_v<M>) {
+    if (!has_constraints(model)) {
+      Workspace<n> ws(size);
+      // a singular M at t0 is an input error
+      free_accelerations(model, ws, initial.q, initial.qd, options.t0, ws.accelerations);
+    }
   }
 
   ModelSystem<M> system(model, options, observer, report);

@@ -64,6 +64,11 @@ std::string analyse_model(const M& model, const ModelInfo& info, const State<coo
                                                  : std::string("unilateral constraints (contacts)")) +
                         "; this one declares them");
   } else {
+    if (pfaffian_count(model) > 0 || unilateral_count(model) > 0)
+      throw AnalysisError("model '" + info.name + "': equilibria and modes need a model without " +
+                          (pfaffian_count(model) > 0 ? std::string("Pfaffian constraints")
+                                                     : std::string("unilateral constraints (contacts)")) +
+                          "; this one declares them");
     if (uses_generalized_forces(model))
       throw AnalysisError("model '" + info.name +
                           "': equilibria and modes need a model without generalized forces; this one declares them");
@@ -116,12 +121,13 @@ BvpResult solve_model_bvp(const M& model, const ModelInfo& info, const BvpReques
                        "; boundary-value problems by stationary action are solved for unconstrained conservative "
                        "models only");
   };
-  if constexpr (has_constraints_v<M>) {
+  if constexpr (has_constraints_v<M> && !runtime_constraint_counts_v<M>) {
     (void)model;
     (void)request;
     (void)rule;
     throw refuse("constraints");
   } else {
+    if (has_constraints(model)) throw refuse("constraints");
     if (uses_generalized_forces(model)) throw refuse("generalized forces");
     if (uses_dissipation(model)) throw refuse("a dissipation function");
     const int size = model_size(model);

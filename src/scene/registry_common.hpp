@@ -228,7 +228,7 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
   }
 
   // Constraints and degrees of freedom.
-  if constexpr (has_constraints_v<M>) {
+  if (has_constraints(model)) {
     const DofReport dof = dof_report(model, s, t0);
     os << "\nConstraints and degrees of freedom\n";
     std::string redundant = dof.redundant.empty() ? "none" : "";
@@ -350,7 +350,7 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
     for (int i = 0; i < count; ++i) out += (i ? ", " : "") + cnames[static_cast<std::size_t>(from + i)];
     return out;
   };
-  constexpr int mh = holonomic_count_v<M>, mu = unilateral_count_v<M>, mp = pfaffian_count_v<M>;
+  const int mh = holonomic_count(model), mu = unilateral_count(model), mp = pfaffian_count(model);
   decl.push_back({"holonomic constraints", std::to_string(mh), list(0, mh)});
   decl.push_back({"Pfaffian constraints", std::to_string(mp), list(mh + mu, mp)});
   decl.push_back({"unilateral constraints", std::to_string(mu), list(mh, mu)});
@@ -361,7 +361,7 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
   dj.raw("pfaffian", json_strings(names_of(mh + mu, mp)));
   dj.raw("unilateral", json_strings(names_of(mh, mu)));
   dj.raw("restitution", "null");
-  if constexpr (mu > 0) {
+  if (mu > 0) {
     if constexpr (has_restitution_v<M>) {
       const auto e = restitution_coefficients(model);
       std::string text;

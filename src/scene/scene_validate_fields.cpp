@@ -164,7 +164,7 @@ void Validator::check_state(const std::string& key, const std::vector<double>& v
 void Validator::check_text_model() const {
   const ModelSpec& m = *s_.model;
   try {
-    lagrangian::text::read(detail::text_definition(m));
+    lagrangian::text::read(text_definition(m));
   } catch (const lagrangian::text::ExpressionError& e) {
     fail(e.field(), detail::scene_message(e));
   }

@@ -3,9 +3,10 @@
 
 #include "lagrangian/detail/model_run.hpp"
 
-namespace lagrangian::scene::detail {
+namespace lagrangian::scene {
 
 lagrangian::text::Definition text_definition(const ModelSpec& m) {
+  if (!m.text) throw SceneError("model.kinetic", "the model is not stated by expressions (no kinetic energy given)");
   lagrangian::text::Definition d;
   d.name = "text";
   d.coordinates = m.text->coordinates;
@@ -14,12 +15,19 @@ lagrangian::text::Definition text_definition(const ModelSpec& m) {
   d.potential = m.text->potential;
   d.forces = m.text->forces;
   d.dissipation = m.text->dissipation;
+  d.holonomic = m.text->holonomic;
+  d.pfaffian = m.text->pfaffian;
+  d.constraint_names = m.text->constraint_names;
+  d.constraint_units = m.text->constraint_units;
+  d.contacts = m.text->contacts;
   for (const auto& [name, value] : m.parameters) d.parameters.emplace_back(name, value);
   for (const TextModelSpec::Point& pt : m.text->points) d.points.push_back({pt.name, pt.mass, pt.x, pt.y, pt.z});
   d.rods = m.text->rods;
   d.field_prefix = "model.";
   return d;
 }
+
+namespace detail {
 
 std::string scene_message(const lagrangian::text::ExpressionError& e) {
   return e.column() > 0 ? "column " + std::to_string(e.column()) + ": " + e.message() : e.message();
@@ -40,4 +48,5 @@ std::optional<ModelInfo> model_info(const ModelSpec& m) {
   return info;
 }
 
-}  // namespace lagrangian::scene::detail
+}  // namespace detail
+}  // namespace lagrangian::scene

@@ -8,13 +8,11 @@
 
 #include "lagrangian/scene.hpp"
 #include "lagrangian/scene_models.hpp"
+#include "lagrangian/scene_text_model.hpp"
 #include "lagrangian/text/definition.hpp"
 #include "lagrangian/text/expression.hpp"
 
 namespace lagrangian::scene::detail {
-
-/// The definition of a text model (m.text set), its errors keyed "model.…".
-lagrangian::text::Definition text_definition(const ModelSpec& m);
 
 /// What an expression error says after its key in a scene error:
 /// "column N: what is wrong", or what is wrong alone.

@@ -467,7 +467,7 @@ class Reader {
     const std::string p = "model";
     keys(t, p,
          {"name", "q", "qd", "parameters", "coordinates", "units", "kinetic", "potential", "forces", "dissipation",
-          "points", "rods"});
+          "holonomic", "pfaffian", "constraint_names", "constraint_units", "contacts", "points", "rods"});
     ModelSpec m;
     if (get(t, p, "kinetic") || get(t, p, "coordinates")) {
       // A model stated by expressions (TextModelSpec).
@@ -482,7 +482,23 @@ class Reader {
       if (auto* n = get(t, p, "potential")) x.potential = string(*n, "model.potential");
       if (auto* n = get(t, p, "forces")) x.forces = strings(*n, "model.forces");
       if (auto* n = get(t, p, "dissipation")) x.dissipation = string(*n, "model.dissipation");
+      if (auto* n = get(t, p, "holonomic")) x.holonomic = strings(*n, "model.holonomic");
+      if (auto* n = get(t, p, "pfaffian")) x.pfaffian = strings(*n, "model.pfaffian");
+      if (auto* n = get(t, p, "constraint_names")) x.constraint_names = strings(*n, "model.constraint_names");
+      if (auto* n = get(t, p, "constraint_units")) x.constraint_units = strings(*n, "model.constraint_units");
       if (auto* n = get(t, p, "rods")) x.rods = boolean(*n, "model.rods");
+      for_each_table(
+          t, "contacts",
+          [&](const toml::table& ct, const std::string& key) {
+            keys(ct, key, {"name", "gap", "restitution", "unit"});
+            lagrangian::text::Contact c;
+            if (auto* n = get(ct, key, "name")) c.name = string(*n, key + ".name");
+            c.gap = string(required(ct, key, "gap"), key + ".gap");
+            c.restitution = number(required(ct, key, "restitution"), key + ".restitution");
+            if (auto* n = get(ct, key, "unit")) c.unit = string(*n, key + ".unit");
+            x.contacts.push_back(std::move(c));
+          },
+          p);
       for_each_table(
           t, "points",
           [&](const toml::table& pt, const std::string& key) {
@@ -498,7 +514,8 @@ class Reader {
           p);
       m.text = std::move(x);
     } else {
-      for (const char* key : {"units", "potential", "forces", "dissipation", "points", "rods"})
+      for (const char* key : {"units", "potential", "forces", "dissipation", "holonomic", "pfaffian", "constraint_names",
+                              "constraint_units", "contacts", "points", "rods"})
         if (get(t, p, key))
           fail(std::string("model.") + key,
                "belongs to a model stated by expressions, which needs 'coordinates' and 'kinetic'");

@@ -1,6 +1,7 @@
 // Reading and checking a text model's definition (text/text_model.hpp).
 #include <cmath>
 #include <set>
+#include <sstream>
 #include <string>
 
 #include "lagrangian/text/text_model.hpp"
@@ -62,6 +63,76 @@ std::shared_ptr<const Parsed> read(const Definition& d) {
     throw ExpressionError(pre + "dissipation", 0, "D depends on q and q̇ only; t appears in it");
   p->dissipation_bound = bind_parameters(p->dissipation, values);
   p->has_dissipation = !d.dissipation.empty();
+
+  for (std::size_t i = 0; i < d.holonomic.size(); ++i) {
+    const std::string field = pre + "holonomic[" + std::to_string(i) + "]";
+    p->holonomic.push_back(parse(d.holonomic[i], p->symbols, field));
+    if (p->holonomic.back().reads_velocities())
+      throw ExpressionError(field, 0,
+                            "a holonomic constraint g(q, t) = 0 depends on q and t only; a velocity appears in it "
+                            "(a constraint on velocities belongs in pfaffian)");
+    p->holonomic_bound.push_back(bind_parameters(p->holonomic.back(), values));
+  }
+  for (std::size_t i = 0; i < d.pfaffian.size(); ++i) {
+    const std::string field = pre + "pfaffian[" + std::to_string(i) + "]";
+    const Expression e = parse(d.pfaffian[i], p->symbols, field);
+    // Affine in q̇: no ∂φ/∂q̇_k may depend on a velocity.
+    for (int k = 0; k < static_cast<int>(d.coordinates.size()); ++k) {
+      bool affine = true;
+      try {
+        affine = !derivative(e, Op::velocity, k).reads_velocities();
+      } catch (const ExpressionError&) {
+        affine = false;  // min or max of a velocity
+      }
+      if (!affine)
+        throw ExpressionError(field, 0,
+                              "a Pfaffian constraint must be linear in the velocities, A(q, t)·q̇ + a(q, t) = 0; "
+                              "its derivative by " + d.coordinates[static_cast<std::size_t>(k)] +
+                                  "_dot still depends on a velocity");
+    }
+    p->pfaffian.push_back(e);
+    p->pfaffian_bound.push_back(bind_parameters(e, values));
+  }
+
+  std::set<std::string> contact_names;
+  for (std::size_t j = 0; j < d.contacts.size(); ++j) {
+    const Contact& c = d.contacts[j];
+    const std::string key = pre + "contacts[" + std::to_string(j) + "]";
+    if (!c.name.empty() && !contact_names.insert(c.name).second)
+      throw ExpressionError(key + ".name", 0, "'" + c.name + "' names two contacts");
+    if (c.gap.empty()) throw ExpressionError(key + ".gap", 0, "a contact needs its gap, an expression >= 0");
+    p->gaps.push_back(parse(c.gap, p->symbols, key + ".gap"));
+    if (p->gaps.back().reads_velocities())
+      throw ExpressionError(key + ".gap", 0, "a contact's gap depends on q and t only; a velocity appears in it");
+    p->gaps_bound.push_back(bind_parameters(p->gaps.back(), values));
+    if (!(c.restitution >= 0.0 && c.restitution <= 1.0)) {
+      std::ostringstream os;
+      if (std::isnan(c.restitution)) {
+        os << "a contact needs its restitution e in [0, 1]";
+      } else {
+        os << "must be in [0, 1], got " << c.restitution;
+      }
+      throw ExpressionError(key + ".restitution", 0, os.str());
+    }
+  }
+  if (d.contacts.size() > 64)
+    throw ExpressionError(pre + "contacts", 0,
+                          "at most 64 contacts, got " + std::to_string(d.contacts.size()));
+
+  const std::size_t rows = d.holonomic.size() + d.pfaffian.size();
+  auto check_count = [&](const std::vector<std::string>& v, const char* key, const char* what) {
+    if (!v.empty() && v.size() != rows)
+      throw ExpressionError(pre + key, 0,
+                            std::string("one ") + what + " per constraint (holonomic, then pfaffian): " +
+                                std::to_string(v.size()) + " for " + std::to_string(rows) + " constraints");
+  };
+  check_count(d.constraint_names, "constraint_names", "name");
+  check_count(d.constraint_units, "constraint_units", "unit");
+  std::set<std::string> constraint_names;
+  for (const std::string& name : d.constraint_names)
+    if (name.empty() || !constraint_names.insert(name).second || contact_names.count(name))
+      throw ExpressionError(pre + "constraint_names", 0,
+                            name.empty() ? "a constraint name is empty" : "'" + name + "' names two constraints");
 
   std::set<std::string> point_names;
   for (std::size_t i = 0; i < d.points.size(); ++i) {

@@ -46,7 +46,7 @@ const cases = {
     return [[x1, y1, 0], [x1 + Math.sin(t2), y1 - Math.cos(t2), 0]];
   },
   // The spherical pendulum stated by expressions
-  // (examples/scenes/spherical_pendulum_text.toml: l = 1 m), bob at
+  // (examples/scenes/text/spherical_pendulum.toml: l = 1 m), bob at
   // (sin θ cos φ, sin θ sin φ, −cos θ) from the pivot at the origin, z up.
   spherical_text: (row, header) => {
     const th = col(row, header, 'theta', 'rad'), ph = col(row, header, 'phi', 'rad');

@@ -33,16 +33,28 @@ expect 2 "list: unknown model 'double_pendlum'; did you mean 'double_pendulum'" 
 # A model stated by T and V in the scene runs with no compiler: the summary,
 # the CSV header with the coordinates' units, and errors with file, line,
 # key and column.
-expect 0 "momentum of cyclic phi: 1.41614683655" -- "$bin" run "$src/examples/scenes/spherical_pendulum_text.toml" --out "$work/text" --no-plots --no-animation
+expect 0 "momentum of cyclic phi: 1.41614683655" -- "$bin" run "$src/examples/scenes/text/spherical_pendulum.toml" --out "$work/text" --no-plots --no-animation
 head -1 "$work/text/trajectory.csv" | grep -q '^t \[s\],theta \[rad\],phi \[rad\],theta_dot \[rad/s\],phi_dot \[rad/s\]' ||
   { echo "FAIL: text model trajectory header"; fails=$((fails + 1)); }
-sed 's/theta_dot^2 +/thta_dot^2 +/' "$src/examples/scenes/spherical_pendulum_text.toml" > "$work/text_bad.toml"
+sed 's/theta_dot^2 +/thta_dot^2 +/' "$src/examples/scenes/text/spherical_pendulum.toml" > "$work/text_bad.toml"
 expect 2 "text_bad.toml:13: model.kinetic: column 12: unknown name 'thta_dot'" -- "$bin" run "$work/text_bad.toml" --out "$work/text_bad"
 [ ! -e "$work/text_bad" ] || { echo "FAIL: a scene with a bad expression left $work/text_bad"; fails=$((fails + 1)); }
-expect 0 "p_phi = 1.41614683655 kg\*m\^2/s \(conserved\)" -- "$bin" inspect "$src/examples/scenes/spherical_pendulum_text.toml"
-expect 0 "2 runs \(0 failed\)" -- "$bin" sweep "$src/examples/scenes/spherical_pendulum_text.toml" --vary model.parameters.l=0.5:1.0:2 --set run.t_end=1 --out "$work/text_sweep" --no-plots
+expect 0 "p_phi = 1.41614683655 kg\*m\^2/s \(conserved\)" -- "$bin" inspect "$src/examples/scenes/text/spherical_pendulum.toml"
+expect 0 "2 runs \(0 failed\)" -- "$bin" sweep "$src/examples/scenes/text/spherical_pendulum.toml" --vary model.parameters.l=0.5:1.0:2 --set run.t_end=1 --out "$work/text_sweep" --no-plots
 grep -q '^1,1,1,ok,1,' "$work/text_sweep/sweep.csv" || { echo "FAIL: text model sweep row"; fails=$((fails + 1)); }
-expect 0 "^fehlberg78 +1e-08 " -- "$bin" bench "$src/examples/scenes/spherical_pendulum_text.toml" --methods fehlberg78 --tolerances 1e-6:1e-8 --out "$work/text_bench" --no-plots
+expect 0 "^fehlberg78 +1e-08 " -- "$bin" bench "$src/examples/scenes/text/spherical_pendulum.toml" --methods fehlberg78 --tolerances 1e-6:1e-8 --out "$work/text_bench" --no-plots
+# Constraints and contacts stated as text: the string's tension as a column
+# with its unit, the degrees of freedom, a contact's impacts and rest, and a
+# contact without its restitution named with file and line.
+expect 0 "constraints \(1, projection\)" -- "$bin" run "$src/examples/scenes/text/atwood_machine.toml" --out "$work/text_atwood" --no-plots --no-animation
+head -1 "$work/text_atwood/trajectory.csv" | grep -q ',lambda_string \[N\],' ||
+  { echo "FAIL: text Atwood machine has no lambda_string [N] column"; fails=$((fails + 1)); }
+expect 0 "degrees of freedom +1 +=" -- "$bin" inspect "$src/examples/scenes/text/atwood_machine.toml"
+expect 0 "event: rest incline at t = 2\.3541" -- "$bin" run "$src/examples/scenes/text/projectile_on_incline.toml" --out "$work/text_incline" --no-plots --no-animation
+grep -q '^1\.17706476899[0-9]*,impact,incline,' "$work/text_incline/events.csv" ||
+  { echo "FAIL: text incline's first impact"; fails=$((fails + 1)); }
+grep -v '^restitution' "$src/examples/scenes/text/projectile_on_incline.toml" > "$work/text_no_e.toml"
+expect 2 "text_no_e.toml:[0-9]+: model.contacts\[0\].restitution: " -- "$bin" run "$work/text_no_e.toml" --out "$work/text_no_e"
 # The harmonic oscillator as text: equilibrium x = 0 with omega = 2 rad/s
 # (k/m = 4), and its boundary-value problem; with D, solve-bvp refuses.
 cat > "$work/text_oscillator.toml" <<'TOML'

@@ -56,6 +56,7 @@ sources=(
   "$src/src/scene/text_model_spec.cpp"
   "$src/src/text/parse.cpp"
   "$src/src/text/read.cpp"
+  "$src/src/text/formula.cpp"
   "$src/src/report.cpp"
   "$src/src/params.cpp"
 )
@@ -64,7 +65,7 @@ stale=0
 if [ ! -x "$bin" ]; then
   stale=1
 else
-  for f in "${sources[@]}" "$src"/include/lagrangian/*.hpp "$src"/include/lagrangian/detail/*.hpp \
+  for f in "${sources[@]}" "$src"/include/lagrangian/*.hpp "$src"/include/lagrangian/detail/*.hpp "$src"/include/lagrangian/text/*.hpp \
            "$src"/src/scene/scene_*.hpp "$0"; do
     if [ "$f" -nt "$bin" ]; then stale=1; break; fi
   done

@@ -62,7 +62,7 @@ void consistency_constraints(unsigned m, double* result, unsigned n, const doubl
   Vec<double, coordinate_count_v<M>> q;
   for (unsigned i = 0; i < n; ++i) q[static_cast<int>(i)] = x[i];
   auto cs = constraint_state(*p.model, q, Vec<double, coordinate_count_v<M>>::Zero().eval(), p.t);
-  drop_inactive<M>(cs, ActiveSet{0});
+  drop_inactive(*p.model, cs, ActiveSet{0});
   for (unsigned i = 0; i < m; ++i) {
     result[i] = cs.position[static_cast<int>(i)];
     if (grad)
@@ -254,6 +254,8 @@ template <class M>
 State<coordinate_count_v<M>> consistent_initial_state(const M& model, const State<coordinate_count_v<M>>& guess,
                                                       double t, double tolerance, ConsistentStateReport* report) {
   check_model<M>();
+  static_assert(!runtime_constraint_counts_v<M>,
+                "lagrangian: consistent_initial_state() needs constraint counts known at compile time");
   constexpr int n = coordinate_count_v<M>;
   constexpr int mh = holonomic_count_v<M>;
   State<n> s = guess;
@@ -382,7 +384,7 @@ State<coordinate_count_v<M>> consistent_initial_state(const M& model, const Stat
     Workspace<n> ws;
     project_velocities(model, ws, s.q, s.qd, t, ActiveSet{0});
     auto cs = constraint_state(model, s.q, s.qd, t);
-    drop_inactive<M>(cs, ActiveSet{0});
+    drop_inactive(model, cs, ActiveSet{0});
     const double scale = 1.0 + s.qd.template lpNorm<Eigen::Infinity>();
     for (int i = 0; i < constraint_count_v<M>; ++i) {
       if (!(std::abs(cs.velocity[i]) <= 1e3 * tolerance * scale)) {

@@ -82,11 +82,16 @@ void split_state(const double* x, Vec<double, N>& q, Vec<double, N>& qd) {
 /// Per-run state of a constrained model's right-hand side.
 template <class M>
 struct ConstraintContext {
+  ConstraintContext() : ConstraintContext(0, 0, 0) {}
+  explicit ConstraintContext(const M& model)
+      : ConstraintContext(model_size(model), position_rows(model), constraint_count(model)) {}
+  ConstraintContext(int n, int position_rows, int rows)
+      : cw(n, rows), positions(position_rows, n), velocities(rows, rows), conditioning(rows, n) {}
   ConstraintWorkspace<coordinate_count_v<M>, constraint_count_v<M>> cw;
   /// Workspaces of the projections and of the conditioning monitor after each step.
-  MinNormSolver positions{position_rows_v<M>, coordinate_count_v<M>};
-  MinNormSolver velocities{constraint_count_v<M>, constraint_count_v<M>};
-  SingularValues conditioning{constraint_count_v<M>, coordinate_count_v<M>};
+  MinNormSolver positions;
+  MinNormSolver velocities;
+  SingularValues conditioning;
   double omega = 0;               ///< Baumgarte rate (1/s), 0 when not stabilising that way
   ActiveSet active = all_active;  ///< unilateral constraints in contact
 };
@@ -103,18 +108,25 @@ class ModelSystem final : public System {
  public:
   static constexpr int n = coordinate_count_v<M>;
   /// The model declares contacts or watched events (the event code is compiled only then).
-  static constexpr bool has_events_v = unilateral_count_v<M> > 0 || event_count_v<M> > 0;
+  static constexpr bool has_events_v = unilateral_count_v<M> != 0 || event_count_v<M> > 0;
   using Observer = ObserverRef<n>;
   /// q̈ of the free motion from constant_mass_matrix: declared, no hand-coded
   /// accelerations, and no constraints other than contacts.
   static constexpr bool uses_constant_mass = constant_mass_matrix_v<M> && !has_explicit_accelerations_v<M> &&
-                                             holonomic_count_v<M> + pfaffian_count_v<M> == 0;
+                                             add_rows(holonomic_count_v<M>, pfaffian_count_v<M>) == 0;
 
   ModelSystem(const M& model, const SimulationOptions& opt, Observer obs, RunReport& report)
       : model_(model), opt_(opt), obs_(obs), report_(report), size_(model_size(model)) {
     if constexpr (has_constraints_v<M>) {
-      context_.omega = opt.stabilization == Stabilization::baumgarte ? opt.baumgarte_omega : 0.0;
-      ctx_ = &context_;
+      if (lagrangian::has_constraints(model)) {
+        if (unilateral_count(model) > 64)
+          throw ConstraintError("the model has " + std::to_string(unilateral_count(model)) +
+                                " contacts; a run holds at most 64");
+        context_ = ConstraintContext<M>(model);
+        cw_ = constraint_workspace(model);
+        context_.omega = opt.stabilization == Stabilization::baumgarte ? opt.baumgarte_omega : 0.0;
+        ctx_ = &context_;
+      }
     }
   }
   ModelSystem(const ModelSystem&) = delete;
@@ -153,7 +165,9 @@ class ModelSystem final : public System {
     State<n> x0(size_);
     split_state(x, x0.q, x0.qd);
     Columns columns{coordinate_names(model_), {}, has_kinetic_potential_v<M>, coordinate_units(model_), {}};
-    if constexpr (has_constraints_v<M>) start_constraints(x0, columns);
+    if constexpr (has_constraints_v<M>) {
+      if (ctx_) start_constraints(x0, columns);
+    }
     if constexpr (event_count_v<M> > 0) specs_ = event_specs(model_);
     if constexpr (has_particles_v<M>) {
       int k = 0;
@@ -203,7 +217,9 @@ class ModelSystem final : public System {
     s.q.resize(size_);
     s.qd.resize(size_);
     split_state(x, s.q, s.qd);
-    if constexpr (has_constraints_v<M>) project_sample(s);
+    if constexpr (has_constraints_v<M>) {
+      if (ctx_) project_sample(s);
+    }
     Vec<double, n> p(size_);
     s.energy = energy_and_momenta(model_, s.q, s.qd, t, p);
     if (!std::isfinite(s.energy)) throw_non_finite_energy(t, s.energy, x, size_);
@@ -219,7 +235,9 @@ class ModelSystem final : public System {
       h_differs_ = std::max(h_differs_, std::abs(s.total_energy - s.energy));
     }
     rescale_drifts();
-    if constexpr (has_constraints_v<M>) sample_constraints(s);
+    if constexpr (has_constraints_v<M>) {
+      if (ctx_) sample_constraints(s);
+    }
     if constexpr (has_particles_v<M>) sample_particles(s);
     if constexpr (has_reference_v<M>) {
       if (s.t == opt_.t0) {
@@ -259,15 +277,21 @@ class ModelSystem final : public System {
     if (report_.has_total_energy) report_.total_energy_drift_max = e_drift_ / report_.energy_scale;
   }
 
-  bool has_constraints() const override { return has_constraints_v<M>; }
+  bool has_constraints() const override { return ctx_ != nullptr; }
   /// Constrained models: projection (when chosen) and residual monitoring
   /// after an accepted step ending at t with state x; true when x changed.
   bool stabilize(double* x, double t, bool allow_projection) override;
   void extra_rhs_evaluation() override {
-    if constexpr (has_constraints_v<M>) ++report_.constraints.extra_rhs_evaluations;
+    if (ctx_) ++report_.constraints.extra_rhs_evaluations;
   }
 
-  bool has_events() const override { return has_events_v; }
+  bool has_events() const override {
+    if constexpr (unilateral_count_v<M> == Dynamic) {
+      return event_count_v<M> > 0 || (ctx_ && unilateral_count(model_) > 0);  // contacts counted at run time
+    } else {
+      return has_events_v;
+    }
+  }
   /// Events in the step just taken from (t_old, x_old) to (t, x): lift-off
   /// of resting contacts (their multiplier turns negative), contacts closing
   /// (the gap φ falls through zero, or dips below zero and back inside the
@@ -334,21 +358,28 @@ class ModelSystem final : public System {
  private:
   void accelerations_into(const Vec<double, n>& q, const Vec<double, n>& qd, double t, Vec<double, n>& qdd) const {
     if constexpr (has_constraints_v<M>) {
-      if constexpr (uses_constant_mass) {
-        if ((ctx_->active & unilateral_mask_v<M>) == 0) {  // contacts only, none touching: free motion
-          constant_mass_(model_, rhs_ws_, q, qd, t, qdd);
-          ctx_->cw.multipliers.setZero();
-          ctx_->cw.constraint_forces.setZero();
-          return;
+      if (ctx_) {
+        if constexpr (uses_constant_mass) {
+          if ((ctx_->active & unilateral_mask(model_)) == 0) {  // contacts only, none touching: free motion
+            constant_mass_(model_, rhs_ws_, q, qd, t, qdd);
+            ctx_->cw.multipliers.setZero();
+            ctx_->cw.constraint_forces.setZero();
+            return;
+          }
         }
+        constrained_accelerations(model_, rhs_ws_, ctx_->cw, q, qd, t, qdd, ctx_->omega, ctx_->active);
+        return;
       }
-      constrained_accelerations(model_, rhs_ws_, ctx_->cw, q, qd, t, qdd, ctx_->omega, ctx_->active);
-    } else if constexpr (has_explicit_accelerations_v<M>) {
-      model_.accelerations(q, qd, t, qdd);
-    } else if constexpr (uses_constant_mass) {
-      constant_mass_(model_, rhs_ws_, q, qd, t, qdd);
-    } else {
-      free_accelerations(model_, rhs_ws_, q, qd, t, qdd);
+    }
+    // A model whose constraints are counted at run time may have none.
+    if constexpr (!has_constraints_v<M> || runtime_constraint_counts_v<M>) {
+      if constexpr (has_explicit_accelerations_v<M>) {
+        model_.accelerations(q, qd, t, qdd);
+      } else if constexpr (uses_constant_mass) {
+        constant_mass_(model_, rhs_ws_, q, qd, t, qdd);
+      } else {
+        free_accelerations(model_, rhs_ws_, q, qd, t, qdd);
+      }
     }
   }
   void count_variational_work() {
@@ -418,9 +449,10 @@ class ModelSystem final : public System {
   /// ∂φ/∂t (one first-order AD pass each).
   Eigen::Matrix<double, unilateral_count_v<M>, n> contact_jacobian(const Vec<double, n>& q, double t) const {
     constexpr int u = unilateral_count_v<M>;
-    Eigen::Matrix<double, u, n> G(u, size_);
+    const int count = unilateral_count(model_);
+    Eigen::Matrix<double, u, n> G(count, size_);
     Vec<double, n> dir = Vec<double, n>::Zero(size_);
-    Vec<double, u> gap, rate0, rate;
+    Vec<double, u> gap(count), rate0(count), rate(count);
     contact_gaps(model_, q, dir, t, gap, rate0);
     for (int i = 0; i < size_; ++i) {
       dir[i] = 1;
@@ -470,9 +502,9 @@ class ModelSystem final : public System {
         add_particles([&](int i) { return dxdt[static_cast<std::size_t>(size_ + i)]; }, true);
         sym.end_probe(MomentumSymmetry::Source::force);
       }
-      if constexpr (unilateral_count_v<M> > 0) {
+      if constexpr (unilateral_count_v<M> != 0) {
         const auto G = contact_jacobian(q, t);
-        for (int j = 0; j < unilateral_count_v<M>; ++j) {
+        for (int j = 0; j < unilateral_count(model_); ++j) {
           add_particles([&](int i) { return G(j, i); }, false);
           sym.end_probe(MomentumSymmetry::Source::contact);
         }
@@ -487,7 +519,7 @@ class ModelSystem final : public System {
   template <class CS>
   void record_residuals(CS cs, bool at_step);
   /// The model's only constraints are contacts: nothing to hold in free flight.
-  static constexpr bool only_contacts_v = holonomic_count_v<M> + pfaffian_count_v<M> == 0;
+  static constexpr bool only_contacts_v = add_rows(holonomic_count_v<M>, pfaffian_count_v<M>) == 0;
   void sample_constraints(Sample<n>& s);
   /// With projection (the default stabilization), a sample taken from the
   /// dense output between two steps is projected onto the constraints as
@@ -503,13 +535,13 @@ class ModelSystem final : public System {
   double contact_touch_tolerance(const double* x) const { return detail::contact_touch_tolerance(x, size_); }
   template <class G>
   void gaps_at(const double* x, double t, G& g, G& r) const {
-    Vec<double, n> q, qd;
+    Vec<double, n> q(size_), qd(size_);
     split_state(x, q, qd);
     contact_gaps(model_, q, qd, t, g, r);
   }
   Vec<double, event_count_v<M>> watched_at(const double* x, double t) const {
     if constexpr (event_count_v<M> > 0) {
-      Vec<double, n> q, qd;
+      Vec<double, n> q(size_), qd(size_);
       split_state(x, q, qd);
       return model_.events(q, qd, t);
     } else {
@@ -518,7 +550,7 @@ class ModelSystem final : public System {
     }
   }
   std::string contact_name(int j) const {
-    return report_.constraints.names[static_cast<std::size_t>(holonomic_count_v<M> + j)];
+    return report_.constraints.names[static_cast<std::size_t>(holonomic_count(model_) + j)];
   }
   /// d²φ_j/dt² = G_j q̈ + γ_j with q̈ from the current active set (contact j
   /// itself inactive): negative when the forces press the contact shut.
@@ -530,7 +562,7 @@ class ModelSystem final : public System {
     rec.t = t;
     rec.kind = kind;
     rec.name = name;
-    Vec<double, n> q, qd;
+    Vec<double, n> q(size_), qd(size_);
     split_state(x, q, qd);
     if constexpr (!has_kinetic_potential_v<M>) evaluate(model_, ws_, q, qd, t);  // M for ½ q̇ᵀMq̇
     rec.kinetic_energy_before = rec.kinetic_energy_after = detail::kinetic_for_log(model_, ws_, q, qd, t);
@@ -565,8 +597,13 @@ class ModelSystem final : public System {
   Workspace<n> ws_{model_size(model_)};              ///< monitors' and events'
   [[no_unique_address]] std::conditional_t<has_constraints_v<M>, ConstraintContext<M>, None> context_{};
   ConstraintContext<M>* ctx_ = nullptr;  ///< &context_ for constrained models
-  std::array<double, unilateral_count_v<M>> restitution_{};
-  std::array<ContactHistory, unilateral_count_v<M>> history_{};  ///< for the Zeno rule
+  static constexpr int u_ = unilateral_count_v<M>;  ///< contacts (Dynamic: counted at run time)
+  template <class T>
+  using PerContact = std::conditional_t<u_ == Dynamic, std::vector<T>, std::array<T, u_ == Dynamic ? 0 : u_>>;
+  PerContact<double> restitution_{};
+  PerContact<ContactHistory> history_{};  ///< for the Zeno rule
+  /// Gaps and rates at a step's two ends and inside it (run_events.hpp).
+  Vec<double, u_> gap_a_, rate_a_, gap_b_, rate_b_, gap_in_, rate_in_;
   std::vector<EventSpec> specs_;
   std::vector<double> event_buf_;
   bool stopped_ = false;

@@ -32,7 +32,7 @@ class RestModelOf final : public RestModel {
  public:
   RestModelOf(const M& model, double t) : model_(model), t_(t) {}
   int coordinate_count() const override { return model_size(model_); }
-  int holonomic_count() const override { return holonomic_count_v<M>; }
+  int holonomic_count() const override { return lagrangian::holonomic_count(model_); }
   PotentialDerivatives potential(const Eigen::VectorXd& q) const override {
     return potential_derivatives(model_, Vec<double, coordinate_count_v<M>>(q), t_);
   }
@@ -43,7 +43,7 @@ class RestModelOf final : public RestModel {
     return quadratic_lagrangian(model_, Vec<double, coordinate_count_v<M>>(q), t_);
   }
   bool project(Eigen::VectorXd& q) const override {
-    if constexpr (holonomic_count_v<M> > 0) {
+    if constexpr (holonomic_count_v<M> != 0) {
       Vec<double, coordinate_count_v<M>> x = q;
       try {
         project_positions(model_, x, t_, 1e-12, 50, ActiveSet{0});

@@ -26,25 +26,26 @@ bool ModelSystem<M>::stabilize(double* x, double t, bool allow_projection) {
     (void)allow_projection;
     return false;
   } else {
+    if (!ctx_) return false;
     ConstraintReport& cr = report_.constraints;
-    if (only_contacts_v && (active() & unilateral_mask_v<M>) == 0) return false;  // free flight: nothing to hold
-    Vec<double, n> q, qd;
+    if (only_contacts_v && (active() & unilateral_mask(model_)) == 0) return false;  // free flight: nothing to hold
+    Vec<double, n> q(size_), qd(size_);
     split_state(x, q, qd);
     bool changed = false;
     if (allow_projection && opt_.stabilization == Stabilization::projection) {
       const auto start = std::chrono::steady_clock::now();
       cr.projection_iterations += static_cast<std::uint64_t>(project_onto_constraints(q, qd, t));
       ++cr.projections;
-      for (int i = 0; i < n; ++i) {
-        changed = changed || x[i] != q[i] || x[n + i] != qd[i];
+      for (int i = 0; i < size_; ++i) {
+        changed = changed || x[i] != q[i] || x[size_ + i] != qd[i];
         x[i] = q[i];
-        x[n + i] = qd[i];
+        x[size_ + i] = qd[i];
       }
       cr.stabilization_time_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
     auto cs = constraint_state(model_, q, qd, t);
-    for (int j = 0; j < unilateral_count_v<M>; ++j) {
-      const int row = holonomic_count_v<M> + j;
+    for (int j = 0; j < unilateral_count(model_); ++j) {
+      const int row = holonomic_count(model_) + j;
       if (!((active() >> j) & 1u) && cs.position[row] < -1e-9 * (1.0 + q.template lpNorm<Eigen::Infinity>())) {
         std::ostringstream os;
         os.precision(17);
@@ -55,7 +56,9 @@ bool ModelSystem<M>::stabilize(double* x, double t, bool allow_projection) {
         throw SimulationError(os.str(), t);
       }
     }
-    if constexpr (holonomic_count_v<M> + pfaffian_count_v<M> > 0) monitor_conditioning(cs, t);
+    if constexpr (add_rows(holonomic_count_v<M>, pfaffian_count_v<M>) != 0) {
+      if (has_bilateral_constraints(model_)) monitor_conditioning(cs, t);
+    }
     record_residuals(cs, true);
     return changed;
   }
@@ -70,10 +73,9 @@ template <class CS>
 void ModelSystem<M>::record_residuals(CS cs, bool at_step) {
   if constexpr (has_constraints_v<M>) {
     ConstraintReport& cr = report_.constraints;
-    drop_inactive<M>(cs, active());
-    const double pos = position_rows_v<M> > 0
-                           ? cs.position.head(position_rows_v<M>).template lpNorm<Eigen::Infinity>()
-                           : 0.0;
+    drop_inactive(model_, cs, active());
+    const int rows = position_rows(model_);
+    const double pos = rows > 0 ? cs.position.head(rows).template lpNorm<Eigen::Infinity>() : 0.0;
     const double vel = cs.velocity.template lpNorm<Eigen::Infinity>();
     cr.max_position_residual = std::max(cr.max_position_residual, pos);
     cr.max_velocity_residual = std::max(cr.max_velocity_residual, vel);
@@ -94,7 +96,7 @@ template <class M>
 template <class CS>
 void ModelSystem<M>::monitor_conditioning(CS cs, double t) {
   ConstraintReport& cr = report_.constraints;
-  drop_inactive<M>(cs, ActiveSet{0});
+  drop_inactive(model_, cs, ActiveSet{0});
   const double* sv = ctx_->conditioning.compute(cs.jacobian.data());
   const int r = cr.initial_rank;
   if (r < 1 || ctx_->conditioning.size() == 0 || !(sv[0] > 0)) return;
@@ -137,26 +139,31 @@ void ModelSystem<M>::start_constraints(State<n>& x0, Columns& columns) {
     auto cs = constraint_state(model_, x0.q, x0.qd, opt_.t0);
     const double qs = 1.0 + x0.q.template lpNorm<Eigen::Infinity>();
     const double vs = 1.0 + x0.qd.template lpNorm<Eigen::Infinity>();
-    for (int i = 0; i < holonomic_count_v<M>; ++i)
+    for (int i = 0; i < holonomic_count(model_); ++i)
       if (!(std::abs(cs.position[i]) <= 1e-9 * qs)) throw violation(i, cs.position[i], cs.velocity[i], true);
     const DofReport dof = dof_report(model_, x0, opt_.t0);
     cr.initial_rank = cr.min_rank = dof.velocity_rank;
-    if constexpr (coordinate_count_v<M> == Dynamic) static_assert(coordinate_count_v<M> != Dynamic,
-                  "constraints need a compile-time number of coordinates");
     // Full rank leaves no motion unless the constraints themselves move (a
     // prescribed, rheonomic motion with 0 degrees of freedom).
-    if (dof.holonomic_rank >= n && constraints_workless(model_, x0, opt_.t0))
-      throw ConstraintError("the holonomic constraints fix all " + std::to_string(n) +
+    if (dof.holonomic_rank >= size_ && constraints_workless(model_, x0, opt_.t0))
+      throw ConstraintError("the holonomic constraints fix all " + std::to_string(size_) +
                             " coordinates (rank " + std::to_string(dof.holonomic_rank) + "): no motion is left");
     for (const auto& r : dof.redundant)
       cr.warnings.push_back(redundant_constraint_warning(r));
     ActiveSet active = 0;
-    if constexpr (unilateral_count_v<M> > 0) {
+    const int contacts = unilateral_count(model_);
+    (void)contacts;
+    if constexpr (unilateral_count_v<M> != 0) {
       restitution_ = restitution_coefficients(model_);
-      history_.fill(ContactHistory{});
+      if constexpr (unilateral_count_v<M> == Dynamic) {
+        history_.assign(static_cast<std::size_t>(contacts), ContactHistory{});
+      } else {
+        history_.fill(ContactHistory{});
+      }
+      for (auto* v : {&gap_a_, &rate_a_, &gap_b_, &rate_b_, &gap_in_, &rate_in_}) v->setZero(contacts);
       bool approaching = false;
-      for (int j = 0; j < unilateral_count_v<M>; ++j) {
-        const int row = holonomic_count_v<M> + j;
+      for (int j = 0; j < contacts; ++j) {
+        const int row = holonomic_count(model_) + j;
         const double g = cs.position[row], gd = cs.velocity[row];
         if (g < -1e-9 * qs) {
           std::ostringstream os;
@@ -175,7 +182,7 @@ void ModelSystem<M>::start_constraints(State<n>& x0, Columns& columns) {
       }
       if (ctx_) ctx_->active = active;
       // A contact touching at t0 rests only where the forces press it shut.
-      for (int j = 0; j < unilateral_count_v<M> && ctx_; ++j)
+      for (int j = 0; j < contacts && ctx_; ++j)
         if (((active >> j) & 1u) && !(gap_acceleration(x0.q, x0.qd, opt_.t0, j) < 0)) {
           active &= ~(ActiveSet{1} << j);
           ctx_->active = active;
@@ -190,8 +197,8 @@ void ModelSystem<M>::start_constraints(State<n>& x0, Columns& columns) {
           xb[static_cast<std::size_t>(i)] = x0.q[i];
           xb[static_cast<std::size_t>(size_ + i)] = x0.qd[i];
         }
-        for (int j = 0; j < unilateral_count_v<M>; ++j) {
-          const int row = holonomic_count_v<M> + j;
+        for (int j = 0; j < contacts; ++j) {
+          const int row = holonomic_count(model_) + j;
           if (std::abs(cs.position[row]) <= 1e-9 * qs && cs.velocity[row] < -opt_.contact_touch_speed) {
             resolve_contacts(xb.data(), opt_.t0, j);
             break;
@@ -203,9 +210,9 @@ void ModelSystem<M>::start_constraints(State<n>& x0, Columns& columns) {
       }
     }
     if (ctx_) ctx_->active = active;
-    drop_inactive<M>(cs, active);
-    for (int i = 0; i < constraint_count_v<M>; ++i) {
-      const bool holo = i < position_rows_v<M>;
+    drop_inactive(model_, cs, active);
+    for (int i = 0; i < constraint_count(model_); ++i) {
+      const bool holo = i < position_rows(model_);
       if ((holo && !(std::abs(cs.position[i]) <= 1e-9 * qs)) || !(std::abs(cs.velocity[i]) <= 1e-9 * vs))
         throw violation(i, cs.position[i], cs.velocity[i], holo);
     }
@@ -228,7 +235,7 @@ template <class M>
 void ModelSystem<M>::project_sample(Sample<n>& s) {
   if constexpr (has_constraints_v<M>) {
     if (opt_.stabilization != Stabilization::projection) return;
-    if (only_contacts_v && (active() & unilateral_mask_v<M>) == 0) return;  // free flight: nothing to hold
+    if (only_contacts_v && (active() & unilateral_mask(model_)) == 0) return;  // free flight: nothing to hold
     project_onto_constraints(s.q, s.qd, s.t);
   }
 }
@@ -236,14 +243,16 @@ void ModelSystem<M>::project_sample(Sample<n>& s) {
 template <class M>
 void ModelSystem<M>::sample_constraints(Sample<n>& s) {
   if constexpr (has_constraints_v<M>) {
-    Vec<double, n> qdd;
+    Vec<double, n> qdd(size_);
     constrained_accelerations(model_, ws_, cw_, s.q, s.qd, s.t, qdd, 0.0, active());
     s.multipliers = cw_.multipliers;
     s.constraint_forces = cw_.constraint_forces;
     auto cs = constraint_state(model_, s.q, s.qd, s.t);
-    if constexpr (holonomic_count_v<M> + pfaffian_count_v<M> > 0) monitor_conditioning(cs, s.t);
-    if (!(only_contacts_v && (active() & unilateral_mask_v<M>) == 0)) record_residuals(cs, false);
-    drop_inactive<M>(cs, ActiveSet{0});  // rank of the bilateral constraints
+    if constexpr (add_rows(holonomic_count_v<M>, pfaffian_count_v<M>) != 0) {
+      if (has_bilateral_constraints(model_)) monitor_conditioning(cs, s.t);
+    }
+    if (!(only_contacts_v && (active() & unilateral_mask(model_)) == 0)) record_residuals(cs, false);
+    drop_inactive(model_, cs, ActiveSet{0});  // rank of the bilateral constraints
     const int rank = detail::numeric_rank(cs.jacobian);
     ConstraintReport& cr = report_.constraints;
     if (rank < cr.min_rank) {

@@ -33,19 +33,20 @@ bool ModelSystem<M>::locate_events(double t_old, const double* x_old, double& t,
     }
   };
   std::vector<double>& buf = event_buf_;
-  if constexpr (unilateral_count_v<M> > 0) {
-    const ActiveSet act = ctx_->active;
+  if constexpr (unilateral_count_v<M> != 0) {
+    const ActiveSet act = ctx_ ? ctx_->active : ActiveSet{0};
+    const int contacts = ctx_ ? unilateral_count(model_) : 0, mh = holonomic_count(model_);
     // Lift-off: an active contact whose multiplier is negative at the step end.
-    if ((act & unilateral_mask_v<M>) != 0) {
+    if ((act & unilateral_mask(model_)) != 0) {
       auto multipliers_at = [&](const double* xs, double ts) {
-        Vec<double, n> q, qd, qdd;
+        Vec<double, n> q(size_), qd(size_), qdd(size_);
         split_state(xs, q, qd);
         constrained_accelerations(model_, ws_, cw_, q, qd, ts, qdd, 0.0, act);
         return cw_.multipliers;
       };
       const auto lam_end = multipliers_at(x, t);
-      for (int j = 0; j < unilateral_count_v<M>; ++j) {
-        const int row = holonomic_count_v<M> + j;
+      for (int j = 0; j < contacts; ++j) {
+        const int row = mh + j;
         if (!((act >> j) & 1u) || !(lam_end[row] < 0)) continue;
         auto f = [&](double ts) {
           if (ts == t) return lam_end[row];
@@ -56,18 +57,20 @@ bool ModelSystem<M>::locate_events(double t_old, const double* x_old, double& t,
       }
     }
     // Closing contacts among the inactive ones.
-    Vec<double, unilateral_count_v<M>> ga, ra, gb, rb;
+    auto& ga = gap_a_;
+    auto& ra = rate_a_;
+    auto& gb = gap_b_;
+    auto& rb = rate_b_;
     gaps_at(x_old, t_old, ga, ra);
     gaps_at(x, t, gb, rb);
     const double touch = contact_touch_tolerance(x);
-    for (int j = 0; j < unilateral_count_v<M>; ++j) {
+    for (int j = 0; j < contacts; ++j) {
       if ((act >> j) & 1u) continue;
       // φ_j and φ̇_j at a time inside the step.
       auto on_step = [&](double ts) {
         interp(ts, buf.data());
-        Vec<double, unilateral_count_v<M>> g, r;
-        gaps_at(buf.data(), ts, g, r);
-        return GapRate{g[j], r[j]};
+        gaps_at(buf.data(), ts, gap_in_, rate_in_);
+        return GapRate{gap_in_[j], rate_in_[j]};
       };
       const Closing c = locate_closing(t_old, t, {ga[j], ra[j]}, {gb[j], rb[j]}, touch, opt_.contact_touch_speed,
                                        gap_function(on_step));
@@ -98,7 +101,7 @@ bool ModelSystem<M>::locate_events(double t_old, const double* x_old, double& t,
     t = best_t;
   }
   if (best_kind == 0) {
-    if constexpr (unilateral_count_v<M> > 0) {
+    if constexpr (unilateral_count_v<M> != 0) {
       ctx_->active &= ~(ActiveSet{1} << best_index);
       log_simple(EventKind::release, contact_name(best_index), t, x);
     }
@@ -129,15 +132,15 @@ bool ModelSystem<M>::locate_events(double t_old, const double* x_old, double& t,
 /// press it shut, and active contacts that separate are released.
 template <class M>
 void ModelSystem<M>::resolve_contacts(double* x, double t, int trigger) {
-  if constexpr (unilateral_count_v<M> > 0) {
-    constexpr int u = unilateral_count_v<M>;
-    Vec<double, n> q, qd;
+  if constexpr (unilateral_count_v<M> != 0) {
+    const int u = unilateral_count(model_);
+    Vec<double, n> q(size_), qd(size_);
     split_state(x, q, qd);
     const double touch = contact_touch_tolerance(x);
-    Vec<double, u> g, r;
-    std::array<bool, u> involved{};
-    std::array<bool, u> rested{};
-    std::array<bool, u> plastic{};  // its last impact here had e = 0: the bodies stick
+    auto& g = gap_in_;
+    auto& r = rate_in_;
+    std::vector<bool> involved(static_cast<std::size_t>(u)), rested(involved), plastic(involved);
+    // (plastic: its last impact here had e = 0: the bodies stick)
     involved[static_cast<std::size_t>(trigger)] = true;
     const int max_impacts = 1000 * u;
     int count = 0;
@@ -216,7 +219,7 @@ void ModelSystem<M>::resolve_contacts(double* x, double t, int trigger) {
         if (!rested[js]) log_simple(EventKind::rest, contact_name(j), t, x);
       }
     }
-    for (int i = 0; i < n; ++i) x[n + i] = qd[i];
+    for (int i = 0; i < size_; ++i) x[size_ + i] = qd[i];
   } else {
     (void)x, (void)t, (void)trigger;
   }
@@ -230,8 +233,9 @@ void ModelSystem<M>::resolve_contacts(double* x, double t, int trigger) {
 template <class M>
 bool ModelSystem<M>::settle_cycle(const Vec<double, n>& q, Vec<double, n>& qd, double t,
                                   const std::vector<ImpactCycle::Impact>& round) {
-  if constexpr (unilateral_count_v<M> > 0) {
+  if constexpr (unilateral_count_v<M> != 0) {
     constexpr int u = unilateral_count_v<M>;
+    const int count = unilateral_count(model_);
     Vec<double, n> w(size_), limit(size_);
     auto apply_round = [&](const double* in, double* out) {
       for (int i = 0; i < size_; ++i) w[i] = in[i];
@@ -243,7 +247,7 @@ bool ModelSystem<M>::settle_cycle(const Vec<double, n>& q, Vec<double, n>& qd, d
     for (const ImpactCycle::Impact& imp : round)
       if (std::find(contacts.begin(), contacts.end(), imp.contact) == contacts.end()) contacts.push_back(imp.contact);
     // Contacts of the round left approaching by rounding: closed together.
-    Vec<double, u> g, r_before, r_after;
+    Vec<double, u> g(count), r_before(count), r_after(count);
     contact_gaps(model_, q, qd, t, g, r_before);
     auto rate = [&](int k, const double* v) {
       for (int i = 0; i < size_; ++i) w[i] = v[i];
@@ -267,7 +271,8 @@ bool ModelSystem<M>::settle_cycle(const Vec<double, n>& q, Vec<double, n>& qd, d
     std::vector<double> Gt(static_cast<std::size_t>(size_ * k_count)), impulses(contacts.size());
     for (int k = 0; k < k_count; ++k)
       for (int i = 0; i < size_; ++i)
-        Gt[static_cast<std::size_t>(k * size_ + i)] = cs.jacobian(holonomic_count_v<M> + contacts[static_cast<std::size_t>(k)], i);
+        Gt[static_cast<std::size_t>(k * size_ + i)] =
+            cs.jacobian(holonomic_count(model_) + contacts[static_cast<std::size_t>(k)], i);
     MinNormSolver solver(size_, k_count);
     solver.factorize(Gt.data());
     solver.solve(dp.data(), impulses.data());
@@ -302,11 +307,11 @@ bool ModelSystem<M>::settle_cycle(const Vec<double, n>& q, Vec<double, n>& qd, d
 /// itself inactive): negative when the forces press the contact shut.
 template <class M>
 double ModelSystem<M>::gap_acceleration(const Vec<double, n>& q, const Vec<double, n>& qd, double t, int j) {
-  if constexpr (unilateral_count_v<M> > 0) {
-    Vec<double, n> qdd;
+  if constexpr (unilateral_count_v<M> != 0) {
+    Vec<double, n> qdd(size_);
     constrained_accelerations(model_, ws_, cw_, q, qd, t, qdd, 0.0, ctx_->active & ~(ActiveSet{1} << j));
     const auto cs = constraint_state(model_, q, qd, t);
-    const int row = holonomic_count_v<M> + j;
+    const int row = holonomic_count(model_) + j;
     return cs.jacobian.row(row).dot(qdd) + cs.gamma[row];
   } else {
     (void)q, (void)qd, (void)t, (void)j;

@@ -50,6 +50,8 @@ struct Parsed {
   std::vector<Expression> forces;
   Expression kinetic_bound, potential_bound, dissipation_bound;  ///< parameters replaced by their values
   std::vector<Expression> forces_bound;
+  std::vector<Expression> holonomic, pfaffian, gaps;                    ///< as written
+  std::vector<Expression> holonomic_bound, pfaffian_bound, gaps_bound;  ///< parameters replaced by their values
   bool has_forces = false, has_dissipation = false;
   /// Each point's x, y and z, bound (functions of q and t).
   std::vector<std::array<Expression, 3>> points;
@@ -57,8 +59,9 @@ struct Parsed {
 
 /// Reads and checks a definition: names (valid, distinct, not a function,
 /// `t` or `pi`), units (none or one per coordinate), finite parameters, one
-/// force per coordinate, V and D free of q̇ and D free of t, every
-/// expression well formed. Throws ExpressionError naming the field.
+/// force per coordinate, V, D and the holonomic constraints free of q̇, D
+/// free of t, each Pfaffian row affine in q̇, every expression well formed.
+/// Throws ExpressionError naming the field.
 std::shared_ptr<const Parsed> read(const Definition& d);
 
 namespace detail {
@@ -79,7 +82,9 @@ std::vector<S>& slots() {
 
 }  // namespace detail
 
-/// A model stated as text (see the file comment).
+/// A model stated as text (see the file comment). Its constraints are
+/// counted at run time (holonomic_count(), pfaffian_count()); a definition
+/// without any runs as an unconstrained model.
 class TextModel {
  public:
   static constexpr int coordinate_count = Dynamic;
@@ -126,6 +131,51 @@ class TextModel {
     }
     return {out.data(), n};
   }
+  /// Holonomic constraints g(q, t) = 0 and their count; the values go to a
+  /// per-thread vector (no allocation per call).
+  int holonomic_count() const { return static_cast<int>(p_->holonomic_bound.size()); }
+  template <class S>
+  Eigen::Map<const Vec<S, Dynamic>> holonomic(const Vec<S, Dynamic>& q, const S& t) const {
+    return rows<S>(0, p_->holonomic_bound, q, q, t);
+  }
+  /// Contacts: gaps φ(q, t) ≥ 0, their count and restitution coefficients.
+  int unilateral_count() const { return static_cast<int>(p_->gaps_bound.size()); }
+  template <class S>
+  Eigen::Map<const Vec<S, Dynamic>> unilateral(const Vec<S, Dynamic>& q, const S& t) const {
+    return rows<S>(1, p_->gaps_bound, q, q, t);
+  }
+  std::vector<double> restitution() const {
+    std::vector<double> e;
+    for (const Contact& c : p_->definition.contacts) e.push_back(c.restitution);
+    return e;
+  }
+  std::vector<std::string> unilateral_names() const {
+    std::vector<std::string> out;
+    const auto& contacts = p_->definition.contacts;
+    for (std::size_t j = 0; j < contacts.size(); ++j)
+      out.push_back(contacts[j].name.empty() ? "u" + std::to_string(j) : contacts[j].name);
+    return out;
+  }
+  /// The constraints' names (given, or g0, …, a0, …) and units ("" when none given).
+  std::vector<std::string> holonomic_names() const { return names(0, holonomic_count(), "g"); }
+  std::vector<std::string> pfaffian_names() const { return names(holonomic_count(), pfaffian_count(), "a"); }
+  /// In the library's order: holonomic, contacts, Pfaffian.
+  std::vector<std::string> constraint_units() const {
+    const Definition& d = p_->definition;
+    auto given = [&](std::size_t i) { return d.constraint_units.empty() ? std::string() : d.constraint_units[i]; };
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i < d.holonomic.size(); ++i) out.push_back(given(i));
+    for (const Contact& c : d.contacts) out.push_back(c.unit);
+    for (std::size_t i = 0; i < d.pfaffian.size(); ++i) out.push_back(given(d.holonomic.size() + i));
+    return out;
+  }
+  /// Pfaffian constraints φ(q, q̇, t) = A q̇ + a = 0 and their count.
+  int pfaffian_count() const { return static_cast<int>(p_->pfaffian_bound.size()); }
+  template <class S>
+  Eigen::Map<const Vec<S, Dynamic>> pfaffian(const Vec<S, Dynamic>& q, const Vec<S, Dynamic>& qd, const S& t) const {
+    return rows<S>(2, p_->pfaffian_bound, q, qd, t);
+  }
+
   /// Rayleigh D (W); zero when the definition gives none.
   template <class S>
   S dissipation(const Vec<S, Dynamic>& q, const Vec<S, Dynamic>& qd) const {
@@ -133,6 +183,25 @@ class TextModel {
   }
 
  private:
+  std::vector<std::string> names(int from, int count, const char* prefix) const {
+    const auto& given = p_->definition.constraint_names;
+    std::vector<std::string> out;
+    for (int i = 0; i < count; ++i)
+      out.push_back(given.empty() ? prefix + std::to_string(i) : given[static_cast<std::size_t>(from + i)]);
+    return out;
+  }
+  /// The values of `es` into this thread's vector `kind` (0 holonomic, 1 contacts, 2 Pfaffian).
+  template <class S>
+  Eigen::Map<const Vec<S, Dynamic>> rows(int kind, const std::vector<Expression>& es, const Vec<S, Dynamic>& q,
+                                         const Vec<S, Dynamic>& qd, const S& t) const {
+    thread_local Vec<S, Dynamic> vectors[3];
+    Vec<S, Dynamic>& out = vectors[kind];
+    const int m = static_cast<int>(es.size());
+    if (out.size() < m) out.resize(m);
+    for (int i = 0; i < m; ++i) out[i] = evaluate(es[static_cast<std::size_t>(i)], q, qd, t, detail::slots<S>());
+    return {out.data(), m};
+  }
+
   std::shared_ptr<const Parsed> p_;
 };
 
