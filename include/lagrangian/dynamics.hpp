@@ -226,6 +226,15 @@ LAGRANGIAN_FLATTEN void eom_pass_inline(const M& model, Workspace<coordinate_cou
   eom_single_pass_flat<J>(model, ws, qj, qdj, q, qd, t);
 }
 
+/// The pass of a run-time sized model of K coordinates with numbers of
+/// fixed width K (fixed_width_passes_v).
+template <int K, class M>
+void eom_pass_fixed_width(const M& model, Workspace<Dynamic>& ws, const Vec<double, Dynamic>& q,
+                          const Vec<double, Dynamic>& qd, double t) {
+  using J = ad::EomJet<K>;
+  eom_single_pass<J>(model, ws, jet_vector<J>(0, K), jet_vector<J>(1, K), q, qd, t);
+}
+
 /// The pass of a larger fixed-size model (pooled Hessians) or of a run-time
 /// sized one. Not flattened: an operation costs O(n) and more here, so a
 /// call per operation is cheap, while inlining every one of them into one
@@ -238,6 +247,16 @@ LAGRANGIAN_NOINLINE void eom_pass_large(const M& model, Workspace<coordinate_cou
   if constexpr (n == Dynamic) {
     using J = EomJet<M>;  // run-time width, one instantiation of T and V
     const int size = static_cast<int>(q.size());
+    if constexpr (fixed_width_passes_v<M>) {
+      static_assert(kSmallFixedWidths == 4);
+      switch (size) {
+        case 1: return eom_pass_fixed_width<1>(model, ws, q, qd, t);
+        case 2: return eom_pass_fixed_width<2>(model, ws, q, qd, t);
+        case 3: return eom_pass_fixed_width<3>(model, ws, q, qd, t);
+        case 4: return eom_pass_fixed_width<4>(model, ws, q, qd, t);
+        default: break;
+      }
+    }
     if (size > kRunTimeCapacity) {
       ad::WidthScope width(2 * kBlock);
       eom_pass_blocks<J>(model, ws, q, qd, t);

@@ -117,6 +117,19 @@ inline constexpr int kMaxSinglePassDof = 64;
 /// for the pass); larger ones take the block passes with the same numbers
 /// at width 2 kBlock, so a model's functions are instantiated once.
 inline constexpr int kRunTimeCapacity = 64;
+/// Run-time sizes up to this many take, for a model that opts in (below),
+/// a pass with numbers of that fixed width, ad::EomJet<n>, as a fixed-size
+/// model does.
+inline constexpr int kSmallFixedWidths = 4;
+/// True when a run-time sized model opts in to fixed-width passes for its
+/// small sizes by declaring `static constexpr bool fixed_width_passes =
+/// true;`: its T and V are then compiled for ad::EomJet<1> … <4> too, which
+/// costs compile time once (a model compiled in the library, such as a text
+/// model) and makes q̈ of a small model several times cheaper.
+template <class M>
+inline constexpr bool fixed_width_passes_v = requires {
+  requires M::fixed_width_passes;
+} && coordinate_count_v<M> == Dynamic;
 /// True when a fixed-size model's derivatives come from passes over pairs
 /// of coordinate blocks (n > kMaxSinglePassDof).
 template <class M>

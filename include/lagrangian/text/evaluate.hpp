@@ -7,6 +7,8 @@
 /// sin(x)`.
 
 #include <cmath>
+#include <new>
+#include <type_traits>
 #include <vector>
 
 #include "lagrangian/ad/cmath.hpp"
@@ -52,26 +54,104 @@ S apply(const Node& n, const S& a, const S& b) {
 /// The value of `e` at (q, q̇, t), with `parameters` for parameter nodes
 /// (none are left in a bound expression). `slots` holds one S per node; it
 /// is resized only when too small, so a caller that keeps it allocates once.
+/// Leaves are read where they are (q, q̇, t: no copy), numbers (constants and
+/// parameters) enter the operations as doubles (a·c costs what scaling
+/// costs), and integer and half powers are products and square roots.
 template <class S, class QVec, class QdVec>
 S evaluate(const Expression& e, const QVec& q, const QdVec& qd, const S& t, std::vector<S>& slots,
            const double* parameters = nullptr) {
+  using std::pow, std::sqrt;
   const std::size_t count = e.nodes.size();
   if (slots.size() < count) slots.resize(count);
+  const Node* nodes = e.nodes.data();
+  auto is_number = [&](int k) {
+    return nodes[k].op == Op::constant || nodes[k].op == Op::parameter;
+  };
+  auto number = [&](int k) {
+    return nodes[k].op == Op::constant ? nodes[k].value : parameters[nodes[k].index];
+  };
+  // Node k as an S: a leaf in place, a number in `scratch`, else its slot.
+  // (A vector whose elements come by value, such as an Eigen::Map of
+  // constants, is read into `scratch`.)
+  auto element = [&](const auto& v, int index, S& scratch) -> const S& {
+    if constexpr (std::is_reference_v<decltype(v[index])>) {
+      return v[index];
+    } else {
+      scratch = S(v[index]);
+      return scratch;
+    }
+  };
+  auto operand = [&](int k, S& scratch) -> const S& {
+    switch (nodes[k].op) {
+      case Op::coordinate: return element(q, nodes[k].index, scratch);
+      case Op::velocity: return element(qd, nodes[k].index, scratch);
+      case Op::time: return t;
+      case Op::constant:
+      case Op::parameter: scratch = S(number(k)); return scratch;
+      default: return slots[static_cast<std::size_t>(k)];
+    }
+  };
+  S sa{}, sb{};
   for (std::size_t i = 0; i < count; ++i) {
-    const Node& n = e.nodes[i];
+    const Node& n = nodes[i];
+    // The node's value made straight into its slot (no copy of a number of
+    // derivatives where S allows it).
+    auto put = [&](auto&& make) {
+      if constexpr (std::is_trivially_destructible_v<S>) {
+        ::new (static_cast<void*>(&slots[i])) S(make());
+      } else {
+        slots[i] = make();
+      }
+    };
     switch (n.op) {
-      case Op::constant: slots[i] = S(n.value); break;
-      case Op::coordinate: slots[i] = q[n.index]; break;
-      case Op::velocity: slots[i] = qd[n.index]; break;
-      case Op::time: slots[i] = t; break;
-      case Op::parameter: slots[i] = S(parameters[n.index]); break;
+      case Op::constant:
+      case Op::coordinate:
+      case Op::velocity:
+      case Op::time:
+      case Op::parameter: break;  // read where they are
+      case Op::add:
+      case Op::sub:
+      case Op::mul:
+      case Op::div: {
+        const bool na = is_number(n.a), nb = is_number(n.b);
+        if (na && !nb) {
+          const double x = number(n.a);
+          const S& y = operand(n.b, sb);
+          put([&]() -> S { return n.op == Op::add ? x + y : n.op == Op::sub ? x - y : n.op == Op::mul ? x * y : x / y; });
+        } else if (nb && !na) {
+          const S& x = operand(n.a, sa);
+          const double y = number(n.b);
+          put([&]() -> S { return n.op == Op::add ? x + y : n.op == Op::sub ? x - y : n.op == Op::mul ? x * y : x / y; });
+        } else {
+          put([&] { return apply(n, operand(n.a, sa), operand(n.b, sb)); });
+        }
+        break;
+      }
+      case Op::pow_const: {
+        const S& x = operand(n.a, sa);
+        if (n.value == 2.0) {
+          put([&]() -> S { return x * x; });
+        } else if (n.value == 3.0) {
+          put([&]() -> S { return x * x * x; });
+        } else if (n.value == 1.0) {
+          put([&]() -> S { return x; });
+        } else if (n.value == 0.5) {
+          put([&]() -> S { return sqrt(x); });
+        } else if (n.value == -1.0) {
+          put([&]() -> S { return 1.0 / x; });
+        } else {
+          put([&]() -> S { return pow(x, n.value); });
+        }
+        break;
+      }
       default: {
-        const S& a = slots[static_cast<std::size_t>(n.a)];
-        slots[i] = apply(n, a, n.b >= 0 ? slots[static_cast<std::size_t>(n.b)] : a);
+        const S& x = operand(n.a, sa);
+        put([&] { return apply(n, x, n.b >= 0 ? operand(n.b, sb) : x); });
       }
     }
   }
-  return slots[count - 1];
+  S root{};
+  return operand(static_cast<int>(count) - 1, root);
 }
 
 }  // namespace lagrangian::text

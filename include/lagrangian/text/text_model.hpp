@@ -88,6 +88,9 @@ std::vector<S>& slots() {
 class TextModel {
  public:
   static constexpr int coordinate_count = Dynamic;
+  /// Up to four coordinates, q̈ comes from passes of fixed width (the text
+  /// model is compiled once, in the library).
+  static constexpr bool fixed_width_passes = true;
 
   /// Reads `d` (throws ExpressionError naming the field).
   explicit TextModel(const Definition& d) : TextModel(read(d)) {}
