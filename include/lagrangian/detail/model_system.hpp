@@ -80,9 +80,15 @@ void split_state(const double* x, Vec<double, N>& q, Vec<double, N>& qd) {
 }
 
 /// Per-run state of a constrained model's right-hand side.
+/// A compile-time size, or 0 for Dynamic.
+constexpr int fixed_or_none(int size) { return size == Dynamic ? 0 : size; }
+
 template <class M>
 struct ConstraintContext {
-  ConstraintContext() : ConstraintContext(0, 0, 0) {}
+  /// Sized by the model's compile-time counts (none when run-time ones).
+  ConstraintContext()
+      : ConstraintContext(fixed_or_none(coordinate_count_v<M>), fixed_or_none(position_rows_v<M>),
+                          fixed_or_none(constraint_count_v<M>)) {}
   explicit ConstraintContext(const M& model)
       : ConstraintContext(model_size(model), position_rows(model), constraint_count(model)) {}
   ConstraintContext(int n, int position_rows, int rows)
