@@ -343,6 +343,7 @@ namespace detail {
 /// The rows of one constraint function, checked against the model's count.
 template <class R>
 void check_rows(const R& rows, int expected, const char* function) {
+  if constexpr (std::decay_t<R>::RowsAtCompileTime != Dynamic) return;  // (the type says it)
   if (static_cast<int>(rows.size()) != expected)
     throw ConstraintError(std::string(function) + " returned " + std::to_string(rows.size()) + " values for " +
                           std::to_string(expected) + " constraints");
@@ -399,8 +400,14 @@ void constraint_state_into(const M& model, const Vec<double, coordinate_count_v<
     }
     // Path derivatives: a second-order Jet in the single direction (q̇, 1).
     using J2 = ad::Jet<double, 1, 2>;
-    std::optional<Vec<J2, n>> local;
-    auto& qp = detail::jet_storage<J2>(local, 0, size);
+    [[maybe_unused]] Vec<J2, n> local;
+    auto& qp = [&]() -> Vec<J2, n>& {
+      if constexpr (n == Dynamic) {
+        return detail::jet_vector<J2>(0, size);
+      } else {
+        return local;
+      }
+    }();
     for (int k = 0; k < size; ++k) {
       qp[k] = J2(q[k]);
       qp[k].g[0] = qd[k];

@@ -3,11 +3,13 @@
 // table on every call.
 
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "lagrangian/text/text_model.hpp"
 #include "registry_entry.hpp"
+#include "scene_messages.hpp"
 #include "text_model_spec.hpp"
 
 namespace lagrangian::scene::detail {
@@ -34,10 +36,52 @@ State<Dynamic> initial_of(const ModelSpec& spec) {
   return s;
 }
 
+/// Refuses a start where an expression is undefined (naming it and the
+/// operation) or where M = ∂²T/∂q̇² is not positive definite (naming a
+/// coordinate that carries no inertia), as errors of the scene's keys.
+void check_start(const lagrangian::text::TextModel& model, const State<Dynamic>& s, double t0) {
+  const lagrangian::text::Parsed& p = model.parsed();
+  const lagrangian::text::Definition& d = p.definition;
+  std::vector<double> values;
+  for (const auto& [name, value] : d.parameters) values.push_back(value);
+  auto check = [&](const lagrangian::text::Expression& e, const std::string& key) {
+    const std::string why = lagrangian::text::undefined_at(e, p.symbols, s.q.data(), s.qd.data(), t0, values.data());
+    if (!why.empty()) throw SceneError(d.field_prefix + key, "at t0 = " + format_value(t0) + " s, " + why);
+  };
+  auto index = [](const char* key, std::size_t i) { return std::string(key) + "[" + std::to_string(i) + "]"; };
+  check(p.kinetic, "kinetic");
+  check(p.potential, "potential");
+  for (std::size_t i = 0; i < p.forces.size(); ++i) check(p.forces[i], index("forces", i));
+  check(p.dissipation, "dissipation");
+  for (std::size_t i = 0; i < p.holonomic.size(); ++i) check(p.holonomic[i], index("holonomic", i));
+  for (std::size_t i = 0; i < p.pfaffian.size(); ++i) check(p.pfaffian[i], index("pfaffian", i));
+  for (std::size_t j = 0; j < p.gaps.size(); ++j) check(p.gaps[j], index("contacts", j) + ".gap");
+  const Eigen::MatrixXd mass = mass_matrix(model, s.q, s.qd, t0);
+  if (Eigen::LLT<Eigen::MatrixXd>(mass).info() == Eigen::Success && mass.allFinite()) return;
+  const double big = mass.cwiseAbs().maxCoeff();
+  for (int i = 0; i < mass.rows(); ++i)
+    if (!(mass.row(i).cwiseAbs().maxCoeff() > 1e-14 * big)) {
+      const std::string& q = d.coordinates[static_cast<std::size_t>(i)];
+      throw SceneError(d.field_prefix + "kinetic",
+                       "coordinate '" + q + "' carries no inertia at t0: T does not depend on " + q +
+                           "_dot there (row " + std::to_string(i + 1) +
+                           " of M = d2T/dqd2 is zero); every coordinate needs its velocity in T");
+    }
+  std::ostringstream os;
+  os.precision(6);
+  os << "M = d2T/dqd2 is not positive definite at t0: M = [";
+  for (int i = 0; i < mass.rows(); ++i)
+    for (int j = 0; j < mass.cols(); ++j) os << (i || j ? (j ? ", " : "; ") : "") << mass(i, j);
+  os << "]; T must be positive for every nonzero velocity";
+  throw SceneError(d.field_prefix + "kinetic", os.str());
+}
+
 RunReport run_text(const ModelSpec& spec, const SimulationOptions& options, const std::string& csv_path,
                    const SampleTick& tick, FinalState* final_state) {
   const State<Dynamic> s0 = initial_of(spec);
-  return run_model(lagrangian::text::TextModel(parsed_of(spec)), s0, options, csv_path, tick, final_state);
+  const lagrangian::text::TextModel model(parsed_of(spec));
+  check_start(model, s0, options.t0);
+  return run_model(model, s0, options, csv_path, tick, final_state);
 }
 
 /// p_i = ∂T/∂q̇_i as formulas in the scene's names (V has no velocities);

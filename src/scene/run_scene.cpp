@@ -214,6 +214,8 @@ RunResult run(const Scene& input, const RunControls& controls) {
   result.engine = engine_of(scene);
   const std::string dir = scene.output.directory;
   const bool write = controls.write_outputs;
+  std::error_code exists_ec;
+  const bool created = write && !fs::exists(dir, exists_ec);  // removed again, while empty, if the run fails
   if (write) prepare_directory(scene);
   if (write && !controls.video_path.empty()) {  // an older video must not pass for this run's
     std::error_code ec;
@@ -310,6 +312,8 @@ RunResult run(const Scene& input, const RunControls& controls) {
   } catch (...) {
     progress.finish();
     if (write) remove_outputs(dir);
+    std::error_code ec;
+    if (created && fs::is_empty(dir, ec)) fs::remove(dir, ec);
     throw;
   }
   if (write && scene.output.trajectory && scene.output.plots && (scene.output.png || scene.output.svg)) {

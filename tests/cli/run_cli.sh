@@ -55,6 +55,23 @@ grep -q '^1\.17706476899[0-9]*,impact,incline,' "$work/text_incline/events.csv" 
   { echo "FAIL: text incline's first impact"; fails=$((fails + 1)); }
 grep -v '^restitution' "$src/examples/scenes/text/projectile_on_incline.toml" > "$work/text_no_e.toml"
 expect 2 "text_no_e.toml:[0-9]+: model.contacts\[0\].restitution: " -- "$bin" run "$work/text_no_e.toml" --out "$work/text_no_e"
+# A text model that cannot start: an expression undefined at t0 (named with
+# the operation and the value), a coordinate without inertia (named).
+cat > "$work/text_start.toml" <<'TOML'
+[model]
+coordinates = ["x", "y"]
+kinetic = "0.5*m*x_dot^2 + 0.5*m*y_dot^2"
+potential = "k*log(x - a)"
+q = [1.0, 0.0]
+[model.parameters]
+m = 1.0
+k = 1.0
+a = 2.0
+TOML
+expect 2 "text_start.toml:4: model.potential: at t0 = 0 s, log of a number <= 0: log\(x - a\) with x - a = -1" -- "$bin" run "$work/text_start.toml" --out "$work/text_start"
+[ ! -e "$work/text_start" ] || { echo "FAIL: a text model that cannot start left $work/text_start"; fails=$((fails + 1)); }
+sed -e 's/ + 0.5\*m\*y_dot^2//' -e 's/k\*log(x - a)/k*x/' "$work/text_start.toml" > "$work/text_mass.toml"
+expect 2 "text_mass.toml:3: model.kinetic: coordinate 'y' carries no inertia at t0" -- "$bin" run "$work/text_mass.toml" --out "$work/text_mass"
 # The harmonic oscillator as text: equilibrium x = 0 with omega = 2 rad/s
 # (k/m = 4), and its boundary-value problem; with D, solve-bvp refuses.
 cat > "$work/text_oscillator.toml" <<'TOML'

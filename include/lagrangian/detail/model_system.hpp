@@ -128,8 +128,10 @@ class ModelSystem final : public System {
         if (unilateral_count(model) > 64)
           throw ConstraintError("the model has " + std::to_string(unilateral_count(model)) +
                                 " contacts; a run holds at most 64");
-        context_ = ConstraintContext<M>(model);
-        cw_ = constraint_workspace(model);
+        if constexpr (runtime_constraint_counts_v<M>) {  // (fixed counts: sized already)
+          context_ = ConstraintContext<M>(model);
+          cw_ = constraint_workspace(model);
+        }
         context_.omega = opt.stabilization == Stabilization::baumgarte ? opt.baumgarte_omega : 0.0;
         ctx_ = &context_;
       }

@@ -57,10 +57,13 @@ bool ModelSystem<M>::locate_events(double t_old, const double* x_old, double& t,
       }
     }
     // Closing contacts among the inactive ones.
-    auto& ga = gap_a_;
-    auto& ra = rate_a_;
-    auto& gb = gap_b_;
-    auto& rb = rate_b_;
+    // (On the stack for a compile-time number of contacts, the run's own
+    // vectors, sized once, for a run-time one.)
+    [[maybe_unused]] Vec<double, u_> ga_local, ra_local, gb_local, rb_local;
+    auto& ga = u_ == Dynamic ? gap_a_ : ga_local;
+    auto& ra = u_ == Dynamic ? rate_a_ : ra_local;
+    auto& gb = u_ == Dynamic ? gap_b_ : gb_local;
+    auto& rb = u_ == Dynamic ? rate_b_ : rb_local;
     gaps_at(x_old, t_old, ga, ra);
     gaps_at(x, t, gb, rb);
     const double touch = contact_touch_tolerance(x);
@@ -69,8 +72,11 @@ bool ModelSystem<M>::locate_events(double t_old, const double* x_old, double& t,
       // φ_j and φ̇_j at a time inside the step.
       auto on_step = [&](double ts) {
         interp(ts, buf.data());
-        gaps_at(buf.data(), ts, gap_in_, rate_in_);
-        return GapRate{gap_in_[j], rate_in_[j]};
+        [[maybe_unused]] Vec<double, u_> g_local, r_local;
+        auto& g = u_ == Dynamic ? gap_in_ : g_local;
+        auto& r = u_ == Dynamic ? rate_in_ : r_local;
+        gaps_at(buf.data(), ts, g, r);
+        return GapRate{g[j], r[j]};
       };
       const Closing c = locate_closing(t_old, t, {ga[j], ra[j]}, {gb[j], rb[j]}, touch, opt_.contact_touch_speed,
                                        gap_function(on_step));
@@ -137,10 +143,14 @@ void ModelSystem<M>::resolve_contacts(double* x, double t, int trigger) {
     Vec<double, n> q(size_), qd(size_);
     split_state(x, q, qd);
     const double touch = contact_touch_tolerance(x);
-    auto& g = gap_in_;
-    auto& r = rate_in_;
-    std::vector<bool> involved(static_cast<std::size_t>(u)), rested(involved), plastic(involved);
-    // (plastic: its last impact here had e = 0: the bodies stick)
+    [[maybe_unused]] Vec<double, u_> g_local, r_local;
+    auto& g = u_ == Dynamic ? gap_in_ : g_local;
+    auto& r = u_ == Dynamic ? rate_in_ : r_local;
+    PerContact<char> involved{}, rested{}, plastic{};  // plastic: its last impact here had e = 0: the bodies stick
+    if constexpr (u_ == Dynamic) {
+      involved.assign(static_cast<std::size_t>(u), 0);
+      rested = plastic = involved;
+    }
     involved[static_cast<std::size_t>(trigger)] = true;
     const int max_impacts = 1000 * u;
     int count = 0;

@@ -124,6 +124,14 @@ Expression derivative(const Expression& e, Op variable, int index);
 /// significant digits.
 std::string to_text(const Expression& e, const Symbols& symbols);
 
+/// Where `e` is undefined at (q, q̇, t) with the parameter values
+/// `parameters` (in the order of symbols.parameters): "" when no operation
+/// makes a non-finite value of finite operands, else one sentence naming the
+/// first that does and its operand, in the names `e` was written with, e.g.
+/// "log of a number <= 0: log(x - a) with x - a = -1".
+std::string undefined_at(const Expression& e, const Symbols& symbols, const double* q, const double* qd, double t,
+                         const double* parameters);
+
 /// True when `name` can name a coordinate or a parameter: a letter or `_`
 /// first, then letters, digits and `_`; not a function name, `t` or `pi`.
 bool valid_name(std::string_view name);
