@@ -85,7 +85,8 @@ std::string error_of(const std::string& source) {
 
 TEST(TextExpression, ErrorsNameTheFieldTheColumnAndTheProblem) {
   EXPECT_EQ(error_of("0.5*m*thta_dot^2"),
-            "model.kinetic (column 7): unknown name 'thta_dot'; the names here are the coordinates (theta), their "
+            "model.kinetic (column 7): unknown name 'thta_dot', did you mean 'theta_dot'?; the names here are the "
+            "coordinates (theta), their "
             "velocities (theta_dot), the parameters (m, g), t and pi");
   EXPECT_EQ(error_of("sin theta"), "model.kinetic (column 1): 'sin' is a function: write sin(...)");
   EXPECT_EQ(error_of("atan2(theta)"), "model.kinetic (column 1): atan2 takes 2 arguments, not 1");

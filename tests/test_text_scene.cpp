@@ -144,7 +144,7 @@ TEST(TextScene, TheEntryNamesABadExpressionAsValidationDoes) {
     message = e.message();
   }
   EXPECT_EQ(key, "model.kinetic");
-  EXPECT_EQ(message.substr(0, 35), "column 7: unknown name 'thta_dot'; ");
+  EXPECT_EQ(message.substr(0, 66), "column 7: unknown name 'thta_dot', did you mean 'theta_dot'?; the ");
 }
 
 std::string error_of(const std::string& toml) {

@@ -175,7 +175,13 @@ class Parser {
     const auto& ps = symbols_.parameters;
     for (std::size_t i = 0; i < ps.size(); ++i)
       if (id == ps[i]) return b_.leaf(Op::parameter, static_cast<int>(i));
-    fail(start, "unknown name '" + id + "'; " + known_names());
+    std::vector<std::string> names = {"t", "pi"};
+    for (const std::string& q : qs) {
+      names.push_back(q);
+      names.push_back(q + "_dot");
+    }
+    names.insert(names.end(), ps.begin(), ps.end());
+    fail(start, "unknown name '" + id + "'" + nearest(id, names) + "; " + known_names());
   }
 
   int call(const std::string& id, std::size_t start) {
@@ -183,7 +189,9 @@ class Parser {
     if (!f) {
       std::string all;
       for (const Function& g : kFunctions) all += (all.empty() ? "" : " ") + std::string(g.name);
-      fail(start, "unknown function '" + id + "'; the functions are " + all);
+      std::vector<std::string> names;
+      for (const Function& g : kFunctions) names.emplace_back(g.name);
+      fail(start, "unknown function '" + id + "'" + nearest(id, names) + "; the functions are " + all);
     }
     std::vector<int> args;
     if (!accept(')')) {
@@ -195,6 +203,33 @@ class Parser {
       fail(start, id + " takes " + std::to_string(f->arguments) + " argument" + (f->arguments == 1 ? "" : "s") +
                       ", not " + std::to_string(args.size()));
     return f->arguments == 1 ? b_.unary(f->op, args[0]) : b_.binary(f->op, args[0], args[1]);
+  }
+
+  /// ", did you mean 'x'?" for the name of `names` nearest to `id` (at most
+  /// two edits away, and fewer than its length), else "".
+  static std::string nearest(const std::string& id, const std::vector<std::string>& names) {
+    std::string best;
+    std::size_t best_distance = 3;
+    for (const std::string& name : names) {
+      // Levenshtein distance, one row at a time.
+      std::vector<std::size_t> row(name.size() + 1);
+      for (std::size_t j = 0; j <= name.size(); ++j) row[j] = j;
+      for (std::size_t i = 1; i <= id.size(); ++i) {
+        std::size_t diagonal = row[0];
+        row[0] = i;
+        for (std::size_t j = 1; j <= name.size(); ++j) {
+          const std::size_t up = row[j];
+          row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (id[i - 1] == name[j - 1] ? 0 : 1)});
+          diagonal = up;
+        }
+      }
+      const std::size_t d = row[name.size()];
+      if (d < best_distance && d < id.size()) {
+        best_distance = d;
+        best = name;
+      }
+    }
+    return best.empty() ? std::string() : ", did you mean '" + best + "'?";
   }
 
   std::string known_names() const {

@@ -79,10 +79,10 @@ void split_state(const double* x, Vec<double, N>& q, Vec<double, N>& qd) {
   }
 }
 
-/// Per-run state of a constrained model's right-hand side.
 /// A compile-time size, or 0 for Dynamic.
 constexpr int fixed_or_none(int size) { return size == Dynamic ? 0 : size; }
 
+/// Per-run state of a constrained model's right-hand side.
 template <class M>
 struct ConstraintContext {
   /// Sized by the model's compile-time counts (none when run-time ones).
