@@ -490,45 +490,6 @@ std::string inspect_entry(const ModelSpec& spec, double t0, bool as_json) {
   return inspect_model(model, info, Def::type, p, initial, t0, as_json);
 }
 
-/// q̈ (constrained, contacts not touching), p, M and h of `model` at one state.
-template <class M>
-EomSample eom_sample(const M& model, const double* q_in, const double* qd_in, double t) {
-  constexpr int N = coordinate_count_v<M>;
-  const int n = model_size(model);
-  Vec<double, N> q(n), qd(n), qdd(n);
-  for (int i = 0; i < n; ++i) {
-    q[i] = q_in[i];
-    qd[i] = qd_in[i];
-  }
-  Workspace<N> ws(n);
-  if constexpr (has_constraints_v<M>) {
-    if (has_constraints(model)) {
-      ConstraintWorkspaceFor<M> cw = constraint_workspace(model);
-      constrained_accelerations(model, ws, cw, q, qd, t, qdd, 0.0, ActiveSet{0});
-    } else {
-      lagrangian::detail::free_accelerations(model, ws, q, qd, t, qdd);
-    }
-  } else {
-    lagrangian::detail::free_accelerations(model, ws, q, qd, t, qdd);
-  }
-  EomSample s;
-  s.qdd.assign(qdd.data(), qdd.data() + n);
-  const Vec<double, N> p = momenta(model, q, qd, t);
-  s.p.assign(p.data(), p.data() + n);
-  const auto mass = mass_matrix(model, q, qd, t);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) s.mass.push_back(mass(i, j));
-  s.h = energy_function(model, q, qd, t);
-  return s;
-}
-
-template <class Def>
-EomSample eom_entry(const ModelSpec& spec, const double* q, const double* qd, double t) {
-  const ModelInfo& info = catalog_entry(Def::name);
-  const Parameters p(info, spec);
-  return eom_sample(build_model<Def>(info, p), q, qd, t);
-}
-
 template <class Def>
 std::string analyse_entry(const ModelSpec& spec, double t0, const AnalysisRequest& request) {
   const ModelInfo& info = catalog_entry(Def::name);

@@ -178,15 +178,10 @@ view::Figure picture_text(const ModelSpec& spec, const double* t, const double* 
 
 std::vector<std::array<int, 3>> no_particles(const ModelSpec&) { return {}; }
 
-EomSample eom_text(const ModelSpec& spec, const double* q, const double* qd, double t) {
-  return eom_sample(lagrangian::text::TextModel(parsed_of(spec)), q, qd, t);
-}
-
 }  // namespace
 
 const ModelEntry& text_entry() {
-  static const ModelEntry e{"text",    &run_text,     &inspect_text, &analyse_text,
-                            &bvp_text, &picture_text, &no_particles, &eom_text};
+  static const ModelEntry e{"text", &run_text, &inspect_text, &analyse_text, &bvp_text, &picture_text, &no_particles};
   return e;
 }
 

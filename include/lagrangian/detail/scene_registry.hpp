@@ -25,14 +25,6 @@ struct FinalState {
   std::vector<double> q, qd;
 };
 
-/// The equations of motion at one state (ModelEntry::eom): q̈ (the
-/// constrained one for a model with constraints, contacts not touching),
-/// p = ∂L/∂q̇, M = ∂²L/∂q̇² (row by row) and h = p·q̇ − L.
-struct EomSample {
-  std::vector<double> qdd, p, mass;
-  double h = 0;
-};
-
 /// A built-in model as the scene runner sees it.
 struct ModelEntry {
   std::string name;  ///< as in builtin_models() (src/scene/model_catalog.cpp)
@@ -64,9 +56,6 @@ struct ModelEntry {
   /// place() of its own): each particle's coordinate indices of x, y, z (−1
   /// absent), in the order of the picture's bodies; empty otherwise.
   std::vector<std::array<int, 3>> (*particle_axes)(const ModelSpec& spec);
-  /// The model of `spec` (its parameters, not its state) at (q, q̇, t), n
-  /// values each: what two statements of one system must agree in.
-  EomSample (*eom)(const ModelSpec& spec, const double* q, const double* qd, double t);
 
   /// Runs the model (see run_fn).
   RunReport run(const ModelSpec& spec, const SimulationOptions& options, const std::string& csv_path,
