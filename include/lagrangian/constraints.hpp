@@ -34,6 +34,7 @@
 #include <cstdint>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -400,14 +401,8 @@ void constraint_state_into(const M& model, const Vec<double, coordinate_count_v<
     }
     // Path derivatives: a second-order Jet in the single direction (q̇, 1).
     using J2 = ad::Jet<double, 1, 2>;
-    [[maybe_unused]] Vec<J2, n> local;
-    auto& qp = [&]() -> Vec<J2, n>& {
-      if constexpr (n == Dynamic) {
-        return detail::jet_vector<J2>(0, size);
-      } else {
-        return local;
-      }
-    }();
+    std::optional<Vec<J2, n>> local;
+    auto& qp = detail::jet_storage<J2>(local, 0, size);
     for (int k = 0; k < size; ++k) {
       qp[k] = J2(q[k]);
       qp[k].g[0] = qd[k];

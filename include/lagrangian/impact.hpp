@@ -165,14 +165,8 @@ void contact_gaps(const M& model, const Vec<double, coordinate_count_v<M>>& q,
   using J = ad::Jet<double, 1, 1>;
   constexpr int n = coordinate_count_v<M>;
   const int size = static_cast<int>(q.size());
-  [[maybe_unused]] Vec<J, n> local;
-  auto& qp = [&]() -> Vec<J, n>& {
-    if constexpr (n == Dynamic) {
-      return detail::jet_vector<J>(0, size);
-    } else {
-      return local;
-    }
-  }();
+  std::optional<Vec<J, n>> local;
+  auto& qp = detail::jet_storage<J>(local, 0, size);
   for (int k = 0; k < size; ++k) {
     qp[k] = J(q[k]);
     qp[k].g[0] = qd[k];
