@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "lagrangian/constraints.hpp"
+#include "lagrangian/detail/eom_sample.hpp"  // (compiled with simulate(), src/models/)
 #include "lagrangian/detail/model_run.hpp"
 #include "lagrangian/detail/scene_registry.hpp"
 #include "lagrangian/dynamics.hpp"
@@ -479,6 +480,13 @@ RunReport run_entry(const ModelSpec& spec, const SimulationOptions& options, con
   const typename Def::Model model = build_model<Def>(info, p);
   const auto initial = initial_state(info, spec, default_state<Def>(info, model, options.t0));
   return run_model(model, initial, options, csv_path, tick, final_state);
+}
+
+/// q̈, p, M and h of the model of `spec` at (q, q̇, t) (ModelEntry::eom).
+template <class Def>
+lagrangian::detail::EomSample eom_entry(const ModelSpec& spec, const double* q, const double* qd, double t) {
+  const ModelInfo& info = catalog_entry(Def::name);
+  return lagrangian::detail::eom_sample(build_model<Def>(info, Parameters(info, spec)), q, qd, t);
 }
 
 template <class Def>

@@ -99,7 +99,7 @@ view::Figure picture_entry(const ModelSpec& spec, const double* t, const double*
 template <class Def>
 ModelEntry entry() {
   return ModelEntry{std::string(Def::name), &run_entry<Def>, &inspect_entry<Def>, &analyse_entry<Def>,
-                    &bvp_entry<Def>, &picture_entry<Def>, &particle_axes_entry<Def>};
+                    &bvp_entry<Def>, &picture_entry<Def>, &particle_axes_entry<Def>, &eom_entry<Def>};
 }
 
 }  // namespace lagrangian::scene::detail

@@ -139,6 +139,10 @@ std::string inspect_text(const ModelSpec& spec, double t0, bool as_json) {
   return inspect_model(model, info, "text::TextModel", p, s0, t0, as_json, extras);
 }
 
+lagrangian::detail::EomSample eom_text(const ModelSpec& spec, const double* q, const double* qd, double t) {
+  return lagrangian::detail::eom_sample(lagrangian::text::TextModel(parsed_of(spec)), q, qd, t);
+}
+
 std::string analyse_text(const ModelSpec& spec, double t0, const AnalysisRequest& request) {
   return analyse_model(lagrangian::text::TextModel(parsed_of(spec)), *model_info(spec), initial_of(spec), t0, request);
 }
@@ -181,7 +185,7 @@ std::vector<std::array<int, 3>> no_particles(const ModelSpec&) { return {}; }
 }  // namespace
 
 const ModelEntry& text_entry() {
-  static const ModelEntry e{"text", &run_text, &inspect_text, &analyse_text, &bvp_text, &picture_text, &no_particles};
+  static const ModelEntry e{"text", &run_text, &inspect_text, &analyse_text, &bvp_text, &picture_text, &no_particles, &eom_text};
   return e;
 }
 

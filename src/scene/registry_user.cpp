@@ -22,6 +22,9 @@ RunReport run_user(const ModelSpec& spec, const SimulationOptions& options, cons
 std::string inspect_user(const ModelSpec&, double, bool) { not_for_user("inspect"); }
 std::string analyse_user(const ModelSpec&, double, const AnalysisRequest&) { not_for_user("equilibria and modes"); }
 BvpResult bvp_user(const ModelSpec&, const BvpRequest&, DiscreteRule) { not_for_user("solve-bvp"); }
+lagrangian::detail::EomSample eom_user(const ModelSpec&, const double*, const double*, double) {
+  not_for_user("the equations of motion at a state");
+}
 
 view::Figure picture_user(const ModelSpec& spec, const double* t, const double* q, std::size_t rows,
                           std::vector<double>& xyz) {
@@ -33,7 +36,7 @@ std::vector<std::array<int, 3>> axes_user(const ModelSpec& spec) { return spec.u
 }  // namespace
 
 const ModelEntry& user_entry() {
-  static const ModelEntry e{"user", &run_user, &inspect_user, &analyse_user, &bvp_user, &picture_user, &axes_user};
+  static const ModelEntry e{"user", &run_user, &inspect_user, &analyse_user, &bvp_user, &picture_user, &axes_user, &eom_user};
   return e;
 }
 

@@ -1,8 +1,10 @@
-// simulate() and the Euler–Lagrange pass compiled once, in the library, for
+// simulate(), eom_sample() and the Euler–Lagrange pass compiled once, in the library, for
 // text models (see lagrangian/detail/compiled_models.hpp and
 // lagrangian/text/text_model.hpp).
+#include "lagrangian/detail/eom_sample.hpp"
 #include "lagrangian/simulate.hpp"
 #include "lagrangian/text/text_model.hpp"
 
 LAGRANGIAN_INSTANTIATE_SIMULATE(lagrangian::text::TextModel)
+LAGRANGIAN_INSTANTIATE_EOM_SAMPLE(lagrangian::text::TextModel)
 template LAGRANGIAN_TEXT_EOM_PASS(lagrangian::text::TextModel)

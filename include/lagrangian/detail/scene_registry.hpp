@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "lagrangian/detail/compiled_models.hpp"
 #include "lagrangian/discrete.hpp"
 #include "lagrangian/report.hpp"
 #include "lagrangian/scene.hpp"
@@ -56,6 +57,11 @@ struct ModelEntry {
   /// place() of its own): each particle's coordinate indices of x, y, z (−1
   /// absent), in the order of the picture's bodies; empty otherwise.
   std::vector<std::array<int, 3>> (*particle_axes)(const ModelSpec& spec);
+  /// The model of `spec` (its parameters, not its state) at (q, q̇, t), n
+  /// values each: q̈ (bilateral constraints kept, contacts open), p, M and
+  /// h, what two statements of one system must agree in (compiled with
+  /// the model's simulate(): lagrangian/detail/eom_sample.hpp).
+  lagrangian::detail::EomSample (*eom)(const ModelSpec& spec, const double* q, const double* qd, double t);
 
   /// Runs the model (see run_fn).
   RunReport run(const ModelSpec& spec, const SimulationOptions& options, const std::string& csv_path,
