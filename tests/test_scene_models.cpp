@@ -524,6 +524,31 @@ TEST(SceneModels, BallAndPlaneReboundsToESquaredTimesTheDropHeight) {
   EXPECT_LT(worst, 1e-9);
 }
 
+// A ball dropped from rest onto a plane tilted by α (normal n = (sin α, 0,
+// cos α)), e = 0.5, with one step to the end (a free flight is a parabola,
+// which the stepper integrates exactly, so its steps grow past the next
+// bounce). Across the normal the bounces are those of a ball on a floor
+// under g cos α: the first impact at t1 = √(2 d0 / (g cos α)) (d0 the
+// start's height above the plane), then flights shrinking by e, the rest
+// at t1 (1 + 2e / (1 − e)). Along the slope nothing changes at an impact:
+// the ball has slid ½ g sin α t² down it at every time.
+TEST(SceneModels, BallOnATiltedPlaneBouncesToRestAndSlides) {
+  const double e = 0.5, R = 0.1, g = 9.81, sa = 0.6, ca = 0.8, z0 = 1.0, t_end = 2.0;
+  ModelSpec spec{"ball_and_plane", {{"e", e}, {"R", R}, {"nx", sa}, {"nz", ca}}, {0.0, 0.0, z0}, {0.0, 0.0, 0.0}};
+  scene::detail::FinalState last;
+  const RunReport r = entry("ball_and_plane").run(spec, options(t_end, t_end), "", {}, &last);
+  const double gn = g * ca, t1 = std::sqrt(2 * (ca * z0 - R) / gn);
+  ASSERT_GE(r.events.size(), 2u);
+  EXPECT_NEAR(r.events[0].t, t1, 1e-10);
+  EXPECT_NEAR(r.events[1].t, t1 * (1 + 2 * e), 1e-9);
+  ASSERT_EQ(r.events.back().kind, EventKind::rest);
+  EXPECT_NEAR(r.events.back().t, t1 * (1 + 2 * e / (1 - e)), 1e-5);
+  ASSERT_EQ(last.t, t_end);
+  const double x = last.q[0], z = last.q[2];
+  EXPECT_NEAR(sa * x + ca * z, R, 1e-9);  // on the plane
+  EXPECT_NEAR(ca * x - sa * (z - z0), 0.5 * g * sa * t_end * t_end, 1e-8);  // down the slope
+}
+
 TEST(SceneModels, ProjectileRangeIsUSquaredSinTwoAlphaOverG) {
   const double u = 15.0, alpha = 0.6, g = 9.81;
   TempDir dir("projectile");

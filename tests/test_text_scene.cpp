@@ -180,3 +180,156 @@ TEST(TextScene, ErrorsNameTheFileLineKeyAndColumn) {
 }
 
 }  // namespace
+
+namespace {
+
+// A run of `model` (a [model] table's body) with the outputs off, to t_end.
+RunResult run_model_text(const std::string& model, double t_end) {
+  std::string s = std::string("name = \"points\"\n") + kOutputsOff + "[model]\n" + model;
+  const std::string from = "t_end = 5.0", to = "t_end = " + std::to_string(t_end);
+  s.replace(s.find(from), from.size(), to);
+  return run(parse_scene(s));
+}
+
+// Two statements of one system: a built-in particle model (particles() at
+// its Cartesian coordinates) and its text twin with a point of the same
+// mass at each particle. The run reports the same P0, L0, the same verdicts
+// on which components are conserved (from the forces and, for the tilted
+// plane, the contact's impulse along its normal) and keeps them both.
+void expect_same_momenta(const std::string& name, const std::string& parameters, const std::string& state,
+                         const std::string& text) {
+  SCOPED_TRACE(name);
+  const RunResult a = run_model_text("name = \"" + name + "\"\n" + state + parameters, 2.0);
+  std::string twin = text;  // (the state goes where "STATE" is, before the tables)
+  twin.replace(twin.find("STATE"), 5, state);
+  const RunResult b = run_model_text(twin + parameters, 2.0);
+  ASSERT_TRUE(a.report.has_particles);
+  ASSERT_TRUE(b.report.has_particles);
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_NEAR(b.report.linear_momentum_initial[k], a.report.linear_momentum_initial[k], 1e-14) << k;
+    EXPECT_NEAR(b.report.angular_momentum_initial[k], a.report.angular_momentum_initial[k], 1e-14) << k;
+    EXPECT_EQ(b.report.linear_momentum_conserved[k], a.report.linear_momentum_conserved[k]) << "P, axis " << k;
+    EXPECT_EQ(b.report.angular_momentum_conserved[k], a.report.angular_momentum_conserved[k]) << "L, axis " << k;
+  }
+  EXPECT_LE(b.report.linear_momentum_drift_max, 1e-9);
+  EXPECT_LE(b.report.angular_momentum_drift_max, 1e-9);
+}
+
+TEST(TextScene, PointMassesGiveTheRunPAndLAsTheBuiltInParticlesDo) {
+  expect_same_momenta("two_body", "[model.parameters]\nm1 = 1.0\nm2 = 2.0\nk = 1.5\n",
+                      "q = [0.0, 0.0, 1.0, 0.2]\nqd = [0.1, -0.3, 0.0, 0.7]\n", R"toml(
+coordinates = ["x1", "y1", "x2", "y2"]
+kinetic = "0.5*m1*(x1_dot^2 + y1_dot^2) + 0.5*m2*(x2_dot^2 + y2_dot^2)"
+potential = "-k/sqrt((x2 - x1)^2 + (y2 - y1)^2)"
+STATE
+[[model.points]]
+name = "one"
+mass = 1.0
+x = "x1"
+y = "y1"
+[[model.points]]
+name = "two"
+mass = 2.0
+x = "x2"
+y = "y2"
+)toml");
+  // A plane tilted about y: its impulses have a part along x (P_x is not
+  // conserved although gravity is along −z); P_y is.
+  const RunResult tilted = run_model_text("name = \"ball_and_plane\"\nq = [0.0, 0.0, 1.0]\nqd = [0.3, 0.2, 0.0]\n"
+                                          "[model.parameters]\nnx = 0.6\nnz = 0.8\n",
+                                          1.0);
+  EXPECT_FALSE(tilted.report.linear_momentum_conserved[0]);
+  EXPECT_TRUE(tilted.report.linear_momentum_conserved[1]);
+  expect_same_momenta("ball_and_plane",
+                      "[model.parameters]\nm = 1.0\nR = 0.1\ng = 9.81\nnx = 0.6\nny = 0.0\nnz = 0.8\noffset = 0.0\n",
+                      "q = [0.0, 0.0, 1.0]\nqd = [0.3, 0.2, 0.0]\n", R"toml(
+coordinates = ["x", "y", "z"]
+kinetic = "0.5*m*(x_dot^2 + y_dot^2 + z_dot^2)"
+potential = "m*g*z"
+STATE
+[[model.contacts]]
+gap = "nx*x + ny*y + nz*z - offset - R"
+restitution = 0.5
+[[model.points]]
+name = "ball"
+mass = 1.0
+x = "x"
+y = "y"
+z = "z"
+)toml");
+}
+
+// The double pendulum's bobs (1 kg, 2 kg on 1 m, 0.5 m rods): P and L from
+// r(q) by the chain rule, P = Σ m (∂r/∂θ) θ̇, against the closed form; the
+// pivot and gravity change P_x, P_y and L_z, and the run says so.
+TEST(TextScene, PointsOfAPendulumReportPAndLWithTheirVerdicts) {
+  const RunResult r = run_model_text(R"toml(
+coordinates = ["a", "b"]
+kinetic = "0.5*(m1 + m2)*l1^2*a_dot^2 + 0.5*m2*l2^2*b_dot^2 + m2*l1*l2*a_dot*b_dot*cos(a - b)"
+potential = "-(m1 + m2)*g*l1*cos(a) - m2*g*l2*cos(b)"
+q = [0.7, -0.4]
+qd = [1.1, 0.3]
+[[model.points]]
+name = "one"
+mass = 1.0
+x = "l1*sin(a)"
+y = "-l1*cos(a)"
+[[model.points]]
+name = "two"
+mass = 2.0
+x = "l1*sin(a) + l2*sin(b)"
+y = "-l1*cos(a) - l2*cos(b)"
+[model.parameters]
+m1 = 1.0
+m2 = 2.0
+l1 = 1.0
+l2 = 0.5
+g = 9.81
+)toml",
+                                     1.0);
+  ASSERT_TRUE(r.report.has_particles);
+  const double a = 0.7, b = -0.4, ad = 1.1, bd = 0.3, l1 = 1.0, l2 = 0.5, m1 = 1.0, m2 = 2.0;
+  const double x1 = l1 * std::sin(a), y1 = -l1 * std::cos(a), x2 = x1 + l2 * std::sin(b), y2 = y1 - l2 * std::cos(b);
+  const double vx1 = l1 * std::cos(a) * ad, vy1 = l1 * std::sin(a) * ad;
+  const double vx2 = vx1 + l2 * std::cos(b) * bd, vy2 = vy1 + l2 * std::sin(b) * bd;
+  EXPECT_NEAR(r.report.linear_momentum_initial[0], m1 * vx1 + m2 * vx2, 1e-14);
+  EXPECT_NEAR(r.report.linear_momentum_initial[1], m1 * vy1 + m2 * vy2, 1e-14);
+  EXPECT_NEAR(r.report.angular_momentum_initial[2], m1 * (x1 * vy1 - y1 * vx1) + m2 * (x2 * vy2 - y2 * vx2), 1e-14);
+  EXPECT_FALSE(r.report.linear_momentum_conserved[0]);
+  EXPECT_FALSE(r.report.linear_momentum_conserved[1]);
+  EXPECT_TRUE(r.report.linear_momentum_conserved[2]);  // a plane motion: P_z = 0 throughout
+  EXPECT_FALSE(r.report.angular_momentum_conserved[2]);
+  EXPECT_FALSE(r.report.linear_momentum_reason[0].empty());
+}
+
+// A bead on the wire y = 0 and a wall x + y = 1 across it: the wall's
+// impulse is along its normal (1, 1)/√2, but the wire takes up its y part,
+// so the bead's P_y stays 0: the contact changes P_x only.
+TEST(TextScene, AContactsImpulseOnPointsHoldsTheConstraints) {
+  const RunResult r = run_model_text(R"toml(
+coordinates = ["x", "y"]
+kinetic = "0.5*m*(x_dot^2 + y_dot^2)"
+potential = "0"
+holonomic = ["y"]
+q = [0.2, 0.0]
+qd = [1.0, 0.0]
+[[model.contacts]]
+gap = "1 - x - y"
+restitution = 1.0
+[[model.points]]
+name = "bead"
+mass = 2.0
+x = "x"
+y = "y"
+[model.parameters]
+m = 2.0
+)toml",
+                                     2.0);
+  ASSERT_TRUE(r.report.has_particles);
+  EXPECT_FALSE(r.report.linear_momentum_conserved[0]) << r.report.linear_momentum_reason[0];
+  EXPECT_TRUE(r.report.linear_momentum_conserved[1]) << r.report.linear_momentum_reason[1];
+  EXPECT_LE(r.report.linear_momentum_drift_max, 1e-12);
+  EXPECT_EQ(r.report.impacts, 1u);
+}
+
+}  // namespace

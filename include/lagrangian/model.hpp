@@ -337,6 +337,31 @@ inline constexpr bool has_particles_v = requires(const M& m) {
   { *std::begin(m.particles()) } -> std::convertible_to<Particle>;
 };
 
+/// A point mass placed by a function r(q, t) of the coordinates, along a
+/// path (q + δq s + ½ δ²q s², t + δt s) at s = 0: its mass (kg), r (m), and
+/// dr/ds and d²r/ds². With (δq, δ²q, δt) = (q̇, q̈, 1) those are the point's
+/// velocity (m/s) and acceleration (m/s²); with (u, 0, 0) dr/ds = (∂r/∂q) u.
+struct PointMotion {
+  double mass = 0;
+  std::array<double, 3> r{}, v{}, a{};
+};
+
+/// A model whose bodies are point masses placed by functions of its
+/// coordinates (a text model's [[model.points]] with a mass; the Cartesian
+/// particles() above are the special case r = q) may declare
+///   int mass_point_count() const;
+///   void mass_points(const double* q, const double* dq, const double* ddq,
+///                    double t, double dt, PointMotion* out) const;
+/// (n values in each array, mass_point_count() results). When it has at
+/// least one, its runs report P = Σ m v and L = Σ m (r − r₀) × v of the
+/// points, which components the forces and contacts conserve, and their
+/// drift, as for particles.
+template <class M>
+inline constexpr bool has_mass_points_v = requires(const M& m, const double* x, PointMotion* out) {
+  { m.mass_point_count() } -> std::convertible_to<int>;
+  m.mass_points(x, x, x, 0.0, 0.0, out);
+};
+
 /// Checks a model and stops compilation with one sentence naming what is
 /// missing or wrong: no coordinate_count; no T and V (or L); T, V or L not
 /// const, taking a Vec of another size than n, returning double, or not a

@@ -232,7 +232,8 @@ struct RunReport {
   double total_energy_drift_relative_to_initial() const;
   double total_energy_drift_relative_to_initial_max() const;
   std::vector<MomentumDrift> conserved_momenta;  ///< cyclic coordinates and their momenta
-  /// Particle systems (models that declare particles(), particle scenes):
+  /// Particle systems (models that declare particles() or mass_points(),
+  /// particle scenes):
   /// total linear momentum P = Σ m v (kg·m/s) and angular momentum
   /// L = Σ m (r − r₀) × v (kg·m²/s) about
   /// SimulationOptions::angular_momentum_point, at t0, and the largest and

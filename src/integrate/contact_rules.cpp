@@ -33,7 +33,6 @@ Closing locate_closing(double t0, double t1, GapRate start, GapRate end, double 
     return on_step(t);
   };
   auto gap = [&](double t) { return at(t).gap; };
-  auto rate = [&](double t) { return at(t).rate; };
   auto rate_root = [&] { return stationary_time(t0, t1, start, end, on_step); };
   // The bracket [lo, hi] of a closing: φ(lo) > 0 > φ(hi).
   double lo = t0, hi = t1;
@@ -46,8 +45,18 @@ Closing locate_closing(double t0, double t1, GapRate start, GapRate end, double 
     crossing = gap(lo) > 0;
   }
   if (crossing) {
-    const double tc = root(time_function(gap), lo, hi, gap(lo), gap(hi)).first;
-    if (-rate(tc) <= touch_speed && end.gap >= -touch) return {};  // a slow touch
+    double tc = root(time_function(gap), lo, hi, gap(lo), gap(hi)).first;
+    GapRate c = at(tc);
+    if (lo == t0 && start.gap <= touch && start.rate > 0 && !(c.rate < 0) && end.rate < 0) {
+      // The root found is the touch the contact left (φ(t0) a rounding
+      // above zero, as after an impact), not its return: the closing is
+      // after the gap's maximum.
+      lo = rate_root();
+      if (!(gap(lo) > 0)) return {};
+      tc = root(time_function(gap), lo, hi, gap(lo), gap(hi)).first;
+      c = at(tc);
+    }
+    if (-c.rate <= touch_speed && end.gap >= -touch) return {};  // a slow touch
     return {Closing::Kind::inside, tc};
   }
   if ((start.gap <= touch && start.rate < -touch_speed) || (start.gap < 0 && end.gap < -touch && end.gap < start.gap))

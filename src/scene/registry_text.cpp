@@ -99,32 +99,13 @@ std::vector<std::string> momentum_formulas(const lagrangian::text::Parsed& p) {
   return out;
 }
 
-/// The points with a mass at (q, q̇, t): positions from the expressions,
-/// velocities ṙ = ∂r/∂q q̇ + ∂r/∂t from one dual-number pass along
-/// (δq, δt) = (q̇, 1).
-std::vector<PointMass> point_masses(const lagrangian::text::Parsed& p, const State<Dynamic>& s, double t) {
-  using J = lagrangian::ad::Jet<double, 1, 1>;
-  const int n = static_cast<int>(s.q.size());
-  Vec<J, Dynamic> qj(n);
-  for (int k = 0; k < n; ++k) {
-    qj[k] = J(s.q[k]);
-    qj[k].g[0] = s.qd[k];
-  }
-  J tj(t);
-  tj.g[0] = 1.0;
-  std::vector<J> slots;
+/// The points with a mass at (q, q̇, t): positions and velocities
+/// ṙ = ∂r/∂q q̇ + ∂r/∂t (TextModel::mass_points along (q̇, 1)).
+std::vector<PointMass> point_masses(const lagrangian::text::TextModel& model, const State<Dynamic>& s, double t) {
+  std::vector<PointMotion> motions(static_cast<std::size_t>(model.mass_point_count()));
+  model.mass_points(s.q.data(), s.qd.data(), nullptr, t, 1.0, motions.data());
   std::vector<PointMass> out;
-  for (std::size_t b = 0; b < p.points.size(); ++b) {
-    if (!(p.definition.points[b].mass > 0)) continue;
-    PointMass pm;
-    pm.mass = p.definition.points[b].mass;
-    for (std::size_t a = 0; a < 3; ++a) {
-      const J x = lagrangian::text::evaluate(p.points[b][a], qj, qj, tj, slots);
-      pm.r[a] = x.v;
-      pm.v[a] = x.g[0];
-    }
-    out.push_back(pm);
-  }
+  for (const PointMotion& m : motions) out.push_back(PointMass{m.mass, m.r, m.v});
   return out;
 }
 
@@ -135,7 +116,7 @@ std::string inspect_text(const ModelSpec& spec, double t0, bool as_json) {
   const lagrangian::text::TextModel model(parsed_of(spec));
   InspectExtras extras;
   extras.momentum_formulas = momentum_formulas(model.parsed());
-  extras.points = point_masses(model.parsed(), s0, t0);
+  extras.points = point_masses(model, s0, t0);
   return inspect_model(model, info, "text::TextModel", p, s0, t0, as_json, extras);
 }
 

@@ -25,6 +25,7 @@
 #include "lagrangian/detail/impact_cycle.hpp"
 #include "lagrangian/detail/momentum_symmetry.hpp"
 #include "lagrangian/detail/observer_ref.hpp"
+#include "lagrangian/detail/point_momenta.hpp"
 #include "lagrangian/detail/roots.hpp"
 #include "lagrangian/dynamics.hpp"
 #include "lagrangian/errors.hpp"
@@ -193,7 +194,10 @@ class ModelSystem final : public System {
     if constexpr (has_events_v) event_buf_.assign(static_cast<std::size_t>(2 * size_), 0.0);
     const std::vector<int> cyclic = cyclic_coordinates(model_, x0, t0);
     cyclic_.assign(cyclic.begin(), cyclic.end());
-    if constexpr (has_particles_v<M>) probe_momentum_symmetry(x0, t0);
+    if constexpr (has_point_masses_v<M>) {
+      has_points_ = point_mass_count(model_) > 0;
+      if (has_points_) probe_momentum_symmetry(x0, t0);
+    }
     Vec<double, n> p(size_);
     h0_ = energy_and_momenta(model_, x0.q, x0.qd, t0, p);  // after any impact at t0
     pending_shifts_.clear();
@@ -246,7 +250,9 @@ class ModelSystem final : public System {
     if constexpr (has_constraints_v<M>) {
       if (ctx_) sample_constraints(s);
     }
-    if constexpr (has_particles_v<M>) sample_particles(s);
+    if constexpr (has_point_masses_v<M>) {
+      if (has_points_) sample_particles(s);
+    }
     if constexpr (has_reference_v<M>) {
       if (s.t == opt_.t0) {
         reference_initial_.q = s.q;
@@ -419,26 +425,11 @@ class ModelSystem final : public System {
   template <class CS>
   void monitor_conditioning(CS cs, double t);
 
-  /// P = Σ m v and L = Σ m (r − r₀) × v of a particle system at a sample.
+  /// P = Σ m v and L = Σ m (r − r₀) × v of the point masses at a sample.
   void sample_particles(const Sample<n>& s) {
     std::array<double, 3> P{}, L{};
-    const auto& r0 = opt_.angular_momentum_point;
-    for (const Particle& part : model_.particles()) {
-      std::array<double, 3> r{}, v{};
-      for (int a = 0; a < 3; ++a) {
-        const int i = part.axes[static_cast<std::size_t>(a)];
-        if (i >= 0) {
-          r[static_cast<std::size_t>(a)] = s.q[i] - r0[static_cast<std::size_t>(a)];
-          v[static_cast<std::size_t>(a)] = s.qd[i];
-        } else {
-          r[static_cast<std::size_t>(a)] = -r0[static_cast<std::size_t>(a)];
-        }
-      }
-      for (int a = 0; a < 3; ++a) P[static_cast<std::size_t>(a)] += part.mass * v[static_cast<std::size_t>(a)];
-      L[0] += part.mass * (r[1] * v[2] - r[2] * v[1]);
-      L[1] += part.mass * (r[2] * v[0] - r[0] * v[2]);
-      L[2] += part.mass * (r[0] * v[1] - r[1] * v[0]);
-    }
+    point_motions(model_, s.q.data(), s.qd.data(), nullptr, s.t, 1.0, points_);
+    total_momenta(points_, opt_.angular_momentum_point, P, L);
     if (!report_.has_particles) {
       report_.has_particles = true;
       report_.linear_momentum_initial = P;
@@ -485,20 +476,16 @@ class ModelSystem final : public System {
       start[static_cast<std::size_t>(size_ + i)] = x0.qd[i];
     }
     auto probe = [&](const double* x, double t) {
-      Vec<double, n> q(size_);
-      for (int i = 0; i < size_; ++i) q[i] = x[i];
-      // Each particle at q with the vector value(i) of coordinate i (q̈ or a
-      // contact's ∂φ/∂q) along its axes, weighted by its mass or not.
-      auto add_particles = [&](auto value, bool weighted) {
-        for (const Particle& part : model_.particles()) {
-          double r[3], a[3];
-          for (std::size_t c = 0; c < 3; ++c) {
-            const int i = part.axes[c];
-            r[c] = i >= 0 ? q[i] : 0.0;
-            a[c] = i >= 0 ? value(i) : 0.0;
-          }
-          sym.add(weighted ? part.mass : 1.0, r, a);
-        }
+      Vec<double, n> q(size_), qd(size_);
+      for (int i = 0; i < size_; ++i) {
+        q[i] = x[i];
+        qd[i] = x[size_ + i];
+      }
+      // Each point at q with its acceleration (weighted by its mass) or,
+      // for a contact, the velocity change its impulse gives.
+      auto add_points = [&](bool weighted, bool acceleration) {
+        for (const PointMotion& pm : points_)
+          sym.add(weighted ? pm.mass : 1.0, pm.r.data(), acceleration ? pm.a.data() : pm.v.data());
       };
       bool evaluated = true;
       try {
@@ -507,13 +494,31 @@ class ModelSystem final : public System {
         evaluated = false;  // a singular state among the probes: judged at the others
       }
       if (evaluated) {
-        add_particles([&](int i) { return dxdt[static_cast<std::size_t>(size_ + i)]; }, true);
+        point_motions(model_, q.data(), qd.data(), dxdt.data() + size_, t, 1.0, points_);
+        add_points(true, true);
         sym.end_probe(MomentumSymmetry::Source::force);
       }
       if constexpr (unilateral_count_v<M> != 0) {
         const auto G = contact_jacobian(q, t);
         for (int j = 0; j < unilateral_count(model_); ++j) {
-          add_particles([&](int i) { return G(j, i); }, false);
+          if constexpr (has_mass_points_v<M>) {
+            // Points placed by functions of q: the impulse's Δq̇ (bilateral
+            // constraints held) moves each point by (∂r/∂q) Δq̇ per unit.
+            Vec<double, n> dqd;
+            try {
+              dqd = unit_impulse_response(model_, q, qd, t, G.row(j));
+            } catch (const Error&) {
+              continue;  // a singular state: judged at the others
+            }
+            point_motions(model_, q.data(), dqd.data(), nullptr, t, 0.0, points_);
+            add_points(true, false);
+          } else {
+            // Particles (r = q, M diagonal by their masses): the impulse
+            // acts along ∂φ/∂q at each particle.
+            const Vec<double, n> row = G.row(j).transpose();
+            point_motions(model_, q.data(), row.data(), nullptr, t, 0.0, points_);
+            add_points(false, false);
+          }
           sym.end_probe(MomentumSymmetry::Source::contact);
         }
       }
@@ -622,6 +627,8 @@ class ModelSystem final : public System {
   [[no_unique_address]] std::conditional_t<has_constraints_v<M>, ConstraintWorkspace<n, constraint_count_v<M>>, None>
       cw_{};
   std::vector<int> cyclic_;
+  bool has_points_ = false;           // point masses to sum (particles or mass points)
+  std::vector<PointMotion> points_;  // their motions (storage reused)
   double h0_ = 0, e0_ = 0, h_last_ = 0, e_last_ = 0;
   double h_differs_ = 0;  // max |T + V − h| over the samples (J)
   double h_drift_ = 0, e_drift_ = 0;  // J: max |h − h0|, max |E − E0|, see rescale_drifts()

@@ -179,6 +179,15 @@ class TextModel {
     return rows<S>(2, p_->pfaffian_bound, q, qd, t);
   }
 
+  /// The points of [[model.points]] with a mass, in their order: what the
+  /// momentum monitor sums (model.hpp, has_mass_points_v). mass_points()
+  /// writes each one's mass, r(q, t) and the first and second derivatives
+  /// of r along (q + dq s + ½ ddq s², t + dt s) at s = 0 (ddq null for
+  /// zero), from one second-order pass in one direction (src/text/points.cpp).
+  int mass_point_count() const;
+  void mass_points(const double* q, const double* dq, const double* ddq, double t, double dt,
+                   PointMotion* out) const;
+
   /// Rayleigh D (W); zero when the definition gives none.
   template <class S>
   S dissipation(const Vec<S, Dynamic>& q, const Vec<S, Dynamic>& qd) const {
