@@ -40,6 +40,7 @@
 #include "lagrangian/constraints.hpp"
 #include "lagrangian/detail/eom_sample.hpp"  // (compiled with simulate(), src/models/)
 #include "lagrangian/detail/model_run.hpp"
+#include "lagrangian/detail/point_momenta.hpp"
 #include "lagrangian/detail/scene_registry.hpp"
 #include "lagrangian/dynamics.hpp"
 #include "lagrangian/errors.hpp"
@@ -157,18 +158,10 @@ std::string energy_not_conserved_because(const M& model, const State<coordinate_
   return out;
 }
 
-/// A point mass at a state (m, m/s): what the inspection sums into the
-/// centre of mass, P and L.
-struct PointMass {
-  double mass = 0;
-  std::array<double, 3> r{}, v{};
-};
-
 /// What an inspection shows beyond what the model's type tells: for a model
-/// stated by expressions, its momenta as formulas and its points' masses.
+/// stated by expressions, its momenta as formulas.
 struct InspectExtras {
   std::vector<std::string> momentum_formulas;  ///< p_i = ∂T/∂q̇_i, one per coordinate
-  std::vector<PointMass> points;               ///< the points with a mass, at the inspected state
 };
 
 /// The inspection text of a model at (initial, t0): coordinates,
@@ -405,37 +398,18 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
     dj.raw("watched_events", "[]");
   }
   // The point masses: the model's particles (placed by their coordinates)
-  // or a text model's points with a mass.
-  std::vector<PointMass> masses = extras.points;
-  if constexpr (has_particles_v<M>) {
-    for (const Particle& part : model.particles()) {
-      PointMass pm;
-      pm.mass = part.mass;
-      for (std::size_t a = 0; a < 3; ++a) {
-        const int i = part.axes[a];
-        if (i >= 0) {
-          pm.r[a] = s.q[i];
-          pm.v[a] = s.qd[i];
-        }
-      }
-      masses.push_back(pm);
-    }
-  }
+  // or its mass points (a text model's points with a mass).
+  std::vector<PointMotion> masses;
+  if constexpr (lagrangian::detail::has_point_masses_v<M>)
+    lagrangian::detail::point_motions(model, s.q.data(), s.qd.data(), nullptr, t0, 1.0, masses);
   if (!masses.empty()) {
     // P = Σ m v, L = Σ m r × v about the origin (as the runs report them) and
     // the centre of mass Σ m r / Σ m.
     std::array<double, 3> P{}, L{}, centre{};
+    lagrangian::detail::total_momenta(masses, {0.0, 0.0, 0.0}, P, L);
     double total = 0;
-    for (const PointMass& pm : masses) {
-      const auto& r = pm.r;
-      const auto& v = pm.v;
-      for (std::size_t a = 0; a < 3; ++a) {
-        P[a] += pm.mass * v[a];
-        centre[a] += pm.mass * r[a];
-      }
-      L[0] += pm.mass * (r[1] * v[2] - r[2] * v[1]);
-      L[1] += pm.mass * (r[2] * v[0] - r[0] * v[2]);
-      L[2] += pm.mass * (r[0] * v[1] - r[1] * v[0]);
+    for (const PointMotion& pm : masses) {
+      for (std::size_t a = 0; a < 3; ++a) centre[a] += pm.mass * pm.r[a];
       total += pm.mass;
     }
     for (double& c : centre) c /= total;

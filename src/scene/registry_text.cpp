@@ -99,16 +99,6 @@ std::vector<std::string> momentum_formulas(const lagrangian::text::Parsed& p) {
   return out;
 }
 
-/// The points with a mass at (q, q̇, t): positions and velocities
-/// ṙ = ∂r/∂q q̇ + ∂r/∂t (TextModel::mass_points along (q̇, 1)).
-std::vector<PointMass> point_masses(const lagrangian::text::TextModel& model, const State<Dynamic>& s, double t) {
-  std::vector<PointMotion> motions(static_cast<std::size_t>(model.mass_point_count()));
-  model.mass_points(s.q.data(), s.qd.data(), nullptr, t, 1.0, motions.data());
-  std::vector<PointMass> out;
-  for (const PointMotion& m : motions) out.push_back(PointMass{m.mass, m.r, m.v});
-  return out;
-}
-
 std::string inspect_text(const ModelSpec& spec, double t0, bool as_json) {
   const ModelInfo info = *model_info(spec);
   const Parameters p(info, spec);
@@ -116,7 +106,6 @@ std::string inspect_text(const ModelSpec& spec, double t0, bool as_json) {
   const lagrangian::text::TextModel model(parsed_of(spec));
   InspectExtras extras;
   extras.momentum_formulas = momentum_formulas(model.parsed());
-  extras.points = point_masses(model, s0, t0);
   return inspect_model(model, info, "text::TextModel", p, s0, t0, as_json, extras);
 }
 
