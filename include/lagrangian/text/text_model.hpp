@@ -83,8 +83,9 @@ std::vector<S>& slots() {
 }  // namespace detail
 
 /// A model stated as text (see the file comment). Its constraints are
-/// counted at run time (holonomic_count(), pfaffian_count()); a definition
-/// without any runs as an unconstrained model.
+/// counted at run time (holonomic_count(), unilateral_count(),
+/// pfaffian_count()); a definition without any runs as an unconstrained
+/// model.
 class TextModel {
  public:
   static constexpr int coordinate_count = Dynamic;
