@@ -52,6 +52,10 @@ const cases = {
     const th = col(row, header, 'theta', 'rad'), ph = col(row, header, 'phi', 'rad');
     return [[Math.sin(th) * Math.cos(ph), Math.sin(th) * Math.sin(ph), -Math.cos(th)]];
   },
+  // A particle stated by expressions at (x, y) in the vertical plane
+  // (examples/scenes/text/projectile_on_incline.toml: its point is x = "x",
+  // y = "y"), bouncing on the incline: the page flashes its impacts and rest.
+  text_plane_point: (row, header) => [[col(row, header, 'x'), col(row, header, 'y'), 0]],
   // Two bodies in the plane, Cartesian coordinates of each.
   two_body: (row, header) => [
     [col(row, header, 'x1'), col(row, header, 'y1'), 0],
