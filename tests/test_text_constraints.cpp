@@ -131,6 +131,38 @@ TEST(TextConstraints, CartesianPendulumAgreesWithTheBuiltInModel) {
   EXPECT_FALSE(eq[1].stable);
 }
 
+// consistent_initial_state() on a model whose constraints are counted at
+// run time: from a guess off the pendulum's circle, the nearest point of
+// the circle is l r/|r| (the closed form) and the velocity is projected
+// onto its tangent; the built-in CartesianPendulum gives the same state.
+TEST(TextConstraints, ConsistentInitialStateFindsTheNearestPointOfTheCircle) {
+  const double m = 1.5, l = 0.7, g = 9.81;
+  Definition d;
+  d.coordinates = {"x", "y"};
+  d.kinetic = "0.5*m*(x_dot^2 + y_dot^2)";
+  d.potential = "m*g*y";
+  d.holonomic = {"x^2 + y^2 - l^2"};
+  d.parameters = {{"m", m}, {"l", l}, {"g", g}};
+  const text::TextModel text_model(d);
+  State<Dynamic> guess = state({0.9, -0.5}, {0.3, 0.8});
+  ConsistentStateReport rep;
+  const State<Dynamic> s = consistent_initial_state(text_model, guess, 0.0, 1e-12, &rep);
+  const double r = std::hypot(0.9, -0.5);
+  EXPECT_NEAR(s.q[0], l * 0.9 / r, 1e-14);
+  EXPECT_NEAR(s.q[1], l * -0.5 / r, 1e-14);
+  EXPECT_NEAR(s.q.dot(s.qd), 0.0, 1e-13);  // tangent to the circle
+  EXPECT_NEAR(rep.distance, r - l, 1e-14);
+  EXPECT_TRUE(rep.local_minimum);
+  EXPECT_LE(rep.position_residual, 1e-14);
+  EXPECT_LE(rep.velocity_residual, 1e-13);
+  State<2> guess2;
+  guess2.q << 0.9, -0.5;
+  guess2.qd << 0.3, 0.8;
+  const State<2> b = consistent_initial_state(models::CartesianPendulum(m, l, g), guess2, 0.0, 1e-12);
+  EXPECT_LE((b.q - s.q).lpNorm<Eigen::Infinity>(), 1e-14);
+  EXPECT_LE((b.qd - s.qd).lpNorm<Eigen::Infinity>(), 1e-13);
+}
+
 // The knife edge (a Pfaffian constraint, no side slip), against the
 // built-in KnifeEdge: the same motion and side force, DOF 3, velocity DOF 2.
 TEST(TextConstraints, KnifeEdgeAgreesWithTheBuiltInModel) {

@@ -24,10 +24,12 @@
 
 #include <memory>
 #include <optional>
+#include <type_traits>
 #include <vector>
 
 #include <nlopt.h>
 
+#include "lagrangian/detail/second_derivatives.hpp"
 #include "lagrangian/properties.hpp"
 
 namespace lagrangian {
@@ -59,9 +61,9 @@ double consistency_objective(unsigned n, const double* x, double* grad, void* da
 template <class M>
 void consistency_constraints(unsigned m, double* result, unsigned n, const double* x, double* grad, void* data) {
   const auto& p = *static_cast<const ConsistencyProblem<M>*>(data);
-  Vec<double, coordinate_count_v<M>> q;
+  Vec<double, coordinate_count_v<M>> q(static_cast<int>(n));
   for (unsigned i = 0; i < n; ++i) q[static_cast<int>(i)] = x[i];
-  auto cs = constraint_state(*p.model, q, Vec<double, coordinate_count_v<M>>::Zero().eval(), p.t);
+  auto cs = constraint_state(*p.model, q, Vec<double, coordinate_count_v<M>>::Zero(static_cast<int>(n)).eval(), p.t);
   drop_inactive(*p.model, cs, ActiveSet{0});
   for (unsigned i = 0; i < m; ++i) {
     result[i] = cs.position[static_cast<int>(i)];
@@ -74,8 +76,8 @@ void consistency_constraints(unsigned m, double* result, unsigned n, const doubl
 template <class M>
 Eigen::Matrix<double, holonomic_count_v<M>, coordinate_count_v<M>> holonomic_jacobian(
     const M& model, const Vec<double, coordinate_count_v<M>>& q, double t) {
-  const auto cs = constraint_state(model, q, Vec<double, coordinate_count_v<M>>::Zero().eval(), t);
-  return cs.jacobian.template topRows<holonomic_count_v<M>>();
+  const auto cs = constraint_state(model, q, Vec<double, coordinate_count_v<M>>::Zero(q.size()).eval(), t);
+  return cs.jacobian.topRows(holonomic_count(model));
 }
 
 /// Levenberg–Marquardt steps on g(q) = 0 from q (before the Gauss–Newton
@@ -97,11 +99,12 @@ Eigen::Matrix<double, holonomic_count_v<M>, coordinate_count_v<M>> holonomic_jac
 template <class M>
 bool levenberg_marquardt_onto(const M& model, Vec<double, coordinate_count_v<M>>& q, double t) {
   constexpr int n = coordinate_count_v<M>;
-  constexpr int mh = holonomic_count_v<M>;
-  const Vec<double, n> zero = Vec<double, n>::Zero();
+  constexpr int mh = holonomic_count_v<M>;  // (Dynamic: counted at run time)
+  const int size = static_cast<int>(q.size()), rows = holonomic_count(model);
+  const Vec<double, n> zero = Vec<double, n>::Zero(size);
   auto residual = [&](const Vec<double, n>& x) {
     const auto cs = constraint_state(model, x, zero, t);
-    return Vec<double, mh>(cs.position.template head<mh>());
+    return Vec<double, mh>(cs.position.head(rows));
   };
   double nu = 1.0;
   Vec<double, mh> g = residual(q);
@@ -114,7 +117,7 @@ bool levenberg_marquardt_onto(const M& model, Vec<double, coordinate_count_v<M>>
     bool accepted = false;
     while (nu < 1e12) {
       const double lambda = nu * G.norm() * g.norm();
-      const Mat<double, n> A = GtG + lambda * Mat<double, n>::Identity();
+      const Mat<double, n> A = GtG + lambda * Mat<double, n>::Identity(size, size);
       const Vec<double, n> step = -A.ldlt().solve(Gtg);
       const Vec<double, n> trial = q + step;
       const Vec<double, mh> gt = residual(trial);
@@ -152,25 +155,45 @@ NearestPointModel<coordinate_count_v<M>> nearest_point_model(const M& model, con
                                                              const Vec<double, coordinate_count_v<M>>& target,
                                                              double t) {
   constexpr int n = coordinate_count_v<M>;
-  constexpr int mh = holonomic_count_v<M>;
-  using J = ad::Jet<double, n, 2>;
-  Vec<J, n> qj;
-  for (int k = 0; k < n; ++k) qj[k] = J::variable(q[k], k);
-  const auto g = model.holonomic(qj, J(t));
-  Eigen::MatrixXd G(mh, n);
-  for (int i = 0; i < mh; ++i)
-    for (int k = 0; k < n; ++k) G(i, k) = g[i].g[static_cast<std::size_t>(k)];
+  const int size = static_cast<int>(q.size()), mh = holonomic_count(model);
+  // G and the Hessians ∇²gᵢ: one second-order pass for a fixed n, passes
+  // over blocks of coordinates for a run-time one (one function per row).
+  Eigen::MatrixXd G(mh, size);
+  std::vector<Eigen::MatrixXd> hessians(static_cast<std::size_t>(mh));
+  if constexpr (n != Dynamic) {
+    using J = ad::Jet<double, n, 2>;
+    Vec<J, n> qj;
+    for (int k = 0; k < n; ++k) qj[k] = J::variable(q[k], k);
+    const auto g = model.holonomic(qj, J(t));
+    for (int i = 0; i < mh; ++i) {
+      Eigen::MatrixXd& h = hessians[static_cast<std::size_t>(i)];
+      h.resize(n, n);
+      for (int k = 0; k < n; ++k) {
+        G(i, k) = g[i].g[static_cast<std::size_t>(k)];
+        for (int j = 0; j < n; ++j) h(k, j) = g[i].hess(k, j);
+      }
+    }
+  } else {
+    const Eigen::VectorXd x = q;
+    for (int i = 0; i < mh; ++i) {
+      double value = 0;
+      Eigen::VectorXd gradient;
+      second_derivatives_by_blocks(size, x, [&](const auto& xj) {
+        using J = typename std::decay_t<decltype(xj)>::Scalar;
+        return J(model.holonomic(xj, J(t))[i]);
+      }, value, gradient, hessians[static_cast<std::size_t>(i)]);
+      G.row(i) = gradient.transpose();
+    }
+  }
   const Eigen::MatrixXd Gt = G.transpose();
-  MinNormSolver solver(n, mh);
+  MinNormSolver solver(size, mh);
   solver.factorize(Gt.data(), rank_tolerance);
   const Vec<double, n> away = q - target;
   Eigen::VectorXd mu(mh);
   solver.solve(away.data(), mu.data());
-  Eigen::MatrixXd H = Eigen::MatrixXd::Identity(n, n);
-  for (int i = 0; i < mh; ++i)
-    for (int k = 0; k < n; ++k)
-      for (int j = 0; j < n; ++j) H(k, j) -= mu[i] * g[i].hess(k, j);
-  const Eigen::MatrixXd Z = tangent_basis(G, n);
+  Eigen::MatrixXd H = Eigen::MatrixXd::Identity(size, size);
+  for (int i = 0; i < mh; ++i) H -= mu[i] * hessians[static_cast<std::size_t>(i)];
+  const Eigen::MatrixXd Z = tangent_basis(G, size);
   NearestPointModel<n> r;
   const Eigen::VectorXd zr = -(Z.transpose() * away);
   r.along = Z * zr;
@@ -254,139 +277,144 @@ template <class M>
 State<coordinate_count_v<M>> consistent_initial_state(const M& model, const State<coordinate_count_v<M>>& guess,
                                                       double t, double tolerance, ConsistentStateReport* report) {
   check_model<M>();
-  static_assert(!runtime_constraint_counts_v<M>,
-                "lagrangian: consistent_initial_state() needs constraint counts known at compile time");
   constexpr int n = coordinate_count_v<M>;
-  constexpr int mh = holonomic_count_v<M>;
+  constexpr int MH = holonomic_count_v<M>;  // (Dynamic: counted at run time)
+  const int size = static_cast<int>(guess.q.size()), mh = holonomic_count(model);
   State<n> s = guess;
   ConsistentStateReport rep;
   const auto names = constraint_names(model);
   if (!guess.q.allFinite() || !guess.qd.allFinite())
     throw ConstraintError("initial guess for the consistent state is not finite");
-  if constexpr (mh > 0) {
-    // Counting constraints would refuse an over-constrained mechanism whose
-    // rows are dependent (three parallel cranks: 3 rows, rank 2, 1 DOF); the
-    // rank is judged on each candidate, where it is meaningful.
-    std::vector<detail::ConsistentCandidate<n>> found;
-    std::optional<ConstraintError> first_error;
-    auto try_from = [&](const Vec<double, n>& start) {
-      ++rep.starts;
-      Vec<double, n> q = start;
-      detail::levenberg_marquardt_onto(model, q, t);  // then Gauss–Newton to the tolerance
-      try {
-        project_positions(model, q, t, tolerance, 50, ActiveSet{0});
-      } catch (const ConstraintError& e) {
-        if (!first_error) first_error = e;
-        return;
-      }
-      detail::ConsistentCandidate<n> c;
-      c.stationarity = detail::slide_to_nearest(model, guess.q, q, t, tolerance);
-      c.q = q;
-      c.distance = (q - guess.q).norm();
-      for (const auto& f : found)
-        if ((f.q - q).template lpNorm<Eigen::Infinity>() <= 1e-8 * (1.0 + q.template lpNorm<Eigen::Infinity>()))
+  bool searched = false;  // (no position constraints: q_g is consistent)
+  if constexpr (MH != 0) {
+    if (mh > 0) {
+      searched = true;
+      // Counting constraints would refuse an over-constrained mechanism whose
+      // rows are dependent (three parallel cranks: 3 rows, rank 2, 1 DOF); the
+      // rank is judged on each candidate, where it is meaningful.
+      std::vector<detail::ConsistentCandidate<n>> found;
+      std::optional<ConstraintError> first_error;
+      auto try_from = [&](const Vec<double, n>& start) {
+        ++rep.starts;
+        Vec<double, n> q = start;
+        detail::levenberg_marquardt_onto(model, q, t);  // then Gauss–Newton to the tolerance
+        try {
+          project_positions(model, q, t, tolerance, 50, ActiveSet{0});
+        } catch (const ConstraintError& e) {
+          if (!first_error) first_error = e;
           return;
-      c.rank = detail::numeric_rank(detail::holonomic_jacobian(model, q, t));
-      State<n> at = guess;
-      at.q = q;
-      c.rigid = c.rank >= n && detail::constraints_workless(model, at, t);
-      found.push_back(c);
-    };
-    auto nearest_so_far = [&]() {
-      double d = std::numeric_limits<double>::infinity();
-      for (const auto& f : found) d = std::min(d, f.distance);
-      return d;
-    };
-    // 1. Gauss–Newton from the guess itself.
-    try_from(guess.q);
-    // 2. SLSQP on (1) with AD gradients (it can stop at a singular
-    //    configuration, where its subproblems degenerate; it is one start
-    //    among several, not the answer).
-    if (!(nearest_so_far() == 0.0)) {
-      detail::ConsistencyProblem<M> problem{&model, guess.q, t};
-      std::unique_ptr<nlopt_opt_s, decltype(&nlopt_destroy)> opt(nlopt_create(NLOPT_LD_SLSQP, n), &nlopt_destroy);
-      nlopt_set_min_objective(opt.get(), &detail::consistency_objective<M>, &problem);
-      std::vector<double> tol(static_cast<std::size_t>(mh), 1e-14);
-      nlopt_add_equality_mconstraint(opt.get(), mh, &detail::consistency_constraints<M>, &problem, tol.data());
-      nlopt_set_xtol_rel(opt.get(), 1e-14);
-      nlopt_set_maxeval(opt.get(), 500);
-      std::vector<double> x(guess.q.data(), guess.q.data() + n);
-      double f = 0;
-      const nlopt_result r = nlopt_optimize(opt.get(), x.data(), &f);
-      Vec<double, n> xq;
-      for (int i = 0; i < n; ++i) xq[i] = x[static_cast<std::size_t>(i)];
-      if ((r > 0 || r == NLOPT_ROUNDOFF_LIMITED) && xq.allFinite()) try_from(xq);
-    }
-    // 3. q_g ± d eᵢ, d the nearest distance so far.
-    const double d0 = nearest_so_far();
-    const double spread = std::isfinite(d0) ? d0 : 1.0 + guess.q.norm();
-    if (spread > 0) {
-      for (int i = 0; i < n; ++i)
-        for (double sign : {1.0, -1.0}) {
-          Vec<double, n> start = guess.q;
-          start[i] += sign * spread;
-          try_from(start);
         }
-    }
-    if (found.empty()) throw *first_error;  // names every residual (project_positions)
-    rep.candidates = static_cast<int>(found.size());
-    const detail::ConsistentCandidate<n>* best = nullptr;
-    const detail::ConsistentCandidate<n>* best_rigid = nullptr;
-    for (const auto& c : found) {
-      auto& slot = c.rigid ? best_rigid : best;
-      if (!slot || c.distance < slot->distance) slot = &c;
-    }
-    if (!best)
-      throw ConstraintError("the holonomic constraints fix all " + std::to_string(n) + " coordinates (rank " +
-                            std::to_string(best_rigid->rank) + " at the consistent state): no motion is left");
-    s.q = best->q;
-    // A few more Gauss–Newton steps, kept while they reduce ‖g‖: the
-    // projection stops at tolerance · (1 + ‖q‖∞), these take g to round-off.
-    {
-      detail::MinNormSolver solver(mh, n);
-      const Vec<double, n> zero = Vec<double, n>::Zero();
-      Vec<double, mh> g = constraint_state(model, s.q, zero, t).position.template head<mh>();
-      for (int it = 0; it < 3; ++it) {
-        const Eigen::Matrix<double, mh, n> G = detail::holonomic_jacobian(model, s.q, t);
-        solver.factorize(G.data());
-        Vec<double, n> dq;
-        solver.solve(g.data(), dq.data());
-        const Vec<double, n> trial = s.q - dq;
-        const Vec<double, mh> gt = constraint_state(model, trial, zero, t).position.template head<mh>();
-        if (!(gt.norm() < g.norm())) break;
-        s.q = trial;
-        g = gt;
+        detail::ConsistentCandidate<n> c;
+        c.stationarity = detail::slide_to_nearest(model, guess.q, q, t, tolerance);
+        c.q = q;
+        c.distance = (q - guess.q).norm();
+        for (const auto& f : found)
+          if ((f.q - q).template lpNorm<Eigen::Infinity>() <= 1e-8 * (1.0 + q.template lpNorm<Eigen::Infinity>()))
+            return;
+        c.rank = detail::numeric_rank(detail::holonomic_jacobian(model, q, t));
+        State<n> at = guess;
+        at.q = q;
+        c.rigid = c.rank >= size && detail::constraints_workless(model, at, t);
+        found.push_back(c);
+      };
+      auto nearest_so_far = [&]() {
+        double d = std::numeric_limits<double>::infinity();
+        for (const auto& f : found) d = std::min(d, f.distance);
+        return d;
+      };
+      // 1. Gauss–Newton from the guess itself.
+      try_from(guess.q);
+      // 2. SLSQP on (1) with AD gradients (it can stop at a singular
+      //    configuration, where its subproblems degenerate; it is one start
+      //    among several, not the answer).
+      if (!(nearest_so_far() == 0.0)) {
+        detail::ConsistencyProblem<M> problem{&model, guess.q, t};
+        std::unique_ptr<nlopt_opt_s, decltype(&nlopt_destroy)> opt(
+            nlopt_create(NLOPT_LD_SLSQP, static_cast<unsigned>(size)), &nlopt_destroy);
+        nlopt_set_min_objective(opt.get(), &detail::consistency_objective<M>, &problem);
+        std::vector<double> tol(static_cast<std::size_t>(mh), 1e-14);
+        nlopt_add_equality_mconstraint(opt.get(), mh, &detail::consistency_constraints<M>, &problem, tol.data());
+        nlopt_set_xtol_rel(opt.get(), 1e-14);
+        nlopt_set_maxeval(opt.get(), 500);
+        std::vector<double> x(guess.q.data(), guess.q.data() + size);
+        double f = 0;
+        const nlopt_result r = nlopt_optimize(opt.get(), x.data(), &f);
+        Vec<double, n> xq(size);
+        for (int i = 0; i < size; ++i) xq[i] = x[static_cast<std::size_t>(i)];
+        if ((r > 0 || r == NLOPT_ROUNDOFF_LIMITED) && xq.allFinite()) try_from(xq);
+      }
+      // 3. q_g ± d eᵢ, d the nearest distance so far.
+      const double d0 = nearest_so_far();
+      const double spread = std::isfinite(d0) ? d0 : 1.0 + guess.q.norm();
+      if (spread > 0) {
+        for (int i = 0; i < size; ++i)
+          for (double sign : {1.0, -1.0}) {
+            Vec<double, n> start = guess.q;
+            start[i] += sign * spread;
+            try_from(start);
+          }
+      }
+      if (found.empty()) throw *first_error;  // names every residual (project_positions)
+      rep.candidates = static_cast<int>(found.size());
+      const detail::ConsistentCandidate<n>* best = nullptr;
+      const detail::ConsistentCandidate<n>* best_rigid = nullptr;
+      for (const auto& c : found) {
+        auto& slot = c.rigid ? best_rigid : best;
+        if (!slot || c.distance < slot->distance) slot = &c;
+      }
+      if (!best)
+        throw ConstraintError("the holonomic constraints fix all " + std::to_string(size) + " coordinates (rank " +
+                              std::to_string(best_rigid->rank) + " at the consistent state): no motion is left");
+      s.q = best->q;
+      // A few more Gauss–Newton steps, kept while they reduce ‖g‖: the
+      // projection stops at tolerance · (1 + ‖q‖∞), these take g to round-off.
+      {
+        detail::MinNormSolver solver(mh, size);
+        const Vec<double, n> zero = Vec<double, n>::Zero(size);
+        Vec<double, MH> g = constraint_state(model, s.q, zero, t).position.head(mh);
+        for (int it = 0; it < 3; ++it) {
+          const Eigen::Matrix<double, MH, n> G = detail::holonomic_jacobian(model, s.q, t);
+          solver.factorize(G.data());
+          Vec<double, n> dq(size);
+          solver.solve(g.data(), dq.data());
+          const Vec<double, n> trial = s.q - dq;
+          const Vec<double, MH> gt = constraint_state(model, trial, zero, t).position.head(mh);
+          if (!(gt.norm() < g.norm())) break;
+          s.q = trial;
+          g = gt;
+        }
+      }
+      rep.distance = (s.q - guess.q).norm();
+      rep.stationarity = best->stationarity;
+      rep.rigid_nearer = best_rigid && best_rigid->distance < best->distance;
+      for (const auto& c : found)
+        if (&c != best && !c.rigid && std::abs(c.distance - best->distance) <= 1e-9 * (1.0 + best->distance) &&
+            (c.q - best->q).template lpNorm<Eigen::Infinity>() > 1e-6 * (1.0 + best->q.template lpNorm<Eigen::Infinity>()))
+          rep.unique = false;
+      const double scale = 1.0 + s.q.norm();
+      if (rep.distance <= 1e-15 * scale || best->distance == 0.0) {
+        rep.distance = 0;
+        rep.nearest_proven = true;  // the guess is itself consistent
+        rep.local_minimum = true;
+      } else {
+        const auto local = detail::nearest_point_model(model, s.q, guess.q, t);
+        rep.stationarity = local.along.norm();
+        rep.tangent_curvature = local.curvature;
+        rep.local_minimum = rep.stationarity <= 1e-9 * scale && rep.tangent_curvature > 1e-8;
       }
     }
-    rep.distance = (s.q - guess.q).norm();
-    rep.stationarity = best->stationarity;
-    rep.rigid_nearer = best_rigid && best_rigid->distance < best->distance;
-    for (const auto& c : found)
-      if (&c != best && !c.rigid && std::abs(c.distance - best->distance) <= 1e-9 * (1.0 + best->distance) &&
-          (c.q - best->q).template lpNorm<Eigen::Infinity>() > 1e-6 * (1.0 + best->q.template lpNorm<Eigen::Infinity>()))
-        rep.unique = false;
-    const double scale = 1.0 + s.q.norm();
-    if (rep.distance <= 1e-15 * scale || best->distance == 0.0) {
-      rep.distance = 0;
-      rep.nearest_proven = true;  // the guess is itself consistent
-      rep.local_minimum = true;
-    } else {
-      const auto local = detail::nearest_point_model(model, s.q, guess.q, t);
-      rep.stationarity = local.along.norm();
-      rep.tangent_curvature = local.curvature;
-      rep.local_minimum = rep.stationarity <= 1e-9 * scale && rep.tangent_curvature > 1e-8;
-    }
-  } else {
-    rep.nearest_proven = true;  // no position constraints: q_g is consistent
+  }
+  if (!searched) {
+    rep.nearest_proven = true;
     rep.local_minimum = true;
   }
   if constexpr (has_constraints_v<M>) {
-    Workspace<n> ws;
+    Workspace<n> ws(size);
     project_velocities(model, ws, s.q, s.qd, t, ActiveSet{0});
     auto cs = constraint_state(model, s.q, s.qd, t);
     drop_inactive(model, cs, ActiveSet{0});
     const double scale = 1.0 + s.qd.template lpNorm<Eigen::Infinity>();
-    for (int i = 0; i < constraint_count_v<M>; ++i) {
+    for (int i = 0; i < constraint_count(model); ++i) {
       if (!(std::abs(cs.velocity[i]) <= 1e3 * tolerance * scale)) {
         std::ostringstream os;
         os.precision(17);
@@ -396,7 +424,7 @@ State<coordinate_count_v<M>> consistent_initial_state(const M& model, const Stat
         throw ConstraintError(os.str());
       }
     }
-    if constexpr (mh > 0) rep.position_residual = cs.position.head(mh).template lpNorm<Eigen::Infinity>();
+    if (mh > 0) rep.position_residual = cs.position.head(mh).template lpNorm<Eigen::Infinity>();
     rep.velocity_residual = cs.velocity.template lpNorm<Eigen::Infinity>();
   }
   if (report) {
