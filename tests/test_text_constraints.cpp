@@ -86,17 +86,23 @@ TEST(TextConstraints, AtwoodMachineFollowsTheClosedFormWithItsTension) {
   EXPECT_LE(r.energy_drift_max, 1e-10);
 }
 
-// A plane pendulum as a particle (x, y) on a rod, g = √(x² + y²) − l: a
-// constraint whose γ is not zero, against the built-in CartesianPendulum.
-TEST(TextConstraints, CartesianPendulumAgreesWithTheBuiltInModel) {
-  const double m = 1.5, l = 0.7, g = 9.81;
+/// A particle (x, y) of mass m under gravity g, held on the circle of
+/// radius l about the origin by the holonomic constraint `rod`.
+Definition cartesian_pendulum(const std::string& rod, double m, double l, double g) {
   Definition d;
   d.coordinates = {"x", "y"};
   d.kinetic = "0.5*m*(x_dot^2 + y_dot^2)";
   d.potential = "m*g*y";
-  d.holonomic = {"sqrt(x^2 + y^2) - l"};
+  d.holonomic = {rod};
   d.parameters = {{"m", m}, {"l", l}, {"g", g}};
-  const text::TextModel text_model(d);
+  return d;
+}
+
+// A plane pendulum as a particle (x, y) on a rod, g = √(x² + y²) − l: a
+// constraint whose γ is not zero, against the built-in CartesianPendulum.
+TEST(TextConstraints, CartesianPendulumAgreesWithTheBuiltInModel) {
+  const double m = 1.5, l = 0.7, g = 9.81;
+  const text::TextModel text_model(cartesian_pendulum("sqrt(x^2 + y^2) - l", m, l, g));
   const models::CartesianPendulum built_in(m, l, g);
   const double th = 1.1, w = 0.4;
   State<2> s0;
@@ -137,13 +143,7 @@ TEST(TextConstraints, CartesianPendulumAgreesWithTheBuiltInModel) {
 // onto its tangent; the built-in CartesianPendulum gives the same state.
 TEST(TextConstraints, ConsistentInitialStateFindsTheNearestPointOfTheCircle) {
   const double m = 1.5, l = 0.7, g = 9.81;
-  Definition d;
-  d.coordinates = {"x", "y"};
-  d.kinetic = "0.5*m*(x_dot^2 + y_dot^2)";
-  d.potential = "m*g*y";
-  d.holonomic = {"x^2 + y^2 - l^2"};
-  d.parameters = {{"m", m}, {"l", l}, {"g", g}};
-  const text::TextModel text_model(d);
+  const text::TextModel text_model(cartesian_pendulum("x^2 + y^2 - l^2", m, l, g));
   State<Dynamic> guess = state({0.9, -0.5}, {0.3, 0.8});
   ConsistentStateReport rep;
   const State<Dynamic> s = consistent_initial_state(text_model, guess, 0.0, 1e-12, &rep);
