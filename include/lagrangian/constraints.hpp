@@ -843,4 +843,5 @@ State<coordinate_count_v<M>> consistent_initial_state(const M& model, const Stat
 
 }  // namespace lagrangian
 
+#include "lagrangian/detail/holonomic_derivatives.hpp"
 #include "lagrangian/detail/consistent.hpp"

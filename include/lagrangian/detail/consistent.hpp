@@ -24,12 +24,10 @@
 
 #include <memory>
 #include <optional>
-#include <type_traits>
 #include <vector>
 
 #include <nlopt.h>
 
-#include "lagrangian/detail/second_derivatives.hpp"
 #include "lagrangian/properties.hpp"
 
 namespace lagrangian {
@@ -99,19 +97,19 @@ Eigen::Matrix<double, holonomic_count_v<M>, coordinate_count_v<M>> holonomic_jac
 template <class M>
 bool levenberg_marquardt_onto(const M& model, Vec<double, coordinate_count_v<M>>& q, double t) {
   constexpr int n = coordinate_count_v<M>;
-  constexpr int mh = holonomic_count_v<M>;  // (Dynamic: counted at run time)
-  const int size = static_cast<int>(q.size()), rows = holonomic_count(model);
+  constexpr int MH = holonomic_count_v<M>;  // (Dynamic: counted at run time)
+  const int size = static_cast<int>(q.size()), mh = holonomic_count(model);
   const Vec<double, n> zero = Vec<double, n>::Zero(size);
   auto residual = [&](const Vec<double, n>& x) {
     const auto cs = constraint_state(model, x, zero, t);
-    return Vec<double, mh>(cs.position.head(rows));
+    return Vec<double, MH>(cs.position.head(mh));
   };
   double nu = 1.0;
-  Vec<double, mh> g = residual(q);
+  Vec<double, MH> g = residual(q);
   for (int it = 0; it < 200; ++it) {
     if (!g.allFinite()) return false;
     if (g.template lpNorm<Eigen::Infinity>() <= 1e-10 * (1.0 + q.template lpNorm<Eigen::Infinity>())) return true;
-    const Eigen::Matrix<double, mh, n> G = holonomic_jacobian(model, q, t);
+    const Eigen::Matrix<double, MH, n> G = holonomic_jacobian(model, q, t);
     const Mat<double, n> GtG = G.transpose() * G;
     const Vec<double, n> Gtg = G.transpose() * g;
     bool accepted = false;
@@ -120,7 +118,7 @@ bool levenberg_marquardt_onto(const M& model, Vec<double, coordinate_count_v<M>>
       const Mat<double, n> A = GtG + lambda * Mat<double, n>::Identity(size, size);
       const Vec<double, n> step = -A.ldlt().solve(Gtg);
       const Vec<double, n> trial = q + step;
-      const Vec<double, mh> gt = residual(trial);
+      const Vec<double, MH> gt = residual(trial);
       if (step.allFinite() && gt.allFinite() && gt.norm() < g.norm()) {
         q = trial;
         g = gt;
@@ -139,7 +137,7 @@ bool levenberg_marquardt_onto(const M& model, Vec<double, coordinate_count_v<M>>
 /// μ solving Gᵀμ = q − target (minimum-norm; the Lagrangian is
 /// ½‖q − target‖² − μᵀg), Z an orthonormal basis of the null space of G
 /// (SVD) and H_t = Zᵀ(I − Σμᵢ∇²gᵢ)Z the Hessian of the distance on the
-/// manifold (∇²gᵢ by ad::Jet<double, n, 2>):
+/// manifold (∇²gᵢ from holonomic_derivatives()):
 ///   along  = Z Zᵀ(target − q), the tangent part (zero at a stationary point),
 ///   newton = Z H_t⁻¹ Zᵀ(target − q) when H_t is positive definite, else along,
 ///   curvature = the smallest eigenvalue of H_t (+∞ for an empty tangent space).
@@ -156,35 +154,8 @@ NearestPointModel<coordinate_count_v<M>> nearest_point_model(const M& model, con
                                                              double t) {
   constexpr int n = coordinate_count_v<M>;
   const int size = static_cast<int>(q.size()), mh = holonomic_count(model);
-  // G and the Hessians ∇²gᵢ: one second-order pass for a fixed n, passes
-  // over blocks of coordinates for a run-time one (one function per row).
-  Eigen::MatrixXd G(mh, size);
-  std::vector<Eigen::MatrixXd> hessians(static_cast<std::size_t>(mh));
-  if constexpr (n != Dynamic) {
-    using J = ad::Jet<double, n, 2>;
-    Vec<J, n> qj;
-    for (int k = 0; k < n; ++k) qj[k] = J::variable(q[k], k);
-    const auto g = model.holonomic(qj, J(t));
-    for (int i = 0; i < mh; ++i) {
-      Eigen::MatrixXd& h = hessians[static_cast<std::size_t>(i)];
-      h.resize(n, n);
-      for (int k = 0; k < n; ++k) {
-        G(i, k) = g[i].g[static_cast<std::size_t>(k)];
-        for (int j = 0; j < n; ++j) h(k, j) = g[i].hess(k, j);
-      }
-    }
-  } else {
-    const Eigen::VectorXd x = q;
-    for (int i = 0; i < mh; ++i) {
-      double value = 0;
-      Eigen::VectorXd gradient;
-      second_derivatives_by_blocks(size, x, [&](const auto& xj) {
-        using J = typename std::decay_t<decltype(xj)>::Scalar;
-        return J(model.holonomic(xj, J(t))[i]);
-      }, value, gradient, hessians[static_cast<std::size_t>(i)]);
-      G.row(i) = gradient.transpose();
-    }
-  }
+  const HolonomicDerivatives d = holonomic_derivatives(model, q, t);
+  const Eigen::MatrixXd& G = d.jacobian;
   const Eigen::MatrixXd Gt = G.transpose();
   MinNormSolver solver(size, mh);
   solver.factorize(Gt.data(), rank_tolerance);
@@ -192,7 +163,7 @@ NearestPointModel<coordinate_count_v<M>> nearest_point_model(const M& model, con
   Eigen::VectorXd mu(mh);
   solver.solve(away.data(), mu.data());
   Eigen::MatrixXd H = Eigen::MatrixXd::Identity(size, size);
-  for (int i = 0; i < mh; ++i) H -= mu[i] * hessians[static_cast<std::size_t>(i)];
+  for (int i = 0; i < mh; ++i) H -= mu[i] * d.hessians[static_cast<std::size_t>(i)];
   const Eigen::MatrixXd Z = tangent_basis(G, size);
   NearestPointModel<n> r;
   const Eigen::VectorXd zr = -(Z.transpose() * away);
