@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "lagrangian/detail/nearest_name.hpp"
 #include "lagrangian/scene.hpp"
 #include "scene_messages.hpp"
 
@@ -93,31 +94,7 @@ SceneError::SceneError(const std::string& key, const std::string& what, const So
       line_(source.overrides.count(key) ? 0 : source.line_of(key)) {}
 
 std::string nearest(const std::string& word, const std::vector<std::string>& candidates) {
-  constexpr std::size_t kMaxCells = 1u << 16;  // long words get no hint rather than a slow one
-  const std::size_t limit = std::max<std::size_t>(2, word.size() / 3);
-  std::string best;
-  std::size_t best_d = limit + 1;
-  std::vector<std::size_t> prev, cur;
-  for (const auto& c : candidates) {
-    const std::size_t diff = c.size() > word.size() ? c.size() - word.size() : word.size() - c.size();
-    if (diff >= best_d || (word.size() + 1) * (c.size() + 1) > kMaxCells) continue;
-    prev.resize(c.size() + 1);
-    cur.resize(c.size() + 1);
-    for (std::size_t j = 0; j <= c.size(); ++j) prev[j] = j;
-    for (std::size_t i = 1; i <= word.size(); ++i) {
-      cur[0] = i;
-      for (std::size_t j = 1; j <= c.size(); ++j) {
-        const std::size_t sub = prev[j - 1] + (word[i - 1] == c[j - 1] ? 0 : 1);
-        cur[j] = std::min({sub, prev[j] + 1, cur[j - 1] + 1});
-      }
-      std::swap(prev, cur);
-    }
-    if (prev[c.size()] < best_d) {
-      best_d = prev[c.size()];
-      best = c;
-    }
-  }
-  return best_d <= limit ? best : std::string();
+  return lagrangian::detail::nearest_name(word, candidates, std::max<std::size_t>(2, word.size() / 3));
 }
 
 }  // namespace lagrangian::scene

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "builder.hpp"
+#include "lagrangian/detail/nearest_name.hpp"
 #include "lagrangian/text/expression.hpp"
 
 namespace lagrangian::text {
@@ -208,27 +209,8 @@ class Parser {
   /// ", did you mean 'x'?" for the name of `names` nearest to `id` (at most
   /// two edits away, and fewer than its length), else "".
   static std::string nearest(const std::string& id, const std::vector<std::string>& names) {
-    std::string best;
-    std::size_t best_distance = 3;
-    for (const std::string& name : names) {
-      // Levenshtein distance, one row at a time.
-      std::vector<std::size_t> row(name.size() + 1);
-      for (std::size_t j = 0; j <= name.size(); ++j) row[j] = j;
-      for (std::size_t i = 1; i <= id.size(); ++i) {
-        std::size_t diagonal = row[0];
-        row[0] = i;
-        for (std::size_t j = 1; j <= name.size(); ++j) {
-          const std::size_t up = row[j];
-          row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (id[i - 1] == name[j - 1] ? 0 : 1)});
-          diagonal = up;
-        }
-      }
-      const std::size_t d = row[name.size()];
-      if (d < best_distance && d < id.size()) {
-        best_distance = d;
-        best = name;
-      }
-    }
+    const std::size_t most = id.empty() ? 0 : std::min<std::size_t>(2, id.size() - 1);
+    const std::string best = lagrangian::detail::nearest_name(id, names, most);
     return best.empty() ? std::string() : ", did you mean '" + best + "'?";
   }
 

@@ -59,6 +59,7 @@ sources=(
   "$src/src/text/formula.cpp"
   "$src/src/report.cpp"
   "$src/src/params.cpp"
+  "$src/src/nearest_name.cpp"
 )
 bin="$work/fuzz_scene"
 stale=0
