@@ -7,17 +7,16 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <sstream>
 
 #include "lagrangian/errors.hpp"
 #include "lagrangian/scene.hpp"
 #include "lagrangian/scene_io.hpp"
+#include "command_support.hpp"
 #include "written_files.hpp"
 
 namespace lagrangian::cli {
 namespace {
 
-constexpr int kOk = 0, kRunFailed = 1, kBadInput = 2;
 constexpr int kInterrupted = 130;  // 128 + SIGINT, as shells report it
 
 // Set by the first SIGINT or SIGTERM: the sweep starts no further run and
@@ -28,14 +27,6 @@ static_assert(std::atomic<bool>::is_always_lock_free, "set from a signal handler
 extern "C" void on_interrupt(int sig) {
   interrupt_requested.store(true);
   std::signal(sig, SIG_DFL);
-}
-
-std::vector<std::string> comma_list(const std::string& text) {
-  std::vector<std::string> out;
-  std::string item;
-  std::istringstream in(text);
-  while (std::getline(in, item, ',')) out.push_back(item);
-  return out;
 }
 
 }  // namespace

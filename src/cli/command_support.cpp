@@ -1,0 +1,89 @@
+// What the subcommands share (see command_support.hpp).
+
+#include "command_support.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+
+#include "lagrangian/params.hpp"
+#include "lagrangian/scene_io.hpp"
+#include "written_files.hpp"
+
+namespace lagrangian::cli {
+
+void SceneArgument::add(CLI::App* command, const std::string& help) {
+  command->add_option("scene", path, help)->required();
+}
+
+void SceneArgument::add_settings(CLI::App* command) {
+  command->add_option("--set", settings,
+                      "KEY=VALUE: set a numeric scene key, as if the file said so (e.g. model.parameters.e=0.5, "
+                      "bodies[0].velocity[2]=3, run.rtol=1e-8); repeatable");
+}
+
+scene::Scene SceneArgument::load() const {
+  std::vector<scene::KeySetting> parsed;
+  for (const std::string& text : settings) parsed.push_back(scene::parse_key_setting(text));
+  return scene::load_scene(path, parsed);
+}
+
+void override_t_end(scene::Scene& scene, const std::optional<double>& t_end) {
+  if (!t_end) return;
+  if (!std::isfinite(*t_end) || !(*t_end > scene.run.t0))
+    throw BadInput{"command line: --t-end: must be finite and > t0 = " + detail::format_number(scene.run.t0) +
+                   " s, got " + detail::format_number(*t_end)};
+  scene.run.t_end = *t_end;
+  scene.source.overrides["run.t_end"] = "--t-end";
+}
+
+std::string scene_stem(const std::string& path) {
+  return path == "-" ? "stdin" : std::filesystem::path(path).stem().string();
+}
+
+void check_positive(const char* flag, double v) {
+  if (!(v > 0) || !std::isfinite(v))
+    throw BadInput{std::string("command line: ") + flag + ": must be a positive finite number, got " +
+                   detail::format_number(v)};
+}
+
+std::vector<double> parse_numbers(const char* flag, const std::string& text) {
+  std::vector<double> out;
+  std::string item;
+  std::istringstream in(text);
+  while (std::getline(in, item, ',')) {
+    const char* begin = item.c_str();
+    char* end = nullptr;
+    const double v = std::strtod(begin, &end);
+    while (end && *end == ' ') ++end;
+    if (item.empty() || end == begin || *end != '\0')
+      throw BadInput{std::string("command line: ") + flag + ": '" + item + "' is not a number (in '" + text + "')"};
+    if (!std::isfinite(v))
+      throw BadInput{std::string("command line: ") + flag + ": '" + item + "' is not finite (in '" + text + "')"};
+    out.push_back(v);
+  }
+  if (out.empty()) throw BadInput{std::string("command line: ") + flag + ": no values in '" + text + "'"};
+  return out;
+}
+
+std::vector<std::string> comma_list(const std::string& text) {
+  std::vector<std::string> out;
+  std::string item;
+  std::istringstream in(text);
+  while (std::getline(in, item, ',')) out.push_back(item);
+  return out;
+}
+
+void print_progress(const std::string& line) { std::cerr << "  " << line << "\n"; }
+
+void print_outputs(const std::string& plot_note, const std::vector<std::string>& files, bool quiet) {
+  if (!quiet) {
+    if (!plot_note.empty()) std::cout << "note: " << plot_note << "\n";
+    print_written(files);
+  } else if (!plot_note.empty() && plot_note.rfind("plots failed", 0) == 0) {
+    std::cerr << "lagrangian: " << plot_note << "\n";
+  }
+}
+
+}  // namespace lagrangian::cli

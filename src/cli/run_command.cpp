@@ -1,0 +1,113 @@
+// `lagrangian run SCENE`: integrates the scene, writes trajectory.csv,
+// events.csv, report.json, plots and animation.html, prints the summary.
+
+#include <filesystem>
+#include <iostream>
+
+#include "commands.hpp"
+#include "lagrangian/report.hpp"
+#include "lagrangian/scene_io.hpp"
+
+namespace lagrangian::cli {
+
+CLI::App* RunCommand::add(CLI::App& app) {
+  CLI::App* c = app.add_subcommand(
+      "run", "Run a scene: writes trajectory.csv, events.csv, report.json, plots and animation.html (open it in a "
+             "browser) into the output directory and prints a summary.");
+  scene_.add(c, "scene file (TOML, see docs/scenes.md); - reads it from standard input");
+  scene_.add_settings(c);
+  c->add_option("--t-end", t_end_, "end time (s), overrides run.t_end");
+  c->add_option("--method", method_,
+                "stepper: rk4, dopri5, cash_karp54, fehlberg78, bulirsch_stoer, gauss_radau15, rosenbrock4, variational, "
+                "symplectic_rkn_sb3a_mclachlan, velocity_verlet or event_driven");
+  c->add_option("--rtol", rtol_, "relative tolerance, overrides run.rtol");
+  c->add_option("--atol", atol_, "absolute tolerance, overrides run.atol");
+  c->add_option("--out", out_dir_, "output directory, overrides output.directory");
+  c->add_flag("--no-plots", no_plots_, "do not make plots");
+  c->add_flag("--no-animation", no_animation_, "do not write animation.html");
+  c->add_option("--animate-to", animate_to_,
+                "also write the run as a video (.mp4, .webm or .gif, through ffmpeg) for slides and documents");
+  c->add_option("--animate-seconds", animate_seconds_, "length of that video (s, default 10): the whole run");
+  c->add_flag("--allow-drift", allow_drift_,
+              "exit 0 even when a conserved energy drifts beyond what the tolerance excuses (otherwise exit 3)");
+  c->add_flag("-q,--quiet", quiet_, "print only errors");
+  return c;
+}
+
+/// The command line's overrides of the scene's run and output tables.
+void RunCommand::apply(scene::Scene& scene) const {
+  override_t_end(scene, t_end_);
+  if (rtol_) {
+    check_positive("--rtol", *rtol_);
+    scene.run.rtol = *rtol_;
+    scene.source.overrides["run.rtol"] = "--rtol";
+  }
+  if (atol_) {
+    check_positive("--atol", *atol_);
+    scene.run.atol = *atol_;
+    scene.source.overrides["run.atol"] = "--atol";
+  }
+  if (method_) {
+    auto names = stepper_names();
+    names.push_back("event_driven");
+    if (std::find(names.begin(), names.end(), *method_) == names.end()) {
+      const std::string near = scene::nearest(*method_, names);
+      throw BadInput{"command line: --method: unknown stepper '" + *method_ + "'" +
+                     (near.empty() ? std::string() : "; did you mean '" + near + "'?")};
+    }
+    scene.run.method = *method_;
+    scene.source.overrides["run.method"] = "--method";
+    if (*method_ == "event_driven") scene.run.engine = "event_driven";
+    else if (scene.run.engine == "event_driven") scene.run.engine = "ode";
+  }
+  if (out_dir_) {
+    scene.output.directory = *out_dir_;
+    scene.source.overrides["output.directory"] = "--out";
+  }
+  if (no_plots_) scene.output.plots = false;
+  if (no_animation_) scene.output.animation = false;
+  if (!animate_to_.empty()) {
+    const std::string ext = std::filesystem::path(animate_to_).extension().string();
+    if (ext != ".mp4" && ext != ".webm" && ext != ".gif")
+      throw BadInput{"command line: --animate-to: '" + animate_to_ + "': unknown format '" + ext +
+                     "' (use .mp4, .webm or .gif)"};
+  }
+  if (!(animate_seconds_ > 0 && animate_seconds_ <= 3600))
+    throw BadInput{"command line: --animate-seconds: must be in (0, 3600] s, got " + std::to_string(animate_seconds_)};
+}
+
+int RunCommand::run() {
+  const std::optional<scene::Scene> scene = scene_or_say([&] {
+    scene::Scene s = scene_.load();
+    apply(s);
+    return s;
+  });
+  if (!scene) return kBadInput;
+  return guarded("run", [&] {
+    scene::RunControls controls;
+    controls.progress = !quiet_;
+    controls.video_path = animate_to_;
+    controls.video.seconds = animate_seconds_;
+    const scene::RunResult r = scene::run(*scene, controls);
+    if (!quiet_) {
+      std::cout << "scene " << scene->name << " — engine " << r.engine << "\n" << r.report.summary();
+      if (r.gas) std::cout << r.gas->summary();
+      if (!r.effect_evaluations.empty()) {
+        std::cout << "effects evaluated:";
+        for (const auto& [name, count] : r.effect_evaluations) std::cout << " " << name << " " << count << ";";
+        std::cout << "\n";
+      }
+    }
+    print_outputs(r.plot_note, r.files, quiet_);
+    if (!r.animation_note.empty()) std::cerr << "lagrangian: " << r.animation_note << "\n";
+    if (!animate_to_.empty() && !r.video_written) return kRunFailed;  // asked for, not made: said above
+    if (r.report.drift_exceeded && !allow_drift_) {
+      std::cerr << "lagrangian: the run finished, but its energy drifted beyond what its tolerance excuses (see the "
+                   "warning; report.json has drift_exceeded = true): exit 3; --allow-drift accepts it\n";
+      return kDrift;
+    }
+    return kOk;
+  });
+}
+
+}  // namespace lagrangian::cli
