@@ -76,7 +76,7 @@ int main(int argc, char** argv) {
     s.q << x0[0], x0[1];
     s.qd << x0[2], x0[3];
     SimulationOptions o;
-    o.method = "gauss_radau15";
+    o.method = Method::gauss_radau15;
     o.rtol = 1e-9;
     o.t0 = 0;
     o.t_end = orbits * period;

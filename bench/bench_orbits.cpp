@@ -109,7 +109,7 @@ int run_case(double e, double ratio, double f0, double orbits, double rtol, cons
   const double p = a * (1 - e * e), r = p / (1 + e * std::cos(f0)), h = std::sqrt(gm / p);
   const double x = r * std::cos(f0), y = r * std::sin(f0), vx = -h * std::sin(f0), vy = h * (e + std::cos(f0));
   SimulationOptions o;
-  o.method = "gauss_radau15";
+  o.method = Method::gauss_radau15;
   o.rtol = rtol;
   o.atol = 1e-300;
   o.t_end = orbits * period;

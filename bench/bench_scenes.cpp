@@ -181,7 +181,7 @@ Scene with_effects(int k) {
   s.name = "effects";
   s.bodies.push_back({.name = "a", .mass = 1.0, .radius = 0.05, .position = {0, 0, 2}, .velocity = {0.5, 0, 0}});
   s.bodies.push_back({.name = "b", .mass = 2.0, .radius = 0.05, .position = {1, 0, 2}, .velocity = {0, 0.5, 0}});
-  s.run.method = "rk4";
+  s.run.method = Method::rk4;
   s.run.dt = 1e-3;
   s.run.t_end = 2.0;
   s.run.output_interval = 0.1;

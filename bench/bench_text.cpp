@@ -18,7 +18,7 @@ using namespace lagrangian;
 
 SimulationOptions options() {
   SimulationOptions o;
-  o.method = "dopri5";
+  o.method = Method::dopri5;
   o.t_end = 10.0;
   o.rtol = 1e-10;
   o.atol = 1e-12;

@@ -12,7 +12,7 @@ int main() try {
   lagrangian::State<2> x0;
   x0.q << 1.3, 0.4;  // r (m), θ (rad)
   lagrangian::SimulationOptions opt;
-  opt.method = "fehlberg78";
+  opt.method = lagrangian::Method::fehlberg78;
   opt.t_end = 30.0;
   opt.output_interval = 0.05;
   double r_min = 1e300, r_max = 0;

@@ -36,7 +36,7 @@ int main(int argc, char** argv) try {
   r0.qd << s[2], s[3], 0;
 
   SimulationOptions opt;
-  opt.method = "fehlberg78";
+  opt.method = Method::fehlberg78;
   opt.t_end = 20 * orbit.period();
   opt.rtol = 1e-13;
   opt.atol = 1e-3;  // m and m/s: 1 mm on an orbit of 1.5e11 m

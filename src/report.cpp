@@ -1,6 +1,7 @@
 #include "lagrangian/report.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <array>
 #include <cerrno>
 #include <cmath>
@@ -35,18 +36,6 @@ const char* to_string(EventKind k) {
     case EventKind::stop: return "stop";
   }
   return "unknown";
-}
-
-std::vector<std::string> stepper_names() {
-  return {"rk4",         "dopri5",        "cash_karp54",
-          "fehlberg78",  "bulirsch_stoer", "gauss_radau15",
-          "rosenbrock4", "variational",    "symplectic_rkn_sb3a_mclachlan",
-          "velocity_verlet"};
-}
-
-bool fixed_step_method(const std::string& method) {
-  return method == "rk4" || method == "variational" || method == "symplectic_rkn_sb3a_mclachlan" ||
-         method == "velocity_verlet";
 }
 
 namespace detail {
@@ -94,9 +83,23 @@ void write_text_file(const std::string& path, const std::string& text, const std
 
 namespace {
 
+/// v as the shortest text that reads back as v ("1e-09", "0.1", "inf").
+std::string shortest(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
 [[noreturn]] void option_failure(const std::string& field, const std::string& condition, double value) {
-  throw OptionError("simulation option '" + field + "' must be " + condition + ", got " +
-                    detail::format_number(value));
+  throw InvalidOption(field, "must be " + condition + ", got " + shortest(value));
+}
+
+/// Finite and > 0.
+void require_positive(const std::string& field, double value) {
+  if (!std::isfinite(value)) option_failure(field, "finite", value);
+  if (!(value > 0)) option_failure(field, "> 0", value);
 }
 
 
@@ -183,32 +186,28 @@ void check_drift(RunReport& report, double rtol) {
 }
 
 void SimulationOptions::validate() const {
-  const auto names = stepper_names();
-  if (std::find(names.begin(), names.end(), method) == names.end()) {
-    std::string list;
-    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-    throw OptionError("simulation option 'method' is '" + method + "', which is not a stepper; choose one of: " + list);
-  }
+  if (static_cast<std::size_t>(method) >= method_table().size())
+    option_failure("method", "one of the Method enumerators", static_cast<double>(method));
   if (!std::isfinite(t0)) option_failure("t0", "finite", t0);
   if (!std::isfinite(t_end)) option_failure("t_end", "finite", t_end);
   if (!(t_end > t0))
-    throw OptionError("simulation option 't_end' must be greater than t0 = " + detail::format_number(t0) + ", got " +
-                      detail::format_number(t_end));
-  if (!std::isfinite(dt) || !(dt > 0)) option_failure("dt", "positive and finite", dt);
-  if (!std::isfinite(rtol) || !(rtol > 0)) option_failure("rtol", "positive and finite", rtol);
-  if (!std::isfinite(atol) || !(atol > 0)) option_failure("atol", "positive and finite", atol);
-  if (rtol >= 1) option_failure("rtol", "less than 1", rtol);
+    throw InvalidOption("t_end", "must be greater than t0 = " + shortest(t0) + ", got " + shortest(t_end));
+  require_positive("dt", dt);
+  require_positive("rtol", rtol);
+  require_positive("atol", atol);
+  if (rtol >= 1) option_failure("rtol", "< 1", rtol);
   if (rtol < min_rtol)
     option_failure("rtol", "at least 1e-15 (no double-precision step can meet a smaller relative tolerance)", rtol);
-  if (max_steps == 0) throw OptionError("simulation option 'max_steps' must be at least 1, got 0");
+  if (max_steps == 0) throw InvalidOption("max_steps", "must be at least 1, got 0");
   if (!std::isfinite(output_interval)) option_failure("output_interval", "finite", output_interval);
-  if (!std::isfinite(baumgarte_omega) || !(baumgarte_omega > 0))
-    option_failure("baumgarte_omega", "positive and finite", baumgarte_omega);
-  if (!std::isfinite(projection_tolerance) || !(projection_tolerance > 0))
-    option_failure("projection_tolerance", "positive and finite", projection_tolerance);
+  if (stabilization != Stabilization::none && stabilization != Stabilization::baumgarte &&
+      stabilization != Stabilization::projection)
+    throw InvalidOption("stabilization", "is " + std::to_string(static_cast<int>(stabilization)) +
+                                             ", not one of: none, baumgarte, projection");
+  require_positive("baumgarte_omega", baumgarte_omega);
+  require_positive("projection_tolerance", projection_tolerance);
   if (discrete_rule != "midpoint" && discrete_rule != "trapezoidal")
-    throw OptionError("simulation option 'discrete_rule' is '" + discrete_rule +
-                      "'; choose one of: midpoint, trapezoidal");
+    throw InvalidOption("discrete_rule", "is '" + discrete_rule + "'; choose one of: midpoint, trapezoidal");
   if (!std::isfinite(newton_tolerance) || !(newton_tolerance > 0) || !(newton_tolerance < 1))
     option_failure("newton_tolerance", "in (0, 1)", newton_tolerance);
   if (newton_max_iterations < 1)

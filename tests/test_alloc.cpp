@@ -199,7 +199,7 @@ TEST(NoAllocation, AllocationCountOfARunDoesNotGrowWithSteps) {
   const DoublePendulum m;
   State<2> s;
   s.q << 1.0, 0.5;
-  auto count = [&](const std::string& method, double t_end) {
+  auto count = [&](Method method, double t_end) {
     SimulationOptions o;
     o.method = method;
     o.t_end = t_end;
@@ -212,14 +212,14 @@ TEST(NoAllocation, AllocationCountOfARunDoesNotGrowWithSteps) {
   // bulirsch_stoer is left out: odeint's own try_step allocates a work
   // vector on every call (bulirsch_stoer.hpp, `inv_time_vector work`), as does
   // the uBLAS-based rosenbrock4; docs/performance.md says so.
-  for (const std::string method : {"dopri5", "rk4", "cash_karp54", "fehlberg78", "gauss_radau15", "variational"}) {
+  for (const Method method : {Method::dopri5, Method::rk4, Method::cash_karp54, Method::fehlberg78, Method::gauss_radau15, Method::variational}) {
     EXPECT_EQ(count(method, 1.0), count(method, 10.0)) << method;
   }
   // A run-time sized model (a 10-link chain): the same.
   const test_models::RuntimeChain chain{10};
   State<Dynamic> c0(10);
   c0.q.setConstant(0.3);
-  auto count_chain = [&](const std::string& method, double t_end) {
+  auto count_chain = [&](Method method, double t_end) {
     SimulationOptions o;
     o.method = method;
     o.t_end = t_end;
@@ -232,7 +232,7 @@ TEST(NoAllocation, AllocationCountOfARunDoesNotGrowWithSteps) {
   // (The thread's first evaluation takes its per-thread vectors of numbers
   // and Hessian blocks: a first run is made before counting.)
   simulate(chain, c0, SimulationOptions{});
-  for (const std::string method : {"dopri5", "fehlberg78", "gauss_radau15"}) {
+  for (const Method method : {Method::dopri5, Method::fehlberg78, Method::gauss_radau15}) {
     const long shorter = count_chain(method, 2.0);
     EXPECT_EQ(shorter, count_chain(method, 8.0)) << "run-time size, " << method;
   }
@@ -242,7 +242,7 @@ TEST(NoAllocation, AllocationCountOfARunDoesNotGrowWithSteps) {
 // complete orthogonal decomposition) on an orbit, and a constrained model
 // with projection after every step: the workspace is allocated once.
 TEST(NoAllocation, VariationalAndConstrainedRunsDoNotAllocatePerStep) {
-  auto count = [](const auto& model, const auto& state, const std::string& method, double t_end) {
+  auto count = [](const auto& model, const auto& state, Method method, double t_end) {
     SimulationOptions o;
     o.method = method;
     o.dt = 1e-3;
@@ -257,13 +257,13 @@ TEST(NoAllocation, VariationalAndConstrainedRunsDoNotAllocatePerStep) {
   State<2> orbit;
   orbit.q << 1.0, 0.0;
   orbit.qd << 0.0, 1.2;
-  EXPECT_EQ(count(kepler, orbit, "variational", 1.0), count(kepler, orbit, "variational", 4.0));
+  EXPECT_EQ(count(kepler, orbit, Method::variational, 1.0), count(kepler, orbit, Method::variational, 4.0));
 
   const CartesianDoublePendulum chain;
   State<4> s;
   s.q << 0.6, -0.8, 1.4, -1.4;
   s.qd.setZero();
-  for (const std::string method : {"dopri5", "gauss_radau15", "variational"}) {
+  for (const Method method : {Method::dopri5, Method::gauss_radau15, Method::variational}) {
     EXPECT_EQ(count(chain, s, method, 1.0), count(chain, s, method, 4.0)) << method;
   }
 }

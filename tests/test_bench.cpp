@@ -59,16 +59,17 @@ Scene kepler(double orbits) {
   return s;
 }
 
-BenchOptions quiet_options(const TempDir& dir, std::vector<std::string> methods) {
+BenchOptions quiet_options(const TempDir& dir, const std::vector<std::string>& methods) {
   BenchOptions o;
-  o.methods = std::move(methods);
+  o.methods.clear();
+  for (const std::string& m : methods) o.methods.push_back(parse_method(m, "methods"));
   o.repeat = 1;
   o.plots = false;
   o.out_dir = dir.path.string();
   return o;
 }
 
-std::vector<BenchPoint> of(const BenchResult& r, const std::string& method) {
+std::vector<BenchPoint> of(const BenchResult& r, std::string_view method) {
   std::vector<BenchPoint> out;
   for (const BenchPoint& p : r.points)
     if (p.method == method) out.push_back(p);
@@ -97,10 +98,10 @@ TEST(Bench, AdaptiveSteppersGetMoreAccurateAndDearerOnKepler) {
   o.tolerance_tight = 1e-12;
   const BenchResult r = bench(kepler(10), o);
   ASSERT_TRUE(r.closed_form);
-  for (const std::string& m : o.methods) {
-    const bool bs = m == "bulirsch_stoer";
+  for (const Method m : o.methods) {
+    const bool bs = m == Method::bulirsch_stoer;
     const double slack = 2.0, drop = 1e-4, rhs_dip = bs ? 0.99 : 1.0;
-    const auto pts = of(r, m);
+    const auto pts = of(r, to_string(m));
     ASSERT_EQ(pts.size(), 9u) << m;
     for (const BenchPoint& p : pts) ASSERT_TRUE(p.ok()) << m << " rtol " << p.rtol << ": " << p.status;
     for (std::size_t k = 1; k < pts.size(); ++k) {
@@ -161,8 +162,8 @@ TEST(Bench, DoublePendulumAgainstAReferenceRun) {
   EXPECT_NE(r.reference.find("gauss_radau15"), std::string::npos);
   EXPECT_GT(r.reference_accuracy, 0.0);
   EXPECT_LT(r.reference_accuracy, 1e-11);
-  for (const std::string& method : o.methods) {
-    const auto pts = of(r, method);
+  for (const Method method : o.methods) {
+    const auto pts = of(r, to_string(method));
     ASSERT_EQ(pts.size(), 7u);
     EXPECT_TRUE(pts.front().resolved);
     EXPECT_GT(pts.front().error, 1e3 * r.reference_accuracy);
@@ -465,9 +466,12 @@ TEST(Bench, BadOptionsNameTheFieldAndTheValue) {
   o.repeat = 0;
   EXPECT_NE(message([&] { o.validate(); }).find("repeat: must be in [1, 1000], got 0"), std::string::npos);
   o = BenchOptions{};
-  o.methods = {"dopri"};
-  EXPECT_NE(message([&] { o.validate(); }).find("unknown stepper 'dopri'; did you mean 'dopri5'?"),
+  // Names are read at the command line (--methods) by parse_method().
+  EXPECT_NE(message([&] { parse_method("dopri", "--methods"); })
+                .find("--methods: unknown stepper 'dopri'; did you mean 'dopri5'?"),
             std::string::npos);
+  o.methods = {Method::dopri5, Method::rk4, Method::dopri5};
+  EXPECT_NE(message([&] { o.validate(); }).find("methods: 'dopri5' given twice"), std::string::npos);
   o = BenchOptions{};
   o.tolerance_tight = 1e-17;
   EXPECT_NE(message([&] { o.validate(); }).find("tolerances"), std::string::npos);

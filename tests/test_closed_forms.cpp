@@ -20,7 +20,7 @@ using namespace lagrangian;
 using namespace lagrangian::models;
 const double kPi = std::acos(-1.0);
 
-SimulationOptions tight(const std::string& method, double t_end, double rtol, double dt_out) {
+SimulationOptions tight(Method method, double t_end, double rtol, double dt_out) {
   SimulationOptions o;
   o.method = method;
   o.t_end = t_end;
@@ -56,7 +56,7 @@ TEST(HarmonicOscillator, ClosedFormAgreesWithTheDerivedEquationsOfMotion) {
   const HarmonicOscillator osc(2.0, 5.0);  // ω = √2.5 rad/s
   const State<1> x0 = state(0.1, -0.3);
   Recorder<1> rec;
-  const RunReport r = simulate(osc, x0, tight("dopri5", 20.0, 1e-12, 0.05), rec);
+  const RunReport r = simulate(osc, x0, tight(Method::dopri5, 20.0, 1e-12, 0.05), rec);
   ASSERT_EQ(rec.samples.size(), 401u);
   const auto [dq, dqd] = worst_difference(osc, x0, rec);
   std::printf("oscillator closed form vs dopri5 1e-12: %.1e m, %.1e m/s\n", dq, dqd);
@@ -75,7 +75,7 @@ TEST(HarmonicOscillator, PeriodAndEnergy) {
   const double period = 2 * kPi / 4.0;
   // The numerical run, not the closed form, returns to its start after 2π/ω.
   Recorder<1> rec;
-  simulate(osc, x0, tight("fehlberg78", period, 1e-13, -1), rec);
+  simulate(osc, x0, tight(Method::fehlberg78, period, 1e-13, -1), rec);
   EXPECT_NEAR(rec.samples.back().q[0], 0.2, 1e-11);
   EXPECT_NEAR(rec.samples.back().qd[0], 0.6, 1e-11);
   // A quarter period: x = ẋ0/ω, ẋ = −ω x0.
@@ -138,7 +138,7 @@ TEST(SimplePendulum, ClosedFormAgreesWithATightRunAtEveryAmplitude) {
   for (const auto& c : cases) {
     const State<1> x0 = state(c.theta0, c.rate0);
     Recorder<1> rec;
-    const RunReport r = simulate(p, x0, tight("fehlberg78", 12.0, 1e-13, 0.03), rec);
+    const RunReport r = simulate(p, x0, tight(Method::fehlberg78, 12.0, 1e-13, 0.03), rec);
     ASSERT_NEAR(r.t_final, 12.0, 1e-12) << c.what;
     const auto [dq, dqd] = worst_difference(p, x0, rec);
     std::printf("pendulum %-40s closed form vs fehlberg78 1e-13: %.1e rad, %.1e rad/s\n", c.what, dq, dqd);
@@ -196,7 +196,7 @@ TEST(SimplePendulum, ClosedFormOnTheSeparatrixAndWithoutGravity) {
   // The same against a tight run, over a time short enough for the unstable
   // motion not to amplify the run's error beyond 1e-8.
   Recorder<1> rec;
-  simulate(p, x0, tight("fehlberg78", 2.0, 1e-13, 0.02), rec);
+  simulate(p, x0, tight(Method::fehlberg78, 2.0, 1e-13, 0.02), rec);
   const auto [dq, dqd] = worst_difference(p, x0, rec);
   EXPECT_LT(dq, 1e-8);
   EXPECT_LT(dqd, 1e-7);
@@ -244,7 +244,7 @@ TEST(RelativisticParticle, NonQuadraticLagrangianFollowsItsClosedForm) {
 
   const double k = std::sqrt(m * m * c * c + p0[0] * p0[0]);
   Recorder<2> rec;
-  const RunReport r = simulate(model, s0, tight("dopri5", 1.0, 1e-12, 0.25), rec);
+  const RunReport r = simulate(model, s0, tight(Method::dopri5, 1.0, 1e-12, 0.25), rec);
   ASSERT_EQ(rec.samples.size(), 5u);
   double worst = 0;
   for (const auto& s : rec.samples) {

@@ -304,7 +304,7 @@ TEST(Constraints, Rosenbrock4FollowsATimeDependentConstraint) {
   s.q << 0.1, 0.0;
   s.qd << 0.05, 0.2;
   SimulationOptions o;
-  o.method = "rosenbrock4";
+  o.method = Method::rosenbrock4;
   o.t_end = 2.0;
   o.rtol = 1e-9;
   o.atol = 1e-11;

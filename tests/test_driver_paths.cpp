@@ -19,7 +19,8 @@ namespace {
 
 using namespace lagrangian;
 
-const char* const kExplicitMethods[] = {"dopri5", "rk4", "cash_karp54", "fehlberg78", "bulirsch_stoer"};
+const Method kExplicitMethods[] = {Method::dopri5, Method::rk4, Method::cash_karp54, Method::fehlberg78,
+                                   Method::bulirsch_stoer};
 
 /// The double pendulum with q̈ written out. With c = cos(θ1 − θ2),
 /// s = sin(θ1 − θ2), Lagrange's equations of T and V of models::DoublePendulum are
@@ -58,7 +59,7 @@ struct BlowUp {
   }
 };
 
-SimulationOptions options(const std::string& method, double output_interval) {
+SimulationOptions options(Method method, double output_interval) {
   SimulationOptions o;
   o.method = method;
   o.t_end = 5.0;
@@ -99,7 +100,7 @@ void expect_same_run(const Outcome& a, const Outcome& b) {
 }
 
 TEST(DriverPaths, StepsInARowMatchStepsSampledOneByOne) {
-  for (const char* method : kExplicitMethods) {
+  for (const Method method : kExplicitMethods) {
     SCOPED_TRACE(method);
     const Outcome every_step = run(models::DoublePendulum(), options(method, 0.0));
     const Outcome ends_only = run(models::DoublePendulum(), options(method, -1.0));
@@ -111,7 +112,7 @@ TEST(DriverPaths, StepsInARowMatchStepsSampledOneByOne) {
 TEST(DriverPaths, DenseSamplesDoNotChangeTheSteps) {
   // dopri5 samples from its dense output and rk4 from a sub-step, so
   // samples every 0.25 s leave the steps as they are.
-  for (const char* method : {"dopri5", "rk4"}) {
+  for (const Method method : {Method::dopri5, Method::rk4}) {
     SCOPED_TRACE(method);
     const Outcome sampled = run(models::DoublePendulum(), options(method, 0.25));
     const Outcome ends_only = run(models::DoublePendulum(), options(method, -1.0));
@@ -120,9 +121,9 @@ TEST(DriverPaths, DenseSamplesDoNotChangeTheSteps) {
 }
 
 TEST(DriverPaths, InlinedAccelerationsMatchTheLibraryLoops) {
-  for (const char* method : kExplicitMethods) {
+  for (const Method method : kExplicitMethods) {
     for (const double interval : {0.0, -1.0}) {
-      SCOPED_TRACE(std::string(method) + ", output_interval " + std::to_string(interval));
+      SCOPED_TRACE(std::string(to_string(method)) + ", output_interval " + std::to_string(interval));
       expect_same_run(run(inlined(HandDoublePendulum()), options(method, interval)),
                       run(HandDoublePendulum(), options(method, interval)));
       // An AD q̈ inlined (DirectRhs): the oscillator, whose AD pass is cheap to compile.
@@ -144,8 +145,8 @@ TEST(DriverPaths, InlinedAccelerationsMatchTheLibraryLoops) {
 TEST(DriverPaths, HandCodedAccelerationsAgreeWithTheLagrangian) {
   // An independent derivation: the Cramer's-rule q̈ against automatic
   // differentiation of T − V, at rtol 1e-10 over 5 s of regular motion.
-  const Outcome hand = run(HandDoublePendulum(), options("dopri5", -1.0));
-  const Outcome ad = run(models::DoublePendulum(), options("dopri5", -1.0));
+  const Outcome hand = run(HandDoublePendulum(), options(Method::dopri5, -1.0));
+  const Outcome ad = run(models::DoublePendulum(), options(Method::dopri5, -1.0));
   for (int i = 0; i < 2; ++i) {
     EXPECT_NEAR(hand.end.q[i], ad.end.q[i], 1e-8);
     EXPECT_NEAR(hand.end.qd[i], ad.end.qd[i], 1e-8);
@@ -168,7 +169,7 @@ SimulationError failure(const SimulationOptions& o, const M& model = {}) {
 }
 
 TEST(DriverPaths, ABlowUpStopsAtTheSameStepEitherWay) {
-  for (const char* method : kExplicitMethods) {
+  for (const Method method : kExplicitMethods) {
     SCOPED_TRACE(method);
     SimulationOptions o = options(method, 0.0);
     o.t_end = 2.0;
@@ -190,7 +191,7 @@ TEST(DriverPaths, ABlowUpStopsAtTheSameStepEitherWay) {
 TEST(DriverPaths, MaxStepsStopsAtTheSameStepEitherWay) {
   // rk4 with dt = 1 ms and max_steps = 100 fails on its 101st step, which ends at 0.101 s.
   for (const double interval : {0.0, -1.0}) {
-    SimulationOptions o = options("rk4", interval);
+    SimulationOptions o = options(Method::rk4, interval);
     o.max_steps = 100;
     for (const SimulationError& e : {failure(o), failure(o, inlined(BlowUp{}))}) {
       EXPECT_NE(std::string(e.what()).find("max_steps = 100"), std::string::npos) << e.what();

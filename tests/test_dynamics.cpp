@@ -442,7 +442,7 @@ TEST(ConstantMass, RunsAgreeWithAndWithoutTheDeclaration) {
   // The projectile with quadratic drag (forces from the Rayleigh function),
   // the pendulum and a bouncing ball: the same run, declared and withdrawn.
   SimulationOptions o;
-  o.method = "dopri5";
+  o.method = Method::dopri5;
   o.rtol = 1e-11;
   o.atol = 1e-13;
   o.t_end = 3.0;

@@ -17,7 +17,7 @@ using lagrangian_test::kEventTime;
 TEST(Events, ADroppedBallHitsAtTheFreeFallTimeWithEveryStepper) {
   const double g = 9.81, R = 0.1;
   const BallAndPlane ball(1.0, R, 1.0, g);
-  for (const std::string method : {"dopri5", "cash_karp54", "fehlberg78", "bulirsch_stoer", "gauss_radau15", "rk4", "rosenbrock4"}) {
+  for (const Method method : {Method::dopri5, Method::cash_karp54, Method::fehlberg78, Method::bulirsch_stoer, Method::gauss_radau15, Method::rk4, Method::rosenbrock4}) {
     for (double h : {0.05, 1.0, 20.0}) {
       SimulationOptions o;
       o.method = method;

@@ -75,7 +75,7 @@ TEST(Events, WatchedEventsAreLocatedLoggedAndCanStopTheRun) {
   State<2> s;
   s.q << 0.0, 0.0;
   s.qd << 3.0, 4.0;
-  for (const std::string method : {"dopri5", "rk4", "cash_karp54"}) {
+  for (const Method method : {Method::dopri5, Method::rk4, Method::cash_karp54}) {
     SimulationOptions o;
     o.method = method;
     o.t_end = 10.0;

@@ -206,7 +206,7 @@ double position_error(const Sample<2>& x, const lm::KeplerOrbit& orbit, double t
 
 SimulationOptions radau(double t_end, double rtol = 1e-10) {
   SimulationOptions o;
-  o.method = "gauss_radau15";
+  o.method = Method::gauss_radau15;
   o.t_end = t_end;
   o.rtol = rtol;
   o.output_interval = -1;
@@ -263,7 +263,7 @@ TEST(GaussRadau, BouncingComesToRestAsWithDopri5) {
   State<3> s;
   s.q << 0.0, 0.0, h + 0.1;
   s.qd.setZero();
-  const auto rest_time = [&](const std::string& method, std::uint64_t& impacts) {
+  const auto rest_time = [&](Method method, std::uint64_t& impacts) {
     SimulationOptions o = radau(4.0);
     o.method = method;
     const RunReport r = simulate(lm::BallAndPlane(1.0, 0.1, e, g), s, o);
@@ -273,8 +273,8 @@ TEST(GaussRadau, BouncingComesToRestAsWithDopri5) {
     return -1.0;
   };
   std::uint64_t impacts_radau = 0, impacts_dopri = 0;
-  const double t_radau = rest_time("gauss_radau15", impacts_radau);
-  const double t_dopri = rest_time("dopri5", impacts_dopri);
+  const double t_radau = rest_time(Method::gauss_radau15, impacts_radau);
+  const double t_dopri = rest_time(Method::dopri5, impacts_dopri);
   double t_rest = 1, ej = 1;
   for (int j = 1; j <= 20; ++j) t_rest += 2 * (ej *= e);
   t_rest *= std::sqrt(2 * h / g);

@@ -111,7 +111,7 @@ TEST(Kepler, UnboundOrbitsKeepTheirEnergyAndAngularMomentum) {
 // problem; both report their error against the closed form.
 TEST(Kepler, HyperbolicFlybysAreSimulatedAgainstTheClosedForm) {
   SimulationOptions o;
-  o.method = "dopri5";
+  o.method = Method::dopri5;
   o.rtol = 1e-12;
   o.atol = 1e-14;
   o.t_end = 40.0;

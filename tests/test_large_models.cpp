@@ -72,7 +72,7 @@ void simulation_agrees(double t_end) {
   EXPECT_TRUE(ra.conservative);
   EXPECT_GT(ra.steps, 10u);
 
-  o.method = "variational";
+  o.method = Method::variational;
   try {
     simulate(fixed, x0, o);
     FAIL() << "variational ran a model that did not opt in";
@@ -210,7 +210,7 @@ TEST(DynamicSize, SimulationMatchesFixedSize) {
   for (int i = 0; i < n; ++i) {
     x0.q[i] = y0.q[i] = 0.3 - 0.15 * i;
   }
-  for (const std::string method : {"dopri5", "rk4", "gauss_radau15", "rosenbrock4"}) {
+  for (const Method method : {Method::dopri5, Method::rk4, Method::gauss_radau15, Method::rosenbrock4}) {
     SimulationOptions o;
     o.method = method;
     o.t_end = 2.0;

@@ -72,7 +72,7 @@ void check_mode_periods(const M& model, double amplitude) {
     const Eigen::VectorXd shape = md.shapes.col(j);
     x0.q = amplitude * shape / shape.cwiseAbs().maxCoeff();
     SimulationOptions opt;
-    opt.method = "fehlberg78";
+    opt.method = Method::fehlberg78;
     opt.t_end = 20.5 * predicted;
     opt.rtol = 1e-13;
     opt.atol = 1e-17;

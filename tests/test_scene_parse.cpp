@@ -208,7 +208,7 @@ restitution = 0.9
                               "every.toml");
   EXPECT_EQ(s.name, "everything");
   EXPECT_EQ(s.description, "every key of a particle scene");
-  EXPECT_EQ(s.run.method, "rk4");
+  EXPECT_EQ(s.run.method, Method::rk4);
   EXPECT_EQ(s.run.engine, "ode");
   EXPECT_EQ(s.run.t0, 1.0);
   EXPECT_EQ(s.run.t_end, 3.5);
@@ -744,8 +744,8 @@ TEST(SceneCpp, InvalidValuesNameTheKeyWithoutAFile) {
   }
   {
     Scene s = one_body_scene();
-    s.run.method = "dopri";
-    expect_cpp_error(s, "run.method", {"did you mean 'dopri5'?"});
+    s.run.rtol = 2;  // the options' own check, under the scene's key
+    expect_cpp_error(s, "run.rtol", {"must be < 1, got 2"});
   }
   {
     Scene s = one_body_scene();

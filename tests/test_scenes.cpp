@@ -118,7 +118,7 @@ TEST(Scenes, Rk4ErrorFallsSixteenfoldWhenTheStepHalves) {
   const double k = 1.0, m = 1.0;
   auto error = [&](double dt) {
     Scene s = base(10.0);
-    s.run.method = "rk4";
+    s.run.method = Method::rk4;
     s.run.dt = dt;
     s.bodies.push_back({.name = "m", .mass = m, .position = {1, 0, 0}});
     s.springs.push_back({.a = "m", .anchor = {0, 0, 0}, .stiffness = k});
@@ -654,7 +654,7 @@ TEST(Scenes, OverflowingValuesAreRefusedAndOverflowMidRunStops) {
   Scene fall = base(1.0);
   fall.bodies.push_back({.name = "ball", .mass = 1});
   fall.gravity = UniformGravity{{0, 0, -1e300}};
-  fall.run.method = "rk4";  // fixed steps: the first one ends at v = -1e297 m/s, ½ m v² = inf
+  fall.run.method = Method::rk4;  // fixed steps: the first one ends at v = -1e297 m/s, ½ m v² = inf
   fall.run.dt = 1e-3;
   try {
     run(fall, quiet());

@@ -24,7 +24,7 @@ auto harmonic_oscillator(double m, double k) {
       [k](const auto& q, const auto&) { return 0.5 * k * q[0] * q[0]; });
 }
 
-SimulationOptions options(const std::string& method, double t_end, double rtol = 1e-10) {
+SimulationOptions options(Method method, double t_end, double rtol = 1e-10) {
   SimulationOptions o;
   o.method = method;
   o.t_end = t_end;
@@ -37,7 +37,7 @@ SimulationOptions options(const std::string& method, double t_end, double rtol =
 
 template <class M>
 void expect_energy_conserved(const M& model, const State<lagrangian::coordinate_count_v<M>>& x0, double period) {
-  const RunReport r = simulate(model, x0, options("dopri5", 20 * period));
+  const RunReport r = simulate(model, x0, options(Method::dopri5, 20 * period));
   EXPECT_TRUE(r.conservative) << r.model;
   EXPECT_LE(r.energy_drift_max, 1e-8) << r.model;
   EXPECT_LE(r.total_energy_drift_max, 1e-8) << r.model;
@@ -91,7 +91,7 @@ TEST(Simulate, KeplerAngularMomentumConservedAndPeriodMatches) {
   x0.q << a * (1 - e), 0.0;
   x0.qd << 0.0, std::sqrt(mu * (1 + e) / (a * (1 - e))) / (a * (1 - e));
   const double period = 2 * kPi * std::sqrt(a * a * a / mu);
-  SimulationOptions o = options("dopri5", 20 * period, 1e-11);
+  SimulationOptions o = options(Method::dopri5, 20 * period, 1e-11);
   o.output_interval = period / 8;  // samples land on whole periods
   Recorder<2> rec;
   const RunReport r = simulate(m, x0, o, rec);
@@ -115,7 +115,7 @@ TEST(Simulate, SphericalPendulumAzimuthalMomentumConserved) {
   State<2> x0;
   x0.q << 1.2, 0.3;
   x0.qd << 0.4, 1.5;
-  const RunReport r = simulate(m, x0, options("dopri5", 10.0));
+  const RunReport r = simulate(m, x0, options(Method::dopri5, 10.0));
   ASSERT_EQ(r.conserved_momenta.size(), 1u);
   EXPECT_EQ(r.conserved_momenta[0].coordinate, "phi");
   EXPECT_LE(r.conserved_momenta[0].max_abs_drift, 1e-8 * std::abs(r.conserved_momenta[0].initial));
@@ -139,7 +139,7 @@ TEST(Simulate, RotatingHoopConservesJacobiIntegralNotTotalEnergy) {
   const BeadOnRotatingHoop m(0.1, 0.5, 6.0, 9.81);
   State<1> x0;
   x0.q[0] = 0.05;
-  const RunReport r = simulate(m, x0, options("dopri5", 20.0));
+  const RunReport r = simulate(m, x0, options(Method::dopri5, 20.0));
   EXPECT_TRUE(r.conservative);
   EXPECT_LE(r.energy_drift_max, 1e-8);
   EXPECT_GT(r.total_energy_drift_max, 1e-2);  // the motor feeds energy in and out
@@ -150,7 +150,7 @@ TEST(Simulate, ExplicitTimeDependenceIsNotConservative) {
   State<1> x0;
   x0.q[0] = 0.3;
   EXPECT_FALSE(is_autonomous(m, x0));
-  const RunReport r = simulate(m, x0, options("dopri5", 2.0));
+  const RunReport r = simulate(m, x0, options(Method::dopri5, 2.0));
   EXPECT_FALSE(r.conservative);
 }
 
@@ -162,7 +162,8 @@ TEST(Simulate, HarmonicOscillatorMatchesClosedFormWithEveryStepper) {
   State<1> x0;
   x0.q[0] = 0.7;
   x0.qd[0] = -0.3;
-  for (const std::string& method : stepper_names()) {
+  for (const MethodInfo& row : method_table()) {
+    const Method method = row.method;
     SimulationOptions o = options(method, 10.0);
     o.dt = 1e-3;
     o.output_interval = 0.25;
@@ -178,8 +179,8 @@ TEST(Simulate, HarmonicOscillatorMatchesClosedFormWithEveryStepper) {
     // steppers run at rtol 1e-10; rosenbrock4 is only order 4 with a
     // finite-difference Jacobian; the second-order variational and velocity
     // Verlet steps have a phase error (w dt)² w t / 24 · |x| ≈ 6e-6 here.
-    const bool second_order = method == "variational" || method == "velocity_verlet";
-    const double bound = method == "rosenbrock4" ? 1e-6 : second_order ? 2e-5 : 1e-7;
+    const bool second_order = method == Method::variational || method == Method::velocity_verlet;
+    const double bound = method == Method::rosenbrock4 ? 1e-6 : second_order ? 2e-5 : 1e-7;
     EXPECT_LE(worst, bound) << method;
     EXPECT_DOUBLE_EQ(rec.samples.back().t, 10.0) << method;
     EXPECT_EQ(r.samples, rec.samples.size()) << method;
@@ -200,7 +201,7 @@ TEST(Simulate, DampedForcedOscillatorMatchesClosedForm) {
   State<1> x0;
   x0.q[0] = 1.0;
   const double A = x0.q[0] - F / k, B = (x0.qd[0] + gamma * A) / wd;
-  SimulationOptions o = options("dopri5", 15.0);
+  SimulationOptions o = options(Method::dopri5, 15.0);
   o.output_interval = 0.5;
   Recorder<1> rec;
   const RunReport r = simulate(model, x0, o, rec);
@@ -219,7 +220,7 @@ TEST(Simulate, Rk4GlobalErrorFallsSixteenfoldWhenStepHalves) {
   State<1> x0;
   x0.q[0] = 1.0;
   auto error = [&](double dt) {
-    SimulationOptions o = options("rk4", 5.0);
+    SimulationOptions o = options(Method::rk4, 5.0);
     o.dt = dt;
     o.output_interval = -1;  // initial and final state only
     Recorder<1> rec;
@@ -236,13 +237,13 @@ TEST(Simulate, Rk4ConvergesOnDoublePendulumAgainstTightReference) {
   const DoublePendulum m;
   State<2> x0;
   x0.q << 1.0, 0.5;
-  SimulationOptions ref_opt = options("fehlberg78", 3.0, 1e-13);
+  SimulationOptions ref_opt = options(Method::fehlberg78, 3.0, 1e-13);
   ref_opt.atol = 1e-15;
   ref_opt.output_interval = -1;
   Recorder<2> ref;
   simulate(m, x0, ref_opt, ref);
   auto error = [&](double dt) {
-    SimulationOptions o = options("rk4", 3.0);
+    SimulationOptions o = options(Method::rk4, 3.0);
     o.dt = dt;
     o.output_interval = -1;
     Recorder<2> rec;
@@ -259,7 +260,7 @@ TEST(Simulate, AdaptiveSteppersTightenWithTolerance) {
   const auto osc = harmonic_oscillator(1.0, 1.0);
   State<1> x0;
   x0.q[0] = 1.0;
-  for (const std::string method : {"dopri5", "cash_karp54", "fehlberg78", "bulirsch_stoer"}) {
+  for (const Method method : {Method::dopri5, Method::cash_karp54, Method::fehlberg78, Method::bulirsch_stoer}) {
     double prev_err = 1e300;
     std::uint64_t prev_evals = 0;
     for (double tol : {1e-6, 1e-9, 1e-12}) {
@@ -284,7 +285,7 @@ TEST(Simulate, StiffStepperHandlesStiffOscillator) {
                                 [c](const auto&, const auto& qd) { return 0.5 * c * qd[0] * qd[0]; });
   State<1> x0;
   x0.q[0] = 1.0;
-  SimulationOptions o = options("rosenbrock4", 100.0, 1e-8);
+  SimulationOptions o = options(Method::rosenbrock4, 100.0, 1e-8);
   o.output_interval = -1;
   Recorder<1> rec;
   const RunReport r = simulate(model, x0, o, rec);
@@ -295,7 +296,7 @@ TEST(Simulate, StiffStepperHandlesStiffOscillator) {
   EXPECT_NEAR(rec.samples.back().q[0], A * std::exp(s_slow * 100.0), 1e-6);
   EXPECT_LT(r.steps, 2000u);
   // An explicit stepper needs orders of magnitude more steps on the same problem.
-  o.method = "dopri5";
+  o.method = Method::dopri5;
   const RunReport explicit_run = simulate(model, x0, o);
   EXPECT_GT(explicit_run.steps, 20 * r.steps);
 }
@@ -320,7 +321,7 @@ TEST(Simulate, Rosenbrock4IsAccurateWhenTheLagrangianDependsOnTime) {
   State<1> x0;
   x0.q[0] = 0.3;
   x0.qd[0] = -0.2;
-  SimulationOptions o = options("rosenbrock4", 20.0, 1e-8);
+  SimulationOptions o = options(Method::rosenbrock4, 20.0, 1e-8);
   o.output_interval = 1.0;
   auto worst_error = [&](double force, const RunReport& r, const Recorder<1>& rec) {
     const double C = force / (m * (w * w - Omega * Omega)), A = x0.q[0] - C, B = x0.qd[0] / w;
@@ -353,7 +354,7 @@ TEST(Simulate, TheSanityMonitorFlagsAnEnergyDriftNoToleranceExcuses) {
   x0.q << rp, 0.0;
   x0.qd << 0.0, std::sqrt((1 + e) / rp) / rp;  // φ̇ = v_p / r_p, v_p = √(k (1 + e) / (m r_p))
   const double a = rp / (1 - e), period = 2 * kPi * std::pow(a, 1.5);
-  SimulationOptions o = options("rk4", 3 * period);
+  SimulationOptions o = options(Method::rk4, 3 * period);
   o.dt = 0.03;
   o.output_interval = 0.05;
   const RunReport coarse = simulate(kepler, x0, o);
@@ -365,7 +366,7 @@ TEST(Simulate, TheSanityMonitorFlagsAnEnergyDriftNoToleranceExcuses) {
   EXPECT_NE(coarse.warnings.back().find("energy drift"), std::string::npos) << coarse.warnings.back();
   EXPECT_NE(coarse.to_json().find("\"drift_exceeded\": true"), std::string::npos);
 
-  o.method = "dopri5";
+  o.method = Method::dopri5;
   const RunReport fine = simulate(kepler, x0, o);
   EXPECT_LT(fine.energy_drift_max, 1e-7);
   EXPECT_FALSE(fine.drift_exceeded);
@@ -381,7 +382,7 @@ TEST(Simulate, TheSanityMonitorFlagsAnEnergyDriftNoToleranceExcuses) {
                                  [](const auto&, const auto& qd) { return 0.25 * qd[0] * qd[0]; });
   State<1> s0;
   s0.q[0] = 1.0;
-  const RunReport decayed = simulate(damped, s0, options("dopri5", 10.0));
+  const RunReport decayed = simulate(damped, s0, options(Method::dopri5, 10.0));
   EXPECT_FALSE(decayed.conservative);
   EXPECT_GT(decayed.energy_drift_max, 0.9);
   EXPECT_FALSE(decayed.drift_exceeded);
@@ -397,7 +398,7 @@ TEST(Simulate, TheEnergyScaleIsTheEnergyTheMotionMovesAround) {
   const models::SimplePendulum pendulum(m, l, g);
   State<1> s;
   s.q << kPi / 2;
-  SimulationOptions o = options("dopri5", 2.0);
+  SimulationOptions o = options(Method::dopri5, 2.0);
   o.output_interval = 1e-3;
   Recorder<1> rec;
   const RunReport r = simulate(pendulum, s, o, rec);
@@ -418,11 +419,11 @@ TEST(Simulate, Rosenbrock4HoldsTheKapitzaPendulumUpAsDopri5Does) {
   const DrivenPendulum kapitza(1.0, 0.2, 0.02, 200.0, 9.81);
   State<1> x0;
   x0.q[0] = kPi - 0.1;
-  SimulationOptions o = options("rosenbrock4", 2.0, 1e-9);
+  SimulationOptions o = options(Method::rosenbrock4, 2.0, 1e-9);
   o.output_interval = 0.01;
   Recorder<1> stiff, reference;
   simulate(kapitza, x0, o, stiff);
-  SimulationOptions ref = options("dopri5", 2.0, 1e-12);
+  SimulationOptions ref = options(Method::dopri5, 2.0, 1e-12);
   ref.output_interval = 0.01;
   simulate(kapitza, x0, ref, reference);
   ASSERT_EQ(stiff.samples.size(), reference.samples.size());
@@ -450,7 +451,7 @@ TEST(Simulate, EnergyDriftIsReportedRelativeToTheInitialEnergy) {
   const models::SimplePendulum pendulum(1.0, 1.0, 9.81);
   State<1> s;
   s.q << 1.4;
-  SimulationOptions o = options("dopri5", 20.0, 1e-6);
+  SimulationOptions o = options(Method::dopri5, 20.0, 1e-6);
   o.output_interval = 0.01;
   Recorder<1> rec;
   const RunReport r = simulate(pendulum, s, o, rec);
@@ -481,7 +482,7 @@ TEST(Simulate, AnEnergyTheSystemChangesIsReportedAsAChangeNotADrift) {
   const DrivenPendulum driven;
   State<1> x0;
   x0.q[0] = 0.3;
-  const RunReport d = simulate(driven, x0, options("dopri5", 2.0));
+  const RunReport d = simulate(driven, x0, options(Method::dopri5, 2.0));
   ASSERT_FALSE(d.conservative);
   const std::string dt = d.summary();
   EXPECT_EQ(dt.find("drift |E - E0|"), std::string::npos) << dt;
@@ -495,7 +496,7 @@ TEST(Simulate, AnEnergyTheSystemChangesIsReportedAsAChangeNotADrift) {
   State<1> y0;
   y0.q[0] = 0.05;
   Recorder<1> rec;
-  const RunReport h = simulate(hoop, y0, options("dopri5", 5.0), rec);
+  const RunReport h = simulate(hoop, y0, options(Method::dopri5, 5.0), rec);
   ASSERT_TRUE(h.conservative);
   EXPECT_FALSE(h.total_energy_is_h);
   const std::string ht = h.summary();
@@ -515,7 +516,7 @@ TEST(Simulate, DenseOutputSamplesAreAccurateBetweenSteps) {
   const auto osc = harmonic_oscillator(1.0, w * w);
   State<1> x0;
   x0.q[0] = 1.0;
-  SimulationOptions o = options("dopri5", 10.0, 1e-12);
+  SimulationOptions o = options(Method::dopri5, 10.0, 1e-12);
   o.output_interval = 1e-3;  // much finer than the steps
   Recorder<1> rec;
   const RunReport r = simulate(osc, x0, o, rec);
@@ -533,7 +534,7 @@ TEST(Simulate, Rk4TakesTheStepItWasGivenWhateverTheOutputGrid) {
   const auto osc = harmonic_oscillator(1.0, w * w);
   State<1> x0;
   x0.q[0] = 1.0;
-  SimulationOptions o = options("rk4", 10.0);
+  SimulationOptions o = options(Method::rk4, 10.0);
   o.dt = 0.05;
   o.output_interval = 0.05;
   Recorder<1> on_steps;
@@ -567,7 +568,7 @@ TEST(Simulate, EverySampleOnAcceptedStepsByDefault) {
   State<1> x0;
   x0.q[0] = 0.5;
   Recorder<1> rec;
-  const RunReport r = simulate(m, x0, options("cash_karp54", 2.0), rec);
+  const RunReport r = simulate(m, x0, options(Method::cash_karp54, 2.0), rec);
   EXPECT_EQ(rec.samples.size(), r.steps + 1);
   EXPECT_EQ(rec.samples.front().t, 0.0);
   EXPECT_EQ(rec.samples.back().t, 2.0);
@@ -579,7 +580,7 @@ TEST(Simulate, ReportJsonNamesItsFields) {
   State<2> x0;
   x0.q << 1.0, 0.0;
   x0.qd << 0.0, 1.0;
-  const RunReport r = simulate(m, x0, options("dopri5", 1.0));
+  const RunReport r = simulate(m, x0, options(Method::dopri5, 1.0));
   const std::string json = r.to_json();
   for (const char* key : {"\"model\": \"kepler_polar\"", "\"method\": \"dopri5\"", "\"steps\": ", "\"rejected_steps\": ",
                           "\"rhs_evaluations\": ", "\"wall_time_s\": ", "\"energy_drift_max\": ",
@@ -644,9 +645,10 @@ void expect_samples_on_the_grid(const Model& model) {
   const auto exact = [&](double t) {
     return x0.q[0] * std::cos(w * (t - t0)) + x0.qd[0] / w * std::sin(w * (t - t0));
   };
-  for (const std::string& method : stepper_names()) {
-    const bool second_order = method == "variational" || method == "velocity_verlet";
-    const double bound = method == "rosenbrock4" ? 1e-6 : second_order ? 2e-5 : 1e-7;
+  for (const MethodInfo& row : method_table()) {
+    const Method method = row.method;
+    const bool second_order = method == Method::variational || method == Method::velocity_verlet;
+    const double bound = method == Method::rosenbrock4 ? 1e-6 : second_order ? 2e-5 : 1e-7;
     SimulationOptions o = options(method, t_end);
     o.t0 = t0;
     o.dt = 1e-3;

@@ -34,7 +34,7 @@ State<6> pair_at_periapsis(double m1, double m2, const KeplerOrbit& orbit, const
 
 SimulationOptions tight(double t_end, double interval) {
   SimulationOptions o;
-  o.method = "fehlberg78";
+  o.method = Method::fehlberg78;
   o.t_end = t_end;
   o.rtol = 1e-14;
   o.atol = 1e-16;

@@ -23,7 +23,7 @@ TEST(Unilateral, ParticleLeavesTheSphereWhereTheNormalForceVanishes) {
   const double m = 0.5, R = 1.2, g = 9.81, theta0 = 0.1;
   const ParticleOffSphere model(m, R, g);
   const double cos_star = 2.0 / 3.0 * std::cos(theta0);
-  for (const std::string method : {"dopri5", "cash_karp54", "fehlberg78", "gauss_radau15", "rk4"}) {
+  for (const Method method : {Method::dopri5, Method::cash_karp54, Method::fehlberg78, Method::gauss_radau15, Method::rk4}) {
     SimulationOptions o;
     o.method = method;
     o.t_end = 2.0;
@@ -47,7 +47,7 @@ TEST(Unilateral, ParticleLeavesTheSphereWhereTheNormalForceVanishes) {
       } else if (s.t == t_release) {
         found = true;
         const double cos_theta = s.q[1] / R;
-        EXPECT_NEAR(cos_theta, cos_star, method == "rk4" ? 1e-7 : 1e-9) << method;
+        EXPECT_NEAR(cos_theta, cos_star, method == Method::rk4 ? 1e-7 : 1e-9) << method;
         // Speed from energy: v² = 2 g R (cos θ0 − cos θ*).
         EXPECT_NEAR(s.qd.squaredNorm(), 2 * g * R * (std::cos(theta0) - cos_star), 1e-7) << method;
       } else {

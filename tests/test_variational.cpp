@@ -90,7 +90,7 @@ TEST(Discrete, DoublePendulumDerivativesAgainstDifferences) {
   }
 }
 
-SimulationOptions fixed(const std::string& method, double dt, double t_end) {
+SimulationOptions fixed(Method method, double dt, double t_end) {
   SimulationOptions o;
   o.method = method;
   o.dt = dt;
@@ -99,7 +99,7 @@ SimulationOptions fixed(const std::string& method, double dt, double t_end) {
 }
 
 /// Final-position error of the oscillator x(0) = 1, v(0) = 0 at t = 2 (ω = 1).
-double oscillator_error(const std::string& method, double dt, const std::string& rule = "midpoint") {
+double oscillator_error(Method method, double dt, const std::string& rule = "midpoint") {
   const auto model = oscillator(1.0, 1.0);
   State<1> x0;
   x0.q[0] = 1.0;
@@ -112,17 +112,17 @@ double oscillator_error(const std::string& method, double dt, const std::string&
 
 TEST(Variational, SecondOrderOnTheOscillator) {
   for (const std::string rule : {"midpoint", "trapezoidal"}) {
-    const double e1 = oscillator_error("variational", 0.02, rule), e2 = oscillator_error("variational", 0.01, rule);
+    const double e1 = oscillator_error(Method::variational, 0.02, rule), e2 = oscillator_error(Method::variational, 0.01, rule);
     EXPECT_NEAR(std::log2(e1 / e2), 2.0, 0.1) << rule;
     EXPECT_LT(e2, 1e-4) << rule;
   }
 }
 
 TEST(Symplectic, OrdersOnTheOscillator) {
-  const double v1 = oscillator_error("velocity_verlet", 0.02), v2 = oscillator_error("velocity_verlet", 0.01);
+  const double v1 = oscillator_error(Method::velocity_verlet, 0.02), v2 = oscillator_error(Method::velocity_verlet, 0.01);
   EXPECT_NEAR(std::log2(v1 / v2), 2.0, 0.1);
-  const double m1 = oscillator_error("symplectic_rkn_sb3a_mclachlan", 0.1),
-               m2 = oscillator_error("symplectic_rkn_sb3a_mclachlan", 0.05);
+  const double m1 = oscillator_error(Method::symplectic_rkn_sb3a_mclachlan, 0.1),
+               m2 = oscillator_error(Method::symplectic_rkn_sb3a_mclachlan, 0.05);
   EXPECT_NEAR(std::log2(m1 / m2), 4.0, 0.2);
 }
 
@@ -134,7 +134,7 @@ TEST(Variational, CyclicMomentumConservedExactly) {
   State<2> x0;
   x0.q << 1.0, 0.0;
   x0.qd << 0.0, 1.2;  // an ellipse
-  SimulationOptions o = fixed("variational", 1e-2, 200.0);
+  SimulationOptions o = fixed(Method::variational, 1e-2, 200.0);
   const RunReport r = simulate(model, x0, o);
   ASSERT_EQ(r.conserved_momenta.size(), 1u);
   EXPECT_EQ(r.conserved_momenta[0].coordinate, "phi");
@@ -150,7 +150,7 @@ TEST(Variational, SamplesBetweenStepsAndAShortLastStep) {
   const auto model = oscillator(1.0, 1.0);
   State<1> x0;
   x0.q[0] = 1.0;
-  SimulationOptions o = fixed("variational", 0.003, 1.0);
+  SimulationOptions o = fixed(Method::variational, 0.003, 1.0);
   o.output_interval = 0.1;
   std::vector<Sample<1>> samples;
   const RunReport r = simulate(model, x0, o, [&](const Sample<1>& s) { samples.push_back(s); });
@@ -165,7 +165,7 @@ TEST(Symplectic, RefusedForANonSeparableModel) {
   const DoublePendulum model;
   State<2> x0;
   x0.q << 1.0, 1.0;
-  for (const std::string m : {"velocity_verlet", "symplectic_rkn_sb3a_mclachlan"}) {
+  for (const Method m : {Method::velocity_verlet, Method::symplectic_rkn_sb3a_mclachlan}) {
     try {
       simulate(model, x0, fixed(m, 1e-3, 1.0));
       FAIL() << m << " ran a double pendulum";
@@ -196,7 +196,7 @@ TEST(Symplectic, DeclaredSeparableIsTrustedAndDeclaredFalseRefused) {
   State<1> x0;
   x0.q[0] = 1.0;
   try {
-    simulate(Declared{}, x0, fixed("velocity_verlet", 1e-2, 1.0));
+    simulate(Declared{}, x0, fixed(Method::velocity_verlet, 1e-2, 1.0));
     FAIL() << "velocity_verlet ran a model declared not separable";
   } catch (const OptionError& e) {
     EXPECT_NE(std::string(e.what()).find("declares separable = false"), std::string::npos) << e.what();
@@ -216,7 +216,7 @@ TEST(Variational, NewtonFailureIsAClearErrorNotANaN) {
       [](const auto& q, const auto&) { return 1e6 * q[0] * q[0] * q[0] * q[0]; }));
   State<1> x0;
   x0.q[0] = 1.0;
-  SimulationOptions o = fixed("variational", 1.0, 10.0);
+  SimulationOptions o = fixed(Method::variational, 1.0, 10.0);
   o.newton_max_iterations = 5;
   try {
     simulate(model, x0, o);
@@ -240,7 +240,7 @@ TEST(StructurePreserving, AModelThatDidNotOptInIsToldHow) {
   State<1> x0;
   x0.q[0] = 1.0;
   try {
-    simulate(plain, x0, fixed("variational", 1e-2, 1.0));
+    simulate(plain, x0, fixed(Method::variational, 1e-2, 1.0));
     FAIL() << "variational ran a model that did not opt in";
   } catch (const OptionError& e) {
     const std::string what = e.what();
@@ -248,20 +248,20 @@ TEST(StructurePreserving, AModelThatDidNotOptInIsToldHow) {
     EXPECT_NE(what.find("with_structure_preserving"), std::string::npos) << what;
     EXPECT_NE(what.find("'variational'"), std::string::npos) << what;
   }
-  EXPECT_LE(simulate(oscillator(1.0, 1.0), x0, fixed("variational", 1e-2, 1.0)).energy_drift_max, 1e-4);
-  for (const std::string m : {"symplectic_rkn_sb3a_mclachlan", "velocity_verlet"}) {
+  EXPECT_LE(simulate(oscillator(1.0, 1.0), x0, fixed(Method::variational, 1e-2, 1.0)).energy_drift_max, 1e-4);
+  for (const Method m : {Method::symplectic_rkn_sb3a_mclachlan, Method::velocity_verlet}) {
     const RunReport r = simulate(plain, x0, fixed(m, 1e-2, 1.0));
     EXPECT_LE(r.energy_drift_max, 1e-4) << m;
     EXPECT_GT(r.energy_drift_max, 0.0) << m;  // a real run: the fixed step leaves an O(h²) error
   }
-  SimulationOptions o = fixed("dopri5", 1e-2, 1.0);
+  SimulationOptions o = fixed(Method::dopri5, 1e-2, 1.0);
   EXPECT_LE(simulate(plain, x0, o).energy_drift_max, 1e-9);
 }
 
 TEST(Variational, OptionsAreChecked) {
   const auto model = oscillator(1.0, 1.0);
   State<1> x0;
-  SimulationOptions o = fixed("variational", 1e-2, 1.0);
+  SimulationOptions o = fixed(Method::variational, 1e-2, 1.0);
   o.discrete_rule = "simpson";
   EXPECT_THROW(simulate(model, x0, o), OptionError);
   o.discrete_rule = "midpoint";

@@ -66,10 +66,11 @@ namespace lagrangian::scene {
 
 /// What bench() runs and writes.
 struct BenchOptions {
-  /// Steppers (stepper_names()); adaptive ones run at every tolerance
+  /// Steppers (method.hpp); adaptive ones run at every tolerance
   /// (gauss_radau15 down to 1e-11, below which it runs at 1e-11),
   /// fixed-step ones (rk4) at every step size.
-  std::vector<std::string> methods{"dopri5", "cash_karp54", "fehlberg78", "bulirsch_stoer", "gauss_radau15", "rk4"};
+  std::vector<Method> methods{Method::dopri5,         Method::cash_karp54,   Method::fehlberg78,
+                              Method::bulirsch_stoer, Method::gauss_radau15, Method::rk4};
   double tolerance_loose = 1e-3;   ///< loosest rtol (= atol), in (tolerance_tight, 1)
   double tolerance_tight = 1e-13;  ///< tightest rtol (= atol), ≥ 1e-15
   int per_decade = 1;              ///< tolerances (and step sizes) per decade, ≥ 1
@@ -92,7 +93,7 @@ struct BenchOptions {
 
 /// One configuration's runs.
 struct BenchPoint {
-  std::string method;
+  std::string method;          ///< the stepper's name
   bool adaptive = true;
   double rtol = 0, atol = 0;   ///< adaptive steppers
   double dt = 0;               ///< fixed-step steppers: the step (s); adaptive: the first trial step

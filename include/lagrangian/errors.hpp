@@ -5,6 +5,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace lagrangian {
 
@@ -24,6 +25,21 @@ class ParameterError : public Error {
 class OptionError : public Error {
  public:
   using Error::Error;
+};
+
+/// A field of SimulationOptions is out of its range: what() is
+/// "simulation option 'FIELD' PROBLEM"; a scene reports the same PROBLEM
+/// under its key run.FIELD.
+class InvalidOption : public OptionError {
+ public:
+  InvalidOption(std::string field, std::string problem)
+      : OptionError("simulation option '" + field + "' " + problem), field_(std::move(field)),
+        problem_(std::move(problem)) {}
+  const std::string& field() const { return field_; }      ///< "rtol"
+  const std::string& problem() const { return problem_; }  ///< "must be < 1, got 2"
+
+ private:
+  std::string field_, problem_;
 };
 
 /// The initial state lies beyond an edge of the model's domain, where a

@@ -13,5 +13,6 @@
 #include "lagrangian/model.hpp"
 #include "lagrangian/observers.hpp"
 #include "lagrangian/params.hpp"
+#include "lagrangian/method.hpp"
 #include "lagrangian/report.hpp"
 #include "lagrangian/simulate.hpp"

@@ -10,32 +10,9 @@
 #include <string_view>
 #include <vector>
 
+#include "lagrangian/method.hpp"
+
 namespace lagrangian {
-
-/// Names of the steppers `simulate` accepts.
-///  - "rk4":            classical Runge–Kutta, fixed step `dt`, order 4.
-///  - "dopri5":         Dormand–Prince 5(4), adaptive, dense output (default).
-///  - "cash_karp54":    Cash–Karp 5(4), adaptive.
-///  - "fehlberg78":     Runge–Kutta–Fehlberg 7(8), adaptive.
-///  - "bulirsch_stoer": Bulirsch–Stoer extrapolation, adaptive order.
-///  - "rosenbrock4":    linearly implicit Rosenbrock 4(3) for stiff problems;
-///                      its Jacobian ∂f/∂x is formed by central finite
-///                      differences of the AD-derived right-hand side.
-///  - "variational":    variational integrator (variational.hpp), fixed step
-///                      `dt`, any Lagrangian, holonomic constraints held by
-///                      discrete multipliers; implicit (Newton, AD Jacobian).
-///  - "symplectic_rkn_sb3a_mclachlan": Odeint's 4th-order symplectic
-///                      Runge–Kutta–Nyström (McLachlan), fixed step `dt`.
-///  - "velocity_verlet": Odeint's velocity Verlet, 2nd order, fixed step `dt`.
-///    The last two need a separable model, L = ½ q̇ᵀMq̇ − V(q) with constant
-///    M, no constraints and no forces (detected, or declared by the model
-///    with `static constexpr bool separable = true;`); otherwise simulate()
-///    refuses them with an OptionError saying why.
-std::vector<std::string> stepper_names();
-
-/// True for the steppers with a fixed step `dt` (rk4, variational, the
-/// symplectic ones).
-bool fixed_step_method(const std::string& method);
 
 /// How constraint drift is controlled during a run of a constrained model.
 enum class Stabilization {
@@ -66,7 +43,7 @@ void check_drift(RunReport& report, double rtol);
 inline constexpr double min_rtol = 1e-15;
 
 struct SimulationOptions {
-  std::string method = "dopri5";  ///< stepper name, see stepper_names()
+  Method method = Method::dopri5;  ///< the stepper (method.hpp)
   double t0 = 0.0;                ///< start time (s)
   double t_end = 10.0;            ///< end time (s), > t0
   double dt = 1e-3;               ///< fixed step for rk4; first trial step for adaptive steppers (s)

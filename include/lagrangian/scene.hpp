@@ -217,21 +217,19 @@ struct ModelSpec {
 
 // -- run and outputs --------------------------------------------------------------
 
-/// How the scene is integrated. Times in s.
-struct RunSpec {
-  std::string method = "dopri5";   ///< stepper (stepper_names()); "event_driven" for the exact hard-sphere engine
+/// How the scene is integrated: the options of simulate() (report.hpp;
+/// times in s), of which a scene file sets method, t0, t_end, dt, rtol,
+/// atol, output_interval (0.01 s unless given), max_steps, stabilization and
+/// baumgarte_omega, and the engine.
+struct RunSpec : SimulationOptions {
+  RunSpec() { output_interval = 0.01; }
   /// "auto": the exact event-driven engine when the bodies fly freely between
-  /// contacts (spheres in a box, no forces, no constraints), else "ode".
+  /// contacts (spheres in a box, no forces, no constraints), else "ode";
+  /// "event_driven" (a scene file may also say method = "event_driven").
   std::string engine = "auto";
-  double t0 = 0.0;                 ///< start time (s)
-  double t_end = 10.0;             ///< end time (s), > t0
-  double dt = 1e-3;                ///< fixed step (rk4) or first trial step (s)
-  double rtol = 1e-10;             ///< relative tolerance per step
-  double atol = 1e-12;             ///< absolute tolerance per step
-  double output_interval = 0.01;   ///< time between trajectory samples (s); 0: every step
-  std::uint64_t max_steps = 50'000'000;  ///< a run needing more accepted steps fails
-  Stabilization stabilization = Stabilization::projection;  ///< constraint drift control
-  double baumgarte_omega = 10.0;   ///< ω (1/s) for Baumgarte stabilization
+  /// The key that chose the engine, named by messages about it: "run.engine",
+  /// or "run.method" when the file chose it by method = "event_driven".
+  std::string engine_key = "run.engine";
 };
 
 /// What a run writes.

@@ -45,23 +45,23 @@ namespace detail {
 template <class M>
 void refuse_unsuited_method(const M& model, const State<coordinate_count_v<M>>& initial,
                             const SimulationOptions& options) {
-  const std::string& m = options.method;
-  if (m == "variational" && !structure_preserving_v<M>) {
-    throw OptionError("method '" + m + "' is compiled only for models that opt in to the structure-preserving methods, "
+  const Method m = options.method;
+  if (m == Method::variational && !structure_preserving_v<M>) {
+    throw OptionError("method 'variational' is compiled only for models that opt in to the structure-preserving methods, "
                       "and model " + model_name(model) +
                       " does not: declare 'static constexpr bool structure_preserving = true;' in the model, or pass "
                       "lagrangian::with_structure_preserving(model) (see structure_preserving_v in model.hpp)");
   }
-  if (m == "variational" && !variational_supported_v<M>) {
+  if (m == Method::variational && !variational_supported_v<M>) {
     throw OptionError(
         "method 'variational' cannot run model " + model_name(model) +
         ": it needs a compile-time number of coordinates and supports holonomic constraints only (no Pfaffian or "
         "unilateral constraints, no contacts); use dopri5 or fehlberg78");
   }
-  if (m == "symplectic_rkn_sb3a_mclachlan" || m == "velocity_verlet") {
+  if (method_info(m).needs_separable) {
     const std::string why = separability_problem(model, initial, options.t0);
     if (!why.empty())
-      throw OptionError("method '" + m + "' needs a separable model (L = 1/2 qd^T M qd - V(q), constant M); model " +
+      throw OptionError("method '" + std::string(to_string(m)) + "' needs a separable model (L = 1/2 qd^T M qd - V(q), constant M); model " +
                         model_name(model) + " is not: " + why + "; use variational, dopri5 or fehlberg78");
   }
 }
@@ -154,7 +154,7 @@ RunReport simulate_impl(const M& model, const State<coordinate_count_v<M>>& init
   RunReport report;
   report.model = model_name(model);
   report.coordinates = names;
-  report.method = options.method;
+  report.method = to_string(options.method);
   report.adaptive = !fixed_step_method(options.method);
   report.rtol = options.rtol;
   report.atol = options.atol;

@@ -45,7 +45,10 @@ void BenchCommand::apply(scene::Scene& scene) {
                      "'"};
   }
   try {
-    if (methods_) options_.methods = comma_list(*methods_);
+    if (methods_) {
+      options_.methods.clear();
+      for (const std::string& name : comma_list(*methods_)) options_.methods.push_back(parse_method(name, "--methods"));
+    }
     if (tolerances_)
       std::tie(options_.tolerance_loose, options_.tolerance_tight) = scene::parse_range("--tolerances", *tolerances_);
     if (dt_) std::tie(options_.dt_large, options_.dt_small) = scene::parse_range("--dt", *dt_);

@@ -48,17 +48,23 @@ void RunCommand::apply(scene::Scene& scene) const {
     scene.source.overrides["run.atol"] = "--atol";
   }
   if (method_) {
-    auto names = stepper_names();
-    names.push_back("event_driven");
-    if (std::find(names.begin(), names.end(), *method_) == names.end()) {
-      const std::string near = scene::nearest(*method_, names);
-      throw BadInput{"command line: --method: unknown stepper '" + *method_ + "'" +
-                     (near.empty() ? std::string() : "; did you mean '" + near + "'?")};
+    // A stepper, or the event-driven engine by another name.
+    if (*method_ == "event_driven") {
+      scene.run.engine = "event_driven";
+      scene.run.engine_key = "run.method";
+    } else {
+      auto names = stepper_names();
+      names.push_back("event_driven");
+      const std::optional<Method> m = find_method(*method_);
+      if (!m) {
+        const std::string near = scene::nearest(*method_, names);
+        throw BadInput{"command line: --method: unknown stepper '" + *method_ + "'" +
+                       (near.empty() ? std::string() : "; did you mean '" + near + "'?")};
+      }
+      scene.run.method = *m;
+      if (scene.run.engine == "event_driven") scene.run.engine = "ode";
     }
-    scene.run.method = *method_;
     scene.source.overrides["run.method"] = "--method";
-    if (*method_ == "event_driven") scene.run.engine = "event_driven";
-    else if (scene.run.engine == "event_driven") scene.run.engine = "ode";
   }
   if (out_dir_) {
     scene.output.directory = *out_dir_;

@@ -92,7 +92,7 @@ void run_symplectic(Run& run, StateVector& x) {
     std::copy(v.begin(), v.end(), xs.begin() + static_cast<std::ptrdiff_t>(size));
   };
   unpack(x);
-  if (opt.method == "velocity_verlet") {
+  if (opt.method == Method::velocity_verlet) {
     odeint::velocity_verlet<V> stepper;
     auto sys = [&](const V& qin, const V&, V& a, double t) { acceleration(qin, a, t); };
     run_fixed_grid(run, x, [&](double t, double h, StateVector& xs) {

@@ -21,22 +21,18 @@ void integrate(System& system, std::vector<double>& x, const SimulationOptions& 
   Run run(system, options, report);
   system.start(x.data(), options.t0);  // impacts at t0 may change x
   run.emit(options.t0, x.data());
-  const std::string& m = options.method;
-  const bool explicit_adaptive = !fixed_step_method(m) && m != "rosenbrock4";
+  const MethodInfo& m = method_info(options.method);
+  const bool explicit_adaptive = m.adaptive && m.family != MethodFamily::rosenbrock;
   const std::vector<double> x0 = explicit_adaptive ? x : std::vector<double>();  // for the stiffness test
   try {
-    if (m == "dopri5" || m == "rk4" || m == "cash_karp54" || m == "fehlberg78" || m == "bulirsch_stoer") {
-      if (!system.integrate_inlined(run, x)) run_explicit(run, x);
-    } else if (m == "rosenbrock4") {
-      run_rosenbrock4(run, x);
-    } else if (m == "gauss_radau15") {
-      run_gauss_radau15(run, x);
-    } else if (m == "symplectic_rkn_sb3a_mclachlan" || m == "velocity_verlet") {
-      run_symplectic(run, x);
-    } else if (m == "variational") {
-      run_variational(run, x);
-    } else {
-      throw OptionError("unknown method '" + m + "'");
+    switch (m.family) {
+      case MethodFamily::explicit_runge_kutta:
+        if (!system.integrate_inlined(run, x)) run_explicit(run, x);
+        break;
+      case MethodFamily::rosenbrock: run_rosenbrock4(run, x); break;
+      case MethodFamily::gauss_radau: run_gauss_radau15(run, x); break;
+      case MethodFamily::symplectic: run_symplectic(run, x); break;
+      case MethodFamily::variational: run_variational(run, x); break;
     }
   } catch (const DynamicsError& e) {
     throw SimulationError(std::string("run stopped: ") + e.what(), run.last_time());

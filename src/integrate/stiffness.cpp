@@ -86,24 +86,25 @@ ProbeCost steps_over(const System& system, StateVector x, double t, double span,
 }
 
 /// The growth exponent 1/(p+1) of the steps with 1/tol for the embedded
-/// pairs (a step with local error h^(p+1) per unit tolerance); none for
-/// Bulirsch–Stoer, which changes its order with the tolerance.
-std::optional<double> growth_exponent(const std::string& method) {
-  if (method == "dopri5" || method == "cash_karp54") return 1.0 / 5.0;
-  if (method == "fehlberg78") return 1.0 / 8.0;
-  return std::nullopt;
+/// pairs (a step with local error h^(p+1) per unit tolerance, p the error
+/// order of method_table()); none for Bulirsch–Stoer, which changes its
+/// order with the tolerance.
+std::optional<double> growth_exponent(Method method) {
+  const int p = method_info(method).error_order;
+  if (p == 0) return std::nullopt;
+  return 1.0 / (p + 1);
 }
 
-ProbeCost steps_over(const std::string& method, const System& system, const StateVector& x, double t, double span,
+ProbeCost steps_over(Method method, const System& system, const StateVector& x, double t, double span,
                      double dt, double rtol, double atol, std::uint64_t cap) {
   using V = StateVector;
-  if (method == "dopri5")
+  if (method == Method::dopri5)
     return steps_over<odeint::controlled_runge_kutta<odeint::runge_kutta_dopri5<V>>>(system, x, t, span, dt, rtol,
                                                                                       atol, cap);
-  if (method == "cash_karp54")
+  if (method == Method::cash_karp54)
     return steps_over<odeint::controlled_runge_kutta<odeint::runge_kutta_cash_karp54<V>>>(system, x, t, span, dt,
                                                                                           rtol, atol, cap);
-  if (method == "fehlberg78")
+  if (method == Method::fehlberg78)
     return steps_over<odeint::controlled_runge_kutta<odeint::runge_kutta_fehlberg78<V>>>(system, x, t, span, dt,
                                                                                          rtol, atol, cap);
   return {};
@@ -159,8 +160,8 @@ void check_stiffness(const System& system, const StateVector& x, double t, doubl
   // Bulirsch–Stoer raises its order rather than shrinking its step at a
   // tighter tolerance, and gauss_radau15's steps are set by its last term,
   // not a tolerance per step: dopri5 makes the test for both.
-  const bool stand_in = options.method == "bulirsch_stoer" || options.method == "gauss_radau15";
-  const std::string probe = stand_in ? "dopri5" : options.method;
+  const bool stand_in = options.method == Method::bulirsch_stoer || options.method == Method::gauss_radau15;
+  const Method probe = stand_in ? Method::dopri5 : options.method;
   const std::optional<double> exponent = growth_exponent(probe);
   if (!exponent) return;
   const double span = std::min(100 * step, options.t_end - options.t0);
@@ -186,10 +187,10 @@ void check_stiffness(const System& system, const StateVector& x, double t, doubl
   os << "stiff problem: the " << report.steps << " steps (" << step << " s at the end) ";
   if (growth) {
     os << "were limited by stability, not accuracy: over the run's first " << span << " s, tolerances " << kTighter
-       << " times tighter took " << probe;
+       << " times tighter took " << to_string(probe);
     if (probe != options.method)
-      os << " (standing in for " << options.method
-         << (options.method == "bulirsch_stoer" ? ", which raises its order rather than shrinking its step)"
+      os << " (standing in for " << to_string(options.method)
+         << (options.method == Method::bulirsch_stoer ? ", which raises its order rather than shrinking its step)"
                                                 : ", whose steps no tolerance per step sets)");
     os << " " << *growth << " times as many steps, where steps set by accuracy would take about "
        << std::pow(kTighter, *exponent) << " times as many (largest |eigenvalue| of df/dx about " << *rho
@@ -200,7 +201,7 @@ void check_stiffness(const System& system, const StateVector& x, double t, doubl
   }
   os << "; the implicit rosenbrock4, run over the same interval at the same tolerances and sample times, took "
      << implicit.steps << " steps and " << implicit.evaluations << " evaluations of f (its Jacobians included) against "
-     << options.method << "'s " << report.steps << " steps and " << explicit_cost
+     << to_string(options.method) << "'s " << report.steps << " steps and " << explicit_cost
      << ": it is not limited this way";
   report.warnings.push_back(os.str());
 }

@@ -33,7 +33,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 /// The reference run's stepper where there is neither a closed form nor a
 /// shipped reference: the most accurate the project has (docs/accuracy.md,
 /// "Gauss–Radau to round-off"), at its tightest tolerance.
-constexpr const char* kReferenceMethod = "gauss_radau15";
+constexpr Method kReferenceMethod = Method::gauss_radau15;
+const std::string kReferenceName{to_string(kReferenceMethod)};
 constexpr double kReferenceTightest = lagrangian::detail::kGaussRadauSmallestTolerance;
 
 /// bench/reference/double_pendulum.txt: the chaotic double pendulum of
@@ -68,8 +69,6 @@ std::string json_number(double v) {
   if (!std::isfinite(v)) return "null";
   return fmt(v, "%.17g");
 }
-
-bool is_adaptive(const std::string& method) { return method != "rk4"; }
 
 /// loose, …, tight: `per_decade` values per decade, each rounded to three
 /// significant digits (1e-3, 3.16e-4, 1e-4 … for two per decade).
@@ -164,7 +163,7 @@ double half_ulp_max(const std::array<double, 2>& x) {
 
 /// The scene set up for one bench run: method, tolerances, step, samples at
 /// the ends only, no outputs, the ODE engine for particle scenes.
-Scene configured(const Scene& scene, const std::string& method, double rtol, double atol, double dt) {
+Scene configured(const Scene& scene, Method method, double rtol, double atol, double dt) {
   Scene s = scene;
   s.run.method = method;
   s.run.rtol = rtol;
@@ -276,7 +275,7 @@ std::string json_text(const Scene& scene, const BenchOptions& o, const BenchResu
   os << ",\n  \"settings\": {\"methods\": [";
   for (std::size_t k = 0; k < o.methods.size(); ++k) {
     if (k) os << ", ";
-    json_string(os, o.methods[k]);
+    json_string(os, std::string(to_string(o.methods[k])));
   }
   os << "], \"tolerance_loose\": " << json_number(o.tolerance_loose)
      << ", \"tolerance_tight\": " << json_number(o.tolerance_tight) << ", \"per_decade\": " << o.per_decade
@@ -334,14 +333,11 @@ std::pair<double, double> parse_range(const std::string& option, const std::stri
 
 void BenchOptions::validate() const {
   if (methods.empty()) throw OptionError("methods: none given");
-  const auto names = stepper_names();
-  for (const std::string& m : methods) {
-    if (std::find(names.begin(), names.end(), m) == names.end()) {
-      const std::string near = nearest(m, names);
-      throw OptionError("methods: unknown stepper '" + m + "'" +
-                        (near.empty() ? std::string() : "; did you mean '" + near + "'?"));
-    }
-    if (std::count(methods.begin(), methods.end(), m) > 1) throw OptionError("methods: '" + m + "' given twice");
+  for (const Method m : methods) {
+    if (static_cast<std::size_t>(m) >= method_table().size())
+      throw OptionError("methods: " + std::to_string(static_cast<int>(m)) + " is not a Method");
+    if (std::count(methods.begin(), methods.end(), m) > 1)
+      throw OptionError("methods: '" + std::string(to_string(m)) + "' given twice");
   }
   if (!(tolerance_tight >= min_rtol) || !(tolerance_loose > tolerance_tight) || !(tolerance_loose < 1) ||
       !std::isfinite(tolerance_loose))
@@ -423,7 +419,7 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
   RunResult reference;
   double tol = std::max(options.reference_tolerance, kReferenceTightest);
   if (options.reference_tolerance < kReferenceTightest * (1 - 1e-9))
-    warn("reference tolerance " + fmt(options.reference_tolerance, "%.3g") + " is below " + kReferenceMethod +
+    warn("reference tolerance " + fmt(options.reference_tolerance, "%.3g") + " is below " + kReferenceName +
          "'s tightest tolerance " + fmt(kReferenceTightest, "%.0e") + " (its error measure |b6|/|q''| is round-off "
          "there): a reference run uses " + fmt(kReferenceTightest, "%.0e"));
   // The closed form, if any, comes with the report of any run: one cheap run
@@ -464,9 +460,9 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
     say("reference: " + result.reference);
   } else {
     result.reference_kind = "run";
-    result.reference_method = kReferenceMethod;
+    result.reference_method = kReferenceName;
     result.reference_tolerance = tol;
-    say("reference: " + std::string(kReferenceMethod) + " at rtol = atol = " + fmt(tol, "%.0e"));
+    say("reference: " + kReferenceName + " at rtol = atol = " + fmt(tol, "%.0e"));
     result.reference_time_s = reference.report.wall_time_s;
     result.reference_q = reference.q_final;
     result.reference_qd = reference.qd_final;
@@ -475,17 +471,17 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
     if (!std::isfinite(result.reference_accuracy))
       throw SimulationError("bench: the reference runs ended in states of different sizes", scene.run.t_end);
     result.error_measure = "max_i |q_i(t_end) - q_i,ref(t_end)| against a reference run (units of q: " + units + ")";
-    result.reference = std::string(kReferenceMethod) + " at rtol = atol = " + fmt(tol, "%.0e") + " (" +
+    result.reference = kReferenceName + " at rtol = atol = " + fmt(tol, "%.0e") + " (" +
                        std::to_string(reference.report.steps) + " steps; the tightest it runs at); its error is "
                        "estimated as " + fmt(result.reference_accuracy, "%.1e") +
-                       " = max_i |q_i - q_i,ref| of a second " + kReferenceMethod + " run at " + fmt(10 * tol, "%.0e") +
+                       " = max_i |q_i - q_i,ref| of a second " + kReferenceName + " run at " + fmt(10 * tol, "%.0e") +
                        " (at these tolerances both are round-off, so this is the size of the reference's error, "
                        "not a bound)";
   }
 
   // The configurations.
   struct Config {
-    std::string method;
+    Method method;
     double rtol, atol, dt;
   };
   std::vector<Config> configs;
@@ -493,19 +489,19 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
   const double dt_large = options.dt_large > 0 ? options.dt_large : span / 100;
   const double dt_small = options.dt_small > 0 ? options.dt_small : span / 1e5;
   const std::vector<double> dts = grid(dt_large, dt_small, options.per_decade);
-  for (const std::string& m : options.methods) {
-    if (is_adaptive(m)) {
+  for (const Method m : options.methods) {
+    if (method_info(m).adaptive) {
       // gauss_radau15 runs tolerances below its smallest at that one (its
       // error measure is round-off there): those points would repeat it, so
       // they are dropped, and the user is told which.
       const double smallest = lagrangian::detail::kGaussRadauSmallestTolerance;
       std::string dropped;
       for (double t : tols) {
-        if (m != "gauss_radau15" || t >= smallest * (1 - 1e-9)) configs.push_back({m, t, t, scene.run.dt});
+        if (m != Method::gauss_radau15 || t >= smallest * (1 - 1e-9)) configs.push_back({m, t, t, scene.run.dt});
         else dropped += (dropped.empty() ? "" : ", ") + fmt(t, "%.3g");
       }
       if (!dropped.empty())
-        warn(m + ": tolerances " + dropped + " dropped: below " + fmt(smallest, "%.0e") + " its error measure " +
+        warn(std::string(to_string(m)) + ": tolerances " + dropped + " dropped: below " + fmt(smallest, "%.0e") + " its error measure " +
              "|b6|/|q''| is round-off and it runs at " + fmt(smallest, "%.0e") + ", so those rows would repeat the " +
              fmt(smallest, "%.0e") + " row");
     } else {
@@ -524,12 +520,12 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
   for (std::size_t i = 0; i < configs.size(); ++i) {
     const Config& c = configs[i];
     BenchPoint& p = points[i];
-    p.method = c.method;
-    p.adaptive = is_adaptive(c.method);
+    p.method = to_string(c.method);
+    p.adaptive = method_info(c.method).adaptive;
     p.rtol = c.rtol;
     p.atol = c.atol;
     p.dt = c.dt;
-    p.is_reference = result.reference_kind == "run" && c.method == result.reference_method &&
+    p.is_reference = result.reference_kind == "run" && p.method == result.reference_method &&
                      c.rtol == result.reference_tolerance && c.atol == result.reference_tolerance &&
                      c.dt == scene.run.dt;
     scenes.push_back(configured(scene, c.method, p.adaptive ? c.rtol : scene.run.rtol,
@@ -606,7 +602,7 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
                                     : std::string("error: max_i |q_i - q_i,ref| at t = ")) +
                 fmt(scene.run.t_end, "%.6g") + " s" +
                 (result.reference_kind == "run"
-                     ? "; reference: " + std::string(kReferenceMethod) + " at " + fmt(tol, "%.0e")
+                     ? "; reference: " + kReferenceName + " at " + fmt(tol, "%.0e")
                      : result.reference_kind == "shipped" ? "; reference: bench/reference/double_pendulum.txt (mpmath)"
                                                           : "") +
                 "; time: median of " + std::to_string(options.repeat) + "; " +
@@ -615,11 +611,11 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
     plot.out_dir = options.out_dir;
     plot.png = options.png;
     plot.svg = options.svg;
-    for (const std::string& m : options.methods) {
+    for (const Method m : options.methods) {
       WorkPrecisionSeries sr;
-      sr.name = m;
+      sr.name = to_string(m);
       for (const BenchPoint& p : result.points) {
-        if (p.method != m || !p.ok()) continue;
+        if (p.method != sr.name || !p.ok()) continue;
         sr.wall_time_s.push_back(p.wall_time_s);
         sr.rhs_evaluations.push_back(static_cast<double>(p.rhs_evaluations));
         sr.error.push_back(p.error);

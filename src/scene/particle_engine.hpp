@@ -56,9 +56,6 @@ class ComposedRhs {
   std::unique_ptr<Impl> impl_;
 };
 
-/// The integration options of a scene's [run] table.
-SimulationOptions options_of(const RunSpec& run);
-
 /// Runs a validated scene whose gas (if any) has been expanded: the scene
 /// as a System for the one driver (integrate.hpp).
 ParticleRun run_particles(const Scene& scene, const ParticleOutput& output, const SampleTick& tick);

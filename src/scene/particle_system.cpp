@@ -679,39 +679,21 @@ class ParticleSystem final : public lagrangian::System {
 
 }  // namespace
 
-SimulationOptions options_of(const RunSpec& run) {
-  SimulationOptions o;
-  o.method = run.method;
-  o.t0 = run.t0;
-  o.t_end = run.t_end;
-  o.dt = run.dt;
-  o.rtol = run.rtol;
-  o.atol = run.atol;
-  o.max_steps = run.max_steps;
-  o.output_interval = run.output_interval;
-  o.stabilization = run.stabilization;
-  o.baumgarte_omega = run.baumgarte_omega;
-  return o;
-}
-
 ParticleRun run_particles(const Scene& scene, const ParticleOutput& output, const SampleTick& tick) {
-  const std::string& method = scene.run.method;
-  if (method == "variational" || method == "symplectic_rkn_sb3a_mclachlan" || method == "velocity_verlet")
-    throw OptionError("run.method: '" + method +
+  const MethodInfo& method = method_info(scene.run.method);
+  if (method.family == MethodFamily::variational || method.family == MethodFamily::symplectic)
+    throw OptionError("run.method: '" + std::string(method.name) +
                       "' runs built-in models (model = ...) only; a scene of bodies runs with rk4, dopri5, "
                       "cash_karp54, fehlberg78, bulirsch_stoer, gauss_radau15 or rosenbrock4");
-  if (method != "rk4" && method != "dopri5" && method != "cash_karp54" && method != "fehlberg78" &&
-      method != "bulirsch_stoer" && method != "gauss_radau15" && method != "rosenbrock4")
-    throw OptionError("run.method: unknown stepper '" + method + "' for a particle scene");
   const auto wall_start = std::chrono::steady_clock::now();
-  const SimulationOptions opt = options_of(scene.run);
+  const SimulationOptions& opt = scene.run;
   ParticleRun out;
   RunReport& rep = out.report;
   rep.model = scene.name;
   for (const auto& b : scene.bodies)
     for (const char* ax : {".x", ".y", ".z"}) rep.coordinates.push_back(b.name + ax);
-  rep.method = method;
-  rep.adaptive = method != "rk4";
+  rep.method = method.name;
+  rep.adaptive = method.adaptive;
   rep.rtol = opt.rtol;
   rep.atol = opt.atol;
   rep.dt = opt.dt;

@@ -86,11 +86,9 @@ void write_report(const Scene& scene, const RunResult& r, const std::string& pat
   lagrangian::detail::write_text_file(path, os.str(), "report file");
 }
 
-using detail::options_of;
-
 std::string engine_of(const Scene& scene) {
   if (scene.model) return "model";
-  if (scene.run.engine == "event_driven" || scene.run.method == "event_driven") return "event_driven";
+  if (scene.run.engine == "event_driven") return "event_driven";
   if (scene.run.engine == "ode") return "ode";
   return detail::event_driven_eligible(scene) ? "event_driven" : "ode";
 }
@@ -236,7 +234,7 @@ RunResult run(const Scene& input, const RunControls& controls) {
       try {
         detail::FinalState last;
         result.report =
-            entry->run(*scene.model, options_of(scene.run), want_csv ? traj : std::string(), tick, &last);
+            entry->run(*scene.model, scene.run, want_csv ? traj : std::string(), tick, &last);
         result.q_final = std::move(last.q);
         result.qd_final = std::move(last.qd);
       } catch (const SceneError& e) {

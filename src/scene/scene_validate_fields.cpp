@@ -73,38 +73,21 @@ void Validator::nonzero_normal(const std::string& key, const Vec3& n) const {
 
 // -- run and output --
 
-bool Validator::event_driven() const { return s_.run.engine == "event_driven" || s_.run.method == "event_driven"; }
+bool Validator::event_driven() const { return s_.run.engine == "event_driven"; }
 
 void Validator::check_run() const {
   const RunSpec& r = s_.run;
-  auto steppers = stepper_names();
-  steppers.emplace_back("event_driven");
-  if (std::find(steppers.begin(), steppers.end(), r.method) == steppers.end())
-    fail("run.method", "unknown stepper " + quote_text(r.method) + detail::unknown_hint(r.method, steppers));
   const std::vector<std::string> engines{"auto", "ode", "event_driven"};
   if (std::find(engines.begin(), engines.end(), r.engine) == engines.end())
     fail("run.engine", "unknown engine " + quote_text(r.engine) + detail::unknown_hint(r.engine, engines));
-  if (r.method == "event_driven" && r.engine == "ode")
-    fail("run.method", "'event_driven' is the event-driven engine, which contradicts engine = \"ode\"");
-  finite("run.t0", r.t0);
-  finite("run.t_end", r.t_end);
-  if (!(r.t_end > r.t0))
-    fail("run.t_end", "must be greater than t0 = " + format_value(r.t0) + ", got " + format_value(r.t_end));
-  positive("run.dt", r.dt);
-  positive("run.rtol", r.rtol);
-  if (!(r.rtol < 1)) fail("run.rtol", "must be < 1, got " + format_value(r.rtol));
-  if (r.rtol < min_rtol)
-    fail("run.rtol", "must be at least 1e-15 (no double-precision step can meet a smaller relative tolerance), got " +
-                         format_value(r.rtol));
-  positive("run.atol", r.atol);
+  // The options' own checks (SimulationOptions::validate), under the scene's keys.
+  try {
+    r.validate();
+  } catch (const InvalidOption& e) {
+    fail("run." + e.field(), e.problem());
+  }
+  // A scene samples its run: "only the first and last states" is not offered.
   nonnegative("run.output_interval", r.output_interval);
-  if (r.max_steps == 0) fail("run.max_steps", "must be an integer > 0, got 0");
-  if (r.stabilization != Stabilization::none && r.stabilization != Stabilization::baumgarte &&
-      r.stabilization != Stabilization::projection)
-    fail("run.stabilization", "unknown stabilization " +
-                                  std::to_string(static_cast<int>(r.stabilization)) +
-                                  "; expected one of: none, baumgarte, projection");
-  positive("run.baumgarte_omega", r.baumgarte_omega);
 }
 
 void Validator::check_output() const {
@@ -125,8 +108,7 @@ void Validator::check_model() const {
     fail("model", "a scene is either a built-in [model] or bodies with effects, not both; this one also declares " +
                       detail::join(also));
   if (event_driven())
-    fail(s_.run.engine == "event_driven" ? "run.engine" : "run.method",
-         "the event-driven engine runs bodies in a box, not a built-in [model]");
+    fail(s_.run.engine_key, "the event-driven engine runs bodies in a box, not a built-in [model]");
   if (m.text) {
     check_text_model();
     return;
@@ -378,7 +360,7 @@ void Validator::check_contacts() const {
 
 void Validator::check_engine() const {
   if (!event_driven()) return;
-  const std::string key = s_.run.engine == "event_driven" ? "run.engine" : "run.method";
+  const std::string& key = s_.run.engine_key;
   std::vector<std::string> other;
   for (const auto& d : s_.declared())
     if (d != "sphere_contacts" && d != "plane_contacts" && d != "box_contacts") other.push_back(d);

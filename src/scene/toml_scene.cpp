@@ -280,8 +280,21 @@ class Reader {
          {"method", "engine", "t0", "t_end", "dt", "rtol", "atol", "output_interval", "max_steps", "stabilization",
           "baumgarte_omega"});
     RunSpec& r = s_.run;
-    if (auto* n = get(t, p, "method")) r.method = string(*n, "run.method");  // checked by validate()
     if (auto* n = get(t, p, "engine")) r.engine = string(*n, "run.engine");
+    if (auto* n = get(t, p, "method")) {
+      // A stepper (method.hpp), or the event-driven engine by another name.
+      std::vector<std::string> names = stepper_names();
+      names.emplace_back("event_driven");
+      const std::string v = choice(*n, "run.method", names, "stepper");
+      if (v != "event_driven") {
+        r.method = *find_method(v);
+      } else if (r.engine == "ode") {
+        fail("run.method", "'event_driven' is the event-driven engine, which contradicts engine = \"ode\"");
+      } else {
+        r.engine = "event_driven";
+        r.engine_key = "run.method";
+      }
+    }
     if (auto* n = get(t, p, "t0")) r.t0 = number(*n, "run.t0");
     if (auto* n = get(t, p, "t_end")) r.t_end = number(*n, "run.t_end");
     if (auto* n = get(t, p, "dt")) r.dt = number(*n, "run.dt");

@@ -58,6 +58,7 @@ sources=(
   "$src/src/text/read.cpp"
   "$src/src/text/formula.cpp"
   "$src/src/report.cpp"
+  "$src/src/method.cpp"
   "$src/src/params.cpp"
   "$src/src/nearest_name.cpp"
 )

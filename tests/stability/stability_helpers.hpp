@@ -49,5 +49,8 @@ inline double length_factor(double short_factor = 0.2) {
 inline void record(const std::string& what, const std::string& method, double figure, double bound) {
   std::printf("STABILITY | %s | %s | %.3g | %.3g |\n", what.c_str(), method.c_str(), figure, bound);
 }
+inline void record(const std::string& what, lagrangian::Method method, double figure, double bound) {
+  record(what, std::string(lagrangian::to_string(method)), figure, bound);
+}
 
 }  // namespace stability

@@ -35,7 +35,7 @@ TEST(StabilityKepler, AdaptiveEnergyErrorBelow1e10) {
   x0.q << 1.0 - kE, 0.0;
   x0.qd << 0.0, std::sqrt((1.0 + kE) / (1.0 - kE));
   // dopri5 is recorded for comparison; the bound is asserted for fehlberg78.
-  for (const char* method : {"dopri5", "fehlberg78"}) {
+  for (const Method method : {Method::dopri5, Method::fehlberg78}) {
     SimulationOptions o;
     o.method = method;
     o.t_end = kOrbits * kPeriod * stability::length_factor();
@@ -44,11 +44,11 @@ TEST(StabilityKepler, AdaptiveEnergyErrorBelow1e10) {
     o.dt = 1e-4;
     o.output_interval = kPeriod / 64;
     const RunReport r = simulate(model, x0, o);
-    stability::record("Kepler e = 0.99, 1000 orbits, relative energy error", std::string(method) + " rtol 1e-12",
+    stability::record("Kepler e = 0.99, 1000 orbits, relative energy error", std::string(to_string(method)) + " rtol 1e-12",
                       r.energy_drift_max, 1e-10);
-    std::printf("  %s: %llu steps, %llu RHS\n", method, static_cast<unsigned long long>(r.steps),
+    std::printf("  %s: %llu steps, %llu RHS\n", to_string(method).data(), static_cast<unsigned long long>(r.steps),
                 static_cast<unsigned long long>(r.rhs_evaluations));
-    if (std::string(method) == "fehlberg78") {
+    if (method == Method::fehlberg78) {
       EXPECT_LE(r.energy_drift_max, 1e-10) << method;
     }
   }
@@ -63,7 +63,7 @@ TEST(StabilityKepler, VariationalBoundedEnergyExactAngularMomentum) {
   const int orbits = static_cast<int>(kOrbits * stability::length_factor(0.03));
   const int window = orbits / 10;
   SimulationOptions o;
-  o.method = "variational";
+  o.method = Method::variational;
   o.dt = 2e-4;  // about 1/4 of the pericentre passage time r_p / v_p = 7e-4 s
   o.t_end = orbits * kPeriod;
   stability::WindowedEnergy<2> energy{kPeriod};

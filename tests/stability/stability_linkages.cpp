@@ -63,7 +63,7 @@ State<3> before_collinear() {
 
 // The run goes through the singular pose and finishes: the pose is seen and
 // reported, the constraints hold, nothing is NaN.
-void expect_detected_and_finished(const RunReport& r, const std::string& method) {
+void expect_detected_and_finished(const RunReport& r, Method method) {
   EXPECT_LT(r.constraints.min_conditioning, 1e-3) << method;
   bool warned = false;
   for (const auto& w : r.constraints.warnings) warned = warned || w.find("near-singular") != std::string::npos;
@@ -78,7 +78,7 @@ void expect_detected_and_finished(const RunReport& r, const std::string& method)
 
 TEST(StabilityLinkages, FourBarThroughTheSingularPose) {
   const FourBar model;
-  for (const char* method : {"dopri5", "variational"}) {
+  for (const Method method : {Method::dopri5, Method::variational}) {
     SimulationOptions o;
     o.method = method;
     o.t_end = 2.0;  // θ1 passes 0 at t ≈ 0.3 s
@@ -104,7 +104,7 @@ TEST(StabilityLinkages, DuplicatedConstraintReportedAndHarmless) {
   const DoubledRod model;
   State<2> x0;
   x0.q << std::sin(1.0), -std::cos(1.0);
-  for (const char* method : {"dopri5", "variational"}) {
+  for (const Method method : {Method::dopri5, Method::variational}) {
     SimulationOptions o;
     o.method = method;
     o.t_end = 200.0;

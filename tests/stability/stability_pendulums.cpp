@@ -26,7 +26,7 @@ State<2> high_energy() {
 
 TEST(StabilityDoublePendulum, AdaptiveDriftBelow1e9) {
   const models::DoublePendulum model;
-  for (const char* method : {"dopri5", "fehlberg78"}) {
+  for (const Method method : {Method::dopri5, Method::fehlberg78}) {
     SimulationOptions o;
     o.method = method;
     o.t_end = 100.0;
@@ -34,7 +34,7 @@ TEST(StabilityDoublePendulum, AdaptiveDriftBelow1e9) {
     o.atol = 1e-14;
     const RunReport r = simulate(model, high_energy(), o);
     stability::record("double pendulum, high energy, t = 100 s, relative energy drift",
-                      std::string(method) + " rtol 1e-12", r.energy_drift_max, 1e-9);
+                      std::string(to_string(method)) + " rtol 1e-12", r.energy_drift_max, 1e-9);
     EXPECT_LE(r.energy_drift_max, 1e-9) << method;
   }
 }
@@ -42,7 +42,7 @@ TEST(StabilityDoublePendulum, AdaptiveDriftBelow1e9) {
 TEST(StabilityDoublePendulum, VariationalBounded) {
   const models::DoublePendulum model;
   SimulationOptions o;
-  o.method = "variational";
+  o.method = Method::variational;
   o.dt = 1e-3;
   o.t_end = 100.0;
   stability::WindowedEnergy<2> energy{10.0};
@@ -67,7 +67,7 @@ constexpr double kPeriodSmall = 2 * std::numbers::pi * 0.31927542840705496;  // 
 TEST(StabilityCartesianPendulum, ProjectionResidualBelow1e10) {
   const models::CartesianPendulum model;
   SimulationOptions o;
-  o.method = "dopri5";
+  o.method = Method::dopri5;
   o.t_end = 1e4 * kPeriodSmall * stability::length_factor(0.05);  // 500 periods under the sanitizers
   o.rtol = 1e-10;
   o.atol = 1e-12;
@@ -83,7 +83,7 @@ TEST(StabilityCartesianPendulum, ProjectionResidualBelow1e10) {
 TEST(StabilityCartesianPendulum, ConstrainedVariationalResidualBelow1e10) {
   const models::CartesianPendulum model;
   SimulationOptions o;
-  o.method = "variational";
+  o.method = Method::variational;
   o.dt = 1e-2;
   o.t_end = 1e4 * kPeriodSmall * stability::length_factor(0.05);  // 500 periods under the sanitizers
   o.output_interval = 1.0;  // energy sampled every second

@@ -29,7 +29,7 @@ std::string label(const Scale& s) {
 
 /// Final state of an e = 0.5 Kepler orbit (one period is 2π s: GM = L³/s²)
 /// after 10 s, in units of L and L/s.
-State<2> kepler_final(const Scale& s, const std::string& method) {
+State<2> kepler_final(const Scale& s, Method method) {
   const double L = s.length;
   const models::RelativeMotion<2> model(s.mass, models::NewtonianGravity{s.mass * L * L * L});
   State<2> x0;
@@ -51,7 +51,7 @@ State<2> kepler_final(const Scale& s, const std::string& method) {
 }
 
 TEST(StabilityScales, KeplerNondimensionalAgreement) {
-  for (const char* method : {"dopri5", "variational"}) {
+  for (const Method method : {Method::dopri5, Method::variational}) {
     const State<2> ref = kepler_final({1.0, 1.0}, method);
     double worst = 0;
     for (const Scale& s : kScales) {
@@ -68,7 +68,7 @@ TEST(StabilityScales, KeplerNondimensionalAgreement) {
 /// Final angles and rates of a double pendulum of rods L and bobs m with
 /// g = 9.81 L/s² (the same motion in units of L) after 10 s, released from
 /// θ1 = 0.5, θ2 = 0.3 rad.
-State<2> pendulum_final(const Scale& s, const std::string& method) {
+State<2> pendulum_final(const Scale& s, Method method) {
   const models::DoublePendulum model(s.mass, s.mass, s.length, s.length, 9.81 * s.length);
   State<2> x0;
   x0.q << 0.5, 0.3;  // regular motion: a chaotic one would amplify the last-bit differences of g/L
@@ -88,7 +88,7 @@ State<2> pendulum_final(const Scale& s, const std::string& method) {
 }
 
 TEST(StabilityScales, DoublePendulumNondimensionalAgreement) {
-  for (const char* method : {"dopri5", "variational"}) {
+  for (const Method method : {Method::dopri5, Method::variational}) {
     const State<2> ref = pendulum_final({1.0, 1.0}, method);
     double worst = 0;
     for (const Scale& s : kScales) {

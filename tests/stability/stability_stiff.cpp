@@ -41,7 +41,7 @@ State<2> start() {
   return x0;
 }
 
-SimulationOptions run(const std::string& method) {
+SimulationOptions run(Method method) {
   SimulationOptions o;
   o.method = method;
   o.t_end = 20.0;  // about three periods of the soft mode (2π s)
@@ -56,7 +56,7 @@ SimulationOptions run(const std::string& method) {
 constexpr std::uint64_t kStiffStepBound = 600;
 
 TEST(StabilityStiff, Rosenbrock4FinishesInFewStepsEnergyBounded) {
-  const RunReport r = simulate(StiffSprings{}, start(), run("rosenbrock4"));
+  const RunReport r = simulate(StiffSprings{}, start(), run(Method::rosenbrock4));
   stability::record("stiff springs k/m = 1e8, t = 20 s, accepted steps", "rosenbrock4 rtol 1e-6",
                     static_cast<double>(r.steps), static_cast<double>(kStiffStepBound));
   stability::record("stiff springs k/m = 1e8, t = 20 s, relative energy error", "rosenbrock4 rtol 1e-6",
@@ -67,8 +67,8 @@ TEST(StabilityStiff, Rosenbrock4FinishesInFewStepsEnergyBounded) {
 }
 
 TEST(StabilityStiff, ExplicitStepperReportedInefficient) {
-  const RunReport stiff = simulate(StiffSprings{}, start(), run("rosenbrock4"));
-  const RunReport r = simulate(StiffSprings{}, start(), run("dopri5"));
+  const RunReport stiff = simulate(StiffSprings{}, start(), run(Method::rosenbrock4));
+  const RunReport r = simulate(StiffSprings{}, start(), run(Method::dopri5));
   stability::record("stiff springs k/m = 1e8, t = 20 s, accepted steps (warned as stiff)", "dopri5 rtol 1e-6",
                     static_cast<double>(r.steps), 0);
   // Stability bound of dopri5: h ω ≲ 3.3 with ω = 1e4 1/s, so at least
@@ -87,7 +87,7 @@ TEST(StabilityStiff, ExplicitStepperReportedInefficient) {
   // The warning's test of stability-limited steps holds: a thousand times
   // tighter, the step count barely moves (accuracy-limited, it would grow
   // about 1000^(1/5) = 4 times).
-  SimulationOptions tight = run("dopri5");
+  SimulationOptions tight = run(Method::dopri5);
   tight.rtol = 1e-9;
   tight.atol = 1e-12;
   const RunReport t = simulate(StiffSprings{}, start(), tight);
@@ -95,7 +95,7 @@ TEST(StabilityStiff, ExplicitStepperReportedInefficient) {
 }
 
 /// A run to t_end with rtol, atol = rtol / 1000 and no samples between.
-SimulationOptions short_run(const std::string& method, double rtol, double t_end) {
+SimulationOptions short_run(Method method, double rtol, double t_end) {
   SimulationOptions o = run(method);
   o.t_end = t_end;
   o.rtol = rtol;
@@ -107,7 +107,7 @@ SimulationOptions short_run(const std::string& method, double rtol, double t_end
 TEST(StabilityStiff, StabilityLimitedStepsAreConfirmedAtEveryTolerance) {
   // Stability caps the step at h ρ of order 1 whatever the tolerance: the
   // warning says so as a finding, for dopri5 and fehlberg78.
-  for (const char* method : {"dopri5", "fehlberg78"}) {
+  for (const Method method : {Method::dopri5, Method::fehlberg78}) {
     for (double rtol : {1e-6, 1e-9}) {
       const RunReport r = simulate(StiffSprings{}, start(), short_run(method, rtol, 2.0));
       EXPECT_GT(r.steps, 5000u) << method << " rtol " << rtol;  // 2 s at h ρ ≲ 2.5 with ρ = 1e4 1/s
@@ -127,8 +127,8 @@ TEST(StabilityStiff, AccuracyLimitedStepsAboveTheRateAreNotWarned) {
   StiffSprings soft;
   soft.ks = 1.0;
   int checked = 0;
-  for (const auto& [method, rtol] : {std::pair{"dopri5", 1e-2}, std::pair{"fehlberg78", 1e-2},
-                                     std::pair{"fehlberg78", 1e-3}, std::pair{"fehlberg78", 1e-4}}) {
+  for (const auto& [method, rtol] : {std::pair{Method::dopri5, 1e-2}, std::pair{Method::fehlberg78, 1e-2},
+                                     std::pair{Method::fehlberg78, 1e-3}, std::pair{Method::fehlberg78, 1e-4}}) {
     const RunReport r = simulate(soft, start(), short_run(method, rtol, 100.0));
     const double mean_h_rho = r.t_final / static_cast<double>(r.steps) * r.stiffness_rho;
     EXPECT_GT(mean_h_rho, 1.0) << method << " rtol " << rtol;  // where h ρ alone would have warned
@@ -143,7 +143,7 @@ TEST(StabilityStiff, BulirschStoerIsJudgedByDopri5sSteps) {
   // tighter tolerance, so dopri5 makes the test on the same stretch: the
   // stiff springs are confirmed, the soft springs (h ρ = 2.1–2.9 at the end)
   // are not warned.
-  const RunReport stiff = simulate(StiffSprings{}, start(), short_run("bulirsch_stoer", 1e-6, 2.0));
+  const RunReport stiff = simulate(StiffSprings{}, start(), short_run(Method::bulirsch_stoer, 1e-6, 2.0));
   ASSERT_EQ(stiff.warnings.size(), 1u);
   EXPECT_NE(stiff.warnings[0].find("were limited by stability, not accuracy"), std::string::npos)
       << stiff.warnings[0];
@@ -152,7 +152,7 @@ TEST(StabilityStiff, BulirschStoerIsJudgedByDopri5sSteps) {
   StiffSprings soft;
   soft.ks = 1.0;
   for (double rtol : {1e-2, 1e-3, 1e-4}) {
-    const RunReport r = simulate(soft, start(), short_run("bulirsch_stoer", rtol, 100.0));
+    const RunReport r = simulate(soft, start(), short_run(Method::bulirsch_stoer, rtol, 100.0));
     EXPECT_GT(r.t_final / static_cast<double>(r.steps) * r.stiffness_rho, 1.0) << rtol;
     EXPECT_TRUE(r.warnings.empty()) << rtol << ": " << r.warnings[0];
   }
@@ -189,13 +189,13 @@ TEST(StabilityStiff, BelowTheTestsToleranceTheWarningSaysMayWhenRosenbrock4IsChe
   // the warning says the steps "may" have been limited, with the counts.
   State<1> x0;
   x0.q << 1.0;
-  SimulationOptions o = short_run("dopri5", 1e-13, 1.0);
+  SimulationOptions o = short_run(Method::dopri5, 1e-13, 1.0);
   o.atol = 1e-16;
   const RunReport r = simulate(OverdampedOscillator{}, x0, o);
   EXPECT_NEAR(r.stiffness_rho, 9899.0, 50.0);  // (c + √(c² − 4k)) / 2
   EXPECT_TRUE(r.warnings.empty()) << r.warnings[0];
   SimulationOptions implicit = o;
-  implicit.method = "rosenbrock4";
+  implicit.method = Method::rosenbrock4;
   EXPECT_GT(simulate(OverdampedOscillator{}, x0, implicit).rhs_evaluations, r.rhs_evaluations);
   o.t_end = 10.0;
   const RunReport longer = simulate(OverdampedOscillator{}, x0, o);
@@ -210,7 +210,7 @@ TEST(StabilityStiff, BelowTheTestsToleranceTheWarningSaysMayWhenRosenbrock4IsChe
 TEST(StabilityStiff, NonStiffRunIsNotWarned) {
   StiffSprings soft;
   soft.ks = 1.0;
-  const RunReport r = simulate(soft, start(), run("dopri5"));
+  const RunReport r = simulate(soft, start(), run(Method::dopri5));
   EXPECT_TRUE(r.warnings.empty()) << r.warnings[0];
   EXPECT_GT(r.stiffness_rho, 0.5);
   EXPECT_LT(r.stiffness_rho, 3.0);  // ω² = (3 ± √5)/2 for k_s = k = 1
@@ -222,7 +222,7 @@ TEST(StabilityStiff, NonStiffRunIsNotWarned) {
 /// constant along the solution; round-off alone excites the orbit's own
 /// oscillation (ρ ≈ 5.8 1/s), which holds dopri5's steps at h ρ ≈ 2 at any
 /// tolerance, so the test of tighter tolerances alone called it stiff.
-SimulationOptions conical_run(const std::string& method) {
+SimulationOptions conical_run(Method method) {
   SimulationOptions o;
   o.method = method;
   o.t_end = 10.0;
@@ -240,8 +240,8 @@ State<2> conical_start() {
 }
 
 TEST(StabilityStiff, SteadyConicalOrbitIsNotCalledStiff) {
-  const RunReport r = simulate(models::SphericalPendulum{}, conical_start(), conical_run("dopri5"));
-  const RunReport implicit = simulate(models::SphericalPendulum{}, conical_start(), conical_run("rosenbrock4"));
+  const RunReport r = simulate(models::SphericalPendulum{}, conical_start(), conical_run(Method::dopri5));
+  const RunReport implicit = simulate(models::SphericalPendulum{}, conical_start(), conical_run(Method::rosenbrock4));
   stability::record("conical pendulum, t = 10 s, accepted steps (not warned)", "dopri5 rtol 1e-10",
                     static_cast<double>(r.steps), 0);
   stability::record("conical pendulum, t = 10 s, accepted steps", "rosenbrock4 rtol 1e-10",
@@ -257,7 +257,7 @@ TEST(StabilityStiff, SteadyConicalOrbitIsNotCalledStiff) {
 TEST(StabilityStiff, SymplecticStepsBoundedEnergy) {
   // Separable (constant M): both symplectic steppers run it; at h ω = 0.5
   // the energy error stays bounded over 4e5 steps.
-  for (const char* method : {"velocity_verlet", "symplectic_rkn_sb3a_mclachlan"}) {
+  for (const Method method : {Method::velocity_verlet, Method::symplectic_rkn_sb3a_mclachlan}) {
     SimulationOptions o;
     o.method = method;
     o.dt = 5e-5;

@@ -1,9 +1,14 @@
 #pragma once
 // simulate() compiled once, in the library, for the built-in models.
 //
-// simulate_impl<M> (simulate.hpp) holds every stepper loop, the variational
-// integrator and the symplectic steppers; instantiating it costs 20-30 s of
-// compile time per model type. The model headers (models/lagrangian/models/)
+// simulate_impl<M> (simulate.hpp) checks the input and runs the model's
+// adapter, ModelSystem<M> (model_system.hpp: the model's own derivatives,
+// constraints, events and monitors, and for a model that opts in to the
+// structure-preserving methods its variational integrator), through the
+// driver, whose stepper loops are compiled once in the library
+// (src/integrate/); instantiating it for a model type costs what that
+// model's own code costs to compile (3-5 s for a small model,
+// docs/performance.md). The model headers (models/lagrangian/models/)
 // declare it `extern` for their concrete models with
 // LAGRANGIAN_EXTERN_SIMULATE, and src/models/*.cpp instantiate it once with
 // LAGRANGIAN_INSTANTIATE_SIMULATE, so a program that simulates a built-in

@@ -264,19 +264,17 @@ void run_rk4(Run& run, X& x, const Rhs rhs) {
 template <class X, class Rhs>
 void run_explicit_on(Run& run, X& x, const Rhs& rhs) {
   namespace loops = explicit_loops;
-  const std::string& m = run.options().method;
-  if (m == "dopri5") {
-    loops::run_dopri5(run, x, rhs);
-  } else if (m == "rk4") {
-    loops::run_rk4(run, x, rhs);
-  } else if (m == "cash_karp54") {
-    loops::run_controlled<odeint::controlled_runge_kutta<odeint::runge_kutta_cash_karp54<X>>>(run, x, rhs);
-  } else if (m == "fehlberg78") {
-    loops::run_controlled<odeint::controlled_runge_kutta<odeint::runge_kutta_fehlberg78<X>>>(run, x, rhs);
-  } else if (m == "bulirsch_stoer") {
-    loops::run_controlled<odeint::bulirsch_stoer<X>>(run, x, rhs);
-  } else {
-    throw OptionError("not an explicit Runge-Kutta method: '" + m + "'");
+  switch (const Method m = run.options().method) {
+    case Method::dopri5: loops::run_dopri5(run, x, rhs); break;
+    case Method::rk4: loops::run_rk4(run, x, rhs); break;
+    case Method::cash_karp54:
+      loops::run_controlled<odeint::controlled_runge_kutta<odeint::runge_kutta_cash_karp54<X>>>(run, x, rhs);
+      break;
+    case Method::fehlberg78:
+      loops::run_controlled<odeint::controlled_runge_kutta<odeint::runge_kutta_fehlberg78<X>>>(run, x, rhs);
+      break;
+    case Method::bulirsch_stoer: loops::run_controlled<odeint::bulirsch_stoer<X>>(run, x, rhs); break;
+    default: throw OptionError("not an explicit Runge-Kutta method: '" + std::string(to_string(m)) + "'");
   }
 }
 
