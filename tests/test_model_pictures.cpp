@@ -119,7 +119,7 @@ SimulationOptions run_options(double t_end) {
 ModelState default_state(const ModelSpec& spec) {
   scene::detail::FinalState s;
   int samples = 0;
-  const scene::detail::SampleTick stop_at_second = [&](double) {
+  const scene::detail::SampleTick stop_at_second = [&](const scene::SampleRow&) {
     if (++samples == 2) throw FirstSampleTaken{};
   };
   try {

@@ -36,6 +36,7 @@ namespace {
 namespace fs = std::filesystem;
 using namespace lagrangian;
 using lagrangian::scene::ModelSpec;
+using lagrangian::scene::SampleRow;
 using lagrangian::scene::SceneError;
 using lagrangian::scene::detail::find_entry;
 using lagrangian::scene::detail::ModelEntry;
@@ -347,16 +348,23 @@ TEST(SceneModels, EveryModelWritesItsTrajectoryAndTicksEverySample) {
     spec.name = name;
     int ticks = 0;
     double last = -1;
+    std::vector<double> last_row;  // t, q, q̇ of the last tick
     const std::string path = dir.file(name + ".csv");
-    const RunReport r = entry(name).run(spec, options(0.5, 0.05), path, [&](double t) {
+    const RunReport r = entry(name).run(spec, options(0.5, 0.05), path, [&](const SampleRow& row) {
       ++ticks;
-      EXPECT_GT(t, last);
-      last = t;
+      EXPECT_GT(row.t, last);
+      last = row.t;
+      last_row.assign(1, row.t);
+      last_row.insert(last_row.end(), row.q.begin(), row.q.end());
+      last_row.insert(last_row.end(), row.qd.begin(), row.qd.end());
     });
     EXPECT_EQ(static_cast<std::uint64_t>(ticks), r.samples);
     EXPECT_FALSE(fs::exists(path + ".partial"));
     const Csv csv = read_csv(path);
     ASSERT_EQ(csv.rows.size(), r.samples);
+    // Each tick carries the sample the file has (17 digits: the same doubles).
+    ASSERT_EQ(last_row.size(), 1 + 2 * r.coordinates.size());
+    for (std::size_t c = 0; c < last_row.size(); ++c) EXPECT_EQ(csv.rows.back()[c], last_row[c]) << "column " << c;
     EXPECT_EQ(csv.header[0], "t [s]");
     EXPECT_EQ(csv.header[1].substr(0, csv.header[1].find(' ')), r.coordinates[0]);
   }

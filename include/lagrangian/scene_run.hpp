@@ -3,6 +3,9 @@
 /// Running and inspecting a scene.
 
 #include <cstdint>
+#include <functional>
+#include <limits>
+#include <span>
 #include <map>
 #include <optional>
 #include <string>
@@ -14,6 +17,18 @@
 
 namespace lagrangian::scene {
 
+/// One sample of a run, the values of a row of trajectory.csv: time (s),
+/// coordinates q and their rates q̇ (the model's units, m for bodies' x, y,
+/// z), the energy function h and T + V (J; NaN where the run does not
+/// sample it). The spans point into the run's own storage: valid during the
+/// call only.
+struct SampleRow {
+  double t = 0;
+  std::span<const double> q, qd;
+  double energy = std::numeric_limits<double>::quiet_NaN();
+  double total_energy = std::numeric_limits<double>::quiet_NaN();
+};
+
 /// How run() behaves beyond what the scene says.
 struct RunControls {
   bool write_outputs = true;  ///< write trajectory.csv, events.csv, report.json and plots
@@ -23,6 +38,9 @@ struct RunControls {
   /// whether it was, animation_note why not.
   std::string video_path;
   view::VideoOptions video;
+  /// Called with every sample, in time order (with or without outputs
+  /// written): samples read in memory, not from trajectory.csv.
+  std::function<void(const SampleRow&)> on_sample;
 };
 
 /// Kinetic theory against a run of a gas: equal spheres in a box with

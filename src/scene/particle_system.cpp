@@ -195,7 +195,10 @@ class ParticleSystem final : public lagrangian::System {
       if (model_.fixed_rows() > 0) multipliers_at(x, t);
       output_.sample(t, x, x + model_.dim(), model_.dim(), E, lambda_, forces_);
     }
-    if (tick_) tick_(t);
+    if (tick_) {
+      const auto dim = static_cast<std::size_t>(model_.dim());
+      tick_(SampleRow{t, {x, dim}, {x + dim, dim}, E, std::numeric_limits<double>::quiet_NaN()});
+    }
   }
 
   /// The energy scale, as for models (EnergyScale), and the drift so far

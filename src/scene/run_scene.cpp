@@ -93,7 +93,7 @@ std::string engine_of(const Scene& scene) {
   return detail::event_driven_eligible(scene) ? "event_driven" : "ode";
 }
 
-RunReport run_event_driven(const Scene& scene, CsvSink* csv, Progress& progress, std::vector<double>& q_final,
+RunReport run_event_driven(const Scene& scene, CsvSink* csv, const detail::SampleTick& tick, std::vector<double>& q_final,
                            std::vector<double>& qd_final) {
   HardSphereSystem sys;
   for (const Body& b : scene.bodies) sys.spheres.push_back({b.name, b.mass, b.radius, b.position, b.velocity});
@@ -116,7 +116,6 @@ RunReport run_event_driven(const Scene& scene, CsvSink* csv, Progress& progress,
   s.q.resize(3 * n);
   s.qd.resize(3 * n);
   auto sampler = [&](double t, const std::vector<HardSphere>& spheres) {
-    progress.update(t);
     q_final.resize(static_cast<std::size_t>(3 * n));
     qd_final.resize(static_cast<std::size_t>(3 * n));
     for (int i = 0; i < n; ++i)
@@ -124,7 +123,7 @@ RunReport run_event_driven(const Scene& scene, CsvSink* csv, Progress& progress,
         q_final[static_cast<std::size_t>(3 * i + k)] = spheres[static_cast<std::size_t>(i)].position[k];
         qd_final[static_cast<std::size_t>(3 * i + k)] = spheres[static_cast<std::size_t>(i)].velocity[k];
       }
-    if (!csv) return;
+    if (!csv && !tick) return;
     double T = 0;
     for (int i = 0; i < n; ++i) {
       const HardSphere& h = spheres[static_cast<std::size_t>(i)];
@@ -135,7 +134,8 @@ RunReport run_event_driven(const Scene& scene, CsvSink* csv, Progress& progress,
     s.t = t;
     s.energy = T;
     s.total_energy = T;
-    (*csv)(s);
+    if (csv) (*csv)(s);
+    if (tick) tick(SampleRow{t, {q_final.data(), q_final.size()}, {qd_final.data(), qd_final.size()}, T, T});
   };
   return run_hard_spheres(sys, opt, sampler);
 }
@@ -222,9 +222,13 @@ RunResult run(const Scene& input, const RunControls& controls) {
   const std::string traj = (fs::path(dir) / "trajectory.csv").string();
   const bool show_progress = controls.progress && Progress::stderr_is_terminal();
   Progress progress(scene.run.t0, scene.run.t_end, show_progress);
-  // Without a progress bar the engines get no per-step callback at all.
-  const detail::SampleTick tick = show_progress ? detail::SampleTick([&progress](double t) { progress.update(t); })
-                                                : detail::SampleTick();
+  // Without a progress bar or an on_sample the engines get no per-sample callback at all.
+  detail::SampleTick tick;
+  if (show_progress || controls.on_sample)
+    tick = [&progress, show_progress, &on_sample = controls.on_sample](const SampleRow& row) {
+      if (show_progress) progress.update(row.t);
+      if (on_sample) on_sample(row);
+    };
   try {
     if (write) remove_outputs(dir);
     const bool want_csv = write && scene.output.trajectory;
@@ -252,7 +256,7 @@ RunResult run(const Scene& input, const RunControls& controls) {
       if (want_csv) csv.emplace(traj);
       if (result.engine == "event_driven") {
         if (csv) csv->begin(columns);
-        result.report = run_event_driven(scene, csv ? &*csv : nullptr, progress, result.q_final, result.qd_final);
+        result.report = run_event_driven(scene, csv ? &*csv : nullptr, tick, result.q_final, result.qd_final);
       } else {
         Sample<Dynamic> s;
         const int dim = 3 * static_cast<int>(scene.bodies.size());

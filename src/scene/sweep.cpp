@@ -109,22 +109,15 @@ SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
     // An earlier sweep's table and plots must not look like this one's.
     detail::remove_listed_outputs(o.out_dir, {"sweep.csv"});
   }
-  const fs::path work_root = out_dir / (".work-rank" + std::to_string(o.rank));
-  {
-    std::error_code ec;
-    fs::remove_all(work_root, ec);  // left by an interrupted sweep
-  }
-
   std::vector<SweepRecord> local(mine.size());
   std::atomic<std::size_t> next{0}, done{0};
   auto cancelled = [&] { return o.cancel != nullptr && o.cancel->load(); };
-  auto worker = [&](int id) {
-    const std::string work_dir = (work_root / ("thread" + std::to_string(id))).string();
+  auto worker = [&] {
     for (;;) {
       if (cancelled()) return;
       const std::size_t k = next.fetch_add(1);
       if (k >= mine.size()) return;
-      local[k] = run_point(plan, o, mine[k], work_dir);
+      local[k] = run_point(plan, o, mine[k]);
       done.fetch_add(1);
     }
   };
@@ -132,7 +125,7 @@ SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
     Progress progress(0, static_cast<double>(mine.size()), o.progress && o.rank == 0 && Progress::stderr_is_terminal());
     progress.set_format("run %.0f");
     std::vector<std::thread> pool;
-    for (int id = 0; id < threads; ++id) pool.emplace_back(worker, id);
+    for (int id = 0; id < threads; ++id) pool.emplace_back(worker);
     if (o.progress && o.rank == 0) {
       while (done.load() < mine.size() && !cancelled()) {
         progress.update(static_cast<double>(done.load()));
@@ -142,8 +135,6 @@ SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
     for (auto& t : pool) t.join();
     progress.finish();
   }
-  std::error_code ignore;
-  fs::remove_all(work_root, ignore);
   if (done.load() < mine.size()) throw SweepInterrupted(done.load(), mine.size());
   const auto computed = std::chrono::steady_clock::now();
 

@@ -47,7 +47,7 @@ Scene point_scene(const Plan& plan, const SweepOptions& o, toml::table& doc, std
 // -- running one point (sweep_point.cpp) ---------------------------------------
 
 std::vector<std::string> trajectory_names(const Scene& scene);
-SweepRecord run_point(const Plan& plan, const SweepOptions& o, std::uint64_t index, const std::string& work_dir);
+SweepRecord run_point(const Plan& plan, const SweepOptions& o, std::uint64_t index);
 
 // -- serialization between ranks (sweep_point.cpp) -----------------------------
 

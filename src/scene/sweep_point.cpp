@@ -1,19 +1,16 @@
 // One sweep point: its scene from the scene file's TOML document (scene keys
 // parsed into paths, the point's values written at them), its run and the
-// SweepRecord of the outcome with the --first-time crossings, and the
-// record's text form passed between ranks (MPI).
+// SweepRecord of the outcome with the --first-time crossings (from the
+// samples in memory), and the record's text form passed between ranks (MPI).
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
+#include <optional>
 #include <stdexcept>
 
 #include "sweep_detail.hpp"
-#include "lagrangian/detail/csv_header.hpp"
 #include "lagrangian/errors.hpp"
 #include "toml_document.hpp"
 #include "lagrangian/scene_models.hpp"
@@ -66,59 +63,61 @@ std::vector<std::string> trajectory_names(const Scene& scene) {
 
 namespace {
 
-namespace fs = std::filesystem;
-
-/// The first times of the --first-time expressions from the run's
-/// trajectory.csv (see FirstTimeSpec).
-void first_times(const std::string& path, const SweepOptions& o, SweepRecord& rec) {
-  std::ifstream in(path);
-  std::string line;
-  if (!std::getline(in, line)) throw OptionError("cannot read the trajectory '" + path + "'");
-  std::vector<std::string> names = split(line, ',');
-  for (std::string& n : names) n = std::string(lagrangian::detail::csv_field_name(n));  // "x [m]" is x
-  std::vector<Expression> exprs;
-  for (const FirstTimeSpec& f : o.first_times) exprs.emplace_back(f.expression, names, "--first-time " + f.name);
-  rec.first_times.assign(exprs.size(), kNaN);
-  std::vector<double> prev_val(exprs.size(), kNaN);
-  double prev_t = kNaN;
-  std::vector<double> row(names.size());
-  std::size_t open = exprs.size();
-  while (open > 0 && std::getline(in, line)) {
-    const std::vector<std::string> cells = split(line, ',');
-    for (std::size_t c = 0; c < row.size(); ++c)
-      row[c] = c < cells.size() ? std::strtod(cells[c].c_str(), nullptr) : kNaN;
-    const double t = row[0];
-    for (std::size_t k = 0; k < exprs.size(); ++k) {
-      if (!std::isnan(rec.first_times[k])) continue;
-      const double v = exprs[k].evaluate(row.data());
-      if (v > 0) {
-        // Linear interpolation of the zero between the previous sample and this one.
-        rec.first_times[k] = std::isfinite(prev_val[k]) && prev_val[k] <= 0 && v != prev_val[k]
-                                 ? prev_t + (t - prev_t) * (0 - prev_val[k]) / (v - prev_val[k])
-                                 : t;
-        --open;
-      }
-      prev_val[k] = v;
-    }
-    prev_t = t;
+/// The first times of the --first-time expressions, from the run's samples
+/// as they come (see FirstTimeSpec): each expression over t, q, q̇, energy
+/// and total_energy (trajectory_names()), its first positive value located
+/// by linear interpolation between that sample and the one before.
+class FirstTimes {
+ public:
+  FirstTimes(const Scene& scene, const SweepOptions& o) : times_(o.first_times.size(), kNaN), prev_(times_.size(), kNaN) {
+    const std::vector<std::string> names = trajectory_names(scene);
+    for (const FirstTimeSpec& f : o.first_times) exprs_.emplace_back(f.expression, names, "--first-time " + f.name);
+    row_.resize(names.size());
   }
-}
+  void operator()(const SampleRow& s) {
+    if (open_ == 0) return;
+    std::size_t c = 0;
+    row_[c++] = s.t;
+    for (double v : s.q) row_[c++] = v;
+    for (double v : s.qd) row_[c++] = v;
+    row_[c++] = s.energy;
+    row_[c++] = s.total_energy;
+    for (std::size_t k = 0; k < exprs_.size(); ++k) {
+      if (!std::isnan(times_[k])) continue;
+      const double v = exprs_[k].evaluate(row_.data());
+      if (v > 0) {
+        times_[k] = std::isfinite(prev_[k]) && prev_[k] <= 0 && v != prev_[k]
+                        ? prev_t_ + (s.t - prev_t_) * (0 - prev_[k]) / (v - prev_[k])
+                        : s.t;
+        --open_;
+      }
+      prev_[k] = v;
+    }
+    prev_t_ = s.t;
+  }
+  const std::vector<double>& times() const { return times_; }
+
+ private:
+  std::vector<Expression> exprs_;
+  std::vector<double> times_, prev_, row_;
+  double prev_t_ = kNaN;
+  std::size_t open_ = times_.size();
+};
 
 }  // namespace
 
-SweepRecord run_point(const Plan& plan, const SweepOptions& o, std::uint64_t index, const std::string& work_dir) {
+SweepRecord run_point(const Plan& plan, const SweepOptions& o, std::uint64_t index) {
   SweepRecord rec;
   rec.values = point_values(o, index);
   try {
     toml::table doc = toml::parse(plan.text, plan.file);  // the worker's own document
     Scene scene = point_scene(plan, o, doc, rec.values);
     RunControls controls;
-    controls.write_outputs = !o.first_times.empty();
-    if (controls.write_outputs) {
-      scene.output.directory = work_dir;
-      scene.output.trajectory = true;
-      scene.output.plots = false;
-      scene.output.animation = false;
+    controls.write_outputs = false;
+    std::optional<FirstTimes> first;
+    if (!o.first_times.empty()) {
+      first.emplace(scene, o);
+      controls.on_sample = [&first](const SampleRow& row) { (*first)(row); };
     }
     const RunResult r = run(scene, controls);
     const RunReport& rep = r.report;
@@ -142,7 +141,7 @@ SweepRecord run_point(const Plan& plan, const SweepOptions& o, std::uint64_t ind
       g.last = e.t;
       ++g.count;
     }
-    if (!o.first_times.empty()) first_times((fs::path(work_dir) / "trajectory.csv").string(), o, rec);
+    if (first) rec.first_times = first->times();
   } catch (const std::exception& e) {
     std::string msg = e.what();
     std::replace(msg.begin(), msg.end(), '\n', ' ');

@@ -24,7 +24,7 @@
 namespace lagrangian::scene::detail {
 
 /// The observer of a scene run: CSV rows (committed by finish(), which
-/// simulate() calls only on success) and a progress tick per sample.
+/// simulate() calls only on success) and a tick with each sample.
 template <int N>
 struct SceneObserver {
   CsvSink* csv = nullptr;
@@ -35,7 +35,10 @@ struct SceneObserver {
   }
   void operator()(const Sample<N>& s) {
     if (csv) (*csv)(s);
-    if (tick) (*tick)(s.t);
+    if (tick) {
+      const auto n = static_cast<std::size_t>(s.q.size());
+      (*tick)(SampleRow{s.t, {s.q.data(), n}, {s.qd.data(), n}, s.energy, s.total_energy});
+    }
     if (final_state) {
       final_state->t = s.t;
       final_state->q.assign(s.q.data(), s.q.data() + s.q.size());

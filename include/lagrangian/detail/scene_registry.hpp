@@ -12,12 +12,14 @@
 #include "lagrangian/scene.hpp"
 #include "lagrangian/scene_analysis.hpp"
 #include "lagrangian/scene_models.hpp"
+#include "lagrangian/scene_run.hpp"
 #include "lagrangian/view.hpp"
 
 namespace lagrangian::scene::detail {
 
-/// Called with the time of every sample a run produces (progress display).
-using SampleTick = std::function<void(double t)>;
+/// Called with every sample a run produces (progress display,
+/// RunControls::on_sample).
+using SampleTick = std::function<void(const SampleRow&)>;
 
 /// The state a run ended in (the last sample): generalized coordinates and
 /// their rates in the model's order, at time t (s).
