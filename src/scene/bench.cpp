@@ -385,58 +385,45 @@ std::string BenchResult::table() const {
   return os.str();
 }
 
-BenchResult bench(const Scene& input, const BenchOptions& options) {
-  options.validate();
-  input.validate();
-  Scene scene = input;
-  scene.expand_gas();
-  const std::string load_before = load_average();
-  const double span = scene.run.t_end - scene.run.t0;
+namespace {
 
-  BenchResult result;
-  result.scene = scene.name;
-  result.engine = scene.model ? "model" : "ode";
-  const fs::path dir = options.out_dir;
-  {
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec || !fs::is_directory(dir))
-      throw OptionError("out: cannot create directory '" + options.out_dir + "'" + (ec ? ": " + ec.message() : ""));
-  }
-  remove_outputs(dir);
-
-  // The reference, the most accurate the project has: the model's closed
-  // form; else the shipped multiple-precision reference when the scene is
-  // exactly the one it was computed for; else gauss_radau15 at its tightest
-  // tolerance (rtol = atol = max(reference_tolerance, 1e-11); retried 10×
-  // looser, up to 1e-9, if it fails), whose error is estimated by a second
-  // gauss_radau15 run at 10× its tolerance.
-  auto say = [&](const std::string& line) {
+/// Progress lines and warnings of one bench.
+struct BenchLog {
+  const BenchOptions& options;
+  BenchResult& result;
+  void say(const std::string& line) const {
     if (options.progress) options.progress(line);
-  };
-  auto warn = [&](const std::string& line) { result.warnings.push_back(line); };
-  const ShippedReference* shipped = nullptr;
-  RunResult reference;
+  }
+  void warn(const std::string& line) const { result.warnings.push_back(line); }
+};
+
+/// The reference, the most accurate the project has: the model's closed
+/// form; else the shipped multiple-precision reference when the scene is
+/// exactly the one it was computed for; else gauss_radau15 at its tightest
+/// tolerance (rtol = atol = max(reference_tolerance, 1e-11); retried 10×
+/// looser, up to 1e-9, if it fails), whose error is estimated by a second
+/// gauss_radau15 run at 10× its tolerance. Fills the result's reference
+/// fields; returns the tolerance of the reference runs.
+double find_reference(const Scene& scene, const BenchOptions& options, BenchResult& result, const BenchLog& log) {
   double tol = std::max(options.reference_tolerance, kReferenceTightest);
   if (options.reference_tolerance < kReferenceTightest * (1 - 1e-9))
-    warn("reference tolerance " + fmt(options.reference_tolerance, "%.3g") + " is below " + kReferenceName +
-         "'s tightest tolerance " + fmt(kReferenceTightest, "%.0e") + " (its error measure |b6|/|q''| is round-off "
-         "there): a reference run uses " + fmt(kReferenceTightest, "%.0e"));
+    log.warn("reference tolerance " + fmt(options.reference_tolerance, "%.3g") + " is below " + kReferenceName +
+             "'s tightest tolerance " + fmt(kReferenceTightest, "%.0e") + " (its error measure |b6|/|q''| is round-off "
+             "there): a reference run uses " + fmt(kReferenceTightest, "%.0e"));
   // The closed form, if any, comes with the report of any run: one cheap run
   // tells (its result is the reference state only in the third case).
-  {
-    for (;;) {
-      try {
-        reference = run_quiet(configured(scene, kReferenceMethod, tol, tol, scene.run.dt));
-        break;
-      } catch (const SimulationError&) {
-        if (tol * 10 > 1e-9 * (1 + 1e-9)) throw;
-        tol *= 10;
-      }
+  RunResult reference;
+  for (;;) {
+    try {
+      reference = run_quiet(configured(scene, kReferenceMethod, tol, tol, scene.run.dt));
+      break;
+    } catch (const SimulationError&) {
+      if (tol * 10 > 1e-9 * (1 + 1e-9)) throw;
+      tol *= 10;
     }
   }
   result.closed_form = reference.report.has_reference;
-  if (!result.closed_form) shipped = shipped_reference(scene);
+  const ShippedReference* shipped = result.closed_form ? nullptr : shipped_reference(scene);
   const std::string units = scene.model ? "the model's coordinates" : "m, positions";
   if (result.closed_form) {
     result.reference_kind = "closed_form";
@@ -457,12 +444,12 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
                        " s (Gragg-Bulirsch-Stoer in mpmath at 60 and 70 digits, which agree to 1e-37); its error "
                        "as doubles is their rounding, at most " +
                        fmt(result.reference_accuracy, "%.1e");
-    say("reference: " + result.reference);
+    log.say("reference: " + result.reference);
   } else {
     result.reference_kind = "run";
     result.reference_method = kReferenceName;
     result.reference_tolerance = tol;
-    say("reference: " + kReferenceName + " at rtol = atol = " + fmt(tol, "%.0e"));
+    log.say("reference: " + kReferenceName + " at rtol = atol = " + fmt(tol, "%.0e"));
     result.reference_time_s = reference.report.wall_time_s;
     result.reference_q = reference.q_final;
     result.reference_qd = reference.qd_final;
@@ -478,12 +465,20 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
                        " (at these tolerances both are round-off, so this is the size of the reference's error, "
                        "not a bound)";
   }
+  return tol;
+}
 
-  // The configurations.
-  struct Config {
-    Method method;
-    double rtol, atol, dt;
-  };
+/// One configuration of the bench: a stepper at a tolerance (adaptive) or a
+/// step size (fixed step).
+struct Config {
+  Method method;
+  double rtol, atol, dt;
+};
+
+/// Every configuration: each adaptive stepper at every tolerance of the
+/// grid, each fixed-step one at every step size.
+std::vector<Config> configurations(const Scene& scene, const BenchOptions& options, const BenchLog& log) {
+  const double span = scene.run.t_end - scene.run.t0;
   std::vector<Config> configs;
   const std::vector<double> tols = grid(options.tolerance_loose, options.tolerance_tight, options.per_decade);
   const double dt_large = options.dt_large > 0 ? options.dt_large : span / 100;
@@ -501,19 +496,44 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
         else dropped += (dropped.empty() ? "" : ", ") + fmt(t, "%.3g");
       }
       if (!dropped.empty())
-        warn(std::string(to_string(m)) + ": tolerances " + dropped + " dropped: below " + fmt(smallest, "%.0e") + " its error measure " +
-             "|b6|/|q''| is round-off and it runs at " + fmt(smallest, "%.0e") + ", so those rows would repeat the " +
-             fmt(smallest, "%.0e") + " row");
+        log.warn(std::string(to_string(m)) + ": tolerances " + dropped + " dropped: below " + fmt(smallest, "%.0e") +
+                 " its error measure |b6|/|q''| is round-off and it runs at " + fmt(smallest, "%.0e") +
+                 ", so those rows would repeat the " + fmt(smallest, "%.0e") + " row");
     } else {
       for (double h : dts) configs.push_back({m, 0, 0, h});
     }
   }
+  return configs;
+}
 
-  // Timing: `repeat` passes over all configurations (rather than the
-  // repeats of one configuration back to back), so that a burst of load from
-  // other programs falls on many configurations a little instead of on a few
-  // entirely; the median per configuration is kept. The first pass also
-  // measures the accuracy (runs are deterministic).
+/// The measures of the first run of a configuration (runs are
+/// deterministic): steps, evaluations, the error against the reference and
+/// the drifts.
+void measure(const RunResult& r, const BenchResult& result, BenchPoint& p) {
+  const RunReport& rep = r.report;
+  p.steps = rep.steps;
+  p.rejected_steps = rep.rejected_steps;
+  p.rhs_evaluations = rep.rhs_evaluations;
+  p.t_final = rep.t_final;
+  p.error = result.closed_form ? rep.reference_error_final : state_difference(r.q_final, result.reference_q);
+  // The reference run itself (deterministic: the same state): its error is
+  // the reference's estimate, not a measurement.
+  if (p.is_reference) p.error = result.reference_accuracy;
+  p.energy_drift = rep.conservative ? rep.energy_drift_max : kNaN;
+  p.momentum_drift = momentum_drift(rep);
+  p.constraint_residual = rep.constrained ? rep.constraints.max_position_residual : kNaN;
+  p.resolved = result.closed_form || (!p.is_reference && p.error > 2 * result.reference_accuracy);
+  if (!std::isfinite(p.error)) throw SimulationError("the error is not finite", rep.t_final);
+}
+
+/// Runs every configuration `repeat` times and fills result.points: passes
+/// over all configurations (rather than the repeats of one configuration
+/// back to back), so that a burst of load from other programs falls on many
+/// configurations a little instead of on a few entirely; the median time per
+/// configuration is kept. The first pass also measures the accuracy.
+/// Returns how many configurations succeeded.
+int time_configurations(const Scene& scene, const std::vector<Config>& configs, const BenchOptions& options,
+                        BenchResult& result, const BenchLog& log) {
   std::vector<BenchPoint> points(configs.size());
   std::vector<std::vector<double>> times(configs.size());
   std::vector<Scene> scenes;
@@ -538,30 +558,16 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
       try {
         const RunResult r = run_quiet(scenes[i]);
         times[i].push_back(r.report.wall_time_s);
-        if (pass == 0) {
-          const RunReport& rep = r.report;
-          p.steps = rep.steps;
-          p.rejected_steps = rep.rejected_steps;
-          p.rhs_evaluations = rep.rhs_evaluations;
-          p.t_final = rep.t_final;
-          p.error = result.closed_form ? rep.reference_error_final : state_difference(r.q_final, result.reference_q);
-          // The reference run itself (deterministic: the same state): its
-          // error is the reference's estimate, not a measurement.
-          if (p.is_reference) p.error = result.reference_accuracy;
-          p.energy_drift = rep.conservative ? rep.energy_drift_max : kNaN;
-          p.momentum_drift = momentum_drift(rep);
-          p.constraint_residual = rep.constrained ? rep.constraints.max_position_residual : kNaN;
-          p.resolved = result.closed_form || (!p.is_reference && p.error > 2 * result.reference_accuracy);
-          if (!std::isfinite(p.error)) throw SimulationError("the error is not finite", rep.t_final);
-        }
+        if (pass == 0) measure(r, result, p);
       } catch (const SimulationError& e) {
         p.status = std::string("failed: ") + e.what();
       }
       if (pass == 0)
-        say(p.method + (p.adaptive ? " rtol " + fmt(p.rtol, "%.3g") : " dt " + fmt(p.dt, "%.3g")) + ": " +
-            (p.ok() ? "error " + fmt(p.error, "%.2e") + ", " + fmt(1e3 * times[i].back(), "%.4g") + " ms" : p.status));
+        log.say(p.method + (p.adaptive ? " rtol " + fmt(p.rtol, "%.3g") : " dt " + fmt(p.dt, "%.3g")) + ": " +
+                (p.ok() ? "error " + fmt(p.error, "%.2e") + ", " + fmt(1e3 * times[i].back(), "%.4g") + " ms"
+                        : p.status));
     }
-    if (pass > 0) say("timing pass " + std::to_string(pass + 1) + " of " + std::to_string(options.repeat) + " done");
+    if (pass > 0) log.say("timing pass " + std::to_string(pass + 1) + " of " + std::to_string(options.repeat) + " done");
   }
   int succeeded = 0;
   for (std::size_t i = 0; i < configs.size(); ++i) {
@@ -578,6 +584,67 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
     }
     result.points.push_back(std::move(p));
   }
+  return succeeded;
+}
+
+/// The work-precision diagrams of the result (reference runs at `tol`).
+void plot_bench(const Scene& scene, const BenchOptions& options, double tol, BenchResult& result) {
+  WorkPrecisionPlotSpec plot;
+  plot.title = scene.name;
+  plot.error_label = result.closed_form ? "error against the closed form at t_end"
+                                        : "error against the reference run at t_end";
+  plot.note = (result.closed_form ? std::string("error: max_i |q_i - q_i,exact| at t = ")
+                                  : std::string("error: max_i |q_i - q_i,ref| at t = ")) +
+              fmt(scene.run.t_end, "%.6g") + " s" +
+              (result.reference_kind == "run"
+                   ? "; reference: " + kReferenceName + " at " + fmt(tol, "%.0e")
+                   : result.reference_kind == "shipped" ? "; reference: bench/reference/double_pendulum.txt (mpmath)"
+                                                        : "") +
+              "; time: median of " + std::to_string(options.repeat) + "; " +
+              read_first_line_with("/proc/cpuinfo", "model name");
+  plot.reference_accuracy = result.reference_accuracy;
+  plot.out_dir = options.out_dir;
+  plot.png = options.png;
+  plot.svg = options.svg;
+  for (const Method m : options.methods) {
+    WorkPrecisionSeries sr;
+    sr.name = to_string(m);
+    for (const BenchPoint& p : result.points) {
+      if (p.method != sr.name || !p.ok()) continue;
+      sr.wall_time_s.push_back(p.wall_time_s);
+      sr.rhs_evaluations.push_back(static_cast<double>(p.rhs_evaluations));
+      sr.error.push_back(p.error);
+      sr.energy_drift.push_back(p.energy_drift);
+    }
+    plot.series.push_back(std::move(sr));
+  }
+  collect_plots([&] { return make_work_precision_plots(plot); }, result.files, result.plot_note);
+}
+
+}  // namespace
+
+BenchResult bench(const Scene& input, const BenchOptions& options) {
+  options.validate();
+  input.validate();
+  Scene scene = input;
+  scene.expand_gas();
+  const std::string load_before = load_average();
+
+  BenchResult result;
+  result.scene = scene.name;
+  result.engine = scene.model ? "model" : "ode";
+  const fs::path dir = options.out_dir;
+  {
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec || !fs::is_directory(dir))
+      throw OptionError("out: cannot create directory '" + options.out_dir + "'" + (ec ? ": " + ec.message() : ""));
+  }
+  remove_outputs(dir);
+
+  const BenchLog log{options, result};
+  const double tol = find_reference(scene, options, result, log);
+  const int succeeded = time_configurations(scene, configurations(scene, options, log), options, result, log);
   result.machine = machine_description(load_before);
   if (succeeded == 0) throw SimulationError("bench: every run failed (see the messages above)", scene.run.t0);
 
@@ -593,38 +660,7 @@ BenchResult bench(const Scene& input, const BenchOptions& options) {
     remove_outputs(dir);
     throw;
   }
-  if (options.plots) {
-    WorkPrecisionPlotSpec plot;
-    plot.title = scene.name;
-    plot.error_label = result.closed_form ? "error against the closed form at t_end"
-                                          : "error against the reference run at t_end";
-    plot.note = (result.closed_form ? std::string("error: max_i |q_i - q_i,exact| at t = ")
-                                    : std::string("error: max_i |q_i - q_i,ref| at t = ")) +
-                fmt(scene.run.t_end, "%.6g") + " s" +
-                (result.reference_kind == "run"
-                     ? "; reference: " + kReferenceName + " at " + fmt(tol, "%.0e")
-                     : result.reference_kind == "shipped" ? "; reference: bench/reference/double_pendulum.txt (mpmath)"
-                                                          : "") +
-                "; time: median of " + std::to_string(options.repeat) + "; " +
-                read_first_line_with("/proc/cpuinfo", "model name");
-    plot.reference_accuracy = result.reference_accuracy;
-    plot.out_dir = options.out_dir;
-    plot.png = options.png;
-    plot.svg = options.svg;
-    for (const Method m : options.methods) {
-      WorkPrecisionSeries sr;
-      sr.name = to_string(m);
-      for (const BenchPoint& p : result.points) {
-        if (p.method != sr.name || !p.ok()) continue;
-        sr.wall_time_s.push_back(p.wall_time_s);
-        sr.rhs_evaluations.push_back(static_cast<double>(p.rhs_evaluations));
-        sr.error.push_back(p.error);
-        sr.energy_drift.push_back(p.energy_drift);
-      }
-      plot.series.push_back(std::move(sr));
-    }
-    collect_plots([&] { return make_work_precision_plots(plot); }, result.files, result.plot_note);
-  }
+  if (options.plots) plot_bench(scene, options, tol, result);
   return result;
 }
 
