@@ -9,28 +9,28 @@
 
 namespace lagrangian::cli {
 
-CLI::App* BenchCommand::add(CLI::App& app) {
-  CLI::App* c = app.add_subcommand(
-      "bench", "Work-precision bench of a scene: runs it with each stepper at each tolerance, measures the error "
+const Subcommand BenchCommand::kInfo{"bench",
+                               "Work-precision bench of a scene: runs it with each stepper at each tolerance, measures the error "
                "(against the model's closed form, or a tight reference run) and the median wall time, and writes "
-               "work_precision.csv, bench.json and diagrams (error against wall time and against RHS evaluations).");
-  scene_.add(c, "scene file (TOML); - reads it from standard input");
-  scene_.add_settings(c);
-  c->add_option("--methods", methods_,
+               "work_precision.csv, bench.json and diagrams (error against wall time and against RHS evaluations)."};
+
+void BenchCommand::declare(OptionList& o) {
+  scene_.add(o, "scene file (TOML); - reads it from standard input");
+  scene_.add_settings(o);
+  o.value("--methods", methods_,
                 "comma-separated steppers (default dopri5,cash_karp54,fehlberg78,bulirsch_stoer,gauss_radau15,rk4)");
-  c->add_option("--tolerances", tolerances_, "LOOSE:TIGHT rtol = atol range (default 1e-3:1e-13)");
-  c->add_option("--per-decade", per_decade_, "tolerances (and rk4 step sizes) per decade (default 1)");
-  c->add_option("--dt", dt_, "LARGE:SMALL step sizes of rk4 in s (default span/100:span/1e5)");
-  c->add_option("--repeat", repeat_, "timed runs per configuration; the median is kept (default 3)");
-  c->add_option("--reference-tol", reference_tol_,
+  o.value("--tolerances", tolerances_, "LOOSE:TIGHT rtol = atol range (default 1e-3:1e-13)");
+  o.value("--per-decade", per_decade_, "tolerances (and rk4 step sizes) per decade (default 1)");
+  o.value("--dt", dt_, "LARGE:SMALL step sizes of rk4 in s (default span/100:span/1e5)");
+  o.value("--repeat", repeat_, "timed runs per configuration; the median is kept (default 3)");
+  o.value("--reference-tol", reference_tol_,
                 "rtol = atol of the gauss_radau15 reference run where there is neither a closed form nor a shipped "
                 "reference (default 1e-11, its tightest; below it runs at 1e-11)");
-  c->add_option("--t-end", t_end_, "end time (s), overrides run.t_end");
-  c->add_option("--stabilization", stabilization_, "constraint drift control: none, baumgarte or projection");
-  c->add_option("--out", out_dir_, "output directory (default out/bench/<scene file name>)");
-  c->add_flag("--no-plots", no_plots_, "do not draw the diagrams");
-  c->add_flag("-q,--quiet", quiet_, "print only errors");
-  return c;
+  o.value("--t-end", t_end_, "end time (s), overrides run.t_end");
+  o.value("--stabilization", stabilization_, "constraint drift control: none, baumgarte or projection");
+  o.value("--out", out_dir_, "output directory (default out/bench/<scene file name>)");
+  o.flag("--no-plots", no_plots_, "do not draw the diagrams");
+  o.flag("-q,--quiet", quiet_, "print only errors");
 }
 
 /// The command line's overrides of the scene and the bench's options.

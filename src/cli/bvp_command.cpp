@@ -7,21 +7,21 @@
 
 namespace lagrangian::cli {
 
-CLI::App* BvpCommand::add(CLI::App& app) {
-  CLI::App* c = app.add_subcommand(
-      "solve-bvp", "Boundary-value problem by stationary action: the path of the scene's model from q(t0) = FROM to "
+const Subcommand BvpCommand::kInfo{"solve-bvp",
+                               "Boundary-value problem by stationary action: the path of the scene's model from q(t0) = FROM to "
                    "q(t1) = TO that makes the discrete action stationary (Newton's method); writes bvp_path.csv and "
-                   "plots, and says whether the action is a minimum there.");
-  scene_.add(c, "scene file (TOML) naming a built-in model");
-  c->add_option("--from", from_, "q(t0): comma-separated, one value per coordinate")->required();
-  c->add_option("--to", to_, "q(t1): comma-separated, one value per coordinate")->required();
-  c->add_option("--time", time_, "T (from the scene's t0) or t0:t1, in s")->required();
-  c->add_option("--steps", request_.steps, "number of time steps K (default 200)");
-  c->add_option("--rule", request_.rule, "discrete Lagrangian: midpoint (default) or trapezoidal");
-  c->add_option("--out", out_dir_, "output directory (default out/bvp/<scene file name>)");
-  c->add_flag("--no-plots", no_plots_, "do not make plots");
-  c->add_flag("-q,--quiet", quiet_, "print only errors");
-  return c;
+                   "plots, and says whether the action is a minimum there."};
+
+void BvpCommand::declare(OptionList& o) {
+  scene_.add(o, "scene file (TOML) naming a built-in model");
+  o.value("--from", from_, "q(t0): comma-separated, one value per coordinate", true);
+  o.value("--to", to_, "q(t1): comma-separated, one value per coordinate", true);
+  o.value("--time", time_, "T (from the scene's t0) or t0:t1, in s", true);
+  o.value("--steps", request_.steps, "number of time steps K (default 200)");
+  o.value("--rule", request_.rule, "discrete Lagrangian: midpoint (default) or trapezoidal");
+  o.value("--out", out_dir_, "output directory (default out/bvp/<scene file name>)");
+  o.flag("--no-plots", no_plots_, "do not make plots");
+  o.flag("-q,--quiet", quiet_, "print only errors");
 }
 
 /// q(t0), q(t1), t0 and t1 from --from, --to and --time (BadInput naming the flag).

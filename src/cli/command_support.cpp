@@ -13,14 +13,12 @@
 
 namespace lagrangian::cli {
 
-void SceneArgument::add(CLI::App* command, const std::string& help) {
-  command->add_option("scene", path, help)->required();
-}
+void SceneArgument::add(OptionList& options, const std::string& help) { options.positional("scene", path, help, true); }
 
-void SceneArgument::add_settings(CLI::App* command) {
-  command->add_option("--set", settings,
-                      "KEY=VALUE: set a numeric scene key, as if the file said so (e.g. model.parameters.e=0.5, "
-                      "bodies[0].velocity[2]=3, run.rtol=1e-8); repeatable");
+void SceneArgument::add_settings(OptionList& options) {
+  options.values("--set", settings,
+                 "KEY=VALUE: set a numeric scene key, as if the file said so (e.g. model.parameters.e=0.5, "
+                 "bodies[0].velocity[2]=3, run.rtol=1e-8); repeatable");
 }
 
 scene::Scene SceneArgument::load() const {

@@ -8,10 +8,9 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
 #include "lagrangian/errors.hpp"
 #include "lagrangian/scene.hpp"
+#include "option_list.hpp"
 
 namespace lagrangian::cli {
 
@@ -31,10 +30,10 @@ struct BadInput {
 struct SceneArgument {
   std::string path;
   std::vector<std::string> settings;
-  /// Adds the positional scene argument (described by `help`) to `command`.
-  void add(CLI::App* command, const std::string& help);
-  /// Adds --set (repeatable KEY=VALUE) to `command`.
-  void add_settings(CLI::App* command);
+  /// Declares the positional scene argument (described by `help`).
+  void add(OptionList& options, const std::string& help);
+  /// Declares --set (repeatable KEY=VALUE).
+  void add_settings(OptionList& options);
   /// The scene read from `path` with the settings applied (SceneError,
   /// OptionError on bad input).
   scene::Scene load() const;

@@ -1,26 +1,36 @@
 #pragma once
 // The subcommands of `lagrangian`, one class and one file each
 // (run_command.cpp, …; `sweep` is in sweep_command.hpp, shared with
-// `lagrangian-mpi`). Each adds itself and its options to the application
-// (add) and, when the command line named it, does its work and returns the
-// exit code (run; codes in command_support.hpp).
+// `lagrangian-mpi`). Each has a name and a description (kInfo), declares
+// its options (declare; main.cpp turns them into the parser's) and, when the
+// command line named it, does its work and returns the exit code (run;
+// codes in command_support.hpp).
 
 #include <optional>
 #include <string>
-
-#include <CLI/CLI.hpp>
 
 #include "command_support.hpp"
 #include "lagrangian/bench.hpp"
 #include "lagrangian/scene_analysis.hpp"
 #include "lagrangian/scene_run.hpp"
 
+namespace CLI {
+class App;
+}
+
 namespace lagrangian::cli {
+
+/// A subcommand's name and its description in --help.
+struct Subcommand {
+  const char* name;
+  const char* description;
+};
 
 /// `run SCENE`: integrates the scene and writes its outputs.
 class RunCommand {
  public:
-  CLI::App* add(CLI::App& app);
+  static const Subcommand kInfo;
+  void declare(OptionList& options);
   int run();
 
  private:
@@ -36,7 +46,8 @@ class RunCommand {
 /// `inspect SCENE`: the scene at t0, optionally its equilibria and modes.
 class InspectCommand {
  public:
-  CLI::App* add(CLI::App& app);
+  static const Subcommand kInfo;
+  void declare(OptionList& options);
   int run();
 
  private:
@@ -48,7 +59,8 @@ class InspectCommand {
 /// `list [MODEL]`: the built-in models and example scenes, or one model.
 class ListCommand {
  public:
-  CLI::App* add(CLI::App& app);
+  static const Subcommand kInfo;
+  void declare(OptionList& options);
   int run();
 
  private:
@@ -58,7 +70,8 @@ class ListCommand {
 /// `solve-bvp SCENE --from --to --time`: the stationary-action path.
 class BvpCommand {
  public:
-  CLI::App* add(CLI::App& app);
+  static const Subcommand kInfo;
+  void declare(OptionList& options);
   int run();
 
  private:
@@ -73,7 +86,8 @@ class BvpCommand {
 /// `bench SCENE`: the work-precision bench.
 class BenchCommand {
  public:
-  CLI::App* add(CLI::App& app);
+  static const Subcommand kInfo;
+  void declare(OptionList& options);
   int run();
 
  private:
@@ -89,7 +103,10 @@ class BenchCommand {
 /// `completion bash|zsh`: the shell completion script of `app`.
 class CompletionScriptCommand {
  public:
-  CLI::App* add(CLI::App& app);
+  static const Subcommand kInfo;
+  void declare(OptionList& options);
+  /// The application whose completion it writes.
+  void set_application(const CLI::App& app) { app_ = &app; }
   int run() const;
 
  private:

@@ -3,6 +3,8 @@
 
 #include "completion.hpp"
 
+#include <CLI/CLI.hpp>
+
 #include <algorithm>
 
 #include "lagrangian/discrete.hpp"

@@ -7,7 +7,10 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
+
+namespace CLI {
+class App;
+}
 
 namespace lagrangian::cli {
 

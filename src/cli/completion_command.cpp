@@ -8,12 +8,11 @@
 
 namespace lagrangian::cli {
 
-CLI::App* CompletionScriptCommand::add(CLI::App& app) {
-  app_ = &app;
-  CLI::App* c = app.add_subcommand(
-      "completion", "Print a shell completion script: source <(lagrangian completion bash), or zsh");
-  c->add_option("shell", shell_, "the shell: bash or zsh")->required();
-  return c;
+const Subcommand CompletionScriptCommand::kInfo{"completion",
+                               "Print a shell completion script: source <(lagrangian completion bash), or zsh"};
+
+void CompletionScriptCommand::declare(OptionList& o) {
+  o.positional("shell", shell_, "the shell: bash or zsh", true);
 }
 
 int CompletionScriptCommand::run() const {

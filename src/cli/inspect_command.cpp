@@ -8,20 +8,20 @@
 
 namespace lagrangian::cli {
 
-CLI::App* InspectCommand::add(CLI::App& app) {
-  CLI::App* c = app.add_subcommand(
-      "inspect", "Describe a scene at t0: coordinates, degrees of freedom (rank, redundant constraints), momenta, "
-                 "cyclic coordinates and conserved quantities, active effects.");
-  scene_.add(c, "scene file (TOML); - reads it from standard input");
-  scene_.add_settings(c);
-  c->add_flag("--equilibria", analysis_.equilibria,
+const Subcommand InspectCommand::kInfo{"inspect",
+                               "Describe a scene at t0: coordinates, degrees of freedom (rank, redundant constraints), momenta, "
+                 "cyclic coordinates and conserved quantities, active effects."};
+
+void InspectCommand::declare(OptionList& o) {
+  scene_.add(o, "scene file (TOML); - reads it from standard input");
+  scene_.add_settings(o);
+  o.flag("--equilibria", analysis_.equilibria,
               "find equilibria (minima by NLopt, saddles and maxima by Newton's method) and say which are stable");
-  c->add_flag("--modes", analysis_.modes, "normal modes (frequencies and shapes) about each stable equilibrium");
-  c->add_flag("--at-initial-state", analysis_.modes_at_initial,
+  o.flag("--modes", analysis_.modes, "normal modes (frequencies and shapes) about each stable equilibrium");
+  o.flag("--at-initial-state", analysis_.modes_at_initial,
               "with --modes: linearise about the scene's initial configuration instead");
-  c->add_option("--starts", analysis_.starts, "starts of the equilibrium search (default 16)");
-  c->add_flag("--json", json_, "print the description at t0 as one JSON object (not with --equilibria or --modes)");
-  return c;
+  o.value("--starts", analysis_.starts, "starts of the equilibrium search (default 16)");
+  o.flag("--json", json_, "print the description at t0 as one JSON object (not with --equilibria or --modes)");
 }
 
 int InspectCommand::run() {

@@ -80,11 +80,11 @@ int list_all() {
 
 }  // namespace
 
-CLI::App* ListCommand::add(CLI::App& app) {
-  CLI::App* c = app.add_subcommand(
-      "list", "List the built-in models and the example scenes; `list MODEL`: that model's coordinates and parameters.");
-  c->add_option("model", model_, "a built-in model: show its coordinates (with units) and parameters (defaults)");
-  return c;
+const Subcommand ListCommand::kInfo{"list",
+                               "List the built-in models and the example scenes; `list MODEL`: that model's coordinates and parameters."};
+
+void ListCommand::declare(OptionList& o) {
+  o.positional("model", model_, "a built-in model: show its coordinates (with units) and parameters (defaults)", false);
 }
 
 int ListCommand::run() { return model_.empty() ? list_all() : list_model(model_); }

@@ -1,6 +1,6 @@
 // The `lagrangian` command: run, inspect, list, solve-bvp, bench, sweep and
 // completion, one file each (commands.hpp, sweep_command.hpp); exit codes
-// in command_support.hpp.
+// in command_support.hpp. The parser (CLI11) is compiled here only.
 
 #include <functional>
 #include <iostream>
@@ -14,6 +14,51 @@
 #include "sweep_command.hpp"
 
 using namespace lagrangian::cli;
+
+namespace {
+
+/// A subcommand's declared options as CLI11 options of `command`.
+class Cli11Options final : public OptionList {
+ public:
+  explicit Cli11Options(CLI::App* command) : c_(command) {}
+  void positional(const std::string& name, std::string& v, const std::string& help, bool required) override {
+    CLI::Option* o = c_->add_option(name, v, help);
+    if (required) o->required();
+  }
+  void value(const std::string& names, std::string& v, const std::string& help, bool required) override {
+    CLI::Option* o = c_->add_option(names, v, help);
+    if (required) o->required();
+  }
+  void value(const std::string& names, std::optional<std::string>& v, const std::string& help) override {
+    c_->add_option(names, v, help);
+  }
+  void value(const std::string& names, std::optional<double>& v, const std::string& help) override {
+    c_->add_option(names, v, help);
+  }
+  void value(const std::string& names, std::optional<int>& v, const std::string& help) override {
+    c_->add_option(names, v, help);
+  }
+  void value(const std::string& names, double& v, const std::string& help) override { c_->add_option(names, v, help); }
+  void value(const std::string& names, int& v, const std::string& help) override { c_->add_option(names, v, help); }
+  void values(const std::string& names, std::vector<std::string>& v, const std::string& help) override {
+    c_->add_option(names, v, help);
+  }
+  void flag(const std::string& names, bool& v, const std::string& help) override { c_->add_flag(names, v, help); }
+
+ private:
+  CLI::App* c_;
+};
+
+/// Adds `command` as a subcommand of `app`; returns the subcommand and how to run it.
+template <class Command>
+std::pair<CLI::App*, std::function<int()>> add(CLI::App& app, Command& command) {
+  CLI::App* sub = app.add_subcommand(Command::kInfo.name, Command::kInfo.description);
+  Cli11Options options(sub);
+  command.declare(options);
+  return {sub, [&command] { return command.run(); }};
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"lagrangian: run mechanical scenes (particles with effects, constraints and contacts, or built-in "
@@ -30,16 +75,11 @@ int main(int argc, char** argv) {
   BenchCommand bench;
   SweepCommand sweep;
   CompletionScriptCommand completion;
+  completion.set_application(app);
   // In this order in --help and in the completion scripts.
   const std::vector<std::pair<CLI::App*, std::function<int()>>> commands = {
-      {run.add(app), [&] { return run.run(); }},
-      {inspect.add(app), [&] { return inspect.run(); }},
-      {list.add(app), [&] { return list.run(); }},
-      {bvp.add(app), [&] { return bvp.run(); }},
-      {bench.add(app), [&] { return bench.run(); }},
-      {sweep.add(app), [&] { return sweep.run(); }},
-      {completion.add(app), [&] { return completion.run(); }},
-  };
+      add(app, run), add(app, inspect), add(app, list), add(app, bvp), add(app, bench),
+      {sweep.add(app), [&] { return sweep.run(); }}, add(app, completion)};
 
   if (const auto word = unknown_subcommand(app, argc, argv)) {
     std::cerr << "lagrangian: " << unknown_subcommand_message(app, *word) << "\n";

@@ -10,28 +10,28 @@
 
 namespace lagrangian::cli {
 
-CLI::App* RunCommand::add(CLI::App& app) {
-  CLI::App* c = app.add_subcommand(
-      "run", "Run a scene: writes trajectory.csv, events.csv, report.json, plots and animation.html (open it in a "
-             "browser) into the output directory and prints a summary.");
-  scene_.add(c, "scene file (TOML, see docs/scenes.md); - reads it from standard input");
-  scene_.add_settings(c);
-  c->add_option("--t-end", t_end_, "end time (s), overrides run.t_end");
-  c->add_option("--method", method_,
+const Subcommand RunCommand::kInfo{"run",
+                               "Run a scene: writes trajectory.csv, events.csv, report.json, plots and animation.html (open it in a "
+             "browser) into the output directory and prints a summary."};
+
+void RunCommand::declare(OptionList& o) {
+  scene_.add(o, "scene file (TOML, see docs/scenes.md); - reads it from standard input");
+  scene_.add_settings(o);
+  o.value("--t-end", t_end_, "end time (s), overrides run.t_end");
+  o.value("--method", method_,
                 "stepper: rk4, dopri5, cash_karp54, fehlberg78, bulirsch_stoer, gauss_radau15, rosenbrock4, variational, "
                 "symplectic_rkn_sb3a_mclachlan, velocity_verlet or event_driven");
-  c->add_option("--rtol", rtol_, "relative tolerance, overrides run.rtol");
-  c->add_option("--atol", atol_, "absolute tolerance, overrides run.atol");
-  c->add_option("--out", out_dir_, "output directory, overrides output.directory");
-  c->add_flag("--no-plots", no_plots_, "do not make plots");
-  c->add_flag("--no-animation", no_animation_, "do not write animation.html");
-  c->add_option("--animate-to", animate_to_,
+  o.value("--rtol", rtol_, "relative tolerance, overrides run.rtol");
+  o.value("--atol", atol_, "absolute tolerance, overrides run.atol");
+  o.value("--out", out_dir_, "output directory, overrides output.directory");
+  o.flag("--no-plots", no_plots_, "do not make plots");
+  o.flag("--no-animation", no_animation_, "do not write animation.html");
+  o.value("--animate-to", animate_to_,
                 "also write the run as a video (.mp4, .webm or .gif, through ffmpeg) for slides and documents");
-  c->add_option("--animate-seconds", animate_seconds_, "length of that video (s, default 10): the whole run");
-  c->add_flag("--allow-drift", allow_drift_,
+  o.value("--animate-seconds", animate_seconds_, "length of that video (s, default 10): the whole run");
+  o.flag("--allow-drift", allow_drift_,
               "exit 0 even when a conserved energy drifts beyond what the tolerance excuses (otherwise exit 3)");
-  c->add_flag("-q,--quiet", quiet_, "print only errors");
-  return c;
+  o.flag("-q,--quiet", quiet_, "print only errors");
 }
 
 /// The command line's overrides of the scene's run and output tables.
