@@ -164,273 +164,109 @@ struct InspectExtras {
   std::vector<std::string> momentum_formulas;  ///< p_i = ∂T/∂q̇_i, one per coordinate
 };
 
-/// The inspection text of a model at (initial, t0): coordinates,
-/// parameters, state and momenta, constraints and degrees of freedom,
-/// conserved quantities and the declared forces, contacts and events.
+/// What the inspection shows of a model at a state (q, q̇, t0), gathered by
+/// the model's own code (inspect_facts) and written as text or JSON by
+/// write_inspection() (registry.cpp), which is compiled once.
+struct InspectFacts {
+  std::vector<std::string> names;
+  std::vector<double> q, qd, p;       ///< the state and p = ∂L/∂q̇
+  std::optional<DofReport> dof;       ///< models with constraints
+  std::vector<int> cyclic;            ///< cyclic coordinates
+  double h = 0;                       ///< energy function (J)
+  std::string energy_why_not;         ///< why h is not conserved ("" when it is)
+  bool impacts_dissipate = false;     ///< a contact has e < 1
+  bool kinetic_potential = false;     ///< T and V given apart (then T, V, natural)
+  double T = 0, V = 0;
+  bool natural = false;               ///< h = T + V at the state and nearby
+  bool uses_forces = false;
+  std::vector<double> q_force;        ///< Q(t0)
+  bool uses_dissipation = false;
+  std::vector<double> dissipation_force;  ///< −∂D/∂q̇ at t0
+  std::vector<std::string> constraint_names;
+  int holonomic = 0, unilateral = 0, pfaffian = 0;
+  bool restitution_declared = false;
+  std::vector<double> restitution;    ///< e per contact
+  std::vector<EventSpec> events;      ///< watched events
+  std::vector<PointMotion> masses;    ///< particles or mass points
+  bool closed_form = false;           ///< the model has reference()
+};
+
+/// The inspection of a model from its facts: coordinates, parameters, state
+/// and momenta, constraints and degrees of freedom, conserved quantities and
+/// the declared forces, contacts and events; as text, or as one JSON object.
+std::string write_inspection(const InspectFacts& f, const ModelInfo& info, std::string_view type,
+                             const Parameters& params, double t0, bool as_json, const InspectExtras& extras);
+
+/// The facts of `model` at (s, t0) for write_inspection().
 template <class M>
-std::string inspect_model(const M& model, const ModelInfo& info, std::string_view type, const Parameters& params,
-                          const State<coordinate_count_v<M>>& s, double t0, bool as_json = false,
-                          const InspectExtras& extras = {}) {
-  const std::vector<std::string>& momentum_formulas = extras.momentum_formulas;
-  constexpr int n = coordinate_count_v<M>;   // (Dynamic for a run-time sized model)
-  const int size = static_cast<int>(s.q.size());  // the number of coordinates
-  std::ostringstream os;
-  os << inspect_header(info, type, params);
-  JsonObject js;  // the same facts as JSON (inspect --json)
-  inspect_header_json(js, info, type, params);
-  js.number("t0", t0);
+InspectFacts inspect_facts(const M& model, const State<coordinate_count_v<M>>& s, double t0) {
+  constexpr int n = coordinate_count_v<M>;  // (Dynamic for a run-time sized model)
+  const int size = static_cast<int>(s.q.size());
+  InspectFacts f;
   const auto names = coordinate_names(model);
-  auto unit = [&](int i) {
-    return static_cast<std::size_t>(i) < info.units.size() ? info.units[static_cast<std::size_t>(i)] : std::string();
-  };
-
-  // State and momenta.
+  f.names.assign(names.begin(), names.end());
   const Vec<double, n> p = momenta(model, s.q, s.qd, t0);
-  os << "\nInitial state at t0 = " << number(t0) << " s\n";
-  std::vector<std::vector<std::string>> rows{{"coordinate", "q", "", "qdot", "", "p = dL/dqdot", ""}};
-  for (int i = 0; i < size; ++i)
-    rows.push_back({names[static_cast<std::size_t>(i)], number(s.q[i]), unit(i), number(s.qd[i]),
-                    velocity_unit(unit(i)), number(p[i]), momentum_unit(unit(i))});
-  os << columns(rows);
-  {
-    std::vector<std::string> items;
-    for (int i = 0; i < size; ++i) {
-      JsonObject c;
-      c.string("name", names[static_cast<std::size_t>(i)]);
-      c.string("unit", unit(i));
-      c.number("q", s.q[i]);
-      c.number("qdot", s.qd[i]);
-      c.number("p", p[i]);
-      c.string("qdot_unit", velocity_unit(unit(i)));
-      c.string("p_unit", momentum_unit(unit(i)));
-      items.push_back(c.str());
-    }
-    js.raw("coordinates", json_array(items));
-  }
-  // The momenta as formulas (models stated by expressions: p_i = ∂T/∂q̇_i).
-  if (!momentum_formulas.empty()) {
-    os << "\nGeneralized momenta p = dL/dqdot\n";
-    std::vector<std::vector<std::string>> lines;
-    JsonObject f;
-    for (int i = 0; i < size; ++i) {
-      const std::string& c = names[static_cast<std::size_t>(i)];
-      lines.push_back({"p_" + c, "=", momentum_formulas[static_cast<std::size_t>(i)]});
-      f.string(c, momentum_formulas[static_cast<std::size_t>(i)]);
-    }
-    os << columns(lines);
-    js.raw("momentum_formulas", f.str());
-  }
-
-  // Constraints and degrees of freedom.
-  if (has_constraints(model)) {
-    const DofReport dof = dof_report(model, s, t0);
-    os << "\nConstraints and degrees of freedom\n";
-    std::string redundant = dof.redundant.empty() ? "none" : "";
-    for (std::size_t i = 0; i < dof.redundant.size(); ++i) redundant += (i ? ", " : "") + dof.redundant[i];
-    const std::string nc = std::to_string(dof.coordinates);
-    os << columns({{"coordinates", nc},
-                   {"holonomic constraints", std::to_string(dof.holonomic)},
-                   {"Pfaffian constraints", std::to_string(dof.pfaffian)},
-                   {"unilateral constraints", std::to_string(dof.unilateral), "(contacts; not in the ranks)"},
-                   {"rank of dg/dq", std::to_string(dof.holonomic_rank)},
-                   {"rank of [dg/dq; A]", std::to_string(dof.velocity_rank)},
-                   {"redundant constraints", redundant},
-                   {"degrees of freedom", std::to_string(dof.degrees_of_freedom),
-                    "= " + nc + " - " + std::to_string(dof.holonomic_rank) + " (n - rank dg/dq)"},
-                   {"velocity degrees of freedom", std::to_string(dof.velocity_degrees_of_freedom),
-                    "= " + nc + " - " + std::to_string(dof.velocity_rank) + " (n - rank [dg/dq; A])"}});
-    JsonObject d;
-    d.integer("coordinates", dof.coordinates);
-    d.integer("holonomic", dof.holonomic);
-    d.integer("pfaffian", dof.pfaffian);
-    d.integer("unilateral", dof.unilateral);
-    d.integer("rank_dg_dq", dof.holonomic_rank);
-    d.integer("rank_dg_dq_and_A", dof.velocity_rank);
-    d.raw("redundant", json_strings(dof.redundant));
-    d.integer("degrees_of_freedom", dof.degrees_of_freedom);
-    d.integer("velocity_degrees_of_freedom", dof.velocity_degrees_of_freedom);
-    js.raw("constraints", d.str());
-  }
-
-  // Conserved quantities.
-  os << "\nConserved quantities\n";
-  std::vector<std::vector<std::string>> cons;
-  const std::vector<int> cyclic = cyclic_coordinates(model, s, t0);
-  if (cyclic.empty()) cons.push_back({"cyclic coordinates", "none"});
-  std::vector<std::string> cyclic_json;
-  for (std::size_t k = 0; k < cyclic.size(); ++k) {
-    const int i = cyclic[k];
-    const std::string& c = names[static_cast<std::size_t>(i)];
-    cons.push_back({k == 0 ? "cyclic coordinates" : "", c,
-                    "p_" + c + " = " + number(p[i]) + " " + momentum_unit(unit(i)) + " (conserved)"});
-    JsonObject cj;
-    cj.string("coordinate", c);
-    cj.number("p", p[i]);
-    cj.string("p_unit", momentum_unit(unit(i)));
-    cyclic_json.push_back(cj.str());
-  }
-  js.raw("cyclic", json_array(cyclic_json));
-  const double h = energy_function(model, s.q, s.qd, t0);
-  const std::string why = energy_not_conserved_because(model, s, t0);
-  std::string contact_note;
+  f.q.assign(s.q.data(), s.q.data() + size);
+  f.qd.assign(s.qd.data(), s.qd.data() + size);
+  f.p.assign(p.data(), p.data() + size);
+  if (has_constraints(model)) f.dof = dof_report(model, s, t0);
+  f.cyclic = cyclic_coordinates(model, s, t0);
+  f.h = energy_function(model, s.q, s.qd, t0);
+  f.energy_why_not = energy_not_conserved_because(model, s, t0);
   if constexpr (unilateral_count_v<M> > 0 && has_restitution_v<M>) {
     const auto e = restitution_coefficients(model);
-    bool lossy = false;
-    for (double v : e) lossy = lossy || v < 1.0;
-    if (lossy) contact_note = "; impacts with e < 1 dissipate";
-  }
-  cons.push_back({"energy function h = p.qdot - L", number(h) + " J",
-                  why.empty() ? "conserved" + contact_note : "not conserved: " + why});
-  {
-    JsonObject hj;
-    hj.number("value", h);
-    hj.boolean("conserved", why.empty());
-    hj.string("why_not", why);
-    hj.boolean("impacts_dissipate", !contact_note.empty());
-    js.raw("energy_function", hj.str());
+    for (double v : e) f.impacts_dissipate = f.impacts_dissipate || v < 1.0;
   }
   if constexpr (has_kinetic_potential_v<M>) {
-    const double T = model.kinetic(s.q, s.qd, t0), V = model.potential(s.q, t0);
+    f.kinetic_potential = true;
+    f.T = model.kinetic(s.q, s.qd, t0);
+    f.V = model.potential(s.q, t0);
     // Natural system: h = T + V at the state and at nearby states.
-    bool natural = true;
+    f.natural = true;
     for (const State<n>& probe : lagrangian::detail::probe_states(s)) {
       const double tp = model.kinetic(probe.q, probe.qd, t0), vp = model.potential(probe.q, t0);
       const double hp = energy_function(model, probe.q, probe.qd, t0);
-      natural = natural && std::abs(hp - (tp + vp)) <= 1e-12 * std::max(1.0, std::abs(tp) + std::abs(vp));
+      f.natural = f.natural && std::abs(hp - (tp + vp)) <= 1e-12 * std::max(1.0, std::abs(tp) + std::abs(vp));
     }
-    cons.push_back({"T + V", number(T + V) + " J",
-                    natural ? "equals h (natural system: T quadratic in qdot)"
-                            : "differs from h (T has terms of degree 0 or 1 in qdot; T = " + number(T) + " J)"});
-    JsonObject e;
-    e.number("T", T);
-    e.number("V", V);
-    e.number("T_plus_V", T + V);
-    e.boolean("natural", natural);
-    js.raw("energy", e.str());
-  } else {
-    cons.push_back({"T + V", "n/a", "the model gives L directly"});
-    js.raw("energy", "null");
   }
-  os << columns(cons);
-
-  // Declared extras.
-  os << "\nDeclared\n";
-  std::vector<std::vector<std::string>> decl;
-  JsonObject dj;
   // Q(t0) alone, and −∂D/∂q̇ alone (the forces less Q).
   Vec<double, n> q_force = Vec<double, n>::Zero(size);
   if constexpr (has_generalized_forces_v<M>) {
     if (uses_generalized_forces(model)) q_force = model.generalized_forces(s.q, s.qd, t0);
   }
-  if (uses_generalized_forces(model)) {
-    decl.push_back({"generalized forces Q", "yes", "Q(t0) = " + numbers(q_force.data(), size)});
-    dj.raw("generalized_forces", json_numbers(q_force.data(), size));
-  } else {
-    decl.push_back({"generalized forces Q", "none"});
-    dj.raw("generalized_forces", "null");
-  }
-  if (uses_dissipation(model)) {
+  f.uses_forces = uses_generalized_forces(model);
+  f.q_force.assign(q_force.data(), q_force.data() + size);
+  f.uses_dissipation = uses_dissipation(model);
+  if (f.uses_dissipation) {
     const Vec<double, n> qd_force = nonconservative_forces(model, s.q, s.qd, t0) - q_force;
-    decl.push_back({"dissipation D", "yes", "-dD/dqdot at t0 = " + numbers(qd_force.data(), size)});
-    dj.raw("dissipation_forces", json_numbers(qd_force.data(), size));
-  } else {
-    decl.push_back({"dissipation D", "none"});
-    dj.raw("dissipation_forces", "null");
+    f.dissipation_force.assign(qd_force.data(), qd_force.data() + size);
   }
-  const std::vector<std::string> cnames = constraint_names(model);
-  auto list = [&](int from, int count) {
-    if (count == 0) return std::string("none");
-    std::string out;
-    for (int i = 0; i < count; ++i) out += (i ? ", " : "") + cnames[static_cast<std::size_t>(from + i)];
-    return out;
-  };
-  const int mh = holonomic_count(model), mu = unilateral_count(model), mp = pfaffian_count(model);
-  decl.push_back({"holonomic constraints", std::to_string(mh), list(0, mh)});
-  decl.push_back({"Pfaffian constraints", std::to_string(mp), list(mh + mu, mp)});
-  decl.push_back({"unilateral constraints", std::to_string(mu), list(mh, mu)});
-  auto names_of = [&](int from, int count) {
-    return std::vector<std::string>(cnames.begin() + from, cnames.begin() + from + count);
-  };
-  dj.raw("holonomic", json_strings(names_of(0, mh)));
-  dj.raw("pfaffian", json_strings(names_of(mh + mu, mp)));
-  dj.raw("unilateral", json_strings(names_of(mh, mu)));
-  dj.raw("restitution", "null");
-  if (mu > 0) {
-    if constexpr (has_restitution_v<M>) {
+  f.constraint_names = constraint_names(model);
+  f.holonomic = holonomic_count(model);
+  f.unilateral = unilateral_count(model);
+  f.pfaffian = pfaffian_count(model);
+  if constexpr (has_restitution_v<M>) {
+    if (f.unilateral > 0) {
+      f.restitution_declared = true;
       const auto e = restitution_coefficients(model);
-      std::string text;
-      bool same = true;
-      for (double v : e) same = same && v == e[0];
-      if (same) {
-        text = "e = " + number(e[0]) + " for every contact";
-      } else {
-        for (int j = 0; j < mu; ++j)
-          text += (j ? ", " : "") + cnames[static_cast<std::size_t>(mh + j)] + " " +
-                  number(e[static_cast<std::size_t>(j)]);
-      }
-      decl.push_back({"restitution", "yes", text});
-      dj.raw("restitution", json_numbers(e.data(), mu));
-    } else {
-      decl.push_back({"restitution", "none", "(contacts may rest and release, not be struck)"});
+      f.restitution.assign(e.begin(), e.end());
     }
   }
-  if constexpr (event_count_v<M> > 0) {
-    const std::vector<EventSpec> specs = event_specs(model);
-    std::string text;
-    std::vector<std::string> items;
-    for (std::size_t k = 0; k < specs.size(); ++k) {
-      const EventSpec& e = specs[k];
-      const char* direction = e.direction == Direction::falling  ? "falling"
-                              : e.direction == Direction::rising ? "rising"
-                                                                 : "either";
-      text += (k ? ", " : "") + e.name + " (" + direction + ", " +
-              (e.action == EventAction::stop ? "stops the run" : "recorded") + ")";
-      JsonObject ej;
-      ej.string("name", e.name);
-      ej.string("direction", direction);
-      ej.string("action", e.action == EventAction::stop ? "stop" : "record");
-      items.push_back(ej.str());
-    }
-    decl.push_back({"watched events", std::to_string(event_count_v<M>), text});
-    dj.raw("watched_events", json_array(items));
-  } else {
-    decl.push_back({"watched events", "none"});
-    dj.raw("watched_events", "[]");
-  }
+  if constexpr (event_count_v<M> > 0) f.events = event_specs(model);
   // The point masses: the model's particles (placed by their coordinates)
   // or its mass points (a text model's points with a mass).
-  std::vector<PointMotion> masses;
   if constexpr (lagrangian::detail::has_point_masses_v<M>)
-    lagrangian::detail::point_motions(model, s.q.data(), s.qd.data(), nullptr, t0, 1.0, masses);
-  if (!masses.empty()) {
-    // P = Σ m v, L = Σ m r × v about the origin (as the runs report them) and
-    // the centre of mass Σ m r / Σ m.
-    std::array<double, 3> P{}, L{}, centre{};
-    lagrangian::detail::total_momenta(masses, {0.0, 0.0, 0.0}, P, L);
-    double total = 0;
-    for (const PointMotion& pm : masses) {
-      for (std::size_t a = 0; a < 3; ++a) centre[a] += pm.mass * pm.r[a];
-      total += pm.mass;
-    }
-    for (double& c : centre) c /= total;
-    decl.push_back({"particles", std::to_string(masses.size()),
-                    "P = " + numbers(P.data(), 3) + " kg*m/s, L = " + numbers(L.data(), 3) +
-                        " kg*m^2/s about the origin; centre of mass " + numbers(centre.data(), 3) + " m"});
-    JsonObject pj;
-    pj.integer("count", static_cast<int>(masses.size()));
-    pj.raw("P", json_numbers(P.data(), 3));
-    pj.raw("L", json_numbers(L.data(), 3));
-    pj.raw("centre_of_mass", json_numbers(centre.data(), 3));
-    js.raw("particles", pj.str());
-  } else {
-    js.raw("particles", "null");
-  }
-  decl.push_back({"closed-form reference", has_reference_v<M> ? "yes" : "no",
-                  has_reference_v<M> ? "(runs report their true error)" : ""});
-  js.raw("declared", dj.str());
-  js.boolean("closed_form_reference", has_reference_v<M>);
-  os << columns(decl);
-  return as_json ? js.str() + "\n" : os.str();
+    lagrangian::detail::point_motions(model, s.q.data(), s.qd.data(), nullptr, t0, 1.0, f.masses);
+  f.closed_form = has_reference_v<M>;
+  return f;
+}
+
+/// The inspection text (or JSON) of a model at (s, t0).
+template <class M>
+std::string inspect_model(const M& model, const ModelInfo& info, std::string_view type, const Parameters& params,
+                          const State<coordinate_count_v<M>>& s, double t0, bool as_json = false,
+                          const InspectExtras& extras = {}) {
+  return write_inspection(inspect_facts(model, s, t0), info, type, params, t0, as_json, extras);
 }
 
 // -- entries ----------------------------------------------------------------------
