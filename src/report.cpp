@@ -1,7 +1,6 @@
 #include "lagrangian/report.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <array>
 #include <cerrno>
 #include <cmath>
@@ -83,17 +82,10 @@ void write_text_file(const std::string& path, const std::string& text, const std
 
 namespace {
 
-/// v as the shortest text that reads back as v ("1e-09", "0.1", "inf").
-std::string shortest(double v) {
-  if (std::isnan(v)) return "nan";
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
+using detail::format_shortest;
 
 [[noreturn]] void option_failure(const std::string& field, const std::string& condition, double value) {
-  throw InvalidOption(field, "must be " + condition + ", got " + shortest(value));
+  throw InvalidOption(field, "must be " + condition + ", got " + format_shortest(value));
 }
 
 /// Finite and > 0.
@@ -191,7 +183,7 @@ void SimulationOptions::validate() const {
   if (!std::isfinite(t0)) option_failure("t0", "finite", t0);
   if (!std::isfinite(t_end)) option_failure("t_end", "finite", t_end);
   if (!(t_end > t0))
-    throw InvalidOption("t_end", "must be greater than t0 = " + shortest(t0) + ", got " + shortest(t_end));
+    throw InvalidOption("t_end", "must be greater than t0 = " + format_shortest(t0) + ", got " + format_shortest(t_end));
   require_positive("dt", dt);
   require_positive("rtol", rtol);
   require_positive("atol", atol);

@@ -14,6 +14,9 @@ namespace lagrangian {
 
 namespace detail {
 std::string format_number(double v);
+/// v as the shortest text that reads back as the same double ("1e-09", "0.1",
+/// "inf", "nan").
+std::string format_shortest(double v);
 [[noreturn]] void parameter_failure(std::string_view model, std::string_view name, std::string_view condition,
                                     double value);
 }  // namespace detail

@@ -10,6 +10,8 @@
 #include "lagrangian/scene.hpp"
 #include "scene_messages.hpp"
 
+#include "lagrangian/params.hpp"
+
 namespace lagrangian::scene {
 
 // -- formatting helpers ---------------------------------------------------------
@@ -18,13 +20,7 @@ namespace detail {
 
 std::string quote_text(std::string_view s, char quote) { return text::quoted(s, quote); }
 
-std::string format_value(double v) {
-  if (std::isnan(v)) return "nan";
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
+std::string format_value(double v) { return lagrangian::detail::format_shortest(v); }
 
 /// A computed quantity (a distance, a sum): 15 significant digits, so that
 /// rounding noise such as 0.21000000000000002 reads 0.21.
