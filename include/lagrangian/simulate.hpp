@@ -46,19 +46,20 @@ template <class M>
 void refuse_unsuited_method(const M& model, const State<coordinate_count_v<M>>& initial,
                             const SimulationOptions& options) {
   const Method m = options.method;
-  if (m == Method::variational && !structure_preserving_v<M>) {
-    throw OptionError("method 'variational' is compiled only for models that opt in to the structure-preserving methods, "
+  const MethodInfo& info = method_info(m);
+  if (info.needs_lagrangian && !structure_preserving_v<M>) {
+    throw OptionError("method '" + std::string(info.name) + "' is compiled only for models that opt in to the structure-preserving methods, "
                       "and model " + model_name(model) +
                       " does not: declare 'static constexpr bool structure_preserving = true;' in the model, or pass "
                       "lagrangian::with_structure_preserving(model) (see structure_preserving_v in model.hpp)");
   }
-  if (m == Method::variational && !variational_supported_v<M>) {
+  if (info.needs_lagrangian && !variational_supported_v<M>) {
     throw OptionError(
-        "method 'variational' cannot run model " + model_name(model) +
+        "method '" + std::string(info.name) + "' cannot run model " + model_name(model) +
         ": it needs a compile-time number of coordinates and supports holonomic constraints only (no Pfaffian or "
         "unilateral constraints, no contacts); use dopri5 or fehlberg78");
   }
-  if (method_info(m).needs_separable) {
+  if (info.needs_separable) {
     const std::string why = separability_problem(model, initial, options.t0);
     if (!why.empty())
       throw OptionError("method '" + std::string(to_string(m)) + "' needs a separable model (L = 1/2 qd^T M qd - V(q), constant M); model " +

@@ -15,13 +15,17 @@
 namespace lagrangian::scene::detail {
 namespace {
 
+/// The unit of coordinate i ("" when the catalog gives none).
+std::string unit_of(const ModelInfo& info, int i) {
+  const auto k = static_cast<std::size_t>(i);
+  return k < info.units.size() ? info.units[k] : std::string();
+}
+
 /// The state and momenta, and the momenta as formulas when the model gives them.
 void write_state(const InspectFacts& f, const ModelInfo& info, double t0, const InspectExtras& extras,
                  std::ostringstream& os, JsonObject& js) {
   const int size = static_cast<int>(f.q.size());
-  auto unit = [&](int i) {
-    return static_cast<std::size_t>(i) < info.units.size() ? info.units[static_cast<std::size_t>(i)] : std::string();
-  };
+  auto unit = [&](int i) { return unit_of(info, i); };
   os << "\nInitial state at t0 = " << number(t0) << " s\n";
   std::vector<std::vector<std::string>> rows{{"coordinate", "q", "", "qdot", "", "p = dL/dqdot", ""}};
   for (int i = 0; i < size; ++i) {
@@ -91,9 +95,7 @@ void write_dof(const DofReport& dof, std::ostringstream& os, JsonObject& js) {
 
 /// Cyclic coordinates, the energy function and T + V.
 void write_conserved(const InspectFacts& f, const ModelInfo& info, std::ostringstream& os, JsonObject& js) {
-  auto unit = [&](int i) {
-    return static_cast<std::size_t>(i) < info.units.size() ? info.units[static_cast<std::size_t>(i)] : std::string();
-  };
+  auto unit = [&](int i) { return unit_of(info, i); };
   os << "\nConserved quantities\n";
   std::vector<std::vector<std::string>> cons;
   if (f.cyclic.empty()) cons.push_back({"cyclic coordinates", "none"});

@@ -684,7 +684,8 @@ class ParticleSystem final : public lagrangian::System {
 
 ParticleRun run_particles(const Scene& scene, const ParticleOutput& output, const SampleTick& tick) {
   const MethodInfo& method = method_info(scene.run.method);
-  if (method.family == MethodFamily::variational || method.family == MethodFamily::symplectic)
+  // The variational and symplectic steppers work on a model's L or its separable form.
+  if (method.needs_lagrangian || method.needs_separable)
     throw OptionError("run.method: '" + std::string(method.name) +
                       "' runs built-in models (model = ...) only; a scene of bodies runs with rk4, dopri5, "
                       "cash_karp54, fehlberg78, bulirsch_stoer, gauss_radau15 or rosenbrock4");

@@ -76,6 +76,10 @@ class FirstTimes {
   }
   void operator()(const SampleRow& s) {
     if (open_ == 0) return;
+    // t, q, q̇, energy, total_energy, as trajectory_names() lists them.
+    if (row_.size() != 3 + s.q.size() + s.qd.size())
+      throw std::logic_error("--first-time: a sample of " + std::to_string(s.q.size()) +
+                             " coordinates against names for " + std::to_string((row_.size() - 3) / 2));
     std::size_t c = 0;
     row_[c++] = s.t;
     for (double v : s.q) row_[c++] = v;

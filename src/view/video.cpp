@@ -76,6 +76,9 @@ class Frames {
     frame();
   }
 
+  /// The colour behind everything.
+  const Rgb& background() const { return background_; }
+
   /// Draws the frame at time t into img.
   void draw(double t, Image& img) const {
     const std::size_t k =
@@ -303,9 +306,6 @@ class Frames {
       img.line(x, y - 6, x, y - 3, 1, detail::rgb(0xc83c28));
     }
   }
-
- public:
-  const Rgb& background() const { return background_; }
 };
 
 }  // namespace
