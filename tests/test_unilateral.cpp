@@ -3,7 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <numbers>
+#include <set>
 #include <string>
+#include <vector>
 
 #include "lagrangian/lagrangian.hpp"
 #include "lagrangian/models/constrained.hpp"
@@ -12,6 +16,98 @@ namespace {
 
 using namespace lagrangian;
 using namespace lagrangian::models;
+
+/// A point mass m (kg) in the plane, x and y (m), inside a regular polygon
+/// of N walls at distance a (m) from the origin, N chosen at run time:
+///   T = ½ m (ẋ² + ẏ²),  V = 0,
+///   contacts φ_k = a − (x cos θ_k + y sin θ_k) ≥ 0,  θ_k = 2πk/N  ("wall<k>"),
+/// each with restitution e = 1: a billiard.
+struct PolygonBilliard {
+  static constexpr int coordinate_count = 2;
+  static constexpr bool constant_mass_matrix = true;
+  int walls;
+  double m = 0.2, a = 1.0;
+  int unilateral_count() const { return walls; }
+  double angle(int k) const { return 2 * std::numbers::pi * k / walls; }
+  std::vector<std::string> unilateral_names() const {
+    std::vector<std::string> out;
+    for (int k = 0; k < walls; ++k) out.push_back("wall" + std::to_string(k));
+    return out;
+  }
+  std::vector<double> restitution() const { return std::vector<double>(static_cast<std::size_t>(walls), 1.0); }
+  template <class S>
+  S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
+    return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1]);
+  }
+  template <class S>
+  S potential(const Vec<S, 2>&, const S&) const {
+    return S(0);
+  }
+  template <class S>
+  Vec<S, Dynamic> unilateral(const Vec<S, 2>& q, const S&) const {
+    Vec<S, Dynamic> g(walls);
+    for (int k = 0; k < walls; ++k) g[k] = a - (q[0] * std::cos(angle(k)) + q[1] * std::sin(angle(k)));
+    return g;
+  }
+};
+
+TEST(Unilateral, TwoHundredContactsOfOneModelAllTakePart) {
+  // A billiard in a regular 200-gon, started off the centre: its impacts,
+  // wall after wall, against the same billiard traced by hand — straight
+  // flights to the first wall the ray meets, reflections v − 2 (v·n) n.
+  const PolygonBilliard model{200};
+  const double t_end = 60.0;
+  State<2> s;
+  s.q << 0.3, 0.0;
+  s.qd << 10 * std::cos(1.0), 10 * std::sin(1.0);  // a direction irrational to the polygon's: every wall in turn
+  SimulationOptions o;
+  o.t_end = t_end;
+  o.rtol = 1e-12;
+  o.atol = 1e-14;
+  o.output_interval = t_end;
+  Recorder<2> rec;
+  const RunReport rep = simulate(model, s, o, rec);
+
+  Eigen::Vector2d p(0.3, 0.0), v(s.qd);
+  double t = 0;
+  std::vector<int> hit;  // the walls, by hand
+  std::vector<double> when;
+  for (;;) {
+    int first = -1;
+    double dt = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < model.walls; ++k) {
+      const Eigen::Vector2d n(std::cos(model.angle(k)), std::sin(model.angle(k)));
+      const double closing = v.dot(n);
+      if (closing <= 0) continue;
+      const double tk = (model.a - p.dot(n)) / closing;
+      if (tk < dt) {
+        dt = tk;
+        first = k;
+      }
+    }
+    if (t + dt > t_end) break;
+    t += dt;
+    p += dt * v;
+    const Eigen::Vector2d n(std::cos(model.angle(first)), std::sin(model.angle(first)));
+    v -= 2 * v.dot(n) * n;
+    hit.push_back(first);
+    when.push_back(t);
+  }
+  ASSERT_EQ(rep.events.size(), hit.size());
+  EXPECT_EQ(rep.impacts, hit.size());
+  std::set<int> walls;
+  for (std::size_t i = 0; i < hit.size(); ++i) {
+    EXPECT_EQ(rep.events[i].name, "wall" + std::to_string(hit[i])) << i;
+    EXPECT_NEAR(rep.events[i].t, when[i], 1e-8) << i;
+    walls.insert(hit[i]);
+  }
+  EXPECT_GT(walls.size(), 150u);  // most of the 200 contacts closed at least once
+  const Sample<2>& end = rec.samples.back();
+  ASSERT_DOUBLE_EQ(end.t, t_end);
+  EXPECT_NEAR(end.q[0], p[0] + (t_end - t) * v[0], 1e-8);
+  EXPECT_NEAR(end.q[1], p[1] + (t_end - t) * v[1], 1e-8);
+  EXPECT_NEAR(end.qd.norm(), 10.0, 1e-11);  // |v| kept by every impact (e = 1)
+}
 
 State<2> on_top(double R, double theta0) {
   State<2> s;

@@ -36,7 +36,9 @@
 #include <limits>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Cholesky>
@@ -159,7 +161,7 @@ inline constexpr bool has_constraints_v = constraint_count_v<M> != 0;
 /// holonomic(q, t), unilateral(q, t) and pfaffian(q, qd, t) return run-time
 /// sized vectors and it says their lengths by `int holonomic_count() const`,
 /// `int unilateral_count() const` and `int pfaffian_count() const` (a
-/// model says the counts of the kinds it declares). At most 64 contacts.
+/// model says the counts of the kinds it declares).
 template <class M>
 inline constexpr bool runtime_constraint_counts_v = constraint_count_v<M> == Dynamic;
 
@@ -189,8 +191,7 @@ int pfaffian_count(const M& model) {
     return pfaffian_count_v<M>;
   }
 }
-/// Unilateral constraints (contacts) of `model`, at run time (at most 64,
-/// the bits of an ActiveSet).
+/// Unilateral constraints (contacts) of `model`, at run time.
 template <class M>
 int unilateral_count(const M& model) {
   if constexpr (unilateral_count_v<M> == Dynamic) {
@@ -228,27 +229,79 @@ template <class M>
 bool has_bilateral_constraints(const M& model) {
   return holonomic_count(model) + pfaffian_count(model) > 0;
 }
-/// Set of active unilateral constraints: bit j for unilateral constraint j.
-using ActiveSet = std::uint64_t;
-/// Every unilateral constraint active.
-inline constexpr ActiveSet all_active = ~ActiveSet{0};
-namespace detail {
-constexpr ActiveSet low_bits(int count) { return count >= 64 ? ~ActiveSet{0} : (ActiveSet{1} << count) - 1; }
-}  // namespace detail
-/// The bits of a model's unilateral constraints in an ActiveSet (for a
-/// compile-time count).
-template <class M>
-inline constexpr ActiveSet unilateral_mask_v = detail::low_bits(unilateral_count_v<M> == Dynamic ? 64 : unilateral_count_v<M>);
-/// The bits of `model`'s unilateral constraints in an ActiveSet.
-template <class M>
-ActiveSet unilateral_mask(const M& model) {
-  if constexpr (unilateral_count_v<M> == Dynamic) {
-    return detail::low_bits(unilateral_count(model));
-  } else {
-    (void)model;
-    return unilateral_mask_v<M>;
+/// Which unilateral constraints (contacts) are active: held shut as
+/// constraint rows, while the others carry no force. Contact j is the
+/// model's unilateral constraint j; there may be any number. Sets of
+/// contacts below 64 are stored inline, so copying them never allocates.
+class ActiveSet {
+ public:
+  /// No contact active: the bilateral rows only.
+  ActiveSet() = default;
+  /// Every contact active, however many there are.
+  static ActiveSet all() {
+    ActiveSet s;
+    s.all_ = true;
+    return s;
   }
-}
+  /// Contact j alone.
+  static ActiveSet only(int j) {
+    ActiveSet s;
+    s.insert(j);
+    return s;
+  }
+  bool contains(int j) const {
+    if (all_) return true;
+    const auto [w, bit] = place(j);
+    return w == 0 ? (low_ & bit) != 0 : w <= high_.size() && (high_[w - 1] & bit) != 0;
+  }
+  /// Whether any of the contacts 0 … count − 1 is active.
+  bool any(int count) const {
+    if (all_) return count > 0;
+    for (int j = 0; j < count; ++j)
+      if (contains(j)) return true;
+    return false;
+  }
+  /// Contact j becomes active.
+  void insert(int j) {
+    if (all_) return;
+    const auto [w, bit] = place(j);
+    if (w == 0) {
+      low_ |= bit;
+      return;
+    }
+    if (high_.size() < w) high_.resize(w, 0);
+    high_[w - 1] |= bit;
+  }
+  /// Contact j becomes inactive (a set made by all() lists no contacts to
+  /// remove: std::logic_error).
+  void erase(int j) {
+    if (all_) throw std::logic_error("ActiveSet::erase on ActiveSet::all(), which does not know its contacts");
+    const auto [w, bit] = place(j);
+    if (w == 0) {
+      low_ &= ~bit;
+    } else if (w <= high_.size()) {
+      high_[w - 1] &= ~bit;
+    }
+  }
+  /// This set without contact j.
+  ActiveSet without(int j) const {
+    ActiveSet s = *this;
+    s.erase(j);
+    return s;
+  }
+
+ private:
+  /// The word (0: inline) and bit of contact j.
+  static std::pair<std::size_t, std::uint64_t> place(int j) {
+    const auto u = static_cast<std::size_t>(j);
+    return {u / 64, std::uint64_t{1} << (u % 64)};
+  }
+  bool all_ = false;
+  std::uint64_t low_ = 0;
+  std::vector<std::uint64_t> high_;
+};
+/// Every unilateral constraint active.
+inline const ActiveSet all_active = ActiveSet::all();
 
 /// Relative tolerance of the rank decisions: a singular value σ_i counts when
 /// σ_i > rank_tolerance · σ_max (and σ_max > 0).
@@ -497,11 +550,11 @@ ConstraintState<coordinate_count_v<M>, constraint_count_v<M>> constraint_state(c
 /// Zeroes the rows of inactive unilateral constraints, which then carry no
 /// force (their multipliers come out zero).
 template <class M, class CS>
-void drop_inactive(const M& model, CS& cs, ActiveSet active) {
+void drop_inactive(const M& model, CS& cs, const ActiveSet& active) {
   if constexpr (unilateral_count_v<M> != 0) {
     const int mh = holonomic_count(model), mu = unilateral_count(model);
     for (int j = 0; j < mu; ++j) {
-      if (!((active >> j) & 1u)) {
+      if (!active.contains(j)) {
         const int r = mh + j;
         cs.jacobian.row(r).setZero();
         cs.position[r] = cs.velocity[r] = cs.gamma[r] = 0.0;
@@ -513,11 +566,11 @@ void drop_inactive(const M& model, CS& cs, ActiveSet active) {
 }
 /// The same for a model whose constraint counts are known at compile time.
 template <class M, class CS>
-void drop_inactive(CS& cs, ActiveSet active) {
+void drop_inactive(CS& cs, const ActiveSet& active) {
   static_assert(!runtime_constraint_counts_v<M>, "lagrangian: use drop_inactive(model, cs, active)");
   if constexpr (unilateral_count_v<M> > 0) {
     for (int j = 0; j < unilateral_count_v<M>; ++j) {
-      if (!((active >> j) & 1u)) {
+      if (!active.contains(j)) {
         const int r = holonomic_count_v<M> + j;
         cs.jacobian.row(r).setZero();
         cs.position[r] = cs.velocity[r] = cs.gamma[r] = 0.0;
@@ -566,8 +619,8 @@ template <class M>
 void constrained_accelerations(const M& model, Workspace<coordinate_count_v<M>>& ws, ConstraintWorkspaceFor<M>& cw,
                                const Vec<double, coordinate_count_v<M>>& q, const Vec<double, coordinate_count_v<M>>& qd,
                                double t, Vec<double, coordinate_count_v<M>>& out, double omega = 0.0,
-                               ActiveSet active = all_active) {
-  if (!has_bilateral_constraints(model) && (active & unilateral_mask(model)) == 0) {
+                               const ActiveSet& active = all_active) {
+  if (!has_bilateral_constraints(model) && !active.any(unilateral_count(model))) {
     // contacts only, none touching (or no constraints at all): free motion
     detail::free_accelerations(model, ws, q, qd, t, out);
     cw.multipliers.setZero();
@@ -689,7 +742,7 @@ DofReport dof_report(const M& model, const State<coordinate_count_v<M>>& s, doub
   r.unilateral = unilateral_count(model);
   if (has_constraints(model)) {
     auto cs = constraint_state(model, s.q, s.qd, t);
-    drop_inactive(model, cs, ActiveSet{0});  // bilateral rows only
+    drop_inactive(model, cs, ActiveSet{});  // bilateral rows only
     const auto names = constraint_names(model);
     r.holonomic_rank = detail::numeric_rank(cs.jacobian.topRows(r.holonomic));
     r.velocity_rank = detail::numeric_rank(cs.jacobian, &r.singular_values);
@@ -715,7 +768,7 @@ namespace detail {
 /// position rows × n): nothing allocated per call.
 template <class M>
 int project_positions_with(const M& model, Vec<double, coordinate_count_v<M>>& q, double t, double tolerance,
-                           int max_iterations, ActiveSet active, MinNormSolver& solver) {
+                           int max_iterations, const ActiveSet& active, MinNormSolver& solver) {
   constexpr int mh_v = position_rows_v<M>;
   if constexpr (mh_v == 0) {
     return 0;
@@ -753,7 +806,7 @@ int project_positions_with(const M& model, Vec<double, coordinate_count_v<M>>& q
 template <class M>
 void project_velocities_with(const M& model, Workspace<coordinate_count_v<M>>& ws,
                              const Vec<double, coordinate_count_v<M>>& q, Vec<double, coordinate_count_v<M>>& qd,
-                             double t, ActiveSet active, MinNormSolver& solver) {
+                             double t, const ActiveSet& active, MinNormSolver& solver) {
   if constexpr (has_constraints_v<M>) {
     if (!has_constraints(model)) return;
     evaluate(model, ws, q, qd, t);
@@ -780,7 +833,7 @@ void project_velocities_with(const M& model, Workspace<coordinate_count_v<M>>& w
 /// ConstraintError when `max_iterations` do not reach the tolerance.
 template <class M>
 int project_positions(const M& model, Vec<double, coordinate_count_v<M>>& q, double t, double tolerance = 1e-12,
-                      int max_iterations = 20, ActiveSet active = all_active) {
+                      int max_iterations = 20, const ActiveSet& active = all_active) {
   if constexpr (position_rows_v<M> == 0) {
     return 0;
   } else {
@@ -794,7 +847,7 @@ int project_positions(const M& model, Vec<double, coordinate_count_v<M>>& q, dou
 template <class M>
 void project_velocities(const M& model, Workspace<coordinate_count_v<M>>& ws,
                         const Vec<double, coordinate_count_v<M>>& q, Vec<double, coordinate_count_v<M>>& qd,
-                        double t, ActiveSet active = all_active) {
+                        double t, const ActiveSet& active = all_active) {
   if constexpr (has_constraints_v<M>) {
     detail::MinNormSolver solver(constraint_count(model), constraint_count(model));
     detail::project_velocities_with(model, ws, q, qd, t, active, solver);

@@ -241,7 +241,7 @@ ImpactResult<coordinate_count_v<M>> restitution_impact(const M& model, Workspace
   detail::factor_mass_matrix(ws, q, qd, t);
   r.kinetic_energy_before = detail::kinetic_for_log(model, ws, q, qd, t);
   auto cs = constraint_state(model, q, qd, t);
-  drop_inactive(model, cs, ActiveSet{1} << contact);  // the bilateral rows and this contact's row
+  drop_inactive(model, cs, ActiveSet::only(contact));  // the bilateral rows and this contact's row
   const int row = holonomic_count(model) + contact;
   const double v_minus = cs.velocity[row];
   r.generalized_impulse = Vec<double, n>::Zero(q.size());

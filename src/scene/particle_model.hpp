@@ -105,6 +105,7 @@ struct Contact {
   double R = 0;  // R_a (+ R_b)
   double e = 1;
   std::string name;
+  int id = -1;  // its number among the scene's contacts (ParticleModel::contact)
   lagrangian::detail::ContactHistory history;  // for the Zeno rule
   bool resting = false;
 
@@ -130,6 +131,8 @@ struct Contact {
 
 class ParticleModel {
  public:
+  ParticleModel(const ParticleModel&) = delete;  // contacts are held by address
+  ParticleModel& operator=(const ParticleModel&) = delete;
   explicit ParticleModel(const Scene& scene) {
     n_ = static_cast<int>(scene.bodies.size());
     dim_ = 3 * n_;
@@ -257,6 +260,7 @@ class ParticleModel {
       has_box_ = true;
     }
     has_contacts_ = has_pairs_ || !wall_contacts_.empty();
+    for (Contact& c : wall_contacts_) number(c);
     constrained_ = fixed_rows_ > 0 || has_contacts_;  // contacts may come to rest
     resize_rows();
     select_rhs();
@@ -470,8 +474,13 @@ class ParticleModel {
     c.R = radius_[static_cast<std::size_t>(i)] + radius_[static_cast<std::size_t>(j)];
     c.e = pair_e_;
     c.name = names_[static_cast<std::size_t>(i)] + "-" + names_[static_cast<std::size_t>(j)];
-    return pairs_.emplace(key, c).first->second;
+    return number(pairs_.emplace(key, c).first->second);
   }
+
+  /// The contact numbered `id` (Contact::id): walls and planes first, then
+  /// pairs of bodies in the order they were first met.
+  Contact& contact(int id) { return *by_id_[static_cast<std::size_t>(id)]; }
+  const Contact& contact(int id) const { return *by_id_[static_cast<std::size_t>(id)]; }
 
   /// All contacts within `tol` of closing at state x (for simultaneous impacts).
   void near_contacts(const double* x, double tol, std::vector<Contact*>& out) {
@@ -605,6 +614,12 @@ class ParticleModel {
   double pair_e_ = 1;
   std::vector<Contact> wall_contacts_;
   std::unordered_map<std::uint64_t, Contact> pairs_;
+  std::vector<Contact*> by_id_;  // every contact made so far, by Contact::id
+  Contact& number(Contact& c) {
+    c.id = static_cast<int>(by_id_.size());
+    by_id_.push_back(&c);
+    return c;
+  }
   std::vector<Contact*> rest_contacts_;
   std::vector<Span> spans_;
   Eigen::VectorXd rhs_m_, lambda_;

@@ -18,7 +18,7 @@
 
 #include "lagrangian/detail/contact_rules.hpp"
 #include "lagrangian/detail/energy_scale.hpp"
-#include "lagrangian/detail/impact_cycle.hpp"
+#include "lagrangian/detail/contacts.hpp"
 #include "lagrangian/detail/momentum_symmetry.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/constraints.hpp"
@@ -100,16 +100,137 @@ class StepPath {
   std::vector<double> nodes_;
 };
 
+/// The scene's contacts for detail::resolve_contacts, numbered by
+/// Contact::id. The change of kinetic energy at each impact goes to
+/// `shifts` as (t, ΔT), for the energy monitor.
+class ParticleContacts final : public lagrangian::detail::ContactSystem {
+ public:
+  ParticleContacts(ParticleModel& model, std::vector<std::pair<double, double>>& shifts)
+      : model_(model), shifts_(shifts) {}
+
+  int coordinates() const override { return model_.dim(); }
+  std::string contact_name(int j) const override { return model_.contact(j).name; }
+  void gap_rates(const double* x, double, const std::vector<int>& which, GapRate* out) override {
+    const double* v = x + model_.dim();
+    for (std::size_t k = 0; k < which.size(); ++k) {
+      const Contact& c = model_.contact(which[k]);
+      out[k] = {c.gap(x), c.rate(x, v)};
+    }
+  }
+  void near(const double* x, double, double touch, int, std::vector<int>& out) override {
+    model_.near_contacts(x, touch, near_);
+    out.clear();
+    for (const Contact* c : near_) out.push_back(c->id);
+  }
+  lagrangian::detail::ContactHistory& history(int j) override { return model_.contact(j).history; }
+  double restitution(int j) const override { return model_.contact(j).e; }
+  bool pressed(int j, const double* x, double) override { return model_.pressed(x, model_.contact(j)); }
+  lagrangian::detail::LawResult apply_law(int j, double e, double* x, double t, bool record) override {
+    const Contact& c = model_.contact(j);
+    const double* v = x + model_.dim();
+    lagrangian::detail::LawResult r;
+    r.kinetic_before = model_.kinetic(x);
+    r.approach = -c.rate(x, v);
+    r.impulse = model_.impulse(x, c, e);
+    r.kinetic_after = model_.kinetic(x);
+    r.separation = c.rate(x, v);
+    if (record) shifts_.emplace_back(t, r.kinetic_after - r.kinetic_before);
+    return r;
+  }
+  std::pair<double, double> jump_velocities(double* x, const double* v, double t) override {
+    const double T_before = model_.kinetic(x);
+    std::copy(v, v + model_.dim(), x + model_.dim());
+    const double T_after = model_.kinetic(x);
+    shifts_.emplace_back(t, T_after - T_before);
+    return {T_before, T_after};
+  }
+  /// Σ_k J_k n_k (on both bodies of a pair) = M Δv: least squares.
+  void impulse_shares(const double* x, const double* v, double, const std::vector<int>& which,
+                      double* out) override {
+    const int dim = model_.dim();
+    Eigen::MatrixXd N = Eigen::MatrixXd::Zero(dim, static_cast<Eigen::Index>(which.size()));
+    Eigen::VectorXd dp(dim);
+    for (int i = 0; i < dim; ++i) dp[i] = model_.mass()[static_cast<std::size_t>(i / 3)] * (v[i] - x[dim + i]);
+    for (std::size_t k = 0; k < which.size(); ++k) {
+      const Contact& c = model_.contact(which[k]);
+      const Vector3d nrm = c.normal(x);
+      N.block<3, 1>(3 * c.a, static_cast<Eigen::Index>(k)) = nrm;
+      if (c.pair) N.block<3, 1>(3 * c.b, static_cast<Eigen::Index>(k)) = -nrm;
+    }
+    Eigen::Map<Eigen::VectorXd>(out, static_cast<Eigen::Index>(which.size())) =
+        N.completeOrthogonalDecomposition().solve(dp);
+  }
+  double kinetic(const double* x, double) override { return model_.kinetic(x); }
+  bool resting(int j) const override { return model_.contact(j).resting; }
+  void resting_contacts(std::vector<int>& out) const override {
+    out.clear();
+    for (const Contact* c : model_.resting_contacts()) out.push_back(c->id);
+  }
+  void rest(int j) override { model_.make_resting(model_.contact(j)); }
+  void release(int j) override { model_.release(resting_index(j)); }
+
+  /// The broad phase (sweep and prune over the step, ParticleModel::
+  /// candidates), from the accelerations at both ends; the end of the
+  /// previous step is reused when nothing has moved the state since.
+  void step_candidates(double t0, const double* x0, double t1, const double* x1, std::vector<int>& out) override {
+    const int dim = model_.dim();
+    const auto n2 = static_cast<std::size_t>(2 * dim);
+    f0_.resize(n2);
+    f1_.resize(n2);
+    if (x_f_.size() == n2 && std::equal(x0, x0 + n2, x_f_.begin())) {
+      std::swap(f0_, f1_);
+    } else {
+      model_.rhs(x0, f0_.data(), t0);
+    }
+    model_.rhs(x1, f1_.data(), t1);
+    x_f_.assign(x1, x1 + n2);
+    lambda_at_ = x1;  // the resting contacts' multipliers at the step's end, from that evaluation
+    model_.candidates(x0, x1, f0_.data() + dim, f1_.data() + dim, t1 - t0, cand_);
+    path_.reset(t0, t1, x0, x1, dim);
+    out.clear();
+    for (const Contact* c : cand_) out.push_back(c->id);
+  }
+  void resting_multipliers(const double* x, double t, const std::vector<int>& which, double* out) override {
+    if (x != lambda_at_) {
+      scratch_.resize(static_cast<std::size_t>(2 * model_.dim()));
+      model_.rhs(x, scratch_.data(), t);
+    }
+    lambda_at_ = nullptr;
+    for (std::size_t k = 0; k < which.size(); ++k) out[k] = model_.resting_multiplier(resting_index(which[k]));
+  }
+  /// On the step path (StepPath): the bodies of the contact only.
+  GapRate gap_on_path(int j, double ts, const StepInterpolant& interp) override {
+    const Contact& c = model_.contact(j);
+    path_.prepare(interp);
+    Vector3d ra, va, rb = Vector3d::Zero(), vb = Vector3d::Zero();
+    path_.body(c.a, ts, ra, va);
+    if (c.pair) path_.body(c.b, ts, rb, vb);
+    return c.gap_rate(ra, va, rb, vb);
+  }
+
+ private:
+  /// The place of contact j among the resting contacts (the order of their rows).
+  std::size_t resting_index(int j) const {
+    const auto& resting = model_.resting_contacts();
+    return static_cast<std::size_t>(std::find_if(resting.begin(), resting.end(),
+                                                 [j](const Contact* c) { return c->id == j; }) -
+                                    resting.begin());
+  }
+
+  ParticleModel& model_;
+  std::vector<std::pair<double, double>>& shifts_;
+  std::vector<Contact*> near_, cand_;
+  std::vector<double> f0_, f1_, x_f_, scratch_;  // f at a step's two ends, the end's state
+  const double* lambda_at_ = nullptr;  // where the model's multipliers were last evaluated, when known
+  StepPath path_;
+};
+
 class ParticleSystem final : public lagrangian::System {
  public:
   ParticleSystem(const Scene& scene, const SimulationOptions& options, const ParticleOutput& output,
                  const SampleTick& tick, ParticleRun& out)
       : model_(scene), opt_(options), output_(output), tick_(tick), out_(out), rep_(out.report) {
     const auto size = static_cast<std::size_t>(2 * model_.dim());
-    f0_.assign(size, 0.0);
-    f1_.assign(size, 0.0);
-    x_f_.assign(size, 0.0);
-    buf_.assign(size, 0.0);
     scratch_.assign(size, 0.0);
     sample_x_.assign(size, 0.0);
     if (opt_.stabilization == Stabilization::baumgarte) model_.omega = opt_.baumgarte_omega;
@@ -159,7 +280,8 @@ class ParticleSystem final : public lagrangian::System {
       }
       output_.begin(names, units);
     }
-    if (model_.has_contacts()) resolve_at(x, t0, nullptr);  // contacts closing or resting at t0
+    // Contacts closing or resting at t0: every touching one takes part, and the rests that begin are not logged.
+    if (model_.has_contacts()) lagrangian::detail::resolve_contacts(contacts_, x, t0, -1, false, opt_, rep_);
   }
 
   void sample(double t, const double* x_in) override {
@@ -224,7 +346,7 @@ class ParticleSystem final : public lagrangian::System {
     out_.qd_final.assign(x + dim, x + 2 * dim);
     out_.effect_evaluations = model_.counts();
     rep_.rhs_evaluations = model_.rhs_evaluations;  // every evaluation, the contacts' too
-    out_.contact_locations = contact_locations_;
+    out_.contact_locations = events_.locations();
   }
 
   /// Constraint rows: the links and surfaces, and resting contacts.
@@ -253,136 +375,20 @@ class ParticleSystem final : public lagrangian::System {
 
   bool has_events() const override { return model_.has_contacts(); }
 
-  /// The first event in the step from (t_old, x_old) to (t, x): a resting
-  /// contact lifting off (its multiplier turning negative) or an open one
-  /// closing. The state moves there and the event is applied.
+  /// The first contact event in the step from (t_old, x_old) to (t, x)
+  /// (detail::ContactEvents): the state moves there and the event is applied.
   bool handle_events(double t_old, const double* x_old, double& t, double* x,
                      const StepInterpolant& interp) override {
-    const int dim = model_.dim();
-    const auto n2 = static_cast<std::size_t>(2 * dim);
     if (!(t > t_old)) return false;
-    // f at both ends: accelerations for the broad phase, and at the end the
-    // multipliers of the resting contacts. The end of the previous step is
-    // reused when nothing has moved the state since.
-    if (std::equal(x_old, x_old + n2, x_f_.begin())) {
-      std::swap(f0_, f1_);
-    } else {
-      model_.rhs(x_old, f0_.data(), t_old);
-    }
-    model_.rhs(x, f1_.data(), t);
-    std::copy(x, x + n2, x_f_.begin());
-
-    double best_t = std::numeric_limits<double>::infinity();
-    Contact* closing = nullptr;
-    std::ptrdiff_t lift_off = -1;
-    // Lift-off: a resting contact whose multiplier pulls at the step end.
-    const auto& resting = model_.resting_contacts();
-    std::vector<double>& lambda_end = lambda_end_;
-    lambda_end.resize(resting.size());
-    for (std::size_t k = 0; k < resting.size(); ++k) lambda_end[k] = model_.resting_multiplier(k);
-    for (std::size_t k = 0; k < resting.size(); ++k) {
-      if (!(lambda_end[k] < 0)) continue;
-      auto lambda = [&](double ts) {
-        if (ts == t) return lambda_end[k];
-        interp(ts, buf_.data());
-        model_.rhs(buf_.data(), scratch_.data(), ts);
-        return model_.resting_multiplier(k);
-      };
-      const double tl = lagrangian::detail::locate_lift_off(t_old, t, lambda(t_old), lambda_end[k],
-                                                            lagrangian::detail::time_function(lambda));
-      if (tl < best_t) {
-        best_t = tl;
-        lift_off = static_cast<std::ptrdiff_t>(k);
-      }
-    }
-    // Closing: the open contacts the broad phase keeps. Only the earliest
-    // event of the step matters, so the contacts that cross zero (open at
-    // the step's start, closed at its end) are located in the order of
-    // their chord estimate, and one still open on the step path at the
-    // earliest time found so far closes after it and is not located. Without
-    // this every crossing in the step was located on the interpolant, and a
-    // step of free flight can hold thousands (a gas against its walls: the
-    // steps grow until they span the rest of the run, and each is cut at
-    // the first wall impact).
-    model_.candidates(x_old, x, f0_.data() + dim, f1_.data() + dim, t - t_old, cand_);
-    const double touch = lagrangian::detail::contact_touch_tolerance(x, dim);
-    path_.reset(t_old, t, x_old, x, dim);
-    order_.clear();
-    for (Contact* c : cand_) {
-      const GapRate a{c->gap(x_old), c->rate(x_old, x_old + dim)};
-      const GapRate b{c->gap(x), c->rate(x, x + dim)};
-      if (a.gap > touch && b.gap > touch && a.rate < 0 && b.rate > 0 && open_throughout(*c, interp, a, b, touch))
-        continue;  // passes by: a dip of the gap that stays above the touch tolerance
-      if (a.gap > touch && b.gap > touch && !(a.rate < 0 && b.rate > 0)) continue;  // open throughout: no crossing
-      const bool crossing = a.gap > touch && b.gap < 0;
-      const double key = crossing ? t_old + (t - t_old) * (a.gap / (a.gap - b.gap)) : t_old;
-      order_.push_back({key, crossing, c, a, b});
-    }
-    std::sort(order_.begin(), order_.end(), [](const Pending& p, const Pending& q) { return p.key < q.key; });
-    for (const Pending& p : order_) {
-      Contact* c = p.contact;
-      if (p.crossing && best_t < t && open_on_path(*c, interp, best_t, touch)) continue;  // closes after best_t
-      auto on_step = [&](double ts) {
-        interp(ts, buf_.data());
-        return GapRate{c->gap(buf_.data()), c->rate(buf_.data(), buf_.data() + dim)};
-      };
-      ++contact_locations_;
-      const Closing found = lagrangian::detail::locate_closing(t_old, t, p.a, p.b, touch, opt_.contact_touch_speed,
-                                                               lagrangian::detail::gap_function(on_step));
-      if (found.kind == Closing::Kind::penetrated) lagrangian::detail::throw_penetrated(c->name, t_old, p.a.gap);
-      if (found.kind != Closing::Kind::none && found.t < best_t) {
-        best_t = found.t;
-        closing = c;
-        lift_off = -1;
-      }
-    }
-    if (!closing && lift_off < 0) return false;
-    progress_.check(best_t, t_old);
-    if (best_t < t) {
-      interp(best_t, buf_.data());
-      std::copy(buf_.begin(), buf_.end(), x);
-      t = best_t;
-    }
-    if (closing) {
-      resolve_at(x, t, closing);
-    } else {
-      const std::string name = resting[static_cast<std::size_t>(lift_off)]->name;
-      model_.release(static_cast<std::size_t>(lift_off));
-      log_event(t, EventKind::release, name, 0, 0, 0);
-    }
+    const lagrangian::detail::ContactEvent e =
+        events_.first(contacts_, t_old, x_old, t, x, interp, opt_.contact_touch_speed);
+    if (e.kind == lagrangian::detail::ContactEvent::Kind::none) return false;
+    events_.move_to(e.t, t_old, interp, t, x, model_.dim());
+    events_.apply(contacts_, e, x, t, opt_, rep_);
     return true;
   }
 
  private:
-  /// True when the gap of contact c, which falls at the step's start (a)
-  /// and rises at its end (b), stays above `touch` throughout the step: its
-  /// minimum, where φ̇ = 0, on the step path. The path reproduces the
-  /// interpolant to rounding (~1e-16 of the coordinates), far below the
-  /// touch tolerance, so a contact kept here cannot close.
-  bool open_throughout(const Contact& c, const StepInterpolant& interp, GapRate a, GapRate b, double touch) {
-    path_.prepare(interp);
-    auto on_path = [&](double ts) {
-      Vector3d ra, va, rb = Vector3d::Zero(), vb = Vector3d::Zero();
-      path_.body(c.a, ts, ra, va);
-      if (c.pair) path_.body(c.b, ts, rb, vb);
-      return c.gap_rate(ra, va, rb, vb);
-    };
-    const double tm =
-        lagrangian::detail::stationary_time(path_.t0(), path_.t1(), a, b, lagrangian::detail::gap_function(on_path));
-    return on_path(tm).gap > touch;
-  }
-
-  /// True when contact c is open beyond `touch` at time ts of the step, on
-  /// the step path (which reproduces the interpolant to rounding, far below
-  /// the touch tolerance).
-  bool open_on_path(const Contact& c, const StepInterpolant& interp, double ts, double touch) {
-    path_.prepare(interp);
-    Vector3d ra, va, rb = Vector3d::Zero(), vb = Vector3d::Zero();
-    path_.body(c.a, ts, ra, va);
-    if (c.pair) path_.body(c.b, ts, rb, vb);
-    return c.gap_rate(ra, va, rb, vb).gap > touch;
-  }
-
   /// The constraint residuals at x into the report's maxima (at accepted
   /// steps and at samples).
   void record_residuals(const double* x) {
@@ -460,195 +466,6 @@ class ParticleSystem final : public lagrangian::System {
     return shift_;
   }
 
-  void log_event(double t, EventKind kind, const std::string& name, double J, double u_in, double u_out,
-                 double T_before = 0, double T_after = 0) {
-    if (!std::isfinite(J) || !std::isfinite(T_before) || !std::isfinite(T_after)) {
-      std::ostringstream os;
-      os.precision(17);
-      os << "impact " << name << " at t = " << t << " gave a non-finite impulse or energy (J = " << J
-         << " N s, kinetic energy " << T_before << " -> " << T_after
-         << " J): its values overflow double precision, so the run was stopped";
-      throw SimulationError(os.str(), t);
-    }
-    EventRecord e;
-    e.t = t;
-    e.kind = kind;
-    e.name = name;
-    e.impulse = J;
-    e.approach_speed = u_in;
-    e.separation_speed = u_out;
-    e.kinetic_energy_before = T_before;
-    e.kinetic_energy_after = T_after;
-    rep_.events.push_back(std::move(e));
-    if (kind == EventKind::impact) ++rep_.impacts;
-  }
-
-  /// Resolves every contact that is touching and approaching at t, fastest
-  /// first, until none approaches (sequential pairwise impacts; each
-  /// conserves momentum, and kinetic energy when e = 1), with the Zeno rule
-  /// deciding which impacts end an accumulation. Afterwards a contact that
-  /// took part (at t0: every touching one) and does not separate rests when
-  /// its last impact was plastic (e = 0) or the forces press it shut, and
-  /// resting contacts that separate lift off; the log records these changes
-  /// (none at t0).
-  /// `located` is the contact found closing; nullptr at t0.
-  void resolve_at(double* x, double t, Contact* located) {
-    const bool at_start = located == nullptr;
-    const int dim = model_.dim();
-    const double tol = lagrangian::detail::contact_touch_tolerance(x, dim);
-    const double touch_speed = opt_.contact_touch_speed;
-    const std::vector<Contact*> resting_before = model_.resting_contacts();
-    model_.near_contacts(x, tol, near_);
-    if (located && std::find(near_.begin(), near_.end(), located) == near_.end()) near_.push_back(located);
-    auto contains = [](const std::vector<Contact*>& v, const Contact* c) {
-      return std::find(v.begin(), v.end(), c) != v.end();
-    };
-    std::vector<Contact*> involved;
-    if (at_start) involved = near_;
-    if (located) involved.push_back(located);
-    std::vector<Contact*> rested;   // by the Zeno rule, logged as such
-    std::vector<Contact*> plastic;  // their last impact had e = 0: the bodies stick
-    double impact_energy = 0;
-    lagrangian::detail::ImpactCycle cycle;  // the impacts since the last cycle replaced by its limit
-    for (int it = 0;; ++it) {
-      if (it > 1000 * static_cast<int>(near_.size() + 1)) {
-        std::ostringstream os;
-        os.precision(17);
-        os << "simultaneous impacts at t = " << t << " did not settle after " << it << " pairwise impacts";
-        throw SimulationError(os.str(), t);
-      }
-      Contact* fastest = nullptr;
-      double u_max = touch_speed;
-      for (Contact* c : near_) {
-        if (c->resting) continue;
-        const double u = -c->rate(x, x + dim);
-        if (u > u_max) {
-          u_max = u;
-          fastest = c;
-        }
-      }
-      if (!fastest) break;
-      Contact& c = *fastest;
-      const double T_before = model_.kinetic(x);
-      const auto pressed = [&] { return model_.pressed(x, c); };
-      const bool zeno = lagrangian::detail::zeno_accumulation(c.history, u_max, t, opt_,
-                                                              lagrangian::detail::predicate(pressed));
-      const double e = zeno ? 0.0 : c.e;
-      const double J = model_.impulse(x, c, e);
-      const double T_after = model_.kinetic(x);
-      impact_energy += T_after - T_before;
-      rep_.impact_energy_loss += T_before - T_after;
-      const double cutoff = zeno ? lagrangian::detail::zeno_cutoff(c.history, t, c.e) : std::nan("");
-      c.history.record(u_max, t);
-      const double u_out = c.rate(x, x + dim);
-      log_event(t, zeno ? EventKind::rest : EventKind::impact, c.name, J, u_max, u_out, T_before, T_after);
-      rep_.events.back().zeno_cutoff = cutoff;
-      involved.push_back(&c);
-      if (e == 0.0) plastic.push_back(&c);
-      if (zeno) {
-        model_.make_resting(c);
-        rested.push_back(&c);
-      }
-      model_.wake_approaching(x, touch_speed, near_);
-      // Impacts that cycle (a light sphere pinned between heavy ones and
-      // walls) are replaced by their limit, as for models
-      // (detail/impact_cycle.hpp).
-      cycle.record(static_cast<int>(std::find(near_.begin(), near_.end(), &c) - near_.begin()), e);
-      const auto round = cycle.due_round(static_cast<int>(near_.size()));
-      if (!round.empty() && settle_cycle(x, t, round, impact_energy)) {
-        for (const auto& imp : round) involved.push_back(near_[static_cast<std::size_t>(imp.contact)]);
-        cycle.settled();
-      }
-    }
-    // Contacts that took part and do not separate rest when their last
-    // impact was plastic or the forces press them shut.
-    for (Contact* c : involved)
-      if (!c->resting && c->gap(x) <= tol && c->rate(x, x + dim) <= touch_speed &&
-          (contains(plastic, c) || model_.pressed(x, *c)))
-        model_.make_resting(*c);
-    // Resting contacts that separate lift off.
-    for (std::size_t k = model_.resting_contacts().size(); k-- > 0;)
-      if (model_.resting_contacts()[k]->rate(x, x + dim) > touch_speed) model_.release(k);
-    // The log: what changed.
-    if (!at_start) {
-      std::vector<Contact*> seen;
-      for (Contact* c : involved) {
-        if (contains(seen, c)) continue;
-        seen.push_back(c);
-        const bool was = contains(resting_before, c);
-        if (c->resting && !was && !contains(rested, c))
-          log_event(t, EventKind::rest, c->name, 0, 0, 0, model_.kinetic(x), model_.kinetic(x));
-      }
-      for (Contact* c : resting_before)
-        if (!c->resting) log_event(t, EventKind::release, c->name, 0, 0, 0);
-    }
-    if (impact_energy != 0) pending_.emplace_back(t, impact_energy);
-  }
-
-  /// The limit of impacts that cycle among the contacts near_[k] of `round`
-  /// (detail/impact_cycle.hpp), as ModelSystem::settle_cycle: the
-  /// velocities in x jump to it when the rounds converge, the contacts left
-  /// approaching by rounding are closed together (close_together), and each
-  /// contact of the round gets one impact in the log with its share of the
-  /// total impulse. Returns false (x unchanged) when the rounds do not settle.
-  bool settle_cycle(double* x, double t, const std::vector<lagrangian::detail::ImpactCycle::Impact>& round,
-                    double& impact_energy) {
-    const int dim = model_.dim();
-    std::vector<double> trial(x, x + 2 * dim), limit(static_cast<std::size_t>(dim));
-    auto apply_round = [&](const double* in, double* out) {
-      std::copy(in, in + dim, trial.begin() + dim);
-      for (const auto& imp : round) model_.impulse(trial.data(), *near_[static_cast<std::size_t>(imp.contact)], imp.e);
-      std::copy(trial.begin() + dim, trial.end(), out);
-    };
-    if (!lagrangian::detail::round_limit(dim, x + dim, lagrangian::detail::round_map(apply_round), limit.data()))
-      return false;
-    std::vector<Contact*> contacts;
-    for (const auto& imp : round) {
-      Contact* c = near_[static_cast<std::size_t>(imp.contact)];
-      if (std::find(contacts.begin(), contacts.end(), c) == contacts.end()) contacts.push_back(c);
-    }
-    double speed = 0;
-    for (int i = 0; i < dim; ++i) speed = std::max(speed, std::abs(x[dim + i]));
-    // Contacts of the round left approaching by rounding: closed together.
-    auto rate = [&](int k, const double* v) {
-      std::copy(v, v + dim, trial.begin() + dim);
-      return contacts[static_cast<std::size_t>(k)]->rate(trial.data(), trial.data() + dim);
-    };
-    auto plastic = [&](int k, double* v) {
-      std::copy(v, v + dim, trial.begin() + dim);
-      model_.impulse(trial.data(), *contacts[static_cast<std::size_t>(k)], 0.0);
-      std::copy(trial.begin() + dim, trial.end(), v);
-    };
-    if (!lagrangian::detail::close_together(dim, limit.data(), static_cast<int>(contacts.size()), speed,
-                                            lagrangian::detail::function_ref<double(int, const double*)>(rate),
-                                            lagrangian::detail::function_ref<void(int, double*)>(plastic)))
-      return false;
-    std::copy(limit.begin(), limit.end(), trial.begin() + dim);
-    // Each contact's impulse: Σ_k J_k n_k (on both bodies of a pair) = M Δv.
-    Eigen::MatrixXd N = Eigen::MatrixXd::Zero(dim, static_cast<Eigen::Index>(contacts.size()));
-    Eigen::VectorXd dp(dim);
-    for (int i = 0; i < dim; ++i) dp[i] = model_.mass()[static_cast<std::size_t>(i / 3)] * (trial[dim + i] - x[dim + i]);
-    for (std::size_t k = 0; k < contacts.size(); ++k) {
-      const Contact& c = *contacts[k];
-      const Vector3d nrm = c.normal(x);
-      N.block<3, 1>(3 * c.a, static_cast<Eigen::Index>(k)) = nrm;
-      if (c.pair) N.block<3, 1>(3 * c.b, static_cast<Eigen::Index>(k)) = -nrm;
-    }
-    const Eigen::VectorXd J = N.completeOrthogonalDecomposition().solve(dp);
-    std::vector<double> approach(contacts.size());
-    for (std::size_t k = 0; k < contacts.size(); ++k) approach[k] = -contacts[k]->rate(x, x + dim);
-    const double T_before = model_.kinetic(x);
-    std::copy(trial.begin() + dim, trial.end(), x + dim);
-    const double T_after = model_.kinetic(x);
-    for (std::size_t k = 0; k < contacts.size(); ++k)
-      log_event(t, EventKind::impact, contacts[k]->name, J[static_cast<Eigen::Index>(k)], approach[k],
-                contacts[k]->rate(x, x + dim), T_before, T_after);
-    impact_energy += T_after - T_before;
-    rep_.impact_energy_loss += T_before - T_after;
-    model_.wake_approaching(x, opt_.contact_touch_speed, near_);
-    return true;
-  }
-
   mutable ParticleModel model_;
   const SimulationOptions& opt_;
   const ParticleOutput& output_;
@@ -656,27 +473,15 @@ class ParticleSystem final : public lagrangian::System {
   const SampleTick& tick_;
   ParticleRun& out_;
   RunReport& rep_;
-  std::vector<double> f0_, f1_, x_f_, buf_, scratch_;
+  std::vector<double> scratch_;
   std::vector<double> sample_x_;  // a sample projected onto the constraint rows (2 dim)
-  std::vector<double> lambda_end_;  ///< multipliers of the resting contacts at a step's end
-  std::vector<Contact*> cand_, near_;
-  /// A candidate contact to locate in a step: `key` orders them (the chord
-  /// estimate of a crossing; the step's start for the others).
-  struct Pending {
-    double key;
-    bool crossing;
-    Contact* contact;
-    GapRate a, b;
-  };
-  std::vector<Pending> order_;
-  std::uint64_t contact_locations_ = 0;  ///< contacts located on a step's interpolant (root searches)
-  StepPath path_;
-  lagrangian::detail::EventProgress progress_;
   double E_last_ = 0;  ///< E at the last sample (J)
   double E0_ = 0, shift_ = 0;
   double drift_ = 0;  // J: max |E − E0 − shifts| so far (rescale_drift)
   lagrangian::detail::EnergyScale scale_;
   std::vector<std::pair<double, double>> pending_;  ///< (time, ΔT) of impacts not yet sampled past
+  ParticleContacts contacts_{model_, pending_};
+  lagrangian::detail::ContactEvents events_;
   Vector3d P0_ = Vector3d::Zero(), L0_ = Vector3d::Zero();
 };
 

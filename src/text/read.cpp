@@ -115,10 +115,6 @@ std::shared_ptr<const Parsed> read(const Definition& d) {
       throw ExpressionError(key + ".restitution", 0, os.str());
     }
   }
-  if (d.contacts.size() > 64)
-    throw ExpressionError(pre + "contacts", 0,
-                          "at most 64 contacts, got " + std::to_string(d.contacts.size()));
-
   const std::size_t rows = d.holonomic.size() + d.pfaffian.size();
   auto check_count = [&](const std::vector<std::string>& v, const char* key, const char* what) {
     if (!v.empty() && v.size() != rows)

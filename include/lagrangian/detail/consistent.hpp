@@ -62,7 +62,7 @@ void consistency_constraints(unsigned m, double* result, unsigned n, const doubl
   Vec<double, coordinate_count_v<M>> q(static_cast<int>(n));
   for (unsigned i = 0; i < n; ++i) q[static_cast<int>(i)] = x[i];
   auto cs = constraint_state(*p.model, q, Vec<double, coordinate_count_v<M>>::Zero(static_cast<int>(n)).eval(), p.t);
-  drop_inactive(*p.model, cs, ActiveSet{0});
+  drop_inactive(*p.model, cs, ActiveSet{});
   for (unsigned i = 0; i < m; ++i) {
     result[i] = cs.position[static_cast<int>(i)];
     if (grad)
@@ -212,7 +212,7 @@ double slide_to_nearest(const M& model, const Vec<double, coordinate_count_v<M>>
         Vec<double, n> trial = q + alpha * *step;
         if (!trial.allFinite()) continue;
         try {
-          project_positions(model, trial, t, tolerance, 50, ActiveSet{0});
+          project_positions(model, trial, t, tolerance, 50, ActiveSet{});
         } catch (const ConstraintError&) {
           continue;
         }
@@ -270,7 +270,7 @@ State<coordinate_count_v<M>> consistent_initial_state(const M& model, const Stat
         Vec<double, n> q = start;
         detail::levenberg_marquardt_onto(model, q, t);  // then Gauss–Newton to the tolerance
         try {
-          project_positions(model, q, t, tolerance, 50, ActiveSet{0});
+          project_positions(model, q, t, tolerance, 50, ActiveSet{});
         } catch (const ConstraintError& e) {
           if (!first_error) first_error = e;
           return;
@@ -381,9 +381,9 @@ State<coordinate_count_v<M>> consistent_initial_state(const M& model, const Stat
   }
   if constexpr (has_constraints_v<M>) {
     Workspace<n> ws(size);
-    project_velocities(model, ws, s.q, s.qd, t, ActiveSet{0});
+    project_velocities(model, ws, s.q, s.qd, t, ActiveSet{});
     auto cs = constraint_state(model, s.q, s.qd, t);
-    drop_inactive(model, cs, ActiveSet{0});
+    drop_inactive(model, cs, ActiveSet{});
     const double scale = 1.0 + s.qd.template lpNorm<Eigen::Infinity>();
     for (int i = 0; i < constraint_count(model); ++i) {
       if (!(std::abs(cs.velocity[i]) <= 1e3 * tolerance * scale)) {

@@ -26,7 +26,7 @@ EomSample eom_sample(const M& model, const double* q_in, const double* qd_in, do
     constrained = has_constraints(model);
     if (constrained) {
       ConstraintWorkspaceFor<M> cw = constraint_workspace(model);
-      constrained_accelerations(model, ws, cw, q, qd, t, qdd, 0.0, ActiveSet{0});
+      constrained_accelerations(model, ws, cw, q, qd, t, qdd, 0.0, ActiveSet{});
     }
   }
   if (!constrained) free_accelerations(model, ws, q, qd, t, qdd);

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <optional>
@@ -22,7 +23,7 @@
 #include "lagrangian/detail/energy_scale.hpp"
 #include "lagrangian/detail/singular_values.hpp"
 #include "lagrangian/detail/contact_rules.hpp"
-#include "lagrangian/detail/impact_cycle.hpp"
+#include "lagrangian/detail/contacts.hpp"
 #include "lagrangian/detail/momentum_symmetry.hpp"
 #include "lagrangian/detail/observer_ref.hpp"
 #include "lagrangian/detail/point_momenta.hpp"
@@ -126,9 +127,6 @@ class ModelSystem final : public System {
       : model_(model), opt_(opt), obs_(obs), report_(report), size_(model_size(model)) {
     if constexpr (has_constraints_v<M>) {
       if (lagrangian::has_constraints(model)) {
-        if (unilateral_count(model) > 64)
-          throw ConstraintError("the model has " + std::to_string(unilateral_count(model)) +
-                                " contacts; a run holds at most 64");
         if constexpr (runtime_constraint_counts_v<M>) {  // (fixed counts: sized already)
           context_ = ConstraintContext<M>(model);
           cw_ = constraint_workspace(model);
@@ -374,7 +372,7 @@ class ModelSystem final : public System {
     if constexpr (has_constraints_v<M>) {
       if (ctx_) {
         if constexpr (uses_constant_mass) {
-          if ((ctx_->active & unilateral_mask(model_)) == 0) {  // contacts only, none touching: free motion
+          if (!ctx_->active.any(unilateral_count(model_))) {  // contacts only, none touching: free motion
             constant_mass_(model_, rhs_ws_, q, qd, t, qdd);
             ctx_->cw.multipliers.setZero();
             ctx_->cw.constraint_forces.setZero();
@@ -402,22 +400,14 @@ class ModelSystem final : public System {
       report_.rhs_evaluations = variational_->lagrangian_evaluations();
     }
   }
-  ActiveSet active() const { return ctx_ ? ctx_->active : all_active; }
+  const ActiveSet& active() const { return ctx_ ? ctx_->active : all_active; }
   // Instantiated only for models with events (called from handle_events).
   bool locate_events(double t_old, const double* x_old, double& t, double* x, const StepInterpolant& interp);
-  /// Resolves every contact that is touching (|φ| within the touch
-  /// tolerance) and approaching faster than contact_touch_speed at (x, t),
-  /// one pair at a time: the one approaching fastest first, by Newton's law
-  /// of restitution (apply_impact), until none approaches (the sequential
-  /// rule for simultaneous impacts; each step conserves momentum, and kinetic
-  /// energy when e = 1). Zeno accumulations are resolved plastically (see
-  /// SimulationOptions::zeno_speed_ratio). Afterwards the contacts that took
-  /// part (and `trigger`) are resting (active) when they do not separate,
-  /// and active contacts that separate are released.
+  /// The model's contacts as the contact rules see them (run_events.hpp).
+  class Contacts;
+  /// Resolves the impacts at (x, t) by detail::resolve_contacts: `trigger`
+  /// is the contact found closing.
   void resolve_contacts(double* x, double t, int trigger);
-  /// Replaces impacts that cycle by their limit; true when it did
-  /// (run_events.hpp).
-  bool settle_cycle(const Vec<double, n>& q, Vec<double, n>& qd, double t, const std::vector<ImpactCycle::Impact>& round);
   /// Tracks σ_r/σ_1 of the bilateral constraint Jacobian (r = rank at t0)
   /// at accepted steps and samples, and warns once when it falls below
   /// 1e-3: a singular configuration is near (the multipliers grow without
@@ -615,15 +605,17 @@ class ModelSystem final : public System {
   using PerContact = std::conditional_t<u_ == Dynamic, std::vector<T>, std::array<T, u_ == Dynamic ? 0 : u_>>;
   PerContact<double> restitution_{};
   PerContact<ContactHistory> history_{};  ///< for the Zeno rule
-  /// Gaps and rates at a step's two ends and inside it (run_events.hpp).
-  Vec<double, u_> gap_a_, rate_a_, gap_b_, rate_b_, gap_in_, rate_in_;
+  /// Gaps and rates at one state (run_events.hpp; run-time sized storage, sized once).
+  Vec<double, u_> gap_in_, rate_in_;
+  /// Made at the start when the model has contacts.
+  [[no_unique_address]] std::conditional_t<u_ != 0, std::unique_ptr<Contacts>, None> contacts_{};
+  ContactEvents contact_events_;
   std::vector<EventSpec> specs_;
   std::vector<double> event_buf_;
   bool stopped_ = false;
   /// (time, Δh, ΔE) of impacts not yet sampled past
   std::vector<std::array<double, 3>> pending_shifts_;
   [[no_unique_address]] std::conditional_t<has_reference_v<M>, State<n>, None> reference_initial_{};
-  EventProgress progress_;
   [[no_unique_address]] std::conditional_t<has_constraints_v<M>, ConstraintWorkspace<n, constraint_count_v<M>>, None>
       cw_{};
   std::vector<int> cyclic_;

@@ -89,7 +89,7 @@ Vec<double, coordinate_count_v<M>> unit_impulse_response(const M& model, const V
   if constexpr (has_constraints_v<M>) {
     if (has_bilateral_constraints(model)) {
       auto cs = constraint_state(model, q, qd, t);
-      drop_inactive(model, cs, ActiveSet{0});  // (the contacts' rows are zero)
+      drop_inactive(model, cs, ActiveSet{});  // (the contacts' rows are zero)
       const auto minv_ct = ws.cholesky.solve(cs.jacobian.transpose()).eval();
       const auto schur = (cs.jacobian * minv_ct).eval();
       const int rows = static_cast<int>(schur.rows());

@@ -46,7 +46,7 @@ class RestModelOf final : public RestModel {
     if constexpr (holonomic_count_v<M> != 0) {
       Vec<double, coordinate_count_v<M>> x = q;
       try {
-        project_positions(model_, x, t_, 1e-12, 50, ActiveSet{0});
+        project_positions(model_, x, t_, 1e-12, 50, ActiveSet{});
       } catch (const ConstraintError&) {
         return false;
       }

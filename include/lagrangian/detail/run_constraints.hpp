@@ -28,7 +28,7 @@ bool ModelSystem<M>::stabilize(double* x, double t, bool allow_projection) {
   } else {
     if (!ctx_) return false;
     ConstraintReport& cr = report_.constraints;
-    if (only_contacts_v && (active() & unilateral_mask(model_)) == 0) return false;  // free flight: nothing to hold
+    if (only_contacts_v && !active().any(unilateral_count(model_))) return false;  // free flight: nothing to hold
     Vec<double, n> q(size_), qd(size_);
     split_state(x, q, qd);
     bool changed = false;
@@ -46,7 +46,7 @@ bool ModelSystem<M>::stabilize(double* x, double t, bool allow_projection) {
     auto cs = constraint_state(model_, q, qd, t);
     for (int j = 0; j < unilateral_count(model_); ++j) {
       const int row = holonomic_count(model_) + j;
-      if (!((active() >> j) & 1u) && cs.position[row] < -1e-9 * (1.0 + q.template lpNorm<Eigen::Infinity>())) {
+      if (!active().contains(j) && cs.position[row] < -1e-9 * (1.0 + q.template lpNorm<Eigen::Infinity>())) {
         std::ostringstream os;
         os.precision(17);
         os << "unilateral constraint " << cr.names[static_cast<std::size_t>(row)] << " is violated at t = " << t
@@ -96,7 +96,7 @@ template <class M>
 template <class CS>
 void ModelSystem<M>::monitor_conditioning(CS cs, double t) {
   ConstraintReport& cr = report_.constraints;
-  drop_inactive(model_, cs, ActiveSet{0});
+  drop_inactive(model_, cs, ActiveSet{});
   const double* sv = ctx_->conditioning.compute(cs.jacobian.data());
   const int r = cr.initial_rank;
   if (r < 1 || ctx_->conditioning.size() == 0 || !(sv[0] > 0)) return;
@@ -150,7 +150,7 @@ void ModelSystem<M>::start_constraints(State<n>& x0, Columns& columns) {
                             " coordinates (rank " + std::to_string(dof.holonomic_rank) + "): no motion is left");
     for (const auto& r : dof.redundant)
       cr.warnings.push_back(redundant_constraint_warning(r));
-    ActiveSet active = 0;
+    ActiveSet active;
     const int contacts = unilateral_count(model_);
     (void)contacts;
     if constexpr (unilateral_count_v<M> != 0) {
@@ -160,7 +160,8 @@ void ModelSystem<M>::start_constraints(State<n>& x0, Columns& columns) {
       } else {
         history_.fill(ContactHistory{});
       }
-      for (auto* v : {&gap_a_, &rate_a_, &gap_b_, &rate_b_, &gap_in_, &rate_in_}) v->setZero(contacts);
+      for (auto* v : {&gap_in_, &rate_in_}) v->setZero(contacts);
+      if (ctx_ && contacts > 0) contacts_ = std::make_unique<Contacts>(*this);
       bool approaching = false;
       for (int j = 0; j < contacts; ++j) {
         const int row = holonomic_count(model_) + j;
@@ -176,15 +177,15 @@ void ModelSystem<M>::start_constraints(State<n>& x0, Columns& columns) {
           if (gd < -opt_.contact_touch_speed) {
             approaching = true;  // an impact at t0
           } else if (gd <= opt_.contact_touch_speed) {
-            active |= ActiveSet{1} << j;  // resting contact, if pressed (below)
+            active.insert(j);  // resting contact, if pressed (below)
           }
         }
       }
       if (ctx_) ctx_->active = active;
       // A contact touching at t0 rests only where the forces press it shut.
       for (int j = 0; j < contacts && ctx_; ++j)
-        if (((active >> j) & 1u) && !(gap_acceleration(x0.q, x0.qd, opt_.t0, j) < 0)) {
-          active &= ~(ActiveSet{1} << j);
+        if (active.contains(j) && !(gap_acceleration(x0.q, x0.qd, opt_.t0, j) < 0)) {
+          active.erase(j);
           ctx_->active = active;
         }
       if (approaching) {
@@ -235,7 +236,7 @@ template <class M>
 void ModelSystem<M>::project_sample(Sample<n>& s) {
   if constexpr (has_constraints_v<M>) {
     if (opt_.stabilization != Stabilization::projection) return;
-    if (only_contacts_v && (active() & unilateral_mask(model_)) == 0) return;  // free flight: nothing to hold
+    if (only_contacts_v && !active().any(unilateral_count(model_))) return;  // free flight: nothing to hold
     project_onto_constraints(s.q, s.qd, s.t);
   }
 }
@@ -251,8 +252,8 @@ void ModelSystem<M>::sample_constraints(Sample<n>& s) {
     if constexpr (add_rows(holonomic_count_v<M>, pfaffian_count_v<M>) != 0) {
       if (has_bilateral_constraints(model_)) monitor_conditioning(cs, s.t);
     }
-    if (!(only_contacts_v && (active() & unilateral_mask(model_)) == 0)) record_residuals(cs, false);
-    drop_inactive(model_, cs, ActiveSet{0});  // rank of the bilateral constraints
+    if (!(only_contacts_v && !active().any(unilateral_count(model_)))) record_residuals(cs, false);
+    drop_inactive(model_, cs, ActiveSet{});  // rank of the bilateral constraints
     const int rank = detail::numeric_rank(cs.jacobian);
     ConstraintReport& cr = report_.constraints;
     if (rank < cr.min_rank) {
