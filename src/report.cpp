@@ -164,17 +164,39 @@ double RunReport::total_energy_drift_relative_to_initial_max() const {
 void check_drift(RunReport& report, double rtol) {
   report.drift_bound = std::max(1e-2, 100 * rtol);
   report.drift_exceeded = false;
-  if (!report.conservative) return;
-  const double drift = report.energy_drift_max;
-  if (!(drift > report.drift_bound)) return;
-  report.drift_exceeded = true;
-  char buf[512];
-  std::snprintf(buf, sizeof buf,
-                "energy drift %.3g of the energy scale exceeds %.3g, more than a run at rtol = %.3g can excuse (the "
-                "bound is max(1e-2, 100 rtol)): the trajectory is not to be trusted; tighten rtol, or dt for a "
-                "fixed-step method",
-                drift, report.drift_bound, rtol);
-  report.warnings.emplace_back(buf);
+  report.monitors.clear();
+  auto judge = [&](std::string name, double figure, const std::string& what, const char* relative_to) {
+    MonitorVerdict v{std::move(name), figure, figure > report.drift_bound};
+    if (v.exceeded) {
+      report.drift_exceeded = true;
+      char buf[640];
+      std::snprintf(buf, sizeof buf,
+                    "%s %.3g (%s) exceeds %.3g, more than a run at rtol = %.3g can excuse (the bound is max(1e-2, "
+                    "100 rtol)): the trajectory is not to be trusted; tighten rtol, or dt for a fixed-step method",
+                    what.c_str(), figure, relative_to, report.drift_bound, rtol);
+      report.warnings.emplace_back(buf);
+    }
+    report.monitors.push_back(std::move(v));
+  };
+  const double energy = report.energy_scale > 0 ? report.energy_scale : 1.0;
+  if (report.conservative) judge("energy", report.energy_drift_max, "energy drift", "of the energy scale");
+  for (const MomentumDrift& m : report.conserved_momenta)
+    judge("momentum p_" + m.coordinate, m.max_abs_drift * m.rate_max / energy,
+          "drift of the conserved momentum p_" + m.coordinate, "times max |rate|, of the energy scale");
+  auto any = [](const std::array<bool, 3>& a) { return a[0] || a[1] || a[2]; };
+  if (report.has_particles && any(report.linear_momentum_conserved) && report.momentum_scale > 0)
+    judge("linear momentum", report.linear_momentum_drift_max / report.momentum_scale,
+          "drift of the total linear momentum", "of the sum of m |v|");
+  if (report.has_particles && any(report.angular_momentum_conserved) && report.angular_momentum_scale > 0)
+    judge("angular momentum", report.angular_momentum_drift_max / report.angular_momentum_scale,
+          "drift of the total angular momentum", "of the sum of m |r| |v|");
+  const double length = 1.0 + report.coordinate_scale;
+  if (report.constrained && !report.constraints.names.empty())
+    judge("constraint residual", report.constraints.max_position_residual / length, "constraint residual max |g|",
+          "of 1 + max |q|");
+  if (report.has_reference)
+    judge("closed-form error", report.reference_error_max / length, "error against the closed form max |q - q_ref|",
+          "of 1 + max |q|");
 }
 
 void SimulationOptions::validate() const {
@@ -243,6 +265,16 @@ std::string RunReport::to_json() const {
   os << ",\n  \"drift_bound\": ";
   json_number(os, drift_bound);
   os << ",\n  \"drift_exceeded\": " << (drift_exceeded ? "true" : "false");
+  os << ",\n  \"monitors\": [";
+  for (std::size_t i = 0; i < monitors.size(); ++i) {
+    os << (i ? ", " : "") << "{\"name\": ";
+    detail::json_string(os, monitors[i].name);
+    os << ", \"figure\": ";
+    json_number(os, monitors[i].figure);
+    os << ", \"exceeded\": " << (monitors[i].exceeded ? "true" : "false") << "}";
+  }
+  os << "],\n  \"coordinate_scale\": ";
+  json_number(os, coordinate_scale);
   const std::pair<const char*, double> energy[] = {{"energy_scale", energy_scale},
                                                    {"energy_initial", energy_initial},
                                                    {"energy_final", energy_final},
@@ -283,6 +315,8 @@ std::string RunReport::to_json() const {
     json_number(os, m.max_abs_drift);
     os << ", \"final_abs_drift\": ";
     json_number(os, m.final_abs_drift);
+    os << ", \"rate_max\": ";
+    json_number(os, m.rate_max);
     os << "}";
   }
   os << "]";
@@ -324,7 +358,9 @@ std::string RunReport::to_json() const {
     const std::pair<const char*, double> pm[] = {{"linear_momentum_drift_max", linear_momentum_drift_max},
                                                  {"linear_momentum_drift_final", linear_momentum_drift_final},
                                                  {"angular_momentum_drift_max", angular_momentum_drift_max},
-                                                 {"angular_momentum_drift_final", angular_momentum_drift_final}};
+                                                 {"angular_momentum_drift_final", angular_momentum_drift_final},
+                                                 {"momentum_scale", momentum_scale},
+                                                 {"angular_momentum_scale", angular_momentum_scale}};
     for (const auto& [k, v] : pm) {
       os << ",\n  \"" << k << "\": ";
       json_number(os, v);

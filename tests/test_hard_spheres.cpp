@@ -320,6 +320,13 @@ TEST(HardSpheres, ElasticGasConservesEnergyAndKeepsSpheresApartAndInside) {
   EXPECT_EQ(rep.impact_energy_loss, 0.0);
   EXPECT_LT(drift, 1e-12);
   EXPECT_LT(rep.energy_drift_max, 1e-12);
+  // The sanity monitors judge this engine too: the energy (walls in every
+  // direction leave no momentum conserved), at its floor bound 1e-2.
+  ASSERT_EQ(rep.monitors.size(), 1u);
+  EXPECT_EQ(rep.monitors[0].name, "energy");
+  EXPECT_DOUBLE_EQ(rep.monitors[0].figure, rep.energy_drift_max);
+  EXPECT_EQ(rep.drift_bound, 1e-2);
+  EXPECT_FALSE(rep.drift_exceeded);
   EXPECT_LT(worst.overlap, 1e-9);
   EXPECT_LT(worst.outside, 1e-9);
   EXPECT_EQ(rep.samples, 1001u);

@@ -362,8 +362,15 @@ TEST(Simulate, TheSanityMonitorFlagsAnEnergyDriftNoToleranceExcuses) {
   EXPECT_EQ(coarse.drift_bound, 1e-2);
   EXPECT_GT(coarse.energy_drift_max, 1e-2);
   EXPECT_TRUE(coarse.drift_exceeded);
-  ASSERT_FALSE(coarse.warnings.empty());
-  EXPECT_NE(coarse.warnings.back().find("energy drift"), std::string::npos) << coarse.warnings.back();
+  // rk4 at this step breaks both invariants of the orbit, and the report says which.
+  ASSERT_EQ(coarse.monitors.size(), 2u);
+  EXPECT_EQ(coarse.monitors[0].name, "energy");
+  EXPECT_TRUE(coarse.monitors[0].exceeded);
+  EXPECT_EQ(coarse.monitors[1].name, "momentum p_phi");
+  EXPECT_TRUE(coarse.monitors[1].exceeded);
+  ASSERT_EQ(coarse.warnings.size(), 2u);
+  EXPECT_NE(coarse.warnings[0].find("energy drift"), std::string::npos) << coarse.warnings[0];
+  EXPECT_NE(coarse.warnings[1].find("p_phi"), std::string::npos) << coarse.warnings[1];
   EXPECT_NE(coarse.to_json().find("\"drift_exceeded\": true"), std::string::npos);
 
   o.method = Method::dopri5;
@@ -386,6 +393,66 @@ TEST(Simulate, TheSanityMonitorFlagsAnEnergyDriftNoToleranceExcuses) {
   EXPECT_FALSE(decayed.conservative);
   EXPECT_GT(decayed.energy_drift_max, 0.9);
   EXPECT_FALSE(decayed.drift_exceeded);
+}
+
+TEST(Simulate, TheMomentumMonitorFlagsADriftWhereTheEnergyIsNotConserved) {
+  // An orbit under a radial drag D = ½ c ṙ²: the drag takes energy (no
+  // energy monitor) but has no moment, so φ stays cyclic and p_φ = m r² φ̇
+  // is conserved. rk4 with steps too long for the periapsis breaks it;
+  // dopri5 at its tolerance holds it.
+  const double m = 1.0, k = 1.0, c = 0.05;
+  const auto orbit = with_dissipation(
+      make_model<2>(
+          "dragged_orbit", {"r", "phi"},
+          [m](const auto& q, const auto& qd, const auto&) { return 0.5 * m * (qd[0] * qd[0] + q[0] * q[0] * qd[1] * qd[1]); },
+          [k](const auto& q, const auto&) { return -k / q[0]; }),
+      [c](const auto&, const auto& qd) { return 0.5 * c * qd[0] * qd[0]; });
+  State<2> x0;
+  x0.q << 0.1, 0.0;
+  x0.qd << 0.0, std::sqrt(1.9 / 0.1) / 0.1;  // periapsis of an e = 0.9 orbit
+  SimulationOptions o = options(Method::rk4, 6.0);
+  o.dt = 0.03;
+  o.output_interval = 0.05;
+  const RunReport coarse = simulate(orbit, x0, o);
+  EXPECT_FALSE(coarse.conservative);
+  ASSERT_EQ(coarse.conserved_momenta.size(), 1u);
+  ASSERT_EQ(coarse.monitors.size(), 1u);  // no energy monitor: the drag does work
+  EXPECT_EQ(coarse.monitors[0].name, "momentum p_phi");
+  EXPECT_GT(coarse.monitors[0].figure, 1e-2);
+  EXPECT_TRUE(coarse.drift_exceeded);
+  ASSERT_EQ(coarse.warnings.size(), 1u);
+  EXPECT_NE(coarse.warnings[0].find("drift of the conserved momentum p_phi"), std::string::npos) << coarse.warnings[0];
+
+  o.method = Method::dopri5;
+  const RunReport fine = simulate(orbit, x0, o);
+  ASSERT_EQ(fine.monitors.size(), 1u);
+  EXPECT_LT(fine.monitors[0].figure, 1e-7);
+  EXPECT_FALSE(fine.drift_exceeded);
+}
+
+TEST(Simulate, TheClosedFormMonitorFlagsAnErrorNoToleranceExcuses) {
+  // A pendulum at 2 rad with rk4 steps of a fifth of a second: its phase
+  // runs away from the exact (Jacobi elliptic) motion; dopri5 follows it.
+  const models::SimplePendulum pendulum(1.0, 1.0, 9.81);
+  State<1> s;
+  s.q << 2.0;
+  SimulationOptions o = options(Method::rk4, 20.0);
+  o.dt = 0.2;
+  o.output_interval = 0.1;
+  const RunReport coarse = simulate(pendulum, s, o);
+  ASSERT_TRUE(coarse.has_reference);
+  const auto closed_form = std::find_if(coarse.monitors.begin(), coarse.monitors.end(),
+                                        [](const MonitorVerdict& v) { return v.name == "closed-form error"; });
+  ASSERT_NE(closed_form, coarse.monitors.end());
+  EXPECT_DOUBLE_EQ(closed_form->figure, coarse.reference_error_max / (1 + coarse.coordinate_scale));
+  EXPECT_TRUE(closed_form->exceeded);
+  EXPECT_TRUE(coarse.drift_exceeded);
+
+  o.method = Method::dopri5;
+  const RunReport fine = simulate(pendulum, s, o);
+  EXPECT_LT(fine.reference_error_max, 1e-6);
+  EXPECT_FALSE(fine.drift_exceeded);
+  for (const MonitorVerdict& v : fine.monitors) EXPECT_FALSE(v.exceeded) << v.name;
 }
 
 TEST(Simulate, TheEnergyScaleIsTheEnergyTheMotionMovesAround) {

@@ -3,6 +3,7 @@
 // momentum and energy are conserved, and the orbit is Kepler's.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -250,6 +251,44 @@ TEST(TwoBody, AForceLawAndItsPotentialGiveTheSameMotion) {
   EXPECT_TRUE(ra.conservative);
   EXPECT_FALSE(rb.conservative);  // a force law is not declared conservative
   EXPECT_LE(rb.linear_momentum_drift_max, 1e-13);  // internal forces: momentum still conserved
+}
+
+TEST(TwoBody, TheAngularMomentumMonitorFlagsADriftAndRungeKuttaKeepsLinearMomentum) {
+  // Two bodies on an eccentric orbit (e = 0.9) with rk4 steps too long for
+  // the periapsis: L = Σ m r × v, quadratic in the state, drifts far beyond
+  // 1 % of Σ m |r| |v|; P = Σ m v is a linear invariant, which every
+  // Runge–Kutta method keeps to rounding whatever its step.
+  const double m1 = 1.0, m2 = 1.0;
+  const TwoBody<2> pair(m1, m2, NewtonianGravity{1.0});
+  State<4> x0;
+  x0.q << -0.05, 0.0, 0.05, 0.0;
+  const double v = 0.5 * std::sqrt(1.9 / 0.1 * 2.0);  // each body's speed at periapsis, relative speed √(G M (1 + e)/r_p)
+  x0.qd << 0.0, -v, 0.0, v;
+  SimulationOptions o;
+  o.method = Method::rk4;
+  o.dt = 0.03;
+  o.t_end = 6.0;
+  o.output_interval = 0.05;
+  const RunReport coarse = simulate(pair, x0, o);
+  ASSERT_TRUE(coarse.has_particles);
+  auto verdict = [](const RunReport& r, const char* name) {
+    const auto it = std::find_if(r.monitors.begin(), r.monitors.end(),
+                                 [&](const MonitorVerdict& m) { return m.name == name; });
+    return it == r.monitors.end() ? nullptr : &*it;
+  };
+  const MonitorVerdict* L = verdict(coarse, "angular momentum");
+  const MonitorVerdict* P = verdict(coarse, "linear momentum");
+  ASSERT_NE(L, nullptr);
+  ASSERT_NE(P, nullptr);
+  EXPECT_TRUE(L->exceeded) << L->figure;
+  EXPECT_LT(P->figure, 1e-13);
+  EXPECT_FALSE(P->exceeded);
+  EXPECT_TRUE(coarse.drift_exceeded);
+
+  o.method = Method::dopri5;
+  const RunReport fine = simulate(pair, x0, o);
+  EXPECT_LT(verdict(fine, "angular momentum")->figure, 1e-7);
+  EXPECT_FALSE(fine.drift_exceeded);
 }
 
 TEST(TwoBody, HydrogenReducedMass) {

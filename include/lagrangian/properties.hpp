@@ -20,8 +20,9 @@ namespace lagrangian {
 
 /// Indices of coordinates whose momenta are conserved: cyclic (∂L/∂q_i = 0,
 /// Q_i = 0) and, for constrained models, untouched by every constraint (the
-/// column i of the constraint Jacobian is zero), at the given state and at
-/// three nearby states (a fixed, deterministic perturbation). This is
+/// column i of the constraint Jacobian is zero), at the given state and time
+/// and at three nearby states at later times (a fixed, deterministic
+/// perturbation). This is
 /// a sampled check: a coordinate that drops out of L only on those states
 /// would be misreported, which is why the run reports the momentum drift so
 /// the claim can be seen to hold.
@@ -99,14 +100,19 @@ std::vector<int> cyclic_coordinates(const M& model, const State<coordinate_count
   const int size = static_cast<int>(s.q.size());
   std::vector<bool> cyclic(static_cast<std::size_t>(size), true);
   Workspace<n> ws(size);
-  for (const State<n>& p : detail::probe_states(s)) {
-    detail::eom_pass(model, ws, p.q, p.qd, t);
-    detail::force_pass(model, ws, p.q, p.qd, t);
+  const auto probes = detail::probe_states(s);
+  for (std::size_t k = 0; k < probes.size(); ++k) {
+    // Later times too: a moving constraint (a rotating wire) may leave q_i
+    // alone at t only.
+    const State<n>& p = probes[k];
+    const double tk = t + 0.37 * static_cast<double>(k) * (1.0 + std::abs(t));
+    detail::eom_pass(model, ws, p.q, p.qd, tk);
+    detail::force_pass(model, ws, p.q, p.qd, tk);
     for (int i = 0; i < size; ++i)
       cyclic[static_cast<std::size_t>(i)] = cyclic[static_cast<std::size_t>(i)] && ws.dL_dq[i] == 0.0 && ws.forces[i] == 0.0;
     if constexpr (has_constraints_v<M>) {
       // A constraint force along q_i changes p_i: conserved only if no constraint involves q_i.
-      const auto cs = constraint_state(model, p.q, p.qd, t);
+      const auto cs = constraint_state(model, p.q, p.qd, tk);
       for (int i = 0; i < size; ++i)
         cyclic[static_cast<std::size_t>(i)] = cyclic[static_cast<std::size_t>(i)] && cs.jacobian.col(i).isZero(0.0);
     }

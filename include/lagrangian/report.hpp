@@ -26,14 +26,23 @@ const char* to_string(Stabilization s);
 
 /// What a run should do. Times in s.
 struct RunReport;
-/// The sanity monitor, run by the driver at the end of every run: sets
-/// report.drift_bound = max(1e-2, 100 rtol) and, when the system conserves
-/// its energy (report.conservative) and the largest relative energy drift
-/// exceeds that bound, report.drift_exceeded and a warning naming the drift,
-/// the bound and what to do. No run at that tolerance can excuse such a
-/// drift: a local error of rtol per step accumulates to 100 rtol only after
-/// about 100 error-maximal steps in one direction, and 1 % of the energy
-/// marks a trajectory no longer worth reading at any tolerance.
+/// The sanity monitors, run by every engine at the end of every run: sets
+/// report.drift_bound = max(1e-2, 100 rtol) and judges each monitor that
+/// applies to the run (report.monitors) by a dimensionless figure:
+///   energy               max |h − h0| / energy_scale (report.conservative only;
+///                        impacts' changes taken out);
+///   momentum p_<q_i>     max |p_i − p_i(t0)| · max |q̇_i| / energy_scale, for each
+///                        cyclic coordinate (the energy the error amounts to);
+///   linear momentum      max drift of the conserved components of P / momentum_scale;
+///   angular momentum     the same for L / angular_momentum_scale;
+///   constraint residual  max ‖g(q, t)‖∞ / (1 + coordinate_scale) (constrained models);
+///   closed-form error    max ‖q − q_ref‖∞ / (1 + coordinate_scale) (models with reference()).
+/// A figure beyond the bound sets report.drift_exceeded and a warning naming
+/// the monitor, its figure, the bound and what to do. No run at that
+/// tolerance can excuse such a drift: a local error of rtol per step
+/// accumulates to 100 rtol only after about 100 error-maximal steps in one
+/// direction, and 1 % of the energy marks a trajectory no longer worth
+/// reading at any tolerance.
 void check_drift(RunReport& report, double rtol);
 
 /// The smallest relative tolerance a run accepts: about 5 units of
@@ -97,6 +106,15 @@ struct MomentumDrift {
   double initial = 0;       ///< p at t0
   double max_abs_drift = 0;  ///< max |p(t) − p(t0)| over the samples
   double final_abs_drift = 0;  ///< |p(t_end) − p(t0)|
+  double rate_max = 0;         ///< max |q̇| of the coordinate over the samples (its units per s)
+};
+
+/// One sanity monitor's verdict (RunReport::monitors, check_drift).
+struct MonitorVerdict {
+  std::string name;     ///< "energy", "momentum p_<coordinate>", "linear momentum", "angular momentum",
+                        ///< "constraint residual", "closed-form error"
+  double figure = 0;    ///< its largest drift or error over the run, dimensionless (see check_drift)
+  bool exceeded = false;  ///< figure > RunReport::drift_bound
 };
 
 /// Constraint residuals and the cost of keeping them small.
@@ -176,6 +194,11 @@ struct RunReport {
   /// and the `lagrangian` command exits with code 3 unless --allow-drift.
   double drift_bound = 0;
   bool drift_exceeded = false;
+  /// Every monitor that applies to the run, with its figure (check_drift).
+  std::vector<MonitorVerdict> monitors;
+  /// The largest ‖q‖∞ over the samples (units of q): the scale of the
+  /// constraint-residual and closed-form monitors.
+  double coordinate_scale = 0;
   /// Scale for the sanity monitor's energy drift (J): the largest of |h| and
   /// |T| + |V| over the run's samples (t0 included), or 1 J when all are
   /// zero. The particle scenes use |E| and |T| + |V|; the hard-sphere engine
@@ -233,6 +256,10 @@ struct RunReport {
   std::array<double, 3> angular_momentum_initial{};
   double linear_momentum_drift_max = 0, linear_momentum_drift_final = 0;
   double angular_momentum_drift_max = 0, angular_momentum_drift_final = 0;
+  /// Σ m |v| (kg·m/s) and Σ m |r − r₀| |v| (kg·m²/s) at t0 (or, when zero
+  /// there, at the first sample where they are not): the scales of the
+  /// momentum monitors.
+  double momentum_scale = 0, angular_momentum_scale = 0;
   bool constrained = false;                      ///< the model declares constraints
   ConstraintReport constraints;                  ///< filled when constrained
 

@@ -17,8 +17,8 @@ namespace lagrangian::cli {
 /// Exit codes: 0 success; 1 the run failed part-way (non-finite state, step
 /// size underflow, max_steps, an output that could not be written); 2 bad
 /// input (unknown option, unreadable or invalid scene file, invalid value);
-/// 3 a run that finished but whose conserved energy drifted beyond what its
-/// tolerance excuses (RunReport::drift_exceeded; --allow-drift gives 0).
+/// 3 a run that finished but whose monitored invariants drifted beyond what
+/// its tolerance excuses (RunReport::drift_exceeded; --allow-drift gives 0).
 constexpr int kOk = 0, kRunFailed = 1, kBadInput = 2, kDrift = 3;
 
 /// Bad command-line input: `message` is the whole line after "lagrangian: ".

@@ -63,8 +63,9 @@ std::pair<CLI::App*, std::function<int()>> add(CLI::App& app, Command& command) 
 int main(int argc, char** argv) {
   CLI::App app{"lagrangian: run mechanical scenes (particles with effects, constraints and contacts, or built-in "
                "generalized-coordinate models) and see what their accuracy cost.\n"
-               "Exit codes: 0 ok, 1 run failed, 2 bad input, 3 a run finished but a conserved energy drifted beyond what its "
-               "tolerance excuses (--allow-drift: 0)."};
+               "Exit codes: 0 ok, 1 run failed, 2 bad input, 3 a run finished but a monitored invariant (energy, "
+               "momentum, constraint residual, closed-form error) drifted beyond what its tolerance excuses "
+               "(--allow-drift: 0)."};
   app.require_subcommand(1);
   app.set_version_flag("--version", "lagrangian 0.1.0");
 

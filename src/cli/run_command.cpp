@@ -30,7 +30,8 @@ void RunCommand::declare(OptionList& o) {
                 "also write the run as a video (.mp4, .webm or .gif, through ffmpeg) for slides and documents");
   o.value("--animate-seconds", animate_seconds_, "length of that video (s, default 10): the whole run");
   o.flag("--allow-drift", allow_drift_,
-              "exit 0 even when a conserved energy drifts beyond what the tolerance excuses (otherwise exit 3)");
+              "exit 0 even when a monitored invariant (the energy, a conserved momentum, the constraint residual or "
+              "the error against a closed form) drifts beyond what the tolerance excuses (otherwise exit 3)");
   o.flag("-q,--quiet", quiet_, "print only errors");
 }
 
@@ -108,8 +109,11 @@ int RunCommand::run() {
     if (!r.animation_note.empty()) std::cerr << "lagrangian: " << r.animation_note << "\n";
     if (!animate_to_.empty() && !r.video_written) return kRunFailed;  // asked for, not made: said above
     if (r.report.drift_exceeded && !allow_drift_) {
-      std::cerr << "lagrangian: the run finished, but its energy drifted beyond what its tolerance excuses (see the "
-                   "warning; report.json has drift_exceeded = true): exit 3; --allow-drift accepts it\n";
+      std::string which;
+      for (const MonitorVerdict& m : r.report.monitors)
+        if (m.exceeded) which += (which.empty() ? "" : ", ") + m.name;
+      std::cerr << "lagrangian: the run finished, but it drifted beyond what its tolerance excuses (" << which
+                << "; see the warning; report.json has drift_exceeded = true): exit 3; --allow-drift accepts it\n";
       return kDrift;
     }
     return kOk;

@@ -20,6 +20,7 @@
 #include "lagrangian/detail/energy_scale.hpp"
 #include "lagrangian/detail/contacts.hpp"
 #include "lagrangian/detail/momentum_symmetry.hpp"
+#include "lagrangian/detail/point_momenta_monitor.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/constraints.hpp"
 #include "lagrangian/integrate.hpp"
@@ -252,11 +253,6 @@ class ParticleSystem final : public lagrangian::System {
     rep_.energy_initial = rep_.total_energy_initial = E0_;
     rep_.has_particles = true;
     probe_momentum_symmetry(x, t0);
-    momentum(x, P0_, L0_);
-    for (int k = 0; k < 3; ++k) {
-      rep_.linear_momentum_initial[static_cast<std::size_t>(k)] = P0_[k];
-      rep_.angular_momentum_initial[static_cast<std::size_t>(k)] = L0_[k];
-    }
     rep_.constrained = model_.fixed_rows() > 0;
     if (rep_.constrained) {
       for (const Row& r : model_.rows()) rep_.constraints.names.push_back(r.name);
@@ -301,14 +297,12 @@ class ParticleSystem final : public lagrangian::System {
     scale_.meet(E);
     scale_.meet(T, V);
     rescale_drift();
-    Vector3d P, L;
-    momentum(x, P, L);
-    rep_.linear_momentum_drift_final =
-        lagrangian::detail::conserved_drift({P[0], P[1], P[2]}, {P0_[0], P0_[1], P0_[2]}, rep_.linear_momentum_conserved);
-    rep_.angular_momentum_drift_final = lagrangian::detail::conserved_drift(
-        {L[0], L[1], L[2]}, {L0_[0], L0_[1], L0_[2]}, rep_.angular_momentum_conserved);
-    rep_.linear_momentum_drift_max = std::max(rep_.linear_momentum_drift_max, rep_.linear_momentum_drift_final);
-    rep_.angular_momentum_drift_max = std::max(rep_.angular_momentum_drift_max, rep_.angular_momentum_drift_final);
+    // P and L about the origin (the point the symmetry probe judges them about).
+    momenta_.clear();
+    const int dim = model_.dim();
+    for (int i = 0; i < model_.bodies(); ++i) momenta_.add(model_.mass()[static_cast<std::size_t>(i)], x + 3 * i, x + dim + 3 * i);
+    momenta_.record(rep_);
+    for (int i = 0; i < dim; ++i) rep_.coordinate_scale = std::max(rep_.coordinate_scale, std::abs(x[i]));
     if (rep_.constrained && !model_.rows().empty()) {
       rep_.constraints.min_rank = std::min(rep_.constraints.min_rank, rank(x));
       record_residuals(x);
@@ -431,16 +425,6 @@ class ParticleSystem final : public lagrangian::System {
     sym.write(rep_);
   }
 
-  void momentum(const double* x, Vector3d& P, Vector3d& L) const {
-    P.setZero();
-    L.setZero();
-    for (int i = 0; i < model_.bodies(); ++i) {
-      const Vector3d p = model_.mass()[static_cast<std::size_t>(i)] * at(x + model_.dim(), i);
-      P += p;
-      L += at(x, i).cross(p);
-    }
-  }
-
   /// The fixed rows' multipliers and the constraint force Cᵀλ at a sample,
   /// from one evaluation of the right-hand side there (not counted among
   /// the run's evaluations).
@@ -482,7 +466,7 @@ class ParticleSystem final : public lagrangian::System {
   std::vector<std::pair<double, double>> pending_;  ///< (time, ΔT) of impacts not yet sampled past
   ParticleContacts contacts_{model_, pending_};
   lagrangian::detail::ContactEvents events_;
-  Vector3d P0_ = Vector3d::Zero(), L0_ = Vector3d::Zero();
+  lagrangian::detail::PointMomenta momenta_{{0.0, 0.0, 0.0}};
 };
 
 }  // namespace

@@ -231,6 +231,32 @@ expect 0 "warning: energy drift" -- "$bin" run "$work/kep_drift.toml" --out "$wo
 expect 0 "" -- "$bin" run "$work/kep_drift.toml" --out "$work/kd" --no-plots --method dopri5
 grep -q '"drift_exceeded": false' "$work/kd/report.json" || { echo "FAIL: dopri5 flagged"; fails=$((fails + 1)); }
 
+# Every monitor has the same verdict: a pendulum on a link, unstabilised
+# under rk4 steps of 0.05 s, lets its rod stretch by 2 % of its length:
+# exit 3 naming the constraint residual; dopri5 at its tolerance holds it.
+cat > "$work/link_drift.toml" <<'TOML'
+[run]
+method = "rk4"
+dt = 0.05
+t_end = 20.0
+output_interval = 0.1
+stabilization = "none"
+[[bodies]]
+name = "bob"
+mass = 1.0
+position = [0.932039085967226, 0.0, -0.362357754476674]
+[gravity]
+[[links]]
+name = "rod"
+a = "bob"
+anchor = [0.0, 0.0, 0.0]
+length = 1.0
+TOML
+expect 3 "warning: constraint residual max \\|g\\| .* exceeds 0.01" -- "$bin" run "$work/link_drift.toml" --out "$work/ld" --no-plots --no-animation
+grep -q '{"name": "constraint residual", "figure": [0-9.e+-]*, "exceeded": true}' "$work/ld/report.json" ||
+  { echo "FAIL: report.json lacks the constraint residual's verdict"; fails=$((fails + 1)); }
+expect 0 "" -- "$bin" run "$work/link_drift.toml" --out "$work/ld" --no-plots --no-animation --method dopri5
+
 # Unbound orbits run and are checked against their closed form (universal
 # variables): a hyperbolic flyby of the reduced problem, a parabolic pair.
 cat > "$work/flyby.toml" <<'TOML'

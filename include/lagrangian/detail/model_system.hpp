@@ -27,6 +27,7 @@
 #include "lagrangian/detail/momentum_symmetry.hpp"
 #include "lagrangian/detail/observer_ref.hpp"
 #include "lagrangian/detail/point_momenta.hpp"
+#include "lagrangian/detail/point_momenta_monitor.hpp"
 #include "lagrangian/detail/roots.hpp"
 #include "lagrangian/dynamics.hpp"
 #include "lagrangian/errors.hpp"
@@ -265,7 +266,9 @@ class ModelSystem final : public System {
       MomentumDrift& d = report_.conserved_momenta[k];
       d.final_abs_drift = std::abs(p[cyclic_[k]] - d.initial);
       d.max_abs_drift = std::max(d.max_abs_drift, d.final_abs_drift);
+      d.rate_max = std::max(d.rate_max, std::abs(s.qd[cyclic_[k]]));
     }
+    report_.coordinate_scale = std::max(report_.coordinate_scale, s.q.template lpNorm<Eigen::Infinity>());
     obs_(s);
   }
 
@@ -417,21 +420,10 @@ class ModelSystem final : public System {
 
   /// P = Σ m v and L = Σ m (r − r₀) × v of the point masses at a sample.
   void sample_particles(const Sample<n>& s) {
-    std::array<double, 3> P{}, L{};
     point_motions(model_, s.q.data(), s.qd.data(), nullptr, s.t, 1.0, points_);
-    total_momenta(points_, opt_.angular_momentum_point, P, L);
-    if (!report_.has_particles) {
-      report_.has_particles = true;
-      report_.linear_momentum_initial = P;
-      report_.angular_momentum_initial = L;
-    }
-    report_.linear_momentum_drift_final =
-        conserved_drift(P, report_.linear_momentum_initial, report_.linear_momentum_conserved);
-    report_.angular_momentum_drift_final =
-        conserved_drift(L, report_.angular_momentum_initial, report_.angular_momentum_conserved);
-    report_.linear_momentum_drift_max = std::max(report_.linear_momentum_drift_max, report_.linear_momentum_drift_final);
-    report_.angular_momentum_drift_max =
-        std::max(report_.angular_momentum_drift_max, report_.angular_momentum_drift_final);
+    momenta_.clear();
+    for (const PointMotion& pm : points_) momenta_.add(pm.mass, pm.r.data(), pm.v.data());
+    momenta_.record(report_);
   }
 
   /// ∂φ/∂q of every contact at (q, t): column i is φ̇ along q̇ = e_i less
@@ -621,6 +613,7 @@ class ModelSystem final : public System {
   std::vector<int> cyclic_;
   bool has_points_ = false;           // point masses to sum (particles or mass points)
   std::vector<PointMotion> points_;  // their motions (storage reused)
+  PointMomenta momenta_{opt_.angular_momentum_point};
   double h0_ = 0, e0_ = 0, h_last_ = 0, e_last_ = 0;
   double h_differs_ = 0;  // max |T + V − h| over the samples (J)
   double h_drift_ = 0, e_drift_ = 0;  // J: max |h − h0|, max |E − E0|, see rescale_drifts()
