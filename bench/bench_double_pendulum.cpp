@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
     for (const Method& m : methods) {
       for (const double rtol : m.rtols) {
         SimulationOptions o;
-        o.method = m.name;
+        o.method = parse_method(m.name, "method");
         o.rtol = rtol;
         o.atol = rtol * 1e-2;
         o.t_end = ref.t;

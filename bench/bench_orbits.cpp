@@ -190,7 +190,7 @@ int main(int argc, char** argv) {
     const std::vector<Method> methods{{"gauss_radau15", radau_rtol}, {"fehlberg78", 1e-15}, {"bulirsch_stoer", 1e-15}};
     for (const Method& method : methods) {
       SimulationOptions o;
-      o.method = method.name;
+      o.method = parse_method(method.name, "method");
       o.rtol = method.rtol;
       o.atol = 1e-300;  // relative error only, as IAS15 controls it
       o.t_end = orbits * period;

@@ -24,7 +24,7 @@ using X = std::vector<double>;
 
 constexpr double kTEnd = 20.0, kInterval = 0.01, kRtol = 1e-10, kAtol = 1e-12;
 
-Scene projectile_scene(const char* method) {
+Scene projectile_scene(lagrangian::Method method) {
   Scene s;
   s.name = "projectile";
   s.bodies.push_back({.name = "ball", .mass = 0.2, .position = {0, 0, 1}, .velocity = {10, 0, 10}});
@@ -116,7 +116,7 @@ void BM_HandProjectile_dopri5(benchmark::State& state) {
 BENCHMARK(BM_HandProjectile_dopri5)->Unit(benchmark::kMicrosecond);
 
 void BM_SceneProjectile_dopri5(benchmark::State& state) {
-  const Scene s = projectile_scene("dopri5");
+  const Scene s = projectile_scene(lagrangian::Method::dopri5);
   RunControls c;
   c.write_outputs = false;
   for (auto _ : state) benchmark::DoNotOptimize(run(s, c).report.steps);
@@ -129,7 +129,7 @@ void BM_HandProjectile_rk4(benchmark::State& state) {
 BENCHMARK(BM_HandProjectile_rk4)->Unit(benchmark::kMicrosecond);
 
 void BM_SceneProjectile_rk4(benchmark::State& state) {
-  const Scene s = projectile_scene("rk4");
+  const Scene s = projectile_scene(lagrangian::Method::rk4);
   RunControls c;
   c.write_outputs = false;
   for (auto _ : state) benchmark::DoNotOptimize(run(s, c).report.steps);
@@ -181,7 +181,7 @@ Scene with_effects(int k) {
   s.name = "effects";
   s.bodies.push_back({.name = "a", .mass = 1.0, .radius = 0.05, .position = {0, 0, 2}, .velocity = {0.5, 0, 0}});
   s.bodies.push_back({.name = "b", .mass = 2.0, .radius = 0.05, .position = {1, 0, 2}, .velocity = {0, 0.5, 0}});
-  s.run.method = Method::rk4;
+  s.run.method = lagrangian::Method::rk4;
   s.run.dt = 1e-3;
   s.run.t_end = 2.0;
   s.run.output_interval = 0.1;

@@ -135,7 +135,7 @@ void raw_rk4(benchmark::State& st) {
 template <class Case, class Model>
 void run_simulate(benchmark::State& st, const Model& model, const char* method) {
   lagrangian::SimulationOptions o;
-  o.method = method;
+  o.method = lagrangian::parse_method(method, "method");
   o.t_end = kTEnd;
   o.rtol = kRtol;
   o.atol = kAtol;
