@@ -32,8 +32,13 @@ void log_change(ContactSystem& s, EventKind kind, int j, const double* x, double
 class Resolution {
  public:
   Resolution(ContactSystem& system, double* x, double t, int trigger, const SimulationOptions& options,
-             RunReport& report)
-      : s_(system), x_(x), t_(t), trigger_(trigger), n_(system.coordinates()), opt_(options), rep_(report) {
+             RunReport& report, ResolutionBuffers& buffers)
+      : s_(system), x_(x), t_(t), trigger_(trigger), n_(system.coordinates()), opt_(options), rep_(report),
+        near_(buffers.near), involved_(buffers.involved), resting_before_(buffers.resting_before),
+        resting_now_(buffers.resting_now), woken_(buffers.woken), rested_(buffers.rested), plastic_(buffers.plastic),
+        seen_(buffers.seen), one_(buffers.one), rates_(buffers.rates) {
+    for (std::vector<int>* v : {&involved_, &woken_, &rested_, &plastic_}) v->clear();
+    one_.resize(1);
     touch_ = contact_touch_tolerance(x, n_);
     s_.resting_contacts(resting_before_);
     s_.near(x, t, touch_, trigger, near_);
@@ -77,7 +82,8 @@ class Resolution {
   /// impact was plastic or the forces press them shut; resting contacts
   /// that separate lift off.
   void rests_and_releases(bool log_changes) {
-    std::vector<int> seen;
+    std::vector<int>& seen = seen_;
+    seen.clear();
     for (int j : involved_) {
       if (contains(seen, j)) continue;
       seen.push_back(j);
@@ -87,7 +93,7 @@ class Resolution {
           (contains(plastic_, j) || s_.pressed(j, x_, t_)))
         s_.rest(j);
     }
-    std::vector<int> resting;
+    std::vector<int>& resting = resting_now_;
     s_.resting_contacts(resting);
     for (auto it = resting.rbegin(); it != resting.rend(); ++it)
       if (gap_rate(*it).rate > opt_.contact_touch_speed) s_.release(*it);
@@ -254,18 +260,19 @@ class Resolution {
   const SimulationOptions& opt_;
   RunReport& rep_;
   double touch_ = 0;
-  std::vector<int> near_, involved_, resting_before_, resting_now_, woken_;
-  std::vector<int> rested_;   // their last impact here began a rest by the Zeno rule (logged as such)
-  std::vector<int> plastic_;  // their last impact here had e = 0: the bodies stick
-  std::vector<int> one_ = std::vector<int>(1);
-  std::vector<GapRate> rates_;
+  std::vector<int>&near_, &involved_, &resting_before_, &resting_now_, &woken_;
+  std::vector<int>& rested_;   // their last impact here began a rest by the Zeno rule (logged as such)
+  std::vector<int>& plastic_;  // their last impact here had e = 0: the bodies stick
+  std::vector<int>& seen_;
+  std::vector<int>& one_;
+  std::vector<GapRate>& rates_;
 };
 
 }  // namespace
 
 void resolve_contacts(ContactSystem& system, double* x, double t, int trigger, bool log_changes,
-                      const SimulationOptions& options, RunReport& report) {
-  Resolution r(system, x, t, trigger, options, report);
+                      const SimulationOptions& options, RunReport& report, ResolutionBuffers& buffers) {
+  Resolution r(system, x, t, trigger, options, report, buffers);
   r.impacts();
   r.rests_and_releases(log_changes);
 }
@@ -322,9 +329,13 @@ ContactEvent ContactEvents::first(ContactSystem& s, double t0, const double* x0,
       if (on_path(stationary_time(t0, t1, a, b, gap_function(on_path))).gap > touch) continue;
     }
     const bool crossing = a.gap > touch && b.gap < 0;
-    order_.push_back({crossing ? t0 + (t1 - t0) * (a.gap / (a.gap - b.gap)) : t0, crossing, j, a, b});
+    order_.push_back({crossing ? t0 + (t1 - t0) * (a.gap / (a.gap - b.gap)) : t0, k, crossing, j, a, b});
   }
-  std::stable_sort(order_.begin(), order_.end(), [](const Candidate& p, const Candidate& q) { return p.key < q.key; });
+  // Earliest first; equal keys in the order the system gave them (stable
+  // without std::stable_sort's scratch buffer).
+  std::sort(order_.begin(), order_.end(), [](const Candidate& p, const Candidate& q) {
+    return p.key < q.key || (p.key == q.key && p.place < q.place);
+  });
   for (const Candidate& c : order_) {
     if (c.crossing && best.t < t1 && s.gap_on_path(c.contact, best.t, interp).gap > touch) continue;
     auto on_step = [&](double ts) {
@@ -356,7 +367,7 @@ void ContactEvents::move_to(double t_event, double t_step_start, const Interpola
 void ContactEvents::apply(ContactSystem& s, const ContactEvent& event, double* x, double t,
                           const SimulationOptions& options, RunReport& report) {
   if (event.kind == ContactEvent::Kind::closing) {
-    resolve_contacts(s, x, t, event.contact, true, options, report);
+    resolve(s, x, t, event.contact, true, options, report);
   } else if (event.kind == ContactEvent::Kind::lift_off) {
     s.release(event.contact);
     log_change(s, EventKind::release, event.contact, x, t, report);

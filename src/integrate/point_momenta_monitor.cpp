@@ -7,17 +7,7 @@
 
 namespace lagrangian::detail {
 
-void PointMomenta::clear() {
-  P_ = L_ = {};
-  p_scale_ = l_scale_ = 0;
-}
-
-void PointMomenta::add(double mass, const double* r, const double* v) {
-  const std::array<double, 3> d{r[0] - r0_[0], r[1] - r0_[1], r[2] - r0_[2]};
-  for (std::size_t a = 0; a < 3; ++a) P_[a] += mass * v[a];
-  L_[0] += mass * (d[1] * v[2] - d[2] * v[1]);
-  L_[1] += mass * (d[2] * v[0] - d[0] * v[2]);
-  L_[2] += mass * (d[0] * v[1] - d[1] * v[0]);
+void PointMomenta::add_scales(double mass, const double* d, const double* v) {
   const double speed = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   p_scale_ += std::abs(mass) * speed;
   l_scale_ += std::abs(mass) * std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) * speed;
@@ -40,6 +30,7 @@ void PointMomenta::record(RunReport& report) {
   // nonzero value met.
   if (report.momentum_scale == 0) report.momentum_scale = p_scale_;
   if (report.angular_momentum_scale == 0) report.angular_momentum_scale = l_scale_;
+  scales_found_ = report.momentum_scale != 0 && report.angular_momentum_scale != 0;
 }
 
 }  // namespace lagrangian::detail

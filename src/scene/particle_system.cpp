@@ -277,7 +277,7 @@ class ParticleSystem final : public lagrangian::System {
       output_.begin(names, units);
     }
     // Contacts closing or resting at t0: every touching one takes part, and the rests that begin are not logged.
-    if (model_.has_contacts()) lagrangian::detail::resolve_contacts(contacts_, x, t0, -1, false, opt_, rep_);
+    if (model_.has_contacts()) events_.resolve(contacts_, x, t0, -1, false, opt_, rep_);
   }
 
   void sample(double t, const double* x_in) override {

@@ -88,6 +88,33 @@ class ContactSystem {
   virtual GapRate gap_on_path(int j, double ts, const Interpolator& interp) = 0;
 };
 
+/// The lists one resolution of impacts works with, kept from one to the
+/// next so that resolving allocates nothing once they have grown.
+struct ResolutionBuffers {
+  std::vector<int> near, involved, resting_before, resting_now, woken, rested, plastic, seen, one;
+  std::vector<GapRate> rates;
+};
+
+/// Resolves every contact that is touching (|φ| ≤ the touch tolerance, or
+/// `trigger`, the one located closing) and approaching faster than
+/// contact_touch_speed at (x, t), one at a time, the one approaching
+/// fastest first, by Newton's law of restitution, until none approaches
+/// (the sequential rule for simultaneous impacts; each impact conserves
+/// momentum, and kinetic energy when e = 1). The Zeno rule
+/// (zeno_accumulation) decides which impact ends an accumulation: it is
+/// plastic and the contact rests. Impacts that cycle are replaced by their
+/// limit (detail/impact_cycle.hpp). A resting contact that an impact sets
+/// approaching takes part as an open one. Afterwards a contact that took
+/// part (`trigger`, or with trigger < 0 every one near) and does not
+/// separate rests when its last impact was plastic (e = 0: the bodies
+/// stick) or the forces press it shut, and resting contacts that separate
+/// lift off. Impacts go into the report's log; rests and lift-offs too when
+/// `log_changes`. SimulationError when the impacts do not settle after
+/// 1000 per contact, when the system declares no restitution, or when an
+/// impact gives non-finite values.
+void resolve_contacts(ContactSystem& system, double* x, double t, int trigger, bool log_changes,
+                      const SimulationOptions& options, RunReport& report, ResolutionBuffers& buffers);
+
 /// The first contact event inside a step.
 struct ContactEvent {
   enum class Kind {
@@ -124,12 +151,18 @@ class ContactEvents {
   /// closing is resolved (resolve_contacts, the event's contact the trigger).
   void apply(ContactSystem& system, const ContactEvent& event, double* x, double t, const SimulationOptions& options,
              RunReport& report);
+  /// resolve_contacts() with this run's buffers.
+  void resolve(ContactSystem& system, double* x, double t, int trigger, bool log_changes,
+               const SimulationOptions& options, RunReport& report) {
+    resolve_contacts(system, x, t, trigger, log_changes, options, report, resolution_);
+  }
   /// Contacts located on a step's interpolant so far (root searches).
   std::uint64_t locations() const { return locations_; }
 
  private:
   struct Candidate {
     double key;  // the chord estimate of a crossing; the step's start for the others
+    std::size_t place;  // among the system's candidates
     bool crossing;
     int contact;
     GapRate a, b;  // at the step's ends
@@ -140,26 +173,7 @@ class ContactEvents {
   std::vector<Candidate> order_;
   EventProgress progress_;
   std::uint64_t locations_ = 0;
+  ResolutionBuffers resolution_;
 };
-
-/// Resolves every contact that is touching (|φ| ≤ the touch tolerance, or
-/// `trigger`, the one located closing) and approaching faster than
-/// contact_touch_speed at (x, t), one at a time, the one approaching
-/// fastest first, by Newton's law of restitution, until none approaches
-/// (the sequential rule for simultaneous impacts; each impact conserves
-/// momentum, and kinetic energy when e = 1). The Zeno rule
-/// (zeno_accumulation) decides which impact ends an accumulation: it is
-/// plastic and the contact rests. Impacts that cycle are replaced by their
-/// limit (detail/impact_cycle.hpp). A resting contact that an impact sets
-/// approaching takes part as an open one. Afterwards a contact that took
-/// part (`trigger`, or with trigger < 0 every one near) and does not
-/// separate rests when its last impact was plastic (e = 0: the bodies
-/// stick) or the forces press it shut, and resting contacts that separate
-/// lift off. Impacts go into the report's log; rests and lift-offs too when
-/// `log_changes`. SimulationError when the impacts do not settle after
-/// 1000 per contact, when the system declares no restitution, or when an
-/// impact gives non-finite values.
-void resolve_contacts(ContactSystem& system, double* x, double t, int trigger, bool log_changes,
-                      const SimulationOptions& options, RunReport& report);
 
 }  // namespace lagrangian::detail

@@ -79,7 +79,8 @@ class ModelSystem<M>::Contacts final : public ContactSystem {
     [[maybe_unused]] Vec<double, u_> g_local, r_local;
     auto& g = u_ == Dynamic ? s_.gap_in_ : g_local;
     auto& r = u_ == Dynamic ? s_.rate_in_ : r_local;
-    s_.gaps_at(x, t, g, r);
+    split_state(x, q_, qd_);
+    contact_gaps(s_.model_, q_, qd_, t, g, r);
     for (std::size_t k = 0; k < which.size(); ++k) out[k] = {g[which[k]], r[which[k]]};
   }
   void near(const double*, double, double, int, std::vector<int>& out) override {
@@ -190,7 +191,7 @@ class ModelSystem<M>::Contacts final : public ContactSystem {
 template <class M>
 void ModelSystem<M>::resolve_contacts(double* x, double t, int trigger) {
   if constexpr (unilateral_count_v<M> != 0) {
-    detail::resolve_contacts(*contacts_, x, t, trigger, true, opt_, report_);
+    contact_events_.resolve(*contacts_, x, t, trigger, true, opt_, report_);
   } else {
     (void)x, (void)t, (void)trigger;
   }
