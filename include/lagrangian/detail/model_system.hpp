@@ -601,7 +601,8 @@ class ModelSystem final : public System {
   Vec<double, u_> gap_in_, rate_in_;
   /// Made at the start when the model has contacts.
   [[no_unique_address]] std::conditional_t<u_ != 0, std::unique_ptr<Contacts>, None> contacts_{};
-  ContactEvents contact_events_;
+  /// Location of contact and watched events (models with events only).
+  [[no_unique_address]] std::conditional_t<has_events_v, ContactEvents, None> contact_events_{};
   std::vector<EventSpec> specs_;
   std::vector<double> event_buf_;
   bool stopped_ = false;
