@@ -36,9 +36,8 @@ class Resolution {
       : s_(system), x_(x), t_(t), trigger_(trigger), n_(system.coordinates()), opt_(options), rep_(report),
         near_(buffers.near), involved_(buffers.involved), resting_before_(buffers.resting_before),
         resting_now_(buffers.resting_now), woken_(buffers.woken), rested_(buffers.rested), plastic_(buffers.plastic),
-        seen_(buffers.seen), one_(buffers.one), rates_(buffers.rates) {
+        seen_(buffers.seen), rates_(buffers.rates) {
     for (std::vector<int>* v : {&involved_, &woken_, &rested_, &plastic_}) v->clear();
-    one_.resize(1);
     touch_ = contact_touch_tolerance(x, n_);
     s_.resting_contacts(resting_before_);
     s_.near(x, t, touch_, trigger, near_);
@@ -82,21 +81,25 @@ class Resolution {
   /// impact was plastic or the forces press them shut; resting contacts
   /// that separate lift off.
   void rests_and_releases(bool log_changes) {
+    // (Resting and releasing move nothing: the gaps and rates are those of x throughout.)
     std::vector<int>& seen = seen_;
     seen.clear();
-    for (int j : involved_) {
-      if (contains(seen, j)) continue;
-      seen.push_back(j);
-      if (s_.resting(j)) continue;
-      const GapRate g = gap_rate(j);
-      if ((j == trigger_ || g.gap <= touch_) && g.rate <= opt_.contact_touch_speed &&
+    for (int j : involved_) add_once(seen, j);
+    rates_.resize(seen.size());
+    s_.gap_rates(x_, t_, seen, rates_.data());
+    for (std::size_t k = 0; k < seen.size(); ++k) {
+      const int j = seen[k];
+      const GapRate& g = rates_[k];
+      if (!s_.resting(j) && (j == trigger_ || g.gap <= touch_) && g.rate <= opt_.contact_touch_speed &&
           (contains(plastic_, j) || s_.pressed(j, x_, t_)))
         s_.rest(j);
     }
     std::vector<int>& resting = resting_now_;
     s_.resting_contacts(resting);
-    for (auto it = resting.rbegin(); it != resting.rend(); ++it)
-      if (gap_rate(*it).rate > opt_.contact_touch_speed) s_.release(*it);
+    rates_.resize(resting.size());
+    s_.gap_rates(x_, t_, resting, rates_.data());
+    for (std::size_t k = resting.size(); k-- > 0;)
+      if (rates_[k].rate > opt_.contact_touch_speed) s_.release(resting[k]);
     if (!log_changes) return;
     for (int j : seen)
       if (s_.resting(j) && !contains(resting_before_, j) && !contains(rested_, j)) log_change(s_, EventKind::rest, j, x_, t_, rep_);
@@ -105,13 +108,6 @@ class Resolution {
   }
 
  private:
-  GapRate gap_rate(int j) {
-    one_[0] = j;
-    GapRate g;
-    s_.gap_rates(x_, t_, one_, &g);
-    return g;
-  }
-
   /// The index in near_ of the open contact approaching fastest, faster
   /// than `approach` (updated to its speed); −1 when none.
   int fastest(double& approach) {
@@ -264,7 +260,6 @@ class Resolution {
   std::vector<int>& rested_;   // their last impact here began a rest by the Zeno rule (logged as such)
   std::vector<int>& plastic_;  // their last impact here had e = 0: the bodies stick
   std::vector<int>& seen_;
-  std::vector<int>& one_;
   std::vector<GapRate>& rates_;
 };
 

@@ -10,6 +10,7 @@
 
 #include "json_object.hpp"
 #include "key_units.hpp"
+#include "lagrangian/detail/point_momenta_monitor.hpp"
 #include "registry_common.hpp"
 
 namespace lagrangian::scene::detail {
@@ -143,20 +144,19 @@ void write_conserved(const InspectFacts& f, const ModelInfo& info, std::ostrings
 /// Forces, constraints, restitution and watched events as declared.
 void write_declared_terms(const InspectFacts& f, std::vector<std::vector<std::string>>& decl, JsonObject& dj) {
   const int size = static_cast<int>(f.q.size());
-  if (f.uses_forces) {
-    decl.push_back({"generalized forces Q", "yes", "Q(t0) = " + numbers(f.q_force.data(), size)});
-    dj.raw("generalized_forces", json_numbers(f.q_force.data(), size));
-  } else {
-    decl.push_back({"generalized forces Q", "none"});
-    dj.raw("generalized_forces", "null");
-  }
-  if (f.uses_dissipation) {
-    decl.push_back({"dissipation D", "yes", "-dD/dqdot at t0 = " + numbers(f.dissipation_force.data(), size)});
-    dj.raw("dissipation_forces", json_numbers(f.dissipation_force.data(), size));
-  } else {
-    decl.push_back({"dissipation D", "none"});
-    dj.raw("dissipation_forces", "null");
-  }
+  // A declared force term: its value at t0, or none.
+  auto force_term = [&](const char* label, bool used, const char* value_label, const std::vector<double>& value,
+                        const char* key) {
+    if (used) {
+      decl.push_back({label, "yes", std::string(value_label) + numbers(value.data(), size)});
+      dj.raw(key, json_numbers(value.data(), size));
+    } else {
+      decl.push_back({label, "none"});
+      dj.raw(key, "null");
+    }
+  };
+  force_term("generalized forces Q", f.uses_forces, "Q(t0) = ", f.q_force, "generalized_forces");
+  force_term("dissipation D", f.uses_dissipation, "-dD/dqdot at t0 = ", f.dissipation_force, "dissipation_forces");
   const std::vector<std::string>& cnames = f.constraint_names;
   auto list = [&](int from, int count) {
     if (count == 0) return std::string("none");
@@ -227,21 +227,22 @@ void write_masses(const std::vector<PointMotion>& masses, std::vector<std::vecto
   }
   // P = Σ m v, L = Σ m r × v about the origin (as the runs report them) and
   // the centre of mass Σ m r / Σ m.
-  std::array<double, 3> P{}, L{}, centre{};
-  lagrangian::detail::total_momenta(masses, {0.0, 0.0, 0.0}, P, L);
+  lagrangian::detail::PointMomenta momenta({0.0, 0.0, 0.0});
+  std::array<double, 3> centre{};
   double total = 0;
   for (const PointMotion& pm : masses) {
+    momenta.add(pm.mass, pm.r.data(), pm.v.data());
     for (std::size_t a = 0; a < 3; ++a) centre[a] += pm.mass * pm.r[a];
     total += pm.mass;
   }
   for (double& c : centre) c /= total;
   decl.push_back({"particles", std::to_string(masses.size()),
-                  "P = " + numbers(P.data(), 3) + " kg*m/s, L = " + numbers(L.data(), 3) +
+                  "P = " + numbers(momenta.linear().data(), 3) + " kg*m/s, L = " + numbers(momenta.angular().data(), 3) +
                       " kg*m^2/s about the origin; centre of mass " + numbers(centre.data(), 3) + " m"});
   JsonObject pj;
   pj.integer("count", static_cast<int>(masses.size()));
-  pj.raw("P", json_numbers(P.data(), 3));
-  pj.raw("L", json_numbers(L.data(), 3));
+  pj.raw("P", json_numbers(momenta.linear().data(), 3));
+  pj.raw("L", json_numbers(momenta.angular().data(), 3));
   pj.raw("centre_of_mass", json_numbers(centre.data(), 3));
   js.raw("particles", pj.str());
 }

@@ -91,7 +91,7 @@ class ContactSystem {
 /// The lists one resolution of impacts works with, kept from one to the
 /// next so that resolving allocates nothing once they have grown.
 struct ResolutionBuffers {
-  std::vector<int> near, involved, resting_before, resting_now, woken, rested, plastic, seen, one;
+  std::vector<int> near, involved, resting_before, resting_now, woken, rested, plastic, seen;
   std::vector<GapRate> rates;
 };
 

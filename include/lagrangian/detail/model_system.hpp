@@ -526,14 +526,6 @@ class ModelSystem final : public System {
   /// iterations. A projection that fails stops the run (SimulationError).
   int project_onto_constraints(Vec<double, n>& q, Vec<double, n>& qd, double t);
 
-  /// Gaps within this of zero count as touching: 1e-9 (1 + ‖q‖∞).
-  double contact_touch_tolerance(const double* x) const { return detail::contact_touch_tolerance(x, size_); }
-  template <class G>
-  void gaps_at(const double* x, double t, G& g, G& r) const {
-    Vec<double, n> q(size_), qd(size_);
-    split_state(x, q, qd);
-    contact_gaps(model_, q, qd, t, g, r);
-  }
   Vec<double, event_count_v<M>> watched_at(const double* x, double t) const {
     if constexpr (event_count_v<M> > 0) {
       Vec<double, n> q(size_), qd(size_);

@@ -56,21 +56,6 @@ void point_motions(const M& model, const double* q, const double* dq, const doub
   }
 }
 
-/// P = Σ m v (kg·m/s) and L = Σ m (r − r₀) × v (kg·m²/s) of `points`.
-inline void total_momenta(const std::vector<PointMotion>& points, const std::array<double, 3>& r0,
-                          std::array<double, 3>& P, std::array<double, 3>& L) {
-  P = {};
-  L = {};
-  for (const PointMotion& pm : points) {
-    const std::array<double, 3> r{pm.r[0] - r0[0], pm.r[1] - r0[1], pm.r[2] - r0[2]};
-    const auto& v = pm.v;
-    for (std::size_t a = 0; a < 3; ++a) P[a] += pm.mass * v[a];
-    L[0] += pm.mass * (r[1] * v[2] - r[2] * v[1]);
-    L[1] += pm.mass * (r[2] * v[0] - r[0] * v[2]);
-    L[2] += pm.mass * (r[0] * v[1] - r[1] * v[0]);
-  }
-}
-
 /// The change of q̇ that a unit impulse along the row `g` = ∂φ/∂q of a
 /// contact gives at (q, q̇, t), the bilateral constraints held:
 ///   M Δq̇ = gᵀ + Cᵀ μ,  C Δq̇ = 0
