@@ -2,8 +2,8 @@
 #include <benchmark/benchmark.h>
 
 #include "hand_coded.hpp"
-#include "lagrangian/detail/constant_mass.hpp"
-#include "lagrangian/dynamics.hpp"
+#include "lagrangian/mechanics/detail/constant_mass.hpp"
+#include "lagrangian/mechanics/dynamics.hpp"
 #include "lagrangian/models/pendulums.hpp"
 #include "lagrangian/models/two_body.hpp"
 #include "lagrangian/text/text_model.hpp"

@@ -13,7 +13,7 @@
 #include <cstdlib>
 #include <vector>
 
-#include "lagrangian/simulate.hpp"
+#include "lagrangian/integrate/simulate.hpp"
 #include "lagrangian/models/kepler.hpp"
 #include "lagrangian/models/two_body.hpp"
 

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "lagrangian/simulate.hpp"
+#include "lagrangian/integrate/simulate.hpp"
 #include "lagrangian/models/pendulums.hpp"
 
 int main(int argc, char** argv) {

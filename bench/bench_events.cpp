@@ -8,7 +8,7 @@
 #include <type_traits>
 #include <utility>
 
-#include "lagrangian/simulate.hpp"
+#include "lagrangian/integrate/simulate.hpp"
 #include "lagrangian/models/impacts.hpp"
 
 namespace {

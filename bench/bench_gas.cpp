@@ -9,7 +9,7 @@
 #include <random>
 #include <string>
 
-#include "lagrangian/hard_spheres.hpp"
+#include "lagrangian/scene/hard_spheres.hpp"
 
 namespace {
 

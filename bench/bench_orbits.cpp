@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-#include "lagrangian/simulate.hpp"
+#include "lagrangian/integrate/simulate.hpp"
 #include "lagrangian/models/pendulums.hpp"
 #include "lagrangian/models/two_body.hpp"
 

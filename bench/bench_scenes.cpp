@@ -13,8 +13,8 @@
 #include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_dopri5.hpp>
 
-#include "lagrangian/scene.hpp"
-#include "lagrangian/scene_run.hpp"
+#include "lagrangian/scene/scene.hpp"
+#include "lagrangian/scene/run.hpp"
 #include "../src/scene/particle_engine.hpp"
 
 namespace {

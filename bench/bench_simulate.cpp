@@ -22,8 +22,8 @@
 #include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
 
 #include "hand_coded.hpp"
-#include "lagrangian/inlined.hpp"
-#include "lagrangian/simulate.hpp"
+#include "lagrangian/integrate/inlined.hpp"
+#include "lagrangian/integrate/simulate.hpp"
 
 namespace {
 

@@ -11,7 +11,7 @@
 #include <cstdlib>
 
 #include "hand_coded.hpp"
-#include "lagrangian/dynamics.hpp"
+#include "lagrangian/mechanics/dynamics.hpp"
 #include "lagrangian/models/pendulums.hpp"
 #include "runtime_chain.hpp"
 

@@ -18,10 +18,10 @@
 
 #include <gtest/gtest.h>
 
-#include "lagrangian/bench.hpp"
+#include "lagrangian/scene/bench.hpp"
 #include "lagrangian/errors.hpp"
-#include "lagrangian/plots.hpp"
-#include "lagrangian/scene.hpp"
+#include "lagrangian/scene/plots.hpp"
+#include "lagrangian/scene/scene.hpp"
 
 namespace {
 

@@ -11,7 +11,7 @@
 
 #include <gtest/gtest.h>
 
-#include "lagrangian/analysis.hpp"
+#include "lagrangian/analysis/analysis.hpp"
 #include "lagrangian/models/constrained.hpp"
 #include "lagrangian/models/pendulums.hpp"
 #include "lagrangian/models/projectile.hpp"

@@ -1,6 +1,6 @@
 // The driver's two ways through a run must agree to the last bit: steps
 // with per-step bookkeeping (every step sampled) against steps taken in a
-// row between samples (quiet_steps in detail/controlled_loop.hpp), and the
+// row between samples (quiet_steps in integrate/detail/controlled_loop.hpp), and the
 // explicit loops compiled once, reaching q̈ through the System's vtable,
 // against the same loops compiled here with q̈ inlined (lagrangian::inlined,
 // for a hand-coded and an AD q̈). Each pair does the same arithmetic, so each gives the
@@ -11,7 +11,7 @@
 #include <cmath>
 #include <string>
 
-#include "lagrangian/inlined.hpp"
+#include "lagrangian/integrate/inlined.hpp"
 #include "lagrangian/lagrangian.hpp"
 #include "lagrangian/models/pendulums.hpp"
 

@@ -8,7 +8,7 @@
 #include <Eigen/LU>
 
 #include "lagrangian/lagrangian.hpp"
-#include "lagrangian/detail/constant_mass.hpp"
+#include "lagrangian/mechanics/detail/constant_mass.hpp"
 #include "lagrangian/models/impacts.hpp"
 #include "lagrangian/models/pendulums.hpp"
 #include "lagrangian/models/projectile.hpp"

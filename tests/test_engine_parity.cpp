@@ -1,7 +1,7 @@
 // The one driver runs both kinds of system: a Model (simulate()) and a
 // particle scene (scene::run). The same physical scene stated both ways must
 // give the same events and states, and both follow the one Zeno rule
-// (detail/contact_rules.hpp).
+// (integrate/detail/contact_rules.hpp).
 
 #include <array>
 #include <cmath>
@@ -10,9 +10,9 @@
 #include <gtest/gtest.h>
 
 #include "lagrangian/models/impacts.hpp"
-#include "lagrangian/scene.hpp"
-#include "lagrangian/scene_run.hpp"
-#include "lagrangian/simulate.hpp"
+#include "lagrangian/scene/scene.hpp"
+#include "lagrangian/scene/run.hpp"
+#include "lagrangian/integrate/simulate.hpp"
 
 namespace {
 

@@ -8,8 +8,8 @@
 #include <cmath>
 #include <string>
 
-#include "lagrangian/scene_io.hpp"
-#include "lagrangian/scene_run.hpp"
+#include "lagrangian/scene/io.hpp"
+#include "lagrangian/scene/run.hpp"
 
 using namespace lagrangian;
 

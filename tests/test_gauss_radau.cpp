@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "lagrangian/detail/gauss_radau.hpp"
+#include "lagrangian/integrate/detail/gauss_radau.hpp"
 #include "lagrangian/lagrangian.hpp"
 #include "lagrangian/models/constrained.hpp"
 #include "lagrangian/models/impacts.hpp"

@@ -20,9 +20,9 @@
 #include <vector>
 
 #include "lagrangian/errors.hpp"
-#include "lagrangian/hard_spheres.hpp"
-#include "lagrangian/scene.hpp"
-#include "lagrangian/scene_run.hpp"
+#include "lagrangian/scene/hard_spheres.hpp"
+#include "lagrangian/scene/scene.hpp"
+#include "lagrangian/scene/run.hpp"
 
 // Allocation count: the global operator new is replaced by a counting one.
 // GCC cannot see that these new/delete pairs both use malloc/free.

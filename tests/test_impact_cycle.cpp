@@ -1,4 +1,4 @@
-// Impacts that cycle, replaced by their limit (detail/impact_cycle.hpp):
+// Impacts that cycle, replaced by their limit (integrate/detail/impact_cycle.hpp):
 // the round detection, the limit against the closed form and against
 // iterating the round until it settles, and a light sphere pinned between a
 // heavy one and a wall at mass ratio 1e-9, which the sequential rule alone
@@ -9,7 +9,7 @@
 #include <cmath>
 #include <vector>
 
-#include "lagrangian/detail/impact_cycle.hpp"
+#include "lagrangian/integrate/detail/impact_cycle.hpp"
 #include "lagrangian/lagrangian.hpp"
 #include "lagrangian/models/impacts.hpp"
 

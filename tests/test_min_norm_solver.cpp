@@ -1,5 +1,5 @@
 // The minimum-norm least-squares solver behind the constraint forces,
-// projections, impacts and implicit steps (detail/min_norm_solver.hpp),
+// projections, impacts and implicit steps (mechanics/detail/min_norm_solver.hpp),
 // checked against the pseudo-inverse from Eigen's SVD, an independent
 // factorisation: regular square systems (solved through LU with full
 // pivoting), nearly singular and singular ones, and rectangular ones
@@ -10,7 +10,7 @@
 
 #include <Eigen/SVD>
 
-#include "lagrangian/detail/min_norm_solver.hpp"
+#include "lagrangian/mechanics/detail/min_norm_solver.hpp"
 
 namespace {
 

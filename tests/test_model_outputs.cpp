@@ -1,5 +1,5 @@
 // A C++ model given the outputs of `lagrangian run` in one call
-// (scene::run_and_write, scene_model_run.hpp).
+// (scene::run_and_write, scene/model_run.hpp).
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -10,7 +10,7 @@
 
 #include "lagrangian/models/pendulums.hpp"
 #include "lagrangian/models/projectile.hpp"
-#include "lagrangian/scene_model_run.hpp"
+#include "lagrangian/scene/model_run.hpp"
 
 namespace {
 

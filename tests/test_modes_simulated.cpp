@@ -15,9 +15,9 @@
 
 #include <gtest/gtest.h>
 
-#include "lagrangian/analysis.hpp"
+#include "lagrangian/analysis/analysis.hpp"
 #include "lagrangian/models/pendulums.hpp"
-#include "lagrangian/simulate.hpp"
+#include "lagrangian/integrate/simulate.hpp"
 
 using namespace lagrangian;
 namespace lm = lagrangian::models;

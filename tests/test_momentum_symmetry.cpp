@@ -1,6 +1,6 @@
 // Which momenta a run reports: only those the system's symmetries conserve
 // (Noether), each left out with its reason. The judge
-// (detail/momentum_symmetry.hpp) on forces whose conservation laws are
+// (integrate/detail/momentum_symmetry.hpp) on forces whose conservation laws are
 // known, then whole runs of built-in models whose conserved quantities are
 // known in closed form.
 #include <gtest/gtest.h>
@@ -9,7 +9,7 @@
 #include <cmath>
 #include <string>
 
-#include "lagrangian/detail/momentum_symmetry.hpp"
+#include "lagrangian/integrate/detail/momentum_symmetry.hpp"
 #include "lagrangian/lagrangian.hpp"
 #include "lagrangian/models/constrained.hpp"
 #include "lagrangian/models/impacts.hpp"

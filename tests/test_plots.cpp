@@ -20,8 +20,8 @@
 #include <gtest/gtest.h>
 
 #include "lagrangian/errors.hpp"
-#include "lagrangian/plots.hpp"
-#include "lagrangian/progress.hpp"
+#include "lagrangian/scene/plots.hpp"
+#include "lagrangian/scene/progress.hpp"
 
 namespace fs = std::filesystem;
 using lagrangian::OptionError;

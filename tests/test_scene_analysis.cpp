@@ -1,4 +1,4 @@
-// The analyses through the scene layer (scene_analysis.hpp): every built-in
+// The analyses through the scene layer (scene/analysis.hpp): every built-in
 // model either answers (finite numbers) or refuses with a one-line reason —
 // never a crash, a hang or a NaN presented as a result.
 
@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "lagrangian/scene_analysis.hpp"
-#include "lagrangian/scene_models.hpp"
+#include "lagrangian/scene/analysis.hpp"
+#include "lagrangian/scene/models.hpp"
 
 using namespace lagrangian;
 

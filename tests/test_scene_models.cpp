@@ -21,15 +21,15 @@
 
 #include <gtest/gtest.h>
 
-#include "lagrangian/detail/scene_registry.hpp"
+#include "lagrangian/scene/detail/registry.hpp"
 #include "lagrangian/models/constrained.hpp"
 #include "lagrangian/models/impacts.hpp"
 #include "lagrangian/models/pendulums.hpp"
 #include "lagrangian/models/projectile.hpp"
 #include "lagrangian/models/two_body.hpp"
-#include "lagrangian/scene.hpp"
-#include "lagrangian/scene_models.hpp"
-#include "lagrangian/simulate.hpp"
+#include "lagrangian/scene/scene.hpp"
+#include "lagrangian/scene/models.hpp"
+#include "lagrangian/integrate/simulate.hpp"
 
 namespace {
 

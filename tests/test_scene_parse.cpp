@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "lagrangian/scene.hpp"
-#include "lagrangian/scene_io.hpp"
-#include "lagrangian/scene_models.hpp"
+#include "lagrangian/scene/scene.hpp"
+#include "lagrangian/scene/io.hpp"
+#include "lagrangian/scene/models.hpp"
 
 namespace {
 

@@ -21,9 +21,9 @@
 #include <gtest/gtest.h>
 
 #include "lagrangian/models/pendulums.hpp"
-#include "lagrangian/scene.hpp"
-#include "lagrangian/scene_run.hpp"
-#include "lagrangian/simulate.hpp"
+#include "lagrangian/scene/scene.hpp"
+#include "lagrangian/scene/run.hpp"
+#include "lagrangian/integrate/simulate.hpp"
 
 namespace {
 

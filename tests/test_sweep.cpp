@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "lagrangian/plots.hpp"
+#include "lagrangian/scene/plots.hpp"
 
 #include <algorithm>
 #include <array>
@@ -25,10 +25,10 @@
 #include <vector>
 
 #include "lagrangian/errors.hpp"
-#include "lagrangian/scene.hpp"
-#include "lagrangian/scene_io.hpp"
-#include "lagrangian/scene_run.hpp"
-#include "lagrangian/sweep.hpp"
+#include "lagrangian/scene/scene.hpp"
+#include "lagrangian/scene/io.hpp"
+#include "lagrangian/scene/run.hpp"
+#include "lagrangian/scene/sweep.hpp"
 
 namespace fs = std::filesystem;
 using namespace lagrangian;

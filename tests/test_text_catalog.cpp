@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "lagrangian/detail/scene_registry.hpp"
-#include "lagrangian/scene.hpp"
-#include "lagrangian/scene_models.hpp"
+#include "lagrangian/scene/detail/registry.hpp"
+#include "lagrangian/scene/scene.hpp"
+#include "lagrangian/scene/models.hpp"
 
 namespace {
 

@@ -11,8 +11,8 @@
 #include <string>
 
 #include "lagrangian/lagrangian.hpp"
-#include "lagrangian/scene_io.hpp"
-#include "lagrangian/scene_text_model.hpp"
+#include "lagrangian/scene/io.hpp"
+#include "lagrangian/scene/text_model.hpp"
 #include "lagrangian/text/text_model.hpp"
 
 namespace {

@@ -5,10 +5,10 @@
 
 #include <gtest/gtest.h>
 
-#include "lagrangian/detail/scene_registry.hpp"
-#include "lagrangian/scene.hpp"
-#include "lagrangian/scene_io.hpp"
-#include "lagrangian/scene_run.hpp"
+#include "lagrangian/scene/detail/registry.hpp"
+#include "lagrangian/scene/scene.hpp"
+#include "lagrangian/scene/io.hpp"
+#include "lagrangian/scene/run.hpp"
 
 namespace {
 

@@ -7,7 +7,7 @@
 #include <numbers>
 #include <string>
 
-#include "lagrangian/discrete.hpp"
+#include "lagrangian/integrate/discrete.hpp"
 #include "lagrangian/fpe.hpp"
 #include "lagrangian/lagrangian.hpp"
 #include "lagrangian/models/pendulums.hpp"

@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "lagrangian/scene.hpp"
-#include "lagrangian/scene_run.hpp"
-#include "lagrangian/view.hpp"
+#include "lagrangian/scene/scene.hpp"
+#include "lagrangian/scene/run.hpp"
+#include "lagrangian/view/view.hpp"
 
 namespace fs = std::filesystem;
 using namespace lagrangian;

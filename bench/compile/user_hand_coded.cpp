@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include <lagrangian/inlined.hpp>
+#include <lagrangian/integrate/inlined.hpp>
 #include <lagrangian/lagrangian.hpp>
 
 struct SpringPendulum {

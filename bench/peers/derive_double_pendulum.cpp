@@ -11,7 +11,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "lagrangian/dynamics.hpp"
+#include "lagrangian/mechanics/dynamics.hpp"
 #include "lagrangian/models/pendulums.hpp"
 
 int main() {

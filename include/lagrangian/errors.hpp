@@ -67,4 +67,19 @@ class SimulationError : public Error {
   double time_;
 };
 
+/// A constraint cannot be satisfied, or the constraint set is unusable.
+class ConstraintError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// An analysis cannot be done: the model does not suit it (non-conservative
+/// forces for a stationary-action problem, Pfaffian constraints for
+/// equilibria), a boundary-value problem is singular, Newton's method did not
+/// converge. The message says which and gives the numbers.
+class AnalysisError : public Error {
+ public:
+  using Error::Error;
+};
+
 }  // namespace lagrangian

@@ -447,7 +447,7 @@ std::vector<std::string> coordinate_units(const M& model) {
 namespace detail {
 /// The C++ type's name as written, without its namespaces ("MyPendulum",
 /// "PendulumChain<10>"), from the compiler's type information
-/// (src/type_name.cpp).
+/// (src/core/type_name.cpp).
 std::string type_display_name(const std::type_info& type);
 }  // namespace detail
 
@@ -541,7 +541,7 @@ LambdaModel<N, K, V, F, NewDissipation> with_dissipation(LambdaModel<N, K, V, F,
 /// auto m = lagrangian::with_structure_preserving(make_model<1>(...));
 /// template <> inline constexpr bool lagrangian::structure_preserving_v<Other> = true;
 /// \endcode
-/// The built-in models opt in inside the library (detail/compiled_models.hpp).
+/// The built-in models opt in inside the library (integrate/detail/compiled_models.hpp).
 /// Choosing one of these methods for a model that did not opt in is an
 /// OptionError that says how to opt in.
 template <class M>

@@ -4,7 +4,7 @@
 // Hessian of S_d, its inertia and spectrum, and the NLopt minimisation of
 // the same action for comparison.
 
-#include "lagrangian/bvp.hpp"
+#include "lagrangian/analysis/bvp.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -3,7 +3,7 @@
 // deflated), and the classification by the Hessian of U on the constraint
 // manifold.
 
-#include "lagrangian/equilibria.hpp"
+#include "lagrangian/analysis/equilibria.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 // Text output of the analyses (analysis.hpp): the tables `lagrangian inspect
 // --equilibria --modes` prints.
 
-#include "lagrangian/analysis.hpp"
+#include "lagrangian/analysis/analysis.hpp"
 
 #include <cmath>
 #include <complex>

@@ -1,12 +1,12 @@
 // The dynamic-size linear algebra of the analyses (linearisation.hpp),
 // compiled once rather than in every translation unit that includes it.
-#include "lagrangian/linearisation.hpp"
+#include "lagrangian/analysis/linearisation.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 
-#include "lagrangian/constraints.hpp"
-#include "lagrangian/detail/min_norm_solver.hpp"
+#include "lagrangian/mechanics/constraints.hpp"
+#include "lagrangian/mechanics/detail/min_norm_solver.hpp"
 
 namespace lagrangian::detail {
 

@@ -2,7 +2,7 @@
 // M, K with the constraint curvature, the tangent basis, the generalized
 // eigenproblem K_t v = ω² M_t v and the state matrix A.
 
-#include "lagrangian/modes.hpp"
+#include "lagrangian/analysis/modes.hpp"
 
 #include <cmath>
 #include <limits>

@@ -5,7 +5,7 @@
 #include <tuple>
 
 #include "commands.hpp"
-#include "lagrangian/scene_io.hpp"
+#include "lagrangian/scene/io.hpp"
 
 namespace lagrangian::cli {
 

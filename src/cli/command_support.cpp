@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "lagrangian/params.hpp"
-#include "lagrangian/scene_io.hpp"
+#include "lagrangian/scene/io.hpp"
 #include "written_files.hpp"
 
 namespace lagrangian::cli {

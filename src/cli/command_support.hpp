@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "lagrangian/errors.hpp"
-#include "lagrangian/scene.hpp"
+#include "lagrangian/scene/scene.hpp"
 #include "option_list.hpp"
 
 namespace lagrangian::cli {

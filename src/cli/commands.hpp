@@ -10,9 +10,9 @@
 #include <string>
 
 #include "command_support.hpp"
-#include "lagrangian/bench.hpp"
-#include "lagrangian/scene_analysis.hpp"
-#include "lagrangian/scene_run.hpp"
+#include "lagrangian/scene/bench.hpp"
+#include "lagrangian/scene/analysis.hpp"
+#include "lagrangian/scene/run.hpp"
 
 namespace CLI {
 class App;

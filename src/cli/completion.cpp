@@ -7,10 +7,10 @@
 
 #include <algorithm>
 
-#include "lagrangian/discrete.hpp"
-#include "lagrangian/report.hpp"
-#include "lagrangian/scene_models.hpp"
-#include "lagrangian/sweep.hpp"
+#include "lagrangian/integrate/discrete.hpp"
+#include "lagrangian/integrate/report.hpp"
+#include "lagrangian/scene/models.hpp"
+#include "lagrangian/scene/sweep.hpp"
 
 namespace lagrangian::cli {
 namespace {

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "lagrangian/scene_io.hpp"
-#include "lagrangian/scene_models.hpp"
+#include "lagrangian/scene/io.hpp"
+#include "lagrangian/scene/models.hpp"
 
 namespace fs = std::filesystem;
 

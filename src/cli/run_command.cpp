@@ -5,8 +5,8 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "lagrangian/report.hpp"
-#include "lagrangian/scene_io.hpp"
+#include "lagrangian/integrate/report.hpp"
+#include "lagrangian/scene/io.hpp"
 
 namespace lagrangian::cli {
 

@@ -9,7 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "lagrangian/scene.hpp"
+#include "lagrangian/scene/scene.hpp"
 
 namespace lagrangian::cli {
 

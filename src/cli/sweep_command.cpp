@@ -9,8 +9,8 @@
 #include <iostream>
 
 #include "lagrangian/errors.hpp"
-#include "lagrangian/scene.hpp"
-#include "lagrangian/scene_io.hpp"
+#include "lagrangian/scene/scene.hpp"
+#include "lagrangian/scene/io.hpp"
 #include "command_support.hpp"
 #include "written_files.hpp"
 

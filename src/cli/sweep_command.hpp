@@ -9,7 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "lagrangian/sweep.hpp"
+#include "lagrangian/scene/sweep.hpp"
 
 namespace lagrangian::cli {
 

@@ -1,4 +1,4 @@
-#include "lagrangian/detail/contact_rules.hpp"
+#include "lagrangian/integrate/detail/contact_rules.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "lagrangian/errors.hpp"
-#include "lagrangian/impact.hpp"
+#include "lagrangian/mechanics/impact.hpp"
 
 namespace lagrangian::detail {
 

@@ -1,11 +1,11 @@
-#include "lagrangian/detail/contacts.hpp"
+#include "lagrangian/integrate/detail/contacts.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
 
-#include "lagrangian/detail/impact_cycle.hpp"
+#include "lagrangian/integrate/detail/impact_cycle.hpp"
 #include "lagrangian/errors.hpp"
 
 namespace lagrangian::detail {
@@ -175,7 +175,7 @@ class Resolution {
   }
 
   /// The limit of impacts that cycle among the contacts near_[k] of `round`
-  /// (detail/impact_cycle.hpp): the velocities jump to it when the rounds
+  /// (integrate/detail/impact_cycle.hpp): the velocities jump to it when the rounds
   /// converge, the contacts left approaching by rounding are closed
   /// together (close_together), and each contact of the round gets one
   /// impact in the log with its share of the total impulse and the kinetic

@@ -1,5 +1,5 @@
 // The explicit Runge–Kutta loops on a run-time sized state (n > 12).
-#include "lagrangian/detail/explicit_loops.hpp"
+#include "lagrangian/integrate/detail/explicit_loops.hpp"
 #include "loops.hpp"
 
 namespace lagrangian::detail {

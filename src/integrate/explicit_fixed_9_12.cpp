@@ -1,5 +1,5 @@
 // The explicit Runge–Kutta loops on std::array<double, 2n> for n = 9 … 12.
-#include "lagrangian/detail/explicit_loops.hpp"
+#include "lagrangian/integrate/detail/explicit_loops.hpp"
 #include "loops.hpp"
 
 namespace lagrangian::detail {

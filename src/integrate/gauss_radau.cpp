@@ -1,8 +1,8 @@
-// The constants of the 15th-order Gauss–Radau stepper (detail/gauss_radau.hpp):
+// The constants of the 15th-order Gauss–Radau stepper (integrate/detail/gauss_radau.hpp):
 // its nodes, computed from Legendre's polynomials, and the tables derived
 // from them.
 
-#include "lagrangian/detail/gauss_radau.hpp"
+#include "lagrangian/integrate/detail/gauss_radau.hpp"
 
 namespace lagrangian::detail {
 namespace {

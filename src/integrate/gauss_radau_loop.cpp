@@ -1,12 +1,12 @@
 // The driver's loop for the 15th-order Gauss–Radau stepper (method
-// "gauss_radau15", detail/gauss_radau.hpp): adaptive steps, dense output
+// "gauss_radau15", integrate/detail/gauss_radau.hpp): adaptive steps, dense output
 // from the step's own polynomial for samples and events.
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
-#include "lagrangian/detail/gauss_radau.hpp"
+#include "lagrangian/integrate/detail/gauss_radau.hpp"
 #include "lagrangian/errors.hpp"
 #include "loops.hpp"
 

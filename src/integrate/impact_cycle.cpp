@@ -1,4 +1,4 @@
-#include "lagrangian/detail/impact_cycle.hpp"
+#include "lagrangian/integrate/detail/impact_cycle.hpp"
 
 #include <algorithm>
 #include <cmath>

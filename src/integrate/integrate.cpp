@@ -1,4 +1,4 @@
-#include "lagrangian/integrate.hpp"
+#include "lagrangian/integrate/integrate.hpp"
 
 #include <limits>
 #include <string>

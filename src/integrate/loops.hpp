@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cstdint>
 
-#include "lagrangian/detail/controlled_loop.hpp"
-#include "lagrangian/detail/run.hpp"
+#include "lagrangian/integrate/detail/controlled_loop.hpp"
+#include "lagrangian/integrate/detail/run.hpp"
 
 namespace lagrangian::detail {
 
@@ -19,7 +19,7 @@ namespace lagrangian::detail {
 void run_explicit(Run& run, StateVector& x);
 inline constexpr int kMaxFixedStateSize = 12;
 /// run_explicit on std::array<double, 2N> (x copied in and out): defined in
-/// detail/explicit_loops.hpp, compiled in explicit_*.cpp.
+/// integrate/detail/explicit_loops.hpp, compiled in explicit_*.cpp.
 template <int N>
 void run_explicit_fixed(Run& run, StateVector& x);
 /// run_explicit on StateVector (explicit_dynamic.cpp).

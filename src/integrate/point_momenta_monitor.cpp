@@ -1,9 +1,9 @@
-#include "lagrangian/detail/point_momenta_monitor.hpp"
+#include "lagrangian/integrate/detail/point_momenta_monitor.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "lagrangian/detail/momentum_symmetry.hpp"
+#include "lagrangian/integrate/detail/momentum_symmetry.hpp"
 
 namespace lagrangian::detail {
 

@@ -5,12 +5,12 @@
 #include <exception>
 #include <limits>
 
-#include "lagrangian/detail/stiff.hpp"
+#include "lagrangian/integrate/detail/stiff.hpp"
 #include "loops.hpp"
 
 namespace lagrangian::detail {
 
-/// Odeint's rosenbrock4 (see detail/stiff.hpp) on the autonomous system
+/// Odeint's rosenbrock4 (see integrate/detail/stiff.hpp) on the autonomous system
 /// y = [x; τ], ẏ = [f(x, τ); 1]: Odeint's treatment of an explicit time
 /// dependence through ∂f/∂t is wrong (a driven oscillator lost four orders
 /// of accuracy and took 85 times the steps, with ∂f/∂t exact or not), while

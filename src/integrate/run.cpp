@@ -1,4 +1,4 @@
-#include "lagrangian/detail/run.hpp"
+#include "lagrangian/integrate/detail/run.hpp"
 
 #include <sstream>
 

@@ -8,7 +8,7 @@
 #include <sstream>
 #include <string>
 
-#include "lagrangian/detail/explicit_loops.hpp"
+#include "lagrangian/integrate/detail/explicit_loops.hpp"
 #include "loops.hpp"
 
 namespace lagrangian::detail {

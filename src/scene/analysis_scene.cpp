@@ -1,8 +1,8 @@
 // Equilibria, normal modes and stationary-action boundary-value problems of a
-// scene's built-in model (scene_analysis.hpp): dispatch through the registry,
+// scene's built-in model (scene/analysis.hpp): dispatch through the registry,
 // the path written as CSV through a partial file, and its plots.
 
-#include "lagrangian/scene_analysis.hpp"
+#include "lagrangian/scene/analysis.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -12,10 +12,10 @@
 #include <vector>
 
 #include "lagrangian/detail/csv_header.hpp"
-#include "lagrangian/detail/scene_registry.hpp"
+#include "lagrangian/scene/detail/registry.hpp"
 #include "lagrangian/errors.hpp"
-#include "lagrangian/plots.hpp"
-#include "lagrangian/scene_models.hpp"
+#include "lagrangian/scene/plots.hpp"
+#include "lagrangian/scene/models.hpp"
 #include "text_model_spec.hpp"
 
 namespace lagrangian::scene {

@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "lagrangian/detail/csv_header.hpp"
-#include "lagrangian/detail/contact_names.hpp"
-#include "lagrangian/detail/scene_registry.hpp"
+#include "lagrangian/scene/detail/contact_names.hpp"
+#include "lagrangian/scene/detail/registry.hpp"
 #include "lagrangian/errors.hpp"
 #include "text_model_spec.hpp"
 

@@ -3,9 +3,9 @@
 
 #include <string>
 
-#include "lagrangian/scene.hpp"
-#include "lagrangian/scene_run.hpp"
-#include "lagrangian/view.hpp"
+#include "lagrangian/scene/scene.hpp"
+#include "lagrangian/scene/run.hpp"
+#include "lagrangian/view/view.hpp"
 
 namespace lagrangian::scene::detail {
 

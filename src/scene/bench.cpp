@@ -1,8 +1,8 @@
 // Work-precision benches of a scene: runs per stepper and tolerance, their
 // error against a closed form or a reference run, the medians of their wall
-// times, and the table, JSON and diagrams (see include/lagrangian/bench.hpp).
+// times, and the table, JSON and diagrams (see include/lagrangian/scene/bench.hpp).
 
-#include "lagrangian/bench.hpp"
+#include "lagrangian/scene/bench.hpp"
 
 #include <algorithm>
 #include <array>
@@ -15,13 +15,13 @@
 #include <sstream>
 #include <thread>
 
-#include "lagrangian/detail/gauss_radau.hpp"
+#include "lagrangian/integrate/detail/gauss_radau.hpp"
 #include "lagrangian/detail/text_output.hpp"
 #include "lagrangian/errors.hpp"
-#include "lagrangian/plots.hpp"
-#include "lagrangian/report.hpp"
-#include "lagrangian/scene_models.hpp"
-#include "lagrangian/scene_run.hpp"
+#include "lagrangian/scene/plots.hpp"
+#include "lagrangian/integrate/report.hpp"
+#include "lagrangian/scene/models.hpp"
+#include "lagrangian/scene/run.hpp"
 
 namespace lagrangian::scene {
 namespace {

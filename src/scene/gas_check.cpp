@@ -1,4 +1,4 @@
-// Kinetic theory against a run of a gas (scene_run.hpp, GasCheck): the
+// Kinetic theory against a run of a gas (scene/run.hpp, GasCheck): the
 // temperature and the speed distribution from the final velocities, the
 // pressure from the impulses the box's walls received.
 
@@ -11,7 +11,7 @@
 #include <optional>
 #include <sstream>
 
-#include "lagrangian/hard_spheres.hpp"
+#include "lagrangian/scene/hard_spheres.hpp"
 
 namespace {
 

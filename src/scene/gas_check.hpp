@@ -3,8 +3,8 @@
 
 #include <optional>
 
-#include "lagrangian/scene.hpp"
-#include "lagrangian/scene_run.hpp"
+#include "lagrangian/scene/scene.hpp"
+#include "lagrangian/scene/run.hpp"
 
 namespace lagrangian::scene::detail {
 

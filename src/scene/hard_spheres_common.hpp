@@ -12,7 +12,7 @@
 
 #include <Eigen/Core>
 
-#include "lagrangian/hard_spheres.hpp"
+#include "lagrangian/scene/hard_spheres.hpp"
 
 namespace lagrangian::detail::hard_spheres {
 

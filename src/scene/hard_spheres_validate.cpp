@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "lagrangian/errors.hpp"
-#include "lagrangian/hard_spheres.hpp"
+#include "lagrangian/scene/hard_spheres.hpp"
 #include "hard_spheres_common.hpp"
 
 namespace lagrangian {

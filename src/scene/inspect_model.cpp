@@ -10,7 +10,7 @@
 
 #include "json_object.hpp"
 #include "key_units.hpp"
-#include "lagrangian/detail/point_momenta_monitor.hpp"
+#include "lagrangian/integrate/detail/point_momenta_monitor.hpp"
 #include "registry_common.hpp"
 
 namespace lagrangian::scene::detail {

@@ -6,7 +6,7 @@
 #include <map>
 #include <string_view>
 
-#include "lagrangian/scene_models.hpp"
+#include "lagrangian/scene/models.hpp"
 #include "text_model_spec.hpp"
 
 namespace lagrangian::scene::detail {

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "lagrangian/scene.hpp"
+#include "lagrangian/scene/scene.hpp"
 
 namespace lagrangian::scene::detail {
 

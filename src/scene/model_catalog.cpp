@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "lagrangian/scene_models.hpp"
+#include "lagrangian/scene/models.hpp"
 
 namespace lagrangian::scene {
 

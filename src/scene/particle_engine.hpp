@@ -12,9 +12,9 @@
 
 #include <Eigen/Core>
 
-#include "lagrangian/detail/scene_registry.hpp"
-#include "lagrangian/report.hpp"
-#include "lagrangian/scene.hpp"
+#include "lagrangian/scene/detail/registry.hpp"
+#include "lagrangian/integrate/report.hpp"
+#include "lagrangian/scene/scene.hpp"
 
 namespace lagrangian::scene::detail {
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "json_object.hpp"
-#include "lagrangian/constraints.hpp"
+#include "lagrangian/mechanics/constraints.hpp"
 #include "particle_engine.hpp"
 #include "particle_model.hpp"
 

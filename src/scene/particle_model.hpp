@@ -24,8 +24,8 @@
 
 #include <Eigen/Dense>
 
-#include "lagrangian/detail/contact_rules.hpp"
-#include "lagrangian/scene.hpp"
+#include "lagrangian/integrate/detail/contact_rules.hpp"
+#include "lagrangian/scene/scene.hpp"
 #include "particle_forces.hpp"
 
 namespace lagrangian::scene::detail::particles {

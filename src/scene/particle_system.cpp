@@ -4,7 +4,7 @@
 // monitors at samples, the projection of constraint rows, and the contacts
 // — a broad phase (sweep and prune), their location on the driver's step
 // interpolant and their resolution by Newton's law with the rules every
-// system shares (detail/contact_rules.hpp: touching, closing, lift-off, the
+// system shares (integrate/detail/contact_rules.hpp: touching, closing, lift-off, the
 // Zeno rule).
 
 #include <algorithm>
@@ -16,15 +16,15 @@
 #include <sstream>
 #include <utility>
 
-#include "lagrangian/detail/contact_rules.hpp"
-#include "lagrangian/detail/energy_scale.hpp"
-#include "lagrangian/detail/contacts.hpp"
-#include "lagrangian/detail/momentum_symmetry.hpp"
-#include "lagrangian/detail/point_momenta_monitor.hpp"
+#include "lagrangian/integrate/detail/contact_rules.hpp"
+#include "lagrangian/integrate/detail/energy_monitor.hpp"
+#include "lagrangian/integrate/detail/contacts.hpp"
+#include "lagrangian/integrate/detail/momentum_symmetry.hpp"
+#include "lagrangian/integrate/detail/point_momenta_monitor.hpp"
 #include "lagrangian/errors.hpp"
-#include "lagrangian/constraints.hpp"
-#include "lagrangian/integrate.hpp"
-#include "lagrangian/system.hpp"
+#include "lagrangian/mechanics/constraints.hpp"
+#include "lagrangian/integrate/integrate.hpp"
+#include "lagrangian/integrate/system.hpp"
 #include "particle_engine.hpp"
 #include "particle_model.hpp"
 
@@ -106,8 +106,8 @@ class StepPath {
 /// `shifts` as (t, ΔT), for the energy monitor.
 class ParticleContacts final : public lagrangian::detail::ContactSystem {
  public:
-  ParticleContacts(ParticleModel& model, std::vector<std::pair<double, double>>& shifts)
-      : model_(model), shifts_(shifts) {}
+  ParticleContacts(ParticleModel& model, lagrangian::detail::EnergyMonitor& energy)
+      : model_(model), energy_(energy) {}
 
   int coordinates() const override { return model_.dim(); }
   std::string contact_name(int j) const override { return model_.contact(j).name; }
@@ -135,14 +135,14 @@ class ParticleContacts final : public lagrangian::detail::ContactSystem {
     r.impulse = model_.impulse(x, c, e);
     r.kinetic_after = model_.kinetic(x);
     r.separation = c.rate(x, v);
-    if (record) shifts_.emplace_back(t, r.kinetic_after - r.kinetic_before);
+    if (record) energy_.shift(t, r.kinetic_after - r.kinetic_before, r.kinetic_after - r.kinetic_before);
     return r;
   }
   std::pair<double, double> jump_velocities(double* x, const double* v, double t) override {
     const double T_before = model_.kinetic(x);
     std::copy(v, v + model_.dim(), x + model_.dim());
     const double T_after = model_.kinetic(x);
-    shifts_.emplace_back(t, T_after - T_before);
+    energy_.shift(t, T_after - T_before, T_after - T_before);
     return {T_before, T_after};
   }
   /// Σ_k J_k n_k (on both bodies of a pair) = M Δv: least squares.
@@ -219,7 +219,7 @@ class ParticleContacts final : public lagrangian::detail::ContactSystem {
   }
 
   ParticleModel& model_;
-  std::vector<std::pair<double, double>>& shifts_;
+  lagrangian::detail::EnergyMonitor& energy_;  ///< moved by what each impact takes (h = E here)
   std::vector<Contact*> near_, cand_;
   std::vector<double> f0_, f1_, x_f_, scratch_;  // f at a step's two ends, the end's state
   const double* lambda_at_ = nullptr;  // where the model's multipliers were last evaluated, when known
@@ -244,13 +244,7 @@ class ParticleSystem final : public lagrangian::System {
     rep_.conservative = !model_.dissipative();
     rep_.has_total_energy = true;
     const double T0 = model_.kinetic(x), V0 = model_.potential(x);
-    E0_ = T0 + V0;
-    scale_ = lagrangian::detail::EnergyScale();
-    scale_.meet(E0_);
-    scale_.meet(T0, V0);
-    drift_ = 0;
-    rescale_drift();
-    rep_.energy_initial = rep_.total_energy_initial = E0_;
+    energy_.start(rep_, T0 + V0, T0, V0);  // h = T + V: particles in fixed surroundings
     rep_.has_particles = true;
     probe_momentum_symmetry(x, t0);
     rep_.constrained = model_.fixed_rows() > 0;
@@ -292,11 +286,7 @@ class ParticleSystem final : public lagrangian::System {
     }
     const double T = model_.kinetic(x), V = model_.potential(x), E = T + V;
     if (!std::isfinite(E)) lagrangian::detail::throw_non_finite_energy(t, E, x, model_.dim());
-    E_last_ = E;
-    drift_ = std::max(drift_, std::abs(E - E0_ - shift_at(t)));
-    scale_.meet(E);
-    scale_.meet(T, V);
-    rescale_drift();
+    energy_.sample(rep_, t, E, T, V);
     // P and L about the origin (the point the symmetry probe judges them about).
     momenta_.clear();
     const int dim = model_.dim();
@@ -317,20 +307,9 @@ class ParticleSystem final : public lagrangian::System {
     }
   }
 
-  /// The energy scale, as for models (EnergyScale), and the drift so far
-  /// divided by it.
-  void rescale_drift() {
-    rep_.energy_scale = scale_.value();
-    rep_.energy_drift_max = rep_.total_energy_drift_max = drift_ / rep_.energy_scale;
-  }
-
   void finish(double t, const double* x, bool sample_end) override {
     if (sample_end) sample(t, x);
-    const double E = E_last_;  // the last sample is at the end: its energy, as the CSV's last row has it
-    rep_.energy_final = rep_.total_energy_final = E;
-    rep_.total_energy_is_h = true;  // particles in fixed surroundings: T is quadratic in the velocities
-    rep_.energy_drift_final = rep_.total_energy_drift_final =
-        std::abs(E - E0_ - shift_at(std::numeric_limits<double>::infinity())) / rep_.energy_scale;
+    energy_.finish(rep_, t);  // from the last sample, at the end, as the CSV's last row has it
     if (rep_.constrained) {
       rep_.constraints.final_position_residual = model_.position_residual(x);
       rep_.constraints.final_velocity_residual = model_.velocity_residual(x);
@@ -392,7 +371,7 @@ class ParticleSystem final : public lagrangian::System {
   }
 
   /// Which components of P and L (about the origin) the scene conserves
-  /// (detail/momentum_symmetry.hpp): from the accelerations at the start
+  /// (integrate/detail/momentum_symmetry.hpp): from the accelerations at the start
   /// state x0 and four states perturbed from it, at times spread over the
   /// run, and from the impulse directions of the contacts with fixed planes
   /// and walls at the bodies' positions there (contacts between bodies are
@@ -440,16 +419,6 @@ class ParticleSystem final : public lagrangian::System {
     return lagrangian::detail::numeric_rank(C);
   }
 
-  /// The energy the impacts up to time t have removed (J): samples taken
-  /// before an impact, from the step that was cut at it, must not count it.
-  double shift_at(double t) {
-    while (!pending_.empty() && pending_.front().first <= t) {
-      shift_ += pending_.front().second;
-      pending_.erase(pending_.begin());
-    }
-    return shift_;
-  }
-
   mutable ParticleModel model_;
   const SimulationOptions& opt_;
   const ParticleOutput& output_;
@@ -459,12 +428,8 @@ class ParticleSystem final : public lagrangian::System {
   RunReport& rep_;
   std::vector<double> scratch_;
   std::vector<double> sample_x_;  // a sample projected onto the constraint rows (2 dim)
-  double E_last_ = 0;  ///< E at the last sample (J)
-  double E0_ = 0, shift_ = 0;
-  double drift_ = 0;  // J: max |E − E0 − shifts| so far (rescale_drift)
-  lagrangian::detail::EnergyScale scale_;
-  std::vector<std::pair<double, double>> pending_;  ///< (time, ΔT) of impacts not yet sampled past
-  ParticleContacts contacts_{model_, pending_};
+  lagrangian::detail::EnergyMonitor energy_;  ///< E = T + V (= h) against E₀, impacts' shifts applied
+  ParticleContacts contacts_{model_, energy_};
   lagrangian::detail::ContactEvents events_;
   lagrangian::detail::PointMomenta momenta_{{0.0, 0.0, 0.0}};
 };

@@ -9,10 +9,10 @@
 
 #include <cstdio>
 
-#include "lagrangian/analysis.hpp"
-#include "lagrangian/detail/scene_registry.hpp"
-#include "lagrangian/scene_analysis.hpp"
-#include "lagrangian/simulate.hpp"
+#include "lagrangian/analysis/analysis.hpp"
+#include "lagrangian/scene/detail/registry.hpp"
+#include "lagrangian/scene/analysis.hpp"
+#include "lagrangian/integrate/simulate.hpp"
 
 namespace lagrangian::scene::detail {
 

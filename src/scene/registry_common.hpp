@@ -37,20 +37,20 @@
 #include <utility>
 #include <vector>
 
-#include "lagrangian/constraints.hpp"
-#include "lagrangian/detail/eom_sample.hpp"  // (compiled with simulate(), src/models/)
-#include "lagrangian/detail/model_run.hpp"
-#include "lagrangian/detail/point_momenta.hpp"
-#include "lagrangian/detail/scene_registry.hpp"
-#include "lagrangian/dynamics.hpp"
+#include "lagrangian/mechanics/constraints.hpp"
+#include "lagrangian/integrate/detail/eom_sample.hpp"  // (compiled with simulate(), src/models/)
+#include "lagrangian/scene/detail/model_run.hpp"
+#include "lagrangian/mechanics/detail/point_momenta.hpp"
+#include "lagrangian/scene/detail/registry.hpp"
+#include "lagrangian/mechanics/dynamics.hpp"
 #include "lagrangian/errors.hpp"
-#include "lagrangian/impact.hpp"
+#include "lagrangian/mechanics/impact.hpp"
 #include "lagrangian/model.hpp"
-#include "lagrangian/observers.hpp"
+#include "lagrangian/integrate/observers.hpp"
 #include "lagrangian/params.hpp"
-#include "lagrangian/scene.hpp"
-#include "lagrangian/scene_models.hpp"
-#include "lagrangian/simulate.hpp"
+#include "lagrangian/scene/scene.hpp"
+#include "lagrangian/scene/models.hpp"
+#include "lagrangian/integrate/simulate.hpp"
 #include "json_object.hpp"
 #include "key_units.hpp"
 #include "registry_analysis.hpp"

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "lagrangian/view.hpp"
+#include "lagrangian/view/view.hpp"
 #include "registry_common.hpp"
 
 namespace lagrangian::scene::detail {

@@ -1,8 +1,8 @@
 // The registry entry of a C++ model handed to scene::run_model()
-// (ModelSpec::user, detail/model_run.hpp): runs and pictures it; the
+// (ModelSpec::user, scene/detail/model_run.hpp): runs and pictures it; the
 // inspection and the analyses are for models the scene states, and say so.
 
-#include "lagrangian/detail/model_run.hpp"
+#include "lagrangian/scene/detail/model_run.hpp"
 #include "registry_entry.hpp"
 
 namespace lagrangian::scene::detail {

@@ -10,14 +10,14 @@
 #include <optional>
 #include <sstream>
 
-#include "lagrangian/detail/scene_registry.hpp"
+#include "lagrangian/scene/detail/registry.hpp"
 #include "lagrangian/detail/text_output.hpp"
-#include "lagrangian/hard_spheres.hpp"
-#include "lagrangian/observers.hpp"
-#include "lagrangian/plots.hpp"
-#include "lagrangian/progress.hpp"
-#include "lagrangian/scene_models.hpp"
-#include "lagrangian/scene_run.hpp"
+#include "lagrangian/scene/hard_spheres.hpp"
+#include "lagrangian/integrate/observers.hpp"
+#include "lagrangian/scene/plots.hpp"
+#include "lagrangian/scene/progress.hpp"
+#include "lagrangian/scene/models.hpp"
+#include "lagrangian/scene/run.hpp"
 #include "animation_scene.hpp"
 #include "gas_check.hpp"
 #include "output_manifest.hpp"

@@ -1,6 +1,6 @@
 // Changing a scene document: scene keys parsed into paths and numbers written
 // at them (scene_edit.hpp), and a scene read with its numeric keys overridden
-// (scene_io.hpp, `lagrangian run --set`).
+// (scene/io.hpp, `lagrangian run --set`).
 
 #include "scene_edit.hpp"
 
@@ -11,7 +11,7 @@
 #include <sstream>
 
 #include "lagrangian/errors.hpp"
-#include "lagrangian/scene_io.hpp"
+#include "lagrangian/scene/io.hpp"
 #include "toml_document.hpp"
 
 namespace lagrangian::scene::detail {

@@ -8,7 +8,7 @@
 #include <numbers>
 #include <random>
 
-#include "lagrangian/scene.hpp"
+#include "lagrangian/scene/scene.hpp"
 #include "scene_gas_fill.hpp"
 #include "scene_messages.hpp"
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "lagrangian/scene.hpp"
+#include "lagrangian/scene/scene.hpp"
 
 namespace lagrangian::scene::detail {
 

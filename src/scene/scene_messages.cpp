@@ -7,7 +7,7 @@
 #include <cstdio>
 
 #include "lagrangian/detail/nearest_name.hpp"
-#include "lagrangian/scene.hpp"
+#include "lagrangian/scene/scene.hpp"
 #include "scene_messages.hpp"
 
 #include "lagrangian/params.hpp"

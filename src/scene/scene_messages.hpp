@@ -6,7 +6,7 @@
 #include <string_view>
 #include <vector>
 
-#include "lagrangian/scene.hpp"
+#include "lagrangian/scene/scene.hpp"
 #include "text.hpp"
 
 namespace lagrangian::scene::detail {

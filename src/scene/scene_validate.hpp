@@ -9,7 +9,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "lagrangian/scene.hpp"
+#include "lagrangian/scene/scene.hpp"
 #include "scene_gas_fill.hpp"
 
 namespace lagrangian::scene::detail {

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "lagrangian/scene.hpp"
-#include "lagrangian/scene_models.hpp"
+#include "lagrangian/scene/scene.hpp"
+#include "lagrangian/scene/models.hpp"
 #include "lagrangian/text/text_model.hpp"
 #include "scene_gas_fill.hpp"
 #include "scene_messages.hpp"

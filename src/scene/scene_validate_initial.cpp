@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "lagrangian/scene.hpp"
+#include "lagrangian/scene/scene.hpp"
 #include "scene_gas_fill.hpp"
 #include "scene_messages.hpp"
 #include "scene_validate.hpp"

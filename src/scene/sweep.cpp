@@ -1,8 +1,8 @@
-// Parameter sweeps and ensembles of a scene (include/lagrangian/sweep.hpp):
+// Parameter sweeps and ensembles of a scene (include/lagrangian/scene/sweep.hpp):
 // sweep() — the plan, point 0's checks, the thread pool, the gathering of
 // results by point index and the writing of the table and plots.
 
-#include "lagrangian/sweep.hpp"
+#include "lagrangian/scene/sweep.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -15,10 +15,10 @@
 
 #include "lagrangian/detail/text_output.hpp"
 #include "lagrangian/errors.hpp"
-#include "lagrangian/progress.hpp"
-#include "lagrangian/scene.hpp"
-#include "lagrangian/scene_io.hpp"
-#include "lagrangian/scene_run.hpp"
+#include "lagrangian/scene/progress.hpp"
+#include "lagrangian/scene/scene.hpp"
+#include "lagrangian/scene/io.hpp"
+#include "lagrangian/scene/run.hpp"
 #include "output_manifest.hpp"
 #include "sweep_detail.hpp"
 #include "toml_document.hpp"

@@ -12,8 +12,8 @@
 
 #include <toml++/toml.h>
 
-#include "lagrangian/scene.hpp"
-#include "lagrangian/sweep.hpp"
+#include "lagrangian/scene/scene.hpp"
+#include "lagrangian/scene/sweep.hpp"
 #include "scene_edit.hpp"
 
 namespace lagrangian::scene::detail {

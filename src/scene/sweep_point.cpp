@@ -13,8 +13,8 @@
 #include "sweep_detail.hpp"
 #include "lagrangian/errors.hpp"
 #include "toml_document.hpp"
-#include "lagrangian/scene_models.hpp"
-#include "lagrangian/scene_run.hpp"
+#include "lagrangian/scene/models.hpp"
+#include "lagrangian/scene/run.hpp"
 #include "text_model_spec.hpp"
 
 namespace lagrangian::scene::detail {

@@ -10,7 +10,7 @@
 #include "lagrangian/detail/csv_header.hpp"
 #include "sweep_detail.hpp"
 #include "lagrangian/errors.hpp"
-#include "lagrangian/plots.hpp"
+#include "lagrangian/scene/plots.hpp"
 
 namespace lagrangian::scene::detail {
 namespace {

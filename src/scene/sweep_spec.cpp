@@ -1,4 +1,4 @@
-// What a sweep varies and sets (include/lagrangian/sweep.hpp): the arithmetic
+// What a sweep varies and sets (include/lagrangian/scene/sweep.hpp): the arithmetic
 // expressions of --set and --first-time, the options --vary, --set and
 // --first-time parsed and checked, and the points (grid or Monte Carlo).
 
@@ -9,9 +9,9 @@
 #include <random>
 #include <sstream>
 
-#include "lagrangian/sweep.hpp"
+#include "lagrangian/scene/sweep.hpp"
 #include "lagrangian/errors.hpp"
-#include "lagrangian/scene.hpp"
+#include "lagrangian/scene/scene.hpp"
 #include "sweep_detail.hpp"
 #include "text.hpp"
 

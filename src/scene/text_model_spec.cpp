@@ -1,7 +1,7 @@
 // A scene's model stated by expressions, as the text layer reads it.
 #include "text_model_spec.hpp"
 
-#include "lagrangian/detail/model_run.hpp"
+#include "lagrangian/scene/detail/model_run.hpp"
 
 namespace lagrangian::scene {
 

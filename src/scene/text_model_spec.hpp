@@ -6,9 +6,9 @@
 #include <optional>
 #include <string>
 
-#include "lagrangian/scene.hpp"
-#include "lagrangian/scene_models.hpp"
-#include "lagrangian/scene_text_model.hpp"
+#include "lagrangian/scene/scene.hpp"
+#include "lagrangian/scene/models.hpp"
+#include "lagrangian/scene/text_model.hpp"
 #include "lagrangian/text/definition.hpp"
 #include "lagrangian/text/expression.hpp"
 

@@ -9,7 +9,7 @@
 
 #include <toml++/toml.h>
 
-#include "lagrangian/scene.hpp"
+#include "lagrangian/scene/scene.hpp"
 
 namespace lagrangian::scene::detail {
 

@@ -18,8 +18,8 @@
 
 #include <toml++/toml.h>
 
-#include "lagrangian/scene.hpp"
-#include "lagrangian/scene_io.hpp"
+#include "lagrangian/scene/scene.hpp"
+#include "lagrangian/scene/io.hpp"
 #include "scene_messages.hpp"
 #include "text.hpp"
 #include "toml_document.hpp"

@@ -1,8 +1,8 @@
 // simulate(), eom_sample() and the Euler–Lagrange pass compiled once, in the library, for
-// text models (see lagrangian/detail/compiled_models.hpp and
+// text models (see lagrangian/integrate/detail/compiled_models.hpp and
 // lagrangian/text/text_model.hpp).
-#include "lagrangian/detail/eom_sample.hpp"
-#include "lagrangian/simulate.hpp"
+#include "lagrangian/integrate/detail/eom_sample.hpp"
+#include "lagrangian/integrate/simulate.hpp"
 #include "lagrangian/text/text_model.hpp"
 
 LAGRANGIAN_INSTANTIATE_SIMULATE(lagrangian::text::TextModel)

@@ -12,9 +12,9 @@
 #include <stdexcept>
 
 #include "check.hpp"
-#include "lagrangian/detail/energy_chart.hpp"
+#include "lagrangian/view/detail/energy_chart.hpp"
 #include "lagrangian/detail/text_output.hpp"
-#include "lagrangian/view.hpp"
+#include "lagrangian/view/view.hpp"
 #include "page.hpp"
 
 namespace lagrangian::view {

@@ -2,7 +2,7 @@
 // Internal: the checks a figure and a track pass before the page or a video
 // is written from them (view.hpp: write_animation, write_video).
 
-#include "lagrangian/view.hpp"
+#include "lagrangian/view/view.hpp"
 
 namespace lagrangian::view::detail {
 

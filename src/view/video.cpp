@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "check.hpp"
-#include "lagrangian/view.hpp"
+#include "lagrangian/view/view.hpp"
 #include "raster.hpp"
 
 namespace lagrangian::view {

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include <lagrangian/scene_io.hpp>
-#include <lagrangian/scene_run.hpp>
+#include <lagrangian/scene/io.hpp>
+#include <lagrangian/scene/run.hpp>
 
 int main() {
   const auto scene = lagrangian::scene::parse_scene(R"(

@@ -12,8 +12,8 @@
 #include <string_view>
 
 #include "lagrangian/errors.hpp"
-#include "lagrangian/scene.hpp"
-#include "lagrangian/scene_io.hpp"
+#include "lagrangian/scene/scene.hpp"
+#include "lagrangian/scene/io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

@@ -57,17 +57,18 @@ sources=(
   "$src/src/text/parse.cpp"
   "$src/src/text/read.cpp"
   "$src/src/text/formula.cpp"
-  "$src/src/report.cpp"
-  "$src/src/method.cpp"
-  "$src/src/params.cpp"
-  "$src/src/nearest_name.cpp"
+  "$src/src/integrate/report.cpp"
+  "$src/src/integrate/report_json.cpp"
+  "$src/src/integrate/method.cpp"
+  "$src/src/core/params.cpp"
+  "$src/src/core/nearest_name.cpp"
 )
 bin="$work/fuzz_scene"
 stale=0
 if [ ! -x "$bin" ]; then
   stale=1
 else
-  for f in "${sources[@]}" "$src"/include/lagrangian/*.hpp "$src"/include/lagrangian/detail/*.hpp "$src"/include/lagrangian/text/*.hpp \
+  for f in "${sources[@]}" "$src"/include/lagrangian/*.hpp "$src"/include/lagrangian/*/*.hpp "$src"/include/lagrangian/*/detail/*.hpp \
            "$src"/src/scene/scene_*.hpp "$0"; do
     if [ "$f" -nt "$bin" ]; then stale=1; break; fi
   done

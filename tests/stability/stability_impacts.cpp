@@ -99,7 +99,7 @@ TEST(StabilityImpacts, PlasticAtEveryMassRatio) {
 // ratios 1e-9 and 1e9 the light sphere ends up pinned between the heavy one
 // and a wall (or two): the sequential rule then needs ~ M/m pairwise impacts
 // to settle, and the cycling impacts are replaced by their limit
-// (detail/impact_cycle.hpp). Every run finishes, and the energy the impacts
+// (integrate/detail/impact_cycle.hpp). Every run finishes, and the energy the impacts
 // took is exactly what the system lost (free flight between impacts keeps
 // the rest).
 TEST(StabilityImpacts, PlasticPairInABoxFinishesAtEveryMassRatio) {

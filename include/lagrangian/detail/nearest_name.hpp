@@ -1,7 +1,7 @@
 #pragma once
 // Internal: the nearest name by edit distance, for "did you mean" hints
 // (the scene reader's keys and values, the expressions' names and
-// functions; compiled once in src/nearest_name.cpp).
+// functions; compiled once in src/core/nearest_name.cpp).
 
 #include <cstddef>
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
 // Internal: JSON strings and files written through `<path>.partial`, shared
-// by the run report and the scene runner (compiled in src/report.cpp).
+// by the run report and the scene runner (compiled in src/integrate/report.cpp).
 
 #include <sstream>
 #include <string>

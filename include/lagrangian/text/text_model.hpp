@@ -32,8 +32,8 @@
 #include <Eigen/Core>
 
 #include "lagrangian/ad/eom_jet.hpp"
-#include "lagrangian/detail/compiled_models.hpp"
-#include "lagrangian/dynamics.hpp"
+#include "lagrangian/integrate/detail/compiled_models.hpp"
+#include "lagrangian/mechanics/dynamics.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/text/definition.hpp"
 #include "lagrangian/text/evaluate.hpp"

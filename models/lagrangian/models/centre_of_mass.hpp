@@ -2,7 +2,7 @@
 /// \file centre_of_mass.hpp
 /// Centres of mass (course notes 2.1): of particles, R = Σ m_k r_k / Σ m_k,
 /// and of continuous bodies, R = (1/M) ∫ r dm, by adaptive Gauss–Kronrod
-/// quadrature (Boost.Math, compiled once in src/centre_of_mass.cpp). SI
+/// quadrature (Boost.Math, compiled once in src/models/centre_of_mass.cpp). SI
 /// units; densities in kg/m, kg/m² or kg/m³ as the body's dimension.
 
 #include <functional>

@@ -11,8 +11,8 @@
 #include <string>
 #include <string_view>
 
-#include "lagrangian/detail/compiled_models.hpp"
-#include "lagrangian/impact.hpp"
+#include "lagrangian/integrate/detail/compiled_models.hpp"
+#include "lagrangian/mechanics/impact.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/models/detail/particles.hpp"
 #include "lagrangian/params.hpp"
@@ -279,7 +279,7 @@ struct ParticleOffSphere : detail::PlanarParticle {
 }  // namespace lagrangian::models
 
 // simulate() for these models is compiled once, in the library
-// (src/models/); see lagrangian/detail/compiled_models.hpp.
+// (src/models/); see lagrangian/integrate/detail/compiled_models.hpp.
 #define LAGRANGIAN_CONSTRAINED_MODELS_A(X) \
   X(lagrangian::models::BeadOnWire) \
   X(lagrangian::models::BeadOnRotatingWire) \

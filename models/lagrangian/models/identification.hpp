@@ -18,7 +18,7 @@
 #include "lagrangian/models/detail/minimise_1d.hpp"
 #include "lagrangian/models/impacts.hpp"
 #include "lagrangian/models/projectile.hpp"
-#include "lagrangian/simulate.hpp"
+#include "lagrangian/integrate/simulate.hpp"
 
 namespace lagrangian::models {
 

@@ -15,7 +15,7 @@
 
 #include <Eigen/Core>
 
-#include "lagrangian/detail/compiled_models.hpp"
+#include "lagrangian/integrate/detail/compiled_models.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/models/detail/particles.hpp"
 #include "lagrangian/params.hpp"
@@ -377,7 +377,7 @@ struct SpheresInBox {
 }  // namespace lagrangian::models
 
 // simulate() for these models is compiled once, in the library
-// (src/models/); see lagrangian/detail/compiled_models.hpp.
+// (src/models/); see lagrangian/integrate/detail/compiled_models.hpp.
 #define LAGRANGIAN_IMPACT_MODELS(X) \
   X(lagrangian::models::SpheresOnLine<2>) \
   X(lagrangian::models::SpheresOnLine<5>) \

@@ -13,7 +13,7 @@
 #include <boost/math/special_functions/ellint_1.hpp>
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
 
-#include "lagrangian/detail/compiled_models.hpp"
+#include "lagrangian/integrate/detail/compiled_models.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/params.hpp"
 
@@ -387,7 +387,7 @@ struct PendulumChain {
 }  // namespace lagrangian::models
 
 // simulate() for these models is compiled once, in the library
-// (src/models/); see lagrangian/detail/compiled_models.hpp.
+// (src/models/); see lagrangian/integrate/detail/compiled_models.hpp.
 #define LAGRANGIAN_PENDULUM_MODELS_A(X) \
   X(lagrangian::models::SimplePendulum) \
   X(lagrangian::models::HarmonicOscillator) \

@@ -20,8 +20,8 @@
 #include <cmath>
 #include <string>
 
-#include "lagrangian/impact.hpp"
-#include "lagrangian/detail/compiled_models.hpp"
+#include "lagrangian/mechanics/impact.hpp"
+#include "lagrangian/integrate/detail/compiled_models.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/models/detail/particles.hpp"
 #include "lagrangian/params.hpp"
@@ -144,7 +144,7 @@ struct Projectile : detail::PlanarParticle {
 }  // namespace lagrangian::models
 
 // simulate() for these models is compiled once, in the library
-// (src/models/); see lagrangian/detail/compiled_models.hpp.
+// (src/models/); see lagrangian/integrate/detail/compiled_models.hpp.
 #define LAGRANGIAN_PROJECTILE_MODELS(X) \
   X(lagrangian::models::Projectile<lagrangian::models::Drag::none>) \
   X(lagrangian::models::Projectile<lagrangian::models::Drag::linear>) \

@@ -14,7 +14,7 @@
 #include "lagrangian/errors.hpp"
 #include "lagrangian/models/detail/minimise_1d.hpp"
 #include "lagrangian/models/projectile.hpp"
-#include "lagrangian/simulate.hpp"
+#include "lagrangian/integrate/simulate.hpp"
 
 namespace lagrangian::models {
 

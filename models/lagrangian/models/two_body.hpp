@@ -23,8 +23,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "lagrangian/impact.hpp"
-#include "lagrangian/detail/compiled_models.hpp"
+#include "lagrangian/mechanics/impact.hpp"
+#include "lagrangian/integrate/detail/compiled_models.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/models/detail/particles.hpp"
 #include "lagrangian/models/kepler.hpp"
@@ -231,7 +231,7 @@ inline constexpr double proton_mass = 1.67262192369e-27;
 }  // namespace lagrangian::models
 
 // simulate() for these models is compiled once, in the library
-// (src/models/); see lagrangian/detail/compiled_models.hpp.
+// (src/models/); see lagrangian/integrate/detail/compiled_models.hpp.
 #define LAGRANGIAN_TWO_BODY_MODELS(X) \
   X(lagrangian::models::TwoBody<2>) \
   X(lagrangian::models::RelativeMotion<2>)

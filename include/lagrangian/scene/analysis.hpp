@@ -1,0 +1,66 @@
+#pragma once
+/// \file scene/analysis.hpp
+/// Equilibria, normal modes and stationary-action boundary-value problems of
+/// a scene's built-in model (analysis.hpp), as `lagrangian inspect
+/// --equilibria --modes` and `lagrangian solve-bvp` run them. Particle
+/// scenes are refused (OptionError naming the option).
+
+#include <string>
+#include <vector>
+
+#include "lagrangian/analysis/analysis.hpp"
+#include "lagrangian/scene/scene.hpp"
+
+namespace lagrangian::scene {
+
+/// What to analyse beyond the inspection text.
+struct AnalysisRequest {
+  bool equilibria = false;        ///< find and classify equilibria
+  bool modes = false;             ///< normal modes (about each stable or degenerate equilibrium found)
+  bool modes_at_initial = false;  ///< normal modes about the scene's initial q instead
+  /// Starts of the equilibrium search: the scene's initial q, then starts − 1
+  /// points of a Halton sequence, angles (unit rad) over [−π, π), other
+  /// coordinates over q0 ± max(1, 2|q0|) in their units.
+  int starts = 16;
+};
+
+/// The text of the analyses (equilibria table, modes) for a built-in-model
+/// scene. Throws OptionError (an option and why: particle scene, starts < 1)
+/// and AnalysisError (the model does not suit: Pfaffian or unilateral
+/// constraints, generalized forces).
+std::string analyse(const Scene& scene, const AnalysisRequest& request);
+
+/// A stationary-action boundary-value problem on a scene's model.
+struct BvpRequest {
+  std::vector<double> from;  ///< q(t0), one value per coordinate (units of each coordinate)
+  std::vector<double> to;    ///< q(t1)
+  double t0 = 0.0;           ///< s
+  double t1 = 1.0;           ///< s, > t0
+  int steps = 200;           ///< K intervals, 2 … 100000
+  std::string rule = "midpoint";  ///< discrete Lagrangian: midpoint or trapezoidal
+  std::string out_dir;       ///< where bvp_path.csv and the plots go; empty: write nothing
+  bool plots = true;
+  bool png = true;
+  bool svg = true;
+};
+
+/// What solve_bvp() found and wrote.
+struct BvpRun {
+  BvpResult result;                       ///< path, momenta, action, Morse index (analysis.hpp)
+  std::vector<std::string> coordinates;   ///< the model's coordinate names
+  std::vector<std::string> units;
+  std::vector<std::string> files;         ///< files written
+  std::string plot_note;                  ///< why plots were skipped, if they were
+  /// A few lines for a terminal: iterations, residual, action, Morse index, end velocities.
+  std::string summary() const;
+};
+
+/// Solves the boundary-value problem on the scene's built-in model and, with
+/// out_dir, writes `bvp_path.csv` (t, q…, q_dot…, energy; through a .partial
+/// file renamed on success) and its plots. Throws OptionError for bad input
+/// (naming --from, --to, --time, --steps; particle scenes; models with
+/// constraints, forces or dissipation) and AnalysisError when the problem is
+/// singular or Newton's method does not converge.
+BvpRun solve_bvp(const Scene& scene, const BvpRequest& request);
+
+}  // namespace lagrangian::scene
