@@ -22,9 +22,12 @@
 
 namespace lagrangian::detail {
 
-BvpResult bvp_of(const ActionModel& model, const Eigen::VectorXd& a, const Eigen::VectorXd& b, double t0, double t1,
-                 const BvpOptions& options) {
-  const int n = model.coordinate_count();
+namespace {
+
+/// The end points, the time span, the number of steps and the guess, each
+/// with an OptionError naming it.
+void check_bvp_input(int n, const Eigen::VectorXd& a, const Eigen::VectorXd& b, double t0, double t1,
+                     const BvpOptions& options) {
   const int K = options.steps;
   if (!a.allFinite()) throw OptionError("stationary action: from: not finite");
   if (!b.allFinite()) throw OptionError("stationary action: to: not finite");
@@ -34,6 +37,100 @@ BvpResult bvp_of(const ActionModel& model, const Eigen::VectorXd& a, const Eigen
   if (K < 2) throw OptionError("stationary action: steps: need at least 2, got " + std::to_string(K));
   if (options.guess.size() != 0 && (options.guess.rows() != K + 1 || options.guess.cols() != n))
     throw OptionError("stationary action: guess: must be (steps + 1) x n");
+}
+
+/// The Morse index (negative eigenvalues of the Hessian of S_d, from its
+/// LDLᵀ by Sylvester's law of inertia), and for small problems the lowest
+/// and the smallest-magnitude eigenvalue against those of a free particle
+/// on the same grid; an AnalysisError naming the conjugate point when the
+/// Hessian is singular.
+void judge_spectrum(const ActionModel& model, const Eigen::VectorXd& a, double t0, double t1,
+                    const Eigen::SparseMatrix<double>& H, Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>& ldlt,
+                    const BvpOptions& options, BvpResult& out) {
+  const int K = options.steps;
+  const int N = static_cast<int>(H.rows());
+  const double h = (t1 - t0) / K;
+  // Morse index from the LDLᵀ factorisation of the Hessian at the solution
+  // (Sylvester's law of inertia: the permutation is symmetric).
+  ldlt.compute(H);
+  if (ldlt.info() == Eigen::Success) {
+    const Eigen::VectorXd D = ldlt.vectorD();
+    out.negative_eigenvalues = static_cast<int>((D.array() < 0).count());
+  }
+  Eigen::MatrixXd Ma;
+  Eigen::VectorXd p0;
+  model.at_rest(a.data(), t0, Ma, p0);
+  Eigen::VectorXd ev;
+  symmetric_eigenvalues(Ma, ev);
+  const double pi = 3.141592653589793;
+  out.free_reference = ev[0] * (4.0 / h) * std::pow(std::sin(pi / (2.0 * K)), 2);
+  if (N <= options.max_dense_eigen && Eigen::Map<const Eigen::VectorXd>(H.valuePtr(), H.nonZeros()).allFinite() &&
+      symmetric_eigenvalues(Eigen::MatrixXd(H), ev)) {
+    out.eigenvalues_computed = true;
+    out.lowest_eigenvalue = ev[0];
+    out.smallest_magnitude = ev.cwiseAbs().minCoeff();
+    out.negative_eigenvalues = static_cast<int>((ev.array() < 0).count());
+  }
+  std::ostringstream why;
+  why.precision(6);
+  const bool singular = out.eigenvalues_computed
+                            ? out.smallest_magnitude < options.singular_fraction * out.free_reference
+                            : ldlt.info() != Eigen::Success;
+  if (singular) {
+    why << "stationary action: the boundary-value problem is singular over t1 - t0 = " << (t1 - t0)
+        << " s (a conjugate point: the Hessian of the discrete action has an eigenvalue " << out.smallest_magnitude
+        << " in magnitude, below " << options.singular_fraction << " x " << out.free_reference
+        << ", the lowest eigenvalue of a free particle on the same grid); the path between the two end points is "
+           "not unique or does not exist — change the time span or the end points";
+    throw AnalysisError(why.str());
+  }
+}
+
+/// The path of Q (one node per column), its momenta p_k = ∂S_d/∂q_k at the
+/// nodes, the velocities M⁻¹(p − p₀) and the energy there, and the action.
+void recover_path(const ActionModel& model, const Eigen::MatrixXd& Q, const std::vector<SegmentDerivatives>& seg,
+                  double t0, double t1, BvpResult& out) {
+  const int n = static_cast<int>(Q.rows());
+  const int K = static_cast<int>(Q.cols()) - 1;
+  const double h = (t1 - t0) / K;
+  Eigen::VectorXd p0;
+  // Path, momenta, velocities, energy.
+  out.t.resize(static_cast<std::size_t>(K + 1));
+  out.q = Q.transpose();
+  out.p.resize(K + 1, n);
+  out.qd.resize(K + 1, n);
+  out.energy.resize(static_cast<std::size_t>(K + 1));
+  out.action = 0;
+  for (int k = 0; k < K; ++k) out.action += seg[static_cast<std::size_t>(k)].value;
+  Eigen::MatrixXd Mk;
+  for (int k = 0; k <= K; ++k) {
+    out.t[static_cast<std::size_t>(k)] = k == K ? t1 : t0 + k * h;
+    const Eigen::VectorXd pk = k == 0 ? Eigen::VectorXd(-seg[0].d1) : seg[static_cast<std::size_t>(k - 1)].d2;
+    out.p.row(k) = pk.transpose();
+    const double tk = out.t[static_cast<std::size_t>(k)];
+    model.at_rest(Q.col(k).data(), tk, Mk, p0);
+    const Eigen::LLT<Eigen::MatrixXd> llt(Mk);
+    const Eigen::VectorXd v = llt.solve(pk - p0);
+    if (llt.info() != Eigen::Success || !v.allFinite()) {
+      std::ostringstream os;
+      os.precision(17);
+      os << "stationary action: the path was found, but the mass matrix is singular at node " << k << " ("
+         << describe_state<Eigen::Dynamic>(Q.col(k), Eigen::VectorXd::Zero(n), tk)
+         << "), so the velocities there cannot be recovered from the momenta";
+      throw AnalysisError(os.str());
+    }
+    out.qd.row(k) = v.transpose();
+    out.energy[static_cast<std::size_t>(k)] = model.energy(Q.col(k).data(), v.data(), tk);
+  }
+}
+
+}  // namespace
+
+BvpResult bvp_of(const ActionModel& model, const Eigen::VectorXd& a, const Eigen::VectorXd& b, double t0, double t1,
+                 const BvpOptions& options) {
+  const int n = model.coordinate_count();
+  const int K = options.steps;
+  check_bvp_input(n, a, b, t0, t1, options);
   const double h = (t1 - t0) / K;
   const int N = (K - 1) * n;
   // The path, one node q_k per column (contiguous, as the ActionModel reads it).
@@ -100,74 +197,16 @@ BvpResult bvp_of(const ActionModel& model, const Eigen::VectorXd& a, const Eigen
     }
   }
   out.residual = R.lpNorm<Eigen::Infinity>();
-  // Morse index from the LDLᵀ factorisation of the Hessian at the solution
-  // (Sylvester's law of inertia: the permutation is symmetric).
-  ldlt.compute(H);
-  if (ldlt.info() == Eigen::Success) {
-    const Eigen::VectorXd D = ldlt.vectorD();
-    out.negative_eigenvalues = static_cast<int>((D.array() < 0).count());
-  }
-  Eigen::MatrixXd Ma;
-  Eigen::VectorXd p0;
-  model.at_rest(a.data(), t0, Ma, p0);
-  Eigen::VectorXd ev;
-  symmetric_eigenvalues(Ma, ev);
-  const double pi = 3.141592653589793;
-  out.free_reference = ev[0] * (4.0 / h) * std::pow(std::sin(pi / (2.0 * K)), 2);
-  if (N <= options.max_dense_eigen && Eigen::Map<const Eigen::VectorXd>(H.valuePtr(), H.nonZeros()).allFinite() &&
-      symmetric_eigenvalues(Eigen::MatrixXd(H), ev)) {
-    out.eigenvalues_computed = true;
-    out.lowest_eigenvalue = ev[0];
-    out.smallest_magnitude = ev.cwiseAbs().minCoeff();
-    out.negative_eigenvalues = static_cast<int>((ev.array() < 0).count());
-  }
-  std::ostringstream why;
-  why.precision(6);
-  const bool singular = out.eigenvalues_computed
-                            ? out.smallest_magnitude < options.singular_fraction * out.free_reference
-                            : ldlt.info() != Eigen::Success;
-  if (singular) {
-    why << "stationary action: the boundary-value problem is singular over t1 - t0 = " << (t1 - t0)
-        << " s (a conjugate point: the Hessian of the discrete action has an eigenvalue " << out.smallest_magnitude
-        << " in magnitude, below " << options.singular_fraction << " x " << out.free_reference
-        << ", the lowest eigenvalue of a free particle on the same grid); the path between the two end points is "
-           "not unique or does not exist — change the time span or the end points";
-    throw AnalysisError(why.str());
-  }
+  judge_spectrum(model, a, t0, t1, H, ldlt, options, out);
   if (!converged || !Q.allFinite()) {
+    std::ostringstream why;
+    why.precision(6);
     why << "stationary action: Newton's method did not converge in " << out.iterations
         << " iterations (residual of the discrete Euler-Lagrange equations " << out.residual
         << "); try more steps or a different time span";
     throw AnalysisError(why.str());
   }
-  // Path, momenta, velocities, energy.
-  out.t.resize(static_cast<std::size_t>(K + 1));
-  out.q = Q.transpose();
-  out.p.resize(K + 1, n);
-  out.qd.resize(K + 1, n);
-  out.energy.resize(static_cast<std::size_t>(K + 1));
-  out.action = 0;
-  for (int k = 0; k < K; ++k) out.action += seg[static_cast<std::size_t>(k)].value;
-  Eigen::MatrixXd Mk;
-  for (int k = 0; k <= K; ++k) {
-    out.t[static_cast<std::size_t>(k)] = k == K ? t1 : t0 + k * h;
-    const Eigen::VectorXd pk = k == 0 ? Eigen::VectorXd(-seg[0].d1) : seg[static_cast<std::size_t>(k - 1)].d2;
-    out.p.row(k) = pk.transpose();
-    const double tk = out.t[static_cast<std::size_t>(k)];
-    model.at_rest(Q.col(k).data(), tk, Mk, p0);
-    const Eigen::LLT<Eigen::MatrixXd> llt(Mk);
-    const Eigen::VectorXd v = llt.solve(pk - p0);
-    if (llt.info() != Eigen::Success || !v.allFinite()) {
-      std::ostringstream os;
-      os.precision(17);
-      os << "stationary action: the path was found, but the mass matrix is singular at node " << k << " ("
-         << describe_state<Eigen::Dynamic>(Q.col(k), Eigen::VectorXd::Zero(n), tk)
-         << "), so the velocities there cannot be recovered from the momenta";
-      throw AnalysisError(os.str());
-    }
-    out.qd.row(k) = v.transpose();
-    out.energy[static_cast<std::size_t>(k)] = model.energy(Q.col(k).data(), v.data(), tk);
-  }
+  recover_path(model, Q, seg, t0, t1, out);
   return out;
 }
 

@@ -147,6 +147,84 @@ std::string energy_change_line(const char* what, double initial, double final_va
   return buf;
 }
 
+/// "events: 12 (10 impacts, 1 rests, …); impacts dissipated 0.3 J", then
+/// one line for each rest (with the Zeno rule's cut-off), stop and release.
+std::string events_summary(const RunReport& r) {
+  std::ostringstream os;
+  char buf[256];
+  if (!r.events.empty()) {
+    const auto counts = detail::event_counts(r.events);
+    // A truncated log (unlogged_events > 0) counts by kind only what it holds.
+    const unsigned long long total = r.events.size() + r.unlogged_events;
+    if (r.unlogged_events > 0) {
+      std::snprintf(buf, sizeof buf, "events: %llu (the first %zu logged: ", total, r.events.size());
+    } else {
+      std::snprintf(buf, sizeof buf, "events: %llu (", total);
+    }
+    os << buf;
+    // A watched event with action stop is logged twice, as the event and as the stop it made.
+    std::snprintf(buf, sizeof buf,
+                  "%llu impacts, %llu rests, %llu releases, %llu watched, %llu stops); impacts dissipated %.6g J\n",
+                  static_cast<unsigned long long>(counts[0]), static_cast<unsigned long long>(counts[1]),
+                  static_cast<unsigned long long>(counts[2]), static_cast<unsigned long long>(counts[3]),
+                  static_cast<unsigned long long>(counts[4]), r.impact_energy_loss);
+    os << buf;
+    for (const auto& e : r.events) {
+      if (e.kind == EventKind::rest && std::isfinite(e.zeno_cutoff) && e.zeno_cutoff > 0) {
+        // Only the digits the cut-off leaves known, and the cut-off said.
+        const double known = std::max(1.0, std::ceil(std::log10(std::max(std::abs(e.t), e.zeno_cutoff) / e.zeno_cutoff)));
+        std::snprintf(buf, sizeof buf,
+                      "event: rest %s at t = %.*g s (the Zeno rule ended the bounces there; those it cut off "
+                      "would take about %.2g s more)\n",
+                      e.name.c_str(), static_cast<int>(std::min(known, 15.0)), e.t, e.zeno_cutoff);
+        os << buf;
+      } else if (e.kind == EventKind::rest || e.kind == EventKind::stop || e.kind == EventKind::release) {
+        std::snprintf(buf, sizeof buf, "event: %s %s at t = %.15g s\n", to_string(e.kind), e.name.c_str(), e.t);
+        os << buf;
+      }
+    }
+  }
+  return os.str();
+}
+
+/// P and L of the point masses (what is conserved, or why not) and the
+/// momenta of the cyclic coordinates.
+std::string momenta_summary(const RunReport& r) {
+  std::ostringstream os;
+  char buf[256];
+  if (r.has_particles) {
+    // "linear momentum P0 = (…) kg*m/s, conserved along x y: drift max …",
+    // then one line for each component left out, with the reason.
+    auto momentum = [&](const char* name, const char* symbol, const char* unit, const char* along,
+                        const std::array<double, 3>& v0, const std::array<bool, 3>& conserved,
+                        const std::array<std::string, 3>& reason, double drift) {
+      std::snprintf(buf, sizeof buf, "%s %s0 = (%.6g, %.6g, %.6g) %s", name, symbol, v0[0], v0[1], v0[2], unit);
+      os << buf;
+      std::string axes;
+      for (std::size_t k = 0; k < 3; ++k)
+        if (conserved[k]) axes += std::string(axes.empty() ? "" : " ") + "xyz"[k];
+      if (axes.empty()) {
+        os << ", not conserved\n";
+      } else {
+        std::snprintf(buf, sizeof buf, ", conserved %s %s: drift max %.2e\n", along, axes.c_str(), drift);
+        os << buf;
+      }
+      for (std::size_t k = 0; k < 3; ++k)
+        if (!conserved[k]) os << "  " << symbol << "_" << "xyz"[k] << " not conserved: " << reason[k] << "\n";
+    };
+    momentum("linear momentum", "P", "kg*m/s", "along", r.linear_momentum_initial, r.linear_momentum_conserved,
+             r.linear_momentum_reason, r.linear_momentum_drift_max);
+    momentum("angular momentum", "L", "kg*m^2/s", "about", r.angular_momentum_initial, r.angular_momentum_conserved,
+             r.angular_momentum_reason, r.angular_momentum_drift_max);
+  }
+  for (const auto& m : r.conserved_momenta) {
+    std::snprintf(buf, sizeof buf, "momentum of cyclic %s: %.12g, drift max %.2e\n", m.coordinate.c_str(), m.initial,
+                  m.max_abs_drift);
+    os << buf;
+  }
+  return os.str();
+}
+
 }  // namespace
 
 double RunReport::energy_drift_relative_to_initial() const {
@@ -323,38 +401,7 @@ std::string RunReport::summary() const {
     os << buf;
     for (const auto& w : c.warnings) os << "warning: " << w << "\n";
   }
-  if (!events.empty()) {
-    const auto counts = detail::event_counts(events);
-    // A truncated log (unlogged_events > 0) counts by kind only what it holds.
-    const unsigned long long total = events.size() + unlogged_events;
-    if (unlogged_events > 0) {
-      std::snprintf(buf, sizeof buf, "events: %llu (the first %zu logged: ", total, events.size());
-    } else {
-      std::snprintf(buf, sizeof buf, "events: %llu (", total);
-    }
-    os << buf;
-    // A watched event with action stop is logged twice, as the event and as the stop it made.
-    std::snprintf(buf, sizeof buf,
-                  "%llu impacts, %llu rests, %llu releases, %llu watched, %llu stops); impacts dissipated %.6g J\n",
-                  static_cast<unsigned long long>(counts[0]), static_cast<unsigned long long>(counts[1]),
-                  static_cast<unsigned long long>(counts[2]), static_cast<unsigned long long>(counts[3]),
-                  static_cast<unsigned long long>(counts[4]), impact_energy_loss);
-    os << buf;
-    for (const auto& e : events) {
-      if (e.kind == EventKind::rest && std::isfinite(e.zeno_cutoff) && e.zeno_cutoff > 0) {
-        // Only the digits the cut-off leaves known, and the cut-off said.
-        const double known = std::max(1.0, std::ceil(std::log10(std::max(std::abs(e.t), e.zeno_cutoff) / e.zeno_cutoff)));
-        std::snprintf(buf, sizeof buf,
-                      "event: rest %s at t = %.*g s (the Zeno rule ended the bounces there; those it cut off "
-                      "would take about %.2g s more)\n",
-                      e.name.c_str(), static_cast<int>(std::min(known, 15.0)), e.t, e.zeno_cutoff);
-        os << buf;
-      } else if (e.kind == EventKind::rest || e.kind == EventKind::stop || e.kind == EventKind::release) {
-        std::snprintf(buf, sizeof buf, "event: %s %s at t = %.15g s\n", to_string(e.kind), e.name.c_str(), e.t);
-        os << buf;
-      }
-    }
-  }
+  os << events_summary(*this);
   for (const auto& w : warnings) os << "warning: " << w << "\n";
   if (!stopped_by.empty()) {
     std::snprintf(buf, sizeof buf, "stopped by event %s at t = %.15g s\n", stopped_by.c_str(), stopped_at);
@@ -365,36 +412,7 @@ std::string RunReport::summary() const {
                   reference_error_max, reference_error_final);
     os << buf;
   }
-  if (has_particles) {
-    // "linear momentum P0 = (…) kg*m/s, conserved along x y: drift max …",
-    // then one line for each component left out, with the reason.
-    auto momentum = [&](const char* name, const char* symbol, const char* unit, const char* along,
-                        const std::array<double, 3>& v0, const std::array<bool, 3>& conserved,
-                        const std::array<std::string, 3>& reason, double drift) {
-      std::snprintf(buf, sizeof buf, "%s %s0 = (%.6g, %.6g, %.6g) %s", name, symbol, v0[0], v0[1], v0[2], unit);
-      os << buf;
-      std::string axes;
-      for (std::size_t k = 0; k < 3; ++k)
-        if (conserved[k]) axes += std::string(axes.empty() ? "" : " ") + "xyz"[k];
-      if (axes.empty()) {
-        os << ", not conserved\n";
-      } else {
-        std::snprintf(buf, sizeof buf, ", conserved %s %s: drift max %.2e\n", along, axes.c_str(), drift);
-        os << buf;
-      }
-      for (std::size_t k = 0; k < 3; ++k)
-        if (!conserved[k]) os << "  " << symbol << "_" << "xyz"[k] << " not conserved: " << reason[k] << "\n";
-    };
-    momentum("linear momentum", "P", "kg*m/s", "along", linear_momentum_initial, linear_momentum_conserved,
-             linear_momentum_reason, linear_momentum_drift_max);
-    momentum("angular momentum", "L", "kg*m^2/s", "about", angular_momentum_initial, angular_momentum_conserved,
-             angular_momentum_reason, angular_momentum_drift_max);
-  }
-  for (const auto& m : conserved_momenta) {
-    std::snprintf(buf, sizeof buf, "momentum of cyclic %s: %.12g, drift max %.2e\n", m.coordinate.c_str(), m.initial,
-                  m.max_abs_drift);
-    os << buf;
-  }
+  os << momenta_summary(*this);
   return os.str();
 }
 

@@ -32,10 +32,9 @@ void check_restitution(const std::string& field, double e) {
   if (!(e >= 0.0 && e <= 1.0)) fail(field + " must be in [0, 1], got " + num(e));
 }
 
-}  // namespace
-
-void validate(const HardSphereSystem& sys, const HardSphereOptions& opt) {
-  // Options.
+/// The run options: finite times, t_end > t0, the output interval, the
+/// event limit, the collapse time and the angular momentum's point.
+void check_options(const HardSphereOptions& opt) {
   if (!std::isfinite(opt.t0)) fail("option 't0' must be finite, got " + num(opt.t0));
   if (!std::isfinite(opt.t_end)) fail("option 't_end' must be finite, got " + num(opt.t_end));
   if (!(opt.t_end > opt.t0))
@@ -47,8 +46,11 @@ void validate(const HardSphereSystem& sys, const HardSphereOptions& opt) {
     fail("option 'collapse_time' must be finite and >= 0 s, got " + num(opt.collapse_time));
   if (!opt.angular_momentum_point.allFinite())
     fail("option 'angular_momentum_point' must be finite, got " + vec(opt.angular_momentum_point));
+}
 
-  // The box and the walls.
+/// The box's corners, the restitutions and each wall's point, normal and
+/// restitution.
+void check_box_and_walls(const HardSphereSystem& sys) {
   for (int d = 0; d < 3; ++d) {
     if (!std::isfinite(sys.box_min[d]) || !std::isfinite(sys.box_max[d]))
       fail("box corners must be finite, got box_min = " + vec(sys.box_min) + " m, box_max = " + vec(sys.box_max) + " m");
@@ -66,8 +68,11 @@ void validate(const HardSphereSystem& sys, const HardSphereOptions& opt) {
       fail(who + ": normal must be finite and non-zero, got " + vec(w.normal));
     check_restitution(who + ": restitution", w.restitution);
   }
+}
 
-  // The spheres, one by one.
+/// Each sphere: mass, radius, finite state, inside the box and on the open
+/// side of every wall; the number of spheres and walls.
+void check_spheres(const HardSphereSystem& sys) {
   const std::size_t n = sys.spheres.size();
   if (n > kMaxSpheres || sys.walls.size() > kMaxSpheres - 6)
     fail("at most " + std::to_string(kMaxSpheres) + " spheres and walls are supported, got " + std::to_string(n) +
@@ -100,21 +105,12 @@ void validate(const HardSphereSystem& sys, const HardSphereOptions& opt) {
              wall_name(sys, k) + "\": its distance along the normal n·(r - p) = " + num(g) + " m must be >= R");
     }
   }
+}
 
-  // Unique names.
-  std::vector<std::string> names(n);
-  for (std::size_t i = 0; i < n; ++i) names[i] = sphere_name(sys, i);
-  std::vector<std::size_t> order(n);
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return names[a] < names[b]; });
-  for (std::size_t k = 1; k < n; ++k)
-    if (names[order[k]] == names[order[k - 1]]) {
-      const auto a = std::min(order[k], order[k - 1]), b = std::max(order[k], order[k - 1]);
-      fail("spheres " + std::to_string(a + 1) + " and " + std::to_string(b + 1) + " are both named \"" + names[a] +
-           "\"; names must be unique");
-    }
-
-  // No overlaps at t0, looked for on a cell grid (neighbouring cells only).
+/// No two spheres overlap at t0, looked for on a cell grid (neighbouring
+/// cells only); `names` are the spheres' names.
+void check_no_overlaps(const HardSphereSystem& sys, const std::vector<std::string>& names) {
+  const std::size_t n = sys.spheres.size();
   const Grid g = make_grid(sys.box_min, sys.box_max, 2 * largest_radius(sys), n, false);
   std::vector<std::size_t> cell(n), start(g.cells() + 1, 0), sorted(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -145,6 +141,30 @@ void validate(const HardSphereSystem& sys, const HardSphereOptions& opt) {
           }
         }
   }
+}
+
+}  // namespace
+
+void validate(const HardSphereSystem& sys, const HardSphereOptions& opt) {
+  check_options(opt);
+  check_box_and_walls(sys);
+  check_spheres(sys);
+  const std::size_t n = sys.spheres.size();
+
+  // Unique names.
+  std::vector<std::string> names(n);
+  for (std::size_t i = 0; i < n; ++i) names[i] = sphere_name(sys, i);
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return names[a] < names[b]; });
+  for (std::size_t k = 1; k < n; ++k)
+    if (names[order[k]] == names[order[k - 1]]) {
+      const auto a = std::min(order[k], order[k - 1]), b = std::max(order[k], order[k - 1]);
+      fail("spheres " + std::to_string(a + 1) + " and " + std::to_string(b + 1) + " are both named \"" + names[a] +
+           "\"; names must be unique");
+    }
+
+  check_no_overlaps(sys, names);
 }
 
 }  // namespace lagrangian

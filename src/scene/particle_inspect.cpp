@@ -21,24 +21,11 @@ bool event_driven_eligible(const Scene& scene) {
   return std::all_of(scene.bodies.begin(), scene.bodies.end(), [](const Body& b) { return b.radius > 0; });
 }
 
-std::string inspect_particles(const Scene& scene, bool as_json) {
-  particles::ParticleModel sys(scene);
-  std::ostringstream os;
-  os.precision(6);
-  const int n = sys.bodies();
-  JsonObject js;  // the same facts as JSON (inspect --json)
-  js.string("scene", scene.name);
-  js.string("description", scene.description);
-  const std::string engine =
-      scene.run.engine == "auto" ? (event_driven_eligible(scene) ? "event_driven" : "ode") : scene.run.engine;
-  js.string("engine", engine);
-  js.number("t0", scene.run.t0);
-  os << "scene        " << scene.name << "\n";
-  if (!scene.description.empty()) os << "description  " << scene.description << "\n";
-  os << "engine       " << (scene.run.engine == "auto" ? (event_driven_eligible(scene) ? "event_driven" : "ode")
-                                                          : scene.run.engine)
-     << "\n";
-  os << "bodies       " << n << " (" << 3 * n << " Cartesian coordinates)\n";
+namespace {
+
+/// The bodies (the first 20 in the text, all in the JSON): m, R, r, v, p.
+void inspect_bodies(const Scene& scene, std::ostringstream& os, JsonObject& js) {
+  const int n = static_cast<int>(scene.bodies.size());
   const int shown = std::min(n, 20);
   for (int i = 0; i < shown; ++i) {
     const Body& b = scene.bodies[static_cast<std::size_t>(i)];
@@ -63,15 +50,11 @@ std::string inspect_particles(const Scene& scene, bool as_json) {
     }
     js.raw("bodies", json_array(items));
   }
+}
 
-  // Degrees of freedom from the rank of the constraint Jacobian at t0.
-  const auto& rows = sys.rows();
-  std::vector<double> x(static_cast<std::size_t>(6 * n), 0.0);
-  for (int i = 0; i < n; ++i)
-    for (int k = 0; k < 3; ++k) {
-      x[static_cast<std::size_t>(3 * i + k)] = scene.bodies[static_cast<std::size_t>(i)].position[k];
-      x[static_cast<std::size_t>(3 * n + 3 * i + k)] = scene.bodies[static_cast<std::size_t>(i)].velocity[k];
-    }
+/// Degrees of freedom from the rank of the constraint Jacobian at the state x (t0).
+void inspect_constraints(const std::vector<particles::Row>& rows, const std::vector<double>& x, int n,
+                         std::ostringstream& os, JsonObject& js) {
   Eigen::MatrixXd C;
   particles::jacobian(rows, x.data(), 3 * n, C);
   const int rank = lagrangian::detail::numeric_rank(C);
@@ -95,27 +78,10 @@ std::string inspect_particles(const Scene& scene, bool as_json) {
     cj.integer("degrees_of_freedom", 3 * n - rank);
     js.raw("constraints", cj.str());
   }
+}
 
-  Eigen::Vector3d P = Eigen::Vector3d::Zero(), L = Eigen::Vector3d::Zero();
-  for (int i = 0; i < n; ++i) {
-    const Body& b = scene.bodies[static_cast<std::size_t>(i)];
-    P += b.mass * b.velocity;
-    L += b.position.cross(b.mass * b.velocity);
-  }
-  os << "momentum     P = (" << P.transpose() << ") kg*m/s, L about the origin = (" << L.transpose() << ") kg*m^2/s\n";
-  const double T = sys.kinetic(x.data()), V = sys.potential(x.data());
-  os << "energy       T = " << T << " J, V = " << V << " J, E = T + V = " << T + V << " J\n";
-  js.raw("P", json_numbers(P.data(), 3));
-  js.raw("L", json_numbers(L.data(), 3));
-  {
-    JsonObject e;
-    e.number("T", T);
-    e.number("V", V);
-    e.number("E", T + V);
-    js.raw("energy", e.str());
-  }
-
-  // Conserved quantities: what no declared effect can change.
+/// Conserved quantities: what no declared effect can change.
+std::vector<std::string> conserved_quantities(const Scene& scene) {
   std::vector<std::string> conserved;
   const bool walls = !scene.planes.empty() || scene.box.has_value();
   const bool anchored = std::any_of(scene.links.begin(), scene.links.end(), [](const Link& l) { return l.b.empty(); }) ||
@@ -137,6 +103,57 @@ std::string inspect_particles(const Scene& scene, bool as_json) {
       conserved.push_back("the component of L along g about any point");
     }
   }
+  return conserved;
+}
+
+}  // namespace
+
+std::string inspect_particles(const Scene& scene, bool as_json) {
+  particles::ParticleModel sys(scene);
+  std::ostringstream os;
+  os.precision(6);
+  const int n = sys.bodies();
+  JsonObject js;  // the same facts as JSON (inspect --json)
+  js.string("scene", scene.name);
+  js.string("description", scene.description);
+  const std::string engine =
+      scene.run.engine == "auto" ? (event_driven_eligible(scene) ? "event_driven" : "ode") : scene.run.engine;
+  js.string("engine", engine);
+  js.number("t0", scene.run.t0);
+  os << "scene        " << scene.name << "\n";
+  if (!scene.description.empty()) os << "description  " << scene.description << "\n";
+  os << "engine       " << engine << "\n";
+  os << "bodies       " << n << " (" << 3 * n << " Cartesian coordinates)\n";
+  inspect_bodies(scene, os, js);
+  // Degrees of freedom from the rank of the constraint Jacobian at t0.
+  const auto& rows = sys.rows();
+  std::vector<double> x(static_cast<std::size_t>(6 * n), 0.0);
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) {
+      x[static_cast<std::size_t>(3 * i + k)] = scene.bodies[static_cast<std::size_t>(i)].position[k];
+      x[static_cast<std::size_t>(3 * n + 3 * i + k)] = scene.bodies[static_cast<std::size_t>(i)].velocity[k];
+    }
+  inspect_constraints(rows, x, n, os, js);
+  Eigen::Vector3d P = Eigen::Vector3d::Zero(), L = Eigen::Vector3d::Zero();
+  for (int i = 0; i < n; ++i) {
+    const Body& b = scene.bodies[static_cast<std::size_t>(i)];
+    P += b.mass * b.velocity;
+    L += b.position.cross(b.mass * b.velocity);
+  }
+  os << "momentum     P = (" << P.transpose() << ") kg*m/s, L about the origin = (" << L.transpose() << ") kg*m^2/s\n";
+  const double T = sys.kinetic(x.data()), V = sys.potential(x.data());
+  os << "energy       T = " << T << " J, V = " << V << " J, E = T + V = " << T + V << " J\n";
+  js.raw("P", json_numbers(P.data(), 3));
+  js.raw("L", json_numbers(L.data(), 3));
+  {
+    JsonObject e;
+    e.number("T", T);
+    e.number("V", V);
+    e.number("E", T + V);
+    js.raw("energy", e.str());
+  }
+
+  const std::vector<std::string> conserved = conserved_quantities(scene);
   os << "conserved    " << (conserved.empty() ? std::string("none detected") : conserved.front()) << "\n";
   for (std::size_t k = 1; k < conserved.size(); ++k) os << "             " << conserved[k] << "\n";
 

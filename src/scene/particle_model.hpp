@@ -27,105 +27,9 @@
 #include "lagrangian/integrate/detail/contact_rules.hpp"
 #include "lagrangian/scene/scene.hpp"
 #include "particle_forces.hpp"
+#include "particle_rows.hpp"
 
 namespace lagrangian::scene::detail::particles {
-
-// -- constraint rows -----------------------------------------------------------
-
-/// One position-level constraint row g(r) = 0 with its gradient and γ, the
-/// part of g̈ that does not contain the accelerations (g̈ = ∇g·a + γ).
-struct Row {
-  enum class Kind { link, plane, sphere, rest_plane, rest_spheres };
-  Kind kind = Kind::link;
-  int a = -1, b = -1;  // bodies; b = -1 for a fixed end
-  Vector3d p = Vector3d::Zero(), n = Vector3d::Zero();
-  double length = 0;  // link L, sphere ρ, contact R or R_a + R_b
-  std::string name;
-
-  Vector3d d(const double* r) const { return at(r, a) - (b >= 0 ? at(r, b) : p); }
-  /// Unit of the row's multiplier: N/m for the rows ½(|d|² − L²), N for gaps in m.
-  const char* multiplier_unit() const { return kind == Kind::link || kind == Kind::sphere ? "N/m" : "N"; }
-  double value(const double* r) const {
-    switch (kind) {
-      case Kind::link: return 0.5 * (d(r).squaredNorm() - length * length);
-      case Kind::plane: return n.dot(at(r, a) - p);
-      case Kind::sphere: return 0.5 * ((at(r, a) - p).squaredNorm() - length * length);
-      case Kind::rest_plane: return n.dot(at(r, a) - p) - length;
-      case Kind::rest_spheres: return d(r).norm() - length;
-    }
-    return 0;
-  }
-  /// Gradient with respect to body a (body b gets its negative).
-  Vector3d grad(const double* r) const {
-    switch (kind) {
-      case Kind::link: return d(r);
-      case Kind::plane:
-      case Kind::rest_plane: return n;
-      case Kind::sphere: return at(r, a) - p;
-      case Kind::rest_spheres: return d(r).normalized();
-    }
-    return Vector3d::Zero();
-  }
-  double gamma(const double* r, const double* v) const {
-    const Vector3d dv = at(v, a) - (b >= 0 ? at(v, b) : Vector3d::Zero());
-    switch (kind) {
-      case Kind::link:
-      case Kind::sphere: return dv.squaredNorm();
-      case Kind::plane:
-      case Kind::rest_plane: return 0.0;
-      case Kind::rest_spheres: {
-        const Vector3d dd = d(r);
-        const double l = dd.norm();
-        const double radial = dd.dot(dv) / l;
-        return (dv.squaredNorm() - radial * radial) / l;
-      }
-    }
-    return 0;
-  }
-};
-
-/// C = ∂g/∂r of the rows (rows × dim): each row's gradient on body a and its
-/// negative on body b.
-inline void jacobian(const std::vector<Row>& rows, const double* r, int dim, Eigen::MatrixXd& C) {
-  C.setZero(static_cast<Eigen::Index>(rows.size()), dim);
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    const auto row = static_cast<Eigen::Index>(k);
-    const Vector3d g = rows[k].grad(r);
-    C.block<1, 3>(row, 3 * rows[k].a) += g.transpose();
-    if (rows[k].b >= 0) C.block<1, 3>(row, 3 * rows[k].b) -= g.transpose();
-  }
-}
-
-// -- contacts ------------------------------------------------------------------
-
-struct Contact {
-  bool pair = false;  // sphere–sphere; else sphere–plane
-  int a = -1, b = -1;
-  Vector3d p = Vector3d::Zero(), n = Vector3d::Zero();
-  double R = 0;  // R_a (+ R_b)
-  double e = 1;
-  std::string name;
-  int id = -1;  // its number among the scene's contacts (ParticleModel::contact)
-  lagrangian::detail::ContactHistory history;  // for the Zeno rule
-  bool resting = false;
-
-  double gap(const double* r) const {
-    return pair ? (at(r, a) - at(r, b)).norm() - R : n.dot(at(r, a) - p) - R;
-  }
-  Vector3d normal(const double* r) const { return pair ? (at(r, a) - at(r, b)).normalized() : n; }
-  double rate(const double* r, const double* v) const {
-    const Vector3d dv = at(v, a) - (pair ? at(v, b) : Vector3d::Zero());
-    return normal(r).dot(dv);
-  }
-  /// φ and φ̇ from the positions and velocities of body a (and b for a pair).
-  lagrangian::detail::GapRate gap_rate(const Vector3d& ra, const Vector3d& va, const Vector3d& rb,
-                                       const Vector3d& vb) const {
-    if (!pair) return {n.dot(ra - p) - R, n.dot(va)};
-    const Vector3d d = ra - rb;
-    const double l = d.norm();
-    return {l - R, d.dot(va - vb) / l};
-  }
-};
 
 // -- the system ----------------------------------------------------------------
 
@@ -146,119 +50,10 @@ class ParticleModel {
     }
     inv_mass3_.resize(dim_);
     for (int i = 0; i < n_; ++i) inv_mass3_.segment<3>(3 * i).setConstant(1.0 / mass_[static_cast<std::size_t>(i)]);
-    auto body = [&](const std::string& name) { return name.empty() ? -1 : index.at(name); };
-    auto members = [&](const std::vector<std::string>& list) {
-      std::vector<int> out;
-      if (list.empty()) {
-        out.resize(static_cast<std::size_t>(n_));
-        std::iota(out.begin(), out.end(), 0);
-      } else {
-        for (const auto& s : list) out.push_back(index.at(s));
-      }
-      return out;
-    };
-
-    // Only the declared effects become kernels.
-    auto inv = [&](int i) { return i < 0 ? 0.0 : 1.0 / mass_[static_cast<std::size_t>(i)]; };
-    if (scene.gravity) {
-      kernels_.push_back(std::make_unique<GravityKernel>(mass_, scene.gravity->g));
-      gravity_ = static_cast<GravityKernel*>(kernels_.back().get());
-    }
-    if (scene.newtonian_gravity) {
-      kernels_.push_back(std::make_unique<NewtonKernel>(mass_, scene.newtonian_gravity->G));
-      newton_ = static_cast<NewtonKernel*>(kernels_.back().get());
-    }
-    if (!scene.springs.empty()) {
-      std::vector<SpringData> s;
-      for (const auto& sp : scene.springs) {
-        const int a = body(sp.a), b = body(sp.b);
-        s.push_back({a, b, sp.anchor, sp.stiffness, sp.rest_length, inv(a), inv(b)});
-      }
-      kernels_.push_back(std::make_unique<SpringKernel>(std::move(s)));
-      springs_ = static_cast<SpringKernel*>(kernels_.back().get());
-    }
-    if (!scene.linear_drag.empty()) {
-      std::vector<int> b;
-      std::vector<double> c;
-      for (const auto& d : scene.linear_drag)
-        for (int i : members(d.bodies)) b.push_back(i), c.push_back(d.coefficient * inv(i));
-      kernels_.push_back(std::make_unique<LinearDragKernel>(std::move(b), std::move(c)));
-      linear_drag_ = static_cast<LinearDragKernel*>(kernels_.back().get());
-    }
-    if (!scene.quadratic_drag.empty()) {
-      std::vector<int> b;
-      std::vector<double> c;
-      for (const auto& d : scene.quadratic_drag)
-        for (int i : members(d.bodies)) b.push_back(i), c.push_back(d.coefficient * inv(i));
-      kernels_.push_back(std::make_unique<QuadraticDragKernel>(std::move(b), std::move(c)));
-      quadratic_drag_ = static_cast<QuadraticDragKernel*>(kernels_.back().get());
-    }
-
-    for (std::size_t k = 0; k < scene.links.size(); ++k) {
-      const Link& l = scene.links[k];
-      Row row;
-    row.kind = Row::Kind::link;
-      row.a = body(l.a);
-      row.b = body(l.b);
-      row.p = l.anchor;
-      const Vector3d d0 = scene.bodies[static_cast<std::size_t>(row.a)].position -
-                          (row.b >= 0 ? scene.bodies[static_cast<std::size_t>(row.b)].position : l.anchor);
-      row.length = std::isnan(l.length) ? d0.norm() : l.length;
-      row.name = l.name.empty() ? "link" + std::to_string(k) : l.name;
-      rows_.push_back(row);
-      has_links_ = true;
-    }
-    for (std::size_t k = 0; k < scene.surfaces.size(); ++k) {
-      const Surface& s = scene.surfaces[k];
-      Row row;
-    row.kind = s.kind == Surface::Kind::plane ? Row::Kind::plane : Row::Kind::sphere;
-      row.a = body(s.body);
-      row.p = s.point;
-      row.n = s.normal.normalized();
-      row.length = s.radius;
-      row.name = s.name.empty() ? "surface" + std::to_string(k) : s.name;
-      rows_.push_back(row);
-      has_surfaces_ = true;
-    }
+    add_kernels(scene, index);
+    add_rows(scene, index);
     fixed_rows_ = static_cast<int>(rows_.size());
-
-    if (scene.sphere_contacts) {
-      pair_members_ = members(scene.sphere_contacts->bodies);
-      pair_e_ = scene.sphere_contacts->restitution;
-      has_pairs_ = true;
-    }
-    for (std::size_t k = 0; k < scene.planes.size(); ++k) {
-      const PlaneContact& pc = scene.planes[k];
-      const std::string pname = pc.name.empty() ? "plane" + std::to_string(k) : pc.name;
-      for (int i : members(pc.bodies)) {
-        Contact c;
-        c.a = i;
-        c.p = pc.point;
-        c.n = pc.normal.normalized();
-        c.R = radius_[static_cast<std::size_t>(i)];
-        c.e = pc.restitution;
-        c.name = names_[static_cast<std::size_t>(i)] + "-" + pname;
-        wall_contacts_.push_back(c);
-      }
-      has_planes_ = true;
-    }
-    if (scene.box) {
-      const char* axis[3] = {"x", "y", "z"};
-      for (int i = 0; i < n_; ++i)
-        for (int k = 0; k < 3; ++k)
-          for (int side = 0; side < 2; ++side) {
-            Contact c;
-            c.a = i;
-            c.n = Vector3d::Zero();
-            c.n[k] = side == 0 ? 1.0 : -1.0;
-            c.p = side == 0 ? scene.box->min : scene.box->max;
-            c.R = radius_[static_cast<std::size_t>(i)];
-            c.e = scene.box->restitution;
-            c.name = names_[static_cast<std::size_t>(i)] + "-wall:" + axis[k] + (side == 0 ? "_min" : "_max");
-            wall_contacts_.push_back(c);
-          }
-      has_box_ = true;
-    }
+    add_contacts(scene, index);
     has_contacts_ = has_pairs_ || !wall_contacts_.empty();
     for (Contact& c : wall_contacts_) number(c);
     constrained_ = fixed_rows_ > 0 || has_contacts_;  // contacts may come to rest
@@ -597,6 +392,133 @@ class ParticleModel {
   }
 
  private:
+  /// The body named `name` (-1 for none: a fixed end).
+  static int body_of(const std::unordered_map<std::string, int>& index, const std::string& name) {
+    return name.empty() ? -1 : index.at(name);
+  }
+  /// The bodies a list names, or all of them when it is empty.
+  std::vector<int> members_of(const std::unordered_map<std::string, int>& index,
+                              const std::vector<std::string>& list) const {
+    std::vector<int> out;
+    if (list.empty()) {
+      out.resize(static_cast<std::size_t>(n_));
+      std::iota(out.begin(), out.end(), 0);
+    } else {
+      for (const auto& s : list) out.push_back(index.at(s));
+    }
+    return out;
+  }
+  /// Only the declared effects become kernels.
+  void add_kernels(const Scene& scene, const std::unordered_map<std::string, int>& index) {
+    auto body = [&](const std::string& name) { return body_of(index, name); };
+    auto members = [&](const std::vector<std::string>& list) { return members_of(index, list); };
+    auto inv = [&](int i) { return i < 0 ? 0.0 : 1.0 / mass_[static_cast<std::size_t>(i)]; };
+    if (scene.gravity) {
+      kernels_.push_back(std::make_unique<GravityKernel>(mass_, scene.gravity->g));
+      gravity_ = static_cast<GravityKernel*>(kernels_.back().get());
+  }
+  if (scene.newtonian_gravity) {
+    kernels_.push_back(std::make_unique<NewtonKernel>(mass_, scene.newtonian_gravity->G));
+    newton_ = static_cast<NewtonKernel*>(kernels_.back().get());
+  }
+  if (!scene.springs.empty()) {
+    std::vector<SpringData> s;
+    for (const auto& sp : scene.springs) {
+      const int a = body(sp.a), b = body(sp.b);
+      s.push_back({a, b, sp.anchor, sp.stiffness, sp.rest_length, inv(a), inv(b)});
+    }
+    kernels_.push_back(std::make_unique<SpringKernel>(std::move(s)));
+    springs_ = static_cast<SpringKernel*>(kernels_.back().get());
+  }
+  if (!scene.linear_drag.empty()) {
+    std::vector<int> b;
+    std::vector<double> c;
+    for (const auto& d : scene.linear_drag)
+      for (int i : members(d.bodies)) b.push_back(i), c.push_back(d.coefficient * inv(i));
+    kernels_.push_back(std::make_unique<LinearDragKernel>(std::move(b), std::move(c)));
+    linear_drag_ = static_cast<LinearDragKernel*>(kernels_.back().get());
+  }
+  if (!scene.quadratic_drag.empty()) {
+    std::vector<int> b;
+    std::vector<double> c;
+    for (const auto& d : scene.quadratic_drag)
+      for (int i : members(d.bodies)) b.push_back(i), c.push_back(d.coefficient * inv(i));
+    kernels_.push_back(std::make_unique<QuadraticDragKernel>(std::move(b), std::move(c)));
+    quadratic_drag_ = static_cast<QuadraticDragKernel*>(kernels_.back().get());
+  }
+  }
+  /// The constraint rows of the links and surfaces.
+  void add_rows(const Scene& scene, const std::unordered_map<std::string, int>& index) {
+    auto body = [&](const std::string& name) { return body_of(index, name); };
+    for (std::size_t k = 0; k < scene.links.size(); ++k) {
+      const Link& l = scene.links[k];
+      Row row;
+      row.kind = Row::Kind::link;
+      row.a = body(l.a);
+      row.b = body(l.b);
+      row.p = l.anchor;
+      const Vector3d d0 = scene.bodies[static_cast<std::size_t>(row.a)].position -
+                          (row.b >= 0 ? scene.bodies[static_cast<std::size_t>(row.b)].position : l.anchor);
+      row.length = std::isnan(l.length) ? d0.norm() : l.length;
+      row.name = l.name.empty() ? "link" + std::to_string(k) : l.name;
+      rows_.push_back(row);
+      has_links_ = true;
+  }
+  for (std::size_t k = 0; k < scene.surfaces.size(); ++k) {
+    const Surface& s = scene.surfaces[k];
+    Row row;
+    row.kind = s.kind == Surface::Kind::plane ? Row::Kind::plane : Row::Kind::sphere;
+    row.a = body(s.body);
+    row.p = s.point;
+    row.n = s.normal.normalized();
+    row.length = s.radius;
+    row.name = s.name.empty() ? "surface" + std::to_string(k) : s.name;
+    rows_.push_back(row);
+    has_surfaces_ = true;
+  }
+  }
+  /// The contacts: sphere pairs, planes and the box's walls.
+  void add_contacts(const Scene& scene, const std::unordered_map<std::string, int>& index) {
+    auto members = [&](const std::vector<std::string>& list) { return members_of(index, list); };
+    if (scene.sphere_contacts) {
+      pair_members_ = members(scene.sphere_contacts->bodies);
+      pair_e_ = scene.sphere_contacts->restitution;
+      has_pairs_ = true;
+  }
+  for (std::size_t k = 0; k < scene.planes.size(); ++k) {
+    const PlaneContact& pc = scene.planes[k];
+    const std::string pname = pc.name.empty() ? "plane" + std::to_string(k) : pc.name;
+    for (int i : members(pc.bodies)) {
+      Contact c;
+      c.a = i;
+      c.p = pc.point;
+      c.n = pc.normal.normalized();
+      c.R = radius_[static_cast<std::size_t>(i)];
+      c.e = pc.restitution;
+      c.name = names_[static_cast<std::size_t>(i)] + "-" + pname;
+      wall_contacts_.push_back(c);
+    }
+    has_planes_ = true;
+  }
+  if (scene.box) {
+    const char* axis[3] = {"x", "y", "z"};
+    for (int i = 0; i < n_; ++i)
+      for (int k = 0; k < 3; ++k)
+        for (int side = 0; side < 2; ++side) {
+          Contact c;
+          c.a = i;
+          c.n = Vector3d::Zero();
+          c.n[k] = side == 0 ? 1.0 : -1.0;
+          c.p = side == 0 ? scene.box->min : scene.box->max;
+          c.R = radius_[static_cast<std::size_t>(i)];
+          c.e = scene.box->restitution;
+          c.name = names_[static_cast<std::size_t>(i)] + "-wall:" + axis[k] + (side == 0 ? "_min" : "_max");
+          wall_contacts_.push_back(c);
+        }
+    has_box_ = true;
+  }
+  }
+
   struct Span {
     double lo, hi;
     int body;

@@ -14,6 +14,7 @@
 #include "lagrangian/detail/text_output.hpp"
 #include "lagrangian/scene/hard_spheres.hpp"
 #include "lagrangian/integrate/observers.hpp"
+#include "lagrangian/params.hpp"
 #include "lagrangian/scene/plots.hpp"
 #include "lagrangian/scene/progress.hpp"
 #include "lagrangian/scene/models.hpp"
@@ -202,6 +203,142 @@ bool nothing_to_draw(const Scene& scene) {
   return entry->picture(*scene.model, nullptr, nullptr, 0, none).bodies.empty();
 }
 
+/// A built-in, text or user model's run through its registry entry, the
+/// trajectory into `csv_path` ("" for none).
+void run_model(const Scene& scene, const std::string& csv_path, const detail::SampleTick& tick, RunResult& result) {
+  const detail::ModelEntry* entry = detail::entry_for(*scene.model);
+  if (!entry) throw SceneError("model.name", "unknown model '" + scene.model->name + "'", scene.source);
+  try {
+    detail::FinalState last;
+    result.report =
+        entry->run(*scene.model, scene.run, csv_path, tick, &last);
+    result.q_final = std::move(last.q);
+    result.qd_final = std::move(last.qd);
+  } catch (const SceneError& e) {
+    if (!e.key().empty() && e.line() == 0 && !scene.source.file.empty())
+      throw SceneError(e.key(), e.message(), scene.source);  // point at the scene file's line
+    throw;
+  }
+}
+
+/// A scene of bodies on the event-driven engine (hard spheres) or the ODE
+/// engine (particles with effects, constraints and contacts), the
+/// trajectory into `csv_path` ("" for none).
+void run_bodies(const Scene& scene, const std::string& csv_path, const detail::SampleTick& tick, RunResult& result) {
+  std::optional<CsvSink> csv;
+  Columns columns;
+  for (const Body& b : scene.bodies)
+    for (const char* ax : {".x", ".y", ".z"}) columns.coordinates.push_back(b.name + ax);
+  columns.units.assign(columns.coordinates.size(), "m");
+  columns.total_energy = false;
+  if (!csv_path.empty()) csv.emplace(csv_path);
+  if (result.engine == "event_driven") {
+    if (csv) csv->begin(columns);
+    result.report = run_event_driven(scene, csv ? &*csv : nullptr, tick, result.q_final, result.qd_final);
+  } else {
+    Sample<Dynamic> s;
+    const int dim = 3 * static_cast<int>(scene.bodies.size());
+    s.q.resize(dim);
+    s.qd.resize(dim);
+    detail::ParticleOutput output;
+    // The header names the constraint rows (lambda_<row>, then Qc_<coordinate>).
+    output.begin = [&](const std::vector<std::string>& rows, const std::vector<std::string>& units) {
+      if (!csv) return;
+      columns.constraints = rows;
+      columns.constraint_units = units;
+      csv->begin(columns);
+    };
+    output.sample = [&](double t, const double* q, const double* qd, int n, double energy,
+                        const Eigen::VectorXd& multipliers, const Eigen::VectorXd& forces) {
+      if (!csv) return;
+      s.t = t;
+      s.q = Eigen::Map<const Eigen::VectorXd>(q, n);
+      s.qd = Eigen::Map<const Eigen::VectorXd>(qd, n);
+      s.energy = energy;
+      s.multipliers = multipliers;
+      s.constraint_forces = forces;
+      (*csv)(s);
+    };
+    auto run = detail::run_particles(scene, output, tick);
+    result.report = std::move(run.report);
+    result.effect_evaluations = std::move(run.effect_evaluations);
+    result.contact_locations = run.contact_locations;
+    result.q_final = std::move(run.q_final);
+    result.qd_final = std::move(run.qd_final);
+  }
+  if (csv) csv->finish();
+  // Spheres in a box that cannot collide with each other are rarely what
+  // was meant, and cost the ODE engine's time: say so.
+  const auto spheres = std::count_if(scene.bodies.begin(), scene.bodies.end(), [](const Body& b) { return b.radius > 0; });
+  if (result.engine == "ode" && scene.run.engine == "auto" && scene.box && !scene.sphere_contacts && spheres >= 2)
+    result.report.warnings.push_back(
+        "the spheres have radii but the scene declares no [contacts.spheres]: they pass through each other, "
+        "and the scene ran on the ODE engine; declare [contacts.spheres] for collisions between them (and the "
+        "exact event-driven engine, far faster for spheres in a box)");
+}
+
+/// The plots of a run that wrote its trajectory (and the speed distribution of a gas).
+void write_plots(const Scene& scene, RunResult& result) {
+  const std::string& dir = scene.output.directory;
+  collect_plots([&] { return make_plots(plot_spec(scene, result)); }, result.files, result.plot_note);
+  if (result.gas && result.plot_note.empty()) {
+    SpeedPlotSpec sp;
+    sp.title = scene.name;
+    sp.out_dir = dir;
+    sp.speeds = result.gas->speeds;
+    sp.mass = result.gas->mass;
+    sp.kT = result.gas->kT;
+    char note[200];
+    std::snprintf(note, sizeof note,
+                  "at t = %.6g s (T = %.4g K); Kolmogorov-Smirnov distance D = %.3g (5 %% point 1.36/sqrt(N) = %.3g)",
+                  result.report.t_final, result.gas->temperature, result.gas->ks_distance, result.gas->ks_critical);
+    sp.note = note;
+    sp.png = scene.output.png;
+    sp.svg = scene.output.svg;
+    collect_plots([&] { return make_speed_plot(sp); }, result.files, result.plot_note);
+  }
+}
+
+/// The animation page and the video of a run that writes its outputs, or
+/// the note that says why not.
+void write_pictures(const Scene& scene, const RunControls& controls, RunResult& result) {
+  const std::string& dir = scene.output.directory;
+  const bool video = !controls.video_path.empty();
+  if ((scene.output.animation || video) && nothing_to_draw(scene)) {
+    // Nothing to draw in space: the coordinates and energy are in the plots.
+    result.animation_note = scene.model->text ? "animation: not written: the model places no points in space "
+                                                "([[model.points]]); its coordinates and energy are in the plots"
+                                              : "animation: not written: the model declares no particles() to "
+                                                "draw; its coordinates and energy are in the plots";
+  } else if (scene.output.trajectory && (scene.output.animation || video)) {
+    std::optional<detail::SceneView> v;
+    try {
+      v = detail::scene_view(scene, result);
+    } catch (const std::exception& e) {
+      result.animation_note = std::string("animation failed: ") + e.what();
+    }
+    if (v && scene.output.animation) {
+      const std::string page = (fs::path(dir) / "animation.html").string();
+      try {
+        result.files.push_back(view::write_animation(page, v->figure, v->track, v->options).path);
+      } catch (const std::exception& e) {
+        result.animation_note = std::string("animation failed: ") + e.what();
+      }
+    }
+    if (v && video) {
+      try {
+        view::write_video(controls.video_path, v->figure, v->track, controls.video);
+        result.video_written = true;
+        result.files.push_back(controls.video_path);
+      } catch (const std::exception& e) {
+        result.animation_note += std::string(result.animation_note.empty() ? "" : "; ") + e.what();
+      }
+    }
+  } else if (video) {
+    result.animation_note = "video: not written: the scene writes no trajectory (output.trajectory = false)";
+  }
+}
+
 }  // namespace
 
 RunResult run(const Scene& input, const RunControls& controls) {
@@ -232,72 +369,10 @@ RunResult run(const Scene& input, const RunControls& controls) {
   try {
     if (write) remove_outputs(dir);
     const bool want_csv = write && scene.output.trajectory;
-    if (result.engine == "model") {
-      const detail::ModelEntry* entry = detail::entry_for(*scene.model);
-      if (!entry) throw SceneError("model.name", "unknown model '" + scene.model->name + "'", scene.source);
-      try {
-        detail::FinalState last;
-        result.report =
-            entry->run(*scene.model, scene.run, want_csv ? traj : std::string(), tick, &last);
-        result.q_final = std::move(last.q);
-        result.qd_final = std::move(last.qd);
-      } catch (const SceneError& e) {
-        if (!e.key().empty() && e.line() == 0 && !scene.source.file.empty())
-          throw SceneError(e.key(), e.message(), scene.source);  // point at the scene file's line
-        throw;
-      }
-    } else {
-      std::optional<CsvSink> csv;
-      Columns columns;
-      for (const Body& b : scene.bodies)
-        for (const char* ax : {".x", ".y", ".z"}) columns.coordinates.push_back(b.name + ax);
-      columns.units.assign(columns.coordinates.size(), "m");
-      columns.total_energy = false;
-      if (want_csv) csv.emplace(traj);
-      if (result.engine == "event_driven") {
-        if (csv) csv->begin(columns);
-        result.report = run_event_driven(scene, csv ? &*csv : nullptr, tick, result.q_final, result.qd_final);
-      } else {
-        Sample<Dynamic> s;
-        const int dim = 3 * static_cast<int>(scene.bodies.size());
-        s.q.resize(dim);
-        s.qd.resize(dim);
-        detail::ParticleOutput output;
-        // The header names the constraint rows (lambda_<row>, then Qc_<coordinate>).
-        output.begin = [&](const std::vector<std::string>& rows, const std::vector<std::string>& units) {
-          if (!csv) return;
-          columns.constraints = rows;
-          columns.constraint_units = units;
-          csv->begin(columns);
-        };
-        output.sample = [&](double t, const double* q, const double* qd, int n, double energy,
-                            const Eigen::VectorXd& multipliers, const Eigen::VectorXd& forces) {
-          if (!csv) return;
-          s.t = t;
-          s.q = Eigen::Map<const Eigen::VectorXd>(q, n);
-          s.qd = Eigen::Map<const Eigen::VectorXd>(qd, n);
-          s.energy = energy;
-          s.multipliers = multipliers;
-          s.constraint_forces = forces;
-          (*csv)(s);
-        };
-        auto run = detail::run_particles(scene, output, tick);
-        result.report = std::move(run.report);
-        result.effect_evaluations = std::move(run.effect_evaluations);
-        result.contact_locations = run.contact_locations;
-        result.q_final = std::move(run.q_final);
-        result.qd_final = std::move(run.qd_final);
-      }
-      if (csv) csv->finish();
-      // Spheres in a box that cannot collide with each other are rarely what
-      // was meant, and cost the ODE engine's time: say so.
-      const auto spheres = std::count_if(scene.bodies.begin(), scene.bodies.end(), [](const Body& b) { return b.radius > 0; });
-      if (result.engine == "ode" && scene.run.engine == "auto" && scene.box && !scene.sphere_contacts && spheres >= 2)
-        result.report.warnings.push_back(
-            "the spheres have radii but the scene declares no [contacts.spheres]: they pass through each other, "
-            "and the scene ran on the ODE engine; declare [contacts.spheres] for collisions between them (and the "
-            "exact event-driven engine, far faster for spheres in a box)");
-    }
+    if (result.engine == "model")
+      run_model(scene, want_csv ? traj : std::string(), tick, result);
+    else
+      run_bodies(scene, want_csv ? traj : std::string(), tick, result);
     progress.finish();
     result.gas = detail::gas_check(scene, result);
     if (write) {
@@ -318,59 +393,9 @@ RunResult run(const Scene& input, const RunControls& controls) {
     if (created && fs::is_empty(dir, ec)) fs::remove(dir, ec);
     throw;
   }
-  if (write && scene.output.trajectory && scene.output.plots && (scene.output.png || scene.output.svg)) {
-    collect_plots([&] { return make_plots(plot_spec(scene, result)); }, result.files, result.plot_note);
-    if (result.gas && result.plot_note.empty()) {
-      SpeedPlotSpec sp;
-      sp.title = scene.name;
-      sp.out_dir = dir;
-      sp.speeds = result.gas->speeds;
-      sp.mass = result.gas->mass;
-      sp.kT = result.gas->kT;
-      char note[200];
-      std::snprintf(note, sizeof note,
-                    "at t = %.6g s (T = %.4g K); Kolmogorov-Smirnov distance D = %.3g (5 %% point 1.36/sqrt(N) = %.3g)",
-                    result.report.t_final, result.gas->temperature, result.gas->ks_distance, result.gas->ks_critical);
-      sp.note = note;
-      sp.png = scene.output.png;
-      sp.svg = scene.output.svg;
-      collect_plots([&] { return make_speed_plot(sp); }, result.files, result.plot_note);
-    }
-  }
-  const bool video = write && !controls.video_path.empty();
-  if (write && (scene.output.animation || video) && nothing_to_draw(scene)) {
-    // Nothing to draw in space: the coordinates and energy are in the plots.
-    result.animation_note = scene.model->text ? "animation: not written: the model places no points in space "
-                                                "([[model.points]]); its coordinates and energy are in the plots"
-                                              : "animation: not written: the model declares no particles() to "
-                                                "draw; its coordinates and energy are in the plots";
-  } else if (write && scene.output.trajectory && (scene.output.animation || video)) {
-    std::optional<detail::SceneView> v;
-    try {
-      v = detail::scene_view(scene, result);
-    } catch (const std::exception& e) {
-      result.animation_note = std::string("animation failed: ") + e.what();
-    }
-    if (v && scene.output.animation) {
-      const std::string page = (fs::path(dir) / "animation.html").string();
-      try {
-        result.files.push_back(view::write_animation(page, v->figure, v->track, v->options).path);
-      } catch (const std::exception& e) {
-        result.animation_note = std::string("animation failed: ") + e.what();
-      }
-    }
-    if (v && video) {
-      try {
-        view::write_video(controls.video_path, v->figure, v->track, controls.video);
-        result.video_written = true;
-        result.files.push_back(controls.video_path);
-      } catch (const std::exception& e) {
-        result.animation_note += std::string(result.animation_note.empty() ? "" : "; ") + e.what();
-      }
-    }
-  } else if (video) {
-    result.animation_note = "video: not written: the scene writes no trajectory (output.trajectory = false)";
-  }
+  if (write && scene.output.trajectory && scene.output.plots && (scene.output.png || scene.output.svg))
+    write_plots(scene, result);
+  if (write) write_pictures(scene, controls, result);
   if (write) detail::write_output_manifest(dir, result.files);
   return result;
 }

@@ -40,13 +40,9 @@ using detail::Table;
 using detail::to_csv;
 using detail::trajectory_names;
 
-}  // namespace
-
-SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
-  o.validate();
-  const auto start = std::chrono::steady_clock::now();
-  // The scene as it is must load: its own errors come first, with its lines.
-  const Scene base = load_scene(scene_path);
+/// What every point's scene is made from: the scene file's text, the keys
+/// --vary and --set change, and the variables --set may use.
+Plan make_plan(const std::string& scene_path, const SweepOptions& o) {
   Plan plan;
   plan.file = scene_path;
   plan.text = detail::read_scene_text(scene_path);
@@ -63,52 +59,39 @@ SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
     plan.set_paths.push_back(parse_path("--set", s.key));
     plan.set_expressions.emplace_back(s.expression, plan.variables, "--set " + s.key);
   }
+  return plan;
+}
 
-  // Point 0 decides what is bad input rather than a failed run: a key the
-  // scene cannot take (unknown key, unknown model parameter, an element the
-  // scene does not write). Values that are merely invalid fail their run.
-  const std::uint64_t n = point_count(o);
-  {
-    toml::table doc = toml::parse(plan.text, plan.file);
-    std::vector<double> values = point_values(o, 0);
-    try {
-      const Scene s = point_scene(plan, o, doc, values);
-      for (const FirstTimeSpec& f : o.first_times)  // names checked here, against the scene's coordinates
-        Expression(f.expression, trajectory_names(s), "--first-time " + f.name);
-      (void)inspect(s);
-    } catch (const SceneError& e) {
-      const std::string m = e.message();
-      if (m.find("unknown key") != std::string::npos || m.find("unknown parameter") != std::string::npos ||
-          m.find("has no parameter") != std::string::npos)
-        throw;
-    } catch (const OptionError& e) {
-      const std::string m = e.what();
-      if (m.rfind("--vary", 0) == 0 || m.rfind("--set", 0) == 0 || m.rfind("--first-time", 0) == 0) {
-        if (m.find("gives NaN") == std::string::npos && m.find("infinite value") == std::string::npos) throw;
-      }
-    } catch (const Error&) {
+/// Point 0 decides what is bad input rather than a failed run: a key the
+/// scene cannot take (unknown key, unknown model parameter, an element the
+/// scene does not write) throws here. Values that are merely invalid fail
+/// their run.
+void check_first_point(const Plan& plan, const SweepOptions& o) {
+  toml::table doc = toml::parse(plan.text, plan.file);
+  std::vector<double> values = point_values(o, 0);
+  try {
+    const Scene s = point_scene(plan, o, doc, values);
+    for (const FirstTimeSpec& f : o.first_times)  // names checked here, against the scene's coordinates
+      Expression(f.expression, trajectory_names(s), "--first-time " + f.name);
+    (void)inspect(s);
+  } catch (const SceneError& e) {
+    const std::string m = e.message();
+    if (m.find("unknown key") != std::string::npos || m.find("unknown parameter") != std::string::npos ||
+        m.find("has no parameter") != std::string::npos)
+      throw;
+  } catch (const OptionError& e) {
+    const std::string m = e.what();
+    if (m.rfind("--vary", 0) == 0 || m.rfind("--set", 0) == 0 || m.rfind("--first-time", 0) == 0) {
+      if (m.find("gives NaN") == std::string::npos && m.find("infinite value") == std::string::npos) throw;
     }
+  } catch (const Error&) {
   }
+}
 
-  // This rank's points: i = rank, rank + ranks, ... (cyclic, so that points
-  // whose cost grows along the grid spread evenly).
-  std::vector<std::uint64_t> mine;
-  for (std::uint64_t i = static_cast<std::uint64_t>(o.rank); i < n; i += static_cast<std::uint64_t>(o.ranks))
-    mine.push_back(i);
-  int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  threads = static_cast<int>(
-      std::min<std::uint64_t>(static_cast<std::uint64_t>(threads), std::max<std::size_t>(1, mine.size())));
-
-  const fs::path out_dir = o.out_dir;
-  const fs::path csv_path = out_dir / "sweep.csv";
-  if (o.rank == 0) {
-    std::error_code ec;
-    fs::create_directories(out_dir, ec);
-    if (ec || !fs::is_directory(out_dir))
-      throw OptionError("--out: cannot create the directory '" + o.out_dir + "'" + (ec ? ": " + ec.message() : ""));
-    // An earlier sweep's table and plots must not look like this one's.
-    detail::remove_listed_outputs(o.out_dir, {"sweep.csv"});
-  }
+/// The points `mine` on `threads` threads, with a progress bar on rank 0;
+/// SweepInterrupted when cancelled before all are done.
+std::vector<SweepRecord> run_points(const Plan& plan, const SweepOptions& o, const std::vector<std::uint64_t>& mine,
+                                    int threads) {
   std::vector<SweepRecord> local(mine.size());
   std::atomic<std::size_t> next{0}, done{0};
   auto cancelled = [&] { return o.cancel != nullptr && o.cancel->load(); };
@@ -136,6 +119,41 @@ SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
     progress.finish();
   }
   if (done.load() < mine.size()) throw SweepInterrupted(done.load(), mine.size());
+  return local;
+}
+
+}  // namespace
+
+SweepResult sweep(const std::string& scene_path, const SweepOptions& o) {
+  o.validate();
+  const auto start = std::chrono::steady_clock::now();
+  // The scene as it is must load: its own errors come first, with its lines.
+  const Scene base = load_scene(scene_path);
+  const Plan plan = make_plan(scene_path, o);
+
+  check_first_point(plan, o);
+  const std::uint64_t n = point_count(o);
+
+  // This rank's points: i = rank, rank + ranks, ... (cyclic, so that points
+  // whose cost grows along the grid spread evenly).
+  std::vector<std::uint64_t> mine;
+  for (std::uint64_t i = static_cast<std::uint64_t>(o.rank); i < n; i += static_cast<std::uint64_t>(o.ranks))
+    mine.push_back(i);
+  int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  threads = static_cast<int>(
+      std::min<std::uint64_t>(static_cast<std::uint64_t>(threads), std::max<std::size_t>(1, mine.size())));
+
+  const fs::path out_dir = o.out_dir;
+  const fs::path csv_path = out_dir / "sweep.csv";
+  if (o.rank == 0) {
+    std::error_code ec;
+    fs::create_directories(out_dir, ec);
+    if (ec || !fs::is_directory(out_dir))
+      throw OptionError("--out: cannot create the directory '" + o.out_dir + "'" + (ec ? ": " + ec.message() : ""));
+    // An earlier sweep's table and plots must not look like this one's.
+    detail::remove_listed_outputs(o.out_dir, {"sweep.csv"});
+  }
+  std::vector<SweepRecord> local = run_points(plan, o, mine, threads);
   const auto computed = std::chrono::steady_clock::now();
 
   SweepResult result;

@@ -33,56 +33,6 @@ using text::join;
 
 using detail::format_value;
 
-
-
-std::string type_name(const toml::node& n) {
-  std::ostringstream os;
-  os << n.type();
-  return os.str();
-}
-
-/// A short description of a TOML value for messages: its type and value.
-std::string describe(const toml::node& n, int depth = 0) {
-  switch (n.type()) {
-    case toml::node_type::string: return "string " + quote_text(n.as_string()->get());
-    case toml::node_type::integer: return "integer " + std::to_string(n.as_integer()->get());
-    case toml::node_type::floating_point: return "float " + format_value(n.as_floating_point()->get());
-    case toml::node_type::boolean: return std::string("boolean ") + (n.as_boolean()->get() ? "true" : "false");
-    case toml::node_type::table: return "a table";
-    case toml::node_type::array: {
-      const toml::array& a = *n.as_array();
-      std::string out = depth == 0 ? "an array of " + std::to_string(a.size()) + " [" : "[";
-      for (std::size_t i = 0; i < a.size(); ++i) {
-        if (i == 4 || depth > 0) {
-          out += "...";
-          break;
-        }
-        out += (i ? ", " : "");
-        const toml::node& e = *a.get(i);
-        if (e.is_integer()) {
-          out += std::to_string(e.as_integer()->get());
-        } else if (e.is_floating_point()) {
-          out += format_value(e.as_floating_point()->get());
-        } else if (e.is_string()) {
-          out += quote_text(e.as_string()->get());
-        } else if (e.is_array()) {
-          out += describe(e, depth + 1);
-        } else {
-          out += "<" + type_name(e) + ">";
-        }
-      }
-      return out + "]";
-    }
-    default: {
-      std::ostringstream os;
-      if (const auto* d = n.as_date()) os << *d;
-      if (const auto* t = n.as_time()) os << *t;
-      if (const auto* dt = n.as_date_time()) os << *dt;
-      return type_name(n) + " " + os.str();
-    }
-  }
-}
-
 std::string idx(const std::string& prefix, std::size_t i) { return prefix + "[" + std::to_string(i) + "]"; }
 std::string sub(const std::string& prefix, std::string_view key) {
   return prefix.empty() ? std::string(key) : prefix + "." + std::string(key);
@@ -177,7 +127,7 @@ class Reader {
   const toml::table* table(const toml::table& t, const std::string& prefix, const char* name) {
     const toml::node* n = get(t, prefix, name);
     if (n == nullptr) return nullptr;
-    if (!n->is_table()) fail(sub(prefix, name), "expected a table, got " + describe(*n));
+    if (!n->is_table()) fail(sub(prefix, name), "expected a table, got " + detail::describe_value(*n));
     return n->as_table();
   }
 
@@ -188,13 +138,13 @@ class Reader {
     if (n == nullptr) return;
     const std::string key = sub(prefix, name);
     if (!n->is_array())
-      fail(key, "expected an array of tables ([[" + key + "]]), got " + describe(*n));
+      fail(key, "expected an array of tables ([[" + key + "]]), got " + detail::describe_value(*n));
     const toml::array& a = *n->as_array();
     for (std::size_t i = 0; i < a.size(); ++i) {
       const std::string p = idx(key, i);
       const toml::node& e = *a.get(i);
       record(p, e);
-      if (!e.is_table()) fail(p, "expected a table, got " + describe(e));
+      if (!e.is_table()) fail(p, "expected a table, got " + detail::describe_value(e));
       fn(*e.as_table(), p);
     }
   }
@@ -206,30 +156,30 @@ class Reader {
     } else if (n.is_floating_point()) {
       v = n.as_floating_point()->get();
     } else {
-      fail(key, "expected a number, got " + describe(n));
+      fail(key, "expected a number, got " + detail::describe_value(n));
     }
     if (!std::isfinite(v)) fail(key, "must be a finite number, got " + format_value(v));
     return v;
   }
 
   std::int64_t integer(const toml::node& n, const std::string& key) const {
-    if (!n.is_integer()) fail(key, "expected an integer, got " + describe(n));
+    if (!n.is_integer()) fail(key, "expected an integer, got " + detail::describe_value(n));
     return n.as_integer()->get();
   }
 
   std::string string(const toml::node& n, const std::string& key) const {
-    if (!n.is_string()) fail(key, "expected a string, got " + describe(n));
+    if (!n.is_string()) fail(key, "expected a string, got " + detail::describe_value(n));
     return n.as_string()->get();
   }
 
   bool boolean(const toml::node& n, const std::string& key) const {
-    if (!n.is_boolean()) fail(key, "expected true or false, got " + describe(n));
+    if (!n.is_boolean()) fail(key, "expected true or false, got " + detail::describe_value(n));
     return n.as_boolean()->get();
   }
 
   Vec3 vec3(const toml::node& n, const std::string& key) {
     if (!n.is_array() || n.as_array()->size() != 3)
-      fail(key, "expected an array of 3 numbers [x, y, z], got " + describe(n));
+      fail(key, "expected an array of 3 numbers [x, y, z], got " + detail::describe_value(n));
     const toml::array& a = *n.as_array();
     Vec3 v;
     for (int i = 0; i < 3; ++i) {
@@ -241,7 +191,7 @@ class Reader {
   }
 
   std::vector<double> numbers(const toml::node& n, const std::string& key) {
-    if (!n.is_array()) fail(key, "expected an array of numbers, got " + describe(n));
+    if (!n.is_array()) fail(key, "expected an array of numbers, got " + detail::describe_value(n));
     std::vector<double> out;
     const toml::array& a = *n.as_array();
     for (std::size_t i = 0; i < a.size(); ++i) {
@@ -252,7 +202,7 @@ class Reader {
   }
 
   std::vector<std::string> strings(const toml::node& n, const std::string& key) {
-    if (!n.is_array()) fail(key, "expected an array of strings, got " + describe(n));
+    if (!n.is_array()) fail(key, "expected an array of strings, got " + detail::describe_value(n));
     std::vector<std::string> out;
     const toml::array& a = *n.as_array();
     for (std::size_t i = 0; i < a.size(); ++i) {
@@ -550,21 +500,6 @@ class Reader {
 
 }  // namespace
 
-toml::table detail::parse_document(std::string_view text, const std::string& file) {
-  try {
-    return toml::parse(text, file);
-  } catch (const toml::parse_error& e) {
-    SourceMap where;
-    where.file = file;
-    const auto line = e.source().begin.line;
-    if (line <= static_cast<toml::source_index>(std::numeric_limits<int>::max()))
-      where.lines[""] = static_cast<int>(line);
-    std::string what = "TOML syntax error: " + std::string(e.description());
-    if (e.source().begin.column > 0) what += " (column " + std::to_string(e.source().begin.column) + ")";
-    throw SceneError("", what, where);
-  }
-}
-
 Scene parse_scene(std::string_view text, const std::string& file) {
   return detail::scene_from_document(detail::parse_document(text, file), file);
 }
@@ -577,29 +512,6 @@ Scene detail::scene_from_document(const toml::table& root, const std::string& fi
   Reader(scene).read(root);
   scene.validate();
   return scene;
-}
-
-std::string detail::read_scene_text(const std::string& path) {
-  SourceMap where;
-  where.file = path == "-" ? "<stdin>" : path;
-  std::ostringstream text;
-  if (path == "-") {
-    text << std::cin.rdbuf();
-    if (std::cin.bad()) throw SceneError("", "cannot read the scene from standard input: read error", where);
-    return text.str();
-  }
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw SceneError("", "cannot read the scene file: it is a directory", where);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    const int err = errno;
-    throw SceneError("", std::string("cannot read the scene file: ") + (err ? std::strerror(err) : "open failed"),
-                     where);
-  }
-  text << in.rdbuf();
-  if (in.bad()) throw SceneError("", "cannot read the scene file: read error", where);
-  return text.str();
 }
 
 Scene load_scene(const std::string& path) {

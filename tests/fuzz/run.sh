@@ -52,6 +52,7 @@ sources=(
   "$src/src/scene/scene_validate_fields.cpp"
   "$src/src/scene/scene_validate_initial.cpp"
   "$src/src/scene/toml_scene.cpp"
+  "$src/src/scene/toml_document.cpp"
   "$src/src/scene/model_catalog.cpp"
   "$src/src/scene/text_model_spec.cpp"
   "$src/src/text/parse.cpp"

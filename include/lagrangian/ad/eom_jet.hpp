@@ -571,27 +571,9 @@ class EomJet {
     return *this;
   }
   /// Moves take a pooled block over instead of copying it (inline blocks are
-  /// copied, their valid rows only).
-  constexpr EomJet(EomJet&& o) noexcept : level(o.level), v(o.v), d(o.d) {
-    if constexpr (kPooled) {
-      second_ = std::move(o.second_);
-      copy_first(o);
-    } else {
-      copy_parts(o);
-    }
-  }
-  constexpr EomJet& operator=(EomJet&& o) noexcept {
-    level = o.level;
-    v = o.v;
-    d = o.d;
-    if constexpr (kPooled) {
-      second_ = std::move(o.second_);
-      copy_first(o);
-    } else {
-      copy_parts(o);
-    }
-    return *this;
-  }
+  /// copied, their valid rows only; eom_jet_parts.hpp).
+  constexpr EomJet(EomJet&& o) noexcept;
+  constexpr EomJet& operator=(EomJet&& o) noexcept;
 
  private:
   constexpr void copy_parts(const EomJet& o);

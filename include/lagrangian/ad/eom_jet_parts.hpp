@@ -19,6 +19,30 @@
 namespace lagrangian::ad {
 
 template <int N, bool R>
+constexpr EomJet<N, R>::EomJet(EomJet&& o) noexcept : level(o.level), v(o.v), d(o.d) {
+  if constexpr (kPooled) {
+    second_ = std::move(o.second_);
+    copy_first(o);
+  } else {
+    copy_parts(o);
+  }
+}
+
+template <int N, bool R>
+constexpr EomJet<N, R>& EomJet<N, R>::operator=(EomJet&& o) noexcept {
+  level = o.level;
+  v = o.v;
+  d = o.d;
+  if constexpr (kPooled) {
+    second_ = std::move(o.second_);
+    copy_first(o);
+  } else {
+    copy_parts(o);
+  }
+  return *this;
+}
+
+template <int N, bool R>
 constexpr void EomJet<N, R>::zero_rows(std::array<double, N * N>& H, int lo, int hi) {
   if constexpr (kPooled) {
     for (int i = lo; i < hi; ++i)

@@ -189,6 +189,56 @@ std::vector<Impact> thinned(const std::vector<Impact>& impacts) {
   return kept;
 }
 
+namespace {
+
+/// The rate column of each column ("x" → "x_dot"), npos where there is
+/// none, for impact positions.
+std::vector<std::size_t> rate_columns(const std::vector<std::string>& header) {
+  std::vector<std::size_t> rate(header.size(), std::string::npos);
+  std::unordered_map<std::string, std::size_t> index;
+  for (std::size_t k = 0; k < header.size(); ++k) index.emplace(header[k], k);
+  for (std::size_t k = 1; k < header.size(); ++k)
+    if (const auto it = index.find(header[k] + "_dot"); it != index.end()) rate[k] = it->second;
+  return rate;
+}
+
+/// The columns kept at the impacts (t and those named in at_impacts, all
+/// when it is empty), their slots written to tr.slot.
+std::vector<std::size_t> kept_columns(Trajectory& tr, const std::vector<std::string>& at_impacts) {
+  tr.slot.assign(tr.header.size(), std::string::npos);
+  std::vector<std::size_t> kept = {0};
+  tr.slot[0] = 0;
+  for (std::size_t k = 1; k < tr.header.size(); ++k)
+    if (at_impacts.empty() || std::find(at_impacts.begin(), at_impacts.end(), tr.header[k]) != at_impacts.end()) {
+      tr.slot[k] = kept.size();
+      kept.push_back(k);
+    }
+  return kept;
+}
+
+/// The kept columns at an impact at ti between the rows `prev` (at t_prev)
+/// and `cur` (at t). Positions have a kink at an impact: each side's own
+/// rate carries it to the impact time (error O(dt²)); the mean of both is
+/// taken. Other columns are interpolated linearly.
+std::vector<double> row_at_impact(double ti, const std::vector<std::size_t>& kept, const std::vector<std::size_t>& rate,
+                                  const std::vector<double>& prev, double t_prev, const std::vector<double>& cur,
+                                  double t) {
+  const double w = (ti - t_prev) / (t - t_prev);
+  std::vector<double> row;
+  for (std::size_t k : kept) {
+    if (rate[k] != std::string::npos) {
+      const double from_before = prev[k] + prev[rate[k]] * (ti - t_prev);
+      const double from_after = cur[k] - cur[rate[k]] * (t - ti);
+      row.push_back(0.5 * (from_before + from_after));
+    } else {
+      row.push_back(prev[k] + w * (cur[k] - prev[k]));
+    }
+  }
+  return row;
+}
+
+}  // namespace
+
 Trajectory read_trajectory(const std::string& path, std::vector<Impact>& impacts,
                            const std::vector<std::string>& at_impacts) {
   std::error_code ec;
@@ -208,23 +258,8 @@ Trajectory read_trajectory(const std::string& path, std::vector<Impact>& impacts
   tr.every = std::max<std::size_t>(1, (total_rows + kPointsPerLine - 1) / kPointsPerLine);
 
   const std::size_t ncol = tr.header.size();
-  // The rate column of each column ("x" → "x_dot"), for impact positions.
-  std::vector<std::size_t> rate(ncol, std::string::npos);
-  {
-    std::unordered_map<std::string, std::size_t> index;
-    for (std::size_t k = 0; k < ncol; ++k) index.emplace(tr.header[k], k);
-    for (std::size_t k = 1; k < ncol; ++k)
-      if (const auto it = index.find(tr.header[k] + "_dot"); it != index.end()) rate[k] = it->second;
-  }
-  // The columns kept at the impacts (t and those named in at_impacts).
-  tr.slot.assign(ncol, std::string::npos);
-  std::vector<std::size_t> kept = {0};
-  tr.slot[0] = 0;
-  for (std::size_t k = 1; k < ncol; ++k)
-    if (at_impacts.empty() || std::find(at_impacts.begin(), at_impacts.end(), tr.header[k]) != at_impacts.end()) {
-      tr.slot[k] = kept.size();
-      kept.push_back(k);
-    }
+  const std::vector<std::size_t> rate = rate_columns(tr.header);
+  const std::vector<std::size_t> kept = kept_columns(tr, at_impacts);
   auto keep = [&](const std::vector<double>& full) {
     std::vector<double> r;
     for (std::size_t k : kept) r.push_back(full[k]);
@@ -285,20 +320,7 @@ Trajectory read_trajectory(const std::string& path, std::vector<Impact>& impacts
       while (next_impact < impacts.size() && impacts[next_impact].t <= t) {
         Impact& imp = impacts[next_impact++];
         if (row > 0 && t > t_prev && imp.t >= t_prev) {
-          // Positions have a kink at an impact: each side's own rate carries
-          // it to the impact time (error O(dt²)); the mean of both is taken.
-          // Other columns are interpolated linearly.
-          const double w = (imp.t - t_prev) / (t - t_prev);
-          imp.row.clear();
-          for (std::size_t k : kept) {
-            if (rate[k] != std::string::npos) {
-              const double from_before = prev[k] + prev[rate[k]] * (imp.t - t_prev);
-              const double from_after = cur[k] - cur[rate[k]] * (t - imp.t);
-              imp.row.push_back(0.5 * (from_before + from_after));
-            } else {
-              imp.row.push_back(prev[k] + w * (cur[k] - prev[k]));
-            }
-          }
+          imp.row = row_at_impact(imp.t, kept, rate, prev, t_prev, cur, t);
         } else {
           imp.row = keep(cur);
         }

@@ -13,6 +13,16 @@
 
 namespace lagrangian::plots_detail {
 
+inline constexpr std::size_t kMaxImpactLines = 50;    // beyond, impact times are ticks, not lines across
+inline constexpr std::size_t kMaxImpactCircles = 50;  // beyond, impact positions are small translucent dots
+inline constexpr std::size_t kMaxLinesPerPanel = 10;  // coordinates drawn per unit panel (one colour each)
+inline constexpr int kMaxPhasePanels = 4;
+
+// Height / width of the plot area of a 1000×700 page with a title and axis
+// labels, with and without a legend on the right.
+inline constexpr double kAspectWithKey = 0.74;
+inline constexpr double kAspectNoKey = 0.64;
+
 constexpr std::size_t kLegendBodies = 10;      // at most this many bodies get a legend entry
 constexpr std::size_t kMaxBodiesUnlabelled = 40;  // up to this many bodies are drawn without legend
 
@@ -89,6 +99,9 @@ class ScriptWriter {
   // 1. Particle paths, or the path in configuration space.
   void trajectory();
   void particle_trajectory();
+  std::pair<int, int> particle_axes() const;
+  std::size_t start_and_impact_points(const std::vector<std::size_t>& drawable, const std::vector<std::size_t>& hcols,
+                                      const std::vector<std::size_t>& vcols, bool in_plane);
   void generalized_trajectory();
   // Inside a plot of axis `ah` (0–2; −1: t) against axis `av`, in the ranges
   // hr × vr: the planes that stand across it as lines (set arrow), named.

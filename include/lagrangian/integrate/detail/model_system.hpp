@@ -479,6 +479,8 @@ class ModelSystem final : public System {
   }
 
   void start_constraints(State<n>& x0, Columns& columns);
+  /// The contacts at t0 (run_constraints.hpp); the resting ones.
+  ActiveSet start_contacts(State<n>& x0, ConstraintState<n, constraint_count_v<M>>& cs, double qs);
   /// Residuals of the constraint state cs into the report (run_constraints.hpp).
   template <class CS>
   void record_residuals(CS cs, bool at_step);

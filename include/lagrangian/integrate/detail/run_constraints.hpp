@@ -115,6 +115,73 @@ void ModelSystem<M>::monitor_conditioning(CS cs, double t) {
   }
 }
 
+/// The contacts at t0: a gap below zero is an error naming the contact; a
+/// touching contact rests where the forces press it shut, and one
+/// approaching faster than the touch speed is an impact resolved here (x0
+/// and cs are then those after it). Returns the resting contacts.
+template <class M>
+ActiveSet ModelSystem<M>::start_contacts(State<n>& x0, ConstraintState<n, constraint_count_v<M>>& cs, double qs) {
+  ActiveSet active;
+  const ConstraintReport& cr = report_.constraints;
+  const int contacts = unilateral_count(model_);
+  restitution_ = restitution_coefficients(model_);
+  if constexpr (unilateral_count_v<M> == Dynamic) {
+    history_.assign(static_cast<std::size_t>(contacts), ContactHistory{});
+  } else {
+    history_.fill(ContactHistory{});
+  }
+  for (auto* v : {&gap_in_, &rate_in_}) v->setZero(contacts);
+  if (ctx_ && contacts > 0) contacts_ = std::make_unique<Contacts>(*this);
+  bool approaching = false;
+  for (int j = 0; j < contacts; ++j) {
+    const int row = holonomic_count(model_) + j;
+    const double g = cs.position[row], gd = cs.velocity[row];
+    if (g < -1e-9 * qs) {
+      std::ostringstream os;
+      os.precision(17);
+      os << "unilateral constraint " << cr.names[static_cast<std::size_t>(row)] << " is violated at t0: g = " << g
+         << " (the bodies overlap); start on or outside the admissible side";
+      throw ConstraintError(os.str());
+    }
+    if (std::abs(g) <= 1e-9 * qs) {
+      if (gd < -opt_.contact_touch_speed) {
+        approaching = true;  // an impact at t0
+      } else if (gd <= opt_.contact_touch_speed) {
+        active.insert(j);  // resting contact, if pressed (below)
+      }
+    }
+  }
+  if (ctx_) ctx_->active = active;
+  // A contact touching at t0 rests only where the forces press it shut.
+  for (int j = 0; j < contacts && ctx_; ++j)
+    if (active.contains(j) && !(gap_acceleration(x0.q, x0.qd, opt_.t0, j) < 0)) {
+      active.erase(j);
+      ctx_->active = active;
+    }
+  if (approaching) {
+    if constexpr (!has_restitution_v<M>) {
+      throw ConstraintError("a unilateral constraint is approached at t0 (an impact) but the model declares no "
+                            "restitution(); start at rest relative to it, or declare restitution()");
+    }
+    StateBuffer<n> xb = make_buffer<n>(size_);
+    for (int i = 0; i < size_; ++i) {
+      xb[static_cast<std::size_t>(i)] = x0.q[i];
+      xb[static_cast<std::size_t>(size_ + i)] = x0.qd[i];
+    }
+    for (int j = 0; j < contacts; ++j) {
+      const int row = holonomic_count(model_) + j;
+      if (std::abs(cs.position[row]) <= 1e-9 * qs && cs.velocity[row] < -opt_.contact_touch_speed) {
+        resolve_contacts(xb.data(), opt_.t0, j);
+        break;
+      }
+    }
+    split_state(xb.data(), x0.q, x0.qd);
+    active = ctx_ ? ctx_->active : active;
+    cs = constraint_state(model_, x0.q, x0.qd, opt_.t0);
+  }
+  return active;
+}
+
 template <class M>
 void ModelSystem<M>::start_constraints(State<n>& x0, Columns& columns) {
   if constexpr (has_constraints_v<M>) {
@@ -151,65 +218,7 @@ void ModelSystem<M>::start_constraints(State<n>& x0, Columns& columns) {
     for (const auto& r : dof.redundant)
       cr.warnings.push_back(redundant_constraint_warning(r));
     ActiveSet active;
-    const int contacts = unilateral_count(model_);
-    (void)contacts;
-    if constexpr (unilateral_count_v<M> != 0) {
-      restitution_ = restitution_coefficients(model_);
-      if constexpr (unilateral_count_v<M> == Dynamic) {
-        history_.assign(static_cast<std::size_t>(contacts), ContactHistory{});
-      } else {
-        history_.fill(ContactHistory{});
-      }
-      for (auto* v : {&gap_in_, &rate_in_}) v->setZero(contacts);
-      if (ctx_ && contacts > 0) contacts_ = std::make_unique<Contacts>(*this);
-      bool approaching = false;
-      for (int j = 0; j < contacts; ++j) {
-        const int row = holonomic_count(model_) + j;
-        const double g = cs.position[row], gd = cs.velocity[row];
-        if (g < -1e-9 * qs) {
-          std::ostringstream os;
-          os.precision(17);
-          os << "unilateral constraint " << cr.names[static_cast<std::size_t>(row)] << " is violated at t0: g = " << g
-             << " (the bodies overlap); start on or outside the admissible side";
-          throw ConstraintError(os.str());
-        }
-        if (std::abs(g) <= 1e-9 * qs) {
-          if (gd < -opt_.contact_touch_speed) {
-            approaching = true;  // an impact at t0
-          } else if (gd <= opt_.contact_touch_speed) {
-            active.insert(j);  // resting contact, if pressed (below)
-          }
-        }
-      }
-      if (ctx_) ctx_->active = active;
-      // A contact touching at t0 rests only where the forces press it shut.
-      for (int j = 0; j < contacts && ctx_; ++j)
-        if (active.contains(j) && !(gap_acceleration(x0.q, x0.qd, opt_.t0, j) < 0)) {
-          active.erase(j);
-          ctx_->active = active;
-        }
-      if (approaching) {
-        if constexpr (!has_restitution_v<M>) {
-          throw ConstraintError("a unilateral constraint is approached at t0 (an impact) but the model declares no "
-                                "restitution(); start at rest relative to it, or declare restitution()");
-        }
-        StateBuffer<n> xb = make_buffer<n>(size_);
-        for (int i = 0; i < size_; ++i) {
-          xb[static_cast<std::size_t>(i)] = x0.q[i];
-          xb[static_cast<std::size_t>(size_ + i)] = x0.qd[i];
-        }
-        for (int j = 0; j < contacts; ++j) {
-          const int row = holonomic_count(model_) + j;
-          if (std::abs(cs.position[row]) <= 1e-9 * qs && cs.velocity[row] < -opt_.contact_touch_speed) {
-            resolve_contacts(xb.data(), opt_.t0, j);
-            break;
-          }
-        }
-        split_state(xb.data(), x0.q, x0.qd);
-        active = ctx_ ? ctx_->active : active;
-        cs = constraint_state(model_, x0.q, x0.qd, opt_.t0);
-      }
-    }
+    if constexpr (unilateral_count_v<M> != 0) active = start_contacts(x0, cs, qs);
     if (ctx_) ctx_->active = active;
     drop_inactive(model_, cs, active);
     for (int i = 0; i < constraint_count(model_); ++i) {

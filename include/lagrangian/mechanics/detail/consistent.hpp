@@ -242,6 +242,154 @@ struct ConsistentCandidate {
   bool rigid = false;       ///< rank n and workless constraints: no motion left at q
 };
 
+/// The consistent points reached from several starts (Gauss–Newton from
+/// the guess, SLSQP on ‖q − q_g‖² subject to g = 0, q_g ± d eᵢ), each slid
+/// to a stationary point of the distance, distinct, with their rank; the
+/// starts counted in rep.starts and the first failure kept in first_error.
+template <class M>
+std::vector<ConsistentCandidate<coordinate_count_v<M>>> consistent_candidates(
+    const M& model, const State<coordinate_count_v<M>>& guess, double t, double tolerance, ConsistentStateReport& rep,
+    std::optional<ConstraintError>& first_error) {
+  constexpr int n = coordinate_count_v<M>;
+  const int size = static_cast<int>(guess.q.size()), mh = holonomic_count(model);
+  // Counting constraints would refuse an over-constrained mechanism whose
+  // rows are dependent (three parallel cranks: 3 rows, rank 2, 1 DOF); the
+  // rank is judged on each candidate, where it is meaningful.
+  std::vector<detail::ConsistentCandidate<n>> found;
+  auto try_from = [&](const Vec<double, n>& start) {
+    ++rep.starts;
+    Vec<double, n> q = start;
+    detail::levenberg_marquardt_onto(model, q, t);  // then Gauss–Newton to the tolerance
+    try {
+      project_positions(model, q, t, tolerance, 50, ActiveSet{});
+    } catch (const ConstraintError& e) {
+      if (!first_error) first_error = e;
+      return;
+    }
+    detail::ConsistentCandidate<n> c;
+    c.stationarity = detail::slide_to_nearest(model, guess.q, q, t, tolerance);
+    c.q = q;
+    c.distance = (q - guess.q).norm();
+    for (const auto& f : found)
+      if ((f.q - q).template lpNorm<Eigen::Infinity>() <= 1e-8 * (1.0 + q.template lpNorm<Eigen::Infinity>()))
+        return;
+    c.rank = detail::numeric_rank(detail::holonomic_jacobian(model, q, t));
+    State<n> at = guess;
+    at.q = q;
+    c.rigid = c.rank >= size && detail::constraints_workless(model, at, t);
+    found.push_back(c);
+  };
+  auto nearest_so_far = [&]() {
+    double d = std::numeric_limits<double>::infinity();
+    for (const auto& f : found) d = std::min(d, f.distance);
+    return d;
+  };
+  // 1. Gauss–Newton from the guess itself.
+  try_from(guess.q);
+  // 2. SLSQP on (1) with AD gradients (it can stop at a singular
+  //    configuration, where its subproblems degenerate; it is one start
+  //    among several, not the answer).
+  if (!(nearest_so_far() == 0.0)) {
+    detail::ConsistencyProblem<M> problem{&model, guess.q, t};
+    std::unique_ptr<nlopt_opt_s, decltype(&nlopt_destroy)> opt(
+        nlopt_create(NLOPT_LD_SLSQP, static_cast<unsigned>(size)), &nlopt_destroy);
+    nlopt_set_min_objective(opt.get(), &detail::consistency_objective<M>, &problem);
+    std::vector<double> tol(static_cast<std::size_t>(mh), 1e-14);
+    nlopt_add_equality_mconstraint(opt.get(), mh, &detail::consistency_constraints<M>, &problem, tol.data());
+    nlopt_set_xtol_rel(opt.get(), 1e-14);
+    nlopt_set_maxeval(opt.get(), 500);
+    std::vector<double> x(guess.q.data(), guess.q.data() + size);
+    double f = 0;
+    const nlopt_result r = nlopt_optimize(opt.get(), x.data(), &f);
+    Vec<double, n> xq(size);
+    for (int i = 0; i < size; ++i) xq[i] = x[static_cast<std::size_t>(i)];
+    if ((r > 0 || r == NLOPT_ROUNDOFF_LIMITED) && xq.allFinite()) try_from(xq);
+  }
+  // 3. q_g ± d eᵢ, d the nearest distance so far.
+  const double d0 = nearest_so_far();
+  const double spread = std::isfinite(d0) ? d0 : 1.0 + guess.q.norm();
+  if (spread > 0) {
+    for (int i = 0; i < size; ++i)
+      for (double sign : {1.0, -1.0}) {
+        Vec<double, n> start = guess.q;
+        start[i] += sign * spread;
+        try_from(start);
+      }
+  }
+  return found;
+}
+
+/// A few more Gauss–Newton steps on g(q, t) = 0, kept while they reduce
+/// ‖g‖: the projection stops at tolerance · (1 + ‖q‖∞), these take g to
+/// round-off.
+template <class M>
+void polish_positions(const M& model, Vec<double, coordinate_count_v<M>>& q, double t) {
+  constexpr int n = coordinate_count_v<M>;
+  constexpr int MH = holonomic_count_v<M>;
+  const int size = static_cast<int>(q.size()), mh = holonomic_count(model);
+  detail::MinNormSolver solver(mh, size);
+  const Vec<double, n> zero = Vec<double, n>::Zero(size);
+  Vec<double, MH> g = constraint_state(model, q, zero, t).position.head(mh);
+  for (int it = 0; it < 3; ++it) {
+    const Eigen::Matrix<double, MH, n> G = detail::holonomic_jacobian(model, q, t);
+    solver.factorize(G.data());
+    Vec<double, n> dq(size);
+    solver.solve(g.data(), dq.data());
+    const Vec<double, n> trial = q - dq;
+    const Vec<double, MH> gt = constraint_state(model, trial, zero, t).position.head(mh);
+    if (!(gt.norm() < g.norm())) break;
+    q = trial;
+    g = gt;
+  }
+}
+
+/// q̇ projected onto C q̇ + c = 0 in the metric of M; a ConstraintError
+/// naming the constraint (`names`: constraint_names()) when a velocity
+/// residual stays; the residuals into rep.
+template <class M>
+void make_velocities_consistent(const M& model, State<coordinate_count_v<M>>& s, double t, double tolerance,
+                                const std::vector<std::string>& names, ConsistentStateReport& rep) {
+  constexpr int n = coordinate_count_v<M>;
+  const int size = static_cast<int>(s.q.size()), mh = holonomic_count(model);
+  Workspace<n> ws(size);
+  project_velocities(model, ws, s.q, s.qd, t, ActiveSet{});
+  auto cs = constraint_state(model, s.q, s.qd, t);
+  drop_inactive(model, cs, ActiveSet{});
+  const double scale = 1.0 + s.qd.template lpNorm<Eigen::Infinity>();
+  for (int i = 0; i < constraint_count(model); ++i) {
+    if (!(std::abs(cs.velocity[i]) <= 1e3 * tolerance * scale)) {
+      std::ostringstream os;
+      os.precision(17);
+      os << "cannot make the velocities consistent: constraint " << names[static_cast<std::size_t>(i)]
+         << " has velocity residual " << cs.velocity[i] << " after projection (rank-deficient constraints at t = "
+         << t << "?)";
+      throw ConstraintError(os.str());
+    }
+  }
+  if (mh > 0) rep.position_residual = cs.position.head(mh).template lpNorm<Eigen::Infinity>();
+  rep.velocity_residual = cs.velocity.template lpNorm<Eigen::Infinity>();
+}
+
+/// ConsistentStateReport::note: what was found and how sure it is.
+inline std::string consistent_note(const ConsistentStateReport& rep) {
+  std::ostringstream os;
+  os.precision(6);
+  if (rep.nearest_proven) {
+    os << "the guess is consistent in position: it is its own nearest point";
+  } else {
+    os << "nearest of " << rep.candidates << " distinct consistent point(s) reached from " << rep.starts
+       << " starts, at distance " << rep.distance << "; "
+       << (rep.local_minimum ? "a strict local minimum of the distance (first- and second-order conditions hold)"
+                             : "not verified to be a local minimum of the distance (tangent part " +
+                                   std::to_string(rep.stationarity) + ", curvature " +
+                                   std::to_string(rep.tangent_curvature) + ")")
+       << "; not proven the globally nearest (only the starts were searched)";
+    if (!rep.unique) os << "; another consistent point found is as near (the nearest is not unique)";
+    if (rep.rigid_nearer) os << "; a nearer point where the constraints fix every coordinate was passed over";
+  }
+  return os.str();
+}
+
 }  // namespace detail
 
 template <class M>
@@ -260,71 +408,9 @@ State<coordinate_count_v<M>> consistent_initial_state(const M& model, const Stat
   if constexpr (MH != 0) {
     if (mh > 0) {
       searched = true;
-      // Counting constraints would refuse an over-constrained mechanism whose
-      // rows are dependent (three parallel cranks: 3 rows, rank 2, 1 DOF); the
-      // rank is judged on each candidate, where it is meaningful.
-      std::vector<detail::ConsistentCandidate<n>> found;
       std::optional<ConstraintError> first_error;
-      auto try_from = [&](const Vec<double, n>& start) {
-        ++rep.starts;
-        Vec<double, n> q = start;
-        detail::levenberg_marquardt_onto(model, q, t);  // then Gauss–Newton to the tolerance
-        try {
-          project_positions(model, q, t, tolerance, 50, ActiveSet{});
-        } catch (const ConstraintError& e) {
-          if (!first_error) first_error = e;
-          return;
-        }
-        detail::ConsistentCandidate<n> c;
-        c.stationarity = detail::slide_to_nearest(model, guess.q, q, t, tolerance);
-        c.q = q;
-        c.distance = (q - guess.q).norm();
-        for (const auto& f : found)
-          if ((f.q - q).template lpNorm<Eigen::Infinity>() <= 1e-8 * (1.0 + q.template lpNorm<Eigen::Infinity>()))
-            return;
-        c.rank = detail::numeric_rank(detail::holonomic_jacobian(model, q, t));
-        State<n> at = guess;
-        at.q = q;
-        c.rigid = c.rank >= size && detail::constraints_workless(model, at, t);
-        found.push_back(c);
-      };
-      auto nearest_so_far = [&]() {
-        double d = std::numeric_limits<double>::infinity();
-        for (const auto& f : found) d = std::min(d, f.distance);
-        return d;
-      };
-      // 1. Gauss–Newton from the guess itself.
-      try_from(guess.q);
-      // 2. SLSQP on (1) with AD gradients (it can stop at a singular
-      //    configuration, where its subproblems degenerate; it is one start
-      //    among several, not the answer).
-      if (!(nearest_so_far() == 0.0)) {
-        detail::ConsistencyProblem<M> problem{&model, guess.q, t};
-        std::unique_ptr<nlopt_opt_s, decltype(&nlopt_destroy)> opt(
-            nlopt_create(NLOPT_LD_SLSQP, static_cast<unsigned>(size)), &nlopt_destroy);
-        nlopt_set_min_objective(opt.get(), &detail::consistency_objective<M>, &problem);
-        std::vector<double> tol(static_cast<std::size_t>(mh), 1e-14);
-        nlopt_add_equality_mconstraint(opt.get(), mh, &detail::consistency_constraints<M>, &problem, tol.data());
-        nlopt_set_xtol_rel(opt.get(), 1e-14);
-        nlopt_set_maxeval(opt.get(), 500);
-        std::vector<double> x(guess.q.data(), guess.q.data() + size);
-        double f = 0;
-        const nlopt_result r = nlopt_optimize(opt.get(), x.data(), &f);
-        Vec<double, n> xq(size);
-        for (int i = 0; i < size; ++i) xq[i] = x[static_cast<std::size_t>(i)];
-        if ((r > 0 || r == NLOPT_ROUNDOFF_LIMITED) && xq.allFinite()) try_from(xq);
-      }
-      // 3. q_g ± d eᵢ, d the nearest distance so far.
-      const double d0 = nearest_so_far();
-      const double spread = std::isfinite(d0) ? d0 : 1.0 + guess.q.norm();
-      if (spread > 0) {
-        for (int i = 0; i < size; ++i)
-          for (double sign : {1.0, -1.0}) {
-            Vec<double, n> start = guess.q;
-            start[i] += sign * spread;
-            try_from(start);
-          }
-      }
+      const std::vector<detail::ConsistentCandidate<n>> found =
+          detail::consistent_candidates(model, guess, t, tolerance, rep, first_error);
       if (found.empty()) throw *first_error;  // names every residual (project_positions)
       rep.candidates = static_cast<int>(found.size());
       const detail::ConsistentCandidate<n>* best = nullptr;
@@ -337,24 +423,7 @@ State<coordinate_count_v<M>> consistent_initial_state(const M& model, const Stat
         throw ConstraintError("the holonomic constraints fix all " + std::to_string(size) + " coordinates (rank " +
                               std::to_string(best_rigid->rank) + " at the consistent state): no motion is left");
       s.q = best->q;
-      // A few more Gauss–Newton steps, kept while they reduce ‖g‖: the
-      // projection stops at tolerance · (1 + ‖q‖∞), these take g to round-off.
-      {
-        detail::MinNormSolver solver(mh, size);
-        const Vec<double, n> zero = Vec<double, n>::Zero(size);
-        Vec<double, MH> g = constraint_state(model, s.q, zero, t).position.head(mh);
-        for (int it = 0; it < 3; ++it) {
-          const Eigen::Matrix<double, MH, n> G = detail::holonomic_jacobian(model, s.q, t);
-          solver.factorize(G.data());
-          Vec<double, n> dq(size);
-          solver.solve(g.data(), dq.data());
-          const Vec<double, n> trial = s.q - dq;
-          const Vec<double, MH> gt = constraint_state(model, trial, zero, t).position.head(mh);
-          if (!(gt.norm() < g.norm())) break;
-          s.q = trial;
-          g = gt;
-        }
-      }
+      detail::polish_positions(model, s.q, t);
       rep.distance = (s.q - guess.q).norm();
       rep.stationarity = best->stationarity;
       rep.rigid_nearer = best_rigid && best_rigid->distance < best->distance;
@@ -379,42 +448,9 @@ State<coordinate_count_v<M>> consistent_initial_state(const M& model, const Stat
     rep.nearest_proven = true;
     rep.local_minimum = true;
   }
-  if constexpr (has_constraints_v<M>) {
-    Workspace<n> ws(size);
-    project_velocities(model, ws, s.q, s.qd, t, ActiveSet{});
-    auto cs = constraint_state(model, s.q, s.qd, t);
-    drop_inactive(model, cs, ActiveSet{});
-    const double scale = 1.0 + s.qd.template lpNorm<Eigen::Infinity>();
-    for (int i = 0; i < constraint_count(model); ++i) {
-      if (!(std::abs(cs.velocity[i]) <= 1e3 * tolerance * scale)) {
-        std::ostringstream os;
-        os.precision(17);
-        os << "cannot make the velocities consistent: constraint " << names[static_cast<std::size_t>(i)]
-           << " has velocity residual " << cs.velocity[i] << " after projection (rank-deficient constraints at t = "
-           << t << "?)";
-        throw ConstraintError(os.str());
-      }
-    }
-    if (mh > 0) rep.position_residual = cs.position.head(mh).template lpNorm<Eigen::Infinity>();
-    rep.velocity_residual = cs.velocity.template lpNorm<Eigen::Infinity>();
-  }
+  if constexpr (has_constraints_v<M>) detail::make_velocities_consistent(model, s, t, tolerance, names, rep);
   if (report) {
-    std::ostringstream os;
-    os.precision(6);
-    if (rep.nearest_proven) {
-      os << "the guess is consistent in position: it is its own nearest point";
-    } else {
-      os << "nearest of " << rep.candidates << " distinct consistent point(s) reached from " << rep.starts
-         << " starts, at distance " << rep.distance << "; "
-         << (rep.local_minimum ? "a strict local minimum of the distance (first- and second-order conditions hold)"
-                               : "not verified to be a local minimum of the distance (tangent part " +
-                                     std::to_string(rep.stationarity) + ", curvature " +
-                                     std::to_string(rep.tangent_curvature) + ")")
-         << "; not proven the globally nearest (only the starts were searched)";
-      if (!rep.unique) os << "; another consistent point found is as near (the nearest is not unique)";
-      if (rep.rigid_nearer) os << "; a nearer point where the constraints fix every coordinate was passed over";
-    }
-    rep.note = os.str();
+    rep.note = detail::consistent_note(rep);
     *report = rep;
   }
   return s;

@@ -1,0 +1,114 @@
+#pragma once
+// Internal to the particle scenes' engine: the position-level constraint
+// rows g(r) = 0 (links, surfaces) and the contacts of a scene of bodies, on
+// the state x = [r; v] of 3N Cartesian positions (m) and velocities (m/s).
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "lagrangian/integrate/detail/contact_rules.hpp"
+#include "particle_forces.hpp"
+
+namespace lagrangian::scene::detail::particles {
+
+// -- constraint rows -----------------------------------------------------------
+
+/// One position-level constraint row g(r) = 0 with its gradient and γ, the
+/// part of g̈ that does not contain the accelerations (g̈ = ∇g·a + γ).
+struct Row {
+  enum class Kind { link, plane, sphere, rest_plane, rest_spheres };
+  Kind kind = Kind::link;
+  int a = -1, b = -1;  // bodies; b = -1 for a fixed end
+  Vector3d p = Vector3d::Zero(), n = Vector3d::Zero();
+  double length = 0;  // link L, sphere ρ, contact R or R_a + R_b
+  std::string name;
+
+  Vector3d d(const double* r) const { return at(r, a) - (b >= 0 ? at(r, b) : p); }
+  /// Unit of the row's multiplier: N/m for the rows ½(|d|² − L²), N for gaps in m.
+  const char* multiplier_unit() const { return kind == Kind::link || kind == Kind::sphere ? "N/m" : "N"; }
+  double value(const double* r) const {
+    switch (kind) {
+      case Kind::link: return 0.5 * (d(r).squaredNorm() - length * length);
+      case Kind::plane: return n.dot(at(r, a) - p);
+      case Kind::sphere: return 0.5 * ((at(r, a) - p).squaredNorm() - length * length);
+      case Kind::rest_plane: return n.dot(at(r, a) - p) - length;
+      case Kind::rest_spheres: return d(r).norm() - length;
+    }
+    return 0;
+  }
+  /// Gradient with respect to body a (body b gets its negative).
+  Vector3d grad(const double* r) const {
+    switch (kind) {
+      case Kind::link: return d(r);
+      case Kind::plane:
+      case Kind::rest_plane: return n;
+      case Kind::sphere: return at(r, a) - p;
+      case Kind::rest_spheres: return d(r).normalized();
+    }
+    return Vector3d::Zero();
+  }
+  double gamma(const double* r, const double* v) const {
+    const Vector3d dv = at(v, a) - (b >= 0 ? at(v, b) : Vector3d::Zero());
+    switch (kind) {
+      case Kind::link:
+      case Kind::sphere: return dv.squaredNorm();
+      case Kind::plane:
+      case Kind::rest_plane: return 0.0;
+      case Kind::rest_spheres: {
+        const Vector3d dd = d(r);
+        const double l = dd.norm();
+        const double radial = dd.dot(dv) / l;
+        return (dv.squaredNorm() - radial * radial) / l;
+      }
+    }
+    return 0;
+  }
+};
+
+/// C = ∂g/∂r of the rows (rows × dim): each row's gradient on body a and its
+/// negative on body b.
+inline void jacobian(const std::vector<Row>& rows, const double* r, int dim, Eigen::MatrixXd& C) {
+  C.setZero(static_cast<Eigen::Index>(rows.size()), dim);
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const auto row = static_cast<Eigen::Index>(k);
+    const Vector3d g = rows[k].grad(r);
+    C.block<1, 3>(row, 3 * rows[k].a) += g.transpose();
+    if (rows[k].b >= 0) C.block<1, 3>(row, 3 * rows[k].b) -= g.transpose();
+  }
+}
+
+// -- contacts ------------------------------------------------------------------
+
+struct Contact {
+  bool pair = false;  // sphere–sphere; else sphere–plane
+  int a = -1, b = -1;
+  Vector3d p = Vector3d::Zero(), n = Vector3d::Zero();
+  double R = 0;  // R_a (+ R_b)
+  double e = 1;
+  std::string name;
+  int id = -1;  // its number among the scene's contacts (ParticleModel::contact)
+  lagrangian::detail::ContactHistory history;  // for the Zeno rule
+  bool resting = false;
+
+  double gap(const double* r) const {
+    return pair ? (at(r, a) - at(r, b)).norm() - R : n.dot(at(r, a) - p) - R;
+  }
+  Vector3d normal(const double* r) const { return pair ? (at(r, a) - at(r, b)).normalized() : n; }
+  double rate(const double* r, const double* v) const {
+    const Vector3d dv = at(v, a) - (pair ? at(v, b) : Vector3d::Zero());
+    return normal(r).dot(dv);
+  }
+  /// φ and φ̇ from the positions and velocities of body a (and b for a pair).
+  lagrangian::detail::GapRate gap_rate(const Vector3d& ra, const Vector3d& va, const Vector3d& rb,
+                                       const Vector3d& vb) const {
+    if (!pair) return {n.dot(ra - p) - R, n.dot(va)};
+    const Vector3d d = ra - rb;
+    const double l = d.norm();
+    return {l - R, d.dot(va - vb) / l};
+  }
+};
+
+}  // namespace lagrangian::scene::detail::particles
