@@ -7,12 +7,6 @@
 
 namespace lagrangian::detail {
 
-void EnergyScale::meet(double energy) {
-  if (std::isfinite(energy)) largest_ = std::max(largest_, std::abs(energy));
-}
-
-void EnergyScale::meet(double kinetic, double potential) { meet(std::abs(kinetic) + std::abs(potential)); }
-
 void EnergyMonitor::start(RunReport& report, double h0) {
   pending_.clear();
   total_ = false;
@@ -43,32 +37,6 @@ void EnergyMonitor::apply_shifts(double t) {
     e0_ += pending_[k].dE;
   }
   pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(k));
-}
-
-void EnergyMonitor::sample(RunReport& report, double t, double h) {
-  apply_shifts(t);
-  h_last_ = h;
-  h_drift_ = std::max(h_drift_, std::abs(h - h0_));
-  scale_.meet(h);
-  rescale(report);
-}
-
-void EnergyMonitor::sample(RunReport& report, double t, double h, double kinetic, double potential) {
-  apply_shifts(t);
-  h_last_ = h;
-  h_drift_ = std::max(h_drift_, std::abs(h - h0_));
-  scale_.meet(h);
-  e_last_ = kinetic + potential;
-  e_drift_ = std::max(e_drift_, std::abs(e_last_ - e0_));
-  scale_.meet(kinetic, potential);
-  h_differs_ = std::max(h_differs_, std::abs(e_last_ - h));
-  rescale(report);
-}
-
-void EnergyMonitor::rescale(RunReport& report) const {
-  report.energy_scale = scale_.value();
-  report.energy_drift_max = h_drift_ / report.energy_scale;
-  if (total_) report.total_energy_drift_max = e_drift_ / report.energy_scale;
 }
 
 void EnergyMonitor::finish(RunReport& report, double t) {

@@ -2,14 +2,15 @@
 // The energy monitor of a run, the same for every adapter (ModelSystem, the
 // particle scenes' system): the drift of h and of E = T + V against their
 // values at the start, moved by what impacts take, relative to the run's
-// energy scale. Compiled once (src/integrate/energy_monitor.cpp).
+// energy scale. The per-sample part is inline (it runs at every sample);
+// the rest is compiled once (src/integrate/energy_monitor.cpp).
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
-namespace lagrangian {
-struct RunReport;
-}
+#include "lagrangian/integrate/report.hpp"
 
 namespace lagrangian::detail {
 
@@ -19,8 +20,10 @@ namespace lagrangian::detail {
 /// Non-finite values are not met. 1 J until a positive value is met.
 class EnergyScale {
  public:
-  void meet(double energy);
-  void meet(double kinetic, double potential);
+  void meet(double energy) {
+    if (std::isfinite(energy)) largest_ = std::max(largest_, std::abs(energy));
+  }
+  void meet(double kinetic, double potential) { meet(std::abs(kinetic) + std::abs(potential)); }
   double value() const { return largest_ > 0 ? largest_ : 1.0; }
 
  private:
@@ -44,16 +47,37 @@ class EnergyMonitor {
   /// it is, so dE = ΔT).
   void shift(double t, double dh, double dE);
   /// A sample at t with energy h (J).
-  void sample(RunReport& report, double t, double h);
+  void sample(RunReport& report, double t, double h) {
+    if (!pending_.empty()) apply_shifts(t);
+    h_last_ = h;
+    h_drift_ = std::max(h_drift_, std::abs(h - h0_));
+    scale_.meet(h);
+    rescale(report);
+  }
   /// A sample at t with energy h, T and V (J).
-  void sample(RunReport& report, double t, double h, double kinetic, double potential);
+  void sample(RunReport& report, double t, double h, double kinetic, double potential) {
+    if (!pending_.empty()) apply_shifts(t);
+    h_last_ = h;
+    h_drift_ = std::max(h_drift_, std::abs(h - h0_));
+    scale_.meet(h);
+    e_last_ = kinetic + potential;
+    e_drift_ = std::max(e_drift_, std::abs(e_last_ - e0_));
+    scale_.meet(kinetic, potential);
+    h_differs_ = std::max(h_differs_, std::abs(e_last_ - h));
+    rescale(report);
+  }
   /// The run ended at t: the final drifts, the final energies, and whether
   /// E equalled h at every sample (to 1e-9 of the scale).
   void finish(RunReport& report, double t);
 
  private:
+  /// Moves h₀ and E₀ by the shifts of the impacts at or before t.
   void apply_shifts(double t);
-  void rescale(RunReport& report) const;
+  void rescale(RunReport& report) const {
+    report.energy_scale = scale_.value();
+    report.energy_drift_max = h_drift_ / report.energy_scale;
+    if (total_) report.total_energy_drift_max = e_drift_ / report.energy_scale;
+  }
 
   struct Shift {
     double t, dh, dE;
