@@ -102,8 +102,8 @@ class StepPath {
 };
 
 /// The scene's contacts for detail::resolve_contacts, numbered by
-/// Contact::id. The change of kinetic energy at each impact goes to
-/// `shifts` as (t, ΔT), for the energy monitor.
+/// Contact::id. The change of kinetic energy ΔT at each impact at t goes to
+/// the energy monitor (EnergyMonitor::shift: h and E move alike here).
 class ParticleContacts final : public lagrangian::detail::ContactSystem {
  public:
   ParticleContacts(ParticleModel& model, lagrangian::detail::EnergyMonitor& energy)
