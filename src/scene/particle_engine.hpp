@@ -60,6 +60,10 @@ class ComposedRhs {
 /// as a System for the one driver (integrate.hpp).
 ParticleRun run_particles(const Scene& scene, const ParticleOutput& output, const SampleTick& tick);
 
+/// The state x = [r; v] of the scene's bodies at t0: 3N positions (m),
+/// then 3N velocities (m/s).
+std::vector<double> initial_state(const Scene& scene);
+
 /// True when the bodies fly freely between contacts: sphere or box contacts,
 /// a box, and no effect or constraint (the exact event-driven engine applies).
 bool event_driven_eligible(const Scene& scene);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "json_object.hpp"
+#include "lagrangian/integrate/detail/point_momenta_monitor.hpp"
 #include "lagrangian/mechanics/constraints.hpp"
 #include "particle_engine.hpp"
 #include "particle_model.hpp"
@@ -127,19 +128,12 @@ std::string inspect_particles(const Scene& scene, bool as_json) {
   inspect_bodies(scene, os, js);
   // Degrees of freedom from the rank of the constraint Jacobian at t0.
   const auto& rows = sys.rows();
-  std::vector<double> x(static_cast<std::size_t>(6 * n), 0.0);
-  for (int i = 0; i < n; ++i)
-    for (int k = 0; k < 3; ++k) {
-      x[static_cast<std::size_t>(3 * i + k)] = scene.bodies[static_cast<std::size_t>(i)].position[k];
-      x[static_cast<std::size_t>(3 * n + 3 * i + k)] = scene.bodies[static_cast<std::size_t>(i)].velocity[k];
-    }
+  const std::vector<double> x = initial_state(scene);
   inspect_constraints(rows, x, n, os, js);
-  Eigen::Vector3d P = Eigen::Vector3d::Zero(), L = Eigen::Vector3d::Zero();
-  for (int i = 0; i < n; ++i) {
-    const Body& b = scene.bodies[static_cast<std::size_t>(i)];
-    P += b.mass * b.velocity;
-    L += b.position.cross(b.mass * b.velocity);
-  }
+  // P and L about the origin, summed as the runs sum them.
+  lagrangian::detail::PointMomenta momenta({0.0, 0.0, 0.0});
+  for (const Body& b : scene.bodies) momenta.add(b.mass, b.position.data(), b.velocity.data());
+  const Eigen::Map<const Eigen::Vector3d> P(momenta.linear().data()), L(momenta.angular().data());
   os << "momentum     P = (" << P.transpose() << ") kg*m/s, L about the origin = (" << L.transpose() << ") kg*m^2/s\n";
   const double T = sys.kinetic(x.data()), V = sys.potential(x.data());
   os << "energy       T = " << T << " J, V = " << V << " J, E = T + V = " << T + V << " J\n";

@@ -242,7 +242,6 @@ class ParticleSystem final : public lagrangian::System {
 
   void start(double* x, double t0) override {
     rep_.conservative = !model_.dissipative();
-    rep_.has_total_energy = true;
     const double T0 = model_.kinetic(x), V0 = model_.potential(x);
     energy_.start(rep_, T0 + V0, T0, V0);  // h = T + V: particles in fixed surroundings
     rep_.has_particles = true;
@@ -436,6 +435,17 @@ class ParticleSystem final : public lagrangian::System {
 
 }  // namespace
 
+std::vector<double> initial_state(const Scene& scene) {
+  const std::size_t dim = 3 * scene.bodies.size();
+  std::vector<double> x(2 * dim, 0.0);
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      x[3 * i + static_cast<std::size_t>(k)] = scene.bodies[i].position[k];
+      x[dim + 3 * i + static_cast<std::size_t>(k)] = scene.bodies[i].velocity[k];
+    }
+  return x;
+}
+
 ParticleRun run_particles(const Scene& scene, const ParticleOutput& output, const SampleTick& tick) {
   const MethodInfo& method = method_info(scene.run.method);
   // The variational and symplectic steppers work on a model's L or its separable form.
@@ -458,13 +468,7 @@ ParticleRun run_particles(const Scene& scene, const ParticleOutput& output, cons
   rep.t0 = opt.t0;
   rep.t_end = opt.t_end;
   ParticleSystem system(scene, opt, output, tick, out);
-  const int dim = system.coordinate_count();
-  std::vector<double> x(static_cast<std::size_t>(2 * dim), 0.0);
-  for (int i = 0; i < dim / 3; ++i)
-    for (int k = 0; k < 3; ++k) {
-      x[static_cast<std::size_t>(3 * i + k)] = scene.bodies[static_cast<std::size_t>(i)].position[k];
-      x[static_cast<std::size_t>(dim + 3 * i + k)] = scene.bodies[static_cast<std::size_t>(i)].velocity[k];
-    }
+  std::vector<double> x = initial_state(scene);
   integrate(system, x, opt, rep);
   rep.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return out;
