@@ -60,6 +60,10 @@ class ComposedRhs {
 /// as a System for the one driver (integrate.hpp).
 ParticleRun run_particles(const Scene& scene, const ParticleOutput& output, const SampleTick& tick);
 
+/// The names of the bodies' coordinates, "<body>.x", "<body>.y", "<body>.z"
+/// for each body in order (the columns of trajectory.csv).
+std::vector<std::string> body_coordinates(const Scene& scene);
+
 /// The state x = [r; v] of the scene's bodies at t0: 3N positions (m),
 /// then 3N velocities (m/s).
 std::vector<double> initial_state(const Scene& scene);

@@ -435,6 +435,13 @@ class ParticleSystem final : public lagrangian::System {
 
 }  // namespace
 
+std::vector<std::string> body_coordinates(const Scene& scene) {
+  std::vector<std::string> names;
+  for (const Body& b : scene.bodies)
+    for (const char* axis : {".x", ".y", ".z"}) names.push_back(b.name + axis);
+  return names;
+}
+
 std::vector<double> initial_state(const Scene& scene) {
   const std::size_t dim = 3 * scene.bodies.size();
   std::vector<double> x(2 * dim, 0.0);
@@ -458,8 +465,7 @@ ParticleRun run_particles(const Scene& scene, const ParticleOutput& output, cons
   ParticleRun out;
   RunReport& rep = out.report;
   rep.model = scene.name;
-  for (const auto& b : scene.bodies)
-    for (const char* ax : {".x", ".y", ".z"}) rep.coordinates.push_back(b.name + ax);
+  rep.coordinates = body_coordinates(scene);
   rep.method = method.name;
   rep.adaptive = method.adaptive;
   rep.rtol = opt.rtol;

@@ -227,8 +227,7 @@ void run_model(const Scene& scene, const std::string& csv_path, const detail::Sa
 void run_bodies(const Scene& scene, const std::string& csv_path, const detail::SampleTick& tick, RunResult& result) {
   std::optional<CsvSink> csv;
   Columns columns;
-  for (const Body& b : scene.bodies)
-    for (const char* ax : {".x", ".y", ".z"}) columns.coordinates.push_back(b.name + ax);
+  columns.coordinates = detail::body_coordinates(scene);
   columns.units.assign(columns.coordinates.size(), "m");
   columns.total_energy = false;
   if (!csv_path.empty()) csv.emplace(csv_path);

@@ -12,6 +12,7 @@
 
 #include "sweep_detail.hpp"
 #include "lagrangian/errors.hpp"
+#include "particle_engine.hpp"
 #include "toml_document.hpp"
 #include "lagrangian/scene/models.hpp"
 #include "lagrangian/scene/run.hpp"
@@ -50,8 +51,7 @@ std::vector<std::string> trajectory_names(const Scene& scene) {
   } else {
     Scene expanded = scene;
     expanded.expand_gas();
-    for (const Body& b : expanded.bodies)
-      for (const char* axis : {".x", ".y", ".z"}) coords.push_back(b.name + axis);
+    coords = body_coordinates(expanded);
   }
   std::vector<std::string> names{"t"};
   names.insert(names.end(), coords.begin(), coords.end());
