@@ -14,13 +14,21 @@ namespace {
 
 using namespace lagrangian::scene;
 
+// Runs here write nothing: ctest runs these tests side by side, and a
+// shared output directory would have one run remove another's files.
+RunResult run_quietly(const Scene& scene) {
+  RunControls quiet;
+  quiet.write_outputs = false;
+  return run(scene, quiet);
+}
+
 const char* kOutputsOff = R"toml(
 [run]
 t_end = 5.0
 rtol = 1e-12
 atol = 1e-12
 [output]
-directory = "out-text-scene"
+# (the runs write nothing: run_quietly)
 trajectory = false
 plots = false
 animation = false
@@ -50,7 +58,7 @@ TEST(TextScene, RunsAsTheBuiltInSphericalPendulumDoes) {
   ASSERT_TRUE(text.model && text.model->text);
   const Scene built_in = parse_scene(std::string("name = \"built-in\"\n") + kOutputsOff +
                                      "[model]\nname = \"spherical_pendulum\"" + kStateAndParameters);
-  const RunResult a = run(text), b = run(built_in);
+  const RunResult a = run_quietly(text), b = run_quietly(built_in);
   EXPECT_EQ(a.engine, "model");
   ASSERT_EQ(a.q_final.size(), 2u);
   for (std::size_t i = 0; i < 2; ++i) {
@@ -188,7 +196,7 @@ RunResult run_model_text(const std::string& model, double t_end) {
   std::string s = std::string("name = \"points\"\n") + kOutputsOff + "[model]\n" + model;
   const std::string from = "t_end = 5.0", to = "t_end = " + std::to_string(t_end);
   s.replace(s.find(from), from.size(), to);
-  return run(parse_scene(s));
+  return run_quietly(parse_scene(s));
 }
 
 // Two statements of one system: a built-in particle model (particles() at
