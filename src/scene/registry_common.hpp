@@ -6,8 +6,9 @@
 // A registry TU describes each model by a small definition struct
 //
 //   struct SimplePendulumDef {
-//     using Model = models::SimplePendulum;
-//     static constexpr std::string_view name = "simple_pendulum";        // as in the catalog
+//     using Model = models::SimplePendulum;                 // its name from Model::description
+//     // or, for a preset of a template model (models::presets):
+//     // static constexpr const auto& description = models::presets::newtons_cradle;
 //     static constexpr std::string_view type = "models::SimplePendulum"; // for inspect
 //     static Model build(const Parameters& p);                           // may throw ParameterError
 //     static State<coordinate_count_v<Model>> initial(const Model& m, double t0);       // the default state
@@ -105,6 +106,23 @@ std::string inspect_header(const ModelInfo& info, std::string_view type, const P
 void inspect_header_json(JsonObject& js, const ModelInfo& info, std::string_view type, const Parameters& p);
 
 // -- building a model and its initial state -------------------------------------
+
+/// The name a scene gives the model of `Def`: its preset's (Def::description)
+/// or its model's own (Model::description).
+template <class Def>
+constexpr std::string_view name_of() {
+  if constexpr (requires { Def::description; }) {
+    return Def::description.name;
+  } else {
+    return Def::Model::description.name;
+  }
+}
+
+/// The catalog entry of the model of `Def`.
+template <class Def>
+const ModelInfo& info_of() {
+  return catalog_entry(name_of<Def>());
+}
 
 template <class Def>
 ParameterAlias alias_of() {
@@ -285,7 +303,7 @@ State<coordinate_count_v<typename Def::Model>> default_state(const ModelInfo& in
 template <class Def>
 RunReport run_entry(const ModelSpec& spec, const SimulationOptions& options, const std::string& csv_path,
                     const SampleTick& tick, FinalState* final_state) {
-  const ModelInfo& info = catalog_entry(Def::name);
+  const ModelInfo& info = info_of<Def>();
   const Parameters p(info, spec);
   const typename Def::Model model = build_model<Def>(info, p);
   const auto initial = initial_state(info, spec, default_state<Def>(info, model, options.t0));
@@ -295,13 +313,13 @@ RunReport run_entry(const ModelSpec& spec, const SimulationOptions& options, con
 /// q̈, p, M and h of the model of `spec` at (q, q̇, t) (ModelEntry::eom).
 template <class Def>
 lagrangian::detail::EomSample eom_entry(const ModelSpec& spec, const double* q, const double* qd, double t) {
-  const ModelInfo& info = catalog_entry(Def::name);
+  const ModelInfo& info = info_of<Def>();
   return lagrangian::detail::eom_sample(build_model<Def>(info, Parameters(info, spec)), q, qd, t);
 }
 
 template <class Def>
 std::string inspect_entry(const ModelSpec& spec, double t0, bool as_json) {
-  const ModelInfo& info = catalog_entry(Def::name);
+  const ModelInfo& info = info_of<Def>();
   const Parameters p(info, spec);
   const typename Def::Model model = build_model<Def>(info, p);
   const auto initial = initial_state(info, spec, default_state<Def>(info, model, t0));
@@ -310,7 +328,7 @@ std::string inspect_entry(const ModelSpec& spec, double t0, bool as_json) {
 
 template <class Def>
 std::string analyse_entry(const ModelSpec& spec, double t0, const AnalysisRequest& request) {
-  const ModelInfo& info = catalog_entry(Def::name);
+  const ModelInfo& info = info_of<Def>();
   const Parameters p(info, spec);
   const typename Def::Model model = build_model<Def>(info, p);
   const auto initial = initial_state(info, spec, default_state<Def>(info, model, t0));
@@ -319,7 +337,7 @@ std::string analyse_entry(const ModelSpec& spec, double t0, const AnalysisReques
 
 template <class Def>
 BvpResult bvp_entry(const ModelSpec& spec, const BvpRequest& request, DiscreteRule rule) {
-  const ModelInfo& info = catalog_entry(Def::name);
+  const ModelInfo& info = info_of<Def>();
   const Parameters p(info, spec);
   const typename Def::Model model = build_model<Def>(info, p);
   return solve_model_bvp(model, info, request, rule);

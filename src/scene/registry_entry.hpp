@@ -43,7 +43,7 @@ std::vector<std::array<int, 3>> particle_axes_entry(const ModelSpec& spec) {
   using M = typename Def::Model;
   std::vector<std::array<int, 3>> axes;
   if constexpr (has_particles_v<M> && !places_v<Def>) {
-    const ModelInfo& info = catalog_entry(Def::name);
+    const ModelInfo& info = info_of<Def>();
     const Parameters p(info, spec);
     const M model = build_model<Def>(info, p);
     for (const Particle& part : model.particles()) axes.push_back(part.axes);
@@ -57,7 +57,7 @@ view::Figure picture_entry(const ModelSpec& spec, const double* t, const double*
   using M = typename Def::Model;
   constexpr bool has_figure = requires(const M& m) { Def::figure(m); };
   constexpr bool has_place = places_v<Def>;
-  const ModelInfo& info = catalog_entry(Def::name);
+  const ModelInfo& info = info_of<Def>();
   const Parameters p(info, spec);
   const M model = build_model<Def>(info, p);
   view::Figure figure;
@@ -98,7 +98,7 @@ view::Figure picture_entry(const ModelSpec& spec, const double* t, const double*
 /// The registry entry of a model definition.
 template <class Def>
 ModelEntry entry() {
-  return ModelEntry{std::string(Def::name), &run_entry<Def>, &inspect_entry<Def>, &analyse_entry<Def>,
+  return ModelEntry{std::string(name_of<Def>()), &run_entry<Def>, &inspect_entry<Def>, &analyse_entry<Def>,
                     &bvp_entry<Def>, &picture_entry<Def>, &particle_axes_entry<Def>, &eom_entry<Def>};
 }
 

@@ -22,7 +22,7 @@ namespace lm = lagrangian::models;
 
 struct DirectImpactDef {
   using Model = lm::SpheresOnLine<2>;
-  static constexpr std::string_view name = "direct_impact";
+  static constexpr const auto& description = lm::presets::direct_impact;
   static constexpr std::string_view type = "models::SpheresOnLine<2>";
   static Model build(const Parameters& p) { return Model({p["m1"], p["m2"]}, {p["r1"], p["r2"]}, p["e"]); }
   /// 0.5 m apart (surface to surface), closing at 1.5 m/s: impact at t = 1/3 s.
@@ -43,7 +43,7 @@ struct DirectImpactDef {
 
 struct NewtonsCradleDef {
   using Model = lm::SpheresOnLine<5>;
-  static constexpr std::string_view name = "newtons_cradle";
+  static constexpr const auto& description = lm::presets::newtons_cradle;
   static constexpr std::string_view type = "models::SpheresOnLine<5>";
   static Model build(const Parameters& p) {
     const double m = p["m"], r = p["r"];
@@ -69,7 +69,7 @@ struct NewtonsCradleDef {
 
 struct ObliqueImpactDef {
   using Model = lm::TwoSpheres<2>;
-  static constexpr std::string_view name = "oblique_impact";
+  static constexpr const auto& description = lm::presets::oblique_impact;
   static constexpr std::string_view type = "models::TwoSpheres<2>";
   static Model build(const Parameters& p) { return Model(p["m1"], p["m2"], p["r1"], p["r2"], p["e"]); }
   /// Sphere 1 at the origin moving along +x at 1 m/s; sphere 2 at rest,
@@ -93,7 +93,6 @@ struct ObliqueImpactDef {
 
 struct BallAndPlaneDef {
   using Model = lm::BallAndPlane;
-  static constexpr std::string_view name = "ball_and_plane";
   static constexpr std::string_view type = "models::BallAndPlane";
   static Model build(const Parameters& p) {
     return Model(p["m"], p["R"], p["e"], p["g"], {p["nx"], p["ny"], p["nz"]}, p["offset"]);
@@ -120,7 +119,7 @@ struct BallAndPlaneDef {
 
 struct SpheresInBoxDef {
   using Model = lm::SpheresInBox<3>;
-  static constexpr std::string_view name = "spheres_in_box";
+  static constexpr const auto& description = lm::presets::spheres_in_box;
   static constexpr std::string_view type = "models::SpheresInBox<3>";
   static Model build(const Parameters& p) {
     const double m = p["m"], r = p["r"];

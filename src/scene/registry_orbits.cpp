@@ -20,7 +20,7 @@ namespace lm = lagrangian::models;
 
 struct TwoBodyDef {
   using Model = lm::TwoBody<2>;
-  static constexpr std::string_view name = "two_body";
+  static constexpr const auto& description = lm::presets::two_body;
   static constexpr std::string_view type = "models::TwoBody<2, models::NewtonianGravity>";
   static Model build(const Parameters& p) {
     // NewtonianGravity takes any k; k <= 0 would not attract.
@@ -37,7 +37,7 @@ struct TwoBodyDef {
 
 struct KeplerDef {
   using Model = lm::RelativeMotion<2>;
-  static constexpr std::string_view name = "kepler";
+  static constexpr const auto& description = lm::presets::kepler;
   static constexpr std::string_view type = "models::RelativeMotion<2, models::NewtonianGravity>";
   static Model build(const Parameters& p) {
     return Model(p["mu"], lm::NewtonianGravity{require_positive("RelativeMotion", "k", p["k"])});
@@ -74,13 +74,11 @@ struct ProjectileBase {
 };
 
 struct ProjectileDef : ProjectileBase<lm::Drag::none> {
-  static constexpr std::string_view name = "projectile";
   static constexpr std::string_view type = "models::Projectile<models::Drag::none>";
   static Model build(const Parameters& p) { return Model(p["m"], p["g"], p["beta"], 0.0); }
 };
 
 struct ProjectileLinearDragDef : ProjectileBase<lm::Drag::linear> {
-  static constexpr std::string_view name = "projectile_linear_drag";
   static constexpr std::string_view type = "models::Projectile<models::Drag::linear>";
   static Model build(const Parameters& p) {
     // b = 0 is the projectile without drag (and its closed form would divide 0 by 0).
@@ -90,7 +88,6 @@ struct ProjectileLinearDragDef : ProjectileBase<lm::Drag::linear> {
 };
 
 struct ProjectileQuadraticDragDef : ProjectileBase<lm::Drag::quadratic> {
-  static constexpr std::string_view name = "projectile_quadratic_drag";
   static constexpr std::string_view type = "models::Projectile<models::Drag::quadratic>";
   static Model build(const Parameters& p) {
     return Model(p["m"], p["g"], p["beta"], require_positive("Projectile", "c", p["c"]));

@@ -36,7 +36,6 @@ view::Point hanging(double x0, double y0, double l, double theta) {
 
 struct SimplePendulumDef {
   using Model = lm::SimplePendulum;
-  static constexpr std::string_view name = "simple_pendulum";
   static constexpr std::string_view type = "models::SimplePendulum";
   static Model build(const Parameters& p) { return Model(p["m"], p["l"], p["g"]); }
   static State<1> initial(const Model&, double) { return at_rest<1>({0.5}); }
@@ -50,7 +49,6 @@ struct SimplePendulumDef {
 
 struct HarmonicOscillatorDef {
   using Model = lm::HarmonicOscillator;
-  static constexpr std::string_view name = "harmonic_oscillator";
   static constexpr std::string_view type = "models::HarmonicOscillator";
   static Model build(const Parameters& p) { return Model(p["m"], p["k"]); }
   /// Stretched 0.1 m, at rest.
@@ -71,7 +69,6 @@ struct HarmonicOscillatorDef {
 
 struct DoublePendulumDef {
   using Model = lm::DoublePendulum;
-  static constexpr std::string_view name = "double_pendulum";
   static constexpr std::string_view type = "models::DoublePendulum";
   static Model build(const Parameters& p) { return Model(p["m1"], p["m2"], p["l1"], p["l2"], p["g"]); }
   static State<2> initial(const Model&, double) { return at_rest<2>({1.0, 0.5}); }
@@ -88,7 +85,6 @@ struct DoublePendulumDef {
 
 struct SphericalPendulumDef {
   using Model = lm::SphericalPendulum;
-  static constexpr std::string_view name = "spherical_pendulum";
   static constexpr std::string_view type = "models::SphericalPendulum";
   static Model build(const Parameters& p) { return Model(p["m"], p["l"], p["g"]); }
   static State<2> initial(const Model&, double) {
@@ -110,7 +106,6 @@ struct SphericalPendulumDef {
 
 struct ElasticPendulumDef {
   using Model = lm::ElasticPendulum;
-  static constexpr std::string_view name = "elastic_pendulum";
   static constexpr std::string_view type = "models::ElasticPendulum";
   static Model build(const Parameters& p) { return Model(p["m"], p["k"], p["l0"], p["g"]); }
   /// 0.1 m below the hanging equilibrium r = l0 + m g / k, at 0.3 rad.
@@ -127,7 +122,6 @@ struct ElasticPendulumDef {
 
 struct BeadOnRotatingHoopDef {
   using Model = lm::BeadOnRotatingHoop;
-  static constexpr std::string_view name = "bead_on_rotating_hoop";
   static constexpr std::string_view type = "models::BeadOnRotatingHoop";
   static Model build(const Parameters& p) { return Model(p["m"], p["R"], p["omega"], p["g"]); }
   static State<1> initial(const Model&, double) { return at_rest<1>({0.5}); }
@@ -155,7 +149,6 @@ struct BeadOnRotatingHoopDef {
 
 struct KeplerPolarDef {
   using Model = lm::KeplerPolar;
-  static constexpr std::string_view name = "kepler_polar";
   static constexpr std::string_view type = "models::KeplerPolar";
   static Model build(const Parameters& p) { return Model(p["m"], p["k"]); }
   /// Periapsis of the orbit a = 1 m, e = 0.5: r = a (1 − e), speed
@@ -181,7 +174,6 @@ struct KeplerPolarDef {
 
 struct CartPendulumDef {
   using Model = lm::CartPendulum;
-  static constexpr std::string_view name = "cart_pendulum";
   static constexpr std::string_view type = "models::CartPendulum";
   static Model build(const Parameters& p) { return Model(p["M"], p["m"], p["l"], p["k"], p["g"]); }
   static State<2> initial(const Model&, double) { return at_rest<2>({0.0, 0.5}); }
@@ -207,7 +199,6 @@ struct CartPendulumDef {
 
 struct DrivenPendulumDef {
   using Model = lm::DrivenPendulum;
-  static constexpr std::string_view name = "driven_pendulum";
   static constexpr std::string_view type = "models::DrivenPendulum";
   static Model build(const Parameters& p) { return Model(p["m"], p["l"], p["a"], p["Omega"], p["g"]); }
   static State<1> initial(const Model&, double) { return at_rest<1>({0.5}); }
@@ -235,7 +226,7 @@ struct PendulumChain3 : lm::PendulumChain<3> {
 
 struct PendulumChain3Def {
   using Model = PendulumChain3;
-  static constexpr std::string_view name = "pendulum_chain_3";
+  static constexpr const auto& description = lm::presets::pendulum_chain_3;
   static constexpr std::string_view type = "models::PendulumChain<3>";
   static Model build(const Parameters& p) { return Model(p["m"], p["l"], p["g"]); }
   static State<3> initial(const Model&, double) { return at_rest<3>({0.5, 0.4, 0.3}); }

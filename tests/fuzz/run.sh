@@ -34,7 +34,7 @@ if ! command -v "$cxx" > /dev/null 2>&1; then
 fi
 
 flags=(-std=c++20 -O1 -gline-tables-only -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
-       -I"$src/include" -I/usr/include/eigen3 -DTOML_HEADER_ONLY=0 -DTOML_SHARED_LIB=1)
+       -I"$src/include" -I"$src/models" -I/usr/include/eigen3 -DTOML_HEADER_ONLY=0 -DTOML_SHARED_LIB=1)
 
 # The libFuzzer runtime ships separately from the compiler.
 probe="$work/probe.cpp"
@@ -70,7 +70,7 @@ if [ ! -x "$bin" ]; then
   stale=1
 else
   for f in "${sources[@]}" "$src"/include/lagrangian/*.hpp "$src"/include/lagrangian/*/*.hpp "$src"/include/lagrangian/*/detail/*.hpp \
-           "$src"/src/scene/scene_*.hpp "$0"; do
+           "$src"/src/scene/scene_*.hpp "$src"/models/lagrangian/models/*.hpp "$0"; do
     if [ "$f" -nt "$bin" ]; then stale=1; break; fi
   done
 fi

@@ -14,6 +14,7 @@
 #include "lagrangian/integrate/detail/compiled_models.hpp"
 #include "lagrangian/mechanics/impact.hpp"
 #include "lagrangian/model.hpp"
+#include "lagrangian/model_description.hpp"
 #include "lagrangian/models/detail/particles.hpp"
 #include "lagrangian/params.hpp"
 
@@ -49,14 +50,23 @@ struct BeadOnWire : detail::PlanarParticle {
 /// (L − r falls through 0), which stops the run.
 struct BeadOnRotatingWire {
   static constexpr int coordinate_count = 2;
+  static constexpr ModelDescription description{
+      "bead_on_rotating_wire",
+      "Bead on a straight horizontal wire spinning about a vertical axis (rheonomic holonomic constraint); stops at "
+      "the wire's end",
+      {{"x", "m"}, {"y", "m"}},
+      {{"m", 1.0, "kg", "mass of the bead"},
+       {"omega", 2.0, "rad/s", "spin rate of the wire"},
+       {"L", 10.0, "m", "reach of the wire either side of the axis: the bead leaves its end at r = L"}}};
   double m, omega, L;
-  explicit BeadOnRotatingWire(double mass = 1.0, double spin_rate = 2.0, double half_length = 10.0)
+  explicit BeadOnRotatingWire(double mass = description.value("m"), double spin_rate = description.value("omega"),
+                              double half_length = description.value("L"))
       : m(require_positive("BeadOnRotatingWire", "m", mass)),
         omega(require_finite("BeadOnRotatingWire", "omega", spin_rate)),
         L(require_positive("BeadOnRotatingWire", "L", half_length)) {}
-  std::string name() const { return "bead_on_rotating_wire"; }
-  std::array<std::string_view, 2> coordinate_names() const { return {"x", "y"}; }
-  std::array<std::string_view, 2> coordinate_units() const { return {"m", "m"}; }
+  std::string name() const { return std::string(description.name); }
+  std::array<std::string_view, 2> coordinate_names() const { return description.coordinate_names(); }
+  std::array<std::string_view, 2> coordinate_units() const { return description.coordinate_units(); }
   std::array<std::string_view, 1> holonomic_names() const { return {"wire"}; }
   std::array<std::string_view, 1> constraint_units() const { return {"m"}; }  ///< g in m: λ in N
   /// L − r (m): the bead's distance from the wire's end.
@@ -107,14 +117,22 @@ struct CartesianPendulum : detail::PlanarParticle {
 /// the spherical pendulum in Cartesian coordinates.
 struct ParticleOnSphere {
   static constexpr int coordinate_count = 3;
+  static constexpr ModelDescription description{
+      "particle_on_sphere",
+      "Particle on a sphere about the origin, gravity along -z: the spherical pendulum in Cartesian coordinates",
+      {{"x", "m"}, {"y", "m"}, {"z", "m"}},
+      {{"m", 1.0, "kg", "mass of the particle"},
+       {"R", 1.0, "m", "radius of the sphere"},
+       {"g", 9.81, "m/s^2", "acceleration of gravity"}}};
   double m, R, g;
-  explicit ParticleOnSphere(double mass = 1.0, double radius = 1.0, double gravity = 9.81)
+  explicit ParticleOnSphere(double mass = description.value("m"), double radius = description.value("R"),
+                            double gravity = description.value("g"))
       : m(require_positive("ParticleOnSphere", "m", mass)),
         R(require_positive("ParticleOnSphere", "R", radius)),
         g(require_nonnegative("ParticleOnSphere", "g", gravity)) {}
-  std::string name() const { return "particle_on_sphere"; }
-  std::array<std::string_view, 3> coordinate_names() const { return {"x", "y", "z"}; }
-  std::array<std::string_view, 3> coordinate_units() const { return {"m", "m", "m"}; }
+  std::string name() const { return std::string(description.name); }
+  std::array<std::string_view, 3> coordinate_names() const { return description.coordinate_names(); }
+  std::array<std::string_view, 3> coordinate_units() const { return description.coordinate_units(); }
   /// One particle at (x, y, z): P and L are reported, L_z conserved.
   std::array<Particle, 1> particles() const { return {Particle{m, {0, 1, 2}}}; }
   std::array<std::string_view, 1> holonomic_names() const { return {"sphere"}; }
@@ -145,17 +163,28 @@ struct ParticleOnSphere {
 /// state, whatever the velocities.
 struct AtwoodMachine {
   static constexpr int coordinate_count = 2;
+  static constexpr ModelDescription description{
+      "atwood_machine",
+      "Atwood machine: two masses on a string over a massless pulley, y1 + y2 = c; stops where a mass reaches the "
+      "pulley",
+      {{"y1", "m"}, {"y2", "m"}},
+      {{"m1", 3.0, "kg", "first mass"},
+       {"m2", 1.0, "kg", "second mass"},
+       {"g", 9.81, "m/s^2", "acceleration of gravity"},
+       {"c", 0.0, "m", "string constant: y1 + y2 = c"},
+       {"d", 1.0, "m", "height of the pulley's axle above c/2: a mass reaching it stops the run"}}};
   double m1, m2, g, c, d;
-  explicit AtwoodMachine(double mass1 = 3.0, double mass2 = 1.0, double gravity = 9.81, double length = 0.0,
-                         double pulley_height = 1.0)
+  explicit AtwoodMachine(double mass1 = description.value("m1"), double mass2 = description.value("m2"),
+                         double gravity = description.value("g"), double length = description.value("c"),
+                         double pulley_height = description.value("d"))
       : m1(require_positive("AtwoodMachine", "m1", mass1)),
         m2(require_positive("AtwoodMachine", "m2", mass2)),
         g(require_nonnegative("AtwoodMachine", "g", gravity)),
         c(require_finite("AtwoodMachine", "c", length)),
         d(require_positive("AtwoodMachine", "d", pulley_height)) {}
-  std::string name() const { return "atwood_machine"; }
-  std::array<std::string_view, 2> coordinate_names() const { return {"y1", "y2"}; }
-  std::array<std::string_view, 2> coordinate_units() const { return {"m", "m"}; }
+  std::string name() const { return std::string(description.name); }
+  std::array<std::string_view, 2> coordinate_names() const { return description.coordinate_names(); }
+  std::array<std::string_view, 2> coordinate_units() const { return description.coordinate_units(); }
   std::array<std::string_view, 1> holonomic_names() const { return {"string"}; }
   std::array<std::string_view, 1> constraint_units() const { return {"m"}; }  ///< g in m: λ, the tension, in N
   /// Height of the pulley's axle (m), where a mass reaches the pulley.
@@ -187,17 +216,27 @@ struct AtwoodMachine {
 /// constraints |r1| = l1 and |r2 − r1| = l2.
 struct CartesianDoublePendulum {
   static constexpr int coordinate_count = 4;
+  static constexpr ModelDescription description{
+      "cartesian_double_pendulum",
+      "Double pendulum in Cartesian coordinates with two rod constraints",
+      {{"x1", "m"}, {"y1", "m"}, {"x2", "m"}, {"y2", "m"}},
+      {{"m1", 1.0, "kg", "mass of the upper bob"},
+       {"m2", 1.0, "kg", "mass of the lower bob"},
+       {"l1", 1.0, "m", "length of the upper rod"},
+       {"l2", 1.0, "m", "length of the lower rod"},
+       {"g", 9.81, "m/s^2", "acceleration of gravity"}}};
   double m1, m2, l1, l2, g;
-  explicit CartesianDoublePendulum(double mass1 = 1.0, double mass2 = 1.0, double length1 = 1.0,
-                                   double length2 = 1.0, double gravity = 9.81)
+  explicit CartesianDoublePendulum(double mass1 = description.value("m1"), double mass2 = description.value("m2"),
+                                   double length1 = description.value("l1"), double length2 = description.value("l2"),
+                                   double gravity = description.value("g"))
       : m1(require_positive("CartesianDoublePendulum", "m1", mass1)),
         m2(require_positive("CartesianDoublePendulum", "m2", mass2)),
         l1(require_positive("CartesianDoublePendulum", "l1", length1)),
         l2(require_positive("CartesianDoublePendulum", "l2", length2)),
         g(require_nonnegative("CartesianDoublePendulum", "g", gravity)) {}
-  std::string name() const { return "cartesian_double_pendulum"; }
-  std::array<std::string_view, 4> coordinate_names() const { return {"x1", "y1", "x2", "y2"}; }
-  std::array<std::string_view, 4> coordinate_units() const { return {"m", "m", "m", "m"}; }
+  std::string name() const { return std::string(description.name); }
+  std::array<std::string_view, 4> coordinate_names() const { return description.coordinate_names(); }
+  std::array<std::string_view, 4> coordinate_units() const { return description.coordinate_units(); }
   /// The two bobs in the x–y plane: P and L are reported (neither is
   /// conserved: the pivot and gravity act on the system).
   std::array<Particle, 2> particles() const { return {Particle{m1, {0, 1, -1}}, Particle{m2, {2, 3, -1}}}; }
@@ -227,12 +266,18 @@ struct CartesianDoublePendulum {
 /// constant and the contact point runs on a circle of radius v/φ̇.
 struct KnifeEdge {
   static constexpr int coordinate_count = 3;
+  static constexpr ModelDescription description{
+      "knife_edge",
+      "Knife edge (skate) on a horizontal plane: no sideslip, a nonholonomic (Pfaffian) constraint",
+      {{"x", "m"}, {"y", "m"}, {"phi", "rad"}},
+      {{"m", 1.0, "kg", "mass"},
+       {"I", 0.1, "kg*m^2", "moment of inertia about the vertical"}}};
   double m, I;
-  explicit KnifeEdge(double mass = 1.0, double inertia = 0.1)
+  explicit KnifeEdge(double mass = description.value("m"), double inertia = description.value("I"))
       : m(require_positive("KnifeEdge", "m", mass)), I(require_positive("KnifeEdge", "I", inertia)) {}
-  std::string name() const { return "knife_edge"; }
-  std::array<std::string_view, 3> coordinate_names() const { return {"x", "y", "phi"}; }
-  std::array<std::string_view, 3> coordinate_units() const { return {"m", "m", "rad"}; }
+  std::string name() const { return std::string(description.name); }
+  std::array<std::string_view, 3> coordinate_names() const { return description.coordinate_names(); }
+  std::array<std::string_view, 3> coordinate_units() const { return description.coordinate_units(); }
   std::array<std::string_view, 1> pfaffian_names() const { return {"no_sideslip"}; }
   /// A δq = δx sin φ − δy cos φ is a sideways displacement (m): λ, the side force, in N.
   std::array<std::string_view, 1> constraint_units() const { return {"m"}; }

@@ -17,6 +17,7 @@
 
 #include "lagrangian/integrate/detail/compiled_models.hpp"
 #include "lagrangian/model.hpp"
+#include "lagrangian/model_description.hpp"
 #include "lagrangian/models/detail/particles.hpp"
 #include "lagrangian/params.hpp"
 
@@ -230,13 +231,28 @@ struct TwoSpheres : detail::ParticlePair<D> {
 /// with its lowest point at height h above a floor, it lands at t = √(2h/g).
 struct BallAndPlane {
   static constexpr int coordinate_count = 3;
+  static constexpr ModelDescription description{
+      "ball_and_plane",
+      "Smooth ball bouncing on a fixed plane n.r = offset (a floor by default) under gravity along -z",
+      {{"x", "m"}, {"y", "m"}, {"z", "m"}},
+      {{"m", 1.0, "kg", "mass of the ball"},
+       {"R", 0.1, "m", "radius of the ball"},
+       {"e", 0.5, "1", "coefficient of restitution"},
+       {"g", 9.81, "m/s^2", "acceleration of gravity"},
+       {"nx", 0.0, "1", "plane normal, x component (normalised)"},
+       {"ny", 0.0, "1", "plane normal, y component"},
+       {"nz", 1.0, "1", "plane normal, z component"},
+       {"offset", 0.0, "m", "plane offset d in n.r = d"}}};
   /// T = ½ m|v|²: M constant (model.hpp, constant_mass_matrix_v).
   static constexpr bool constant_mass_matrix = true;
   double m, R, g, e;
   std::array<double, 3> n;
   double d;
-  BallAndPlane(double mass = 1.0, double radius = 0.1, double restitution = 0.5, double gravity = 9.81,
-               std::array<double, 3> normal = {0.0, 0.0, 1.0}, double offset = 0.0)
+  BallAndPlane(double mass = description.value("m"), double radius = description.value("R"),
+               double restitution = description.value("e"), double gravity = description.value("g"),
+               std::array<double, 3> normal = {description.value("nx"), description.value("ny"),
+                                                description.value("nz")},
+               double offset = description.value("offset"))
       : m(require_positive("BallAndPlane", "m", mass)),
         R(require_nonnegative("BallAndPlane", "R", radius)),
         g(require_nonnegative("BallAndPlane", "g", gravity)),
@@ -247,9 +263,9 @@ struct BallAndPlane {
     require_positive("BallAndPlane", "|normal|", len);
     for (auto& c : n) c /= len;
   }
-  std::string name() const { return "ball_and_plane"; }
-  std::array<std::string, 3> coordinate_names() const { return {"x", "y", "z"}; }
-  std::array<std::string, 3> coordinate_units() const { return {"m", "m", "m"}; }
+  std::string name() const { return std::string(description.name); }
+  std::array<std::string_view, 3> coordinate_names() const { return description.coordinate_names(); }
+  std::array<std::string_view, 3> coordinate_units() const { return description.coordinate_units(); }
   std::array<std::string, 1> unilateral_names() const { return {"ball-plane"}; }
   std::array<std::string, 1> constraint_units() const { return {"m"}; }  ///< gap in m: λ in N
   std::array<double, 1> restitution() const { return {e}; }
@@ -373,6 +389,57 @@ struct SpheresInBox {
     return phi;
   }
 };
+
+
+/// What a scene names built-in models that are presets of the templates above
+/// (the registry builds each from its description's parameters).
+namespace presets {
+
+/// SpheresOnLine<2>: two spheres of their own masses and radii.
+inline constexpr ModelDescription direct_impact{
+    "direct_impact",
+    "Direct impact of two smooth spheres on a line (Newton's law of restitution)",
+    {{"x1", "m"}, {"x2", "m"}},
+    {{"m1", 1.0, "kg", "mass of sphere 1"},
+     {"m2", 2.0, "kg", "mass of sphere 2"},
+     {"r1", 0.1, "m", "radius of sphere 1"},
+     {"r2", 0.1, "m", "radius of sphere 2"},
+     {"e", 0.8, "1", "coefficient of restitution"}}};
+
+/// SpheresOnLine<5>: five equal spheres.
+inline constexpr ModelDescription newtons_cradle{
+    "newtons_cradle",
+    "Newton's cradle: five equal spheres on a line, four touching, the first swung in",
+    {{"x1", "m"}, {"x2", "m"}, {"x3", "m"}, {"x4", "m"}, {"x5", "m"}},
+    {{"m", 0.1, "kg", "mass of each sphere"},
+     {"r", 0.0125, "m", "radius of each sphere"},
+     {"e", 1.0, "1", "coefficient of restitution"}}};
+
+/// TwoSpheres<2>.
+inline constexpr ModelDescription oblique_impact{
+    "oblique_impact",
+    "Oblique impact of two smooth spheres moving in a plane, no gravity",
+    {{"x1", "m"}, {"y1", "m"}, {"x2", "m"}, {"y2", "m"}},
+    {{"m1", 1.0, "kg", "mass of sphere 1"},
+     {"m2", 1.0, "kg", "mass of sphere 2"},
+     {"r1", 0.1, "m", "radius of sphere 1"},
+     {"r2", 0.1, "m", "radius of sphere 2"},
+     {"e", 0.9, "1", "coefficient of restitution"}}};
+
+/// SpheresInBox<3>: three equal discs.
+inline constexpr ModelDescription spheres_in_box{
+    "spheres_in_box",
+    "Three smooth discs in the box [0, W] x [0, H], colliding with the walls and each other",
+    {{"x1", "m"}, {"y1", "m"}, {"x2", "m"}, {"y2", "m"}, {"x3", "m"}, {"y3", "m"}},
+    {{"m", 1.0, "kg", "mass of each disc"},
+     {"r", 0.1, "m", "radius of each disc"},
+     {"W", 2.0, "m", "width of the box"},
+     {"H", 1.0, "m", "height of the box"},
+     {"e_wall", 1.0, "1", "restitution against the walls"},
+     {"e_pair", 1.0, "1", "restitution between discs"},
+     {"g", 0.0, "m/s^2", "acceleration of gravity along -y"}}};
+
+}  // namespace presets
 
 }  // namespace lagrangian::models
 

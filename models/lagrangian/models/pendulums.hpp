@@ -15,6 +15,7 @@
 
 #include "lagrangian/integrate/detail/compiled_models.hpp"
 #include "lagrangian/model.hpp"
+#include "lagrangian/model_description.hpp"
 #include "lagrangian/params.hpp"
 
 namespace lagrangian::models {
@@ -23,16 +24,24 @@ namespace lagrangian::models {
 ///   T = ½ m l² θ̇²,  V = −m g l cos θ.
 struct SimplePendulum {
   static constexpr int coordinate_count = 1;
+  static constexpr ModelDescription description{
+      "simple_pendulum",
+      "Plane pendulum: point mass on a massless rod, theta from the downward vertical",
+      {{"theta", "rad"}},
+      {{"m", 1.0, "kg", "mass of the bob"},
+       {"l", 1.0, "m", "length of the rod"},
+       {"g", 9.81, "m/s^2", "acceleration of gravity"}}};
   /// T = ½ m l² θ̇²: M constant (model.hpp, constant_mass_matrix_v).
   static constexpr bool constant_mass_matrix = true;
   double m, l, g;
-  explicit SimplePendulum(double mass = 1.0, double length = 1.0, double gravity = 9.81)
+  explicit SimplePendulum(double mass = description.value("m"), double length = description.value("l"),
+                          double gravity = description.value("g"))
       : m(require_positive("SimplePendulum", "m", mass)),
         l(require_positive("SimplePendulum", "l", length)),
         g(require_nonnegative("SimplePendulum", "g", gravity)) {}
-  std::string name() const { return "simple_pendulum"; }
-  std::array<std::string_view, 1> coordinate_names() const { return {"theta"}; }
-  std::array<std::string_view, 1> coordinate_units() const { return {"rad"}; }
+  std::string name() const { return std::string(description.name); }
+  std::array<std::string_view, 1> coordinate_names() const { return description.coordinate_names(); }
+  std::array<std::string_view, 1> coordinate_units() const { return description.coordinate_units(); }
   template <class S>
   S kinetic(const Vec<S, 1>&, const Vec<S, 1>& qd, const S&) const {
     return 0.5 * m * l * l * qd[0] * qd[0];
@@ -111,15 +120,21 @@ struct SimplePendulum {
 ///   T = ½ m ẋ²,  V = ½ k x²,  ẍ = −ω² x with ω = √(k/m) (rad/s), period 2π/ω.
 struct HarmonicOscillator {
   static constexpr int coordinate_count = 1;
+  static constexpr ModelDescription description{
+      "harmonic_oscillator",
+      "Harmonic oscillator: mass on a linear spring, x from the rest position (closed form)",
+      {{"x", "m"}},
+      {{"m", 1.0, "kg", "mass"},
+       {"k", 1.0, "N/m", "spring stiffness"}}};
   /// T = ½ m ẋ²: M constant (model.hpp, constant_mass_matrix_v).
   static constexpr bool constant_mass_matrix = true;
   double m, k;
-  explicit HarmonicOscillator(double mass = 1.0, double stiffness = 1.0)
+  explicit HarmonicOscillator(double mass = description.value("m"), double stiffness = description.value("k"))
       : m(require_positive("HarmonicOscillator", "m", mass)),
         k(require_positive("HarmonicOscillator", "k", stiffness)) {}
-  std::string name() const { return "harmonic_oscillator"; }
-  std::array<std::string_view, 1> coordinate_names() const { return {"x"}; }
-  std::array<std::string_view, 1> coordinate_units() const { return {"m"}; }
+  std::string name() const { return std::string(description.name); }
+  std::array<std::string_view, 1> coordinate_names() const { return description.coordinate_names(); }
+  std::array<std::string_view, 1> coordinate_units() const { return description.coordinate_units(); }
   /// Angular frequency ω = √(k/m) (rad/s).
   double omega() const { return std::sqrt(k / m); }
   template <class S>
@@ -147,17 +162,27 @@ struct HarmonicOscillator {
 ///   V = −(m1+m2) g l1 cos θ1 − m2 g l2 cos θ2.
 struct DoublePendulum {
   static constexpr int coordinate_count = 2;
+  static constexpr ModelDescription description{
+      "double_pendulum",
+      "Double pendulum: two point masses on massless rods, angles from the downward vertical",
+      {{"theta1", "rad"}, {"theta2", "rad"}},
+      {{"m1", 1.0, "kg", "mass of the upper bob"},
+       {"m2", 1.0, "kg", "mass of the lower bob"},
+       {"l1", 1.0, "m", "length of the upper rod"},
+       {"l2", 1.0, "m", "length of the lower rod"},
+       {"g", 9.81, "m/s^2", "acceleration of gravity"}}};
   double m1, m2, l1, l2, g;
-  explicit DoublePendulum(double mass1 = 1.0, double mass2 = 1.0, double length1 = 1.0, double length2 = 1.0,
-                          double gravity = 9.81)
+  explicit DoublePendulum(double mass1 = description.value("m1"), double mass2 = description.value("m2"),
+                          double length1 = description.value("l1"), double length2 = description.value("l2"),
+                          double gravity = description.value("g"))
       : m1(require_positive("DoublePendulum", "m1", mass1)),
         m2(require_positive("DoublePendulum", "m2", mass2)),
         l1(require_positive("DoublePendulum", "l1", length1)),
         l2(require_positive("DoublePendulum", "l2", length2)),
         g(require_nonnegative("DoublePendulum", "g", gravity)) {}
-  std::string name() const { return "double_pendulum"; }
-  std::array<std::string_view, 2> coordinate_names() const { return {"theta1", "theta2"}; }
-  std::array<std::string_view, 2> coordinate_units() const { return {"rad", "rad"}; }
+  std::string name() const { return std::string(description.name); }
+  std::array<std::string_view, 2> coordinate_names() const { return description.coordinate_names(); }
+  std::array<std::string_view, 2> coordinate_units() const { return description.coordinate_units(); }
   template <class S>
   S kinetic(const Vec<S, 2>& q, const Vec<S, 2>& qd, const S&) const {
     using std::cos;
@@ -175,14 +200,22 @@ struct DoublePendulum {
 ///   T = ½ m l² (θ̇² + sin²θ φ̇²),  V = −m g l cos θ.  φ is cyclic.
 struct SphericalPendulum {
   static constexpr int coordinate_count = 2;
+  static constexpr ModelDescription description{
+      "spherical_pendulum",
+      "Spherical pendulum: polar angle theta from the downward vertical, azimuth phi (cyclic)",
+      {{"theta", "rad"}, {"phi", "rad"}},
+      {{"m", 1.0, "kg", "mass of the bob"},
+       {"l", 1.0, "m", "length of the rod"},
+       {"g", 9.81, "m/s^2", "acceleration of gravity"}}};
   double m, l, g;
-  explicit SphericalPendulum(double mass = 1.0, double length = 1.0, double gravity = 9.81)
+  explicit SphericalPendulum(double mass = description.value("m"), double length = description.value("l"),
+                             double gravity = description.value("g"))
       : m(require_positive("SphericalPendulum", "m", mass)),
         l(require_positive("SphericalPendulum", "l", length)),
         g(require_nonnegative("SphericalPendulum", "g", gravity)) {}
-  std::string name() const { return "spherical_pendulum"; }
-  std::array<std::string_view, 2> coordinate_names() const { return {"theta", "phi"}; }
-  std::array<std::string_view, 2> coordinate_units() const { return {"rad", "rad"}; }
+  std::string name() const { return std::string(description.name); }
+  std::array<std::string_view, 2> coordinate_names() const { return description.coordinate_names(); }
+  std::array<std::string_view, 2> coordinate_units() const { return description.coordinate_units(); }
   template <class S>
   S kinetic(const Vec<S, 2>& q, const Vec<S, 2>& qd, const S&) const {
     using std::sin;
@@ -201,16 +234,24 @@ struct SphericalPendulum {
 ///   T = ½ m (ṙ² + r² θ̇²),  V = −m g r cos θ + ½ k (r − l0)².
 struct ElasticPendulum {
   static constexpr int coordinate_count = 2;
+  static constexpr ModelDescription description{
+      "elastic_pendulum",
+      "Elastic (spring) pendulum: radial distance r and angle theta of a mass on a spring",
+      {{"r", "m"}, {"theta", "rad"}},
+      {{"m", 1.0, "kg", "mass of the bob"},
+       {"k", 40.0, "N/m", "spring stiffness"},
+       {"l0", 1.0, "m", "rest length of the spring"},
+       {"g", 9.81, "m/s^2", "acceleration of gravity"}}};
   double m, k, l0, g;
-  explicit ElasticPendulum(double mass = 1.0, double stiffness = 40.0, double rest_length = 1.0,
-                           double gravity = 9.81)
+  explicit ElasticPendulum(double mass = description.value("m"), double stiffness = description.value("k"),
+                           double rest_length = description.value("l0"), double gravity = description.value("g"))
       : m(require_positive("ElasticPendulum", "m", mass)),
         k(require_positive("ElasticPendulum", "k", stiffness)),
         l0(require_positive("ElasticPendulum", "l0", rest_length)),
         g(require_nonnegative("ElasticPendulum", "g", gravity)) {}
-  std::string name() const { return "elastic_pendulum"; }
-  std::array<std::string_view, 2> coordinate_names() const { return {"r", "theta"}; }
-  std::array<std::string_view, 2> coordinate_units() const { return {"m", "rad"}; }
+  std::string name() const { return std::string(description.name); }
+  std::array<std::string_view, 2> coordinate_names() const { return description.coordinate_names(); }
+  std::array<std::string_view, 2> coordinate_units() const { return description.coordinate_units(); }
   template <class S>
   S kinetic(const Vec<S, 2>& q, const Vec<S, 2>& qd, const S&) const {
     return 0.5 * m * (qd[0] * qd[0] + q[0] * q[0] * qd[1] * qd[1]);
@@ -231,16 +272,24 @@ struct ElasticPendulum {
 /// is conserved while T + V is not (the motor does work).
 struct BeadOnRotatingHoop {
   static constexpr int coordinate_count = 1;
+  static constexpr ModelDescription description{
+      "bead_on_rotating_hoop",
+      "Bead on a hoop spinning at a constant rate about its vertical diameter (Jacobi integral conserved, T + V not)",
+      {{"theta", "rad"}},
+      {{"m", 1.0, "kg", "mass of the bead"},
+       {"R", 0.5, "m", "radius of the hoop"},
+       {"omega", 6.0, "rad/s", "spin rate of the hoop"},
+       {"g", 9.81, "m/s^2", "acceleration of gravity"}}};
   double m, R, omega, g;
-  explicit BeadOnRotatingHoop(double mass = 1.0, double radius = 0.5, double spin_rate = 6.0,
-                              double gravity = 9.81)
+  explicit BeadOnRotatingHoop(double mass = description.value("m"), double radius = description.value("R"),
+                              double spin_rate = description.value("omega"), double gravity = description.value("g"))
       : m(require_positive("BeadOnRotatingHoop", "m", mass)),
         R(require_positive("BeadOnRotatingHoop", "R", radius)),
         omega(require_finite("BeadOnRotatingHoop", "omega", spin_rate)),
         g(require_nonnegative("BeadOnRotatingHoop", "g", gravity)) {}
-  std::string name() const { return "bead_on_rotating_hoop"; }
-  std::array<std::string_view, 1> coordinate_names() const { return {"theta"}; }
-  std::array<std::string_view, 1> coordinate_units() const { return {"rad"}; }
+  std::string name() const { return std::string(description.name); }
+  std::array<std::string_view, 1> coordinate_names() const { return description.coordinate_names(); }
+  std::array<std::string_view, 1> coordinate_units() const { return description.coordinate_units(); }
   /// The hoop's angle ωt enters the bead's position (R sinθ cos ωt,
   /// R sinθ sin ωt, −R cosθ); squaring its velocity, ωt cancels and leaves
   /// the azimuthal speed ω R sinθ.
@@ -262,12 +311,18 @@ struct BeadOnRotatingHoop {
 ///   T = ½ m (ṙ² + r² φ̇²).  φ is cyclic: p_φ = m r² φ̇ is conserved.
 struct KeplerPolar {
   static constexpr int coordinate_count = 2;
+  static constexpr ModelDescription description{
+      "kepler_polar",
+      "Particle in the inverse-square field V = -k/r in plane polar coordinates (phi cyclic)",
+      {{"r", "m"}, {"phi", "rad"}},
+      {{"m", 1.0, "kg", "mass of the particle"},
+       {"k", 1.0, "J*m", "strength of the field, k = G M m"}}};
   double m, k;
-  explicit KeplerPolar(double mass = 1.0, double strength = 1.0)
+  explicit KeplerPolar(double mass = description.value("m"), double strength = description.value("k"))
       : m(require_positive("KeplerPolar", "m", mass)), k(require_positive("KeplerPolar", "k", strength)) {}
-  std::string name() const { return "kepler_polar"; }
-  std::array<std::string_view, 2> coordinate_names() const { return {"r", "phi"}; }
-  std::array<std::string_view, 2> coordinate_units() const { return {"m", "rad"}; }
+  std::string name() const { return std::string(description.name); }
+  std::array<std::string_view, 2> coordinate_names() const { return description.coordinate_names(); }
+  std::array<std::string_view, 2> coordinate_units() const { return description.coordinate_units(); }
   template <class S>
   S kinetic(const Vec<S, 2>& q, const Vec<S, 2>& qd, const S&) const {
     return 0.5 * m * (qd[0] * qd[0] + q[0] * q[0] * qd[1] * qd[1]);
@@ -284,17 +339,27 @@ struct KeplerPolar {
 ///   T = ½ (M + m) ẋ² + m l ẋ θ̇ cos θ + ½ m l² θ̇²,  V = ½ k x² − m g l cos θ.
 struct CartPendulum {
   static constexpr int coordinate_count = 2;
+  static constexpr ModelDescription description{
+      "cart_pendulum",
+      "Pendulum hanging from a cart that slides on a horizontal rail, held by a spring",
+      {{"x", "m"}, {"theta", "rad"}},
+      {{"M", 2.0, "kg", "mass of the cart"},
+       {"m", 1.0, "kg", "mass of the bob"},
+       {"l", 1.0, "m", "length of the rod"},
+       {"k", 10.0, "N/m", "stiffness of the spring holding the cart"},
+       {"g", 9.81, "m/s^2", "acceleration of gravity"}}};
   double M, m, l, k, g;
-  explicit CartPendulum(double cart_mass = 2.0, double bob_mass = 1.0, double length = 1.0, double stiffness = 10.0,
-                        double gravity = 9.81)
+  explicit CartPendulum(double cart_mass = description.value("M"), double bob_mass = description.value("m"),
+                        double length = description.value("l"), double stiffness = description.value("k"),
+                        double gravity = description.value("g"))
       : M(require_positive("CartPendulum", "M", cart_mass)),
         m(require_positive("CartPendulum", "m", bob_mass)),
         l(require_positive("CartPendulum", "l", length)),
         k(require_nonnegative("CartPendulum", "k", stiffness)),
         g(require_nonnegative("CartPendulum", "g", gravity)) {}
-  std::string name() const { return "cart_pendulum"; }
-  std::array<std::string_view, 2> coordinate_names() const { return {"x", "theta"}; }
-  std::array<std::string_view, 2> coordinate_units() const { return {"m", "rad"}; }
+  std::string name() const { return std::string(description.name); }
+  std::array<std::string_view, 2> coordinate_names() const { return description.coordinate_names(); }
+  std::array<std::string_view, 2> coordinate_units() const { return description.coordinate_units(); }
   template <class S>
   S kinetic(const Vec<S, 2>& q, const Vec<S, 2>& qd, const S&) const {
     using std::cos;
@@ -313,17 +378,27 @@ struct CartPendulum {
 /// whose equation of motion is θ̈ = −(g + ÿ_p) sin θ / l.
 struct DrivenPendulum {
   static constexpr int coordinate_count = 1;
+  static constexpr ModelDescription description{
+      "driven_pendulum",
+      "Pendulum whose pivot is driven vertically, y_p = a cos(Omega t): time-dependent Lagrangian",
+      {{"theta", "rad"}},
+      {{"m", 1.0, "kg", "mass of the bob"},
+       {"l", 1.0, "m", "length of the rod"},
+       {"a", 0.05, "m", "amplitude of the pivot's motion"},
+       {"Omega", 30.0, "rad/s", "angular frequency of the drive"},
+       {"g", 9.81, "m/s^2", "acceleration of gravity"}}};
   double m, l, a, Omega, g;
-  explicit DrivenPendulum(double mass = 1.0, double length = 1.0, double amplitude = 0.05, double drive_rate = 30.0,
-                          double gravity = 9.81)
+  explicit DrivenPendulum(double mass = description.value("m"), double length = description.value("l"),
+                          double amplitude = description.value("a"), double drive_rate = description.value("Omega"),
+                          double gravity = description.value("g"))
       : m(require_positive("DrivenPendulum", "m", mass)),
         l(require_positive("DrivenPendulum", "l", length)),
         a(require_finite("DrivenPendulum", "a", amplitude)),
         Omega(require_finite("DrivenPendulum", "Omega", drive_rate)),
         g(require_nonnegative("DrivenPendulum", "g", gravity)) {}
-  std::string name() const { return "driven_pendulum"; }
-  std::array<std::string_view, 1> coordinate_names() const { return {"theta"}; }
-  std::array<std::string_view, 1> coordinate_units() const { return {"rad"}; }
+  std::string name() const { return std::string(description.name); }
+  std::array<std::string_view, 1> coordinate_names() const { return description.coordinate_names(); }
+  std::array<std::string_view, 1> coordinate_units() const { return description.coordinate_units(); }
   template <class S>
   S kinetic(const Vec<S, 1>& q, const Vec<S, 1>& qd, const S& t) const {
     using std::sin;
@@ -383,6 +458,22 @@ struct PendulumChain {
     return V;
   }
 };
+
+
+/// What a scene names built-in models that are presets of the templates above
+/// (the registry builds each from its description's parameters).
+namespace presets {
+
+/// PendulumChain<3> with equal masses and rods.
+inline constexpr ModelDescription pendulum_chain_3{
+    "pendulum_chain_3",
+    "Planar chain of three equal point masses on equal massless rods, angles from the downward vertical",
+    {{"theta1", "rad"}, {"theta2", "rad"}, {"theta3", "rad"}},
+    {{"m", 1.0, "kg", "mass of each bob"},
+     {"l", 1.0, "m", "length of each rod"},
+     {"g", 9.81, "m/s^2", "acceleration of gravity"}}};
+
+}  // namespace presets
 
 }  // namespace lagrangian::models
 

@@ -23,6 +23,7 @@
 #include "lagrangian/mechanics/impact.hpp"
 #include "lagrangian/integrate/detail/compiled_models.hpp"
 #include "lagrangian/model.hpp"
+#include "lagrangian/model_description.hpp"
 #include "lagrangian/models/detail/particles.hpp"
 #include "lagrangian/params.hpp"
 
@@ -31,14 +32,61 @@ namespace lagrangian::models {
 /// Air drag on a projectile.
 enum class Drag { none, linear, quadratic };
 
+namespace detail {
+/// The description of Projectile<D>: a scene's `projectile`,
+/// `projectile_linear_drag` or `projectile_quadratic_drag`. The drag models'
+/// coefficients default to a positive value (with b = 0 the linear-drag
+/// closed form divides 0 by 0); `projectile` is the model without drag.
+template <Drag D>
+consteval auto projectile_description() {
+  if constexpr (D == Drag::none) {
+    return ModelDescription{
+          "projectile",
+          "Projectile over a plane through the launch point at angle beta, no drag; stops at landing",
+          {{"x", "m"}, {"y", "m"}},
+          {{"m", 1.0, "kg", "mass"},
+           {"g", 9.81, "m/s^2", "acceleration of gravity"},
+           {"beta", 0.0, "rad", "angle of the ground plane to the horizontal, |beta| < pi/2"}}};
+  } else if constexpr (D == Drag::linear) {
+    return ModelDescription{
+          "projectile_linear_drag",
+          "Projectile with linear air drag F = -b v; stops at landing",
+          {{"x", "m"}, {"y", "m"}},
+          {{"m", 1.0, "kg", "mass"},
+           {"g", 9.81, "m/s^2", "acceleration of gravity"},
+           {"beta", 0.0, "rad", "angle of the ground plane to the horizontal, |beta| < pi/2"},
+           {"b", 0.1, "kg/s", "linear drag coefficient, > 0"}}};
+  } else {
+    return ModelDescription{
+          "projectile_quadratic_drag",
+          "Projectile with quadratic air drag F = -c |v| v; stops at landing",
+          {{"x", "m"}, {"y", "m"}},
+          {{"m", 1.0, "kg", "mass"},
+           {"g", 9.81, "m/s^2", "acceleration of gravity"},
+           {"beta", 0.0, "rad", "angle of the ground plane to the horizontal, |beta| < pi/2"},
+           {"c", 0.01, "kg/m", "quadratic drag coefficient, > 0"}}};
+  }
+}
+}  // namespace detail
+
 template <Drag D = Drag::none>
 struct Projectile : detail::PlanarParticle {
   static constexpr int coordinate_count = 2;
   static constexpr double kHalfPi = 1.5707963267948966;
+  static constexpr auto description = detail::projectile_description<D>();
+  /// The drag coefficient's default: b (kg/s) or c (kg/m), 0 without drag.
+  static constexpr double default_drag = [] {
+    if constexpr (D == Drag::none) {
+      return 0.0;
+    } else {
+      return description.value(D == Drag::linear ? "b" : "c");
+    }
+  }();
   double beta, drag;
   /// m (kg), g (m/s²), plane angle β (rad, |β| < π/2), drag coefficient (b
   /// in kg/s or c in kg/m; must be 0 for Drag::none).
-  explicit Projectile(double mass = 1.0, double gravity = 9.81, double plane_angle = 0.0, double drag_coefficient = 0.0)
+  explicit Projectile(double mass = description.value("m"), double gravity = description.value("g"),
+                      double plane_angle = description.value("beta"), double drag_coefficient = default_drag)
       : PlanarParticle{require_positive("Projectile", "m", mass), require_positive("Projectile", "g", gravity)},
         beta(plane_angle),
         drag(require_nonnegative("Projectile", "drag", drag_coefficient)) {
@@ -47,9 +95,7 @@ struct Projectile : detail::PlanarParticle {
     if (D == Drag::none && drag != 0)
       lagrangian::detail::parameter_failure("Projectile", "drag", "0 when no drag is declared (Drag::none)", drag);
   }
-  std::string name() const {
-    return D == Drag::none ? "projectile" : D == Drag::linear ? "projectile_linear_drag" : "projectile_quadratic_drag";
-  }
+  std::string name() const { return std::string(description.name); }
   template <class S>
     requires(D != Drag::none)
   S dissipation(const Vec<S, 2>&, const Vec<S, 2>& qd) const {

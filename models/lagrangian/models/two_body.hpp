@@ -26,6 +26,7 @@
 #include "lagrangian/mechanics/impact.hpp"
 #include "lagrangian/integrate/detail/compiled_models.hpp"
 #include "lagrangian/model.hpp"
+#include "lagrangian/model_description.hpp"
 #include "lagrangian/models/detail/particles.hpp"
 #include "lagrangian/models/kepler.hpp"
 #include "lagrangian/params.hpp"
@@ -227,6 +228,32 @@ RelativeMotion<D> gravitational_relative_motion(double m1, double m2, double G) 
 /// CODATA 2018 masses (kg): electron and proton (NIST, physics.nist.gov/constants).
 inline constexpr double electron_mass = 9.1093837015e-31;
 inline constexpr double proton_mass = 1.67262192369e-27;
+
+
+/// What a scene names built-in models that are presets of the templates above
+/// (the registry builds each from its description's parameters).
+namespace presets {
+
+/// TwoBody<2>: with unit masses and k = 1 J*m, a relative orbit of
+/// semi-major axis 1 m has the period 2π/√2 s.
+inline constexpr ModelDescription two_body{
+    "two_body",
+    "Two bodies under Newtonian gravity V = -k/r in a plane",
+    {{"x1", "m"}, {"y1", "m"}, {"x2", "m"}, {"y2", "m"}},
+    {{"m1", 1.0, "kg", "mass of body 1"},
+     {"m2", 1.0, "kg", "mass of body 2"},
+     {"k", 1.0, "J*m", "strength of the attraction, k = G m1 m2"}}};
+
+/// RelativeMotion<2>: with μ = 1 kg and k = 1 J*m, an orbit of semi-major
+/// axis 1 m has the period 2π s.
+inline constexpr ModelDescription kepler{
+    "kepler",
+    "Reduced two-body problem: a body of reduced mass mu in V = -k/r, with a periapsis event",
+    {{"x", "m"}, {"y", "m"}},
+    {{"mu", 1.0, "kg", "reduced mass m1 m2 / (m1 + m2)"},
+     {"k", 1.0, "J*m", "strength of the attraction, k = G m1 m2"}}};
+
+}  // namespace presets
 
 }  // namespace lagrangian::models
 
