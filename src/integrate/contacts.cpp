@@ -36,7 +36,7 @@ class Resolution {
       : s_(system), x_(x), t_(t), trigger_(trigger), n_(system.coordinates()), opt_(options), rep_(report),
         near_(buffers.near), involved_(buffers.involved), resting_before_(buffers.resting_before),
         resting_now_(buffers.resting_now), woken_(buffers.woken), rested_(buffers.rested), plastic_(buffers.plastic),
-        seen_(buffers.seen), rates_(buffers.rates) {
+        seen_(buffers.seen), rates_(buffers.rates), cycle_(buffers.cycle) {
     for (std::vector<int>* v : {&involved_, &woken_, &rested_, &plastic_}) v->clear();
     touch_ = contact_touch_tolerance(x, n_);
     s_.resting_contacts(resting_before_);
@@ -51,7 +51,8 @@ class Resolution {
 
   void impacts() {
     wake();
-    ImpactCycle cycle;  // the impacts since the last cycle replaced by its limit
+    ImpactCycle& cycle = cycle_;
+    cycle.restart();
     for (int count = 0;; ++count) {
       double approach = opt_.contact_touch_speed;
       const int k = fastest(approach);
@@ -261,6 +262,7 @@ class Resolution {
   std::vector<int>& plastic_;  // their last impact here had e = 0: the bodies stick
   std::vector<int>& seen_;
   std::vector<GapRate>& rates_;
+  ImpactCycle& cycle_;
 };
 
 }  // namespace

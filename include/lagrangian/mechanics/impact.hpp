@@ -217,11 +217,13 @@ namespace detail {
 /// apply_impact(); with `only_approaching` false the law is applied whatever
 /// the sign of v⁻, which makes q̇ ↦ q̇⁺ one affine map everywhere (the
 /// extrapolation of cycling impacts reads it off, integrate/detail/impact_cycle.hpp).
+/// `solver`, of constraint_count(model) rows and columns, solves for the
+/// impulses (a run passes the one its constraint workspace holds).
 template <class M>
 ImpactResult<coordinate_count_v<M>> restitution_impact(const M& model, Workspace<coordinate_count_v<M>>& ws,
                                                        const Vec<double, coordinate_count_v<M>>& q,
                                                        Vec<double, coordinate_count_v<M>>& qd, double t, int contact,
-                                                       double e, bool only_approaching) {
+                                                       double e, bool only_approaching, MinNormSolver& solver) {
   static_assert(unilateral_count_v<M> != 0, "apply_impact needs a model with contacts (unilateral constraints)");
   constexpr int n = coordinate_count_v<M>;
   constexpr int c = constraint_count_v<M>;
@@ -255,7 +257,6 @@ ImpactResult<coordinate_count_v<M>> restitution_impact(const M& model, Workspace
   const Eigen::Matrix<double, n, c> minv_kt = ws.cholesky.solve(cs.jacobian.transpose());
   const Mat<double, c> schur = cs.jacobian * minv_kt;
   const int rows = static_cast<int>(target.size());
-  detail::MinNormSolver solver(rows, rows);
   solver.factorize(schur.data(), rank_tolerance);
   Vec<double, c> mu(rows);
   solver.solve(target.data(), mu.data());
@@ -281,7 +282,8 @@ ImpactResult<coordinate_count_v<M>> apply_impact(const M& model, Workspace<coord
                                                  const Vec<double, coordinate_count_v<M>>& q,
                                                  Vec<double, coordinate_count_v<M>>& qd, double t, int contact,
                                                  double e) {
-  return detail::restitution_impact(model, ws, q, qd, t, contact, e, true);
+  detail::MinNormSolver solver(constraint_count(model), constraint_count(model));
+  return detail::restitution_impact(model, ws, q, qd, t, contact, e, true, solver);
 }
 
 /// apply_impact() with its own workspace.

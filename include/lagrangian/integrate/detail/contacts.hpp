@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "lagrangian/integrate/detail/contact_rules.hpp"
+#include "lagrangian/integrate/detail/impact_cycle.hpp"
 #include "lagrangian/integrate/report.hpp"
 
 namespace lagrangian::detail {
@@ -93,6 +94,7 @@ class ContactSystem {
 struct ResolutionBuffers {
   std::vector<int> near, involved, resting_before, resting_now, woken, rested, plastic, seen;
   std::vector<GapRate> rates;
+  ImpactCycle cycle;  // the impacts since the last cycle replaced by its limit
 };
 
 /// Resolves every contact that is touching (|φ| ≤ the touch tolerance, or

@@ -39,6 +39,12 @@ class ImpactCycle {
   std::vector<Impact> due_round(int contacts);
   /// The round from due_round() was replaced by its limit: starts over.
   void settled();
+  /// Forgets every impact, for the next resolution (keeps the storage).
+  void restart() {
+    impacts_.clear();
+    next_try_ = 12;
+    settles_ = 0;
+  }
   /// Every impact recorded, in order.
   const std::vector<Impact>& all() const { return impacts_; }
   /// Impacts recorded.

@@ -105,7 +105,7 @@ class ModelSystem<M>::Contacts final : public ContactSystem {
     const double h_before = record ? energy_function(s_.model_, q_, qd_, t) : 0.0;
     ImpactResult<n> r;
     try {
-      r = restitution_impact(s_.model_, s_.ws_, q_, qd_, t, j, e, record);
+      r = restitution_impact(s_.model_, s_.ws_, q_, qd_, t, j, e, record, s_.cw_.schur_solver);
     } catch (const DynamicsError& err) {
       throw SimulationError(std::string("impact failed: ") + err.what(), t);
     }
