@@ -51,8 +51,7 @@ class Resolution {
 
   void impacts() {
     wake();
-    ImpactCycle& cycle = cycle_;
-    cycle.restart();
+    cycle_.restart();
     for (int count = 0;; ++count) {
       double approach = opt_.contact_touch_speed;
       const int k = fastest(approach);
@@ -68,11 +67,11 @@ class Resolution {
       }
       const double e = impact(j, approach);
       wake();
-      cycle.record(k, e);
-      const std::vector<ImpactCycle::Impact> round = cycle.due_round(static_cast<int>(near_.size()));
+      cycle_.record(k, e);
+      const std::vector<ImpactCycle::Impact> round = cycle_.due_round(static_cast<int>(near_.size()));
       if (!round.empty() && settle_cycle(round)) {
         for (const ImpactCycle::Impact& imp : round) involved_.push_back(near_[static_cast<std::size_t>(imp.contact)]);
-        cycle.settled();
+        cycle_.settled();
         wake();
       }
     }
@@ -262,7 +261,7 @@ class Resolution {
   std::vector<int>& plastic_;  // their last impact here had e = 0: the bodies stick
   std::vector<int>& seen_;
   std::vector<GapRate>& rates_;
-  ImpactCycle& cycle_;
+  ImpactCycle& cycle_;  // the impacts since the last cycle replaced by its limit
 };
 
 }  // namespace
