@@ -136,6 +136,37 @@ TEST(TextModel, DoublePendulumAgreesWithTheBuiltInModel) {
   }
 }
 
+// A run-time size of 2 solves M q̈ = f by Cramer's rule; a singular or
+// indefinite M must still stop with the state named. T = ½ (ẋ + ẏ)² has
+// M = [[1, 1], [1, 1]] (det 0; neither diagonal), T = ½ ẋ² + 2 ẋ ẏ + ½ ẏ²
+// has M = [[1, 2], [2, 1]] (det −3: not positive definite), and a
+// positive definite off-diagonal M gives the q̈ of its closed form.
+TEST(TextModel, ARunTimeTwoByTwoMassMatrixIsCheckedAndSolved) {
+  auto model = [](const std::string& kinetic) {
+    Definition d;
+    d.coordinates = {"x", "y"};
+    d.kinetic = kinetic;
+    d.potential = "x + 3*y";
+    return text::TextModel(d);
+  };
+  Workspace<Dynamic> ws(2);
+  const Eigen::VectorXd q = Eigen::Vector2d(0.1, 0.2), qd = Eigen::Vector2d(0.3, -0.4);
+  for (const char* singular : {"0.5*(x_dot + y_dot)^2", "0.5*x_dot^2 + 2*x_dot*y_dot + 0.5*y_dot^2"}) {
+    try {
+      accelerations(model(singular), ws, q, qd, 0.0);
+      ADD_FAILURE() << singular << ": no error";
+    } catch (const DynamicsError& e) {
+      EXPECT_NE(std::string(e.what()).find("is singular or not positive definite at t = 0, q = [0.1"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  // M = [[2, 1], [1, 3]], f = −∇V = (−1, −3): q̈ = M⁻¹ f = (0, −1).
+  const Eigen::VectorXd a = accelerations(model("x_dot^2 + x_dot*y_dot + 1.5*y_dot^2"), ws, q, qd, 0.0);
+  EXPECT_NEAR(a[0], 0.0, 1e-15);
+  EXPECT_NEAR(a[1], -1.0, 1e-15);
+}
+
 TEST(TextModel, SphericalPendulumRunsAsTheBuiltInModelDoes) {
   Definition d;
   d.coordinates = {"theta", "phi"};

@@ -440,13 +440,18 @@ LAGRANGIAN_ALWAYS_INLINE void free_accelerations(const M& model, Workspace<coord
     if (!(std::isfinite(m) && m > 0)) detail::singular_mass_failure(ws, q, qd, t);
     out[0] = ws.rhs[0] / m;
   } else if (diagonal_mass(ws.mass)) {
-    // Cartesian coordinates of particles, among others: the pivots are the
-    // diagonal, q̈_i = rhs_i / M_ii, each rounded once.
+    // Cartesian coordinates of particles, among others (and every 1 × 1 M):
+    // the pivots are the diagonal, q̈_i = rhs_i / M_ii, each rounded once.
     check_diagonal_pivots(ws, q, qd, t);
     out = ws.rhs.cwiseQuotient(ws.mass.diagonal());
   } else if constexpr (n == 2) {
     solve_2x2(ws.mass, checked_determinant_2x2(ws, q, qd, t), ws.rhs, out);
   } else {
+    if constexpr (n == Dynamic) {
+      // Cramer's rule for a run-time size of 2 too (a text model's double
+      // pendulum): the dynamic-size LLT costs about ten times as much.
+      if (ws.mass.rows() == 2) return solve_2x2(ws.mass, checked_determinant_2x2(ws, q, qd, t), ws.rhs, out);
+    }
     detail::factor_mass_matrix(ws, q, qd, t);
     out = ws.cholesky.solve(ws.rhs);
   }
