@@ -10,7 +10,8 @@
 //     // or, for a preset of a template model (models::presets):
 //     // static constexpr const auto& description = models::presets::newtons_cradle;
 //     static constexpr std::string_view type = "models::SimplePendulum"; // for inspect
-//     static Model build(const Parameters& p);                           // may throw ParameterError
+//     // optional: static Model build(const Parameters& p);  // may throw ParameterError; without it the
+//     //   model is built as Model(p[name_0], p[name_1], …) in the description's parameter order
 //     static State<coordinate_count_v<Model>> initial(const Model& m, double t0);       // the default state
 //     // optional: static std::string_view alias(std::string_view model_parameter);
 //     // optional, for the animation (view.hpp):
@@ -107,15 +108,21 @@ void inspect_header_json(JsonObject& js, const ModelInfo& info, std::string_view
 
 // -- building a model and its initial state -------------------------------------
 
-/// The name a scene gives the model of `Def`: its preset's (Def::description)
+/// The description of the model of `Def`: its preset's (Def::description)
 /// or its model's own (Model::description).
 template <class Def>
-constexpr std::string_view name_of() {
+constexpr const auto& description_of() {
   if constexpr (requires { Def::description; }) {
-    return Def::description.name;
+    return Def::description;
   } else {
-    return Def::Model::description.name;
+    return Def::Model::description;
   }
+}
+
+/// The name a scene gives the model of `Def`.
+template <class Def>
+constexpr std::string_view name_of() {
+  return description_of<Def>().name;
 }
 
 /// The catalog entry of the model of `Def`.
@@ -289,9 +296,22 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
 
 // -- entries ----------------------------------------------------------------------
 
+
+/// Def::build(p) when the Def has one; otherwise the model's constructor
+/// called with the description's parameters in their order,
+/// Model(p[name_0], p[name_1], …).
 template <class Def>
 typename Def::Model build_model(const ModelInfo& info, const Parameters& p) {
-  return with_parameter_keys<Def>(info, [&] { return Def::build(p); });
+  return with_parameter_keys<Def>(info, [&] {
+    if constexpr (requires { Def::build(p); }) {
+      return Def::build(p);
+    } else {
+      constexpr const auto& d = description_of<Def>();
+      return [&]<std::size_t... I>(std::index_sequence<I...>) {
+        return typename Def::Model(p[d.parameters[I].name]...);
+      }(std::make_index_sequence<d.parameters.size()>{});
+    }
+  });
 }
 
 template <class Def>

@@ -21,7 +21,6 @@ namespace lm = lagrangian::models;
 struct BeadOnRotatingWireDef {
   using Model = lm::BeadOnRotatingWire;
   static constexpr std::string_view type = "models::BeadOnRotatingWire";
-  static Model build(const Parameters& p) { return Model(p["m"], p["omega"], p["L"]); }
   /// 1 m out along the wire at t0, turning with it (no radial speed).
   static State<2> initial(const Model& m, double t0) {
     const double c = std::cos(m.omega * t0), s = std::sin(m.omega * t0);
@@ -54,7 +53,6 @@ struct BeadOnRotatingWireDef {
 struct ParticleOnSphereDef {
   using Model = lm::ParticleOnSphere;
   static constexpr std::string_view type = "models::ParticleOnSphere";
-  static Model build(const Parameters& p) { return Model(p["m"], p["R"], p["g"]); }
   /// 1 rad from the bottom, moving horizontally at 2 m/s along +y.
   static State<3> initial(const Model& m, double) {
     State<3> x;
@@ -76,7 +74,6 @@ struct ParticleOnSphereDef {
 struct AtwoodMachineDef {
   using Model = lm::AtwoodMachine;
   static constexpr std::string_view type = "models::AtwoodMachine";
-  static Model build(const Parameters& p) { return Model(p["m1"], p["m2"], p["g"], p["c"], p["d"]); }
   /// Both masses at height c/2, at rest.
   static State<2> initial(const Model& m, double) {
     State<2> x;
@@ -108,7 +105,6 @@ struct AtwoodMachineDef {
 struct CartesianDoublePendulumDef {
   using Model = lm::CartesianDoublePendulum;
   static constexpr std::string_view type = "models::CartesianDoublePendulum";
-  static Model build(const Parameters& p) { return Model(p["m1"], p["m2"], p["l1"], p["l2"], p["g"]); }
   /// At rest with the rods at 1 rad and 0.5 rad from the downward vertical
   /// (the default state of double_pendulum).
   static State<4> initial(const Model& m, double) {
@@ -127,7 +123,6 @@ struct CartesianDoublePendulumDef {
 struct KnifeEdgeDef {
   using Model = lm::KnifeEdge;
   static constexpr std::string_view type = "models::KnifeEdge";
-  static Model build(const Parameters& p) { return Model(p["m"], p["I"]); }
   /// At the origin heading along +x at 1 m/s, turning at 0.5 rad/s: a circle of radius 2 m.
   static State<3> initial(const Model&, double) {
     State<3> x;

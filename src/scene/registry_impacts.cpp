@@ -71,7 +71,6 @@ struct ObliqueImpactDef {
   using Model = lm::TwoSpheres<2>;
   static constexpr const auto& description = lm::presets::oblique_impact;
   static constexpr std::string_view type = "models::TwoSpheres<2>";
-  static Model build(const Parameters& p) { return Model(p["m1"], p["m2"], p["r1"], p["r2"], p["e"]); }
   /// Sphere 1 at the origin moving along +x at 1 m/s; sphere 2 at rest,
   /// offset sideways by half the sum of the radii: the common normal at
   /// impact is at 30 degrees to the line of motion.

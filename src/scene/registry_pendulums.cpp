@@ -37,7 +37,6 @@ view::Point hanging(double x0, double y0, double l, double theta) {
 struct SimplePendulumDef {
   using Model = lm::SimplePendulum;
   static constexpr std::string_view type = "models::SimplePendulum";
-  static Model build(const Parameters& p) { return Model(p["m"], p["l"], p["g"]); }
   static State<1> initial(const Model&, double) { return at_rest<1>({0.5}); }
   /// The bob on its rod from the pivot at the origin.
   static view::Figure figure(const Model&) {
@@ -50,7 +49,6 @@ struct SimplePendulumDef {
 struct HarmonicOscillatorDef {
   using Model = lm::HarmonicOscillator;
   static constexpr std::string_view type = "models::HarmonicOscillator";
-  static Model build(const Parameters& p) { return Model(p["m"], p["k"]); }
   /// Stretched 0.1 m, at rest.
   static State<1> initial(const Model&, double) { return at_rest<1>({0.1}); }
   /// The mass sliding along the horizontal x axis (z up), on a spring from a wall 1 m to the left of its rest
@@ -70,7 +68,6 @@ struct HarmonicOscillatorDef {
 struct DoublePendulumDef {
   using Model = lm::DoublePendulum;
   static constexpr std::string_view type = "models::DoublePendulum";
-  static Model build(const Parameters& p) { return Model(p["m1"], p["m2"], p["l1"], p["l2"], p["g"]); }
   static State<2> initial(const Model&, double) { return at_rest<2>({1.0, 0.5}); }
   /// Bob 1 on rod 1 from the pivot at the origin, bob 2 on rod 2 from bob 1.
   static view::Figure figure(const Model&) {
@@ -86,7 +83,6 @@ struct DoublePendulumDef {
 struct SphericalPendulumDef {
   using Model = lm::SphericalPendulum;
   static constexpr std::string_view type = "models::SphericalPendulum";
-  static Model build(const Parameters& p) { return Model(p["m"], p["l"], p["g"]); }
   static State<2> initial(const Model&, double) {
     State<2> s = at_rest<2>({1.0, 0.0});
     s.qd[1] = 2.0;  // swinging round as well as out
@@ -107,7 +103,6 @@ struct SphericalPendulumDef {
 struct ElasticPendulumDef {
   using Model = lm::ElasticPendulum;
   static constexpr std::string_view type = "models::ElasticPendulum";
-  static Model build(const Parameters& p) { return Model(p["m"], p["k"], p["l0"], p["g"]); }
   /// 0.1 m below the hanging equilibrium r = l0 + m g / k, at 0.3 rad.
   static State<2> initial(const Model& m, double) { return at_rest<2>({m.l0 + m.m * m.g / m.k + 0.1, 0.3}); }
   /// The bob on its spring from the pivot at the origin.
@@ -123,7 +118,6 @@ struct ElasticPendulumDef {
 struct BeadOnRotatingHoopDef {
   using Model = lm::BeadOnRotatingHoop;
   static constexpr std::string_view type = "models::BeadOnRotatingHoop";
-  static Model build(const Parameters& p) { return Model(p["m"], p["R"], p["omega"], p["g"]); }
   static State<1> initial(const Model&, double) { return at_rest<1>({0.5}); }
   /// In the fixed (inertial) frame, z up, the hoop's centre at the origin: the hoop turns about the z axis,
   /// so it is drawn by what stays put and by a marker that turns with it: the sphere of radius R it sweeps
@@ -150,7 +144,6 @@ struct BeadOnRotatingHoopDef {
 struct KeplerPolarDef {
   using Model = lm::KeplerPolar;
   static constexpr std::string_view type = "models::KeplerPolar";
-  static Model build(const Parameters& p) { return Model(p["m"], p["k"]); }
   /// Periapsis of the orbit a = 1 m, e = 0.5: r = a (1 − e), speed
   /// √(GM (1 + e) / (a (1 − e))) with GM = k/m.
   static State<2> initial(const Model& m, double) {
@@ -175,7 +168,6 @@ struct KeplerPolarDef {
 struct CartPendulumDef {
   using Model = lm::CartPendulum;
   static constexpr std::string_view type = "models::CartPendulum";
-  static Model build(const Parameters& p) { return Model(p["M"], p["m"], p["l"], p["k"], p["g"]); }
   static State<2> initial(const Model&, double) { return at_rest<2>({0.0, 0.5}); }
   /// The cart on the rail y = 0 with the bob on its rod below it, and (when k > 0) the cart's spring from a
   /// wall at x = −l (the spring is relaxed at x = 0; its length is only drawn).
@@ -200,7 +192,6 @@ struct CartPendulumDef {
 struct DrivenPendulumDef {
   using Model = lm::DrivenPendulum;
   static constexpr std::string_view type = "models::DrivenPendulum";
-  static Model build(const Parameters& p) { return Model(p["m"], p["l"], p["a"], p["Omega"], p["g"]); }
   static State<1> initial(const Model&, double) { return at_rest<1>({0.5}); }
   /// The bob on its rod from the moving support (a small marker), which slides on the y axis.
   static view::Figure figure(const Model& m) {
@@ -228,7 +219,6 @@ struct PendulumChain3Def {
   using Model = PendulumChain3;
   static constexpr const auto& description = lm::presets::pendulum_chain_3;
   static constexpr std::string_view type = "models::PendulumChain<3>";
-  static Model build(const Parameters& p) { return Model(p["m"], p["l"], p["g"]); }
   static State<3> initial(const Model&, double) { return at_rest<3>({0.5, 0.4, 0.3}); }
   /// Bob 1 on its rod from the pivot at the origin, each next bob on its rod from the one before.
   static view::Figure figure(const Model&) {
