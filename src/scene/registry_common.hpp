@@ -296,7 +296,6 @@ std::string inspect_model(const M& model, const ModelInfo& info, std::string_vie
 
 // -- entries ----------------------------------------------------------------------
 
-
 /// Def::build(p) when the Def has one; otherwise the model's constructor
 /// called with the description's parameters in their order,
 /// Model(p[name_0], p[name_1], …).
