@@ -8,6 +8,7 @@
 #include "lagrangian/models/two_body.hpp"
 #include "lagrangian/text/text_model.hpp"
 #include "runtime_chain.hpp"
+#include "text_double_pendulum.hpp"
 
 namespace {
 
@@ -68,12 +69,7 @@ BENCHMARK(BM_DoublePendulum_AD);
 // The same T and V stated as text (text::TextModel: run-time size, the
 // expressions walked on the AD numbers at every call).
 void BM_DoublePendulum_Text(benchmark::State& st) {
-  lagrangian::text::Definition d;
-  d.coordinates = {"th1", "th2"};
-  d.kinetic = "0.5*(m1 + m2)*l1^2*th1_dot^2 + 0.5*m2*l2^2*th2_dot^2 + m2*l1*l2*th1_dot*th2_dot*cos(th1 - th2)";
-  d.potential = "-(m1 + m2)*g*l1*cos(th1) - m2*g*l2*cos(th2)";
-  d.parameters = {{"m1", 1.0}, {"m2", 1.0}, {"l1", 1.0}, {"l2", 1.0}, {"g", 9.81}};
-  const lagrangian::text::TextModel p(d);
+  const lagrangian::text::TextModel p(bench::double_pendulum_text());
   lagrangian::Workspace<lagrangian::Dynamic> ws(2);
   Eigen::VectorXd q = Eigen::Vector2d(0.7, -0.4), qd = Eigen::Vector2d(1.1, 0.3), qdd(2);
   for (auto _ : st) {

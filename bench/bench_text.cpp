@@ -11,6 +11,7 @@
 #include "lagrangian/lagrangian.hpp"
 #include "lagrangian/models/pendulums.hpp"
 #include "lagrangian/text/text_model.hpp"
+#include "text_double_pendulum.hpp"
 
 namespace {
 
@@ -30,15 +31,6 @@ struct Nothing {
   template <class Sample>
   void operator()(const Sample&) {}
 };
-
-text::Definition double_pendulum_text() {
-  text::Definition d;
-  d.coordinates = {"th1", "th2"};
-  d.kinetic = "0.5*(m1 + m2)*l1^2*th1_dot^2 + 0.5*m2*l2^2*th2_dot^2 + m2*l1*l2*th1_dot*th2_dot*cos(th1 - th2)";
-  d.potential = "-(m1 + m2)*g*l1*cos(th1) - m2*g*l2*cos(th2)";
-  d.parameters = {{"m1", 1.0}, {"m2", 1.0}, {"l1", 1.0}, {"l2", 1.0}, {"g", 9.81}};
-  return d;
-}
 
 /// x_k = Σ_{i≤k} l sin θ_i, y_k = −Σ_{i≤k} l cos θ_i: T = Σ_k ½ m (ẋ_k² + ẏ_k²),
 /// V = Σ_k m g y_k, each running sum written out (equal prefixes are
@@ -88,7 +80,7 @@ State<Dynamic> start_dynamic(int n) {
 
 void BM_Run_DoublePendulum_Compiled(benchmark::State& st) { run(st, models::DoublePendulum(), start<2>()); }
 void BM_Run_DoublePendulum_Text(benchmark::State& st) {
-  run(st, text::TextModel(double_pendulum_text()), start_dynamic(2));
+  run(st, text::TextModel(bench::double_pendulum_text()), start_dynamic(2));
 }
 void BM_Run_Chain10_Compiled(benchmark::State& st) { run(st, models::PendulumChain<10>(), start<10>()); }
 void BM_Run_Chain10_Text(benchmark::State& st) { run(st, text::TextModel(chain_text(10)), start_dynamic(10)); }
