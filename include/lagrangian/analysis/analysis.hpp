@@ -45,4 +45,5 @@
 #include "lagrangian/analysis/bvp.hpp"         // IWYU pragma: export
 #include "lagrangian/analysis/equilibria.hpp"  // IWYU pragma: export
 #include "lagrangian/analysis/linearisation.hpp"  // IWYU pragma: export
+#include "lagrangian/analysis/lyapunov.hpp"       // IWYU pragma: export
 #include "lagrangian/analysis/modes.hpp"       // IWYU pragma: export

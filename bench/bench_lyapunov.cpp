@@ -1,0 +1,41 @@
+// What the Lyapunov exponents cost against a plain run of the same motion:
+// the chaotic double pendulum (θ1 = θ2 = 2 rad from rest, 100 s, dopri5 at
+// rtol 1e-10, atol 1e-12), the largest exponent (one tangent vector) and the
+// whole spectrum (four), each timed against simulate() in the same process
+// (docs/performance.md). Usage: bench_lyapunov [REPEATS]   (default 3)
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+
+#include "lagrangian/analysis/lyapunov.hpp"
+#include "lagrangian/integrate/simulate.hpp"
+#include "lagrangian/models/pendulums.hpp"
+
+int main(int argc, char** argv) {
+  const int repeats = argc > 1 ? std::atoi(argv[1]) : 3;
+  const lagrangian::models::DoublePendulum dp;
+  lagrangian::State<2> s;
+  s.q << 2.0, 2.0;
+  lagrangian::SimulationOptions run;
+  run.t_end = 100;
+  run.rtol = 1e-10;
+  run.atol = 1e-12;
+  run.output_interval = -1;
+  for (int r = 0; r < repeats; ++r) {
+    const auto start = std::chrono::steady_clock::now();
+    const lagrangian::RunReport plain = lagrangian::simulate(dp, s, run);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("plain run: %.4f s, %llu steps, %llu evaluations of q̈\n", seconds,
+                static_cast<unsigned long long>(plain.steps), static_cast<unsigned long long>(plain.rhs_evaluations));
+    for (int k : {1, 4}) {
+      lagrangian::LyapunovOptions o;
+      o.run = run;
+      o.exponents = k;
+      const lagrangian::LyapunovResult l = lagrangian::lyapunov_spectrum(dp, s, o);
+      std::printf("  k = %d: %.4f s (%.1fx the plain run), %llu steps, %llu evaluations of q̈ with J, "
+                  "%d renormalisations, largest exponent %.4f 1/s, sum %.1e 1/s\n",
+                  k, l.seconds, l.seconds / seconds, static_cast<unsigned long long>(l.steps),
+                  static_cast<unsigned long long>(l.rhs_evaluations), l.renormalisations, l.spectrum[0], l.sum);
+    }
+  }
+}

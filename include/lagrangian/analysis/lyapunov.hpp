@@ -1,0 +1,134 @@
+#pragma once
+/// \file lyapunov.hpp
+/// Lyapunov exponents of a motion: how fast nearby motions separate.
+///
+/// Beside the state x = (q, q̇) the run integrates k tangent vectors
+/// δx_1 … δx_k by the variational equations δẋ = J(x, t) δx, with J from
+/// automatic differentiation (tangent_flow.hpp), in the one driver: the
+/// augmented system has the n(1 + k) coordinates (q, δq_1, …, δq_k) and
+/// their rates (q̇, δq̇_1, …, δq̇_k), so its accuracy is controlled by the
+/// run's method and tolerances like any run's. Benettin's method, in the
+/// canonical coordinates (q, p), p = ∂L/∂q̇: at the end of an accepted step
+/// the tangent matrix Z = P W (2n × k), W = [δx_1 … δx_k] and
+/// P = [[I, 0], [∂p/∂q, ∂p/∂q̇]] (momentum_jacobian()), may be factored
+/// Z = Q R (Householder, R_jj > 0), log R_jj added to the sum of exponent
+/// j and the tangent vectors restarted as W = P⁻¹ Q; they start as the
+/// first k canonical unit vectors. In (q, p) a Hamiltonian flow keeps
+/// phase-space volume exactly (Liouville), so the exponents of the whole
+/// spectrum sum to zero at every time, not only as T → ∞ as in (q, q̇),
+/// where the volume changes by det M(q(0)) / det M(q(T)).
+/// Over the run of length T = t_end − t0
+///   λ_j = (1/T) Σ_renormalisations log R_jj    (1/s),
+/// the finite-time exponents, reported largest first; with k = 2n the
+/// whole spectrum, whose sum is (1/T) log det ∂(q, p)(T)/∂(q, p)(0)
+/// (0 for a Hamiltonian flow, −2b/m for a particle under linear drag b in
+/// the plane). k = 1 gives the largest exponent alone, at less
+/// cost.
+///
+/// The renormalisation interval is chosen by the code unless given: a
+/// renormalisation follows the first step after which a tangent vector's
+/// length has left [1/e, e], or T/100 after the previous one (`interval`,
+/// when given, replaces T/100), so that the vectors keep their
+/// orthogonality in double precision; the result reports the shortest and
+/// longest interval taken. A renormalisation moves the state, so the
+/// stepper restarts after it, as after an impact.
+
+#include <cstdint>
+#include <vector>
+
+#include "lagrangian/analysis/tangent_flow.hpp"
+#include "lagrangian/errors.hpp"
+#include "lagrangian/integrate/report.hpp"
+#include "lagrangian/model.hpp"
+
+namespace lagrangian {
+
+/// What lyapunov_spectrum() computes and how.
+struct LyapunovOptions {
+  /// The run: method, tolerances, t0 and t_end (s). Its output settings
+  /// are not used.
+  SimulationOptions run;
+  /// Exponents wanted, k in [1, 2n]; 0 asks for all 2n.
+  int exponents = 0;
+  /// Longest time between renormalisations (s); 0 takes T/100. Shorter
+  /// intervals come from the tangent vectors' growth (above).
+  double interval = 0.0;
+};
+
+/// Finite-time Lyapunov exponents and what they cost.
+struct LyapunovResult {
+  std::vector<double> spectrum;      ///< λ_1 ≥ … ≥ λ_k (1/s)
+  double sum = 0;                    ///< Σ λ_i (1/s)
+  double t_final = 0;                ///< end of the run (s)
+  int renormalisations = 0;          ///< QR factorisations, the last at t_final included
+  double interval_min = 0;           ///< shortest interval taken (s)
+  double interval_max = 0;           ///< longest interval taken (s)
+  std::uint64_t steps = 0;           ///< accepted steps of the augmented system
+  std::uint64_t rhs_evaluations = 0; ///< evaluations of q̈ with its Jacobian
+  double seconds = 0;                ///< wall time of the run (s)
+  std::vector<double> q_final, qd_final;  ///< the state at t_final
+};
+
+namespace detail {
+
+/// A model reached through one function: q̈ and the n × 2n Jacobian
+/// ∂q̈/∂(q, q̇) (column-major) at (q, q̇, t).
+struct TangentModel {
+  const void* model = nullptr;
+  void (*evaluate)(const void* model, const double* q, const double* qd, double t, double* qdd, double* jacobian) =
+      nullptr;
+  /// ∂p/∂(q, q̇) at (q, q̇, t) (n × 2n, column-major; momentum_jacobian()).
+  void (*momentum)(const void* model, const double* q, const double* qd, double t, double* out) = nullptr;
+  int n = 0;
+};
+
+/// Benettin's method over a TangentModel (src/analysis/lyapunov.cpp).
+LyapunovResult lyapunov_spectrum(const TangentModel& model, const double* q0, const double* qd0,
+                                 const LyapunovOptions& options);
+
+template <class M>
+void evaluate_tangent(const void* model, const double* q, const double* qd, double t, double* qdd,
+                      double* jacobian) {
+  constexpr int n = coordinate_count_v<M>;
+  Vec<double, n> a;
+  Eigen::Matrix<double, n, 2 * n> j;
+  state_jacobian(*static_cast<const M*>(model), Eigen::Map<const Vec<double, n>>(q),
+                 Eigen::Map<const Vec<double, n>>(qd), t, a, j);
+  Eigen::Map<Vec<double, n>> qdd_out(qdd);
+  Eigen::Map<Eigen::Matrix<double, n, 2 * n>> jacobian_out(jacobian);
+  qdd_out = a;
+  jacobian_out = j;
+}
+
+template <class M>
+void evaluate_momentum(const void* model, const double* q, const double* qd, double t, double* out) {
+  constexpr int n = coordinate_count_v<M>;
+  Eigen::Matrix<double, n, 2 * n> j;
+  momentum_jacobian(*static_cast<const M*>(model), Eigen::Map<const Vec<double, n>>(q),
+                    Eigen::Map<const Vec<double, n>>(qd), t, j);
+  Eigen::Map<Eigen::Matrix<double, n, 2 * n>> out_map(out);
+  out_map = j;
+}
+
+}  // namespace detail
+
+/// The Lyapunov exponents of the motion of `model` from `initial` at
+/// options.run.t0 to options.run.t_end (see the file comment). Throws
+/// OptionError for a bad option (naming it and its value), AnalysisError
+/// for a model with constraints or contacts, SimulationError when the run
+/// fails.
+template <class M>
+LyapunovResult lyapunov_spectrum(const M& model, const State<coordinate_count_v<M>>& initial,
+                                 const LyapunovOptions& options) {
+  constexpr int n = coordinate_count_v<M>;
+  static_assert(n != Dynamic, "lyapunov_spectrum: the tangent flow is derived for models with a fixed coordinate_count");
+  if (has_constraints(model) || unilateral_count(model) > 0)
+    throw AnalysisError("lyapunov: the tangent flow is derived for models without constraints or contacts; this "
+                        "model declares " +
+                        std::to_string(constraint_count(model)) + " constraint rows and " +
+                        std::to_string(unilateral_count(model)) + " contacts");
+  const detail::TangentModel tm{&model, &detail::evaluate_tangent<M>, &detail::evaluate_momentum<M>, n};
+  return detail::lyapunov_spectrum(tm, initial.q.data(), initial.qd.data(), options);
+}
+
+}  // namespace lagrangian

@@ -1,0 +1,243 @@
+// Benettin's method over the augmented system of state and tangent vectors
+// (lagrangian/analysis/lyapunov.hpp), run by the one driver.
+
+#include "lagrangian/analysis/lyapunov.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Cholesky>
+#include <Eigen/QR>
+
+#include "lagrangian/integrate/integrate.hpp"
+#include "lagrangian/integrate/method.hpp"
+#include "lagrangian/integrate/system.hpp"
+
+namespace lagrangian::detail {
+namespace {
+
+/// ẋ = f(x, t) with k tangent vectors: the n(1 + k) coordinates
+/// (q, δq_1, …, δq_k) and their rates (q̇, δq̇_1, …, δq̇_k), so that
+/// d/dt δq_j = δq̇_j comes from the driver's layout and
+///   d/dt δq̇_j = (∂q̈/∂q) δq_j + (∂q̈/∂q̇) δq̇_j.
+/// Benettin's renormalisation is its one event: after an accepted step in
+/// which a tangent vector's length changed by more than a factor e since the
+/// last one, or `longest` seconds after
+/// the last one, the canonical tangent matrix Z = P W (P = [[I, 0], ∂p/∂x])
+/// is factored Z = QR, log R_jj is added to sum j and W becomes P⁻¹ Q. The
+/// driver then restarts the stepper from the new state, as after any event.
+class TangentSystem final : public System {
+ public:
+  TangentSystem(const TangentModel& model, int k, double longest)
+      : model_(model), k_(k), longest_(longest), qdd_(static_cast<std::size_t>(model.n)),
+        jacobian_(static_cast<std::size_t>(2 * model.n * model.n)), w_(2 * model.n, k), qr_(2 * model.n, k),
+        sums_(static_cast<std::size_t>(k), 0.0) {}
+
+  int coordinate_count() const override { return model_.n * (1 + k_); }
+
+  void rhs(const double* x, double* dxdt, double t) const override {
+    const int n = model_.n, c = coordinate_count();
+    model_.evaluate(model_.model, x, x + c, t, qdd_.data(), jacobian_.data());
+    ++evaluations_;
+    std::copy(x + c, x + 2 * c, dxdt);
+    std::copy(qdd_.begin(), qdd_.end(), dxdt + c);
+    const Eigen::Map<const Eigen::MatrixXd> jq(jacobian_.data(), n, n), jqd(jacobian_.data() + n * n, n, n);
+    for (int j = 1; j <= k_; ++j) {
+      const Eigen::Map<const Eigen::VectorXd> dq(x + j * n, n), dqd(x + c + j * n, n);
+      Eigen::Map<Eigen::VectorXd> out(dxdt + c + j * n, n);
+      out.noalias() = jq * dq;
+      out.noalias() += jqd * dqd;
+    }
+  }
+
+  /// The tangent vectors start as the first k unit vectors of the state.
+  void start(double* x, double t0) override {
+    last_ = t0;
+    canonical(x, t0);
+    w_ = from_canonical(Eigen::MatrixXd::Identity(2 * model_.n, k_));
+    remember_lengths();
+    store(x);
+  }
+  void sample(double, const double*) override {}
+  void finish(double, const double*, bool) override {}
+
+  bool has_events() const override { return true; }
+  bool handle_events(double, const double*, double& t, double* x, const StepInterpolant&) override {
+    load(x);
+    bool due = t - last_ >= longest_;
+    for (int j = 0; j < k_ && !due; ++j)
+      due = std::abs(std::log(w_.col(j).norm() / lengths_[static_cast<std::size_t>(j)])) > 1.0;
+    if (!due) return false;
+    renormalise(x, t);
+    return true;
+  }
+
+  /// The last renormalisation, at the end of the run at t.
+  void close(double* x, double t) {
+    load(x);
+    if (t > last_) renormalise(x, t);
+  }
+
+  std::uint64_t evaluations() const { return evaluations_; }
+  const std::vector<double>& sums() const { return sums_; }
+  int renormalisations() const { return renormalisations_; }
+  double shortest() const { return shortest_; }
+  double longest() const { return longest_taken_; }
+
+ private:
+  void load(const double* x) {
+    const int n = model_.n, c = coordinate_count();
+    for (int j = 0; j < k_; ++j)
+      for (int i = 0; i < n; ++i) {
+        w_(i, j) = x[(j + 1) * n + i];
+        w_(n + i, j) = x[c + (j + 1) * n + i];
+      }
+  }
+  void store(double* x) const {
+    const int n = model_.n, c = coordinate_count();
+    for (int j = 0; j < k_; ++j)
+      for (int i = 0; i < n; ++i) {
+        x[(j + 1) * n + i] = w_(i, j);
+        x[c + (j + 1) * n + i] = w_(n + i, j);
+      }
+  }
+  /// P at the state of x, in p_ (its lower n rows ∂p/∂(q, q̇)) and the
+  /// Cholesky factor of M = ∂p/∂q̇.
+  void canonical(const double* x, double t) {
+    const int n = model_.n, c = coordinate_count();
+    model_.momentum(model_.model, x, x + c, t, p_.data());
+    const Eigen::Map<const Eigen::MatrixXd> dp(p_.data(), n, 2 * n);
+    llt_.compute(dp.rightCols(n));
+    if (llt_.info() != Eigen::Success)
+      throw SimulationError("lyapunov: the mass matrix dp/dqd is not positive definite", t);
+  }
+  /// W = P⁻¹ Z: δq = Z_q, δq̇ = M⁻¹ (Z_p − (∂p/∂q) Z_q).
+  Eigen::MatrixXd from_canonical(const Eigen::MatrixXd& z) const {
+    const int n = model_.n;
+    const Eigen::Map<const Eigen::MatrixXd> dp(p_.data(), n, 2 * n);
+    Eigen::MatrixXd w(2 * n, k_);
+    w.topRows(n) = z.topRows(n);
+    w.bottomRows(n) = llt_.solve(z.bottomRows(n) - dp.leftCols(n) * z.topRows(n));
+    return w;
+  }
+  /// The tangent vectors' lengths in (q, q̇) just after a renormalisation
+  /// (unit length in (q, p)): the next one is due when one of them has
+  /// grown or shrunk by a factor e from there.
+  void remember_lengths() {
+    for (int j = 0; j < k_; ++j) lengths_[static_cast<std::size_t>(j)] = w_.col(j).norm();
+  }
+  void renormalise(double* x, double t) {
+    const int n = model_.n;
+    canonical(x, t);
+    const Eigen::Map<const Eigen::MatrixXd> dp(p_.data(), n, 2 * n);
+    Eigen::MatrixXd z(2 * n, k_);
+    z.topRows(n) = w_.topRows(n);
+    z.bottomRows(n) = dp * w_;
+    qr_.compute(z);
+    const Eigen::MatrixXd& r = qr_.matrixQR();
+    for (int j = 0; j < k_; ++j) {
+      const double grow = std::log(std::abs(r(j, j)));
+      if (!std::isfinite(grow))
+        throw SimulationError("lyapunov: tangent vector " + std::to_string(j + 1) +
+                                  " became dependent on the others or non-finite (|R_jj| = " +
+                                  std::to_string(std::abs(r(j, j))) + ")",
+                              t);
+      sums_[static_cast<std::size_t>(j)] += grow;
+    }
+    // Q with the signs that make R's diagonal positive: each tangent vector
+    // keeps its direction.
+    Eigen::MatrixXd q = qr_.householderQ() * Eigen::MatrixXd::Identity(2 * n, k_);
+    for (int j = 0; j < k_; ++j)
+      if (r(j, j) < 0) q.col(j) = -q.col(j);
+    w_ = from_canonical(q);
+    remember_lengths();
+    store(x);
+    ++renormalisations_;
+    shortest_ = std::min(shortest_, t - last_);
+    longest_taken_ = std::max(longest_taken_, t - last_);
+    last_ = t;
+  }
+
+  TangentModel model_;
+  int k_;
+  double longest_;
+  mutable std::vector<double> qdd_, jacobian_;
+  mutable std::uint64_t evaluations_ = 0;
+  Eigen::MatrixXd w_;
+  std::vector<double> p_ = std::vector<double>(static_cast<std::size_t>(2 * model_.n * model_.n));
+  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr_;
+  std::vector<double> sums_, lengths_ = std::vector<double>(static_cast<std::size_t>(k_), 1.0);
+  double last_ = 0;
+  int renormalisations_ = 0;
+  double shortest_ = std::numeric_limits<double>::infinity();
+  double longest_taken_ = 0;
+};
+
+void check_options(const LyapunovOptions& options, int n) {
+  options.run.validate();
+  const MethodInfo& method = method_info(options.run.method);
+  if (method.family != MethodFamily::explicit_runge_kutta && method.family != MethodFamily::gauss_radau &&
+      method.family != MethodFamily::rosenbrock)
+    throw OptionError("lyapunov: method '" + std::string(method.name) +
+                      "' integrates a model's own structure, not the tangent vectors beside it; take an explicit "
+                      "Runge-Kutta method (dopri5, fehlberg78, ...), gauss_radau15 or rosenbrock4");
+  if (options.exponents < 0 || options.exponents > 2 * n) {
+    std::ostringstream os;
+    os << "lyapunov: exponents = " << options.exponents << " is outside [0, " << 2 * n
+       << "] (0 asks for all 2n = " << 2 * n << ")";
+    throw OptionError(os.str());
+  }
+  if (!(options.interval >= 0) || !std::isfinite(options.interval)) {
+    std::ostringstream os;
+    os << "lyapunov: interval = " << options.interval << " s must be finite and >= 0 (0 lets the code choose it)";
+    throw OptionError(os.str());
+  }
+}
+
+}  // namespace
+
+LyapunovResult lyapunov_spectrum(const TangentModel& model, const double* q0, const double* qd0,
+                                 const LyapunovOptions& options) {
+  const int n = model.n;
+  check_options(options, n);
+  const int k = options.exponents == 0 ? 2 * n : options.exponents;
+  const auto clock_start = std::chrono::steady_clock::now();
+  const double span = options.run.t_end - options.run.t0;
+  TangentSystem system(model, k, options.interval > 0 ? options.interval : span / 100);
+  const int c = system.coordinate_count();
+  std::vector<double> x(static_cast<std::size_t>(2 * c), 0.0);
+  std::copy(q0, q0 + n, x.begin());
+  std::copy(qd0, qd0 + n, x.begin() + c);
+  SimulationOptions run = options.run;
+  run.output_interval = -1;  // no samples between the ends
+  RunReport report;
+  integrate(system, x, run, report);
+  if (report.t_final < options.run.t_end)
+    throw SimulationError("lyapunov: the run stopped before t_end", report.t_final);
+  system.close(x.data(), report.t_final);
+
+  LyapunovResult result;
+  result.t_final = report.t_final;
+  for (double s : system.sums()) result.spectrum.push_back(s / span);
+  std::sort(result.spectrum.begin(), result.spectrum.end(), std::greater<>());
+  for (double l : result.spectrum) result.sum += l;
+  result.renormalisations = system.renormalisations();
+  result.interval_min = system.shortest();
+  result.interval_max = system.longest();
+  result.steps = report.steps;
+  result.q_final.assign(x.begin(), x.begin() + n);
+  result.qd_final.assign(x.begin() + c, x.begin() + c + n);
+  result.rhs_evaluations = system.evaluations();
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
+  return result;
+}
+
+}  // namespace lagrangian::detail

@@ -1,0 +1,215 @@
+// The tangent flow by AD (analysis/tangent_flow.hpp) and the Lyapunov
+// exponents built on it (analysis/lyapunov.hpp), against closed forms,
+// finite differences of the library's q̈, and Liouville's theorem.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "lagrangian/analysis/lyapunov.hpp"
+#include "lagrangian/analysis/tangent_flow.hpp"
+#include "lagrangian/models/constrained.hpp"
+#include "lagrangian/models/pendulums.hpp"
+#include "lagrangian/models/projectile.hpp"
+
+namespace {
+
+using lagrangian::Vec;
+namespace lm = lagrangian::models;
+
+/// ∂q̈/∂x_j by central differences of accelerations() (step 1e-5 · max(1, |x_j|):
+/// truncation ~1e-10, rounding ~1e-11 relative).
+template <class M>
+Eigen::Matrix<double, M::coordinate_count, 2 * M::coordinate_count> differenced(const M& model,
+                                                                                Vec<double, M::coordinate_count> q,
+                                                                                Vec<double, M::coordinate_count> qd,
+                                                                                double t) {
+  constexpr int n = M::coordinate_count;
+  Eigen::Matrix<double, n, 2 * n> j;
+  for (int c = 0; c < 2 * n; ++c) {
+    double& x = c < n ? q[c] : qd[c - n];
+    const double x0 = x, h = 1e-5 * std::max(1.0, std::abs(x0));
+    x = x0 + h;
+    const Vec<double, n> up = lagrangian::accelerations(model, q, qd, t);
+    x = x0 - h;
+    const Vec<double, n> down = lagrangian::accelerations(model, q, qd, t);
+    x = x0;
+    j.col(c) = (up - down) / (2 * h);
+  }
+  return j;
+}
+
+template <class M>
+void expect_jacobian_agrees(const M& model, const Vec<double, M::coordinate_count>& q,
+                            const Vec<double, M::coordinate_count>& qd, double t) {
+  constexpr int n = M::coordinate_count;
+  Vec<double, n> qdd;
+  Eigen::Matrix<double, n, 2 * n> jac;
+  lagrangian::state_jacobian(model, q, qd, t, qdd, jac);
+  const Vec<double, n> library = lagrangian::accelerations(model, q, qd, t);
+  EXPECT_LE((qdd - library).norm(), 1e-13 * (1 + library.norm())) << model.name();
+  const auto fd = differenced(model, q, qd, t);
+  EXPECT_LE((jac - fd).norm(), 1e-7 * (1 + fd.norm())) << model.name() << "\nAD:\n" << jac << "\nFD:\n" << fd;
+}
+
+TEST(TangentFlow, HarmonicOscillatorIsMinusOmegaSquared) {
+  const lm::HarmonicOscillator osc(2.0, 18.0);  // ω² = k/m = 9 s⁻²
+  Vec<double, 1> qdd;
+  Eigen::Matrix<double, 1, 2> jac;
+  lagrangian::state_jacobian(osc, Vec<double, 1>(0.3), Vec<double, 1>(-1.2), 0.0, qdd, jac);
+  EXPECT_DOUBLE_EQ(qdd[0], -9.0 * 0.3);
+  EXPECT_DOUBLE_EQ(jac(0, 0), -9.0);
+  EXPECT_EQ(jac(0, 1), 0.0);
+}
+
+TEST(TangentFlow, LinearDragGivesMinusBOverMInTheVelocityColumns) {
+  const lm::Projectile<lm::Drag::linear> p(2.0, 9.81, 0.0, 0.5);  // b/m = 0.25 s⁻¹
+  Vec<double, 2> qdd;
+  Eigen::Matrix<double, 2, 4> jac;
+  lagrangian::state_jacobian(p, Vec<double, 2>(1.0, 2.0), Vec<double, 2>(3.0, -4.0), 0.0, qdd, jac);
+  Eigen::Matrix<double, 2, 4> expected = Eigen::Matrix<double, 2, 4>::Zero();
+  expected(0, 2) = expected(1, 3) = -0.25;
+  EXPECT_LE((jac - expected).norm(), 1e-15);
+  EXPECT_NEAR(qdd[0], -0.25 * 3.0, 1e-15);
+  EXPECT_NEAR(qdd[1], -9.81 + 0.25 * 4.0, 1e-14);
+}
+
+TEST(TangentFlow, AgreesWithDifferencesOfTheLibraryAccelerations) {
+  expect_jacobian_agrees(lm::DoublePendulum(1.3, 0.7, 0.9, 1.1), Vec<double, 2>(0.7, -1.9), Vec<double, 2>(1.4, -0.6),
+                         0.0);
+  // Time-dependent T (∂²L/∂q̇∂t ≠ 0): the driven pendulum.
+  expect_jacobian_agrees(lm::DrivenPendulum(), Vec<double, 1>(2.5), Vec<double, 1>(0.8), 0.37);
+  // Gyroscopic terms (∂²L/∂q̇∂q not symmetric in its use): the spherical pendulum.
+  expect_jacobian_agrees(lm::SphericalPendulum(), Vec<double, 2>(0.9, 0.4), Vec<double, 2>(-0.3, 2.1), 0.0);
+  // Dissipation nonlinear in q̇: quadratic drag.
+  expect_jacobian_agrees(lm::Projectile<lm::Drag::quadratic>(1.5, 9.81, 0.0, 0.2), Vec<double, 2>(0.1, 0.2),
+                         Vec<double, 2>(7.0, -3.0), 0.0);
+  expect_jacobian_agrees(lm::PendulumChain<4>(), Vec<double, 4>(0.3, -0.2, 1.1, 2.0),
+                         Vec<double, 4>(0.5, -1.0, 0.25, 2.0), 0.0);
+}
+
+TEST(TangentFlow, RefusesConstrainedModels) {
+  const lm::AtwoodMachine atwood;
+  Vec<double, 2> qdd;
+  Eigen::Matrix<double, 2, 4> jac;
+  try {
+    lagrangian::state_jacobian(atwood, Vec<double, 2>(1.0, 1.0), Vec<double, 2>(0.0, 0.0), 0.0, qdd, jac);
+    FAIL() << "a constrained model was accepted";
+  } catch (const lagrangian::AnalysisError& e) {
+    EXPECT_NE(std::string(e.what()).find("1 constraint rows"), std::string::npos) << e.what();
+  }
+}
+
+lagrangian::LyapunovOptions options(double t_end, double rtol = 1e-11) {
+  lagrangian::LyapunovOptions o;
+  o.run.t_end = t_end;
+  o.run.rtol = rtol;
+  o.run.atol = 1e-13;
+  return o;
+}
+
+TEST(Lyapunov, HarmonicOscillatorHasZeroExponents) {
+  const lm::HarmonicOscillator osc;  // ω = 1 rad/s
+  lagrangian::State<1> s;
+  s.q[0] = 0.1;
+  const double periods = 1000, t_end = periods * 2 * M_PI;
+  const lagrangian::LyapunovResult r = lagrangian::lyapunov_spectrum(osc, s, options(t_end));
+  ASSERT_EQ(r.spectrum.size(), 2u);
+  EXPECT_LE(std::abs(r.spectrum[0]), 1e-3);
+  EXPECT_LE(std::abs(r.spectrum[1]), 1e-3);
+  // The flow preserves area: the exponents cancel to the integration error.
+  EXPECT_LE(std::abs(r.sum), 1e-8);
+  EXPECT_DOUBLE_EQ(r.t_final, t_end);
+  EXPECT_GE(r.renormalisations, 100);  // at least every T/100
+  EXPECT_LE(r.interval_max, t_end / 100 * (1 + 1e-9) + 10);  // (a step may overrun T/100 by its length)
+}
+
+TEST(Lyapunov, LinearDragContractsPhaseSpaceAtMinusTwoBOverM) {
+  // Liouville: d/dt log det Φ = tr J = −2b/m at every state, so the
+  // finite-time exponents sum to −2b/m whatever the run's length.
+  const lm::Projectile<lm::Drag::linear> p(2.0, 9.81, 0.0, 0.5);
+  const lagrangian::State<2> s = p.launch(20.0, 0.8);
+  for (double t_end : {1.0, 7.0}) {
+    const lagrangian::LyapunovResult r = lagrangian::lyapunov_spectrum(p, s, options(t_end));
+    ASSERT_EQ(r.spectrum.size(), 4u);
+    EXPECT_NEAR(r.sum, -2 * 0.5 / 2.0, 1e-8) << "t_end = " << t_end;
+  }
+}
+
+TEST(Lyapunov, ChaoticDoublePendulumHasAPositiveExponentAndASymplecticSpectrum) {
+  const lm::DoublePendulum dp;
+  lagrangian::State<2> chaotic, regular;
+  chaotic.q << 2.0, 2.0;
+  regular.q << 0.1, 0.1;
+  lagrangian::LyapunovOptions o = options(25.0, 1e-10);
+  const lagrangian::LyapunovResult a = lagrangian::lyapunov_spectrum(dp, chaotic, o);
+  o.interval = 0.05;  // renormalised at least every 0.05 s instead of every 0.25 s
+  const lagrangian::LyapunovResult b = lagrangian::lyapunov_spectrum(dp, chaotic, o);
+  ASSERT_EQ(a.spectrum.size(), 4u);
+  ASSERT_EQ(b.spectrum.size(), 4u);
+  EXPECT_GT(b.renormalisations, a.renormalisations);
+  // A positive exponent whatever the interval: the two runs' trajectories
+  // part after some 20 s (rounding grown by e^(λt)), so their estimates
+  // differ by the finite-time fluctuation, not by the method.
+  EXPECT_GT(a.spectrum[0], 0.5) << "largest exponent " << a.spectrum[0] << " 1/s";
+  EXPECT_GT(b.spectrum[0], 0.5) << "largest exponent " << b.spectrum[0] << " 1/s";
+  // Canonical coordinates: the flow keeps phase-space volume, so the sum is
+  // zero to the integration error at any T.
+  EXPECT_LE(std::abs(a.sum), 1e-9);
+  EXPECT_LE(std::abs(b.sum), 1e-9);
+  // The exponents pair as ±λ as T grows: the defect of a finite-time
+  // spectrum is a transient divided by T, so four times the time leaves at
+  // most half of it.
+  o.interval = 0;
+  o.run.t_end = 100.0;
+  const lagrangian::LyapunovResult longer = lagrangian::lyapunov_spectrum(dp, chaotic, o);
+  const double defect = std::abs(a.spectrum[0] + a.spectrum[3]);
+  const double defect_longer = std::abs(longer.spectrum[0] + longer.spectrum[3]);
+  EXPECT_GT(defect, 0.0);
+  EXPECT_LT(defect_longer, 0.5 * defect) << defect << " at 25 s, " << defect_longer << " at 100 s";
+  EXPECT_LE(std::abs(longer.sum), 1e-9);
+  // The largest exponent alone (one tangent vector) is as positive.
+  o.exponents = 1;
+  o.run.t_end = 25.0;
+  const lagrangian::LyapunovResult one = lagrangian::lyapunov_spectrum(dp, chaotic, o);
+  ASSERT_EQ(one.spectrum.size(), 1u);
+  EXPECT_GT(one.spectrum[0], 0.5);
+  // Small swings are regular (quasi-periodic): tangent vectors grow at most
+  // polynomially, λ ≲ ln(T)/T = 0.046 1/s at T = 100 s.
+  o.exponents = 0;
+  o.run.t_end = 100.0;
+  const lagrangian::LyapunovResult calm = lagrangian::lyapunov_spectrum(dp, regular, o);
+  EXPECT_LT(calm.spectrum[0], 0.05) << calm.spectrum[0];
+  EXPECT_LE(std::abs(calm.sum), 1e-9);
+}
+
+TEST(Lyapunov, RefusesBadOptionsByName) {
+  const lm::DoublePendulum dp;
+  const lagrangian::State<2> s;
+  lagrangian::LyapunovOptions o = options(1.0);
+  o.exponents = 5;
+  try {
+    lagrangian::lyapunov_spectrum(dp, s, o);
+    FAIL() << "exponents = 5 accepted for n = 2";
+  } catch (const lagrangian::OptionError& e) {
+    EXPECT_NE(std::string(e.what()).find("exponents = 5"), std::string::npos) << e.what();
+  }
+  o.exponents = 0;
+  o.run.method = lagrangian::Method::velocity_verlet;
+  try {
+    lagrangian::lyapunov_spectrum(dp, s, o);
+    FAIL() << "velocity_verlet accepted";
+  } catch (const lagrangian::OptionError& e) {
+    EXPECT_NE(std::string(e.what()).find("velocity_verlet"), std::string::npos) << e.what();
+  }
+  o.run.method = lagrangian::Method::dopri5;
+  o.interval = -1;
+  try {
+    lagrangian::lyapunov_spectrum(dp, s, o);
+    FAIL() << "a negative interval accepted";
+  } catch (const lagrangian::OptionError& e) {
+    EXPECT_NE(std::string(e.what()).find("interval = -1"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
