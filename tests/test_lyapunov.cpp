@@ -183,6 +183,48 @@ TEST(Lyapunov, ChaoticDoublePendulumHasAPositiveExponentAndASymplecticSpectrum) 
   EXPECT_LE(std::abs(calm.sum), 1e-9);
 }
 
+TEST(Megno, IsochronousCentreTendsToZero) {
+  const lm::HarmonicOscillator osc(2.0, 18.0);  // ω = 3 rad/s: |δx| oscillates, never grows
+  lagrangian::State<1> s;
+  s.q[0] = 0.3;
+  lagrangian::LyapunovOptions o = options(1000.0, 1e-10);
+  o.exponents = 1;
+  const lagrangian::LyapunovResult r = lagrangian::lyapunov_spectrum(osc, s, o);
+  EXPECT_LE(std::abs(r.megno_mean), 0.01) << r.megno_mean;
+}
+
+TEST(Megno, RegularMotionWithShearTendsToTwo) {
+  // |δx| grows linearly (the period depends on the amplitude): ⟨Y⟩ → 2.
+  lagrangian::LyapunovOptions o = options(1000.0, 1e-10);
+  o.exponents = 1;
+  const lm::SimplePendulum pendulum;
+  lagrangian::State<1> swing;
+  swing.q[0] = 1.0;  // below the separatrix (π)
+  const lagrangian::LyapunovResult p = lagrangian::lyapunov_spectrum(pendulum, swing, o);
+  EXPECT_NEAR(p.megno_mean, 2.0, 0.05);
+  // A Kepler ellipse, a = 1 m, e = 0.5, from periapsis (GM = k/m = 1 m³/s²).
+  const lm::KeplerPolar kepler;
+  lagrangian::State<2> orbit;
+  const double a = 1, e = 0.5, r0 = a * (1 - e);
+  orbit.q << r0, 0.0;
+  orbit.qd << 0.0, std::sqrt((1 + e) / r0) / r0;
+  o.run.t_end = 600.0;  // about 95 orbits
+  const lagrangian::LyapunovResult k = lagrangian::lyapunov_spectrum(kepler, orbit, o);
+  EXPECT_NEAR(k.megno_mean, 2.0, 0.05);
+}
+
+TEST(Megno, ChaoticMotionGrowsAsHalfTheExponentTimesTime) {
+  const lm::DoublePendulum dp;
+  lagrangian::State<2> s;
+  s.q << 2.0, 2.0;
+  lagrangian::LyapunovOptions o = options(25.0, 1e-10);
+  o.exponents = 1;
+  const lagrangian::LyapunovResult r = lagrangian::lyapunov_spectrum(dp, s, o);
+  // ⟨Y⟩ ≈ λ_1 t / 2 for large t (Cincotta & Simó).
+  EXPECT_GT(r.megno_mean, 5.0);
+  EXPECT_NEAR(r.megno_mean, r.spectrum[0] * 25.0 / 2, 0.25 * r.spectrum[0] * 25.0 / 2);
+}
+
 TEST(Lyapunov, RefusesBadOptionsByName) {
   const lm::DoublePendulum dp;
   const lagrangian::State<2> s;

@@ -59,17 +59,19 @@ class TangentSystem final : public System {
 
   /// The tangent vectors start as the first k unit vectors of the state.
   void start(double* x, double t0) override {
-    last_ = t0;
+    last_ = t0_ = t0;
     canonical(x, t0);
     w_ = from_canonical(Eigen::MatrixXd::Identity(2 * model_.n, k_));
     remember_lengths();
     store(x);
+    ell_ = log_length(x);
   }
   void sample(double, const double*) override {}
   void finish(double, const double*, bool) override {}
 
   bool has_events() const override { return true; }
-  bool handle_events(double, const double*, double& t, double* x, const StepInterpolant&) override {
+  bool handle_events(double t_old, const double*, double& t, double* x, const StepInterpolant& interpolant) override {
+    megno_step(t_old, t, x, interpolant);
     load(x);
     bool due = t - last_ >= longest_;
     for (int j = 0; j < k_ && !due; ++j)
@@ -86,6 +88,8 @@ class TangentSystem final : public System {
   }
 
   std::uint64_t evaluations() const { return evaluations_; }
+  double megno() const { return megno_; }
+  double megno_mean(double t) const { return t > t0_ ? megno_integral_ / (t - t0_) : 0.0; }
   const std::vector<double>& sums() const { return sums_; }
   int renormalisations() const { return renormalisations_; }
   double shortest() const { return shortest_; }
@@ -127,6 +131,29 @@ class TangentSystem final : public System {
     w.bottomRows(n) = llt_.solve(z.bottomRows(n) - dp.leftCols(n) * z.topRows(n));
     return w;
   }
+  /// ℓ = ln |δx_1| of the first tangent vector as if never renormalised:
+  /// its length in (q, q̇) plus the logs of the factors R_11 it was divided
+  /// by (a renormalisation only scales it).
+  double log_length(const double* x) const {
+    const int n = model_.n, c = coordinate_count();
+    double s2 = 0;
+    for (int i = 0; i < n; ++i) s2 += x[n + i] * x[n + i] + x[c + n + i] * x[c + n + i];
+    return ell_offset_ + 0.5 * std::log(s2);
+  }
+  /// MEGNO over the step [a, b] (s = t − t0): with I = ∫ s dℓ,
+  ///   I(b) − I(a) = s_b ℓ_b − s_a ℓ_a − ∫ ℓ ds   (Simpson, ℓ at the
+  ///   interpolated midpoint),  Y = 2 I / s,  ∫ Y ds by the trapezoid rule.
+  void megno_step(double a, double b, const double* x, const StepInterpolant& interpolant) {
+    if (!(b > a)) return;
+    interpolant(0.5 * (a + b), mid_.data());
+    const double lm = log_length(mid_.data()), lb = log_length(x);
+    const double sa = a - t0_, sb = b - t0_;
+    megno_i_ += sb * lb - sa * ell_ - (b - a) / 6 * (ell_ + 4 * lm + lb);
+    const double y = 2 * megno_i_ / sb;
+    megno_integral_ += 0.5 * (b - a) * (megno_ + y);
+    megno_ = y;
+    ell_ = lb;
+  }
   /// The tangent vectors' lengths in (q, q̇) just after a renormalisation
   /// (unit length in (q, p)): the next one is due when one of them has
   /// grown or shrunk by a factor e from there.
@@ -151,6 +178,7 @@ class TangentSystem final : public System {
                               t);
       sums_[static_cast<std::size_t>(j)] += grow;
     }
+    ell_offset_ += std::log(r(0, 0) < 0 ? -r(0, 0) : r(0, 0));
     // Q with the signs that make R's diagonal positive: each tangent vector
     // keeps its direction.
     Eigen::MatrixXd q = qr_.householderQ() * Eigen::MatrixXd::Identity(2 * n, k_);
@@ -175,7 +203,10 @@ class TangentSystem final : public System {
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::HouseholderQR<Eigen::MatrixXd> qr_;
   std::vector<double> sums_, lengths_ = std::vector<double>(static_cast<std::size_t>(k_), 1.0);
-  double last_ = 0;
+  double last_ = 0, t0_ = 0;
+  // MEGNO: ℓ at the last step end, its offset, I, Y and ∫ Y ds.
+  double ell_ = 0, ell_offset_ = 0, megno_i_ = 0, megno_ = 0, megno_integral_ = 0;
+  std::vector<double> mid_ = std::vector<double>(static_cast<std::size_t>(2 * model_.n * (1 + k_)));
   int renormalisations_ = 0;
   double shortest_ = std::numeric_limits<double>::infinity();
   double longest_taken_ = 0;
@@ -233,6 +264,8 @@ LyapunovResult lyapunov_spectrum(const TangentModel& model, const double* q0, co
   result.interval_min = system.shortest();
   result.interval_max = system.longest();
   result.steps = report.steps;
+  result.megno = system.megno();
+  result.megno_mean = system.megno_mean(report.t_final);
   result.q_final.assign(x.begin(), x.begin() + n);
   result.qd_final.assign(x.begin() + c, x.begin() + c + n);
   result.rhs_evaluations = system.evaluations();

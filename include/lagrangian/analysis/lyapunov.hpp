@@ -25,6 +25,16 @@
 /// the plane). k = 1 gives the largest exponent alone, at less
 /// cost.
 ///
+/// MEGNO (Cincotta & Simó 2000, A&AS 147, 205): with ℓ(t) = ln |δx_1(t)|
+/// of the first tangent vector (in (q, q̇), as if never renormalised: a
+/// renormalisation only scales it) and s = t − t0,
+///   Y(t) = (2/s) ∫₀ˢ s' dℓ(s'),   ⟨Y⟩(t) = (1/s) ∫₀ˢ Y ds'.
+/// ⟨Y⟩ → 0 for an isochronous centre (the harmonic oscillator), → 2 for
+/// regular motion with shear (|δx| ∝ t: a pendulum below the separatrix,
+/// Kepler orbits), and grows as λ_1 s / 2 for chaotic motion. The integral
+/// is taken at every accepted step (Simpson's rule with ℓ at the step's
+/// interpolated midpoint; ⟨Y⟩ by the trapezoid rule).
+///
 /// The renormalisation interval is chosen by the code unless given: a
 /// renormalisation follows the first step after which a tangent vector's
 /// length has left [1/e, e], or T/100 after the previous one (`interval`,
@@ -67,6 +77,9 @@ struct LyapunovResult {
   std::uint64_t rhs_evaluations = 0; ///< evaluations of q̈ with its Jacobian
   double seconds = 0;                ///< wall time of the run (s)
   std::vector<double> q_final, qd_final;  ///< the state at t_final
+  /// MEGNO Y(T) of the first tangent vector and its time mean ⟨Y⟩(T)
+  /// (dimensionless; see the file comment).
+  double megno = 0, megno_mean = 0;
 };
 
 namespace detail {
