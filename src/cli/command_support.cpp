@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "lagrangian/integrate/method.hpp"
 #include "lagrangian/params.hpp"
 #include "lagrangian/scene/io.hpp"
 #include "written_files.hpp"
@@ -34,6 +35,45 @@ void override_t_end(scene::Scene& scene, const std::optional<double>& t_end) {
                    " s, got " + detail::format_number(*t_end)};
   scene.run.t_end = *t_end;
   scene.source.overrides["run.t_end"] = "--t-end";
+}
+
+void RunOverrides::add(OptionList& o, const std::string& method_help) {
+  o.value("--t-end", t_end, "end time (s), overrides run.t_end");
+  o.value("--method", method, method_help);
+  o.value("--rtol", rtol, "relative tolerance, overrides run.rtol");
+  o.value("--atol", atol, "absolute tolerance, overrides run.atol");
+}
+
+void RunOverrides::apply(scene::Scene& scene, bool event_driven) const {
+  override_t_end(scene, t_end);
+  if (rtol) {
+    check_positive("--rtol", *rtol);
+    scene.run.rtol = *rtol;
+    scene.source.overrides["run.rtol"] = "--rtol";
+  }
+  if (atol) {
+    check_positive("--atol", *atol);
+    scene.run.atol = *atol;
+    scene.source.overrides["run.atol"] = "--atol";
+  }
+  if (!method) return;
+  if (event_driven && *method == "event_driven") {
+    // The event-driven engine, by the name of a stepper.
+    scene.run.engine = "event_driven";
+    scene.run.engine_key = "run.method";
+  } else {
+    auto names = stepper_names();
+    if (event_driven) names.push_back("event_driven");
+    const std::optional<Method> m = find_method(*method);
+    if (!m) {
+      const std::string near = scene::nearest(*method, names);
+      throw BadInput{"command line: --method: unknown stepper '" + *method + "'" +
+                     (near.empty() ? std::string() : "; did you mean '" + near + "'?")};
+    }
+    scene.run.method = *m;
+    if (scene.run.engine == "event_driven") scene.run.engine = "ode";
+  }
+  scene.source.overrides["run.method"] = "--method";
 }
 
 std::string scene_stem(const std::string& path) {

@@ -42,6 +42,19 @@ struct SceneArgument {
 /// Sets scene.run.t_end from --t-end (BadInput unless finite and > t0).
 void override_t_end(scene::Scene& scene, const std::optional<double>& t_end);
 
+/// The command line's overrides of a scene's run: --t-end, --method, --rtol
+/// and --atol (declared in that order).
+struct RunOverrides {
+  std::optional<double> t_end, rtol, atol;
+  std::optional<std::string> method;
+  /// Declares the four options; `method_help` describes --method.
+  void add(OptionList& options, const std::string& method_help);
+  /// Applies them to scene.run (BadInput naming the flag for a bad value).
+  /// With `event_driven`, --method event_driven selects the event-driven
+  /// engine instead of a stepper.
+  void apply(scene::Scene& scene, bool event_driven) const;
+};
+
 /// A scene file's name without its extension, for default output folders;
 /// "stdin" for a scene read from standard input ("-").
 std::string scene_stem(const std::string& path);

@@ -35,8 +35,8 @@ class RunCommand {
 
  private:
   SceneArgument scene_;
-  std::optional<double> t_end_, rtol_, atol_;
-  std::optional<std::string> method_, out_dir_;
+  RunOverrides overrides_;
+  std::optional<std::string> out_dir_;
   bool no_plots_ = false, no_animation_ = false, quiet_ = false, allow_drift_ = false;
   std::string animate_to_;
   double animate_seconds_ = 10;
@@ -81,6 +81,20 @@ class BvpCommand {
   std::optional<std::string> out_dir_;
   bool no_plots_ = false, quiet_ = false;
   void read_times(const scene::Scene& scene);
+};
+
+/// `lyapunov SCENE`: Lyapunov exponents and MEGNO of the scene's model.
+class LyapunovCommand {
+ public:
+  static const Subcommand kInfo;
+  void declare(OptionList& options);
+  int run();
+
+ private:
+  SceneArgument scene_;
+  RunOverrides overrides_;
+  scene::LyapunovRequest request_;
+  bool json_ = false, quiet_ = false;
 };
 
 /// `bench SCENE`: the work-precision bench.

@@ -17,12 +17,9 @@ const Subcommand RunCommand::kInfo{"run",
 void RunCommand::declare(OptionList& o) {
   scene_.add(o, "scene file (TOML, see docs/scenes.md); - reads it from standard input");
   scene_.add_settings(o);
-  o.value("--t-end", t_end_, "end time (s), overrides run.t_end");
-  o.value("--method", method_,
-                "stepper: rk4, dopri5, cash_karp54, fehlberg78, bulirsch_stoer, gauss_radau15, rosenbrock4, variational, "
-                "symplectic_rkn_sb3a_mclachlan, velocity_verlet or event_driven");
-  o.value("--rtol", rtol_, "relative tolerance, overrides run.rtol");
-  o.value("--atol", atol_, "absolute tolerance, overrides run.atol");
+  overrides_.add(o,
+                 "stepper: rk4, dopri5, cash_karp54, fehlberg78, bulirsch_stoer, gauss_radau15, rosenbrock4, variational, "
+                 "symplectic_rkn_sb3a_mclachlan, velocity_verlet or event_driven");
   o.value("--out", out_dir_, "output directory, overrides output.directory");
   o.flag("--no-plots", no_plots_, "do not make plots");
   o.flag("--no-animation", no_animation_, "do not write animation.html");
@@ -37,36 +34,7 @@ void RunCommand::declare(OptionList& o) {
 
 /// The command line's overrides of the scene's run and output tables.
 void RunCommand::apply(scene::Scene& scene) const {
-  override_t_end(scene, t_end_);
-  if (rtol_) {
-    check_positive("--rtol", *rtol_);
-    scene.run.rtol = *rtol_;
-    scene.source.overrides["run.rtol"] = "--rtol";
-  }
-  if (atol_) {
-    check_positive("--atol", *atol_);
-    scene.run.atol = *atol_;
-    scene.source.overrides["run.atol"] = "--atol";
-  }
-  if (method_) {
-    // A stepper, or the event-driven engine by another name.
-    if (*method_ == "event_driven") {
-      scene.run.engine = "event_driven";
-      scene.run.engine_key = "run.method";
-    } else {
-      auto names = stepper_names();
-      names.push_back("event_driven");
-      const std::optional<Method> m = find_method(*method_);
-      if (!m) {
-        const std::string near = scene::nearest(*method_, names);
-        throw BadInput{"command line: --method: unknown stepper '" + *method_ + "'" +
-                       (near.empty() ? std::string() : "; did you mean '" + near + "'?")};
-      }
-      scene.run.method = *m;
-      if (scene.run.engine == "event_driven") scene.run.engine = "ode";
-    }
-    scene.source.overrides["run.method"] = "--method";
-  }
+  overrides_.apply(scene, true);
   if (out_dir_) {
     scene.output.directory = *out_dir_;
     scene.source.overrides["output.directory"] = "--out";

@@ -11,7 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "json_object.hpp"
 #include "lagrangian/detail/csv_header.hpp"
+#include "lagrangian/integrate/method.hpp"
 #include "lagrangian/scene/detail/registry.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/scene/plots.hpp"
@@ -190,6 +192,68 @@ std::string BvpRun::summary() const {
   }
   out += "energy function h along the path: " + g10(r.energy.front()) + " J (spread " + g10(hi - lo) + " J)\n";
   return out;
+}
+
+LyapunovRun lyapunov(const Scene& scene, const LyapunovRequest& request) {
+  const detail::ModelEntry& entry = model_entry(scene, "lyapunov");
+  if (request.exponents < 0)
+    throw OptionError("--exponents: must be at least 1 (or 0 for all), got " + std::to_string(request.exponents));
+  if (!std::isfinite(request.interval) || request.interval < 0)
+    throw OptionError("--interval: must be a finite time >= 0 s (0 lets the code choose), got " +
+                      g10(request.interval));
+  LyapunovRun out;
+  out.model = scene.model->name;
+  out.run = scene.run;
+  LyapunovOptions options;
+  options.run = scene.run;
+  options.exponents = request.exponents;
+  options.interval = request.interval;
+  try {
+    out.result = entry.lyapunov(*scene.model, options);
+  } catch (const SceneError& e) {
+    if (!e.key().empty() && e.line() == 0 && !scene.source.file.empty())
+      throw SceneError(e.key(), e.message(), scene.source);
+    throw;
+  }
+  return out;
+}
+
+std::string LyapunovRun::summary() const {
+  const LyapunovResult& r = result;
+  std::string out = "Lyapunov exponents of " + model + " over t = " + g10(run.t0) + " .. " + g10(run.t_end) + " s (" +
+                    std::string(to_string(run.method)) + ", rtol " + g10(run.rtol) + "), largest first, 1/s:\n";
+  for (std::size_t i = 0; i < r.spectrum.size(); ++i)
+    out += "  lambda_" + std::to_string(i + 1) + " = " + g10(r.spectrum[i]) + "\n";
+  out += "sum " + g10(r.sum) + " 1/s (canonical coordinates: 0 for a Hamiltonian flow, to the integration error)\n";
+  out += "MEGNO <Y> = " + g10(r.megno_mean) + " (Y(t_end) = " + g10(r.megno) +
+         "; -> 0 isochronous, -> 2 regular, grows as lambda_1 t / 2 when chaotic)\n";
+  out += "renormalisations " + std::to_string(r.renormalisations) + ", intervals " + g10(r.interval_min) + " .. " +
+         g10(r.interval_max) + " s\n";
+  out += "cost: " + std::to_string(r.steps) + " steps, " + std::to_string(r.rhs_evaluations) +
+         " evaluations of q'' with its Jacobian, " + g10(r.seconds) + " s\n";
+  return out;
+}
+
+std::string LyapunovRun::json() const {
+  const LyapunovResult& r = result;
+  detail::JsonObject o;
+  o.string("model", model);
+  o.raw("spectrum", detail::json_numbers(r.spectrum.data(), static_cast<int>(r.spectrum.size())));
+  o.number("sum", r.sum);
+  o.number("megno", r.megno_mean);
+  o.number("megno_final", r.megno);
+  o.number("t0", run.t0);
+  o.number("t_end", r.t_final);
+  o.string("method", std::string(to_string(run.method)));
+  o.number("rtol", run.rtol);
+  o.number("atol", run.atol);
+  o.integer("renormalisations", r.renormalisations);
+  o.number("interval_min", r.interval_min);
+  o.number("interval_max", r.interval_max);
+  o.integer("steps", static_cast<long long>(r.steps));
+  o.integer("evaluations", static_cast<long long>(r.rhs_evaluations));
+  o.number("seconds", r.seconds);
+  return o.str() + "\n";
 }
 
 }  // namespace lagrangian::scene

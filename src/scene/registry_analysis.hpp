@@ -113,6 +113,26 @@ std::string analyse_model(const M& model, const ModelInfo& info, const State<coo
   }
 }
 
+/// The Lyapunov exponents of `model` from `initial` (lyapunov.hpp); the
+/// tangent flow is instantiated only for the models it is derived for.
+template <class M>
+LyapunovResult lyapunov_model(const M& model, const ModelInfo& info, const State<coordinate_count_v<M>>& initial,
+                              const LyapunovOptions& options) {
+  constexpr int n = coordinate_count_v<M>;
+  if constexpr (n == Dynamic || n > kMaxTangentFlowCoordinates || constraint_count_v<M> != 0 ||
+                unilateral_count_v<M> != 0) {
+    (void)model, (void)initial, (void)options;
+    throw AnalysisError("lyapunov: model '" + info.name +
+                        "': the tangent flow is derived for models without constraints or contacts and with at most " +
+                        std::to_string(kMaxTangentFlowCoordinates) + " coordinates; this one has " +
+                        (n == Dynamic                       ? std::string("a run-time number of coordinates")
+                         : n > kMaxTangentFlowCoordinates ? std::to_string(n) + " coordinates"
+                                                          : std::string("constraints or contacts")));
+  } else {
+    return lyapunov_spectrum(model, initial, options);
+  }
+}
+
 template <class M>
 BvpResult solve_model_bvp(const M& model, const ModelInfo& info, const BvpRequest& request, DiscreteRule rule) {
   constexpr int n = coordinate_count_v<M>;

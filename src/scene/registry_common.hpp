@@ -355,6 +355,15 @@ std::string analyse_entry(const ModelSpec& spec, double t0, const AnalysisReques
 }
 
 template <class Def>
+LyapunovResult lyapunov_entry(const ModelSpec& spec, const LyapunovOptions& options) {
+  const ModelInfo& info = info_of<Def>();
+  const Parameters p(info, spec);
+  const typename Def::Model model = build_model<Def>(info, p);
+  const auto initial = initial_state(info, spec, default_state<Def>(info, model, options.run.t0));
+  return lyapunov_model(model, info, initial, options);
+}
+
+template <class Def>
 BvpResult bvp_entry(const ModelSpec& spec, const BvpRequest& request, DiscreteRule rule) {
   const ModelInfo& info = info_of<Def>();
   const Parameters p(info, spec);

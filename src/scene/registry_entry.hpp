@@ -99,7 +99,8 @@ view::Figure picture_entry(const ModelSpec& spec, const double* t, const double*
 template <class Def>
 ModelEntry entry() {
   return ModelEntry{std::string(name_of<Def>()), &run_entry<Def>, &inspect_entry<Def>, &analyse_entry<Def>,
-                    &bvp_entry<Def>, &picture_entry<Def>, &particle_axes_entry<Def>, &eom_entry<Def>};
+                    &bvp_entry<Def>, &picture_entry<Def>, &particle_axes_entry<Def>, &eom_entry<Def>,
+                    &lyapunov_entry<Def>};
 }
 
 }  // namespace lagrangian::scene::detail

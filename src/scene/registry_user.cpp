@@ -26,6 +26,8 @@ lagrangian::detail::EomSample eom_user(const ModelSpec&, const double*, const do
   not_for_user("the equations of motion at a state");
 }
 
+LyapunovResult lyapunov_user(const ModelSpec&, const LyapunovOptions&) { not_for_user("lyapunov"); }
+
 view::Figure picture_user(const ModelSpec& spec, const double* t, const double* q, std::size_t rows,
                           std::vector<double>& xyz) {
   return spec.user->picture(t, q, rows, xyz);
@@ -36,7 +38,8 @@ std::vector<std::array<int, 3>> axes_user(const ModelSpec& spec) { return spec.u
 }  // namespace
 
 const ModelEntry& user_entry() {
-  static const ModelEntry e{"user", &run_user, &inspect_user, &analyse_user, &bvp_user, &picture_user, &axes_user, &eom_user};
+  static const ModelEntry e{"user",        &run_user,  &inspect_user, &analyse_user, &bvp_user,
+                            &picture_user, &axes_user, &eom_user,     &lyapunov_user};
   return e;
 }
 

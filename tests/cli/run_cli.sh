@@ -189,7 +189,7 @@ expect 2 "--rtol" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --rtol
 expect 2 "--t-end" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --t-end -3 --out "$work/x"
 expect 2 "did you mean 'dopri5'" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --method dopri --out "$work/x"
 expect 2 "" -- "$bin" run
-expect 2 "unknown subcommand 'frobnicate'; the subcommands are: run, inspect, list, solve-bvp, bench, sweep" -- "$bin" frobnicate
+expect 2 "unknown subcommand 'frobnicate'; the subcommands are: run, inspect, list, solve-bvp, lyapunov, bench, sweep" -- "$bin" frobnicate
 expect 2 "unknown subcommand 'simulate'; the subcommands are: .*" -- "$bin" simulate "$src/examples/scenes/bouncing_ball.toml"
 expect 2 "unknown subcommand 'rnu'.*did you mean 'run'" -- "$bin" rnu "$src/examples/scenes/bouncing_ball.toml"
 touch "$work/blocker"
@@ -378,6 +378,35 @@ expect 2 "--time: must be a positive duration" -- "$bin" solve-bvp "$ho" --from 
 expect 2 "--time: need t0:t1 with t1 > t0" -- "$bin" solve-bvp "$ho" --from 0.1 --to 0.2 --time 2:1 --out "$work/x"
 expect 2 "--steps: must be in 2 .. 100000, got 1" -- "$bin" solve-bvp "$ho" --from 0.1 --to 0.2 --time 1 --steps 1 --out "$work/x"
 expect 2 "solve-bvp: .*particle scene" -- "$bin" solve-bvp "$src/examples/scenes/bouncing_ball.toml" --from 0 --to 1 --time 1 --out "$work/x"
+
+# lyapunov: the oscillator (w = 2 rad/s) has zero exponents and MEGNO -> 0;
+# the double pendulum from 2 rad, 2 rad (set on the command line) is chaotic,
+# from the scene's 1 rad, 0.5 rad it is not; Hamiltonian spectra sum to 0.
+lyap_json() {  # lyap_json NAME PYTHON-CONDITION -- lagrangian lyapunov arguments...
+  local name=$1 cond=$2
+  shift 3
+  if "$bin" lyapunov "$@" --json > "$work/$name.json" 2> "$work/$name.err" &&
+    /usr/bin/python3 -c "import json, sys; d = json.load(open(sys.argv[1])); sys.exit(0 if ($cond) else 1)" \
+      "$work/$name.json"; then
+    echo "ok: lyapunov $name: $cond"
+  else
+    echo "FAIL: lyapunov $name: $cond"; cat "$work/$name.json" "$work/$name.err" | head -20; fails=$((fails + 1))
+  fi
+}
+lyap_json ho "len(d['spectrum']) == 2 and all(abs(l) < 1e-2 for l in d['spectrum']) and abs(d['sum']) < 1e-8 and abs(d['megno']) < 0.05" -- "$ho" --t-end 300
+dp="$src/examples/scenes/double_pendulum.toml"
+lyap_json dp_chaos "len(d['spectrum']) == 4 and d['spectrum'][0] > 0.5 and abs(d['sum']) < 1e-8 and d['megno'] > 5 and d['t_end'] == 25" -- "$dp" --set 'model.q[0]=2' --set 'model.q[1]=2' --t-end 25
+lyap_json dp_largest "len(d['spectrum']) == 1 and d['spectrum'][0] > 0.5 and d['method'] == 'fehlberg78'" -- "$dp" --set 'model.q[0]=2' --set 'model.q[1]=2' --t-end 25 --exponents 1 --method fehlberg78
+lyap_json dp_calm "d['spectrum'][0] < 0.1 and d['megno'] < 3" -- "$dp" --t-end 100
+expect 0 "MEGNO <Y> = " -- "$bin" lyapunov "$ho" --t-end 10
+expect 2 "lyapunov: .*particle scene" -- "$bin" lyapunov "$src/examples/scenes/bouncing_ball.toml"
+expect 1 "lyapunov failed: .*model 'atwood_machine'.*constraints or contacts" -- "$bin" lyapunov "$src/examples/scenes/atwood_machine.toml"
+expect 1 "lyapunov failed: .*text" -- "$bin" lyapunov "$src/examples/scenes/text/spherical_pendulum.toml"
+expect 2 "exponents = 9 is outside \\[0, 4\\]" -- "$bin" lyapunov "$dp" --exponents 9
+expect 2 "--exponents: must be at least 1" -- "$bin" lyapunov "$dp" --exponents -1
+expect 2 "--interval: must be a finite time" -- "$bin" lyapunov "$dp" --interval -2
+expect 2 "method 'velocity_verlet'" -- "$bin" lyapunov "$ho" --method velocity_verlet
+expect 2 "--method: unknown stepper 'dopri'; did you mean 'dopri5'" -- "$bin" lyapunov "$ho" --method dopri
 expect 2 "declares constraints" -- "$bin" solve-bvp "$src/examples/scenes/cartesian_double_pendulum.toml" --from 0,-1,0,-2 --to 0.1,-1,0.1,-2 --time 1 --out "$work/x"
 expect 2 "dissipation" -- "$bin" solve-bvp "$src/examples/scenes/projectile_linear_drag.toml" --from 0,0 --to 10,0 --time 1 --out "$work/x"
 [ ! -e "$work/x/bvp_path.csv" ] || { echo "FAIL: bad solve-bvp input wrote bvp_path.csv"; fails=$((fails + 1)); }

@@ -63,4 +63,34 @@ struct BvpRun {
 /// singular or Newton's method does not converge.
 BvpRun solve_bvp(const Scene& scene, const BvpRequest& request);
 
+/// Lyapunov exponents of a scene's built-in model (analysis/lyapunov.hpp),
+/// as `lagrangian lyapunov` runs them: from the scene's initial state, over
+/// its run (t0, t_end, method, rtol, atol).
+struct LyapunovRequest {
+  int exponents = 0;      ///< k in [1, 2n]; 0: all 2n
+  double interval = 0.0;  ///< longest time between renormalisations (s); 0: (t_end − t0)/100
+};
+
+/// What lyapunov() found.
+struct LyapunovRun {
+  LyapunovResult result;
+  std::string model;       ///< the model's registry name
+  SimulationOptions run;   ///< the run the exponents come from
+  /// A few lines for a terminal: the exponents (1/s), their sum, MEGNO, the
+  /// intervals and the cost.
+  std::string summary() const;
+  /// One JSON object: spectrum (1/s, largest first), sum (1/s), megno (the
+  /// mean ⟨Y⟩), megno_final (Y at t_end), t0, t_end (s), method, rtol, atol,
+  /// renormalisations, interval_min, interval_max (s), steps, evaluations,
+  /// seconds.
+  std::string json() const;
+};
+
+/// The Lyapunov exponents and MEGNO of the scene's model. Throws OptionError
+/// for a particle scene or a bad request (naming it), AnalysisError for a
+/// model the tangent flow is not derived for (constraints, contacts, more
+/// than 6 or a run-time number of coordinates, models stated as text), and
+/// SimulationError when the run fails.
+LyapunovRun lyapunov(const Scene& scene, const LyapunovRequest& request);
+
 }  // namespace lagrangian::scene

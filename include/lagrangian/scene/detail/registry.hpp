@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "lagrangian/analysis/lyapunov.hpp"
 #include "lagrangian/integrate/detail/compiled_models.hpp"
 #include "lagrangian/integrate/discrete.hpp"
 #include "lagrangian/integrate/report.hpp"
@@ -64,6 +65,11 @@ struct ModelEntry {
   /// h, what two statements of one system must agree in (compiled with
   /// the model's simulate(): lagrangian/integrate/detail/eom_sample.hpp).
   lagrangian::detail::EomSample (*eom)(const ModelSpec& spec, const double* q, const double* qd, double t);
+  /// Lyapunov exponents and MEGNO of the motion from the spec's initial
+  /// state (analysis/lyapunov.hpp); AnalysisError for a model the tangent
+  /// flow is not derived for (constraints, contacts, more than 6 or a
+  /// run-time number of coordinates).
+  LyapunovResult (*lyapunov)(const ModelSpec& spec, const LyapunovOptions& options);
 
   /// Runs the model (see run_fn).
   RunReport run(const ModelSpec& spec, const SimulationOptions& options, const std::string& csv_path,

@@ -1,0 +1,46 @@
+// `lagrangian lyapunov SCENE`: the Lyapunov exponents and MEGNO of the
+// scene's model from its initial state (analysis/lyapunov.hpp).
+
+#include <iostream>
+
+#include "commands.hpp"
+
+namespace lagrangian::cli {
+
+const Subcommand LyapunovCommand::kInfo{
+    "lyapunov",
+    "Lyapunov exponents (1/s, largest first), their sum and MEGNO of the scene's model from its initial state: the "
+    "variational equations integrated beside the motion, renormalised by Benettin's method."};
+
+void LyapunovCommand::declare(OptionList& o) {
+  scene_.add(o, "scene file (TOML) naming a built-in model");
+  scene_.add_settings(o);
+  overrides_.add(o,
+                 "stepper: rk4, dopri5, cash_karp54, fehlberg78, bulirsch_stoer, gauss_radau15 or rosenbrock4 "
+                 "(the tangent vectors are integrated beside the state)");
+  o.value("--exponents", request_.exponents, "how many exponents, 1 .. 2n (default 0: all 2n; 1 is cheapest)");
+  o.value("--interval", request_.interval,
+          "longest time between renormalisations (s; default (t_end - t0)/100; shorter when the vectors grow)");
+  o.flag("--json", json_, "print one JSON object (spectrum, sum, megno, ...) instead of text");
+  o.flag("-q,--quiet", quiet_, "print only errors");
+}
+
+int LyapunovCommand::run() {
+  const std::optional<scene::Scene> scene = scene_or_say([&] {
+    scene::Scene s = scene_.load();
+    overrides_.apply(s, false);
+    return s;
+  });
+  if (!scene) return kBadInput;
+  return guarded("lyapunov", [&] {
+    const scene::LyapunovRun r = scene::lyapunov(*scene, request_);
+    if (json_) {
+      std::cout << r.json();
+    } else if (!quiet_) {
+      std::cout << "scene " << scene->name << "\n" << r.summary();
+    }
+    return kOk;
+  });
+}
+
+}  // namespace lagrangian::cli
