@@ -44,6 +44,7 @@
 
 #include "lagrangian/analysis/bvp.hpp"         // IWYU pragma: export
 #include "lagrangian/analysis/equilibria.hpp"  // IWYU pragma: export
+#include "lagrangian/analysis/floquet.hpp"     // IWYU pragma: export
 #include "lagrangian/analysis/linearisation.hpp"  // IWYU pragma: export
 #include "lagrangian/analysis/lyapunov.hpp"       // IWYU pragma: export
 #include "lagrangian/analysis/modes.hpp"       // IWYU pragma: export

@@ -1,0 +1,84 @@
+#pragma once
+/// \file floquet.hpp
+/// Floquet multipliers: the linear stability of a periodic motion.
+///
+/// For a motion x(t) of period T — a periodically driven system (period of
+/// the drive) resting at an equilibrium or moving on a periodic orbit, or
+/// a periodic orbit of an autonomous system — a small change δx(t0) comes
+/// back after one period as δx(t0 + T) = Φ δx(t0), Φ = ∂x(t0 + T)/∂x(t0)
+/// the monodromy matrix (2n × 2n, in the state coordinates (q, q̇)). It is
+/// integrated as 2n tangent vectors beside the state by the variational
+/// equations δẋ = J δx, J by automatic differentiation (tangent_flow.hpp),
+/// in the one driver, from the unit vectors of the state. Its eigenvalues μ
+/// are the Floquet multipliers: the motion is linearly stable when every
+/// |μ| ≤ 1 (a Hamiltonian system's lie on the unit circle then, in pairs
+/// μ, 1/μ̄), unstable when one |μ| > 1. An autonomous periodic orbit always
+/// has a multiplier 1 (along the orbit).
+///
+/// The verdict `stable` allows |μ| ≤ 1 + tolerance (default 1e-6, above the
+/// integration error of Φ at the default tolerances); `closure` =
+/// max_i |x_i(t0 + T) − x_i(t0)| says how periodic the motion from the given
+/// state was (the multipliers describe a periodic motion only when it is
+/// small). Scope as tangent_flow.hpp: unconstrained models with a fixed
+/// number n ≤ 6 of coordinates.
+
+#include <complex>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "lagrangian/analysis/lyapunov.hpp"
+#include "lagrangian/errors.hpp"
+#include "lagrangian/integrate/report.hpp"
+#include "lagrangian/model.hpp"
+
+namespace lagrangian {
+
+/// What floquet_multipliers() integrates.
+struct FloquetOptions {
+  /// Method and tolerances, and t0 (s); the run ends at t0 + period.
+  SimulationOptions run;
+  double period = 0.0;        ///< T (s), > 0
+  double tolerance = 1e-6;    ///< stable when every |μ| ≤ 1 + tolerance
+};
+
+/// The monodromy matrix and its eigenvalues.
+struct FloquetResult {
+  Eigen::MatrixXd monodromy;                     ///< Φ (2n × 2n), in (q, q̇)
+  std::vector<std::complex<double>> multipliers;  ///< eigenvalues of Φ, largest modulus first
+  double largest_modulus = 0;                    ///< max |μ|
+  bool stable = false;                           ///< every |μ| ≤ 1 + tolerance
+  double closure = 0;                            ///< max_i |x_i(t0 + T) − x_i(t0)| (units of each)
+  std::uint64_t steps = 0;                       ///< accepted steps
+  std::uint64_t rhs_evaluations = 0;             ///< evaluations of q̈ with its Jacobian
+  double seconds = 0;                            ///< wall time (s)
+};
+
+namespace detail {
+/// The monodromy matrix over a TangentModel (src/analysis/floquet.cpp).
+FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, const double* qd0,
+                                  const FloquetOptions& options);
+}  // namespace detail
+
+/// The Floquet multipliers of the motion of `model` from `initial` at
+/// options.run.t0 over one period (see the file comment). Throws
+/// OptionError for a bad option (naming it and its value), AnalysisError
+/// for a model with constraints or contacts, SimulationError when the run
+/// fails.
+template <class M>
+FloquetResult floquet_multipliers(const M& model, const State<coordinate_count_v<M>>& initial,
+                                  const FloquetOptions& options) {
+  constexpr int n = coordinate_count_v<M>;
+  static_assert(n != Dynamic,
+                "floquet_multipliers: the tangent flow is derived for models with a fixed coordinate_count");
+  if (has_constraints(model) || unilateral_count(model) > 0)
+    throw AnalysisError("floquet: the tangent flow is derived for models without constraints or contacts; this "
+                        "model declares " +
+                        std::to_string(constraint_count(model)) + " constraint rows and " +
+                        std::to_string(unilateral_count(model)) + " contacts");
+  const detail::TangentModel tm{&model, &detail::evaluate_tangent<M>, &detail::evaluate_momentum<M>, n};
+  return detail::floquet_multipliers(tm, initial.q.data(), initial.qd.data(), options);
+}
+
+}  // namespace lagrangian
