@@ -8,6 +8,7 @@
 #include <string>
 
 #include <Eigen/LU>
+#include <boost/math/tools/roots.hpp>
 
 #include "lagrangian/analysis/floquet.hpp"
 #include "lagrangian/models/pendulums.hpp"
@@ -73,26 +74,17 @@ TEST(Floquet, KapitzaPendulumIsUprightStableAboveTheCriterion) {
   EXPECT_TRUE(lagrangian::floquet_multipliers(slow, down, over(2 * M_PI / 60.0)).stable);
 }
 
-/// The a at which tr Φ(π) = target between lo and hi (bisection on a sign
-/// change of tr Φ − target).
+/// The a at which tr Φ(π) = target between lo and hi (Boost's bisection on
+/// the sign change of tr Φ − target, to 40 bits).
 double transition(double q, double target, double lo, double hi) {
   auto f = [&](double a) {
     const Mathieu m{a, q};
     lagrangian::State<1> s;
     return lagrangian::floquet_multipliers(m, s, over(M_PI)).monodromy.trace() - target;
   };
-  double flo = f(lo);
-  EXPECT_LT(flo * f(hi), 0.0) << "no sign change of tr - " << target << " on [" << lo << ", " << hi << "]";
-  for (int i = 0; i < 45; ++i) {
-    const double mid = 0.5 * (lo + hi), fm = f(mid);
-    if ((fm < 0) == (flo < 0)) {
-      lo = mid;
-      flo = fm;
-    } else {
-      hi = mid;
-    }
-  }
-  return 0.5 * (lo + hi);
+  EXPECT_LT(f(lo) * f(hi), 0.0) << "no sign change of tr - " << target << " on [" << lo << ", " << hi << "]";
+  const auto [a, b] = boost::math::tools::bisect(f, lo, hi, boost::math::tools::eps_tolerance<double>(40));
+  return 0.5 * (a + b);
 }
 
 TEST(Floquet, MathieuTransitionCurvesMatchTheirSeries) {

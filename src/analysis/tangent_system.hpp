@@ -26,12 +26,12 @@ namespace lagrangian::detail {
 ///   d/dt δq̇_j = (∂q̈/∂q) δq_j + (∂q̈/∂q̇) δq̇_j.
 /// With `benettin` (Lyapunov exponents) the tangent vectors start as the
 /// first k canonical unit vectors and Benettin's renormalisation is the
-/// system's one event: after an accepted step in
-/// which a tangent vector's length changed by more than a factor e since the
-/// last one, or `longest` seconds after
-/// the last one, the canonical tangent matrix Z = P W (P = [[I, 0], ∂p/∂x])
-/// is factored Z = QR, log R_jj is added to sum j and W becomes P⁻¹ Q. The
-/// driver then restarts the stepper from the new state, as after any event.
+/// system's one event: after an accepted step in which a tangent vector's
+/// length changed by more than a factor e since the last one, or `longest`
+/// seconds after it, the canonical tangent matrix Z = P W
+/// (P = [[I, 0], ∂p/∂x]) is factored Z = QR, log R_jj is added to sum j and
+/// W becomes P⁻¹ Q. The driver then restarts the stepper from the new
+/// state, as after any event. MEGNO is summed over every accepted step.
 /// Without it (the monodromy matrix) they start as the first k unit vectors
 /// of the state (δq, δq̇) and are never touched: at the end they are the
 /// first k columns of the flow's Jacobian ∂x(t)/∂x(t0).

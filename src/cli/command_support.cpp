@@ -37,8 +37,8 @@ void override_t_end(scene::Scene& scene, const std::optional<double>& t_end) {
   scene.source.overrides["run.t_end"] = "--t-end";
 }
 
-void RunOverrides::add(OptionList& o, const std::string& method_help) {
-  o.value("--t-end", t_end, "end time (s), overrides run.t_end");
+void RunOverrides::add(OptionList& o, const std::string& method_help, bool with_t_end) {
+  if (with_t_end) o.value("--t-end", t_end, "end time (s), overrides run.t_end");
   o.value("--method", method, method_help);
   o.value("--rtol", rtol, "relative tolerance, overrides run.rtol");
   o.value("--atol", atol, "absolute tolerance, overrides run.atol");

@@ -47,8 +47,9 @@ void override_t_end(scene::Scene& scene, const std::optional<double>& t_end);
 struct RunOverrides {
   std::optional<double> t_end, rtol, atol;
   std::optional<std::string> method;
-  /// Declares the four options; `method_help` describes --method.
-  void add(OptionList& options, const std::string& method_help);
+  /// Declares the four options (without --t-end when `with_t_end` is
+  /// false); `method_help` describes --method.
+  void add(OptionList& options, const std::string& method_help, bool with_t_end = true);
   /// Applies them to scene.run (BadInput naming the flag for a bad value).
   /// With `event_driven`, --method event_driven selects the event-driven
   /// engine instead of a stepper.
@@ -114,6 +115,31 @@ int guarded(const std::string& what, Body&& body) {
     std::cerr << "lagrangian: " << what << " failed: " << e.what() << "\n";
     return kRunFailed;
   }
+}
+
+/// The body of an analysis subcommand (lyapunov, floquet): reads the scene
+/// with the run overrides (after `prepare`, which may throw BadInput), runs
+/// `compute(scene)` and prints its json() or, unless quiet, the scene's
+/// name and its summary(); exit codes as guarded().
+template <class Prepare, class Compute>
+int run_analysis(const std::string& what, const SceneArgument& scene_argument, const RunOverrides& overrides,
+                 bool json, bool quiet, Prepare&& prepare, Compute&& compute) {
+  const std::optional<scene::Scene> scene = scene_or_say([&] {
+    prepare();
+    scene::Scene s = scene_argument.load();
+    overrides.apply(s, false);
+    return s;
+  });
+  if (!scene) return kBadInput;
+  return guarded(what, [&] {
+    const auto r = compute(*scene);
+    if (json) {
+      std::cout << r.json();
+    } else if (!quiet) {
+      std::cout << "scene " << scene->name << "\n" << r.summary();
+    }
+    return kOk;
+  });
 }
 
 }  // namespace lagrangian::cli

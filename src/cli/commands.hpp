@@ -97,6 +97,21 @@ class LyapunovCommand {
   bool json_ = false, quiet_ = false;
 };
 
+/// `floquet SCENE --period T`: Floquet multipliers of the scene's model.
+class FloquetCommand {
+ public:
+  static const Subcommand kInfo;
+  void declare(OptionList& options);
+  int run();
+
+ private:
+  SceneArgument scene_;
+  RunOverrides overrides_;
+  scene::FloquetRequest request_;
+  std::optional<double> period_;
+  bool json_ = false, quiet_ = false;
+};
+
 /// `bench SCENE`: the work-precision bench.
 class BenchCommand {
  public:

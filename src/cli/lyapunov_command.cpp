@@ -1,15 +1,13 @@
 // `lagrangian lyapunov SCENE`: the Lyapunov exponents and MEGNO of the
 // scene's model from its initial state (analysis/lyapunov.hpp).
 
-#include <iostream>
-
 #include "commands.hpp"
 
 namespace lagrangian::cli {
 
 const Subcommand LyapunovCommand::kInfo{
     "lyapunov",
-    "Lyapunov exponents (1/s, largest first), their sum and MEGNO of the scene's model from its initial state: the "
+    "Lyapunov exponents (1/s, largest first), their sum and MEGNO of the scene model from its initial state: the "
     "variational equations integrated beside the motion, renormalised by Benettin's method."};
 
 void LyapunovCommand::declare(OptionList& o) {
@@ -26,21 +24,9 @@ void LyapunovCommand::declare(OptionList& o) {
 }
 
 int LyapunovCommand::run() {
-  const std::optional<scene::Scene> scene = scene_or_say([&] {
-    scene::Scene s = scene_.load();
-    overrides_.apply(s, false);
-    return s;
-  });
-  if (!scene) return kBadInput;
-  return guarded("lyapunov", [&] {
-    const scene::LyapunovRun r = scene::lyapunov(*scene, request_);
-    if (json_) {
-      std::cout << r.json();
-    } else if (!quiet_) {
-      std::cout << "scene " << scene->name << "\n" << r.summary();
-    }
-    return kOk;
-  });
+  return run_analysis(
+      "lyapunov", scene_, overrides_, json_, quiet_, [] {},
+      [&](const scene::Scene& scene) { return scene::lyapunov(scene, request_); });
 }
 
 }  // namespace lagrangian::cli

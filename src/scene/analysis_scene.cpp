@@ -5,6 +5,7 @@
 #include "lagrangian/scene/analysis.hpp"
 
 #include <cmath>
+#include <complex>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -250,6 +251,77 @@ std::string LyapunovRun::json() const {
   o.integer("renormalisations", r.renormalisations);
   o.number("interval_min", r.interval_min);
   o.number("interval_max", r.interval_max);
+  o.integer("steps", static_cast<long long>(r.steps));
+  o.integer("evaluations", static_cast<long long>(r.rhs_evaluations));
+  o.number("seconds", r.seconds);
+  return o.str() + "\n";
+}
+
+FloquetRun floquet(const Scene& scene, const FloquetRequest& request) {
+  const detail::ModelEntry& entry = model_entry(scene, "floquet");
+  if (!std::isfinite(request.period) || !(request.period > 0))
+    throw OptionError("--period: must be a finite time > 0 s, got " + g10(request.period));
+  if (!std::isfinite(request.tolerance) || request.tolerance < 0)
+    throw OptionError("--tolerance: must be finite and >= 0, got " + g10(request.tolerance));
+  FloquetRun out;
+  out.model = scene.model->name;
+  out.run = scene.run;
+  out.period = request.period;
+  out.tolerance = request.tolerance;
+  FloquetOptions options;
+  options.run = scene.run;
+  options.period = request.period;
+  options.tolerance = request.tolerance;
+  try {
+    out.result = entry.floquet(*scene.model, options);
+  } catch (const SceneError& e) {
+    if (!e.key().empty() && e.line() == 0 && !scene.source.file.empty())
+      throw SceneError(e.key(), e.message(), scene.source);
+    throw;
+  }
+  return out;
+}
+
+std::string FloquetRun::summary() const {
+  const FloquetResult& r = result;
+  std::string out = "Floquet multipliers of " + model + " over one period T = " + g10(period) + " s from t0 = " +
+                    g10(run.t0) + " s (" + std::string(to_string(run.method)) + ", rtol " + g10(run.rtol) +
+                    "), largest modulus first:\n";
+  for (std::size_t i = 0; i < r.multipliers.size(); ++i)
+    out += "  mu_" + std::to_string(i + 1) + " = " + g10(r.multipliers[i].real()) +
+           (r.multipliers[i].imag() < 0 ? " - " : " + ") + g10(std::abs(r.multipliers[i].imag())) + " i   |mu| = " +
+           g10(std::abs(r.multipliers[i])) + "\n";
+  out += std::string(r.stable ? "stable" : "unstable") + ": largest |mu| = " + g10(r.largest_modulus) +
+         (r.stable ? " <= " : " > ") + "1 + " + g10(tolerance) + "\n";
+  out += "closure max|x(t0 + T) - x(t0)| = " + g10(r.closure) +
+         (r.closure > 1e-6 ? " (the motion from this state is not periodic with this T: the multipliers are those of "
+                             "the one-period map, not a periodic motion's)"
+                           : "") +
+         "\n";
+  out += "cost: " + std::to_string(r.steps) + " steps, " + std::to_string(r.rhs_evaluations) +
+         " evaluations of q'' with its Jacobian, " + g10(r.seconds) + " s\n";
+  return out;
+}
+
+std::string FloquetRun::json() const {
+  const FloquetResult& r = result;
+  std::vector<std::string> pairs;
+  for (const std::complex<double>& mu : r.multipliers) {
+    const double reim[2] = {mu.real(), mu.imag()};
+    pairs.push_back(detail::json_numbers(reim, 2));
+  }
+  detail::JsonObject o;
+  o.string("model", model);
+  o.raw("multipliers", detail::json_array(pairs));
+  o.boolean("stable", r.stable);
+  o.number("largest_modulus", r.largest_modulus);
+  o.number("tolerance", tolerance);
+  o.number("closure", r.closure);
+  o.number("period", period);
+  o.number("t0", run.t0);
+  o.string("method", std::string(to_string(run.method)));
+  o.number("rtol", run.rtol);
+  o.number("atol", run.atol);
   o.integer("steps", static_cast<long long>(r.steps));
   o.integer("evaluations", static_cast<long long>(r.rhs_evaluations));
   o.number("seconds", r.seconds);

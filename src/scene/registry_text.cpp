@@ -121,11 +121,13 @@ BvpResult bvp_text(const ModelSpec& spec, const BvpRequest& request, DiscreteRul
   return solve_model_bvp(lagrangian::text::TextModel(parsed_of(spec)), *model_info(spec), request, rule);
 }
 
-LyapunovResult lyapunov_text(const ModelSpec&, const LyapunovOptions&) {
-  throw AnalysisError(
-      "lyapunov: not yet for models stated as text ([model.text]): the tangent flow is derived for models with a "
-      "fixed number of coordinates, and a text model's is known only at run time");
+[[noreturn]] void no_tangent_flow(const char* what) {
+  throw AnalysisError(std::string(what) +
+                      ": not yet for models stated as text ([model.text]): the tangent flow is derived for models "
+                      "with a fixed number of coordinates, and a text model's is known only at run time");
 }
+LyapunovResult lyapunov_text(const ModelSpec&, const LyapunovOptions&) { no_tangent_flow("lyapunov"); }
+FloquetResult floquet_text(const ModelSpec&, const FloquetOptions&) { no_tangent_flow("floquet"); }
 
 /// The points of [[model.points]] (none: an empty figure), with rods from a
 /// pivot at the origin through them when `rods` is set; up is +z, or +y
@@ -162,7 +164,7 @@ std::vector<std::array<int, 3>> no_particles(const ModelSpec&) { return {}; }
 
 const ModelEntry& text_entry() {
   static const ModelEntry e{"text",        &run_text,     &inspect_text, &analyse_text, &bvp_text,
-                            &picture_text, &no_particles, &eom_text,     &lyapunov_text};
+                            &picture_text, &no_particles, &eom_text,     &lyapunov_text, &floquet_text};
   return e;
 }
 

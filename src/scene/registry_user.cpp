@@ -27,6 +27,7 @@ lagrangian::detail::EomSample eom_user(const ModelSpec&, const double*, const do
 }
 
 LyapunovResult lyapunov_user(const ModelSpec&, const LyapunovOptions&) { not_for_user("lyapunov"); }
+FloquetResult floquet_user(const ModelSpec&, const FloquetOptions&) { not_for_user("floquet"); }
 
 view::Figure picture_user(const ModelSpec& spec, const double* t, const double* q, std::size_t rows,
                           std::vector<double>& xyz) {
@@ -39,7 +40,7 @@ std::vector<std::array<int, 3>> axes_user(const ModelSpec& spec) { return spec.u
 
 const ModelEntry& user_entry() {
   static const ModelEntry e{"user",        &run_user,  &inspect_user, &analyse_user, &bvp_user,
-                            &picture_user, &axes_user, &eom_user,     &lyapunov_user};
+                            &picture_user, &axes_user, &eom_user,     &lyapunov_user, &floquet_user};
   return e;
 }
 

@@ -189,7 +189,7 @@ expect 2 "--rtol" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --rtol
 expect 2 "--t-end" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --t-end -3 --out "$work/x"
 expect 2 "did you mean 'dopri5'" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --method dopri --out "$work/x"
 expect 2 "" -- "$bin" run
-expect 2 "unknown subcommand 'frobnicate'; the subcommands are: run, inspect, list, solve-bvp, lyapunov, bench, sweep" -- "$bin" frobnicate
+expect 2 "unknown subcommand 'frobnicate'; the subcommands are: run, inspect, list, solve-bvp, lyapunov, floquet, bench, sweep" -- "$bin" frobnicate
 expect 2 "unknown subcommand 'simulate'; the subcommands are: .*" -- "$bin" simulate "$src/examples/scenes/bouncing_ball.toml"
 expect 2 "unknown subcommand 'rnu'.*did you mean 'run'" -- "$bin" rnu "$src/examples/scenes/bouncing_ball.toml"
 touch "$work/blocker"
@@ -382,22 +382,22 @@ expect 2 "solve-bvp: .*particle scene" -- "$bin" solve-bvp "$src/examples/scenes
 # lyapunov: the oscillator (w = 2 rad/s) has zero exponents and MEGNO -> 0;
 # the double pendulum from 2 rad, 2 rad (set on the command line) is chaotic,
 # from the scene's 1 rad, 0.5 rad it is not; Hamiltonian spectra sum to 0.
-lyap_json() {  # lyap_json NAME PYTHON-CONDITION -- lagrangian lyapunov arguments...
-  local name=$1 cond=$2
-  shift 3
-  if "$bin" lyapunov "$@" --json > "$work/$name.json" 2> "$work/$name.err" &&
+analysis_json() {  # analysis_json SUBCOMMAND NAME PYTHON-CONDITION -- its arguments...
+  local sub=$1 name=$2 cond=$3
+  shift 4
+  if "$bin" "$sub" "$@" --json > "$work/$name.json" 2> "$work/$name.err" &&
     /usr/bin/python3 -c "import json, sys; d = json.load(open(sys.argv[1])); sys.exit(0 if ($cond) else 1)" \
       "$work/$name.json"; then
-    echo "ok: lyapunov $name: $cond"
+    echo "ok: $sub $name: $cond"
   else
-    echo "FAIL: lyapunov $name: $cond"; cat "$work/$name.json" "$work/$name.err" | head -20; fails=$((fails + 1))
+    echo "FAIL: $sub $name: $cond"; cat "$work/$name.json" "$work/$name.err" | head -20; fails=$((fails + 1))
   fi
 }
-lyap_json ho "len(d['spectrum']) == 2 and all(abs(l) < 1e-2 for l in d['spectrum']) and abs(d['sum']) < 1e-8 and abs(d['megno']) < 0.05" -- "$ho" --t-end 300
+analysis_json lyapunov ho "len(d['spectrum']) == 2 and all(abs(l) < 1e-2 for l in d['spectrum']) and abs(d['sum']) < 1e-8 and abs(d['megno']) < 0.05" -- "$ho" --t-end 300
 dp="$src/examples/scenes/double_pendulum.toml"
-lyap_json dp_chaos "len(d['spectrum']) == 4 and d['spectrum'][0] > 0.5 and abs(d['sum']) < 1e-8 and d['megno'] > 5 and d['t_end'] == 25" -- "$dp" --set 'model.q[0]=2' --set 'model.q[1]=2' --t-end 25
-lyap_json dp_largest "len(d['spectrum']) == 1 and d['spectrum'][0] > 0.5 and d['method'] == 'fehlberg78'" -- "$dp" --set 'model.q[0]=2' --set 'model.q[1]=2' --t-end 25 --exponents 1 --method fehlberg78
-lyap_json dp_calm "d['spectrum'][0] < 0.1 and d['megno'] < 3" -- "$dp" --t-end 100
+analysis_json lyapunov dp_chaos "len(d['spectrum']) == 4 and d['spectrum'][0] > 0.5 and abs(d['sum']) < 1e-8 and d['megno'] > 5 and d['t_end'] == 25" -- "$dp" --set 'model.q[0]=2' --set 'model.q[1]=2' --t-end 25
+analysis_json lyapunov dp_largest "len(d['spectrum']) == 1 and d['spectrum'][0] > 0.5 and d['method'] == 'fehlberg78'" -- "$dp" --set 'model.q[0]=2' --set 'model.q[1]=2' --t-end 25 --exponents 1 --method fehlberg78
+analysis_json lyapunov dp_calm "d['spectrum'][0] < 0.1 and d['megno'] < 3" -- "$dp" --t-end 100
 expect 0 "MEGNO <Y> = " -- "$bin" lyapunov "$ho" --t-end 10
 expect 2 "lyapunov: .*particle scene" -- "$bin" lyapunov "$src/examples/scenes/bouncing_ball.toml"
 expect 1 "lyapunov failed: .*model 'atwood_machine'.*constraints or contacts" -- "$bin" lyapunov "$src/examples/scenes/atwood_machine.toml"
@@ -407,6 +407,18 @@ expect 2 "--exponents: must be at least 1" -- "$bin" lyapunov "$dp" --exponents 
 expect 2 "--interval: must be a finite time" -- "$bin" lyapunov "$dp" --interval -2
 expect 2 "method 'velocity_verlet'" -- "$bin" lyapunov "$ho" --method velocity_verlet
 expect 2 "--method: unknown stepper 'dopri'; did you mean 'dopri5'" -- "$bin" lyapunov "$ho" --method dopri
+
+# floquet: Kapitza's pendulum upright (a = 0.05 m, l = 1 m) is stable at
+# Omega = 200 rad/s (a^2 Omega^2 = 100 > 2 g l = 19.62) and not at 60 (9).
+kap="$src/examples/scenes/driven_pendulum.toml"
+analysis_json floquet kapitza_fast "d['stable'] and len(d['multipliers']) == 2 and all(abs(abs(complex(*m)) - 1) < 1e-6 for m in d['multipliers']) and d['closure'] < 1e-12" -- "$kap" --set 'model.q[0]=3.141592653589793' --period 0.031415926535897934
+analysis_json floquet kapitza_slow "not d['stable'] and d['largest_modulus'] > 1.2" -- "$kap" --set 'model.q[0]=3.141592653589793' --set model.parameters.Omega=60 --period 0.10471975511965977
+expect 0 "^stable: largest \\|mu\\| = 1 <= 1 \\+ 1e-06" -- "$bin" floquet "$kap" --set 'model.q[0]=3.141592653589793' --period 0.031415926535897934 --rtol 1e-11
+expect 2 "floquet: --period T \\(s\\) is required" -- "$bin" floquet "$kap"
+expect 2 "--period: must be a finite time > 0 s, got -1" -- "$bin" floquet "$kap" --period -1
+expect 2 "--tolerance: must be finite and >= 0" -- "$bin" floquet "$kap" --period 1 --tolerance -1
+expect 2 "floquet: .*particle scene" -- "$bin" floquet "$src/examples/scenes/bouncing_ball.toml" --period 1
+expect 1 "floquet failed: .*model 'atwood_machine'.*constraints or contacts" -- "$bin" floquet "$src/examples/scenes/atwood_machine.toml" --period 1
 expect 2 "declares constraints" -- "$bin" solve-bvp "$src/examples/scenes/cartesian_double_pendulum.toml" --from 0,-1,0,-2 --to 0.1,-1,0.1,-2 --time 1 --out "$work/x"
 expect 2 "dissipation" -- "$bin" solve-bvp "$src/examples/scenes/projectile_linear_drag.toml" --from 0,0 --to 10,0 --time 1 --out "$work/x"
 [ ! -e "$work/x/bvp_path.csv" ] || { echo "FAIL: bad solve-bvp input wrote bvp_path.csv"; fails=$((fails + 1)); }

@@ -93,4 +93,34 @@ struct LyapunovRun {
 /// SimulationError when the run fails.
 LyapunovRun lyapunov(const Scene& scene, const LyapunovRequest& request);
 
+/// Floquet multipliers of a scene's built-in model over one period
+/// (analysis/floquet.hpp), as `lagrangian floquet` runs them: from the
+/// scene's initial state at its t0, with its method and tolerances.
+struct FloquetRequest {
+  double period = 0.0;      ///< T (s), > 0
+  double tolerance = 1e-6;  ///< stable when every |μ| ≤ 1 + tolerance
+};
+
+/// What floquet() found.
+struct FloquetRun {
+  FloquetResult result;
+  std::string model;      ///< the model's registry name
+  SimulationOptions run;  ///< method, tolerances, t0
+  double period = 0;      ///< s
+  double tolerance = 0;
+  /// A few lines for a terminal: the multipliers (re, im, modulus), the
+  /// verdict, the closure and the cost.
+  std::string summary() const;
+  /// One JSON object: multipliers ([re, im] pairs, largest modulus first),
+  /// stable, largest_modulus, tolerance, closure, period (s), t0 (s),
+  /// method, rtol, atol, steps, evaluations, seconds.
+  std::string json() const;
+};
+
+/// The Floquet multipliers of the scene's model. Throws OptionError for a
+/// particle scene or a bad request (naming --period, --tolerance),
+/// AnalysisError for a model the tangent flow is not derived for, and
+/// SimulationError when the run fails.
+FloquetRun floquet(const Scene& scene, const FloquetRequest& request);
+
 }  // namespace lagrangian::scene

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "lagrangian/analysis/floquet.hpp"
 #include "lagrangian/analysis/lyapunov.hpp"
 #include "lagrangian/integrate/detail/compiled_models.hpp"
 #include "lagrangian/integrate/discrete.hpp"
@@ -70,6 +71,9 @@ struct ModelEntry {
   /// flow is not derived for (constraints, contacts, more than 6 or a
   /// run-time number of coordinates).
   LyapunovResult (*lyapunov)(const ModelSpec& spec, const LyapunovOptions& options);
+  /// Floquet multipliers of the motion from the spec's initial state over
+  /// one period (analysis/floquet.hpp); refused as lyapunov is.
+  FloquetResult (*floquet)(const ModelSpec& spec, const FloquetOptions& options);
 
   /// Runs the model (see run_fn).
   RunReport run(const ModelSpec& spec, const SimulationOptions& options, const std::string& csv_path,

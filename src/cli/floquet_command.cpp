@@ -1,0 +1,35 @@
+// `lagrangian floquet SCENE --period T`: the Floquet multipliers of the
+// scene's model over one period from its initial state
+// (analysis/floquet.hpp).
+
+#include "commands.hpp"
+
+namespace lagrangian::cli {
+
+const Subcommand FloquetCommand::kInfo{
+    "floquet",
+    "Floquet multipliers of the scene model over one period T from its initial state (the monodromy matrix, by "
+    "the variational equations) and the verdict stable or unstable."};
+
+void FloquetCommand::declare(OptionList& o) {
+  scene_.add(o, "scene file (TOML) naming a built-in model");
+  scene_.add_settings(o);
+  o.value("--period", period_, "T (s): the period of the drive or of the orbit (required)");
+  overrides_.add(o, "stepper: rk4, dopri5, cash_karp54, fehlberg78, bulirsch_stoer, gauss_radau15 or rosenbrock4",
+                 false);
+  o.value("--tolerance", request_.tolerance, "stable when every |mu| <= 1 + tolerance (default 1e-6)");
+  o.flag("--json", json_, "print one JSON object (multipliers as [re, im], stable, ...) instead of text");
+  o.flag("-q,--quiet", quiet_, "print only errors");
+}
+
+int FloquetCommand::run() {
+  return run_analysis(
+      "floquet", scene_, overrides_, json_, quiet_,
+      [&] {
+        if (!period_) throw BadInput{"command line: floquet: --period T (s) is required"};
+        request_.period = *period_;
+      },
+      [&](const scene::Scene& scene) { return scene::floquet(scene, request_); });
+}
+
+}  // namespace lagrangian::cli
