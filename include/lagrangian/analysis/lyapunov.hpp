@@ -37,11 +37,13 @@
 ///
 /// The renormalisation interval is chosen by the code unless given: a
 /// renormalisation follows the first step after which a tangent vector's
-/// length has left [1/e, e], or T/100 after the previous one (`interval`,
-/// when given, replaces T/100), so that the vectors keep their
-/// orthogonality in double precision; the result reports the shortest and
-/// longest interval taken. A renormalisation moves the state, so the
-/// stepper restarts after it, as after an impact.
+/// length (in (q, q̇)) has changed by more than a factor e since the last
+/// one, or T/100 after it (`interval`, when given, replaces T/100), so that
+/// the vectors keep their orthogonality in double precision; the result
+/// reports the shortest and longest interval taken. A renormalisation moves
+/// the state, so the stepper restarts after it, as after an impact. A
+/// model's watched events (a projectile's landing) are not applied: the
+/// exponents are those of its equations of motion.
 
 #include <cstdint>
 #include <vector>
