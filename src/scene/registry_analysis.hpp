@@ -115,14 +115,15 @@ std::string analyse_model(const M& model, const ModelInfo& info, const State<coo
 
 /// `run(model)` for the models the tangent flow is derived for (Lyapunov
 /// exponents, Floquet multipliers; `what` names the analysis), an
-/// AnalysisError naming the reason for the others, which never instantiate it.
+/// OptionError naming the reason for the others (the scene asks for what its
+/// model cannot give, as solve-bvp's refusals do), which never instantiate it.
 template <class Result, class M, class Run>
 Result with_tangent_flow(const M& model, const ModelInfo& info, const char* what, Run&& run) {
   constexpr int n = coordinate_count_v<M>;
   if constexpr (n == Dynamic || n > kMaxTangentFlowCoordinates || constraint_count_v<M> != 0 ||
                 unilateral_count_v<M> != 0) {
     (void)model, (void)run;
-    throw AnalysisError(std::string(what) + ": model '" + info.name +
+    throw OptionError(std::string(what) + ": model '" + info.name +
                         "': the tangent flow is derived for models without constraints or contacts and with at most " +
                         std::to_string(kMaxTangentFlowCoordinates) + " coordinates; this one has " +
                         (n == Dynamic                       ? std::string("a run-time number of coordinates")

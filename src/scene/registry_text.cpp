@@ -122,7 +122,7 @@ BvpResult bvp_text(const ModelSpec& spec, const BvpRequest& request, DiscreteRul
 }
 
 [[noreturn]] void no_tangent_flow(const char* what) {
-  throw AnalysisError(std::string(what) +
+  throw OptionError(std::string(what) +
                       ": not yet for models stated as text ([model.text]): the tangent flow is derived for models "
                       "with a fixed number of coordinates, and a text model's is known only at run time");
 }

@@ -87,9 +87,9 @@ struct LyapunovRun {
 };
 
 /// The Lyapunov exponents and MEGNO of the scene's model. Throws OptionError
-/// for a particle scene or a bad request (naming it), AnalysisError for a
-/// model the tangent flow is not derived for (constraints, contacts, more
-/// than 6 or a run-time number of coordinates, models stated as text), and
+/// for a particle scene, a bad request (naming it) or a model the tangent
+/// flow is not derived for (constraints, contacts, more than 6 or a
+/// run-time number of coordinates, models stated as text), and
 /// SimulationError when the run fails.
 LyapunovRun lyapunov(const Scene& scene, const LyapunovRequest& request);
 
@@ -118,9 +118,9 @@ struct FloquetRun {
 };
 
 /// The Floquet multipliers of the scene's model. Throws OptionError for a
-/// particle scene or a bad request (naming --period, --tolerance),
-/// AnalysisError for a model the tangent flow is not derived for, and
-/// SimulationError when the run fails.
+/// particle scene, a bad request (naming --period, --tolerance) or a model
+/// the tangent flow is not derived for, AnalysisError when the multipliers
+/// cannot be computed, and SimulationError when the run fails.
 FloquetRun floquet(const Scene& scene, const FloquetRequest& request);
 
 }  // namespace lagrangian::scene

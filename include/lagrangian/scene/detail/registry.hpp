@@ -67,7 +67,7 @@ struct ModelEntry {
   /// the model's simulate(): lagrangian/integrate/detail/eom_sample.hpp).
   lagrangian::detail::EomSample (*eom)(const ModelSpec& spec, const double* q, const double* qd, double t);
   /// Lyapunov exponents and MEGNO of the motion from the spec's initial
-  /// state (analysis/lyapunov.hpp); AnalysisError for a model the tangent
+  /// state (analysis/lyapunov.hpp); OptionError for a model the tangent
   /// flow is not derived for (constraints, contacts, more than 6 or a
   /// run-time number of coordinates).
   LyapunovResult (*lyapunov)(const ModelSpec& spec, const LyapunovOptions& options);
