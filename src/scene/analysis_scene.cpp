@@ -37,6 +37,19 @@ const detail::ModelEntry& model_entry(const Scene& input, const std::string& opt
   return *entry;
 }
 
+/// f() with a scene error that names a key but no line (the registry's:
+/// parameters, initial state) placed at the key's line in the scene file.
+template <class F>
+auto with_scene_lines(const Scene& scene, F&& f) {
+  try {
+    return f();
+  } catch (const SceneError& e) {
+    if (!e.key().empty() && e.line() == 0 && !scene.source.file.empty())
+      throw SceneError(e.key(), e.message(), scene.source);
+    throw;
+  }
+}
+
 std::string g17(double v) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%.17g", v);
@@ -98,13 +111,7 @@ std::string analyse(const Scene& scene, const AnalysisRequest& request) {
   if (request.starts < 1) throw OptionError("--starts: must be at least 1, got " + std::to_string(request.starts));
   if (request.starts > 10000) throw OptionError("--starts: at most 10000, got " + std::to_string(request.starts));
   const detail::ModelEntry& entry = model_entry(scene, request.equilibria ? "--equilibria" : "--modes");
-  try {
-    return entry.analyse(*scene.model, scene.run.t0, request);
-  } catch (const SceneError& e) {
-    if (!e.key().empty() && e.line() == 0 && !scene.source.file.empty())
-      throw SceneError(e.key(), e.message(), scene.source);
-    throw;
-  }
+  return with_scene_lines(scene, [&] { return entry.analyse(*scene.model, scene.run.t0, request); });
 }
 
 BvpRun solve_bvp(const Scene& scene, const BvpRequest& request) {
@@ -132,13 +139,7 @@ BvpRun solve_bvp(const Scene& scene, const BvpRequest& request) {
     run.coordinates = info->coordinates;
     run.units = info->units;
   }
-  try {
-    run.result = entry.bvp(*scene.model, request, rule);
-  } catch (const SceneError& e) {
-    if (!e.key().empty() && e.line() == 0 && !scene.source.file.empty())
-      throw SceneError(e.key(), e.message(), scene.source);
-    throw;
-  }
+  run.result = with_scene_lines(scene, [&] { return entry.bvp(*scene.model, request, rule); });
   if (!request.out_dir.empty()) {
     const std::string csv = write_path_csv(request.out_dir, run);
     run.files.push_back(csv);
@@ -209,13 +210,7 @@ LyapunovRun lyapunov(const Scene& scene, const LyapunovRequest& request) {
   options.run = scene.run;
   options.exponents = request.exponents;
   options.interval = request.interval;
-  try {
-    out.result = entry.lyapunov(*scene.model, options);
-  } catch (const SceneError& e) {
-    if (!e.key().empty() && e.line() == 0 && !scene.source.file.empty())
-      throw SceneError(e.key(), e.message(), scene.source);
-    throw;
-  }
+  out.result = with_scene_lines(scene, [&] { return entry.lyapunov(*scene.model, options); });
   return out;
 }
 
@@ -272,13 +267,7 @@ FloquetRun floquet(const Scene& scene, const FloquetRequest& request) {
   options.run = scene.run;
   options.period = request.period;
   options.tolerance = request.tolerance;
-  try {
-    out.result = entry.floquet(*scene.model, options);
-  } catch (const SceneError& e) {
-    if (!e.key().empty() && e.line() == 0 && !scene.source.file.empty())
-      throw SceneError(e.key(), e.message(), scene.source);
-    throw;
-  }
+  out.result = with_scene_lines(scene, [&] { return entry.floquet(*scene.model, options); });
   return out;
 }
 

@@ -72,12 +72,7 @@ FloquetResult floquet_multipliers(const M& model, const State<coordinate_count_v
   constexpr int n = coordinate_count_v<M>;
   static_assert(n != Dynamic,
                 "floquet_multipliers: the tangent flow is derived for models with a fixed coordinate_count");
-  if (has_constraints(model) || unilateral_count(model) > 0)
-    throw AnalysisError("floquet: the tangent flow is derived for models without constraints or contacts; this "
-                        "model declares " +
-                        std::to_string(constraint_count(model)) + " constraint rows and " +
-                        std::to_string(unilateral_count(model)) + " contacts");
-  const detail::TangentModel tm{&model, &detail::evaluate_tangent<M>, &detail::evaluate_momentum<M>, n};
+  const detail::TangentModel tm = detail::tangent_model_of(model, "floquet: ");
   return detail::floquet_multipliers(tm, initial.q.data(), initial.qd.data(), options);
 }
 

@@ -125,6 +125,14 @@ void evaluate_momentum(const void* model, const double* q, const double* qd, dou
   out_map = j;
 }
 
+/// The TangentModel of `model`, after require_no_constraints (`prefix`
+/// starts its message).
+template <class M>
+TangentModel tangent_model_of(const M& model, const std::string& prefix) {
+  require_no_constraints(model, prefix);
+  return TangentModel{&model, &evaluate_tangent<M>, &evaluate_momentum<M>, coordinate_count_v<M>};
+}
+
 }  // namespace detail
 
 /// The Lyapunov exponents of the motion of `model` from `initial` at
@@ -137,12 +145,7 @@ LyapunovResult lyapunov_spectrum(const M& model, const State<coordinate_count_v<
                                  const LyapunovOptions& options) {
   constexpr int n = coordinate_count_v<M>;
   static_assert(n != Dynamic, "lyapunov_spectrum: the tangent flow is derived for models with a fixed coordinate_count");
-  if (has_constraints(model) || unilateral_count(model) > 0)
-    throw AnalysisError("lyapunov: the tangent flow is derived for models without constraints or contacts; this "
-                        "model declares " +
-                        std::to_string(constraint_count(model)) + " constraint rows and " +
-                        std::to_string(unilateral_count(model)) + " contacts");
-  const detail::TangentModel tm{&model, &detail::evaluate_tangent<M>, &detail::evaluate_momentum<M>, n};
+  const detail::TangentModel tm = detail::tangent_model_of(model, "lyapunov: ");
   return detail::lyapunov_spectrum(tm, initial.q.data(), initial.qd.data(), options);
 }
 

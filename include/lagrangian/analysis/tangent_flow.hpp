@@ -40,6 +40,20 @@
 
 namespace lagrangian {
 
+namespace detail {
+/// AnalysisError (its message starting with `prefix`) unless the model has
+/// neither constraints nor contacts: the tangent flow is derived only for
+/// such models.
+template <class M>
+void require_no_constraints(const M& model, const std::string& prefix) {
+  if (has_constraints(model) || unilateral_count(model) > 0)
+    throw AnalysisError(prefix +
+                        "the tangent flow is derived for models without constraints or contacts; this model declares " +
+                        std::to_string(constraint_count(model)) + " constraint rows and " +
+                        std::to_string(unilateral_count(model)) + " contacts");
+}
+}  // namespace detail
+
 /// Largest number of coordinates state_jacobian() takes.
 inline constexpr int kMaxTangentFlowCoordinates = 6;
 
@@ -57,10 +71,7 @@ void state_jacobian(const M& model, const Vec<double, coordinate_count_v<M>>& q,
   static_assert(n <= kMaxTangentFlowCoordinates,
                 "state_jacobian: the tangent flow is derived for models of at most kMaxTangentFlowCoordinates "
                 "coordinates");
-  if (has_constraints(model) || unilateral_count(model) > 0)
-    throw AnalysisError("the tangent flow is derived for models without constraints or contacts; this model declares " +
-                        std::to_string(constraint_count(model)) + " constraint rows and " +
-                        std::to_string(unilateral_count(model)) + " contacts");
+  detail::require_no_constraints(model, "");
   using I = ad::Jet<double, 2 * n, 1>;     // a value and its gradient in the state (q, q̇)
   using O = ad::Jet<I, 2 * n + 1, 2>;      // second order in (q, q̇, t), each entry an I
   Vec<I, n> qi, qdi;
