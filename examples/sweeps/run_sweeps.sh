@@ -12,3 +12,5 @@ launch=(--set 'model.qd[0]=20*cos(alpha*pi/180)' --set 'model.qd[1]=20*sin(alpha
   --plot impact_energy_loss --out "$out/ke_loss"
 "$bin" sweep "$here/flip_map.toml" --vary 'model.q[0]=-3.1:3.1:81' --vary 'model.q[1]=-3.1:3.1:81' \
   --first-time 'flip=max(abs(theta1),abs(theta2))-pi' --plot t_flip --out "$out/flip_map"
+"$bin" sweep "$here/chaos_map.toml" --vary 'model.q[0]=-3.1:3.1:81' --vary 'model.q[1]=-3.1:3.1:81' \
+  --output chaos --plot lyapunov_max,megno --out "$out/chaos_map"

@@ -53,9 +53,10 @@ CLI::App* SweepCommand::add(CLI::App& app) {
   c->add_option("--seed", seed_, "random seed of --monte-carlo (default 1)");
   c->add_option("--threads", threads_, "worker threads (default: the number of cores)");
   c->add_option("--output", outputs_,
-                "comma-separated column groups: final, events, energy, error, cost, wall (default "
-                "final,events,energy,error,cost)");
-  c->add_option("--plot", plot_, "comma-separated columns to plot (default: t_final, q_*, impact_energy_loss, first_*)");
+                "comma-separated column groups: final, events, energy, error, cost, wall, chaos (the largest "
+                "Lyapunov exponent and MEGNO; default final,events,energy,error,cost)");
+  c->add_option("--plot", plot_, "comma-separated columns to plot (default: t_final, q_*, impact_energy_loss, first_*, "
+                "lyapunov_max, megno)");
   c->add_option("--out", out_dir_, "output directory (default out/sweep/<scene file name>)");
   c->add_flag("--no-plots", no_plots_, "do not draw plots");
   c->add_flag("-q,--quiet", quiet_, "print only errors");

@@ -75,6 +75,7 @@ std::string key_unit(const Scene& scene, const std::string& key) {
 std::string column_unit(const Scene& scene, const std::string& column) {
   if (column == "t_final" || column == "wall_time_s") return "s";
   if (column == "impact_energy_loss") return "J";
+  if (column == "lyapunov_max") return "1/s";
   if (column.starts_with("qd_")) {
     const std::string u = coordinate_unit(scene, column.substr(3));
     return u.empty() && !scene.model ? "" : velocity_unit(u);

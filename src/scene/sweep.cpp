@@ -15,6 +15,7 @@
 
 #include "lagrangian/detail/text_output.hpp"
 #include "lagrangian/errors.hpp"
+#include "lagrangian/scene/analysis.hpp"
 #include "lagrangian/scene/progress.hpp"
 #include "lagrangian/scene/scene.hpp"
 #include "lagrangian/scene/io.hpp"
@@ -62,6 +63,24 @@ Plan make_plan(const std::string& scene_path, const SweepOptions& o) {
   return plan;
 }
 
+/// `--output chaos` needs the tangent flow of the scene's model: a particle
+/// scene, a model with constraints or contacts, a text model are refused
+/// here (OptionError "--output chaos: …", the reason scene::lyapunov()
+/// gives) rather than failing every run. The check integrates the first
+/// thousandth of point 0's run: the refusal comes before any step.
+void check_tangent_flow(Scene s) {
+  s.run.t_end = s.run.t0 + 1e-3 * (s.run.t_end - s.run.t0);
+  try {
+    (void)lyapunov(s, LyapunovRequest{1, 0.0});
+  } catch (const OptionError& e) {
+    std::string why = e.what();
+    if (why.rfind("lyapunov: ", 0) == 0) why.erase(0, 10);  // the command's prefix, not this option's
+    throw OptionError("--output chaos: " + why);
+  } catch (const Error&) {
+    // A run that fails is the point's failure, recorded in its row.
+  }
+}
+
 /// Point 0 decides what is bad input rather than a failed run: a key the
 /// scene cannot take (unknown key, unknown model parameter, an element the
 /// scene does not write) throws here. Values that are merely invalid fail
@@ -74,6 +93,7 @@ void check_first_point(const Plan& plan, const SweepOptions& o) {
     for (const FirstTimeSpec& f : o.first_times)  // names checked here, against the scene's coordinates
       Expression(f.expression, trajectory_names(s), "--first-time " + f.name);
     (void)inspect(s);
+    if (o.wants("chaos")) check_tangent_flow(s);
   } catch (const SceneError& e) {
     const std::string m = e.message();
     if (m.find("unknown key") != std::string::npos || m.find("unknown parameter") != std::string::npos ||
@@ -81,7 +101,8 @@ void check_first_point(const Plan& plan, const SweepOptions& o) {
       throw;
   } catch (const OptionError& e) {
     const std::string m = e.what();
-    if (m.rfind("--vary", 0) == 0 || m.rfind("--set", 0) == 0 || m.rfind("--first-time", 0) == 0) {
+    if (m.rfind("--vary", 0) == 0 || m.rfind("--set", 0) == 0 || m.rfind("--first-time", 0) == 0 ||
+        m.rfind("--output", 0) == 0) {
       if (m.find("gives NaN") == std::string::npos && m.find("infinite value") == std::string::npos) throw;
     }
   } catch (const Error&) {

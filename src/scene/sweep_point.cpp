@@ -1,7 +1,8 @@
 // One sweep point: its scene from the scene file's TOML document (scene keys
 // parsed into paths, the point's values written at them), its run and the
 // SweepRecord of the outcome with the --first-time crossings (from the
-// samples in memory), and the record's text form passed between ranks (MPI).
+// samples in memory) and, when asked, the largest Lyapunov exponent and
+// MEGNO, and the record's text form passed between ranks (MPI).
 
 #include <algorithm>
 #include <charconv>
@@ -14,6 +15,7 @@
 #include "lagrangian/errors.hpp"
 #include "particle_engine.hpp"
 #include "toml_document.hpp"
+#include "lagrangian/scene/analysis.hpp"
 #include "lagrangian/scene/models.hpp"
 #include "lagrangian/scene/run.hpp"
 #include "text_model_spec.hpp"
@@ -146,6 +148,11 @@ SweepRecord run_point(const Plan& plan, const SweepOptions& o, std::uint64_t ind
       ++g.count;
     }
     if (first) rec.first_times = first->times();
+    if (o.wants("chaos")) {
+      const LyapunovRun chaos = lyapunov(scene, LyapunovRequest{1, 0.0});
+      rec.lyapunov_max = chaos.result.spectrum.front();
+      rec.megno = chaos.result.megno_mean;
+    }
   } catch (const std::exception& e) {
     std::string msg = e.what();
     std::replace(msg.begin(), msg.end(), '\n', ' ');
@@ -209,6 +216,8 @@ std::string serialize(std::uint64_t index, const SweepRecord& r) {
   }
   put(out, static_cast<std::uint64_t>(r.first_times.size()));
   for (double v : r.first_times) put(out, v);
+  put(out, r.lyapunov_max);
+  put(out, r.megno);
   out += kRecord;
   return out;
 }
@@ -280,6 +289,8 @@ void deserialize(const std::string& text, std::vector<SweepRecord>& slots, std::
     }
     r.first_times.resize(in.count());
     for (double& v : r.first_times) v = in.number();
+    r.lyapunov_max = in.number();
+    r.megno = in.number();
     in.end_record();
     // Coordinates that a run without a final state left empty: q, qd stay empty.
     if (n == 0) {

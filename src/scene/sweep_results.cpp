@@ -34,10 +34,6 @@ std::string csv_text(std::string s) {
   return out + "\"";
 }
 
-bool wants(const SweepOptions& o, const char* group) {
-  return std::find(o.outputs.begin(), o.outputs.end(), group) != o.outputs.end();
-}
-
 /// Event groups in a fixed order: impact, rest, release, stop (a watched
 /// event that ended the run), then the watched events' names in
 /// alphabetical order.
@@ -70,23 +66,25 @@ Table make_table(const SweepOptions& o, const std::vector<SweepRecord>& records)
       break;
     }
   const std::vector<std::string> groups = event_groups(records);
-  if (wants(o, "final")) {
+  if (o.wants("final")) {
     t.header.emplace_back("t_final");
     for (const auto& c : coords) t.header.push_back("q_" + c);
     for (const auto& c : coords) t.header.push_back("qd_" + c);
   }
-  if (wants(o, "events"))
+  if (o.wants("events"))
     for (const auto& g : groups)
       for (const char* p : {"n_", "first_", "last_"}) t.header.push_back(p + g);
   for (const FirstTimeSpec& f : o.first_times) t.header.push_back("t_" + f.name);
-  if (wants(o, "energy"))
+  if (o.wants("energy"))
     for (const char* c : {"energy_drift_max", "energy_drift_final", "energy_drift_relative_to_initial",
                           "impact_energy_loss"})
       t.header.emplace_back(c);
-  if (wants(o, "error")) t.header.emplace_back("reference_error_final");
-  if (wants(o, "cost"))
+  if (o.wants("error")) t.header.emplace_back("reference_error_final");
+  if (o.wants("cost"))
     for (const char* c : {"steps", "rejected_steps", "rhs_evaluations"}) t.header.emplace_back(c);
-  if (wants(o, "wall")) t.header.emplace_back("wall_time_s");
+  if (o.wants("wall")) t.header.emplace_back("wall_time_s");
+  if (o.wants("chaos"))
+    for (const char* c : {"lyapunov_max", "megno"}) t.header.emplace_back(c);
 
   for (std::size_t i = 0; i < records.size(); ++i) {
     const SweepRecord& r = records[i];
@@ -98,12 +96,12 @@ Table make_table(const SweepOptions& o, const std::vector<SweepRecord>& records)
     row.push_back(csv_text(r.status));
     auto num = [&](double v) { row.push_back(ok ? cell(v) : ""); };
     auto count = [&](std::uint64_t v) { row.push_back(ok ? std::to_string(v) : ""); };
-    if (wants(o, "final")) {
+    if (o.wants("final")) {
       num(r.t_final);
       for (std::size_t k = 0; k < coords.size(); ++k) num(k < r.q.size() ? r.q[k] : kNaN);
       for (std::size_t k = 0; k < coords.size(); ++k) num(k < r.qd.size() ? r.qd[k] : kNaN);
     }
-    if (wants(o, "events"))
+    if (o.wants("events"))
       for (const auto& g : groups) {
         const auto it = r.events.find(g);
         count(it == r.events.end() ? 0 : it->second.count);
@@ -111,19 +109,23 @@ Table make_table(const SweepOptions& o, const std::vector<SweepRecord>& records)
         num(it == r.events.end() ? kNaN : it->second.last);
       }
     for (std::size_t k = 0; k < o.first_times.size(); ++k) num(k < r.first_times.size() ? r.first_times[k] : kNaN);
-    if (wants(o, "energy")) {
+    if (o.wants("energy")) {
       num(r.energy_drift_max);
       num(r.energy_drift_final);
       num(r.energy_drift_relative_to_initial);
       num(r.impact_energy_loss);
     }
-    if (wants(o, "error")) num(r.has_reference ? r.reference_error_final : kNaN);
-    if (wants(o, "cost")) {
+    if (o.wants("error")) num(r.has_reference ? r.reference_error_final : kNaN);
+    if (o.wants("cost")) {
       count(r.steps);
       count(r.rejected_steps);
       count(r.rhs_evaluations);
     }
-    if (wants(o, "wall")) num(r.wall_time_s);
+    if (o.wants("wall")) num(r.wall_time_s);
+    if (o.wants("chaos")) {
+      num(r.lyapunov_max);
+      num(r.megno);
+    }
     t.rows.push_back(std::move(row));
   }
   return t;
@@ -147,7 +149,8 @@ namespace lagrangian::scene::detail {
 namespace {
 
 /// The columns drawn by default: t_final, the final coordinates, the impact
-/// energy loss, the first time of each event group and each --first-time.
+/// energy loss, the first time of each event group and each --first-time,
+/// the largest Lyapunov exponent and MEGNO.
 std::vector<std::string> default_plot_columns(const Table& t) {
   std::vector<std::string> cols;
   for (std::size_t k = 0; k < t.header.size(); ++k) {
@@ -157,7 +160,7 @@ std::vector<std::string> default_plot_columns(const Table& t) {
     for (const auto& row : t.rows) varies = varies || row[k] != t.rows.front()[k];
     if (!varies) continue;
     if (h == "t_final" || h.rfind("q_", 0) == 0 || h == "impact_energy_loss" || h.rfind("first_", 0) == 0 ||
-        (h.rfind("t_", 0) == 0 && h != "t_final"))
+        (h.rfind("t_", 0) == 0 && h != "t_final") || h == "lyapunov_max" || h == "megno")
       cols.push_back(h);
   }
   if (cols.size() > 12) cols.resize(12);
@@ -181,7 +184,8 @@ void plot(const SweepOptions& o, const Table& t, const Scene& scene, SweepResult
   }
   std::vector<std::string> columns = o.plot_columns.empty() ? default_plot_columns(t) : o.plot_columns;
   if (columns.empty()) {
-    result.plot_note = "nothing plotted: no default column (t_final, q_*, impact_energy_loss, first_*, t_*) varies "
+    result.plot_note = "nothing plotted: no default column (t_final, q_*, impact_energy_loss, first_*, t_*, lyapunov_max, "
+                       "megno) varies "
                        "across the points; name columns with --plot";
     return;
   }

@@ -365,7 +365,13 @@ FirstTimeSpec parse_first_time(const std::string& text) {
   return {name, rest};
 }
 
-std::vector<std::string> SweepOptions::output_groups() { return {"final", "events", "energy", "error", "cost", "wall"}; }
+std::vector<std::string> SweepOptions::output_groups() {
+  return {"final", "events", "energy", "error", "cost", "wall", "chaos"};
+}
+
+bool SweepOptions::wants(const std::string& group) const {
+  return std::find(outputs.begin(), outputs.end(), group) != outputs.end();
+}
 
 void SweepOptions::validate() const {
   if (vary.empty()) throw OptionError("--vary: at least one is needed (KEY=START:STOP:COUNT)");

@@ -37,6 +37,8 @@ expect 2 "--vary model.q\[5\]: index 5 is out of range" -- "$bin" sweep "$scene"
 expect 2 "--set model.qd\[0\]: .*unknown name 'alpah'; did you mean 'alpha'" -- "$bin" sweep "$scene" --vary alpha=0:1:2 --set 'model.qd[0]=alpah' --out "$work/x"
 expect 2 "--first-time flip: .*unknown name 'theta3'; did you mean 'theta1'" -- "$bin" sweep "$flip" --vary 'model.q[0]=0:1:2' --first-time 'flip=abs(theta3)-pi' --out "$work/x"
 expect 2 "--output: unknown column group 'energie'; did you mean 'energy'" -- "$bin" sweep "$scene" --vary model.parameters.e=0:1:2 --output final,energie
+# The chaos columns need a model with a tangent flow: direct_impact has contacts.
+expect 2 "--output chaos: .*direct_impact" -- "$bin" sweep "$scene" --vary model.parameters.e=0:1:2 --output chaos --out "$work/x"
 # A varied variable that no --set expression reads changes nothing: the sweep says so before it runs.
 expect 0 "warning: --vary alpha: no --set expression uses the variable 'alpha'" -- "$bin" sweep "$scene" --vary alpha=0:1:2 --out "$work/unused" --no-plots
 expect 0 "" -- "$bin" sweep "$scene" --vary alpha=0:1:2 --set 'model.parameters.e=0.5+0.1*alpha' --out "$work/used" --no-plots
@@ -60,6 +62,12 @@ expect 0 "" -- "$bin" "${args[@]}" --threads 2 --out "$work/t2"
 [ "$(wc -l < "$work/t1/sweep.csv")" -eq 43 ] || { echo "FAIL: expected 42 rows and a header"; fails=$((fails + 1)); }
 cmp "$work/t1/sweep.csv" "$work/t2/sweep.csv" || { echo "FAIL: 1 and 2 threads differ"; fails=$((fails + 1)); }
 [ -s "$work/t1/sweep_t_flip.png" ] || ! command -v gnuplot >/dev/null || { echo "FAIL: no heat map"; fails=$((fails + 1)); }
+# The largest Lyapunov exponent and MEGNO: the same from 1 and 2 threads (and 2 ranks below).
+chaos=(sweep "$flip" --vary 'model.q[0]=0.5:2.5:3' --vary 'model.q[1]=2:2:1' --output final,chaos -q --no-plots)
+expect 0 "" -- "$bin" "${chaos[@]}" --threads 1 --out "$work/c1"
+expect 0 "" -- "$bin" "${chaos[@]}" --threads 2 --out "$work/c2"
+head -1 "$work/c1/sweep.csv" | grep -q ',lyapunov_max \[1/s\],megno$' || { echo "FAIL: no chaos columns"; head -1 "$work/c1/sweep.csv"; fails=$((fails + 1)); }
+cmp "$work/c1/sweep.csv" "$work/c2/sweep.csv" || { echo "FAIL: chaos columns differ with the thread count"; fails=$((fails + 1)); }
 # Monte Carlo: the same draws whatever the thread count.
 mc=(sweep "$scene" --vary model.parameters.e=uniform:0:1 --vary model.parameters.m2=normal:2:0.1 --monte-carlo 40 --seed 7 -q --no-plots)
 expect 0 "" -- "$bin" "${mc[@]}" --threads 1 --out "$work/mc1"
@@ -91,6 +99,8 @@ if [ -n "$mpi_bin" ]; then
   expect 0 "" -- "$mpiexec" -np 2 "$mpi_bin" "${args[@]}" --threads 1 --out "$work/r2"
   cmp "$work/t1/sweep.csv" "$work/r2/sweep.csv" || { echo "FAIL: 2 ranks differ from 1 thread"; fails=$((fails + 1)); }
   expect 0 "" -- "$mpiexec" -np 2 "$mpi_bin" "${mc[@]}" --threads 2 --out "$work/mcr2"
+  expect 0 "" -- "$mpiexec" -np 2 "$mpi_bin" "${chaos[@]}" --threads 1 --out "$work/cr2"
+  cmp "$work/c1/sweep.csv" "$work/cr2/sweep.csv" || { echo "FAIL: chaos columns on 2 ranks differ"; fails=$((fails + 1)); }
   cmp "$work/mc1/sweep.csv" "$work/mcr2/sweep.csv" || { echo "FAIL: Monte Carlo on 2 ranks differs"; fails=$((fails + 1)); }
   expect 2 "--threads: must be >= 1, got 0" -- "$mpiexec" -np 2 "$mpi_bin" sweep "$scene" --vary model.parameters.e=0:1:3 --threads 0
   expect 2 "unknown subcommand 'run'; the subcommands are: sweep; lagrangian-mpi runs sweeps only" -- "$mpi_bin" run "$scene"

@@ -41,6 +41,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -125,7 +126,9 @@ struct SweepOptions {
   /// the end; impact_energy_loss), "error" (reference_error_final: against the
   /// model's closed form, empty without one), "cost" (steps,
   /// rejected_steps, rhs_evaluations), "wall" (wall_time_s; varies run to
-  /// run, so not a default).
+  /// run, so not a default), "chaos" (lyapunov_max, megno: see SweepRecord;
+  /// a second run of each point with one tangent vector, tens of times the
+  /// cost of the first, so not a default either).
   std::vector<std::string> outputs{"final", "events", "energy", "error", "cost"};
   std::vector<std::string> plot_columns;  ///< columns to plot; empty: a default choice (docs/sweeps.md)
   std::string out_dir = "out/sweep";
@@ -145,6 +148,8 @@ struct SweepOptions {
   void validate() const;
   /// Names of the output groups (for messages).
   static std::vector<std::string> output_groups();
+  /// True when `group` is one of `outputs`.
+  bool wants(const std::string& group) const;
 };
 
 /// A sweep stopped through SweepOptions::cancel before all its runs were
@@ -178,6 +183,14 @@ struct SweepRecord {
   };
   std::map<std::string, EventGroup> events;  ///< by kind (impact, rest, release, stop) or watched event name
   std::vector<double> first_times;           ///< one per FirstTimeSpec; NaN: never
+  /// The "chaos" group (NaN when not asked): the largest Lyapunov exponent
+  /// λ1 (1/s) and MEGNO's time mean ⟨Y⟩ (dimensionless) of the point's model
+  /// from its initial state over [t0, t_end], one tangent vector integrated
+  /// beside the state by scene::lyapunov() (analysis.hpp; docs/analysis.md).
+  /// ⟨Y⟩ → 0 for an isochronous orbit, → 2 for a regular one, and grows as
+  /// λ1 t / 2 on a chaotic one. Watched events do not stop this run.
+  double lyapunov_max = std::numeric_limits<double>::quiet_NaN();
+  double megno = std::numeric_limits<double>::quiet_NaN();
   bool ok() const { return status == "ok"; }
 };
 
