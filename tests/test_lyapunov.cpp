@@ -50,6 +50,23 @@ void expect_jacobian_agrees(const M& model, const Vec<double, M::coordinate_coun
   EXPECT_LE((qdd - library).norm(), 1e-13 * (1 + library.norm())) << model.name();
   const auto fd = differenced(model, q, qd, t);
   EXPECT_LE((jac - fd).norm(), 1e-7 * (1 + fd.norm())) << model.name() << "\nAD:\n" << jac << "\nFD:\n" << fd;
+  // Along given directions without J (state_jvp): J V to rounding, for one
+  // direction and for two.
+  Eigen::Matrix<double, 2 * n, 2> v;
+  for (int i = 0; i < 2 * n; ++i) {
+    v(i, 0) = std::cos(1.0 + 0.7 * i);
+    v(i, 1) = 0.5 - 0.3 * i;
+  }
+  Vec<double, n> qdd1, qdd2;
+  Eigen::Matrix<double, n, 1> jv1;
+  Eigen::Matrix<double, n, 2> jv2;
+  lagrangian::state_jvp<1>(model, q, qd, t, Eigen::Matrix<double, 2 * n, 1>(v.col(0)), qdd1, jv1);
+  lagrangian::state_jvp<2>(model, q, qd, t, v, qdd2, jv2);
+  const Eigen::Matrix<double, n, 2> jv = jac * v;
+  EXPECT_LE((qdd1 - qdd).norm(), 1e-14 * (1 + qdd.norm())) << model.name();
+  EXPECT_LE((qdd2 - qdd).norm(), 1e-14 * (1 + qdd.norm())) << model.name();
+  EXPECT_LE((jv1 - jv.col(0)).norm(), 1e-13 * (1 + jv.norm())) << model.name() << "\n" << jv1 << "\n" << jv;
+  EXPECT_LE((jv2 - jv).norm(), 1e-13 * (1 + jv.norm())) << model.name() << "\n" << jv2 << "\n" << jv;
 }
 
 TEST(TangentFlow, HarmonicOscillatorIsMinusOmegaSquared) {
@@ -181,6 +198,27 @@ TEST(Lyapunov, ChaoticDoublePendulumHasAPositiveExponentAndASymplecticSpectrum) 
   const lagrangian::LyapunovResult calm = lagrangian::lyapunov_spectrum(dp, regular, o);
   EXPECT_LT(calm.spectrum[0], 0.05) << calm.spectrum[0];
   EXPECT_LE(std::abs(calm.sum), 1e-9);
+}
+
+// One tangent vector (its rate along one direction, without J) against the
+// first of four (J V with the whole Jacobian): Benettin's first vector is
+// only ever rescaled, so the two give one exponent; on a regular motion the
+// two runs' steps, which differ, do not part the trajectories.
+TEST(Lyapunov, OneVectorAloneGivesTheFirstExponentOfTheWholeSpectrum) {
+  const lm::DoublePendulum m;
+  lagrangian::State<2> s;
+  s.q << 0.5, -0.3;
+  lagrangian::LyapunovOptions one = options(20.0), all = options(20.0);
+  one.exponents = 1;
+  all.exponents = 4;
+  const lagrangian::LyapunovResult a = lagrangian::lyapunov_spectrum(m, s, one);
+  const lagrangian::LyapunovResult b = lagrangian::lyapunov_spectrum(m, s, all);
+  ASSERT_EQ(a.spectrum.size(), 1u);
+  ASSERT_EQ(b.spectrum.size(), 4u);
+  EXPECT_GT(a.spectrum[0], 0.01);  // a finite-time value, not a trivial 0
+  EXPECT_NEAR(a.spectrum[0], b.spectrum[0], 1e-6 * a.spectrum[0]) << a.spectrum[0] << " " << b.spectrum[0];
+  // ⟨Y⟩ is a quadrature over each run's own steps (measured apart by 1.8e-5).
+  EXPECT_NEAR(a.megno_mean, b.megno_mean, 1e-4) << a.megno_mean << " " << b.megno_mean;
 }
 
 TEST(Megno, IsochronousCentreTendsToZero) {

@@ -46,9 +46,16 @@ class TangentSystem final : public System {
 
   void rhs(const double* x, double* dxdt, double t) const override {
     const int n = model_.n, c = coordinate_count();
-    model_.evaluate(model_.model, x, x + c, t, qdd_.data(), jacobian_.data());
     ++evaluations_;
     std::copy(x + c, x + 2 * c, dxdt);
+    if (k_ == 1 && model_.evaluate_direction != nullptr) {
+      // One tangent vector: its rate along one direction, without J.
+      std::copy(x + n, x + 2 * n, direction_.begin());
+      std::copy(x + c + n, x + c + 2 * n, direction_.begin() + n);
+      model_.evaluate_direction(model_.model, x, x + c, t, direction_.data(), dxdt + c, dxdt + c + n);
+      return;
+    }
+    model_.evaluate(model_.model, x, x + c, t, qdd_.data(), jacobian_.data());
     std::copy(qdd_.begin(), qdd_.end(), dxdt + c);
     const Eigen::Map<const Eigen::MatrixXd> jq(jacobian_.data(), n, n), jqd(jacobian_.data() + n * n, n, n);
     for (int j = 1; j <= k_; ++j) {
@@ -209,6 +216,7 @@ class TangentSystem final : public System {
   double longest_;
   bool benettin_;
   mutable std::vector<double> qdd_, jacobian_;
+  mutable std::vector<double> direction_ = std::vector<double>(static_cast<std::size_t>(2 * model_.n));
   mutable std::uint64_t evaluations_ = 0;
   Eigen::MatrixXd w_;
   std::vector<double> p_ = std::vector<double>(static_cast<std::size_t>(2 * model_.n * model_.n));

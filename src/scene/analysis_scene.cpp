@@ -226,7 +226,7 @@ std::string LyapunovRun::summary() const {
   out += "renormalisations " + std::to_string(r.renormalisations) + ", intervals " + g10(r.interval_min) + " .. " +
          g10(r.interval_max) + " s\n";
   out += "cost: " + std::to_string(r.steps) + " steps, " + std::to_string(r.rhs_evaluations) +
-         " evaluations of q'' with its Jacobian, " + g10(r.seconds) + " s\n";
+         " evaluations of q'' with its derivatives along the vectors, " + g10(r.seconds) + " s\n";
   return out;
 }
 

@@ -22,8 +22,8 @@
 /// the finite-time exponents, reported largest first; with k = 2n the
 /// whole spectrum, whose sum is (1/T) log det ∂(q, p)(T)/∂(q, p)(0)
 /// (0 for a Hamiltonian flow, −2b/m for a particle under linear drag b in
-/// the plane). k = 1 gives the largest exponent alone, at less
-/// cost.
+/// the plane). k = 1 gives the largest exponent alone, at less cost: its
+/// one tangent vector needs J δx along one direction (state_jvp()), not J.
 ///
 /// MEGNO (Cincotta & Simó 2000, A&AS 147, 205): with ℓ(t) = ln |δx_1(t)|
 /// of the first tangent vector (in (q, q̇), as if never renormalised: a
@@ -76,7 +76,7 @@ struct LyapunovResult {
   double interval_min = 0;           ///< shortest interval taken (s)
   double interval_max = 0;           ///< longest interval taken (s)
   std::uint64_t steps = 0;           ///< accepted steps of the augmented system
-  std::uint64_t rhs_evaluations = 0; ///< evaluations of q̈ with its Jacobian
+  std::uint64_t rhs_evaluations = 0; ///< evaluations of q̈ with its derivatives along the k vectors
   double seconds = 0;                ///< wall time of the run (s)
   std::vector<double> q_final, qd_final;  ///< the state at t_final
   /// MEGNO Y(T) of the first tangent vector and its time mean ⟨Y⟩(T)
@@ -95,6 +95,11 @@ struct TangentModel {
   /// ∂p/∂(q, q̇) at (q, q̇, t) (n × 2n, column-major; momentum_jacobian()).
   void (*momentum)(const void* model, const double* q, const double* qd, double t, double* out) = nullptr;
   int n = 0;
+  /// q̈ and (∂q̈/∂(q, q̇)) v along one direction v (2n values) at (q, q̇, t),
+  /// without the whole Jacobian (state_jvp() with K = 1): what one tangent
+  /// vector needs.
+  void (*evaluate_direction)(const void* model, const double* q, const double* qd, double t, const double* v,
+                             double* qdd, double* jv) = nullptr;
 };
 
 /// Benettin's method over a TangentModel (src/analysis/lyapunov.cpp).
@@ -116,6 +121,20 @@ void evaluate_tangent(const void* model, const double* q, const double* qd, doub
 }
 
 template <class M>
+void evaluate_tangent_direction(const void* model, const double* q, const double* qd, double t, const double* v,
+                                double* qdd, double* jv) {
+  constexpr int n = coordinate_count_v<M>;
+  Vec<double, n> a;
+  Eigen::Matrix<double, n, 1> d;
+  state_jvp<1>(*static_cast<const M*>(model), Eigen::Map<const Vec<double, n>>(q), Eigen::Map<const Vec<double, n>>(qd),
+               t, Eigen::Map<const Eigen::Matrix<double, 2 * n, 1>>(v), a, d);
+  Eigen::Map<Vec<double, n>> qdd_out(qdd);
+  Eigen::Map<Eigen::Matrix<double, n, 1>> jv_out(jv);
+  qdd_out = a;
+  jv_out = d;
+}
+
+template <class M>
 void evaluate_momentum(const void* model, const double* q, const double* qd, double t, double* out) {
   constexpr int n = coordinate_count_v<M>;
   Eigen::Matrix<double, n, 2 * n> j;
@@ -130,7 +149,8 @@ void evaluate_momentum(const void* model, const double* q, const double* qd, dou
 template <class M>
 TangentModel tangent_model_of(const M& model, const std::string& prefix) {
   require_no_constraints(model, prefix);
-  return TangentModel{&model, &evaluate_tangent<M>, &evaluate_momentum<M>, coordinate_count_v<M>};
+  return TangentModel{&model, &evaluate_tangent<M>, &evaluate_momentum<M>, coordinate_count_v<M>,
+                      &evaluate_tangent_direction<M>};
 }
 
 }  // namespace detail

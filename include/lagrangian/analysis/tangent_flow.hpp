@@ -57,28 +57,36 @@ void require_no_constraints(const M& model, const std::string& prefix) {
 /// Largest number of coordinates state_jacobian() takes.
 inline constexpr int kMaxTangentFlowCoordinates = 6;
 
-/// q̈ and J_a = ∂q̈/∂(q, q̇) (n × 2n: the columns ∂/∂q_0 … ∂/∂q_{n−1}, then
-/// ∂/∂q̇_0 … ∂/∂q̇_{n−1}) at (q, q̇, t). Throws DynamicsError when M is not
-/// positive definite there, AnalysisError for a model with constraints or
-/// contacts.
-template <class M>
-void state_jacobian(const M& model, const Vec<double, coordinate_count_v<M>>& q,
-                    const Vec<double, coordinate_count_v<M>>& qd, double t, Vec<double, coordinate_count_v<M>>& qdd,
-                    Eigen::Matrix<double, coordinate_count_v<M>, 2 * coordinate_count_v<M>>& jacobian) {
+/// q̈ and its derivatives along K directions of the state: the n × K matrix
+/// JV = (∂q̈/∂(q, q̇)) V for a 2n × K matrix V (rows δq_0 … δq_{n−1}, then
+/// δq̇_0 … δq̇_{n−1}), at (q, q̇, t), without forming J: the inner numbers
+/// carry K derivatives, seeded with the rows of V, so a single direction
+/// (K = 1) costs a fraction of the whole Jacobian (K = 2n, V = I; see
+/// state_jacobian()). Throws DynamicsError when M is not positive definite
+/// there, AnalysisError for a model with constraints or contacts.
+template <int K, class M>
+void state_jvp(const M& model, const Vec<double, coordinate_count_v<M>>& q, const Vec<double, coordinate_count_v<M>>& qd,
+               double t, const Eigen::Matrix<double, 2 * coordinate_count_v<M>, K>& v,
+               Vec<double, coordinate_count_v<M>>& qdd, Eigen::Matrix<double, coordinate_count_v<M>, K>& jv) {
   check_model<M>();
   constexpr int n = coordinate_count_v<M>;
-  static_assert(n != Dynamic, "state_jacobian: the tangent flow is derived for models with a fixed coordinate_count");
+  static_assert(n != Dynamic, "state_jvp: the tangent flow is derived for models with a fixed coordinate_count");
   static_assert(n <= kMaxTangentFlowCoordinates,
-                "state_jacobian: the tangent flow is derived for models of at most kMaxTangentFlowCoordinates "
+                "state_jvp: the tangent flow is derived for models of at most kMaxTangentFlowCoordinates "
                 "coordinates");
+  static_assert(K >= 1 && K <= 2 * n, "state_jvp: between 1 and 2n directions");
   detail::require_no_constraints(model, "");
-  using I = ad::Jet<double, 2 * n, 1>;     // a value and its gradient in the state (q, q̇)
-  using O = ad::Jet<I, 2 * n + 1, 2>;      // second order in (q, q̇, t), each entry an I
+  using I = ad::Jet<double, K, 1>;     // a value and its derivatives along the K directions
+  using O = ad::Jet<I, 2 * n + 1, 2>;  // second order in (q, q̇, t), each entry an I
   Vec<I, n> qi, qdi;
   Vec<O, n> qo, qdo;
   for (int k = 0; k < n; ++k) {
-    qi[k] = I::variable(q[k], k);
-    qdi[k] = I::variable(qd[k], n + k);
+    qi[k] = I(q[k]);
+    qdi[k] = I(qd[k]);
+    for (int c = 0; c < K; ++c) {
+      qi[k].g[c] = v(k, c);
+      qdi[k].g[c] = v(n + k, c);
+    }
     qo[k] = O::variable(qi[k], k);
     qdo[k] = O::variable(qdi[k], n + k);
   }
@@ -86,7 +94,7 @@ void state_jacobian(const M& model, const Vec<double, coordinate_count_v<M>>& q,
   const O l = detail::lagrangian_of(model, qo, qdo, O::variable(ti, 2 * n));
 
   Mat<double, n> mass;
-  Eigen::Matrix<double, n, 2 * n> dmass[n];  // row i: ∂M_ij/∂x (as dmass[i](j, ·))
+  Eigen::Matrix<double, n, K> dmass[n];  // row i: the derivatives of M_ij along V (as dmass[i](j, ·))
   Vec<I, n> r;
   for (int i = 0; i < n; ++i) {
     I ri = l.g[i] - l.hess(n + i, 2 * n);
@@ -94,7 +102,7 @@ void state_jacobian(const M& model, const Vec<double, coordinate_count_v<M>>& q,
       ri -= l.hess(n + i, j) * qdi[j];
       const I& mij = l.hess(n + i, n + j);
       mass(i, j) = mij.v;
-      for (int c = 0; c < 2 * n; ++c) dmass[i](j, c) = mij.g[c];
+      for (int c = 0; c < K; ++c) dmass[i](j, c) = mij.g[c];
     }
     r[i] = ri;
   }
@@ -134,10 +142,23 @@ void state_jacobian(const M& model, const Vec<double, coordinate_count_v<M>>& q,
   Vec<double, n> rv;
   for (int i = 0; i < n; ++i) rv[i] = r[i].v;
   qdd = llt.solve(rv);
-  Eigen::Matrix<double, n, 2 * n> rhs;
-  for (int c = 0; c < 2 * n; ++c)
+  // M (J V)_c = (∂r V)_c − (∂M V)_c q̈, the derivative of M q̈ = r along direction c.
+  Eigen::Matrix<double, n, K> rhs;
+  for (int c = 0; c < K; ++c)
     for (int i = 0; i < n; ++i) rhs(i, c) = r[i].g[c] - dmass[i].col(c).dot(qdd);
-  jacobian = llt.solve(rhs);
+  jv = llt.solve(rhs);
+}
+
+/// q̈ and J_a = ∂q̈/∂(q, q̇) (n × 2n: the columns ∂/∂q_0 … ∂/∂q_{n−1}, then
+/// ∂/∂q̇_0 … ∂/∂q̇_{n−1}) at (q, q̇, t): state_jvp() along the 2n unit
+/// vectors. Throws DynamicsError when M is not positive definite there,
+/// AnalysisError for a model with constraints or contacts.
+template <class M>
+void state_jacobian(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                    const Vec<double, coordinate_count_v<M>>& qd, double t, Vec<double, coordinate_count_v<M>>& qdd,
+                    Eigen::Matrix<double, coordinate_count_v<M>, 2 * coordinate_count_v<M>>& jacobian) {
+  constexpr int n = coordinate_count_v<M>;
+  state_jvp<2 * n>(model, q, qd, t, Eigen::Matrix<double, 2 * n, 2 * n>::Identity(), qdd, jacobian);
 }
 
 /// ∂p/∂(q, q̇) at (q, q̇, t), p = ∂L/∂q̇: the n × 2n matrix [C, M] with
