@@ -127,8 +127,8 @@ struct SweepOptions {
   /// model's closed form, empty without one), "cost" (steps,
   /// rejected_steps, rhs_evaluations), "wall" (wall_time_s; varies run to
   /// run, so not a default), "chaos" (lyapunov_max, megno: see SweepRecord;
-  /// a second run of each point with one tangent vector, tens of times the
-  /// cost of the first, so not a default either).
+  /// a second run of each point with one tangent vector, about 16 times
+  /// the cost of the first for the double pendulum, so not a default either).
   std::vector<std::string> outputs{"final", "events", "energy", "error", "cost"};
   std::vector<std::string> plot_columns;  ///< columns to plot; empty: a default choice (docs/sweeps.md)
   std::string out_dir = "out/sweep";
