@@ -548,14 +548,11 @@ TEST(SweepChaos, TheChaosMapHasTheMirrorSymmetryOfThePendulum) {
   const SweepResult r = sweep(kSweeps + "chaos_map.toml", o);
   ASSERT_EQ(r.failed, 0u);
   ASSERT_EQ(r.records.size(), 25u);
-  double lo = 1e300, hi = 0;
   for (std::size_t i = 0; i < 25; ++i) {
     const SweepRecord &a = r.records[i], &b = r.records[24 - i];  // point 24 − i is the mirror of point i
     ASSERT_DOUBLE_EQ(a.values[0], -b.values[0]);
     EXPECT_NEAR(a.lyapunov_max, b.lyapunov_max, 1e-6 * (1 + b.lyapunov_max)) << a.values[0] << " " << a.values[1];
     EXPECT_NEAR(a.megno, b.megno, 1e-6 * (1 + std::abs(b.megno))) << a.values[0] << " " << a.values[1];
-    lo = std::min(lo, a.lyapunov_max);
-    hi = std::max(hi, a.lyapunov_max);
   }
   // The origin (rest at the bottom): the linearised flow, two normal modes,
   // tangent vectors bounded — ⟨Y⟩ → 0 and a finite-time λ1 of order
@@ -565,6 +562,4 @@ TEST(SweepChaos, TheChaosMapHasTheMirrorSymmetryOfThePendulum) {
   EXPECT_LT(r.records[12].megno, 0.1);
   EXPECT_GT(r.records[0].lyapunov_max, 0.5);
   EXPECT_GT(r.records[0].megno, 5.0);
-  EXPECT_GT(hi, 0.5);
-  EXPECT_LT(lo, 0.1);
 }

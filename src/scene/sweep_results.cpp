@@ -184,9 +184,9 @@ void plot(const SweepOptions& o, const Table& t, const Scene& scene, SweepResult
   }
   std::vector<std::string> columns = o.plot_columns.empty() ? default_plot_columns(t) : o.plot_columns;
   if (columns.empty()) {
-    result.plot_note = "nothing plotted: no default column (t_final, q_*, impact_energy_loss, first_*, t_*, lyapunov_max, "
-                       "megno) varies "
-                       "across the points; name columns with --plot";
+    result.plot_note =
+        "nothing plotted: no default column (t_final, q_*, impact_energy_loss, first_*, t_*, lyapunov_max, megno) "
+        "varies across the points; name columns with --plot";
     return;
   }
   SweepPlotSpec spec;
