@@ -11,9 +11,9 @@
 #include <boost/math/tools/roots.hpp>
 
 #include "lagrangian/analysis/floquet.hpp"
-#include "lagrangian/integrate/observers.hpp"
-#include "lagrangian/integrate/simulate.hpp"
 #include "lagrangian/models/pendulums.hpp"
+
+#include "final_state.hpp"
 
 namespace {
 
@@ -123,22 +123,7 @@ TEST(Floquet, RefusesABadPeriodByName) {
 
 }  // namespace
 
-namespace {
-
-/// x(t0 + T) = (q, q̇) of a plain simulate() run from `s`.
-Eigen::Vector4d flow(const lm::DoublePendulum& m, const lagrangian::State<2>& s, double T) {
-  lagrangian::SimulationOptions o;
-  o.t_end = T;
-  o.rtol = 1e-13;
-  o.atol = 1e-15;
-  o.output_interval = -1;  // the initial and the final state only
-  lagrangian::Recorder<2> rec;
-  lagrangian::simulate(m, s, o, rec);
-  const auto& last = rec.samples.back();
-  return {last.q[0], last.q[1], last.qd[0], last.qd[1]};
-}
-
-}  // namespace
+using lagrangian::testing::final_state;
 
 // Over any time T, not only a period, the monodromy matrix is the state
 // transition matrix Φ(T) = ∂x(T)/∂x(0): for the oscillator ẍ = −ω² x,
@@ -172,7 +157,7 @@ TEST(Floquet, TheDoublePendulumsTransitionMatrixIsTheDerivativeOfItsFlow) {
     lagrangian::State<2> up = s, down = s;
     (j < 2 ? up.q[j] : up.qd[j - 2]) += h;
     (j < 2 ? down.q[j] : down.qd[j - 2]) -= h;
-    fd.col(j) = (flow(m, up, T) - flow(m, down, T)) / (2 * h);
+    fd.col(j) = (final_state(m, up, T) - final_state(m, down, T)) / (2 * h);
   }
   const double scale = fd.cwiseAbs().maxCoeff();
   EXPECT_GT(scale, 1.0);  // a non-trivial map: the motion shears

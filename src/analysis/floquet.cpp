@@ -37,12 +37,9 @@ FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, c
 
   TangentSystem system(model, 2 * n, 0.0, false);
   const int c = system.coordinate_count();
-  std::vector<double> x(static_cast<std::size_t>(2 * c), 0.0);
-  std::copy(q0, q0 + n, x.begin());
-  std::copy(qd0, qd0 + n, x.begin() + c);
+  std::vector<double> x;
   RunReport report;
-  integrate(system, x, run, report);
-  if (report.t_final < run.t_end) throw SimulationError("floquet: the run stopped before t0 + period", report.t_final);
+  integrate_tangents(system, n, q0, qd0, run, "floquet: the run stopped before t0 + period", x, report);
 
   FloquetResult result;
   result.monodromy = system.tangents(x.data());

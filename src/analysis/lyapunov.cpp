@@ -50,15 +50,11 @@ LyapunovResult lyapunov_spectrum(const TangentModel& model, const double* q0, co
   const double span = options.run.t_end - options.run.t0;
   TangentSystem system(model, k, options.interval > 0 ? options.interval : span / 100, true);
   const int c = system.coordinate_count();
-  std::vector<double> x(static_cast<std::size_t>(2 * c), 0.0);
-  std::copy(q0, q0 + n, x.begin());
-  std::copy(qd0, qd0 + n, x.begin() + c);
   SimulationOptions run = options.run;
   run.output_interval = -1;  // no samples between the ends
+  std::vector<double> x;
   RunReport report;
-  integrate(system, x, run, report);
-  if (report.t_final < options.run.t_end)
-    throw SimulationError("lyapunov: the run stopped before t_end", report.t_final);
+  integrate_tangents(system, n, q0, qd0, run, "lyapunov: the run stopped before t_end", x, report);
   system.close(x.data(), report.t_final);
 
   LyapunovResult result;

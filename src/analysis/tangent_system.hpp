@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Cholesky>
@@ -15,6 +16,7 @@
 
 #include "lagrangian/analysis/lyapunov.hpp"
 #include "lagrangian/errors.hpp"
+#include "lagrangian/integrate/integrate.hpp"
 #include "lagrangian/integrate/method.hpp"
 #include "lagrangian/integrate/system.hpp"
 
@@ -32,17 +34,23 @@ namespace lagrangian::detail {
 /// (P = [[I, 0], ∂p/∂x]) is factored Z = QR, log R_jj is added to sum j and
 /// W becomes P⁻¹ Q. The driver then restarts the stepper from the new
 /// state, as after any event. MEGNO is summed over every accepted step.
-/// Without it (the monodromy matrix) they start as the first k unit vectors
-/// of the state (δq, δq̇) and are never touched: at the end they are the
-/// first k columns of the flow's Jacobian ∂x(t)/∂x(t0).
+/// Without it (the monodromy matrix, sensitivities) they start as the first
+/// k unit vectors of the state (δq, δq̇) and are never touched: at the end
+/// they are the first k columns of the flow's Jacobian ∂x(t)/∂x(t0). After
+/// them come the columns s_j = ∂x/∂p_j of the model's parameters
+/// `parameters` (sensitivity.hpp), from 0, with
+///   d/dt δq̇ = (∂q̈/∂q) δq + (∂q̈/∂q̇) δq̇ + ∂q̈/∂p_j.
+/// With `record`, every sample keeps its time, state and columns.
 class TangentSystem final : public System {
  public:
-  TangentSystem(const TangentModel& model, int k, double longest, bool benettin)
-      : model_(model), k_(k), longest_(longest), benettin_(benettin), qdd_(static_cast<std::size_t>(model.n)),
-        jacobian_(static_cast<std::size_t>(2 * model.n * model.n)), w_(2 * model.n, k), qr_(2 * model.n, k),
+  TangentSystem(const TangentModel& model, int k, double longest, bool benettin, std::vector<int> parameters = {},
+                bool record = false)
+      : model_(model), k_(k), columns_(k + static_cast<int>(parameters.size())), parameters_(std::move(parameters)),
+        record_(record), longest_(longest), benettin_(benettin), qdd_(static_cast<std::size_t>(model.n)),
+        jacobian_(static_cast<std::size_t>(2 * model.n * model.n)), w_(2 * model.n, columns_), qr_(2 * model.n, k),
         sums_(static_cast<std::size_t>(k), 0.0) {}
 
-  int coordinate_count() const override { return model_.n * (1 + k_); }
+  int coordinate_count() const override { return model_.n * (1 + columns_); }
 
   void rhs(const double* x, double* dxdt, double t) const override {
     const int n = model_.n, c = coordinate_count();
@@ -50,19 +58,25 @@ class TangentSystem final : public System {
     std::copy(x + c, x + 2 * c, dxdt);
     if (k_ == 1 && model_.evaluate_direction != nullptr) {
       // One tangent vector: its rate along one direction, without J.
-      std::copy(x + n, x + 2 * n, direction_.begin());
-      std::copy(x + c + n, x + c + 2 * n, direction_.begin() + n);
+      load_direction(x, 1);
       model_.evaluate_direction(model_.model, x, x + c, t, direction_.data(), dxdt + c, dxdt + c + n);
-      return;
+    } else if (k_ > 0) {
+      model_.evaluate(model_.model, x, x + c, t, qdd_.data(), jacobian_.data());
+      std::copy(qdd_.begin(), qdd_.end(), dxdt + c);
+      const Eigen::Map<const Eigen::MatrixXd> jq(jacobian_.data(), n, n), jqd(jacobian_.data() + n * n, n, n);
+      for (int j = 1; j <= k_; ++j) {
+        const Eigen::Map<const Eigen::VectorXd> dq(x + j * n, n), dqd(x + c + j * n, n);
+        Eigen::Map<Eigen::VectorXd> out(dxdt + c + j * n, n);
+        out.noalias() = jq * dq;
+        out.noalias() += jqd * dqd;
+      }
     }
-    model_.evaluate(model_.model, x, x + c, t, qdd_.data(), jacobian_.data());
-    std::copy(qdd_.begin(), qdd_.end(), dxdt + c);
-    const Eigen::Map<const Eigen::MatrixXd> jq(jacobian_.data(), n, n), jqd(jacobian_.data() + n * n, n, n);
-    for (int j = 1; j <= k_; ++j) {
-      const Eigen::Map<const Eigen::VectorXd> dq(x + j * n, n), dqd(x + c + j * n, n);
-      Eigen::Map<Eigen::VectorXd> out(dxdt + c + j * n, n);
-      out.noalias() = jq * dq;
-      out.noalias() += jqd * dqd;
+    // Each parameter's column along its own direction, ∂q̈/∂p_j included.
+    for (int j = k_ + 1; j <= columns_; ++j) {
+      load_direction(x, j);
+      model_.evaluate_parameter(model_.model, x, x + c, t, direction_.data(),
+                                parameters_[static_cast<std::size_t>(j - k_ - 1)], qdd_.data(), dxdt + c + j * n);
+      if (k_ == 0 && j == 1) std::copy(qdd_.begin(), qdd_.end(), dxdt + c);
     }
   }
 
@@ -72,14 +86,29 @@ class TangentSystem final : public System {
       canonical(x, t0);
       w_ = from_canonical(Eigen::MatrixXd::Identity(2 * model_.n, k_));
     } else {
-      w_ = Eigen::MatrixXd::Identity(2 * model_.n, k_);
+      w_.setZero();
+      w_.leftCols(k_) = Eigen::MatrixXd::Identity(2 * model_.n, k_);
     }
     remember_lengths();
     store(x);
     ell_ = log_length(x);
   }
-  void sample(double, const double*) override {}
-  void finish(double, const double*, bool) override {}
+  void sample(double t, const double* x) override {
+    if (!record_) return;
+    const int c = coordinate_count();
+    Eigen::VectorXd state(2 * model_.n);
+    for (int i = 0; i < model_.n; ++i) {
+      state[i] = x[i];
+      state[model_.n + i] = x[c + i];
+    }
+    load(x);
+    times_.push_back(t);
+    states_.push_back(std::move(state));
+    columns_taken_.push_back(w_);
+  }
+  void finish(double t, const double* x, bool sample_end) override {
+    if (sample_end) sample(t, x);
+  }
 
   bool has_events() const override { return benettin_; }
   bool handle_events(double t_old, const double*, double& t, double* x, const StepInterpolant& interpolant) override {
@@ -99,7 +128,13 @@ class TangentSystem final : public System {
     if (t > last_) renormalise(x, t);
   }
 
-  /// The tangent matrix W = [δx_1 … δx_k] (2n × k) held in x.
+  /// With `record`: the samples' times, states (q, q̇) and columns.
+  const std::vector<double>& times() const { return times_; }
+  const std::vector<Eigen::VectorXd>& states() const { return states_; }
+  const std::vector<Eigen::MatrixXd>& recorded_columns() const { return columns_taken_; }
+
+  /// The tangent matrix W = [δx_1 … δx_k] (2n × k, and the parameters'
+  /// columns after them) held in x.
   const Eigen::MatrixXd& tangents(const double* x) {
     load(x);
     return w_;
@@ -114,9 +149,15 @@ class TangentSystem final : public System {
   double longest() const { return longest_taken_; }
 
  private:
+  /// Column j ≥ 1 of x (δq_j, δq̇_j) into direction_.
+  void load_direction(const double* x, int j) const {
+    const int n = model_.n, c = coordinate_count();
+    std::copy(x + j * n, x + (j + 1) * n, direction_.begin());
+    std::copy(x + c + j * n, x + c + (j + 1) * n, direction_.begin() + n);
+  }
   void load(const double* x) {
     const int n = model_.n, c = coordinate_count();
-    for (int j = 0; j < k_; ++j)
+    for (int j = 0; j < columns_; ++j)
       for (int i = 0; i < n; ++i) {
         w_(i, j) = x[(j + 1) * n + i];
         w_(n + i, j) = x[c + (j + 1) * n + i];
@@ -124,7 +165,7 @@ class TangentSystem final : public System {
   }
   void store(double* x) const {
     const int n = model_.n, c = coordinate_count();
-    for (int j = 0; j < k_; ++j)
+    for (int j = 0; j < columns_; ++j)
       for (int i = 0; i < n; ++i) {
         x[(j + 1) * n + i] = w_(i, j);
         x[c + (j + 1) * n + i] = w_(n + i, j);
@@ -212,7 +253,12 @@ class TangentSystem final : public System {
   }
 
   TangentModel model_;
-  int k_;
+  int k_, columns_;
+  std::vector<int> parameters_;
+  bool record_;
+  std::vector<double> times_;
+  std::vector<Eigen::VectorXd> states_;
+  std::vector<Eigen::MatrixXd> columns_taken_;
   double longest_;
   bool benettin_;
   mutable std::vector<double> qdd_, jacobian_;
@@ -226,11 +272,25 @@ class TangentSystem final : public System {
   double last_ = 0, t0_ = 0;
   // MEGNO: ℓ at the last step end, its offset, I, Y and ∫ Y ds.
   double ell_ = 0, ell_offset_ = 0, megno_i_ = 0, megno_ = 0, megno_integral_ = 0;
-  std::vector<double> mid_ = std::vector<double>(static_cast<std::size_t>(2 * model_.n * (1 + k_)));
+  std::vector<double> mid_ = std::vector<double>(static_cast<std::size_t>(2 * model_.n * (1 + columns_)));
   int renormalisations_ = 0;
   double shortest_ = std::numeric_limits<double>::infinity();
   double longest_taken_ = 0;
 };
+
+/// Integrates `system` over `run` from the state (q0, q̇0) (n values each),
+/// its columns as start() sets them, into x (the whole augmented state);
+/// SimulationError(`stopped`) when the run ends before run.t_end.
+inline void integrate_tangents(TangentSystem& system, int n, const double* q0, const double* qd0,
+                               const SimulationOptions& run, const std::string& stopped, std::vector<double>& x,
+                               RunReport& report) {
+  const int c = system.coordinate_count();
+  x.assign(static_cast<std::size_t>(2 * c), 0.0);
+  std::copy(q0, q0 + n, x.begin());
+  std::copy(qd0, qd0 + n, x.begin() + c);
+  integrate(system, x, run, report);
+  if (report.t_final < run.t_end) throw SimulationError(stopped, report.t_final);
+}
 
 /// OptionError for an invalid run or a method that cannot carry tangent
 /// vectors (the symplectic and variational ones integrate a model's own

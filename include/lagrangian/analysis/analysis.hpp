@@ -48,3 +48,4 @@
 #include "lagrangian/analysis/linearisation.hpp"  // IWYU pragma: export
 #include "lagrangian/analysis/lyapunov.hpp"       // IWYU pragma: export
 #include "lagrangian/analysis/modes.hpp"       // IWYU pragma: export
+#include "lagrangian/analysis/sensitivity.hpp"  // IWYU pragma: export

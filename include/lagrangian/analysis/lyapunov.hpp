@@ -100,6 +100,10 @@ struct TangentModel {
   /// vector needs.
   void (*evaluate_direction)(const void* model, const double* q, const double* qd, double t, const double* v,
                              double* qdd, double* jv) = nullptr;
+  /// q̈ and (∂q̈/∂(q, q̇)) v + ∂q̈/∂p for the model's parameter number
+  /// `parameter` (sensitivity.hpp); null unless parameters were asked for.
+  void (*evaluate_parameter)(const void* model, const double* q, const double* qd, double t, const double* v,
+                             int parameter, double* qdd, double* jv) = nullptr;
 };
 
 /// Benettin's method over a TangentModel (src/analysis/lyapunov.cpp).
@@ -120,18 +124,25 @@ void evaluate_tangent(const void* model, const double* q, const double* qd, doub
   jacobian_out = j;
 }
 
-template <class M>
-void evaluate_tangent_direction(const void* model, const double* q, const double* qd, double t, const double* v,
-                                double* qdd, double* jv) {
+/// state_jvp() along one direction v (2n values) on raw arrays, on the
+/// model itself or on its `seeded` twin (sensitivity.hpp).
+template <class M, class E = M>
+void jvp_along(const M& model, const double* q, const double* qd, double t, const double* v, double* qdd, double* jv,
+               const E* seeded = nullptr) {
   constexpr int n = coordinate_count_v<M>;
   Vec<double, n> a;
   Eigen::Matrix<double, n, 1> d;
-  state_jvp<1>(*static_cast<const M*>(model), Eigen::Map<const Vec<double, n>>(q), Eigen::Map<const Vec<double, n>>(qd),
-               t, Eigen::Map<const Eigen::Matrix<double, 2 * n, 1>>(v), a, d);
-  Eigen::Map<Vec<double, n>> qdd_out(qdd);
-  Eigen::Map<Eigen::Matrix<double, n, 1>> jv_out(jv);
+  state_jvp<1>(model, Eigen::Map<const Vec<double, n>>(q), Eigen::Map<const Vec<double, n>>(qd), t,
+               Eigen::Map<const Eigen::Matrix<double, 2 * n, 1>>(v), a, d, seeded);
+  Eigen::Map<Vec<double, n>> qdd_out(qdd), jv_out(jv);
   qdd_out = a;
   jv_out = d;
+}
+
+template <class M>
+void evaluate_tangent_direction(const void* model, const double* q, const double* qd, double t, const double* v,
+                                double* qdd, double* jv) {
+  jvp_along(*static_cast<const M*>(model), q, qd, t, v, qdd, jv);
 }
 
 template <class M>

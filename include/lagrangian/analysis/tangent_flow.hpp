@@ -28,6 +28,7 @@
 
 #include <sstream>
 #include <string>
+#include <type_traits>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -62,12 +63,18 @@ inline constexpr int kMaxTangentFlowCoordinates = 6;
 /// δq̇_0 … δq̇_{n−1}), at (q, q̇, t), without forming J: the inner numbers
 /// carry K derivatives, seeded with the rows of V, so a single direction
 /// (K = 1) costs a fraction of the whole Jacobian (K = 2n, V = I; see
-/// state_jacobian()). Throws DynamicsError when M is not positive definite
-/// there, AnalysisError for a model with constraints or contacts.
-template <int K, class M>
+/// state_jacobian()). With `seeded`, the same model with parameters of type
+/// ad::Jet<double, K, 1> carrying derivatives along the K directions too
+/// (sensitivity.hpp), L is evaluated on it, and column c of JV is the
+/// derivative of q̈ along the state direction V_c and the parameter
+/// direction of its seeds together: (∂q̈/∂x) V_c + (∂q̈/∂p) δp_c. Throws
+/// DynamicsError when M is not positive definite there, AnalysisError for a
+/// model with constraints or contacts.
+template <int K, class M, class E = M>
 void state_jvp(const M& model, const Vec<double, coordinate_count_v<M>>& q, const Vec<double, coordinate_count_v<M>>& qd,
                double t, const Eigen::Matrix<double, 2 * coordinate_count_v<M>, K>& v,
-               Vec<double, coordinate_count_v<M>>& qdd, Eigen::Matrix<double, coordinate_count_v<M>, K>& jv) {
+               Vec<double, coordinate_count_v<M>>& qdd, Eigen::Matrix<double, coordinate_count_v<M>, K>& jv,
+               const E* seeded = nullptr) {
   check_model<M>();
   constexpr int n = coordinate_count_v<M>;
   static_assert(n != Dynamic, "state_jvp: the tangent flow is derived for models with a fixed coordinate_count");
@@ -77,6 +84,16 @@ void state_jvp(const M& model, const Vec<double, coordinate_count_v<M>>& q, cons
   static_assert(K >= 1 && K <= 2 * n, "state_jvp: between 1 and 2n directions");
   detail::require_no_constraints(model, "");
   using I = ad::Jet<double, K, 1>;     // a value and its derivatives along the K directions
+  const E& eval = [&]() -> const E& {
+    if constexpr (std::is_same_v<E, M>) {
+      return model;
+    } else {
+      static_assert(std::is_same_v<E, typename M::template with_parameter_type<I>>,
+                    "state_jvp: the seeded model is the model with parameters of type ad::Jet<double, K, 1>");
+      return *seeded;
+    }
+  }();
+
   using O = ad::Jet<I, 2 * n + 1, 2>;  // second order in (q, q̇, t), each entry an I
   Vec<I, n> qi, qdi;
   Vec<O, n> qo, qdo;
@@ -91,7 +108,7 @@ void state_jvp(const M& model, const Vec<double, coordinate_count_v<M>>& q, cons
     qdo[k] = O::variable(qdi[k], n + k);
   }
   const I ti(t);
-  const O l = detail::lagrangian_of(model, qo, qdo, O::variable(ti, 2 * n));
+  const O l = detail::lagrangian_of(eval, qo, qdo, O::variable(ti, 2 * n));
 
   Mat<double, n> mass;
   Eigen::Matrix<double, n, K> dmass[n];  // row i: the derivatives of M_ij along V (as dmass[i](j, ·))
@@ -108,7 +125,7 @@ void state_jvp(const M& model, const Vec<double, coordinate_count_v<M>>& q, cons
   }
   if constexpr (has_generalized_forces_v<M>) {
     if (uses_generalized_forces(model)) {
-      const Vec<I, n> f = model.generalized_forces(qi, qdi, ti);
+      const Vec<I, n> f = eval.generalized_forces(qi, qdi, ti);
       for (int i = 0; i < n; ++i) r[i] += f[i];
     }
   }
@@ -120,7 +137,7 @@ void state_jvp(const M& model, const Vec<double, coordinate_count_v<M>>& q, cons
         qD[k] = D(qi[k]);
         qdD[k] = D::variable(qdi[k], k);
       }
-      const D d = D(model.dissipation(qD, qdD));
+      const D d = D(eval.dissipation(qD, qdD));
       for (int i = 0; i < n; ++i) r[i] -= d.g[i];
     }
   }

@@ -25,7 +25,7 @@ namespace lagrangian::models {
 /// horizontal, in a vertical plane; coordinates (x, y).
 ///   T = ½ m (ẋ² + ẏ²),  V = m g y,  g_wire = x sin α − y cos α = 0.
 /// Along the wire s̈ = −g sin α.
-struct BeadOnWire : detail::PlanarParticle {
+struct BeadOnWire : detail::PlanarParticle<> {
   static constexpr int coordinate_count = 2;
   double alpha;
   explicit BeadOnWire(double mass = 1.0, double angle = 0.5, double gravity = 9.81)
@@ -96,7 +96,7 @@ struct BeadOnRotatingWire {
 
 /// Plane pendulum as a particle (x, y) held at distance l from the pivot.
 ///   T = ½ m (ẋ² + ẏ²),  V = m g y,  g_rod = √(x² + y²) − l = 0.
-struct CartesianPendulum : detail::PlanarParticle {
+struct CartesianPendulum : detail::PlanarParticle<> {
   static constexpr int coordinate_count = 2;
   double l;
   explicit CartesianPendulum(double mass = 1.0, double length = 1.0, double gravity = 9.81)
@@ -304,7 +304,7 @@ struct KnifeEdge {
 /// Released at rest at angle θ0 from the top, the normal force is
 /// N = m g (3 cos θ − 2 cos θ0) and the particle leaves where it vanishes,
 /// cos θ* = (2/3) cos θ0.
-struct ParticleOffSphere : detail::PlanarParticle {
+struct ParticleOffSphere : detail::PlanarParticle<> {
   static constexpr int coordinate_count = 2;
   double R;
   explicit ParticleOffSphere(double mass = 1.0, double radius = 1.0, double gravity = 9.81)

@@ -1,19 +1,26 @@
 #pragma once
 /// \file identification.hpp
-/// Parameter identification from recorded motion with NLopt's
-/// derivative-free BOBYQA: each objective value is a simulated run compared
-/// with the record by least squares,
+/// Parameter identification from recorded motion: each objective value is a
+/// simulated run compared with the record by least squares,
 ///   J(p) = Σ_k |x_sim(t_k; p) − x_k|²,  t_k = t0 + k Δ  (k = 0 … K−1),
 /// and the fit reports the parameter and the root-mean-square residual
 /// √(J/K) (m), which for a right model is the noise of the record.
-///  - fit_restitution(): e of a ball bouncing on a floor, from heights;
-///  - fit_drag(): the drag coefficient of a projectile, from positions.
+///  - fit_restitution(): e of a ball bouncing on a floor, from heights, by
+///    NLopt's derivative-free BOBYQA;
+///  - fit_drag(): the drag coefficient of a projectile, from positions, by
+///    BOBYQA or from the run's parameter sensitivity s_k = ∂x_sim(t_k)/∂p
+///    (analysis/sensitivity.hpp, integrated beside the state: J and its
+///    derivative from one run): Gauss–Newton, p ← p − Σ r_k·s_k / Σ |s_k|²
+///    with r_k = x_sim(t_k) − x_k, or NLopt's L-BFGS or SLSQP on the mean
+///    square J/K with dJ/dp = 2 Σ_k r_k·s_k.
 
 #include <cmath>
+#include <cstddef>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "lagrangian/analysis/sensitivity.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/models/detail/minimise_1d.hpp"
 #include "lagrangian/models/impacts.hpp"
@@ -26,7 +33,23 @@ namespace lagrangian::models {
 struct Fit {
   double value = 0;         ///< the parameter
   double rms_residual = 0;  ///< √(J/K) (m)
-  int evaluations = 0;      ///< simulated runs
+  int evaluations = 0;      ///< simulated runs (with the sensitivity beside the state when a method uses it)
+};
+
+/// How fit_drag() searches (docs/models.md compares them).
+enum class FitMethod {
+  bobyqa,        ///< NLopt LN_BOBYQA: derivative-free, plain runs
+  gauss_newton,  ///< Gauss–Newton with the residuals' derivatives from the parameter sensitivity
+  lbfgs,         ///< NLopt LD_LBFGS with dJ/dp from the parameter sensitivity
+  slsqp,         ///< NLopt LD_SLSQP with dJ/dp from the parameter sensitivity
+};
+
+/// What a fit does besides its record.
+struct FitOptions {
+  FitMethod method = FitMethod::bobyqa;
+  /// Stop as soon as the RMS residual √(J/K) is at most this (m); 0 runs
+  /// to the parameter's tolerance.
+  double target_rms = 0;
 };
 
 namespace detail {
@@ -52,8 +75,11 @@ inline void check_record(const char* who, double interval, const std::vector<std
 }
 
 /// A projectile that flies on past the launch plane (a record may go below it).
-template <Drag D>
-struct ProjectileWithoutLanding : Projectile<D> {
+template <Drag D, class P = double>
+struct ProjectileWithoutLanding : Projectile<D, P> {
+  /// The model with parameters of type Q (parameter sensitivities).
+  template <class Q>
+  using with_parameter_type = ProjectileWithoutLanding<D, Q>;
   template <class S>
   Vec<S, 1> events(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
     return Vec<S, 1>(qd[1]);
@@ -66,7 +92,7 @@ struct ProjectileWithoutLanding : Projectile<D> {
 /// k)` is the squared misfit of sample k; J(p) is minimised on [lo, hi].
 template <int N, class MakeModel, class Misfit2>
 Fit fit_record(const State<N>& x0, double interval, std::size_t K, const MakeModel& make_model,
-               const Misfit2& misfit2, double lo, double hi, double start, double xtol) {
+               const Misfit2& misfit2, double lo, double hi, double start, double xtol, double stop = -HUGE_VAL) {
   SimulationOptions o;
   o.t_end = interval * static_cast<double>(K - 1);
   o.output_interval = interval;
@@ -79,7 +105,7 @@ Fit fit_record(const State<N>& x0, double interval, std::size_t K, const MakeMod
     for (std::size_t k = 0; k < K && k < rec.samples.size(); ++k) j += misfit2(rec.samples[k], k);
     return j;
   };
-  const auto [p, j] = minimise_1d(cost, lo, hi, start, xtol, 300);
+  const auto [p, j] = minimise_1d(cost, lo, hi, start, xtol, 300, stop);
   return {p, std::sqrt(j / static_cast<double>(K)), evaluations};
 }
 
@@ -105,23 +131,72 @@ inline Fit fit_restitution(const BallAndPlane& ball, const State<3>& x0, double 
 /// The drag coefficient (b in kg/s for Drag::linear, c in kg/m for
 /// Drag::quadratic) in [0, max_coefficient] of `projectile` (its own is
 /// ignored) that best reproduces the recorded positions (x_k, y_k) (m) at
-/// t_k = k·interval from x0.
+/// t_k = k·interval from x0, searched as `options` says (BOBYQA by default).
 template <Drag D>
 Fit fit_drag(const Projectile<D>& projectile, const State<2>& x0, double interval, const std::vector<double>& xs,
-             const std::vector<double>& ys, double max_coefficient) {
+             const std::vector<double>& ys, double max_coefficient, const FitOptions& options = {}) {
   static_assert(D != Drag::none, "fit_drag needs a projectile with declared drag");
   detail::check_record("fit_drag", interval, {xs, ys});
   require_positive("fit_drag", "max_coefficient", max_coefficient);
-  return detail::fit_record(
-      x0, interval, xs.size(),
-      [&](double c) {
-        return detail::ProjectileWithoutLanding<D>{Projectile<D>(projectile.m, projectile.g, projectile.beta, c)};
-      },
-      [&](const Sample<2>& s, std::size_t k) {
-        const double rx = s.q[0] - xs[k], ry = s.q[1] - ys[k];
-        return rx * rx + ry * ry;
-      },
-      0.0, max_coefficient, 0.5 * max_coefficient, 1e-12 * max_coefficient);
+  require_nonnegative("fit_drag", "target_rms", options.target_rms);
+  const std::size_t K = xs.size();
+  const double count = static_cast<double>(K);
+  const double stop = options.target_rms > 0 ? options.target_rms * options.target_rms * count : -HUGE_VAL;
+  const double lo = 0.0, hi = max_coefficient, start = 0.5 * max_coefficient, xtol = 1e-12 * max_coefficient;
+  const auto make = [&](double c) {
+    return detail::ProjectileWithoutLanding<D>{Projectile<D>(projectile.m, projectile.g, projectile.beta, c)};
+  };
+  if (options.method == FitMethod::bobyqa) {
+    return detail::fit_record(
+        x0, interval, K, make,
+        [&](const Sample<2>& s, std::size_t k) {
+          const double rx = s.q[0] - xs[k], ry = s.q[1] - ys[k];
+          return rx * rx + ry * ry;
+        },
+        lo, hi, start, xtol, stop);
+  }
+  // J = Σ|r_k|², g = Σ r_k·s_k and h = Σ |s_k|² from one run with s = ∂x/∂c
+  // beside the state.
+  SensitivityOptions so;
+  so.run.t_end = interval * (count - 1);
+  so.run.output_interval = interval;
+  so.initial_state = false;
+  so.parameters = {std::string(Projectile<D>::description.parameters[3].name)};
+  int evaluations = 0;
+  auto run = [&](double c, double& g, double& h) {
+    ++evaluations;
+    const SensitivityResult r = sensitivities(make(c), x0, so);
+    if (r.states.size() < K)
+      throw SimulationError("fit_drag: the sensitivity run gave " + std::to_string(r.states.size()) +
+                                " samples for a record of " + std::to_string(K),
+                            r.times.empty() ? 0.0 : r.times.back());
+    double j = 0;
+    g = h = 0;
+    for (std::size_t k = 0; k < K; ++k) {
+      const double rx = r.states[k][0] - xs[k], ry = r.states[k][1] - ys[k];
+      const double sx = r.sensitivities[k](0, 0), sy = r.sensitivities[k](1, 0);
+      j += rx * rx + ry * ry;
+      g += rx * sx + ry * sy;
+      h += sx * sx + sy * sy;
+    }
+    return j;
+  };
+  if (options.method == FitMethod::gauss_newton) {
+    const auto [c, j] = detail::gauss_newton_1d(run, lo, hi, start, xtol, stop, 300);
+    return {c, std::sqrt(j / count), evaluations};
+  }
+  // On the mean square J/K: on the sum's scale NLopt's L-BFGS fails and
+  // SLSQP stops early (docs/models.md).
+  auto mean_square = [&](double c, double& dj) {
+    double g = 0, h = 0;
+    const double j = run(c, g, h);
+    dj = 2 * g / count;
+    return j / count;
+  };
+  const auto [c, j] = detail::minimise_1d_with_gradient(
+      mean_square, options.method == FitMethod::lbfgs ? NLOPT_LD_LBFGS : NLOPT_LD_SLSQP, lo, hi, start, xtol,
+      stop / count, 300);
+  return {c, std::sqrt(j), evaluations};
 }
 
 }  // namespace lagrangian::models

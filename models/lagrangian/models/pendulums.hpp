@@ -118,7 +118,8 @@ struct SimplePendulum {
 /// Harmonic oscillator: a mass m on a linear spring of stiffness k, coordinate
 /// x (m) from the spring's rest position.
 ///   T = ½ m ẋ²,  V = ½ k x²,  ẍ = −ω² x with ω = √(k/m) (rad/s), period 2π/ω.
-struct HarmonicOscillator {
+template <class P = double>
+struct BasicHarmonicOscillator {
   static constexpr int coordinate_count = 1;
   static constexpr ModelDescription description{
       "harmonic_oscillator",
@@ -128,8 +129,15 @@ struct HarmonicOscillator {
        {"k", 1.0, "N/m", "spring stiffness"}}};
   /// T = ½ m ẋ²: M constant (model.hpp, constant_mass_matrix_v).
   static constexpr bool constant_mass_matrix = true;
-  double m, k;
-  explicit HarmonicOscillator(double mass = description.value("m"), double stiffness = description.value("k"))
+  P m, k;
+  /// The model with parameters of type Q (parameter sensitivities,
+  /// analysis/sensitivity.hpp), and its parameters in the description's order.
+  template <class Q>
+  using with_parameter_type = BasicHarmonicOscillator<Q>;
+  static constexpr std::array<P BasicHarmonicOscillator::*, 2> parameter_members() {
+    return {&BasicHarmonicOscillator::m, &BasicHarmonicOscillator::k};
+  }
+  explicit BasicHarmonicOscillator(double mass = description.value("m"), double stiffness = description.value("k"))
       : m(require_positive("HarmonicOscillator", "m", mass)),
         k(require_positive("HarmonicOscillator", "k", stiffness)) {}
   std::string name() const { return std::string(description.name); }
@@ -155,12 +163,15 @@ struct HarmonicOscillator {
     return s;
   }
 };
+/// The harmonic oscillator with parameters in double precision.
+using HarmonicOscillator = BasicHarmonicOscillator<>;
 
 /// Double pendulum: masses m1, m2 on massless rods l1, l2; θ1, θ2 from the
 /// downward vertical.
 ///   T = ½ (m1+m2) l1² θ̇1² + ½ m2 l2² θ̇2² + m2 l1 l2 θ̇1 θ̇2 cos(θ1 − θ2),
 ///   V = −(m1+m2) g l1 cos θ1 − m2 g l2 cos θ2.
-struct DoublePendulum {
+template <class P = double>
+struct BasicDoublePendulum {
   static constexpr int coordinate_count = 2;
   static constexpr ModelDescription description{
       "double_pendulum",
@@ -171,8 +182,16 @@ struct DoublePendulum {
        {"l1", 1.0, "m", "length of the upper rod"},
        {"l2", 1.0, "m", "length of the lower rod"},
        {"g", 9.81, "m/s^2", "acceleration of gravity"}}};
-  double m1, m2, l1, l2, g;
-  explicit DoublePendulum(double mass1 = description.value("m1"), double mass2 = description.value("m2"),
+  P m1, m2, l1, l2, g;
+  /// The model with parameters of type Q (parameter sensitivities,
+  /// analysis/sensitivity.hpp), and its parameters in the description's order.
+  template <class Q>
+  using with_parameter_type = BasicDoublePendulum<Q>;
+  static constexpr std::array<P BasicDoublePendulum::*, 5> parameter_members() {
+    return {&BasicDoublePendulum::m1, &BasicDoublePendulum::m2, &BasicDoublePendulum::l1, &BasicDoublePendulum::l2,
+            &BasicDoublePendulum::g};
+  }
+  explicit BasicDoublePendulum(double mass1 = description.value("m1"), double mass2 = description.value("m2"),
                           double length1 = description.value("l1"), double length2 = description.value("l2"),
                           double gravity = description.value("g"))
       : m1(require_positive("DoublePendulum", "m1", mass1)),
@@ -195,6 +214,8 @@ struct DoublePendulum {
     return -(m1 + m2) * g * l1 * cos(q[0]) - m2 * g * l2 * cos(q[1]);
   }
 };
+/// The double pendulum with parameters in double precision.
+using DoublePendulum = BasicDoublePendulum<>;
 
 /// Spherical pendulum: polar angle θ from the downward vertical, azimuth φ.
 ///   T = ½ m l² (θ̇² + sin²θ φ̇²),  V = −m g l cos θ.  φ is cyclic.

@@ -69,8 +69,10 @@ consteval auto projectile_description() {
 }
 }  // namespace detail
 
-template <Drag D = Drag::none>
-struct Projectile : detail::PlanarParticle {
+template <Drag D = Drag::none, class P = double>
+struct Projectile : detail::PlanarParticle<P> {
+  using detail::PlanarParticle<P>::m;
+  using detail::PlanarParticle<P>::g;
   static constexpr int coordinate_count = 2;
   static constexpr double kHalfPi = 1.5707963267948966;
   static constexpr auto description = detail::projectile_description<D>();
@@ -82,18 +84,32 @@ struct Projectile : detail::PlanarParticle {
       return description.value(D == Drag::linear ? "b" : "c");
     }
   }();
-  double beta, drag;
+  P beta, drag;
+  /// The model with parameters of type Q (parameter sensitivities,
+  /// analysis/sensitivity.hpp), and its parameters in the description's
+  /// order (the drag coefficient last; none without drag).
+  template <class Q>
+  using with_parameter_type = Projectile<D, Q>;
+  static constexpr auto parameter_members() {
+    if constexpr (D == Drag::none) {
+      return std::array<P Projectile::*, 3>{&Projectile::m, &Projectile::g, &Projectile::beta};
+    } else {
+      return std::array<P Projectile::*, 4>{&Projectile::m, &Projectile::g, &Projectile::beta, &Projectile::drag};
+    }
+  }
   /// m (kg), g (m/s²), plane angle β (rad, |β| < π/2), drag coefficient (b
   /// in kg/s or c in kg/m; must be 0 for Drag::none).
   explicit Projectile(double mass = description.value("m"), double gravity = description.value("g"),
                       double plane_angle = description.value("beta"), double drag_coefficient = default_drag)
-      : PlanarParticle{require_positive("Projectile", "m", mass), require_positive("Projectile", "g", gravity)},
+      : detail::PlanarParticle<P>{require_positive("Projectile", "m", mass),
+                                  require_positive("Projectile", "g", gravity)},
         beta(plane_angle),
         drag(require_nonnegative("Projectile", "drag", drag_coefficient)) {
-    if (!(std::abs(beta) < kHalfPi))
-      lagrangian::detail::parameter_failure("Projectile", "beta", "in (-pi/2, pi/2) rad", beta);
-    if (D == Drag::none && drag != 0)
-      lagrangian::detail::parameter_failure("Projectile", "drag", "0 when no drag is declared (Drag::none)", drag);
+    if (!(std::abs(plane_angle) < kHalfPi))
+      lagrangian::detail::parameter_failure("Projectile", "beta", "in (-pi/2, pi/2) rad", plane_angle);
+    if (D == Drag::none && drag_coefficient != 0)
+      lagrangian::detail::parameter_failure("Projectile", "drag", "0 when no drag is declared (Drag::none)",
+                                            drag_coefficient);
   }
   std::string name() const { return std::string(description.name); }
   template <class S>

@@ -10,11 +10,12 @@
 namespace lagrangian::models::detail {
 
 /// A particle of mass m in a vertical plane, coordinates (x, y), gravity g
-/// along −y: T = ½ m (ẋ² + ẏ²), V = m g y.
+/// along −y: T = ½ m (ẋ² + ẏ²), V = m g y; P is the parameters' type.
+template <class P = double>
 struct PlanarParticle {
   /// T = ½ m|v|²: M constant (model.hpp, constant_mass_matrix_v).
   static constexpr bool constant_mass_matrix = true;
-  double m, g;
+  P m, g;
   std::array<std::string, 2> coordinate_names() const { return {"x", "y"}; }
   std::array<std::string, 2> coordinate_units() const { return {"m", "m"}; }
   std::array<Particle, 1> particles() const { return {Particle{m, {0, 1, -1}}}; }

@@ -1,0 +1,138 @@
+// What sensitivities cost (docs/performance.md, docs/analysis.md):
+//  1. the double pendulum from (1.2, −0.4) rad, (0.3, 0.8) rad/s over 5 s,
+//     dopri5 at rtol 1e-10: a plain run, the state transition matrix (4
+//     columns), and it with the five parameters' columns, against central
+//     differences of plain runs (2 runs per column) at the same tolerance,
+//     each side's error measured against the sensitivities at rtol 1e-13;
+//  2. fit_drag() on the record of tests/test_identification.cpp by each
+//     FitMethod: runs and wall time per fit.
+// Usage: bench_sensitivity [REPEATS] (default 3)
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <vector>
+
+#include "lagrangian/analysis/sensitivity.hpp"
+#include "lagrangian/integrate/observers.hpp"
+#include "lagrangian/integrate/simulate.hpp"
+#include "lagrangian/models/identification.hpp"
+#include "lagrangian/models/pendulums.hpp"
+
+namespace {
+
+namespace lm = lagrangian::models;
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+Eigen::Vector4d final_state(const lm::DoublePendulum& m, const lagrangian::State<2>& s,
+                            const lagrangian::SimulationOptions& o) {
+  lagrangian::Recorder<2> rec;
+  lagrangian::simulate(m, s, o, rec);
+  const auto& last = rec.samples.back();
+  return {last.q[0], last.q[1], last.qd[0], last.qd[1]};
+}
+
+/// The 4 × 9 matrix [Φ | ∂x/∂p] by central differences of plain runs.
+Eigen::MatrixXd by_differences(const double (&p)[5], const lagrangian::State<2>& s,
+                               const lagrangian::SimulationOptions& o) {
+  Eigen::MatrixXd out(4, 9);
+  const double h = 1e-5;
+  const lm::DoublePendulum m(p[0], p[1], p[2], p[3], p[4]);
+  for (int j = 0; j < 4; ++j) {
+    lagrangian::State<2> up = s, down = s;
+    (j < 2 ? up.q[j] : up.qd[j - 2]) += h;
+    (j < 2 ? down.q[j] : down.qd[j - 2]) -= h;
+    out.col(j) = (final_state(m, up, o) - final_state(m, down, o)) / (2 * h);
+  }
+  for (int j = 0; j < 5; ++j) {
+    double up[5], down[5];
+    for (int i = 0; i < 5; ++i) up[i] = down[i] = p[i];
+    up[j] += h * p[j];
+    down[j] -= h * p[j];
+    out.col(4 + j) = (final_state(lm::DoublePendulum(up[0], up[1], up[2], up[3], up[4]), s, o) -
+                      final_state(lm::DoublePendulum(down[0], down[1], down[2], down[3], down[4]), s, o)) /
+                     (2 * h * p[j]);
+  }
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int repeats = argc > 1 ? std::atoi(argv[1]) : 3;
+  const double p[5] = {1.3, 0.8, 1.1, 0.7, 9.81};
+  const lm::DoublePendulum dp(p[0], p[1], p[2], p[3], p[4]);
+  lagrangian::State<2> s;
+  s.q << 1.2, -0.4;
+  s.qd << 0.3, 0.8;
+  lagrangian::SensitivityOptions o;
+  o.run.t_end = 5.0;
+  o.run.rtol = 1e-10;
+  o.run.atol = 1e-12;
+  o.run.output_interval = -1;
+  o.parameters = {"m1", "m2", "l1", "l2", "g"};
+  lagrangian::SensitivityOptions tight = o;
+  tight.run.rtol = 1e-13;
+  tight.run.atol = 1e-15;
+  const Eigen::MatrixXd reference = lagrangian::sensitivities(dp, s, tight).sensitivities.back();
+  const double scale = reference.cwiseAbs().maxCoeff();
+  std::printf("double pendulum, 5 s, dopri5 at rtol 1e-10; errors against rtol 1e-13, relative to the largest "
+              "entry (%.1f)\n",
+              scale);
+  for (int r = 0; r < repeats; ++r) {
+    auto start = Clock::now();
+    const lagrangian::RunReport plain = lagrangian::simulate(dp, s, o.run);
+    const double t_plain = since(start);
+    lagrangian::SensitivityOptions phi_only = o;
+    phi_only.parameters.clear();
+    const lagrangian::SensitivityResult phi = lagrangian::sensitivities(dp, s, phi_only);
+    const lagrangian::SensitivityResult all = lagrangian::sensitivities(dp, s, o);
+    start = Clock::now();
+    const Eigen::MatrixXd fd = by_differences(p, s, o.run);
+    const double t_fd = since(start);
+    const Eigen::MatrixXd& got = all.sensitivities.back();
+    std::printf("  plain run %.2f ms (%llu steps); Phi (4 columns) %.2f ms = %.1fx (%llu steps), error %.1e; "
+                "Phi and 5 parameters %.2f ms = %.1fx (%llu steps), error %.1e; central differences (18 runs) "
+                "%.2f ms = %.1fx, error %.1e\n",
+                1e3 * t_plain, static_cast<unsigned long long>(plain.steps), 1e3 * phi.seconds, phi.seconds / t_plain,
+                static_cast<unsigned long long>(phi.steps),
+                (phi.sensitivities.back() - reference.leftCols(4)).cwiseAbs().maxCoeff() / scale, 1e3 * all.seconds,
+                all.seconds / t_plain, static_cast<unsigned long long>(all.steps),
+                (got - reference).cwiseAbs().maxCoeff() / scale, 1e3 * t_fd, t_fd / t_plain,
+                (fd - reference).cwiseAbs().maxCoeff() / scale);
+  }
+
+  // The drag record of tests/test_identification.cpp.
+  const lm::Projectile<lm::Drag::linear> truth(0.145, 9.81, 0.0, 0.035);
+  const lagrangian::State<2> x0 = truth.launch(30.0, 0.7);
+  lagrangian::SimulationOptions rec_options;
+  rec_options.t_end = 3.0;
+  rec_options.output_interval = 0.02;
+  lagrangian::Recorder<2> rec;
+  lagrangian::simulate(truth, x0, rec_options, rec);
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> noise(0.0, 1e-3);
+  std::vector<double> xs, ys;
+  for (const auto& sample : rec.samples) {
+    xs.push_back(sample.q[0] + noise(rng));
+    ys.push_back(sample.q[1] + noise(rng));
+  }
+  const lm::Projectile<lm::Drag::linear> trial(0.145, 9.81, 0.0, 0.0);
+  const char* names[] = {"BOBYQA", "Gauss-Newton", "L-BFGS", "SLSQP"};
+  for (int r = 0; r < repeats; ++r) {
+    std::printf("fit_drag, 50 fits each:");
+    for (const lm::FitMethod m :
+         {lm::FitMethod::bobyqa, lm::FitMethod::gauss_newton, lm::FitMethod::lbfgs, lm::FitMethod::slsqp}) {
+      const int fits = 50;
+      lm::Fit f;
+      const auto start = Clock::now();
+      for (int i = 0; i < fits; ++i) f = lm::fit_drag(trial, x0, 0.02, xs, ys, 1.0, {m, 0.0});
+      const double per_fit = since(start) / fits;
+      std::printf("  %s %.3f ms (%d runs, %.0f us each)", names[static_cast<int>(m)], 1e3 * per_fit, f.evaluations,
+                  1e6 * per_fit / f.evaluations);
+    }
+    std::printf("\n");
+  }
+}

@@ -1,0 +1,165 @@
+#pragma once
+/// \file sensitivity.hpp
+/// How a motion depends on where it starts and on the model's parameters:
+/// the sensitivities ∂x(t)/∂x(t0) and ∂x(t)/∂p by the variational equations.
+///
+/// With x = (q, q̇) and ẋ = f(x, t; p) = (q̇, q̈(q, q̇, t; p)), a column
+/// s = ∂x(t)/∂θ, θ a component of the initial state or a parameter, evolves
+/// by the forward sensitivity equations
+///   ṡ = J(x, t) s + ∂f/∂θ,   J = ∂f/∂x = [[0, I], [∂q̈/∂q, ∂q̈/∂q̇]],
+/// from s(t0) = e_θ for the initial state (∂f/∂θ = 0: these columns form the
+/// state transition matrix Φ(t) = ∂x(t)/∂x(t0)) and from s(t0) = 0 for a
+/// parameter. The columns are integrated beside the state by the one driver
+/// (the tangent system of lyapunov.hpp), so the run's method and tolerances
+/// control them too. J s and, for a parameter, J s + ∂q̈/∂p come from
+/// automatic differentiation (tangent_flow.hpp, state_jvp()): L is evaluated
+/// once per column on nested numbers whose inner derivatives are seeded with
+/// the column and, for a parameter, with δp = 1 in the model's parameter.
+/// No finite differences; the result is exact to rounding and to the run's
+/// tolerances.
+///
+/// Units: ∂x_i/∂θ in the unit of x_i (m, rad, m/s, rad/s) per unit of θ
+/// (per m, rad, m/s, rad/s of the initial state; per kg, m, m/s², N/m, kg/s
+/// of a parameter).
+///
+/// **Parameters.** Differentiating along a parameter needs the model's
+/// parameters as numbers of another type. A model offers it by being a class
+/// template over its parameters' type P that declares
+///   template <class Q> using with_parameter_type = Model<Q>;  // itself, parameters of type Q
+///   static constexpr std::array<P Model::*, np> parameter_members();
+/// the members every energy, force and dissipation reads, in the order of
+/// its `description` (model_description.hpp) or of
+/// `static constexpr std::array<std::string_view, np> parameter_names`;
+/// Model<Q> must be default constructible (its parameters are then set from
+/// the model's). The built-in double pendulum, harmonic oscillator and
+/// projectiles are written so (models/pendulums.hpp, models/projectile.hpp).
+///
+/// Scope as tangent_flow.hpp: models without constraints or contacts with a
+/// fixed n ≤ 6 coordinates. A model's watched events are not applied (a
+/// projectile flies on through its landing plane).
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "lagrangian/analysis/lyapunov.hpp"
+#include "lagrangian/analysis/tangent_flow.hpp"
+#include "lagrangian/errors.hpp"
+#include "lagrangian/integrate/report.hpp"
+#include "lagrangian/model.hpp"
+
+namespace lagrangian {
+
+/// True when M offers parameter sensitivities (see the file comment).
+template <class M>
+inline constexpr bool has_parameter_type_v = requires {
+  typename M::template with_parameter_type<double>;
+  M::parameter_members();
+};
+
+/// The names of M's parameters in the order of M::parameter_members().
+template <class M>
+  requires has_parameter_type_v<M>
+std::vector<std::string> parameter_names_of() {
+  constexpr std::size_t count = M::parameter_members().size();
+  std::vector<std::string> out;
+  if constexpr (requires { M::description.parameters; }) {
+    static_assert(M::description.parameters.size() >= count,
+                  "parameter_members() lists more parameters than the model's description");
+    for (std::size_t i = 0; i < count; ++i) out.emplace_back(M::description.parameters[i].name);
+  } else {
+    static_assert(M::parameter_names.size() == count, "parameter_names and parameter_members() differ in length");
+    for (std::string_view name : M::parameter_names) out.emplace_back(name);
+  }
+  return out;
+}
+
+/// What sensitivities() computes and how.
+struct SensitivityOptions {
+  /// Method, tolerances, t0 and t_end (s). output_interval > 0 adds the
+  /// sensitivities at t0 + k·output_interval; otherwise only at t0 and t_end.
+  SimulationOptions run;
+  /// The 2n columns ∂x(t)/∂x(t0) (the state transition matrix).
+  bool initial_state = true;
+  /// The parameters p_j, by name, whose columns ∂x(t)/∂p_j follow.
+  std::vector<std::string> parameters;
+};
+
+/// The sensitivities at the sample times, and what they cost.
+struct SensitivityResult {
+  std::vector<std::string> parameters;  ///< the parameter columns' names, in order
+  int state_columns = 0;                ///< 2n with initial_state, else 0
+  std::vector<double> times;            ///< sample times (s), t0 first and t_end last
+  std::vector<Eigen::VectorXd> states;  ///< x = (q, q̇) at each time
+  /// At each time the 2n × (state_columns + parameters) matrix
+  /// [∂x(t)/∂x(t0) | ∂x(t)/∂p_1 … ∂x(t)/∂p_P].
+  std::vector<Eigen::MatrixXd> sensitivities;
+  std::uint64_t steps = 0;            ///< accepted steps
+  std::uint64_t rhs_evaluations = 0;  ///< right-hand sides of the whole system
+  double seconds = 0;                 ///< wall time (s)
+};
+
+namespace detail {
+
+/// q̈ and J v + ∂q̈/∂p_parameter (n values) at (q, q̇, t) for v = (δq, δq̇)
+/// (2n values): state_jvp() with K = 1 on the model with its parameter
+/// seeded.
+template <class M>
+void evaluate_parameter_direction(const void* model, const double* q, const double* qd, double t, const double* v,
+                                  int parameter, double* qdd, double* jv) {
+  using I = ad::Jet<double, 1, 1>;
+  using E = typename M::template with_parameter_type<I>;
+  const M& m = *static_cast<const M*>(model);
+  constexpr auto from = M::parameter_members();
+  constexpr auto to = E::parameter_members();
+  static_assert(from.size() == to.size(), "with_parameter_type<Q> lists other parameters than the model");
+  E seeded;
+  for (std::size_t i = 0; i < from.size(); ++i) seeded.*to[i] = I(m.*from[i]);
+  (seeded.*to[static_cast<std::size_t>(parameter)]).g[0] = 1.0;
+  jvp_along(m, q, qd, t, v, qdd, jv, &seeded);
+}
+
+/// The sensitivities over a TangentModel (src/analysis/sensitivity.cpp);
+/// `parameters` are indices into the model's parameters, `names` theirs.
+SensitivityResult sensitivities(const TangentModel& model, const double* q0, const double* qd0,
+                                const std::vector<int>& parameters, const std::vector<std::string>& names,
+                                const SensitivityOptions& options);
+
+/// The indices of `wanted` among `available`; OptionError naming an unknown
+/// or repeated one.
+std::vector<int> parameter_indices(const std::vector<std::string>& wanted, const std::vector<std::string>& available);
+
+}  // namespace detail
+
+/// ∂x(t)/∂x(t0) and ∂x(t)/∂p of the motion of `model` from `initial` at
+/// options.run.t0 (see the file comment). Throws OptionError for a bad
+/// option or an unknown parameter (naming it), AnalysisError for a model
+/// with constraints or contacts or asked for parameters it does not offer
+/// (has_parameter_type_v), SimulationError when the run fails.
+template <class M>
+SensitivityResult sensitivities(const M& model, const State<coordinate_count_v<M>>& initial,
+                                const SensitivityOptions& options) {
+  constexpr int n = coordinate_count_v<M>;
+  static_assert(n != Dynamic, "sensitivities: the tangent flow is derived for models with a fixed coordinate_count");
+  detail::TangentModel tm = detail::tangent_model_of(model, "sensitivity: ");
+  std::vector<int> indices;
+  std::vector<std::string> names;
+  if (!options.parameters.empty()) {
+    if constexpr (has_parameter_type_v<M>) {
+      names = parameter_names_of<M>();
+      indices = detail::parameter_indices(options.parameters, names);
+      tm.evaluate_parameter = &detail::evaluate_parameter_direction<M>;
+    } else {
+      throw AnalysisError("sensitivity: model '" + model_name(model) +
+                          "' does not offer parameter sensitivities: its parameters are not of a template type "
+                          "(declare with_parameter_type and parameter_members(); see analysis/sensitivity.hpp)");
+    }
+  }
+  return detail::sensitivities(tm, initial.q.data(), initial.qd.data(), indices, names, options);
+}
+
+}  // namespace lagrangian

@@ -1,0 +1,61 @@
+// Forward sensitivities by the variational equations, run by the one driver
+// (lagrangian/analysis/sensitivity.hpp).
+
+#include "lagrangian/analysis/sensitivity.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "tangent_system.hpp"
+
+namespace lagrangian::detail {
+
+std::vector<int> parameter_indices(const std::vector<std::string>& wanted, const std::vector<std::string>& available) {
+  std::vector<int> out;
+  for (const std::string& name : wanted) {
+    const auto it = std::find(available.begin(), available.end(), name);
+    if (it == available.end()) {
+      std::string list;
+      for (const std::string& a : available) list += (list.empty() ? "" : ", ") + a;
+      throw OptionError("sensitivity: parameters: '" + name + "' is not a parameter of the model (" + list + ")");
+    }
+    const int index = static_cast<int>(it - available.begin());
+    if (std::find(out.begin(), out.end(), index) != out.end())
+      throw OptionError("sensitivity: parameters: '" + name + "' is listed twice");
+    out.push_back(index);
+  }
+  return out;
+}
+
+SensitivityResult sensitivities(const TangentModel& model, const double* q0, const double* qd0,
+                                const std::vector<int>& parameters, const std::vector<std::string>& names,
+                                const SensitivityOptions& options) {
+  SimulationOptions run = options.run;
+  if (!(run.output_interval > 0)) run.output_interval = -1;  // t0 and t_end only
+  check_tangent_run(run, "sensitivity");
+  if (!options.initial_state && parameters.empty())
+    throw OptionError("sensitivity: nothing to compute: initial_state = false and no parameters");
+  const int n = model.n;
+  const auto clock_start = std::chrono::steady_clock::now();
+
+  const int k = options.initial_state ? 2 * n : 0;
+  TangentSystem system(model, k, 0.0, false, parameters, true);
+  std::vector<double> x;
+  RunReport report;
+  integrate_tangents(system, n, q0, qd0, run, "sensitivity: the run stopped before t_end", x, report);
+
+  SensitivityResult result;
+  for (int p : parameters) result.parameters.push_back(names[static_cast<std::size_t>(p)]);
+  result.state_columns = k;
+  result.times = system.times();
+  result.states = system.states();
+  result.sensitivities = system.recorded_columns();
+  result.steps = report.steps;
+  result.rhs_evaluations = system.evaluations();
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
+  return result;
+}
+
+}  // namespace lagrangian::detail

@@ -1,0 +1,218 @@
+// Forward sensitivities ∂x(t)/∂x(t0) and ∂x(t)/∂p (analysis/sensitivity.hpp)
+// against closed forms (the harmonic oscillator, a projectile with and
+// without linear drag, its range) and against central differences of
+// simulate() (the double pendulum).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "lagrangian/analysis/sensitivity.hpp"
+#include "lagrangian/models/pendulums.hpp"
+#include "lagrangian/models/projectile.hpp"
+
+#include "final_state.hpp"
+
+namespace {
+
+namespace lm = lagrangian::models;
+
+lagrangian::SensitivityOptions tight(double t_end, std::vector<std::string> parameters, double interval = -1) {
+  lagrangian::SensitivityOptions o;
+  o.run.t_end = t_end;
+  o.run.rtol = 1e-13;
+  o.run.atol = 1e-15;
+  o.run.output_interval = interval;
+  o.parameters = std::move(parameters);
+  return o;
+}
+
+}  // namespace
+
+// x = x0 cos ωt + (v0/ω) sin ωt, v = −x0 ω sin ωt + v0 cos ωt, ω = √(k/m):
+// Φ = [[cos ωt, sin ωt/ω], [−ω sin ωt, cos ωt]], and through ω
+//   ∂x/∂ω = −x0 t sin ωt − (v0/ω²) sin ωt + (v0/ω) t cos ωt,
+//   ∂v/∂ω = −x0 sin ωt − x0 ω t cos ωt − v0 t sin ωt,
+//   ∂ω/∂m = −ω/(2m),  ∂ω/∂k = 1/(2mω),
+// at every sample of a run over several periods.
+TEST(Sensitivity, HarmonicOscillatorMatchesItsClosedFormAtEverySample) {
+  const double m = 2.0, k = 8.0, w = 2.0, x0 = 0.3, v0 = -0.5;
+  const lm::HarmonicOscillator osc(m, k);
+  lagrangian::State<1> s;
+  s.q[0] = x0;
+  s.qd[0] = v0;
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(osc, s, tight(7.3, {"k", "m"}, 0.5));
+  ASSERT_EQ(r.times.size(), 16u);  // 0, 0.5, …, 7.0 and the end 7.3
+  EXPECT_DOUBLE_EQ(r.times.front(), 0.0);
+  EXPECT_DOUBLE_EQ(r.times.back(), 7.3);
+  ASSERT_EQ(r.parameters, (std::vector<std::string>{"k", "m"}));
+  EXPECT_EQ(r.state_columns, 2);
+  double worst = 0;
+  for (std::size_t i = 0; i < r.times.size(); ++i) {
+    const double t = r.times[i], c = std::cos(w * t), sn = std::sin(w * t);
+    const double dx_dw = -x0 * t * sn - v0 / (w * w) * sn + v0 / w * t * c;
+    const double dv_dw = -x0 * sn - x0 * w * t * c - v0 * t * sn;
+    Eigen::Matrix<double, 2, 4> expected;
+    expected << c, sn / w, dx_dw / (2 * m * w), dx_dw * (-w / (2 * m)),  //
+        -w * sn, c, dv_dw / (2 * m * w), dv_dw * (-w / (2 * m));
+    const Eigen::MatrixXd& got = r.sensitivities[i];
+    ASSERT_EQ(got.rows(), 2);
+    ASSERT_EQ(got.cols(), 4);
+    worst = std::max(worst, (got - expected).cwiseAbs().maxCoeff());
+    EXPECT_NEAR(r.states[i][0], x0 * c + v0 / w * sn, 1e-11) << "t = " << t;
+  }
+  std::printf("oscillator: largest error of [Phi | d/dk | d/dm] over %zu samples %.2e\n", r.times.size(), worst);
+  EXPECT_LE(worst, 1e-10);
+}
+
+// A projectile under linear drag b from (x0, y0) = 0 with (u_x, u_y), k = b/m:
+//   x = u_x F,  ẋ = u_x e,  y = (u_y + g/k) F − g t/k,  ẏ = (u_y + g/k) e − g/k,
+//   e = e^(−kt), F = (1 − e)/k,  ∂F/∂k = t e/k − F/k;
+// b and m act through k (∂k/∂b = 1/m, ∂k/∂m = −b/m²), g directly, and the
+// ground's angle β only through the landing event, which the flow does not
+// apply: its column is zero.
+TEST(Sensitivity, LinearDragProjectileMatchesItsClosedFormInEveryParameter) {
+  const double m = 0.5, g = 9.81, b = 0.2, ux = 12.0, uy = 9.0;
+  const lm::Projectile<lm::Drag::linear> p(m, g, 0.1, b);
+  lagrangian::State<2> s;
+  s.q << 0.0, 0.0;
+  s.qd << ux, uy;
+  const double T = 1.7;
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(p, s, tight(T, {"b", "m", "g", "beta"}));
+  const Eigen::MatrixXd& got = r.sensitivities.back();
+  ASSERT_EQ(got.cols(), 4 + 4);
+  const double kk = b / m, e = std::exp(-kk * T), F = (1 - e) / kk, dF = T * e / kk - F / kk;
+  const double a = uy + g / kk;
+  Eigen::Vector4d d_dk, d_dg;
+  d_dk << ux * dF, -g / (kk * kk) * F + a * dF + g * T / (kk * kk), -ux * T * e,
+      -g / (kk * kk) * e - a * T * e + g / (kk * kk);
+  d_dg << 0, F / kk - T / kk, 0, e / kk - 1 / kk;
+  // the state order is (x, y, ẋ, ẏ)
+  const Eigen::Vector4d d_db = d_dk / m, d_dm = -b / (m * m) * d_dk;
+  std::printf("linear drag: relative errors d/db %.2e, d/dm %.2e, d/dg %.2e\n",
+              (got.col(4) - d_db).cwiseAbs().maxCoeff() / d_db.cwiseAbs().maxCoeff(),
+              (got.col(5) - d_dm).cwiseAbs().maxCoeff() / d_dm.cwiseAbs().maxCoeff(),
+              (got.col(6) - d_dg).cwiseAbs().maxCoeff() / d_dg.cwiseAbs().maxCoeff());
+  EXPECT_LE((got.col(4) - d_db).cwiseAbs().maxCoeff(), 1e-9 * d_db.cwiseAbs().maxCoeff()) << got.col(4) << "\n" << d_db;
+  EXPECT_LE((got.col(5) - d_dm).cwiseAbs().maxCoeff(), 1e-9 * d_dm.cwiseAbs().maxCoeff()) << got.col(5) << "\n" << d_dm;
+  EXPECT_LE((got.col(6) - d_dg).cwiseAbs().maxCoeff(), 1e-9 * d_dg.cwiseAbs().maxCoeff()) << got.col(6) << "\n" << d_dg;
+  EXPECT_EQ(got.col(7).cwiseAbs().maxCoeff(), 0.0);
+  // Φ of ẋ under drag: ∂ẋ(T)/∂ẋ(0) = e^(−kT).
+  EXPECT_NEAR(got(2, 2), e, 1e-12);
+}
+
+// Without drag over flat ground the range R = u² sin 2α / g, so
+//   ∂R/∂α = 2u² cos 2α / g,   ∂R/∂g = −R/g.
+// R = x(t_L) where y(t_L) = 0 at t_L = 2u sin α / g; a change of the
+// launch moves the landing time too, so dR = δx − (ẋ/ẏ) δy at t_L, with δx
+// = Φ δx0 (δx0 = ∂x0/∂α = (0, 0, −u sin α, u cos α)) or the g column.
+TEST(Sensitivity, ProjectileRangeDerivativesMatchTheClosedForm) {
+  const double u = 20.0, g = 9.81;
+  const lm::Projectile<> p(1.0, g);
+  for (const double alpha : {0.3, 0.7853981633974483, 1.2}) {
+    const lagrangian::State<2> s = p.launch(u, alpha);
+    const double tl = 2 * u * std::sin(alpha) / g;
+    const lagrangian::SensitivityResult r = lagrangian::sensitivities(p, s, tight(tl, {"g"}));
+    const Eigen::MatrixXd& S = r.sensitivities.back();
+    const Eigen::VectorXd& x = r.states.back();
+    EXPECT_NEAR(x[1], 0.0, 1e-10);
+    const double slope = x[2] / x[3];  // ẋ/ẏ at landing
+    Eigen::Vector4d dx0;
+    dx0 << 0, 0, -u * std::sin(alpha), u * std::cos(alpha);
+    const Eigen::Vector4d dx_dalpha = S.leftCols(4) * dx0;
+    const double dR_dalpha = dx_dalpha[0] - slope * dx_dalpha[1];
+    const double dR_dg = S(0, 4) - slope * S(1, 4);
+    const double R = u * u * std::sin(2 * alpha) / g;
+    std::printf("range, alpha = %.4f: dR/dalpha %.12f (closed form %.12f), dR/dg %.12f (%.12f)\n", alpha, dR_dalpha,
+                2 * u * u * std::cos(2 * alpha) / g, dR_dg, -R / g);
+    EXPECT_NEAR(dR_dalpha, 2 * u * u * std::cos(2 * alpha) / g, 1e-9 * u * u / g) << "alpha = " << alpha;
+    EXPECT_NEAR(dR_dg, -R / g, 1e-9 * u * u / (g * g)) << "alpha = " << alpha;
+  }
+}
+
+using lagrangian::testing::final_state;
+
+// Every parameter of the double pendulum against central differences of
+// simulate()'s state at t = 1 s (each parameter moved by ±1e-5 of itself:
+// truncation ~h², integration noise ~1e-13/h, both far below the bound).
+TEST(Sensitivity, DoublePendulumParametersMatchCentralDifferencesOfTheFlow) {
+  const double m1 = 1.3, m2 = 0.8, l1 = 1.1, l2 = 0.7, g = 9.81;
+  lagrangian::State<2> s;
+  s.q << 1.2, -0.4;
+  s.qd << 0.3, 0.8;
+  const double T = 1.0;
+  const lagrangian::SensitivityResult r =
+      lagrangian::sensitivities(lm::DoublePendulum(m1, m2, l1, l2, g), s, tight(T, {"m1", "m2", "l1", "l2", "g"}));
+  const Eigen::MatrixXd& got = r.sensitivities.back();
+  ASSERT_EQ(got.cols(), 4 + 5);
+  const double base[5] = {m1, m2, l1, l2, g};
+  for (int j = 0; j < 5; ++j) {
+    double up[5], down[5];
+    for (int i = 0; i < 5; ++i) up[i] = down[i] = base[i];
+    const double h = 1e-5 * base[j];
+    up[j] += h;
+    down[j] -= h;
+    const Eigen::Vector4d fd = (final_state(lm::DoublePendulum(up[0], up[1], up[2], up[3], up[4]), s, T) -
+                                final_state(lm::DoublePendulum(down[0], down[1], down[2], down[3], down[4]), s, T)) /
+                               (2 * h);
+    const double scale = fd.cwiseAbs().maxCoeff();
+    EXPECT_GT(scale, 1e-2) << r.parameters[static_cast<std::size_t>(j)];
+    std::printf("double pendulum d/d%s: largest entry %.4f, against central differences %.2e of it\n",
+                r.parameters[static_cast<std::size_t>(j)].c_str(), scale,
+                (got.col(4 + j) - fd).cwiseAbs().maxCoeff() / scale);
+    EXPECT_LE((got.col(4 + j) - fd).cwiseAbs().maxCoeff(), 1e-6 * scale)
+        << r.parameters[static_cast<std::size_t>(j)] << "\n" << got.col(4 + j) << "\n\n" << fd;
+  }
+}
+
+// The parameters' columns alone (no state transition matrix) are the same
+// columns: the run's error control differs, so to the tolerance.
+TEST(Sensitivity, ParameterColumnsAloneAgreeWithTheFullRun) {
+  const lm::DoublePendulum m;
+  lagrangian::State<2> s;
+  s.q << 0.9, 0.5;
+  lagrangian::SensitivityOptions o = tight(2.0, {"l2", "g"});
+  const lagrangian::SensitivityResult full = lagrangian::sensitivities(m, s, o);
+  o.initial_state = false;
+  const lagrangian::SensitivityResult alone = lagrangian::sensitivities(m, s, o);
+  ASSERT_EQ(alone.state_columns, 0);
+  ASSERT_EQ(alone.sensitivities.back().cols(), 2);
+  const Eigen::MatrixXd expected = full.sensitivities.back().rightCols(2);
+  std::printf("parameter columns alone against the full run: %.2e of the largest entry\n",
+              (alone.sensitivities.back() - expected).cwiseAbs().maxCoeff() / expected.cwiseAbs().maxCoeff());
+  EXPECT_LE((alone.sensitivities.back() - expected).cwiseAbs().maxCoeff(), 1e-8 * expected.cwiseAbs().maxCoeff());
+}
+
+TEST(Sensitivity, BadRequestsAreNamed) {
+  const lm::DoublePendulum m;
+  lagrangian::State<2> s;
+  try {
+    lagrangian::sensitivities(m, s, tight(1.0, {"mass"}));
+    FAIL() << "an unknown parameter was accepted";
+  } catch (const lagrangian::OptionError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "sensitivity: parameters: 'mass' is not a parameter of the model (m1, m2, l1, l2, g)");
+  }
+  try {
+    lagrangian::sensitivities(m, s, tight(1.0, {"g", "g"}));
+    FAIL() << "a repeated parameter was accepted";
+  } catch (const lagrangian::OptionError& e) {
+    EXPECT_EQ(std::string(e.what()), "sensitivity: parameters: 'g' is listed twice");
+  }
+  lagrangian::SensitivityOptions none = tight(1.0, {});
+  none.initial_state = false;
+  EXPECT_THROW(lagrangian::sensitivities(m, s, none), lagrangian::OptionError);
+  // A model whose parameters are plain doubles offers the initial state only.
+  const lm::SimplePendulum pendulum;
+  lagrangian::State<1> p;
+  p.q[0] = 0.5;
+  EXPECT_EQ(lagrangian::sensitivities(pendulum, p, tight(1.0, {})).sensitivities.back().cols(), 2);
+  try {
+    lagrangian::sensitivities(pendulum, p, tight(1.0, {"l"}));
+    FAIL() << "a model without a parameter type was differentiated along a parameter";
+  } catch (const lagrangian::AnalysisError& e) {
+    EXPECT_NE(std::string(e.what()).find("does not offer parameter sensitivities"), std::string::npos) << e.what();
+  }
+}
