@@ -10,7 +10,6 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <random>
 #include <vector>
 
 #include "lagrangian/analysis/sensitivity.hpp"
@@ -19,6 +18,9 @@
 #include "lagrangian/models/identification.hpp"
 #include "lagrangian/models/pendulums.hpp"
 
+#include "drag_record.hpp"
+#include "final_state.hpp"
+
 namespace {
 
 namespace lm = lagrangian::models;
@@ -26,13 +28,7 @@ using Clock = std::chrono::steady_clock;
 
 double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-Eigen::Vector4d final_state(const lm::DoublePendulum& m, const lagrangian::State<2>& s,
-                            const lagrangian::SimulationOptions& o) {
-  lagrangian::Recorder<2> rec;
-  lagrangian::simulate(m, s, o, rec);
-  const auto& last = rec.samples.back();
-  return {last.q[0], last.q[1], last.qd[0], last.qd[1]};
-}
+using lagrangian::testing::final_state;
 
 /// The 4 × 9 matrix [Φ | ∂x/∂p] by central differences of plain runs.
 Eigen::MatrixXd by_differences(const double (&p)[5], const lagrangian::State<2>& s,
@@ -105,20 +101,9 @@ int main(int argc, char** argv) {
   }
 
   // The drag record of tests/test_identification.cpp.
-  const lm::Projectile<lm::Drag::linear> truth(0.145, 9.81, 0.0, 0.035);
-  const lagrangian::State<2> x0 = truth.launch(30.0, 0.7);
-  lagrangian::SimulationOptions rec_options;
-  rec_options.t_end = 3.0;
-  rec_options.output_interval = 0.02;
-  lagrangian::Recorder<2> rec;
-  lagrangian::simulate(truth, x0, rec_options, rec);
-  std::mt19937_64 rng(7);
-  std::normal_distribution<double> noise(0.0, 1e-3);
-  std::vector<double> xs, ys;
-  for (const auto& sample : rec.samples) {
-    xs.push_back(sample.q[0] + noise(rng));
-    ys.push_back(sample.q[1] + noise(rng));
-  }
+  const lagrangian::testing::DragRecord record;
+  const lagrangian::State<2>& x0 = record.x0;
+  const std::vector<double>&xs = record.xs, &ys = record.ys;
   const lm::Projectile<lm::Drag::linear> trial(0.145, 9.81, 0.0, 0.0);
   const char* names[] = {"BOBYQA", "Gauss-Newton", "L-BFGS", "SLSQP"};
   for (int r = 0; r < repeats; ++r) {

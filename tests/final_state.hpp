@@ -1,6 +1,6 @@
 #pragma once
-// x(T) = (q, q̇) of a plain simulate() run at tight tolerances: what the
-// tangent-flow tests take central differences of.
+// x(T) = (q, q̇) of a plain simulate() run: what the tangent-flow tests
+// and bench_sensitivity take central differences of.
 
 #include <Eigen/Core>
 
@@ -9,15 +9,10 @@
 
 namespace lagrangian::testing {
 
-/// The state (q, q̇) (2n values) of `model` at t = T from `s` at t = 0
-/// (dopri5, rtol 1e-13, atol 1e-15).
+/// The state (q, q̇) (2n values) of `model` at o.t_end from `s` at o.t0.
 template <class M>
-Eigen::VectorXd final_state(const M& model, const State<coordinate_count_v<M>>& s, double T) {
+Eigen::VectorXd final_state(const M& model, const State<coordinate_count_v<M>>& s, SimulationOptions o) {
   constexpr int n = coordinate_count_v<M>;
-  SimulationOptions o;
-  o.t_end = T;
-  o.rtol = 1e-13;
-  o.atol = 1e-15;
   o.output_interval = -1;  // the initial and the final state only
   Recorder<n> rec;
   simulate(model, s, o, rec);
@@ -25,6 +20,16 @@ Eigen::VectorXd final_state(const M& model, const State<coordinate_count_v<M>>& 
   Eigen::VectorXd x(2 * n);
   x << last.q, last.qd;
   return x;
+}
+
+/// The same at t = T from t = 0 with dopri5 at rtol 1e-13, atol 1e-15.
+template <class M>
+Eigen::VectorXd final_state(const M& model, const State<coordinate_count_v<M>>& s, double T) {
+  SimulationOptions o;
+  o.t_end = T;
+  o.rtol = 1e-13;
+  o.atol = 1e-15;
+  return final_state(model, s, o);
 }
 
 }  // namespace lagrangian::testing

@@ -5,9 +5,11 @@
 
 #include <cmath>
 #include <complex>
+#include <cstdio>
 #include <string>
 
 #include <Eigen/LU>
+#include <boost/math/special_functions/ellint_1.hpp>
 #include <boost/math/tools/roots.hpp>
 
 #include "lagrangian/analysis/floquet.hpp"
@@ -162,4 +164,121 @@ TEST(Floquet, TheDoublePendulumsTransitionMatrixIsTheDerivativeOfItsFlow) {
   const double scale = fd.cwiseAbs().maxCoeff();
   EXPECT_GT(scale, 1.0);  // a non-trivial map: the motion shears
   EXPECT_LE((r.monodromy - fd).cwiseAbs().maxCoeff(), 1e-6 * scale) << r.monodromy << "\n\n" << fd;
+}
+
+namespace {
+
+/// ẍ + c ẋ + ω² x = F cos Ωt (per unit mass): L = ½ ẋ² − ½ ω² x², Q = −c ẋ + F cos Ωt.
+struct ForcedDampedOscillator {
+  static constexpr int coordinate_count = 1;
+  double w = 2.0, c = 0.4, F = 1.0, drive = 3.0;  // 1/s, 1/s, m/s², 1/s
+  template <class S>
+  S kinetic(const Vec<S, 1>&, const Vec<S, 1>& qd, const S&) const {
+    return 0.5 * qd[0] * qd[0];
+  }
+  template <class S>
+  S potential(const Vec<S, 1>& q, const S&) const {
+    return 0.5 * w * w * q[0] * q[0];
+  }
+  template <class S>
+  Vec<S, 1> generalized_forces(const Vec<S, 1>&, const Vec<S, 1>& qd, const S& t) const {
+    using std::cos;
+    return Vec<S, 1>(-c * qd[0] + F * cos(drive * t));
+  }
+};
+
+lagrangian::FloquetOptions guessing(double period, double rtol = 1e-12) {
+  lagrangian::FloquetOptions o;
+  o.find_orbit = true;
+  o.period = period;
+  o.run.rtol = rtol;
+  o.run.atol = 1e-14;
+  o.closure_tolerance = 1e-10;
+  return o;
+}
+
+}  // namespace
+
+// Every orbit of the oscillator has the period 2π/ω: from a guess 5 % long
+// Newton finds π s (ω = 2 rad/s) and the start stays an orbit's point.
+TEST(PeriodicOrbit, HarmonicOscillatorsPeriodFromAGuess) {
+  const lm::HarmonicOscillator osc(1.0, 4.0);
+  lagrangian::State<1> s;
+  s.q[0] = 0.3;
+  const lagrangian::FloquetResult r = lagrangian::floquet_multipliers(osc, s, guessing(1.05 * M_PI));
+  std::printf("oscillator: period %.15f (pi %.15f) after %d iterations, closure %.1e\n", r.period, M_PI, r.iterations,
+              r.closure);
+  EXPECT_NEAR(r.period, M_PI, 1e-10);
+  EXPECT_GT(r.iterations, 1);
+  EXPECT_NEAR(std::hypot(r.q[0], r.qd[0] / 2.0), 0.3, 1e-3);  // near the start's orbit
+}
+
+// The pendulum's libration: Newton moves the start and the period to an
+// orbit of the family, whose period is 4K(k)/ω0 at its own energy,
+// k² = (θ̇0/2ω0)² + sin²(θ0/2); both multipliers are 1 (along the orbit and
+// across the family).
+TEST(PeriodicOrbit, PendulumLibrationHasItsEllipticPeriod) {
+  const lm::SimplePendulum pendulum;  // l = 1 m, g = 9.81 m/s²
+  const double w0 = std::sqrt(9.81), k1 = std::sin(0.5);
+  const double t_one_radian = 4 * boost::math::ellint_1(k1) / w0;
+  lagrangian::State<1> s;
+  s.q[0] = 1.0;
+  const lagrangian::FloquetResult r = lagrangian::floquet_multipliers(pendulum, s, guessing(1.05 * t_one_radian));
+  const double half = 0.5 * r.q[0], c = 0.5 * r.qd[0] / w0;
+  const double k = std::sqrt(c * c + std::sin(half) * std::sin(half));
+  const double expected = 4 * boost::math::ellint_1(k) / w0;
+  std::printf("pendulum: period %.15f, 4K(k)/w0 %.15f at k = %.12f (start's k %.12f), %d iterations, "
+              "multipliers %.8f%+.8fi, %.8f%+.8fi\n",
+              r.period, expected, k, k1, r.iterations, r.multipliers[0].real(), r.multipliers[0].imag(),
+              r.multipliers[1].real(), r.multipliers[1].imag());
+  EXPECT_NEAR(r.period, expected, 1e-9 * expected);
+  EXPECT_NEAR(k, k1, 0.02);  // the family's member near the start
+  for (const auto& mu : r.multipliers) EXPECT_LE(std::abs(mu - 1.0), 1e-4);
+  EXPECT_TRUE(r.stable);
+}
+
+// A drive of period T = 2π/Ω fixes the period: Newton finds the steady
+// response x = A cos(Ωt − φ), A = F / √((ω² − Ω²)² + (cΩ)²),
+// φ = atan2(cΩ, ω² − Ω²), in one step (the equation is linear), and the
+// multipliers are e^(λT), λ = −c/2 ± i√(ω² − c²/4): |μ| = e^(−cT/2).
+TEST(PeriodicOrbit, ForcedDampedOscillatorsSteadyResponse) {
+  const ForcedDampedOscillator m;
+  const double period = 2 * M_PI / m.drive;
+  lagrangian::FloquetOptions o = guessing(period);
+  o.fixed_period = true;
+  const lagrangian::FloquetResult r = lagrangian::floquet_multipliers(m, lagrangian::State<1>{}, o);
+  const double a = m.F / std::hypot(m.w * m.w - m.drive * m.drive, m.c * m.drive);
+  const double phi = std::atan2(m.c * m.drive, m.w * m.w - m.drive * m.drive);
+  std::printf("forced oscillator: x0 %.15f (closed form %.15f), v0 %.15f (%.15f), %d iterations, |mu| %.12f (%.12f)\n",
+              r.q[0], a * std::cos(phi), r.qd[0], a * m.drive * std::sin(phi), r.iterations,
+              std::abs(r.multipliers[0]), std::exp(-0.5 * m.c * period));
+  EXPECT_DOUBLE_EQ(r.period, period);
+  EXPECT_NEAR(r.q[0], a * std::cos(phi), 1e-10);
+  EXPECT_NEAR(r.qd[0], a * m.drive * std::sin(phi), 1e-10);
+  EXPECT_EQ(r.iterations, 2);  // one Newton step, then the closure check
+  for (const auto& mu : r.multipliers) EXPECT_NEAR(std::abs(mu), std::exp(-0.5 * m.c * period), 1e-9);
+  EXPECT_TRUE(r.stable);
+}
+
+TEST(PeriodicOrbit, NoOrbitAndBadOptionsAreNamed) {
+  const lm::SimplePendulum pendulum;
+  lagrangian::State<1> s;
+  s.q[0] = 1.0;
+  lagrangian::FloquetOptions o = guessing(1.0);  // far from 2.1 s
+  o.max_iterations = 1;
+  try {
+    lagrangian::floquet_multipliers(pendulum, s, o);
+    FAIL() << "a start one second off its period was reported an orbit";
+  } catch (const lagrangian::AnalysisError& e) {
+    EXPECT_NE(std::string(e.what()).find("floquet: no periodic orbit found: after 1 Newton iterations"),
+              std::string::npos)
+        << e.what();
+  }
+  o = guessing(0.0);
+  try {
+    lagrangian::floquet_multipliers(pendulum, s, o);
+    FAIL() << "period = 0 was accepted";
+  } catch (const lagrangian::OptionError& e) {
+    EXPECT_EQ(std::string(e.what()), "floquet: period = 0 s must be finite and > 0");
+  }
 }

@@ -203,7 +203,15 @@ TEST(Sensitivity, BadRequestsAreNamed) {
   }
   lagrangian::SensitivityOptions none = tight(1.0, {});
   none.initial_state = false;
-  EXPECT_THROW(lagrangian::sensitivities(m, s, none), lagrangian::OptionError);
+  try {
+    lagrangian::sensitivities(m, s, none);
+    FAIL() << "a run with no column was accepted";
+  } catch (const lagrangian::OptionError& e) {
+    EXPECT_EQ(std::string(e.what()), "sensitivity: nothing to compute: initial_state = false and no parameters");
+  }
+  lagrangian::SensitivityOptions bad_interval = tight(1.0, {"g"});
+  bad_interval.run.output_interval = std::nan("");
+  EXPECT_THROW(lagrangian::sensitivities(m, s, bad_interval), lagrangian::OptionError);
   // A model whose parameters are plain doubles offers the initial state only.
   const lm::SimplePendulum pendulum;
   lagrangian::State<1> p;

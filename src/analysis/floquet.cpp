@@ -1,4 +1,5 @@
-// The monodromy matrix by the variational equations, run by the one driver
+// The monodromy matrix by the variational equations, run by the one driver,
+// and periodic orbits found by Newton's method on it
 // (lagrangian/analysis/floquet.hpp).
 
 #include "lagrangian/analysis/floquet.hpp"
@@ -10,55 +11,171 @@
 #include <vector>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 
-#include "lagrangian/integrate/integrate.hpp"
 #include "tangent_system.hpp"
 
 namespace lagrangian::detail {
+namespace {
 
-FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, const double* qd0,
-                                  const FloquetOptions& options) {
-  if (!std::isfinite(options.period) || !(options.period > 0)) {
+void check_positive(const char* command, const char* name, double value, const char* unit) {
+  if (!std::isfinite(value) || !(value > 0)) {
     std::ostringstream os;
-    os << "floquet: period = " << options.period << " s must be finite and > 0";
+    os << command << ": " << name << " = " << value << unit << " must be finite and > 0";
     throw OptionError(os.str());
   }
-  if (!std::isfinite(options.tolerance) || !(options.tolerance >= 0)) {
+}
+
+void check_tolerance(double tolerance) {
+  if (!std::isfinite(tolerance) || !(tolerance >= 0)) {
     std::ostringstream os;
-    os << "floquet: tolerance = " << options.tolerance << " must be finite and >= 0";
+    os << "floquet: tolerance = " << tolerance << " must be finite and >= 0";
     throw OptionError(os.str());
   }
-  SimulationOptions run = options.run;
-  run.t_end = run.t0 + options.period;
-  run.output_interval = -1;
-  check_tangent_run(run, "floquet");
+}
+
+/// One period T from (q0, q̇0) with the 2n columns of Φ: the monodromy
+/// matrix, the closure and the cost into `result`, the state at t0 + T into
+/// x_end (2n values).
+void monodromy(const TangentModel& model, const double* q0, const double* qd0, SimulationOptions run, double period,
+               FloquetResult& result, Eigen::VectorXd& x_end) {
   const int n = model.n;
-  const auto clock_start = std::chrono::steady_clock::now();
-
+  run.t_end = run.t0 + period;
+  run.output_interval = -1;
   TangentSystem system(model, 2 * n, 0.0, false);
   const int c = system.coordinate_count();
   std::vector<double> x;
   RunReport report;
   integrate_tangents(system, n, q0, qd0, run, "floquet: the run stopped before t0 + period", x, report);
-
-  FloquetResult result;
   result.monodromy = system.tangents(x.data());
+  x_end.resize(2 * n);
+  result.closure = 0;
   for (int i = 0; i < n; ++i) {
-    result.closure = std::max(result.closure, std::abs(x[static_cast<std::size_t>(i)] - q0[i]));
-    result.closure = std::max(result.closure, std::abs(x[static_cast<std::size_t>(c + i)] - qd0[i]));
+    x_end[i] = x[static_cast<std::size_t>(i)];
+    x_end[n + i] = x[static_cast<std::size_t>(c + i)];
+    result.closure = std::max(result.closure, std::abs(x_end[i] - q0[i]));
+    result.closure = std::max(result.closure, std::abs(x_end[n + i] - qd0[i]));
   }
+  result.steps += report.steps;
+  result.rhs_evaluations += system.evaluations();
+}
+
+/// The eigenvalues of result.monodromy, largest modulus first, and the
+/// verdict.
+void multipliers(FloquetResult& result, double tolerance) {
   const Eigen::EigenSolver<Eigen::MatrixXd> eigen(result.monodromy, false);
   if (eigen.info() != Eigen::Success)
     throw AnalysisError("floquet: the eigenvalues of the monodromy matrix did not converge");
-  for (int i = 0; i < 2 * n; ++i) result.multipliers.push_back(eigen.eigenvalues()[i]);
+  result.multipliers.clear();
+  for (int i = 0; i < result.monodromy.rows(); ++i) result.multipliers.push_back(eigen.eigenvalues()[i]);
   std::sort(result.multipliers.begin(), result.multipliers.end(),
             [](const std::complex<double>& a, const std::complex<double>& b) { return std::abs(a) > std::abs(b); });
   result.largest_modulus = std::abs(result.multipliers.front());
-  result.stable = result.largest_modulus <= 1 + options.tolerance;
-  result.steps = report.steps;
-  result.rhs_evaluations = system.evaluations();
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
-  return result;
+  result.stable = result.largest_modulus <= 1 + tolerance;
+}
+
+/// ẋ = (q̇, q̈) at the state x (2n values) and time t.
+Eigen::VectorXd rate(const TangentModel& model, const Eigen::VectorXd& x, double t) {
+  const int n = model.n;
+  Eigen::VectorXd f(2 * n), zero = Eigen::VectorXd::Zero(2 * n), unused(n);
+  f.head(n) = x.tail(n);
+  model.evaluate_direction(model.model, x.data(), x.data() + n, t, zero.data(), f.data() + n, unused.data());
+  return f;
+}
+
+/// ∇E at the state x (2n values) for E = p·q̇ − L of an autonomous,
+/// unforced model: with C = ∂p/∂q, M = ∂p/∂q̇ and the Euler–Lagrange
+/// equations ∂L/∂q = ṗ = C q̇ + M q̈,
+///   ∂E/∂q = Cᵀ q̇ − C q̇ − M q̈,   ∂E/∂q̇ = M q̇.
+Eigen::VectorXd energy_gradient(const TangentModel& model, const Eigen::VectorXd& x, double t) {
+  const int n = model.n;
+  Eigen::MatrixXd dp(n, 2 * n);
+  model.momentum(model.model, x.data(), x.data() + n, t, dp.data());
+  const Eigen::VectorXd qd = x.tail(n), qdd = rate(model, x, t).tail(n);
+  const Eigen::MatrixXd c = dp.leftCols(n), m = dp.rightCols(n);
+  Eigen::VectorXd g(2 * n);
+  g.head(n) = c.transpose() * qd - c * qd - m * qdd;
+  g.tail(n) = m * qd;
+  return g;
+}
+
+}  // namespace
+
+FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, const double* qd0,
+                                  const FloquetOptions& options) {
+  check_positive("floquet", "period", options.period, " s");
+  check_tolerance(options.tolerance);
+  SimulationOptions run = options.run;
+  run.t_end = run.t0 + options.period;
+  run.output_interval = -1;
+  check_tangent_run(run, "floquet");
+  if (options.find_orbit) {
+    check_positive("floquet", "closure_tolerance", options.closure_tolerance, "");
+    if (options.max_iterations < 1) {
+      std::ostringstream os;
+      os << "floquet: max_iterations = " << options.max_iterations << " must be >= 1";
+      throw OptionError(os.str());
+    }
+  }
+  const int n = model.n;
+  const auto clock_start = std::chrono::steady_clock::now();
+
+  FloquetResult f;
+  Eigen::VectorXd x0(2 * n), x_end;
+  for (int i = 0; i < n; ++i) {
+    x0[i] = q0[i];
+    x0[n + i] = qd0[i];
+  }
+  double period = options.period;
+  for (int iteration = 1;; ++iteration) {
+    monodromy(model, x0.data(), x0.data() + n, run, period, f, x_end);
+    if (!options.find_orbit) break;
+    f.iterations = iteration;
+    if (f.closure <= options.closure_tolerance * (1 + x0.cwiseAbs().maxCoeff())) break;
+    if (iteration == options.max_iterations) {
+      std::ostringstream os;
+      os.precision(6);
+      os << "floquet: no periodic orbit found: after " << iteration << " Newton iterations the motion from the last "
+         << "start misses it by " << f.closure << " after " << period << " s (closure_tolerance "
+         << options.closure_tolerance << "); start closer to an orbit, or give a better period";
+      throw AnalysisError(os.str());
+    }
+    // Newton on x(t0 + T; x0) − x0 = 0: 2n equations in δx0 and, with a
+    // free period, δT, with the phase condition f(x0)·δx0 = 0 and, for a
+    // conservative system, ∇E(x0)·δx0 = 0 (its orbits come in families,
+    // one per energy, and the rest point is one of them: the energy row
+    // keeps the start's). Least squares with the minimum-norm solution
+    // (complete orthogonal decomposition).
+    const int unknowns = options.fixed_period ? 2 * n : 2 * n + 1;
+    const int rows = options.fixed_period ? 2 * n : 2 * n + (options.keep_energy ? 2 : 1);
+    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(rows, unknowns);
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(rows);
+    a.topLeftCorner(2 * n, 2 * n) = f.monodromy - Eigen::MatrixXd::Identity(2 * n, 2 * n);
+    b.head(2 * n) = x0 - x_end;
+    if (!options.fixed_period) {
+      a.block(0, 2 * n, 2 * n, 1) = rate(model, x_end, run.t0 + period);
+      a.block(2 * n, 0, 1, 2 * n) = rate(model, x0, run.t0).transpose();
+      if (options.keep_energy) a.block(2 * n + 1, 0, 1, 2 * n) = energy_gradient(model, x0, run.t0).transpose();
+    }
+    const Eigen::VectorXd step = a.completeOrthogonalDecomposition().solve(b);
+    if (!step.allFinite()) throw AnalysisError("floquet: the Newton step for the periodic orbit is not finite");
+    x0 += step.head(2 * n);
+    if (!options.fixed_period) period += step[2 * n];
+    // Every motion closes as T → 0: a period that leaves [T/2, 2T] of the
+    // guess is Newton walking off to that, not an orbit near the guess.
+    if (!(period >= 0.5 * options.period && period <= 2 * options.period)) {
+      std::ostringstream os;
+      os << "floquet: no periodic orbit found: the period's Newton iterate went to " << period
+         << " s, outside [T/2, 2T] of the guess T = " << options.period << " s; give a better period or start";
+      throw AnalysisError(os.str());
+    }
+  }
+  multipliers(f, options.tolerance);
+  f.q.assign(x0.data(), x0.data() + n);
+  f.qd.assign(x0.data() + n, x0.data() + 2 * n);
+  f.period = period;
+  f.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
+  return f;
 }
 
 }  // namespace lagrangian::detail

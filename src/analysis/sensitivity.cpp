@@ -32,9 +32,9 @@ std::vector<int> parameter_indices(const std::vector<std::string>& wanted, const
 SensitivityResult sensitivities(const TangentModel& model, const double* q0, const double* qd0,
                                 const std::vector<int>& parameters, const std::vector<std::string>& names,
                                 const SensitivityOptions& options) {
+  check_tangent_run(options.run, "sensitivity");
   SimulationOptions run = options.run;
   if (!(run.output_interval > 0)) run.output_interval = -1;  // t0 and t_end only
-  check_tangent_run(run, "sensitivity");
   if (!options.initial_state && parameters.empty())
     throw OptionError("sensitivity: nothing to compute: initial_state = false and no parameters");
   const int n = model.n;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -48,7 +49,9 @@ class TangentSystem final : public System {
       : model_(model), k_(k), columns_(k + static_cast<int>(parameters.size())), parameters_(std::move(parameters)),
         record_(record), longest_(longest), benettin_(benettin), qdd_(static_cast<std::size_t>(model.n)),
         jacobian_(static_cast<std::size_t>(2 * model.n * model.n)), w_(2 * model.n, columns_), qr_(2 * model.n, k),
-        sums_(static_cast<std::size_t>(k), 0.0) {}
+        sums_(static_cast<std::size_t>(k), 0.0) {
+    if (benettin_ && columns_ != k_) throw std::logic_error("TangentSystem: Benettin's method takes no parameter columns");
+  }
 
   int coordinate_count() const override { return model_.n * (1 + columns_); }
 

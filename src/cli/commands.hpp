@@ -108,6 +108,7 @@ class FloquetCommand {
   SceneArgument scene_;
   RunOverrides overrides_;
   scene::FloquetRequest request_;
+  bool any_energy_ = false;
   std::optional<double> period_;
   bool json_ = false, quiet_ = false;
 };

@@ -14,7 +14,14 @@ const Subcommand FloquetCommand::kInfo{
 void FloquetCommand::declare(OptionList& o) {
   scene_.add(o, "scene file (TOML) naming a built-in model");
   scene_.add_settings(o);
-  o.value("--period", period_, "T (s): the period of the drive or of the orbit (required)");
+  o.value("--period", period_, "T (s): the period of the drive or of the orbit (required; with --find-orbit the guess)");
+  o.flag("--find-orbit", request_.find_orbit,
+         "find the periodic orbit near the initial state first (Newton's method on the monodromy matrix; each step "
+         "holds the start's energy to first order)");
+  o.flag("--fixed-period", request_.fixed_period,
+         "with --find-orbit: T is the drive's period; only the start moves (a periodic response)");
+  o.flag("--any-energy", any_energy_,
+         "with --find-orbit: do not hold the start's energy (an isolated orbit of a forced or damped system)");
   overrides_.add(o, "stepper: rk4, dopri5, cash_karp54, fehlberg78, bulirsch_stoer, gauss_radau15 or rosenbrock4",
                  false);
   o.value("--tolerance", request_.tolerance, "stable when every |mu| <= 1 + tolerance (default 1e-6)");
@@ -28,6 +35,9 @@ int FloquetCommand::run() {
       [&] {
         if (!period_) throw BadInput{"command line: floquet: --period T (s) is required"};
         request_.period = *period_;
+        request_.keep_energy = !any_energy_;
+        if ((request_.fixed_period || any_energy_) && !request_.find_orbit)
+          throw BadInput{"command line: floquet: --fixed-period and --any-energy go with --find-orbit"};
       },
       [&](const scene::Scene& scene) { return scene::floquet(scene, request_); });
 }

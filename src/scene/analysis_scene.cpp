@@ -261,21 +261,33 @@ FloquetRun floquet(const Scene& scene, const FloquetRequest& request) {
   FloquetRun out;
   out.model = scene.model->name;
   out.run = scene.run;
-  out.period = request.period;
   out.tolerance = request.tolerance;
+  out.find_orbit = request.find_orbit;
   FloquetOptions options;
   options.run = scene.run;
   options.period = request.period;
   options.tolerance = request.tolerance;
+  options.find_orbit = request.find_orbit;
+  options.fixed_period = request.fixed_period;
+  options.keep_energy = request.keep_energy;
   out.result = with_scene_lines(scene, [&] { return entry.floquet(*scene.model, options); });
+  out.period = out.result.period;
   return out;
 }
 
 std::string FloquetRun::summary() const {
   const FloquetResult& r = result;
-  std::string out = "Floquet multipliers of " + model + " over one period T = " + g10(period) + " s from t0 = " +
-                    g10(run.t0) + " s (" + std::string(to_string(run.method)) + ", rtol " + g10(run.rtol) +
-                    "), largest modulus first:\n";
+  std::string out;
+  if (find_orbit) {
+    out = "periodic orbit of " + model + " found in " + std::to_string(r.iterations) + " Newton iterations: T = " +
+          g10(period) + " s, at t0 = " + g10(run.t0) + " s q = [";
+    for (std::size_t i = 0; i < r.q.size(); ++i) out += (i ? ", " : "") + g10(r.q[i]);
+    out += "], qd = [";
+    for (std::size_t i = 0; i < r.qd.size(); ++i) out += (i ? ", " : "") + g10(r.qd[i]);
+    out += "]\n";
+  }
+  out += "Floquet multipliers of " + model + " over one period T = " + g10(period) + " s from t0 = " + g10(run.t0) +
+         " s (" + std::string(to_string(run.method)) + ", rtol " + g10(run.rtol) + "), largest modulus first:\n";
   for (std::size_t i = 0; i < r.multipliers.size(); ++i)
     out += "  mu_" + std::to_string(i + 1) + " = " + g10(r.multipliers[i].real()) +
            (r.multipliers[i].imag() < 0 ? " - " : " + ") + g10(std::abs(r.multipliers[i].imag())) + " i   |mu| = " +
@@ -308,6 +320,11 @@ std::string FloquetRun::json() const {
   o.number("closure", r.closure);
   o.number("period", period);
   o.number("t0", run.t0);
+  if (find_orbit) {
+    o.raw("q", detail::json_numbers(r.q.data(), static_cast<int>(r.q.size())));
+    o.raw("qd", detail::json_numbers(r.qd.data(), static_cast<int>(r.qd.size())));
+    o.integer("iterations", r.iterations);
+  }
   o.string("method", std::string(to_string(run.method)));
   o.number("rtol", run.rtol);
   o.number("atol", run.atol);

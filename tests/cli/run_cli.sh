@@ -419,6 +419,18 @@ expect 2 "--period: must be a finite time > 0 s, got -1" -- "$bin" floquet "$kap
 expect 2 "--tolerance: must be finite and >= 0" -- "$bin" floquet "$kap" --period 1 --tolerance -1
 expect 2 "floquet: .*particle scene" -- "$bin" floquet "$src/examples/scenes/bouncing_ball.toml" --period 1
 expect 2 "floquet: model 'atwood_machine'.*constraints or contacts" -- "$bin" floquet "$src/examples/scenes/atwood_machine.toml" --period 1
+# floquet --find-orbit: from the pendulum's state at 0.5 rad and a guess of 2.2 s (8 % long) Newton finds an
+# orbit of the family near it, whose period is 4 K(k) / w0 at its own energy, k^2 = (qd/2w0)^2 + sin^2(q/2),
+# w0 = sqrt(g/l) (K by the arithmetic-geometric mean); its multipliers are 1.
+sp="$src/examples/scenes/simple_pendulum.toml"
+period_of_orbit="(lambda w0: (lambda k: abs(d['period'] - 4 * (__import__('math').pi / (2 * __import__('functools').reduce(lambda p, _: ((p[0] + p[1]) / 2, (p[0] * p[1]) ** 0.5), range(40), (1.0, (1 - k * k) ** 0.5))[0])) / w0) < 1e-9 * d['period'])(((d['qd'][0] / (2 * w0)) ** 2 + __import__('math').sin(d['q'][0] / 2) ** 2) ** 0.5))(9.81 ** 0.5)"
+analysis_json floquet pendulum_orbit "$period_of_orbit and d['iterations'] >= 2 and d['stable'] and abs(d['q'][0] - 0.5) < 1e-3 and abs(d['period'] - 2.0378679151581687) < 1e-4 and d['closure'] < 1e-7" -- "$sp" --find-orbit --period 2.2 --rtol 1e-12
+# Kapitza's pendulum from 3.1 rad: the drive's period fixed, Newton finds the upright rest (pi).
+analysis_json floquet kapitza_orbit "abs(d['q'][0] - 3.141592653589793) < 1e-8 and abs(d['qd'][0]) < 1e-6 and d['stable'] and d['period'] == 0.031415926535897934" -- "$kap" --set 'model.q[0]=3.1' --period 0.031415926535897934 --find-orbit --fixed-period --rtol 1e-12
+expect 0 "^periodic orbit of simple_pendulum found in [0-9]+ Newton iterations: T = 2.0378" -- "$bin" floquet "$sp" --find-orbit --period 2.2 --rtol 1e-12
+# Spinning at 100 rad/s the pendulum rotates: no orbit in (q, qd); Newton's period runs off towards 0.
+expect 1 "floquet failed: floquet: no periodic orbit found: the period's Newton iterate went to .* outside \\[T/2, 2T\\]" -- "$bin" floquet "$sp" --find-orbit --period 2.2 --set 'model.qd[0]=100'
+expect 2 "floquet: --fixed-period and --any-energy go with --find-orbit" -- "$bin" floquet "$sp" --period 2 --fixed-period
 expect 2 "declares constraints" -- "$bin" solve-bvp "$src/examples/scenes/cartesian_double_pendulum.toml" --from 0,-1,0,-2 --to 0.1,-1,0.1,-2 --time 1 --out "$work/x"
 expect 2 "dissipation" -- "$bin" solve-bvp "$src/examples/scenes/projectile_linear_drag.toml" --from 0,0 --to 10,0 --time 1 --out "$work/x"
 [ ! -e "$work/x/bvp_path.csv" ] || { echo "FAIL: bad solve-bvp input wrote bvp_path.csv"; fails=$((fails + 1)); }

@@ -21,6 +21,21 @@
 /// state was (the multipliers describe a periodic motion only when it is
 /// small). Scope as tangent_flow.hpp: unconstrained models with a fixed
 /// number n ≤ 6 of coordinates.
+///
+/// With find_orbit, floquet_multipliers() first finds the periodic orbit near
+/// the start and a guessed period by Newton's method on x(t0 + T; x0) − x0 = 0, with the
+/// exact Jacobian [Φ − I, f(x(t0 + T))] from the same run (f = ẋ) and the
+/// phase condition f(x0)·δx0 = 0 that fixes where on the orbit x0 lies. A
+/// conservative system's orbits come in families, one per energy E, the
+/// rest point among them: with `keep_energy` (the default) each step also
+/// keeps ∇E(x0)·δx0 = 0, E = p·q̇ − L, so Newton finds the orbit at the
+/// start's energy (to second order in the steps); turn it off for an
+/// isolated orbit of a forced or dissipative autonomous system (a limit
+/// cycle). The steps solve these rows by least squares, minimum norm. With
+/// `fixed_period` (a system driven with period T) T stays and only x0
+/// moves: a periodic response of the drive.
+/// The result carries the multipliers of the orbit found; an autonomous
+/// orbit has a multiplier 1 (along the orbit; two for a conservative one).
 
 #include <complex>
 #include <cstdint>
@@ -35,12 +50,22 @@
 
 namespace lagrangian {
 
-/// What floquet_multipliers() integrates.
+/// What floquet_multipliers() integrates, and how it finds the orbit first
+/// when asked.
 struct FloquetOptions {
   /// Method and tolerances, and t0 (s); the run ends at t0 + period.
   SimulationOptions run;
-  double period = 0.0;        ///< T (s), > 0
+  double period = 0.0;        ///< T (s), > 0; with find_orbit the guess (the period itself with fixed_period)
   double tolerance = 1e-6;    ///< stable when every |μ| ≤ 1 + tolerance
+  /// Find the periodic orbit near the initial state first (Newton's method,
+  /// see the file comment), then its multipliers.
+  bool find_orbit = false;
+  bool fixed_period = false;  ///< find_orbit: keep T (a drive's period) and move only the start
+  bool keep_energy = true;    ///< find_orbit: hold E = p·q̇ − L of the start (see the file comment)
+  /// find_orbit: done when max_i |x_i(t0 + T) − x_i(t0)| ≤
+  /// closure_tolerance (1 + max_i |x_i(t0)|).
+  double closure_tolerance = 1e-8;
+  int max_iterations = 20;  ///< find_orbit: Newton iterations, each one run with Φ
 };
 
 /// The monodromy matrix and its eigenvalues.
@@ -50,7 +75,10 @@ struct FloquetResult {
   double largest_modulus = 0;                    ///< max |μ|
   bool stable = false;                           ///< every |μ| ≤ 1 + tolerance
   double closure = 0;                            ///< max_i |x_i(t0 + T) − x_i(t0)| (units of each)
-  std::uint64_t steps = 0;                       ///< accepted steps
+  double period = 0;                             ///< T (s): the one given, or the orbit's found
+  std::vector<double> q, qd;                     ///< the start at t0: the initial state, or the orbit's found
+  int iterations = 0;                            ///< Newton iterations of find_orbit (0 without)
+  std::uint64_t steps = 0;                       ///< accepted steps (of every iteration)
   std::uint64_t rhs_evaluations = 0;             ///< evaluations of q̈ with its Jacobian
   double seconds = 0;                            ///< wall time (s)
 };
@@ -64,8 +92,10 @@ FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, c
 /// The Floquet multipliers of the motion of `model` from `initial` at
 /// options.run.t0 over one period (see the file comment). Throws
 /// OptionError for a bad option (naming it and its value), AnalysisError
-/// for a model with constraints or contacts, SimulationError when the run
-/// fails.
+/// for a model with constraints or contacts or, with find_orbit, when
+/// Newton's method finds no orbit within max_iterations (with the closure
+/// reached) or its period leaves [T/2, 2T] of the guess T (every motion
+/// closes as T → 0), SimulationError when a run fails.
 template <class M>
 FloquetResult floquet_multipliers(const M& model, const State<coordinate_count_v<M>>& initial,
                                   const FloquetOptions& options) {

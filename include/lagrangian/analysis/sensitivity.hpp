@@ -31,7 +31,8 @@
 /// its `description` (model_description.hpp) or of
 /// `static constexpr std::array<std::string_view, np> parameter_names`;
 /// Model<Q> must be default constructible (its parameters are then set from
-/// the model's). The built-in double pendulum, harmonic oscillator and
+/// the model's), and hold nothing computed from its parameters (a cached
+/// m1 + m2 would keep its default). The built-in double pendulum, harmonic oscillator and
 /// projectiles are written so (models/pendulums.hpp, models/projectile.hpp).
 ///
 /// Scope as tangent_flow.hpp: models without constraints or contacts with a
@@ -42,6 +43,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -54,11 +56,14 @@
 
 namespace lagrangian {
 
-/// True when M offers parameter sensitivities (see the file comment).
+/// True when M offers parameter sensitivities (see the file comment). A
+/// model derived from one that offers them, without declaring its own
+/// with_parameter_type, does not: its energies may differ from its base's.
 template <class M>
 inline constexpr bool has_parameter_type_v = requires {
   typename M::template with_parameter_type<double>;
   M::parameter_members();
+  requires std::is_same_v<typename M::template with_parameter_type<double>, M>;
 };
 
 /// The names of M's parameters in the order of M::parameter_members().
@@ -68,8 +73,8 @@ std::vector<std::string> parameter_names_of() {
   constexpr std::size_t count = M::parameter_members().size();
   std::vector<std::string> out;
   if constexpr (requires { M::description.parameters; }) {
-    static_assert(M::description.parameters.size() >= count,
-                  "parameter_members() lists more parameters than the model's description");
+    static_assert(M::description.parameters.size() == count,
+                  "parameter_members() and the model's description list different numbers of parameters");
     for (std::size_t i = 0; i < count; ++i) out.emplace_back(M::description.parameters[i].name);
   } else {
     static_assert(M::parameter_names.size() == count, "parameter_names and parameter_members() differ in length");

@@ -97,8 +97,12 @@ LyapunovRun lyapunov(const Scene& scene, const LyapunovRequest& request);
 /// (analysis/floquet.hpp), as `lagrangian floquet` runs them: from the
 /// scene's initial state at its t0, with its method and tolerances.
 struct FloquetRequest {
-  double period = 0.0;      ///< T (s), > 0
+  double period = 0.0;      ///< T (s), > 0; with find_orbit the guess
   double tolerance = 1e-6;  ///< stable when every |μ| ≤ 1 + tolerance
+  /// Find the periodic orbit near the initial state first (FloquetOptions).
+  bool find_orbit = false;
+  bool fixed_period = false;  ///< with find_orbit: T is the drive's, only the start moves
+  bool keep_energy = true;    ///< with find_orbit: hold the start's energy
 };
 
 /// What floquet() found.
@@ -108,12 +112,15 @@ struct FloquetRun {
   SimulationOptions run;  ///< method, tolerances, t0
   double period = 0;      ///< s
   double tolerance = 0;
-  /// A few lines for a terminal: the multipliers (re, im, modulus), the
-  /// verdict, the closure and the cost.
+  bool find_orbit = false;
+  /// A few lines for a terminal: the orbit found (with find_orbit), the
+  /// multipliers (re, im, modulus), the verdict, the closure and the cost.
   std::string summary() const;
   /// One JSON object: multipliers ([re, im] pairs, largest modulus first),
-  /// stable, largest_modulus, tolerance, closure, period (s), t0 (s),
-  /// method, rtol, atol, steps, evaluations, seconds.
+  /// stable, largest_modulus, tolerance, closure, period (s; the orbit's
+  /// with find_orbit), t0 (s), method, rtol, atol, steps, evaluations,
+  /// seconds; with find_orbit also q, qd (the orbit's start) and
+  /// iterations.
   std::string json() const;
 };
 

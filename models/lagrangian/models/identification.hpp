@@ -12,7 +12,7 @@
 ///    (analysis/sensitivity.hpp, integrated beside the state: J and its
 ///    derivative from one run): Gauss–Newton, p ← p − Σ r_k·s_k / Σ |s_k|²
 ///    with r_k = x_sim(t_k) − x_k, or NLopt's L-BFGS or SLSQP on the mean
-///    square J/K with dJ/dp = 2 Σ_k r_k·s_k.
+///    square J/K with d(J/K)/dp = 2 Σ_k r_k·s_k / K.
 
 #include <cmath>
 #include <cstddef>
@@ -36,7 +36,7 @@ struct Fit {
   int evaluations = 0;      ///< simulated runs (with the sensitivity beside the state when a method uses it)
 };
 
-/// How fit_drag() searches (docs/models.md compares them).
+/// How fit_drag() searches (docs/analysis.md compares them).
 enum class FitMethod {
   bobyqa,        ///< NLopt LN_BOBYQA: derivative-free, plain runs
   gauss_newton,  ///< Gauss–Newton with the residuals' derivatives from the parameter sensitivity
@@ -74,6 +74,15 @@ inline void check_record(const char* who, double interval, const std::vector<std
   }
 }
 
+/// SimulationError unless a run gave the record's K samples (a run that
+/// stopped early would leave J short of terms).
+inline void require_samples(const char* who, std::size_t got, std::size_t K, double t) {
+  if (got < K)
+    throw SimulationError(std::string(who) + ": the run gave " + std::to_string(got) + " samples for a record of " +
+                              std::to_string(K),
+                          t);
+}
+
 /// A projectile that flies on past the launch plane (a record may go below it).
 template <Drag D, class P = double>
 struct ProjectileWithoutLanding : Projectile<D, P> {
@@ -101,8 +110,9 @@ Fit fit_record(const State<N>& x0, double interval, std::size_t K, const MakeMod
     ++evaluations;
     Recorder<N> rec;
     simulate(make_model(p), x0, o, rec);
+    require_samples("fit", rec.samples.size(), K, rec.samples.empty() ? 0.0 : rec.samples.back().t);
     double j = 0;
-    for (std::size_t k = 0; k < K && k < rec.samples.size(); ++k) j += misfit2(rec.samples[k], k);
+    for (std::size_t k = 0; k < K; ++k) j += misfit2(rec.samples[k], k);
     return j;
   };
   const auto [p, j] = minimise_1d(cost, lo, hi, start, xtol, 300, stop);
@@ -166,10 +176,7 @@ Fit fit_drag(const Projectile<D>& projectile, const State<2>& x0, double interva
   auto run = [&](double c, double& g, double& h) {
     ++evaluations;
     const SensitivityResult r = sensitivities(make(c), x0, so);
-    if (r.states.size() < K)
-      throw SimulationError("fit_drag: the sensitivity run gave " + std::to_string(r.states.size()) +
-                                " samples for a record of " + std::to_string(K),
-                            r.times.empty() ? 0.0 : r.times.back());
+    detail::require_samples("fit_drag", r.states.size(), K, r.times.empty() ? 0.0 : r.times.back());
     double j = 0;
     g = h = 0;
     for (std::size_t k = 0; k < K; ++k) {
@@ -186,13 +193,16 @@ Fit fit_drag(const Projectile<D>& projectile, const State<2>& x0, double interva
     return {c, std::sqrt(j / count), evaluations};
   }
   // On the mean square J/K: on the sum's scale NLopt's L-BFGS fails and
-  // SLSQP stops early (docs/models.md).
+  // SLSQP stops early (docs/analysis.md).
   auto mean_square = [&](double c, double& dj) {
     double g = 0, h = 0;
     const double j = run(c, g, h);
     dj = 2 * g / count;
     return j / count;
   };
+  if (options.method != FitMethod::lbfgs && options.method != FitMethod::slsqp)
+    throw ParameterError("fit_drag: method " + std::to_string(static_cast<int>(options.method)) +
+                         " is not a FitMethod");
   const auto [c, j] = detail::minimise_1d_with_gradient(
       mean_square, options.method == FitMethod::lbfgs ? NLOPT_LD_LBFGS : NLOPT_LD_SLSQP, lo, hi, start, xtol,
       stop / count, 300);

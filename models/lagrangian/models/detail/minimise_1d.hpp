@@ -81,9 +81,10 @@ std::pair<double, double> gauss_newton_1d(Run& run, double lo, double hi, double
   double j = run(x, g, h);
   int evaluations = 1;
   while (j > stop && evaluations < max_evaluations && h > 0) {
-    double step = -g / h, xn = x, jn = j, gn = 0, hn = 0;
+    // (A step past a bound is cut to it, so halving it moves x.)
+    double step = std::clamp(x - g / h, lo, hi) - x, xn = x, jn = j, gn = 0, hn = 0;
     for (;;) {
-      xn = std::clamp(x + step, lo, hi);
+      xn = x + step;
       if (std::abs(xn - x) <= xtol) return {x, j};
       jn = run(xn, gn, hn);
       ++evaluations;
