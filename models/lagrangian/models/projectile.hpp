@@ -91,10 +91,13 @@ struct Projectile : detail::PlanarParticle<P> {
   template <class Q>
   using with_parameter_type = Projectile<D, Q>;
   static constexpr auto parameter_members() {
+    // m and g named through their base: clang rejects &Projectile::m for a
+    // member brought in by a using-declaration here.
+    using Base = detail::PlanarParticle<P>;
     if constexpr (D == Drag::none) {
-      return std::array<P Projectile::*, 3>{&Projectile::m, &Projectile::g, &Projectile::beta};
+      return std::array<P Projectile::*, 3>{&Base::m, &Base::g, &Projectile::beta};
     } else {
-      return std::array<P Projectile::*, 4>{&Projectile::m, &Projectile::g, &Projectile::beta, &Projectile::drag};
+      return std::array<P Projectile::*, 4>{&Base::m, &Base::g, &Projectile::beta, &Projectile::drag};
     }
   }
   /// m (kg), g (m/s²), plane angle β (rad, |β| < π/2), drag coefficient (b
