@@ -18,10 +18,10 @@
 namespace lagrangian::detail {
 namespace {
 
-void check_positive(const char* command, const char* name, double value, const char* unit) {
+void check_positive(const char* name, double value, const char* unit) {
   if (!std::isfinite(value) || !(value > 0)) {
     std::ostringstream os;
-    os << command << ": " << name << " = " << value << unit << " must be finite and > 0";
+    os << "floquet: " << name << " = " << value << unit << " must be finite and > 0";
     throw OptionError(os.str());
   }
 }
@@ -84,14 +84,15 @@ Eigen::VectorXd rate(const TangentModel& model, const Eigen::VectorXd& x, double
 }
 
 /// ∇E at the state x (2n values) for E = p·q̇ − L of an autonomous,
-/// unforced model: with C = ∂p/∂q, M = ∂p/∂q̇ and the Euler–Lagrange
-/// equations ∂L/∂q = ṗ = C q̇ + M q̈,
+/// unforced model, from its rate f = (q̇, q̈) there: with C = ∂p/∂q,
+/// M = ∂p/∂q̇ and the Euler–Lagrange equations ∂L/∂q = ṗ = C q̇ + M q̈,
 ///   ∂E/∂q = Cᵀ q̇ − C q̇ − M q̈,   ∂E/∂q̇ = M q̇.
-Eigen::VectorXd energy_gradient(const TangentModel& model, const Eigen::VectorXd& x, double t) {
+Eigen::VectorXd energy_gradient(const TangentModel& model, const Eigen::VectorXd& x, const Eigen::VectorXd& f,
+                                double t) {
   const int n = model.n;
   Eigen::MatrixXd dp(n, 2 * n);
   model.momentum(model.model, x.data(), x.data() + n, t, dp.data());
-  const Eigen::VectorXd qd = x.tail(n), qdd = rate(model, x, t).tail(n);
+  const Eigen::VectorXd qd = x.tail(n), qdd = f.tail(n);
   const Eigen::MatrixXd c = dp.leftCols(n), m = dp.rightCols(n);
   Eigen::VectorXd g(2 * n);
   g.head(n) = c.transpose() * qd - c * qd - m * qdd;
@@ -103,14 +104,14 @@ Eigen::VectorXd energy_gradient(const TangentModel& model, const Eigen::VectorXd
 
 FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, const double* qd0,
                                   const FloquetOptions& options) {
-  check_positive("floquet", "period", options.period, " s");
+  check_positive("period", options.period, " s");
   check_tolerance(options.tolerance);
   SimulationOptions run = options.run;
   run.t_end = run.t0 + options.period;
   run.output_interval = -1;
   check_tangent_run(run, "floquet");
   if (options.find_orbit) {
-    check_positive("floquet", "closure_tolerance", options.closure_tolerance, "");
+    check_positive("closure_tolerance", options.closure_tolerance, "");
     if (options.max_iterations < 1) {
       std::ostringstream os;
       os << "floquet: max_iterations = " << options.max_iterations << " must be >= 1";
@@ -154,8 +155,9 @@ FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, c
     b.head(2 * n) = x0 - x_end;
     if (!options.fixed_period) {
       a.block(0, 2 * n, 2 * n, 1) = rate(model, x_end, run.t0 + period);
-      a.block(2 * n, 0, 1, 2 * n) = rate(model, x0, run.t0).transpose();
-      if (options.keep_energy) a.block(2 * n + 1, 0, 1, 2 * n) = energy_gradient(model, x0, run.t0).transpose();
+      const Eigen::VectorXd f0 = rate(model, x0, run.t0);
+      a.block(2 * n, 0, 1, 2 * n) = f0.transpose();
+      if (options.keep_energy) a.block(2 * n + 1, 0, 1, 2 * n) = energy_gradient(model, x0, f0, run.t0).transpose();
     }
     const Eigen::VectorXd step = a.completeOrthogonalDecomposition().solve(b);
     if (!step.allFinite()) throw AnalysisError("floquet: the Newton step for the periodic orbit is not finite");
