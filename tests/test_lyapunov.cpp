@@ -11,6 +11,7 @@
 #include "lagrangian/models/constrained.hpp"
 #include "lagrangian/models/pendulums.hpp"
 #include "lagrangian/models/projectile.hpp"
+#include "nested_jet_jacobian.hpp"
 
 namespace {
 
@@ -67,6 +68,13 @@ void expect_jacobian_agrees(const M& model, const Vec<double, M::coordinate_coun
   EXPECT_LE((qdd2 - qdd).norm(), 1e-14 * (1 + qdd.norm())) << model.name();
   EXPECT_LE((jv1 - jv.col(0)).norm(), 1e-13 * (1 + jv.norm())) << model.name() << "\n" << jv1 << "\n" << jv;
   EXPECT_LE((jv2 - jv).norm(), 1e-13 * (1 + jv.norm())) << model.name() << "\n" << jv2 << "\n" << jv;
+  // The same directions by another derivation: the third derivatives of L
+  // from a second-order Jet over (q, q̇, t) of first-order Jets.
+  Vec<double, n> qdd_nested;
+  Eigen::Matrix<double, n, 2> jv_nested;
+  lagrangian::testing::nested_jet_jvp<2>(model, q, qd, t, v, qdd_nested, jv_nested);
+  EXPECT_LE((qdd_nested - qdd).norm(), 1e-13 * (1 + qdd.norm())) << model.name();
+  EXPECT_LE((jv_nested - jv).norm(), 1e-13 * (1 + jv.norm())) << model.name() << "\n" << jv_nested << "\n" << jv;
 }
 
 TEST(TangentFlow, HarmonicOscillatorIsMinusOmegaSquared) {
@@ -103,6 +111,15 @@ TEST(TangentFlow, AgreesWithDifferencesOfTheLibraryAccelerations) {
                          Vec<double, 2>(7.0, -3.0), 0.0);
   expect_jacobian_agrees(lm::PendulumChain<4>(), Vec<double, 4>(0.3, -0.2, 1.1, 2.0),
                          Vec<double, 4>(0.5, -1.0, 0.25, 2.0), 0.0);
+  // Six coordinates: the numbers' sparse storage and sin/cos memo (n > 4),
+  // and J in three passes of four directions.
+  Vec<double, 6> q6, qd6;
+  q6 << 0.3, -0.2, 1.1, 2.0, -2.4, 0.05;
+  qd6 << 0.5, -1.0, 0.25, 2.0, 0.0, -1.5;
+  expect_jacobian_agrees(lm::PendulumChain<6>(), q6, qd6, 0.0);
+  // Three coordinates: J in one pass of four directions and one of two used.
+  expect_jacobian_agrees(lm::PendulumChain<3>(), Vec<double, 3>(0.3, -0.2, 1.1), Vec<double, 3>(0.5, -1.0, 0.25),
+                         0.0);
 }
 
 TEST(TangentFlow, RefusesConstrainedModels) {

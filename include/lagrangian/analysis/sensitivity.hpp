@@ -13,8 +13,8 @@
 /// (the tangent system of lyapunov.hpp), so the run's method and tolerances
 /// control them too. J s and, for a parameter, J s + ∂q̈/∂p come from
 /// automatic differentiation (tangent_flow.hpp, state_jvp()): L is evaluated
-/// once per column on nested numbers whose inner derivatives are seeded with
-/// the column and, for a parameter, with δp = 1 in the model's parameter.
+/// once per column on numbers that carry their derivative along the column
+/// and, for a parameter, along δp = 1 in the model's parameter.
 /// No finite differences; the result is exact to rounding and to the run's
 /// tolerances.
 ///

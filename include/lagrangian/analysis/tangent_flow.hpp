@@ -12,20 +12,31 @@
 /// and differentiating M q̈ = r along the state variable x_j gives
 ///   M ∂q̈/∂x_j = ∂r/∂x_j − (∂M/∂x_j) q̈.
 /// ∂M/∂x_j and ∂r/∂x_j are third derivatives of L (∂r/∂q contains
-/// ∂³L/∂q̇∂q∂q): L is evaluated once on nested numbers, a second-order
-/// ad::Jet over (q, q̇, t) whose values are first-order ad::Jets over (q, q̇),
-/// so every entry of M and r carries its gradient in the state. Q is
-/// evaluated on the first-order numbers, ∂D/∂q̇ on a first-order Jet over q̇
-/// of them. No finite differences: the result is exact to rounding.
+/// ∂³L/∂q̇∂q∂q), all along one direction at a time: L is evaluated once on
+/// ad::EomJet numbers — the Euler–Lagrange pass of dynamics.hpp, which gives
+/// M, ∂L/∂q and the mixed term without a Hessian over (q, q̇, t) — each
+/// carrying its first derivatives along the K directions of the state asked
+/// for (an ad::Jet of EomJets). The derivative of a coordinate q_k along a
+/// direction (δq, δq̇) is δq_k, which moves along the path at the rate δq̇_k
+/// (the path's direction q̇ moves with the state), and that of a velocity
+/// q̇_k is δq̇_k; the derivative of every EomJet part then follows by the
+/// chain rule, and M, r and their derivatives along each direction are read
+/// off L. Q and D are evaluated on the same numbers (∂D/∂q̇ is an EomJet
+/// part). A model that declares constant_mass_matrix (T of q̇ alone) takes
+/// a shorter road: r = −∂V/∂q + Q − ∂D/∂q̇ on first-order Jets along the
+/// directions, M and its derivative along a parameter (∂M/∂m) from T.
+/// No finite differences: the result is exact to rounding.
 ///
 /// Units: ∂q̈/∂q in 1/s² (per unit of the coordinate: rad/s² per rad,
 /// m/s² per m), ∂q̈/∂q̇ in 1/s.
 ///
-/// Scope: models with a fixed number of coordinates (n ≤ 6: the nested
-/// numbers grow as n³) and without constraints or contacts (their tangent
+/// Scope: models with a fixed number of coordinates (n ≤ 6: a number holds
+/// K + 1 EomJets of n² entries each) and without constraints or contacts (their tangent
 /// flow, kept in the constraint manifold and carried across impacts, is not
 /// derived here); such models are refused with AnalysisError.
 
+#include <algorithm>
+#include <array>
 #include <sstream>
 #include <string>
 #include <type_traits>
@@ -58,18 +69,187 @@ void require_no_constraints(const M& model, const std::string& prefix) {
 /// Largest number of coordinates state_jacobian() takes.
 inline constexpr int kMaxTangentFlowCoordinates = 6;
 
+namespace detail {
+/// The number of the tangent pass of an n-coordinate model along K
+/// directions: an ad::EomJet<n> with its first derivatives along the K
+/// directions (each itself an EomJet).
+template <int n, int K>
+using TangentNumber = ad::Jet<ad::EomJet<n>, K, 1>;
+
+/// q and q̇ as first-order Jets along the K directions V: the derivatives
+/// of q_k are the row k of V, those of q̇_k the row n + k.
+template <int K, int n>
+void along_directions(const Vec<double, n>& q, const Vec<double, n>& qd, const Eigen::Matrix<double, 2 * n, K>& v,
+                      Vec<ad::Jet<double, K, 1>, n>& qi, Vec<ad::Jet<double, K, 1>, n>& qdi) {
+  for (int k = 0; k < n; ++k) {
+    qi[k] = ad::Jet<double, K, 1>(q[k]);
+    qdi[k] = ad::Jet<double, K, 1>(qd[k]);
+    for (int c = 0; c < K; ++c) {
+      qi[k].g[c] = v(k, c);
+      qdi[k].g[c] = v(n + k, c);
+    }
+  }
+}
+
+/// q̈ = M⁻¹ r and JV = M⁻¹ (dR − dM_c q̈)_c from M, r (column 0 of R) and
+/// their derivatives along the K directions (R's columns 1 … K, dmass(c));
+/// DynamicsError naming the state when M is not positive definite.
+template <int n, int K, class DMass>
+void solve_tangent(const Mat<double, n>& mass, const Eigen::Matrix<double, n, K + 1>& r, DMass&& dmass,
+                   const Vec<double, n>& q, const Vec<double, n>& qd, double t, Vec<double, n>& qdd,
+                   Eigen::Matrix<double, n, K>& jv) {
+  const Eigen::LLT<Mat<double, n>> llt(mass);
+  const double big = mass.cwiseAbs().maxCoeff();
+  bool positive = llt.info() == Eigen::Success && big > 0;
+  if (positive) {
+    const Vec<double, n> d = llt.matrixL().toDenseMatrix().diagonal();
+    positive = d.minCoeff() * d.minCoeff() >= singular_mass_tolerance * d.maxCoeff() * d.maxCoeff();
+  }
+  if (!positive) {
+    std::ostringstream os;
+    os.precision(17);
+    os << "tangent flow: the mass matrix M = d2L/dqd2 is singular or not positive definite at "
+       << describe_state(q, qd, t);
+    throw DynamicsError(os.str());
+  }
+  qdd = llt.solve(r.col(0));
+  // M (J V)_c = (∂r V)_c − (∂M V)_c q̈, the derivative of M q̈ = r along direction c.
+  Eigen::Matrix<double, n, K> rhs;
+  for (int c = 0; c < K; ++c) rhs.col(c) = r.col(c + 1) - dmass(c) * qdd;
+  jv = llt.solve(rhs);
+}
+
+/// state_jvp() of a model that declares constant_mass_matrix: T depends on
+/// q̇ alone, so M q̈ = r with r = −∂V/∂q + Q − ∂D/∂q̇, and only V, Q and D
+/// are differentiated along the directions (first-order Jets of ad::Jets
+/// along them); M and its derivative along the directions (non-zero only
+/// along a parameter: ∂M/∂m) from T on a second-order Jet over (q, q̇),
+/// whose q-derivatives are checked to vanish as the declaration says.
+template <int K, class M, class E, int n>
+void constant_mass_jvp(const M& model, const E& eval, const Vec<double, n>& q, const Vec<double, n>& qd, double t,
+                       const Eigen::Matrix<double, 2 * n, K>& v, Vec<double, n>& qdd, Eigen::Matrix<double, n, K>& jv) {
+  using I = ad::Jet<double, K, 1>;  // a value and its derivatives along the K directions
+  Vec<I, n> qi, qdi;
+  along_directions(q, qd, v, qi, qdi);
+  const I ti(t);
+  using T2 = ad::Jet<I, 2 * n, 2>;  // T to second order in (q, q̇)
+  Vec<T2, n> qt, qdt;
+  for (int k = 0; k < n; ++k) {
+    qt[k] = T2::variable(qi[k], k);
+    qdt[k] = T2::variable(qdi[k], n + k);
+  }
+  const T2 kinetic = T2(eval.kinetic(qt, qdt, T2(ti)));
+  Mat<double, n> mass;
+  std::array<Mat<double, n>, K> dmass;
+  for (int i = 0; i < n; ++i) {
+    bool constant = kinetic.g[i] == 0.0;
+    for (int j = 0; j < n; ++j) {
+      constant = constant && kinetic.hess(n + i, j) == 0.0;
+      const I& mij = kinetic.hess(n + i, n + j);
+      mass(i, j) = mij.v;
+      for (int c = 0; c < K; ++c) dmass[c](i, j) = mij.g[c];
+    }
+    if (!constant)
+      throw DynamicsError("tangent flow: the model declares constant_mass_matrix, but T changes with q[" +
+                          std::to_string(i) + "] at " + describe_state(q, qd, t) +
+                          "; remove the declaration (the general equations of motion then apply)");
+  }
+  using G = ad::Jet<I, n, 1>;  // first order in q (for V) or q̇ (for D)
+  Vec<G, n> qg;
+  for (int k = 0; k < n; ++k) qg[k] = G::variable(qi[k], k);
+  const G potential = G(eval.potential(qg, G(ti)));
+  Eigen::Matrix<double, n, K + 1> r;  // column 0: r; column 1 + c: its derivative along V_c
+  const auto put = [&r](int i, const I& x, double sign) {
+    r(i, 0) += sign * x.v;
+    for (int c = 0; c < K; ++c) r(i, c + 1) += sign * x.g[c];
+  };
+  r.setZero();
+  for (int i = 0; i < n; ++i) put(i, potential.g[i], -1.0);
+  if constexpr (has_generalized_forces_v<M>) {
+    if (uses_generalized_forces(model)) {
+      const Vec<I, n> f = eval.generalized_forces(qi, qdi, ti);
+      for (int i = 0; i < n; ++i) put(i, f[i], 1.0);
+    }
+  }
+  if constexpr (has_dissipation_v<M>) {
+    if (uses_dissipation(model)) {
+      Vec<G, n> qD, qdD;
+      for (int k = 0; k < n; ++k) {
+        qD[k] = G(qi[k]);
+        qdD[k] = G::variable(qdi[k], k);
+      }
+      const G d = G(eval.dissipation(qD, qdD));
+      for (int i = 0; i < n; ++i) put(i, d.g[i], -1.0);
+    }
+  }
+  solve_tangent<n, K>(mass, r, [&](int c) -> const Mat<double, n>& { return dmass[c]; }, q, qd, t, qdd, jv);
+}
+/// state_jvp() of any other model: L on TangentNumber<n, K> (the file
+/// comment), evaluated on `eval` (the model itself or its seeded twin).
+template <int K, class M, class E, int n>
+void eom_tangent_jvp(const M& model, const E& eval, const Vec<double, n>& q, const Vec<double, n>& qd, double t,
+                     const Eigen::Matrix<double, 2 * n, K>& v, Vec<double, n>& qdd, Eigen::Matrix<double, n, K>& jv) {
+  using B = ad::EomJet<n>;
+  using X = TangentNumber<n, K>;
+  Vec<X, n> qx, qdx;
+  for (int k = 0; k < n; ++k) {
+    qx[k] = X(B::position(q[k], qd[k], k));
+    qdx[k] = X(B::velocity(qd[k], k));
+    for (int c = 0; c < K; ++c) {
+      qx[k].g[c] = B::moving(v(k, c), v(n + k, c));  // δq_k, moving at δq̇_k along the path
+      qdx[k].g[c] = B(v(n + k, c));
+    }
+  }
+  const X tx(B::time(t));
+  const X l = lagrangian_of(eval, qx, qdx, tx);
+  // Column 0: r = ∂L/∂q − mixed + Q − ∂D/∂q̇; column 1 + c: its derivative along V_c.
+  Eigen::Matrix<double, n, K + 1> r;
+  const auto part = [](const X& x, int c) -> const B& { return c == 0 ? x.v : x.g[c - 1]; };
+  for (int c = 0; c <= K; ++c)
+    for (int i = 0; i < n; ++i) r(i, c) = part(l, c).grad_q(i) - part(l, c).mixed(i);
+  if constexpr (has_generalized_forces_v<M>) {
+    if (uses_generalized_forces(model)) {
+      const Vec<X, n> f = eval.generalized_forces(qx, qdx, tx);
+      for (int c = 0; c <= K; ++c)
+        for (int i = 0; i < n; ++i) r(i, c) += part(f[i], c).v;
+    }
+  }
+  if constexpr (has_dissipation_v<M>) {
+    if (uses_dissipation(model)) {
+      const X d = X(eval.dissipation(qx, qdx));
+      for (int c = 0; c <= K; ++c)
+        for (int i = 0; i < n; ++i) r(i, c) -= part(d, c).grad_qd(i);
+    }
+  }
+
+  Mat<double, n> mass, dmass;
+  l.v.hessian_to(mass);
+  solve_tangent<n, K>(
+      mass, r,
+      [&](int c) -> const Mat<double, n>& {
+        l.g[c].hessian_to(dmass);
+        return dmass;
+      },
+      q, qd, t, qdd, jv);
+}
+}  // namespace detail
+
+/// Most directions state_jacobian() seeds in one pass (it takes the 2n
+/// columns of J in passes of this many).
+inline constexpr int kTangentPassDirections = 4;
+
 /// q̈ and its derivatives along K directions of the state: the n × K matrix
 /// JV = (∂q̈/∂(q, q̇)) V for a 2n × K matrix V (rows δq_0 … δq_{n−1}, then
-/// δq̇_0 … δq̇_{n−1}), at (q, q̇, t), without forming J: the inner numbers
-/// carry K derivatives, seeded with the rows of V, so a single direction
-/// (K = 1) costs a fraction of the whole Jacobian (K = 2n, V = I; see
-/// state_jacobian()). With `seeded`, the same model with parameters of type
-/// ad::Jet<double, K, 1> carrying derivatives along the K directions too
-/// (sensitivity.hpp), L is evaluated on it, and column c of JV is the
-/// derivative of q̈ along the state direction V_c and the parameter
-/// direction of its seeds together: (∂q̈/∂x) V_c + (∂q̈/∂p) δp_c. Throws
-/// DynamicsError when M is not positive definite there, AnalysisError for a
-/// model with constraints or contacts.
+/// δq̇_0 … δq̇_{n−1}), at (q, q̇, t), without forming J: one pass over T and
+/// V (or L) on detail::TangentNumber<n, K>, so a single direction (K = 1)
+/// costs a fraction of the whole Jacobian (see state_jacobian()). With
+/// `seeded`, the same model with parameters of type ad::Jet<double, K, 1>
+/// carrying derivatives along the K directions too (sensitivity.hpp), L
+/// is evaluated on it, and column c of JV is the derivative of q̈ along the
+/// state direction V_c and the parameter direction of its seeds together:
+/// (∂q̈/∂x) V_c + (∂q̈/∂p) δp_c. Throws DynamicsError when M is not
+/// positive definite there, AnalysisError for a model with constraints or
+/// contacts.
 template <int K, class M, class E = M>
 void state_jvp(const M& model, const Vec<double, coordinate_count_v<M>>& q, const Vec<double, coordinate_count_v<M>>& qd,
                double t, const Eigen::Matrix<double, 2 * coordinate_count_v<M>, K>& v,
@@ -83,99 +263,41 @@ void state_jvp(const M& model, const Vec<double, coordinate_count_v<M>>& q, cons
                 "coordinates");
   static_assert(K >= 1 && K <= 2 * n, "state_jvp: between 1 and 2n directions");
   detail::require_no_constraints(model, "");
-  using I = ad::Jet<double, K, 1>;     // a value and its derivatives along the K directions
   const E& eval = [&]() -> const E& {
     if constexpr (std::is_same_v<E, M>) {
       return model;
     } else {
-      static_assert(std::is_same_v<E, typename M::template with_parameter_type<I>>,
+      static_assert(std::is_same_v<E, typename M::template with_parameter_type<ad::Jet<double, K, 1>>>,
                     "state_jvp: the seeded model is the model with parameters of type ad::Jet<double, K, 1>");
       return *seeded;
     }
   }();
-
-  using O = ad::Jet<I, 2 * n + 1, 2>;  // second order in (q, q̇, t), each entry an I
-  Vec<I, n> qi, qdi;
-  Vec<O, n> qo, qdo;
-  for (int k = 0; k < n; ++k) {
-    qi[k] = I(q[k]);
-    qdi[k] = I(qd[k]);
-    for (int c = 0; c < K; ++c) {
-      qi[k].g[c] = v(k, c);
-      qdi[k].g[c] = v(n + k, c);
-    }
-    qo[k] = O::variable(qi[k], k);
-    qdo[k] = O::variable(qdi[k], n + k);
+  if constexpr (constant_mass_matrix_v<M>) {
+    detail::constant_mass_jvp<K>(model, eval, q, qd, t, v, qdd, jv);
+  } else {
+    detail::eom_tangent_jvp<K>(model, eval, q, qd, t, v, qdd, jv);
   }
-  const I ti(t);
-  const O l = detail::lagrangian_of(eval, qo, qdo, O::variable(ti, 2 * n));
-
-  Mat<double, n> mass;
-  Eigen::Matrix<double, n, K> dmass[n];  // row i: the derivatives of M_ij along V (as dmass[i](j, ·))
-  Vec<I, n> r;
-  for (int i = 0; i < n; ++i) {
-    I ri = l.g[i] - l.hess(n + i, 2 * n);
-    for (int j = 0; j < n; ++j) {
-      ri -= l.hess(n + i, j) * qdi[j];
-      const I& mij = l.hess(n + i, n + j);
-      mass(i, j) = mij.v;
-      for (int c = 0; c < K; ++c) dmass[i](j, c) = mij.g[c];
-    }
-    r[i] = ri;
-  }
-  if constexpr (has_generalized_forces_v<M>) {
-    if (uses_generalized_forces(model)) {
-      const Vec<I, n> f = eval.generalized_forces(qi, qdi, ti);
-      for (int i = 0; i < n; ++i) r[i] += f[i];
-    }
-  }
-  if constexpr (has_dissipation_v<M>) {
-    if (uses_dissipation(model)) {
-      using D = ad::Jet<I, n, 1>;  // first order in q̇, each entry an I
-      Vec<D, n> qD, qdD;
-      for (int k = 0; k < n; ++k) {
-        qD[k] = D(qi[k]);
-        qdD[k] = D::variable(qdi[k], k);
-      }
-      const D d = D(eval.dissipation(qD, qdD));
-      for (int i = 0; i < n; ++i) r[i] -= d.g[i];
-    }
-  }
-
-  const Eigen::LLT<Mat<double, n>> llt(mass);
-  const double big = mass.cwiseAbs().maxCoeff();
-  bool positive = llt.info() == Eigen::Success && big > 0;
-  if (positive) {
-    const Vec<double, n> d = llt.matrixL().toDenseMatrix().diagonal();
-    positive = d.minCoeff() * d.minCoeff() >= singular_mass_tolerance * d.maxCoeff() * d.maxCoeff();
-  }
-  if (!positive) {
-    std::ostringstream os;
-    os.precision(17);
-    os << "tangent flow: the mass matrix M = d2L/dqd2 is singular or not positive definite at "
-       << detail::describe_state(q, qd, t);
-    throw DynamicsError(os.str());
-  }
-  Vec<double, n> rv;
-  for (int i = 0; i < n; ++i) rv[i] = r[i].v;
-  qdd = llt.solve(rv);
-  // M (J V)_c = (∂r V)_c − (∂M V)_c q̈, the derivative of M q̈ = r along direction c.
-  Eigen::Matrix<double, n, K> rhs;
-  for (int c = 0; c < K; ++c)
-    for (int i = 0; i < n; ++i) rhs(i, c) = r[i].g[c] - dmass[i].col(c).dot(qdd);
-  jv = llt.solve(rhs);
 }
 
 /// q̈ and J_a = ∂q̈/∂(q, q̇) (n × 2n: the columns ∂/∂q_0 … ∂/∂q_{n−1}, then
 /// ∂/∂q̇_0 … ∂/∂q̇_{n−1}) at (q, q̇, t): state_jvp() along the 2n unit
-/// vectors. Throws DynamicsError when M is not positive definite there,
-/// AnalysisError for a model with constraints or contacts.
+/// vectors, kTangentPassDirections of them per pass. Throws DynamicsError
+/// when M is not positive definite there, AnalysisError for a model with
+/// constraints or contacts.
 template <class M>
 void state_jacobian(const M& model, const Vec<double, coordinate_count_v<M>>& q,
                     const Vec<double, coordinate_count_v<M>>& qd, double t, Vec<double, coordinate_count_v<M>>& qdd,
                     Eigen::Matrix<double, coordinate_count_v<M>, 2 * coordinate_count_v<M>>& jacobian) {
   constexpr int n = coordinate_count_v<M>;
-  state_jvp<2 * n>(model, q, qd, t, Eigen::Matrix<double, 2 * n, 2 * n>::Identity(), qdd, jacobian);
+  constexpr int w = std::min(2 * n, kTangentPassDirections);
+  for (int first = 0; first < 2 * n; first += w) {
+    const int count = std::min(w, 2 * n - first);
+    Eigen::Matrix<double, 2 * n, w> unit = Eigen::Matrix<double, 2 * n, w>::Zero();
+    for (int c = 0; c < count; ++c) unit(first + c, c) = 1.0;
+    Eigen::Matrix<double, n, w> columns;
+    state_jvp<w>(model, q, qd, t, unit, qdd, columns);
+    jacobian.middleCols(first, count) = columns.leftCols(count);
+  }
 }
 
 /// ∂p/∂(q, q̇) at (q, q̇, t), p = ∂L/∂q̇: the n × 2n matrix [C, M] with
