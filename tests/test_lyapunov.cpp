@@ -122,6 +122,34 @@ TEST(TangentFlow, AgreesWithDifferencesOfTheLibraryAccelerations) {
                          0.0);
 }
 
+/// A particle whose T depends on its position (m(x) = m0 (1 + x²)) but that
+/// declares constant_mass_matrix anyway.
+struct WronglyDeclaredConstantMass {
+  static constexpr int coordinate_count = 1;
+  static constexpr bool constant_mass_matrix = true;
+  std::string name() const { return "wrongly_declared"; }
+  template <class S>
+  S kinetic(const Vec<S, 1>& q, const Vec<S, 1>& qd, const S&) const {
+    return 0.5 * (1.0 + q[0] * q[0]) * qd[0] * qd[0];
+  }
+  template <class S>
+  S potential(const Vec<S, 1>& q, const S&) const {
+    return 0.5 * q[0] * q[0];
+  }
+};
+
+TEST(TangentFlow, RefusesAConstantMassDeclarationThatTDenies) {
+  Vec<double, 1> qdd;
+  Eigen::Matrix<double, 1, 2> jac;
+  try {
+    lagrangian::state_jacobian(WronglyDeclaredConstantMass(), Vec<double, 1>(0.5), Vec<double, 1>(1.0), 0.0, qdd, jac);
+    FAIL() << "a T that changes with q was taken as constant";
+  } catch (const lagrangian::DynamicsError& e) {
+    EXPECT_NE(std::string(e.what()).find("constant_mass_matrix"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("q[0]"), std::string::npos) << e.what();
+  }
+}
+
 TEST(TangentFlow, RefusesConstrainedModels) {
   const lm::AtwoodMachine atwood;
   Vec<double, 2> qdd;

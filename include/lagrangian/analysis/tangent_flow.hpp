@@ -31,9 +31,10 @@
 /// m/s² per m), ∂q̈/∂q̇ in 1/s.
 ///
 /// Scope: models with a fixed number of coordinates (n ≤ 6: a number holds
-/// K + 1 EomJets of n² entries each) and without constraints or contacts (their tangent
-/// flow, kept in the constraint manifold and carried across impacts, is not
-/// derived here); such models are refused with AnalysisError.
+/// K + 1 EomJets of n² entries each) and without constraints or contacts
+/// (their tangent flow, kept in the constraint manifold and carried across
+/// impacts, is not derived here); such models are refused with
+/// AnalysisError.
 
 #include <algorithm>
 #include <array>
