@@ -31,43 +31,29 @@
 #include "lagrangian/analysis/tangent_flow.hpp"
 #include "lagrangian/models/pendulums.hpp"
 
+#include "../hand_coded.hpp"
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr double kM1 = 1.3, kM2 = 0.8, kL1 = 1.1, kL2 = 0.7, kG = 9.81, kTEnd = 5.0;
 const double kStart[4] = {1.2, -0.4, 0.3, 0.8};
 
-/// The double pendulum by hand. With Δ = θ1 − θ2, a = (m1 + m2) l1²,
-/// b = m2 l1 l2, c = m2 l2²:
-///   [a, b cos Δ; b cos Δ, c] q̈ = r,
-///   r1 = −b sin Δ ω2² − (m1 + m2) g l1 sin θ1,  r2 = b sin Δ ω1² − m2 g l2 sin θ2,
-/// and ∂q̈/∂x_j = M⁻¹ (∂r/∂x_j − (∂M/∂x_j) q̈), ∂M/∂θ1 = −∂M/∂θ2 = [0, −b sin Δ; −b sin Δ, 0].
+/// The double pendulum by hand (bench/hand_coded.hpp): ẋ = f(x) and, with
+/// jac, F = ∂f/∂x (row-major 4 × 4).
 struct Hand {
-  double a = (kM1 + kM2) * kL1 * kL1, b = kM2 * kL1 * kL2, c = kM2 * kL2 * kL2;
-  double k1 = (kM1 + kM2) * kG * kL1, k2 = kM2 * kG * kL2;
-  /// ẋ = f(x); with jac, also F = ∂f/∂x (row-major 4 × 4).
+  lagrangian::models::DoublePendulum p{kM1, kM2, kL1, kL2, kG};
   void rhs(const double* x, double* f, double* jac = nullptr) const {
-    const double d = x[0] - x[1], s = std::sin(d), co = std::cos(d);
-    const double w1 = x[2], w2 = x[3];
-    const double r1 = -b * s * w2 * w2 - k1 * std::sin(x[0]);
-    const double r2 = b * s * w1 * w1 - k2 * std::sin(x[1]);
-    const double det = a * c - b * b * co * co;
-    const double q1 = (c * r1 - b * co * r2) / det, q2 = (a * r2 - b * co * r1) / det;
-    f[0] = w1;
-    f[1] = w2;
-    f[2] = q1;
-    f[3] = q2;
+    f[0] = x[2];
+    f[1] = x[3];
+    double dq[8];
+    bench::double_pendulum_qdd(p, x, x + 2, f + 2, jac == nullptr ? nullptr : dq);
     if (jac == nullptr) return;
-    // ∂r/∂x_j − (∂M/∂x_j) q̈, column by column, then M⁻¹.
-    const double dr1[4] = {-b * co * w2 * w2 - k1 * std::cos(x[0]), b * co * w2 * w2, 0.0, -2 * b * s * w2};
-    const double dr2[4] = {b * co * w1 * w1, -b * co * w1 * w1 - k2 * std::cos(x[1]), 2 * b * s * w1, 0.0};
-    const double sign[4] = {1.0, -1.0, 0.0, 0.0};  // ∂M/∂θ1 = −∂M/∂θ2, ∂M/∂ω = 0
     for (int j = 0; j < 4; ++j) {
-      const double e1 = dr1[j] + sign[j] * b * s * q2, e2 = dr2[j] + sign[j] * b * s * q1;
       jac[0 * 4 + j] = j == 2 ? 1.0 : 0.0;
       jac[1 * 4 + j] = j == 3 ? 1.0 : 0.0;
-      jac[2 * 4 + j] = (c * e1 - b * co * e2) / det;
-      jac[3 * 4 + j] = (a * e2 - b * co * e1) / det;
+      jac[2 * 4 + j] = dq[j];
+      jac[3 * 4 + j] = dq[4 + j];
     }
   }
 };
