@@ -48,6 +48,7 @@
 #include "lagrangian/ad.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/mechanics/constraint_counts.hpp"
+#include "lagrangian/mechanics/detail/constant_mass.hpp"
 #include "lagrangian/mechanics/dynamics.hpp"
 #include "lagrangian/model.hpp"
 
@@ -143,17 +144,15 @@ void constant_mass_jvp(const M& model, const E& eval, const Vec<double, n>& q, c
   Mat<double, n> mass;
   std::array<Mat<double, n>, K> dmass;
   for (int i = 0; i < n; ++i) {
-    bool constant = kinetic.g[i] == 0.0;
+    const auto where = [&] { return "the tangent flow's state " + describe_state(q, qd, t); };
+    if (kinetic.g[i] != 0.0) constant_mass_declaration_failure("dT/dq[" + std::to_string(i) + "] is not zero", where());
     for (int j = 0; j < n; ++j) {
-      constant = constant && kinetic.hess(n + i, j) == 0.0;
+      if (kinetic.hess(n + i, j) != 0.0)
+        constant_mass_declaration_failure("T's coefficient of qd[" + std::to_string(i) + "] changes with q", where());
       const I& mij = kinetic.hess(n + i, n + j);
       mass(i, j) = mij.v;
       for (int c = 0; c < K; ++c) dmass[c](i, j) = mij.g[c];
     }
-    if (!constant)
-      throw DynamicsError("tangent flow: the model declares constant_mass_matrix, but T changes with q[" +
-                          std::to_string(i) + "] at " + describe_state(q, qd, t) +
-                          "; remove the declaration (the general equations of motion then apply)");
   }
   using G = ad::Jet<I, n, 1>;  // first order in q (for V) or q̇ (for D)
   Vec<G, n> qg;

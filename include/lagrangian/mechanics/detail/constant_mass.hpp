@@ -14,6 +14,14 @@
 
 namespace lagrangian::detail {
 
+/// DynamicsError for a model that declares constant_mass_matrix while its T
+/// does not keep it (`why`), found at `where`.
+[[noreturn]] inline void constant_mass_declaration_failure(const std::string& why, const std::string& where) {
+  throw DynamicsError(
+      "model declares constant_mass_matrix (T a quadratic in the velocities with constant coefficients), but " +
+      why + " at " + where + "; remove the declaration (the general equations of motion then apply)");
+}
+
 template <class M>
 class ConstantMassAccelerations {
  public:
@@ -98,11 +106,8 @@ class ConstantMassAccelerations {
   }
   [[noreturn]] static void declaration_failure(const std::string& why, const Vec<double, n>& q,
                                                const Vec<double, n>& v, double t) {
-    throw DynamicsError(
-        "model declares constant_mass_matrix (T a quadratic in the velocities with constant coefficients), but " +
-        why + " at the test point " + describe_state(q, v, t) +
-        " (the initial configuration, or it shifted, at test velocities); remove the declaration (the general "
-        "equations of motion then apply)");
+    constant_mass_declaration_failure(why, "the test point " + describe_state(q, v, t) +
+                                               " (the initial configuration, or it shifted, at test velocities)");
   }
 
   bool diagonal_ = false;
