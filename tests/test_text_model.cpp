@@ -12,11 +12,13 @@
 #include "lagrangian/models/pendulums.hpp"
 #include "lagrangian/text/evaluate.hpp"
 #include "lagrangian/text/text_model.hpp"
+#include "text_definitions.hpp"
 
 namespace {
 
 using namespace lagrangian;
 using text::Definition;
+using lagrangian::testing::double_pendulum_text;
 
 double value_of(const std::string& source, std::vector<double> q = {}, std::vector<double> qd = {}, double t = 0.0,
                 const std::vector<std::pair<std::string, double>>& parameters = {}) {
@@ -98,18 +100,6 @@ TEST(TextExpression, ErrorsNameTheFieldTheColumnAndTheProblem) {
   EXPECT_EQ(error_of("theta $ 2"), "model.kinetic (column 7): unexpected '$'");
   EXPECT_EQ(error_of("  "), "model.kinetic: the expression is empty");
   EXPECT_EQ(error_of("1.2.3"), "model.kinetic (column 1): '1.2.3' is not a number");
-}
-
-Definition double_pendulum_text(const models::DoublePendulum& p) {
-  Definition d;
-  d.name = "double pendulum as text";
-  d.coordinates = {"th1", "th2"};
-  d.units = {"rad", "rad"};
-  // T of the two bobs, v₁ = l₁θ̇₁, v₂ = v₁ + l₂θ̇₂ at an angle θ₁ − θ₂.
-  d.kinetic = "0.5*(m1 + m2)*l1^2*th1_dot^2 + 0.5*m2*l2^2*th2_dot^2 + m2*l1*l2*th1_dot*th2_dot*cos(th1 - th2)";
-  d.potential = "-(m1 + m2)*g*l1*cos(th1) - m2*g*l2*cos(th2)";
-  d.parameters = {{"m1", p.m1}, {"m2", p.m2}, {"l1", p.l1}, {"l2", p.l2}, {"g", p.g}};
-  return d;
 }
 
 TEST(TextModel, DoublePendulumAgreesWithTheBuiltInModel) {

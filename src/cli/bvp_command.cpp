@@ -13,7 +13,7 @@ const Subcommand BvpCommand::kInfo{"solve-bvp",
                    "plots, and says whether the action is a minimum there."};
 
 void BvpCommand::declare(OptionList& o) {
-  scene_.add(o, "scene file (TOML) naming a built-in model");
+  scene_.add(o, "scene file (TOML) with a built-in model or one stated as text");
   o.value("--from", from_, "q(t0): comma-separated, one value per coordinate", true);
   o.value("--to", to_, "q(t1): comma-separated, one value per coordinate", true);
   o.value("--time", time_, "T (from the scene's t0) or t0:t1, in s", true);

@@ -37,6 +37,11 @@ const detail::ModelEntry& model_entry(const Scene& input, const std::string& opt
   return *entry;
 }
 
+/// The model's name in the results: a built-in model's, or "text" for one
+/// stated as text (its summaries say "the model stated as text").
+std::string model_name(const Scene& scene) { return scene.model->name.empty() ? "text" : scene.model->name; }
+std::string model_phrase(const std::string& name) { return name == "text" ? "the model stated as text" : name; }
+
 /// f() with a scene error that names a key but no line (the registry's:
 /// parameters, initial state) placed at the key's line in the scene file.
 template <class F>
@@ -204,7 +209,7 @@ LyapunovRun lyapunov(const Scene& scene, const LyapunovRequest& request) {
     throw OptionError("--interval: must be a finite time >= 0 s (0 lets the code choose), got " +
                       g10(request.interval));
   LyapunovRun out;
-  out.model = scene.model->name;
+  out.model = model_name(scene);
   out.run = scene.run;
   LyapunovOptions options;
   options.run = scene.run;
@@ -216,7 +221,8 @@ LyapunovRun lyapunov(const Scene& scene, const LyapunovRequest& request) {
 
 std::string LyapunovRun::summary() const {
   const LyapunovResult& r = result;
-  std::string out = "Lyapunov exponents of " + model + " over t = " + g10(run.t0) + " .. " + g10(run.t_end) + " s (" +
+  std::string out = "Lyapunov exponents of " + model_phrase(model) + " over t = " + g10(run.t0) + " .. " +
+                    g10(run.t_end) + " s (" +
                     std::string(to_string(run.method)) + ", rtol " + g10(run.rtol) + "), largest first, 1/s:\n";
   for (std::size_t i = 0; i < r.spectrum.size(); ++i)
     out += "  lambda_" + std::to_string(i + 1) + " = " + g10(r.spectrum[i]) + "\n";
@@ -259,7 +265,7 @@ FloquetRun floquet(const Scene& scene, const FloquetRequest& request) {
   if (!std::isfinite(request.tolerance) || request.tolerance < 0)
     throw OptionError("--tolerance: must be finite and >= 0, got " + g10(request.tolerance));
   FloquetRun out;
-  out.model = scene.model->name;
+  out.model = model_name(scene);
   out.run = scene.run;
   out.tolerance = request.tolerance;
   out.find_orbit = request.find_orbit;
@@ -279,14 +285,16 @@ std::string FloquetRun::summary() const {
   const FloquetResult& r = result;
   std::string out;
   if (find_orbit) {
-    out = "periodic orbit of " + model + " found in " + std::to_string(r.iterations) + " Newton iterations: T = " +
+    out = "periodic orbit of " + model_phrase(model) + " found in " + std::to_string(r.iterations) +
+          " Newton iterations: T = " +
           g10(period) + " s, at t0 = " + g10(run.t0) + " s q = [";
     for (std::size_t i = 0; i < r.q.size(); ++i) out += (i ? ", " : "") + g10(r.q[i]);
     out += "], qd = [";
     for (std::size_t i = 0; i < r.qd.size(); ++i) out += (i ? ", " : "") + g10(r.qd[i]);
     out += "]\n";
   }
-  out += "Floquet multipliers of " + model + " over one period T = " + g10(period) + " s from t0 = " + g10(run.t0) +
+  out += "Floquet multipliers of " + model_phrase(model) + " over one period T = " + g10(period) +
+         " s from t0 = " + g10(run.t0) +
          " s (" + std::string(to_string(run.method)) + ", rtol " + g10(run.rtol) + "), largest modulus first:\n";
   for (std::size_t i = 0; i < r.multipliers.size(); ++i)
     out += "  mu_" + std::to_string(i + 1) + " = " + g10(r.multipliers[i].real()) +

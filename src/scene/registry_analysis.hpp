@@ -113,22 +113,31 @@ std::string analyse_model(const M& model, const ModelInfo& info, const State<coo
   }
 }
 
-/// `run(model)` for the models the tangent flow is derived for (Lyapunov
-/// exponents, Floquet multipliers; `what` names the analysis), an
-/// OptionError naming the reason for the others (the scene asks for what its
-/// model cannot give, as solve-bvp's refusals do), which never instantiate it.
+/// The OptionError of a scene whose model the tangent flow is not derived
+/// for (Lyapunov exponents, Floquet multipliers; `what` names the
+/// analysis): `this_one_has` says why ("7 coordinates", "constraints or
+/// contacts").
+inline OptionError no_tangent_flow(const char* what, const ModelInfo& info, const std::string& this_one_has) {
+  return OptionError(std::string(what) + ": model '" + info.name +
+                     "': the tangent flow is derived for models without constraints or contacts and with at most " +
+                     std::to_string(kMaxTangentFlowCoordinates) + " coordinates; this one has " + this_one_has);
+}
+
+/// `run(model)` for the models the tangent flow is derived for, the
+/// OptionError of no_tangent_flow() for the others (the scene asks for what
+/// its model cannot give, as solve-bvp's refusals do), which never
+/// instantiate it. (Text models, whose size is known at run time, are seen
+/// at their size by text/tangent_flow.hpp.)
 template <class Result, class M, class Run>
 Result with_tangent_flow(const M& model, const ModelInfo& info, const char* what, Run&& run) {
   constexpr int n = coordinate_count_v<M>;
   if constexpr (n == Dynamic || n > kMaxTangentFlowCoordinates || constraint_count_v<M> != 0 ||
                 unilateral_count_v<M> != 0) {
     (void)model, (void)run;
-    throw OptionError(std::string(what) + ": model '" + info.name +
-                        "': the tangent flow is derived for models without constraints or contacts and with at most " +
-                        std::to_string(kMaxTangentFlowCoordinates) + " coordinates; this one has " +
-                        (n == Dynamic                       ? std::string("a run-time number of coordinates")
-                         : n > kMaxTangentFlowCoordinates ? std::to_string(n) + " coordinates"
-                                                          : std::string("constraints or contacts")));
+    throw no_tangent_flow(what, info,
+                          n == Dynamic                       ? std::string("a run-time number of coordinates")
+                          : n > kMaxTangentFlowCoordinates ? std::to_string(n) + " coordinates"
+                                                           : std::string("constraints or contacts"));
   } else {
     return run(model);
   }

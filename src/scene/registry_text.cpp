@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "lagrangian/text/tangent_flow.hpp"
 #include "lagrangian/text/text_model.hpp"
 #include "registry_entry.hpp"
 #include "scene_messages.hpp"
@@ -121,13 +122,32 @@ BvpResult bvp_text(const ModelSpec& spec, const BvpRequest& request, DiscreteRul
   return solve_model_bvp(lagrangian::text::TextModel(parsed_of(spec)), *model_info(spec), request, rule);
 }
 
-[[noreturn]] void no_tangent_flow(const char* what) {
-  throw OptionError(std::string(what) +
-                      ": not yet for models stated as text ([model.text]): the tangent flow is derived for models "
-                      "with a fixed number of coordinates, and a text model's is known only at run time");
+/// `compute(model, initial)` on the scene's text model and initial state,
+/// checked as a run's start is; the refusals of built-in models
+/// (no_tangent_flow) for a model with constraints, contacts or more
+/// coordinates than the tangent flow takes.
+template <class Compute>
+auto with_text_tangent_flow(const ModelSpec& spec, double t0, const char* what, Compute&& compute) {
+  const State<Dynamic> s0 = initial_of(spec);
+  const lagrangian::text::TextModel model(parsed_of(spec));
+  if (has_constraints(model) || unilateral_count(model) > 0)
+    throw no_tangent_flow(what, *model_info(spec), "constraints or contacts");
+  if (model.size() > kMaxTangentFlowCoordinates)
+    throw no_tangent_flow(what, *model_info(spec), std::to_string(model.size()) + " coordinates");
+  check_start(model, s0, t0);
+  return compute(model, s0);
 }
-LyapunovResult lyapunov_text(const ModelSpec&, const LyapunovOptions&) { no_tangent_flow("lyapunov"); }
-FloquetResult floquet_text(const ModelSpec&, const FloquetOptions&) { no_tangent_flow("floquet"); }
+
+LyapunovResult lyapunov_text(const ModelSpec& spec, const LyapunovOptions& options) {
+  return with_text_tangent_flow(spec, options.run.t0, "lyapunov", [&](const auto& model, const auto& s0) {
+    return lagrangian::text::lyapunov_spectrum(model, s0, options);
+  });
+}
+FloquetResult floquet_text(const ModelSpec& spec, const FloquetOptions& options) {
+  return with_text_tangent_flow(spec, options.run.t0, "floquet", [&](const auto& model, const auto& s0) {
+    return lagrangian::text::floquet_multipliers(model, s0, options);
+  });
+}
 
 /// The points of [[model.points]] (none: an empty figure), with rods from a
 /// pivot at the origin through them when `rods` is set; up is +z, or +y

@@ -68,6 +68,16 @@ expect 0 "" -- "$bin" "${chaos[@]}" --threads 1 --out "$work/c1"
 expect 0 "" -- "$bin" "${chaos[@]}" --threads 2 --out "$work/c2"
 head -1 "$work/c1/sweep.csv" | grep -q ',lyapunov_max \[1/s\],megno$' || { echo "FAIL: no chaos columns"; head -1 "$work/c1/sweep.csv"; fails=$((fails + 1)); }
 cmp "$work/c1/sweep.csv" "$work/c2/sweep.csv" || { echo "FAIL: chaos columns differ with the thread count"; fails=$((fails + 1)); }
+# The same map from the double pendulum stated as text, with the same run settings: the same exponents and MEGNO.
+expect 0 "" -- "$bin" sweep "$src/examples/scenes/text/double_pendulum.toml" --vary 'model.q[0]=0.5:2.5:3' --vary 'model.q[1]=2:2:1' \
+  --set 'run.t_end=10' --set 'run.rtol=1e-8' --set 'run.atol=1e-10' --output final,chaos -q --no-plots --out "$work/c_text"
+/usr/bin/python3 - "$work/c1/sweep.csv" "$work/c_text/sweep.csv" <<'PY' || fails=$((fails + 1))
+import csv, sys
+a, b = (list(csv.DictReader(open(f))) for f in sys.argv[1:])
+bad = [(x[k], y[k]) for x, y in zip(a, b) for k in ("lyapunov_max [1/s]", "megno") if abs(float(x[k]) - float(y[k])) > 1e-6 * (1 + abs(float(x[k])))]
+print("FAIL: the text model's chaos map differs:", bad) if bad or len(a) != 3 or len(b) != 3 else print("ok: the text model's chaos map is the built-in model's")
+sys.exit(1 if bad or len(a) != 3 or len(b) != 3 else 0)
+PY
 # Monte Carlo: the same draws whatever the thread count.
 mc=(sweep "$scene" --vary model.parameters.e=uniform:0:1 --vary model.parameters.m2=normal:2:0.1 --monte-carlo 40 --seed 7 -q --no-plots)
 expect 0 "" -- "$bin" "${mc[@]}" --threads 1 --out "$work/mc1"

@@ -1,0 +1,39 @@
+#pragma once
+/// \file text/tangent_flow.hpp
+/// Lyapunov exponents, Floquet multipliers and sensitivities of a model
+/// stated as text: the analyses of analysis/lyapunov.hpp, floquet.hpp and
+/// sensitivity.hpp, whose tangent flow J = ∂(q̇, q̈)/∂(q, q̇) comes from the
+/// same automatic differentiation of the model's expressions as for a C++
+/// model (no finite differences). Each one sees the model at its size n
+/// (text::FixedSizeModel<n>, text/fixed_size.hpp), compiled once in the
+/// library for n = 1 … kMaxTangentFlowCoordinates.
+///
+/// Scope, as for C++ models: at most kMaxTangentFlowCoordinates (6)
+/// coordinates, no constraints or contacts (AnalysisError naming what the
+/// model has). A text model's parameters are numbers bound into its
+/// expressions, so sensitivities to them are not offered (AnalysisError
+/// when asked for).
+
+#include "lagrangian/analysis/floquet.hpp"
+#include "lagrangian/analysis/lyapunov.hpp"
+#include "lagrangian/analysis/sensitivity.hpp"
+#include "lagrangian/model.hpp"
+#include "lagrangian/text/text_model.hpp"
+
+namespace lagrangian::text {
+
+/// The Lyapunov exponents of the motion of `model` from `initial` (see
+/// lagrangian::lyapunov_spectrum()).
+LyapunovResult lyapunov_spectrum(const TextModel& model, const State<Dynamic>& initial, const LyapunovOptions& options);
+
+/// The Floquet multipliers of the motion of `model` from `initial` over
+/// one period (see lagrangian::floquet_multipliers()).
+FloquetResult floquet_multipliers(const TextModel& model, const State<Dynamic>& initial, const FloquetOptions& options);
+
+/// ∂x(t)/∂x(t0) of the motion of `model` from `initial` (see
+/// lagrangian::sensitivities()); AnalysisError when options.parameters is
+/// not empty.
+SensitivityResult sensitivities(const TextModel& model, const State<Dynamic>& initial,
+                                const SensitivityOptions& options);
+
+}  // namespace lagrangian::text

@@ -1,0 +1,80 @@
+// Lyapunov exponents, Floquet multipliers and sensitivities of a text model
+// (text/tangent_flow.hpp): the model seen at its size n as a
+// FixedSizeModel<n>, n = 1 … kMaxTangentFlowCoordinates, each compiled here once.
+
+#include "lagrangian/text/tangent_flow.hpp"
+
+#include <string>
+
+#include "lagrangian/text/fixed_size.hpp"
+
+namespace lagrangian::text {
+namespace {
+
+static_assert(kMaxTangentFlowCoordinates == 6, "at_fixed_size() lists the sizes 1 … 6");
+
+template <int N, class Compute>
+auto at_size(const TextModel& model, const State<Dynamic>& initial, Compute&& compute) {
+  const FixedSizeModel<N> fixed(model);
+  State<N> start;
+  start.q = initial.q;
+  start.qd = initial.qd;
+  return compute(fixed, start);
+}
+
+/// compute(FixedSizeModel<n>, State<n>) for the model's size n; AnalysisError
+/// (its message starting with `prefix`) for a model with constraints, contacts
+/// or more coordinates than the tangent flow takes, OptionError for a start of
+/// another size.
+template <class Compute>
+auto at_fixed_size(const TextModel& model, const State<Dynamic>& initial, const std::string& prefix,
+                   Compute&& compute) {
+  lagrangian::detail::require_no_constraints(model, prefix);
+  const int n = model.size();
+  if (initial.q.size() != n || initial.qd.size() != n)
+    throw OptionError(prefix + "the initial state's q and qd have sizes " + std::to_string(initial.q.size()) + " and " +
+                      std::to_string(initial.qd.size()) + "; the model has " + std::to_string(n) + " coordinates");
+  switch (n) {
+    case 1:
+      return at_size<1>(model, initial, compute);
+    case 2:
+      return at_size<2>(model, initial, compute);
+    case 3:
+      return at_size<3>(model, initial, compute);
+    case 4:
+      return at_size<4>(model, initial, compute);
+    case 5:
+      return at_size<5>(model, initial, compute);
+    case 6:
+      return at_size<6>(model, initial, compute);
+    default:
+      throw AnalysisError(prefix + "the tangent flow is derived for models of at most " +
+                          std::to_string(kMaxTangentFlowCoordinates) + " coordinates; this text model has " +
+                          std::to_string(n));
+  }
+}
+
+}  // namespace
+
+LyapunovResult lyapunov_spectrum(const TextModel& model, const State<Dynamic>& initial,
+                                 const LyapunovOptions& options) {
+  return at_fixed_size(model, initial, "lyapunov: ", [&](const auto& fixed, const auto& start) {
+    return lagrangian::lyapunov_spectrum(fixed, start, options);
+  });
+}
+
+FloquetResult floquet_multipliers(const TextModel& model, const State<Dynamic>& initial,
+                                  const FloquetOptions& options) {
+  return at_fixed_size(model, initial, "floquet: ", [&](const auto& fixed, const auto& start) {
+    return lagrangian::floquet_multipliers(fixed, start, options);
+  });
+}
+
+SensitivityResult sensitivities(const TextModel& model, const State<Dynamic>& initial,
+                                const SensitivityOptions& options) {
+  return at_fixed_size(model, initial, "sensitivity: ", [&](const auto& fixed, const auto& start) {
+    return lagrangian::sensitivities(fixed, start, options);
+  });
+}
+
+}  // namespace lagrangian::text

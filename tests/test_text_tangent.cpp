@@ -1,0 +1,290 @@
+// The tangent flow of models stated as text (text/fixed_size.hpp,
+// text/tangent_flow.hpp): against the same systems written in C++, closed
+// forms, Liouville's theorem and Kapitza's criterion.
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+#include <cmath>
+#include <complex>
+#include <string>
+
+#include "lagrangian/analysis/lyapunov.hpp"
+#include "lagrangian/analysis/tangent_flow.hpp"
+#include "lagrangian/models/pendulums.hpp"
+#include "lagrangian/text/fixed_size.hpp"
+#include "lagrangian/text/tangent_flow.hpp"
+#include "text_definitions.hpp"
+
+namespace {
+
+using lagrangian::Vec;
+namespace lm = lagrangian::models;
+namespace text = lagrangian::text;
+
+/// Kapitza's pendulum as text, as in examples/scenes/text/driven_pendulum.toml:
+/// the pivot at y = a cos Ωt, so T and V depend on t.
+text::Definition kapitza_text(double omega) {
+  text::Definition d;
+  d.coordinates = {"theta"};
+  d.kinetic = "0.5*m*((l*cos(theta)*theta_dot)^2 + (-a*Omega*sin(Omega*t) + l*sin(theta)*theta_dot)^2)";
+  d.potential = "m*g*(a*cos(Omega*t) - l*cos(theta))";
+  d.parameters = {{"m", 1.0}, {"l", 1.0}, {"a", 0.05}, {"Omega", omega}, {"g", 9.81}};
+  return d;
+}
+
+/// A particle of mass m in a uniform field under linear drag b, the drag
+/// given as a Rayleigh function or as generalized forces.
+text::Definition linear_drag_text(bool as_dissipation) {
+  text::Definition d;
+  d.coordinates = {"x", "y"};
+  d.kinetic = "0.5*m*(x_dot^2 + y_dot^2)";
+  d.potential = "m*g*y";
+  if (as_dissipation) {
+    d.dissipation = "0.5*b*(x_dot^2 + y_dot^2)";
+  } else {
+    d.forces = {"-b*x_dot", "-b*y_dot"};
+  }
+  d.parameters = {{"m", 2.0}, {"g", 9.81}, {"b", 0.5}};
+  return d;
+}
+
+lagrangian::State<lagrangian::Dynamic> start(std::initializer_list<double> q, std::initializer_list<double> qd) {
+  lagrangian::State<lagrangian::Dynamic> s(static_cast<int>(q.size()));
+  int i = 0;
+  for (double x : q) s.q[i++] = x;
+  i = 0;
+  for (double x : qd) s.qd[i++] = x;
+  return s;
+}
+
+TEST(TextTangentFlow, DoublePendulumJacobianIsTheBuiltInModels) {
+  const lm::DoublePendulum built_in(1.3, 0.7, 1.1, 0.8, 9.81);
+  const text::TextModel model(lagrangian::testing::double_pendulum_text(built_in));
+  const text::FixedSizeModel<2> fixed(model);
+  for (const auto& [q, qd] : {std::pair{Vec<double, 2>(0.3, -1.2), Vec<double, 2>(0.8, 2.1)},
+                              std::pair{Vec<double, 2>(2.0, 2.0), Vec<double, 2>(0.0, 0.0)},
+                              std::pair{Vec<double, 2>(-3.0, 1.0), Vec<double, 2>(-4.0, 5.5)}}) {
+    Vec<double, 2> qdd_text, qdd_cpp;
+    Eigen::Matrix<double, 2, 4> j_text, j_cpp;
+    lagrangian::state_jacobian(fixed, q, qd, 0.0, qdd_text, j_text);
+    lagrangian::state_jacobian(built_in, q, qd, 0.0, qdd_cpp, j_cpp);
+    EXPECT_LE((qdd_text - qdd_cpp).norm(), 1e-13 * (1 + qdd_cpp.norm()));
+    EXPECT_LE((j_text - j_cpp).norm(), 1e-12 * (1 + j_cpp.norm())) << "text:\n" << j_text << "\nC++:\n" << j_cpp;
+  }
+}
+
+/// models::PendulumChain<n> (unit masses and lengths) as text: bob k moves
+/// at (Σ_{j≤k} cos q_j q̇_j, Σ_{j≤k} sin q_j q̇_j) and hangs at −Σ_{j≤k} cos q_j.
+text::Definition chain_text(int n) {
+  text::Definition d;
+  std::string vx, vy, y;
+  for (int k = 0; k < n; ++k) {
+    const std::string q = "q" + std::to_string(k);
+    d.coordinates.push_back(q);
+    vx += (k ? " + " : "") + std::string("cos(") + q + ")*" + q + "_dot";
+    vy += (k ? " + " : "") + std::string("sin(") + q + ")*" + q + "_dot";
+    y += " - cos(" + q + ")";
+    d.kinetic += (k ? " + " : "") + std::string("0.5*m*((") + vx + ")^2 + (" + vy + ")^2)";
+    d.potential += (k ? " + " : "") + std::string("m*g*(") + y + ")";
+  }
+  d.parameters = {{"m", 1.0}, {"g", 9.81}};
+  return d;
+}
+
+template <int N>
+void expect_chain_agrees() {
+  const text::TextModel model(chain_text(N));
+  const text::FixedSizeModel<N> fixed(model);
+  const lm::PendulumChain<N> built_in;
+  Vec<double, N> q, qd;
+  for (int k = 0; k < N; ++k) {
+    q[k] = std::sin(1.0 + 2.3 * k);
+    qd[k] = std::cos(0.4 + 1.7 * k);
+  }
+  Vec<double, N> qdd_text, qdd_cpp;
+  Eigen::Matrix<double, N, 2 * N> j_text, j_cpp;
+  lagrangian::state_jacobian(fixed, q, qd, 0.0, qdd_text, j_text);
+  lagrangian::state_jacobian(built_in, q, qd, 0.0, qdd_cpp, j_cpp);
+  EXPECT_LE((qdd_text - qdd_cpp).norm(), 1e-12 * (1 + qdd_cpp.norm())) << N << " links";
+  EXPECT_LE((j_text - j_cpp).norm(), 1e-11 * (1 + j_cpp.norm())) << N << " links\n" << j_text << "\n" << j_cpp;
+}
+
+TEST(TextTangentFlow, ChainsOfThreeToSixLinksHaveTheBuiltInChainsJacobian) {
+  // Five and six coordinates take the EomJet numbers' sparse storage.
+  expect_chain_agrees<3>();
+  expect_chain_agrees<4>();
+  expect_chain_agrees<5>();
+  expect_chain_agrees<6>();
+}
+
+TEST(TextTangentFlow, TimeDependentEnergiesGiveTheBuiltInDrivenPendulums) {
+  // T depends on t through the pivot's velocity: the mixed term ∂²L/∂θ̇∂t
+  // and its derivatives enter J.
+  const lm::DrivenPendulum built_in(1.0, 1.0, 0.05, 200.0, 9.81);
+  const text::TextModel model(kapitza_text(200.0));
+  const text::FixedSizeModel<1> fixed(model);
+  for (double t : {0.0, 0.0123, 0.7}) {
+    const Vec<double, 1> q(2.9), qd(-0.4);
+    Vec<double, 1> qdd_text, qdd_cpp;
+    Eigen::Matrix<double, 1, 2> j_text, j_cpp;
+    lagrangian::state_jacobian(fixed, q, qd, t, qdd_text, j_text);
+    lagrangian::state_jacobian(built_in, q, qd, t, qdd_cpp, j_cpp);
+    EXPECT_NEAR(qdd_text[0], qdd_cpp[0], 1e-12 * (1 + std::abs(qdd_cpp[0]))) << "t = " << t;
+    EXPECT_LE((j_text - j_cpp).norm(), 1e-12 * (1 + j_cpp.norm())) << "t = " << t << "\n" << j_text << "\n" << j_cpp;
+  }
+}
+
+TEST(TextTangentFlow, LinearDragGivesMinusBOverMWhetherDissipationOrForces) {
+  for (bool as_dissipation : {true, false}) {
+    const text::TextModel model(linear_drag_text(as_dissipation));
+    const text::FixedSizeModel<2> fixed(model);
+    Vec<double, 2> qdd;
+    Eigen::Matrix<double, 2, 4> j;
+    lagrangian::state_jacobian(fixed, Vec<double, 2>(1.0, 2.0), Vec<double, 2>(3.0, -4.0), 0.0, qdd, j);
+    Eigen::Matrix<double, 2, 4> expected = Eigen::Matrix<double, 2, 4>::Zero();
+    expected(0, 2) = expected(1, 3) = -0.5 / 2.0;  // ∂q̈/∂q̇ = −b/m I
+    EXPECT_LE((j - expected).norm(), 1e-15) << (as_dissipation ? "D" : "Q") << "\n" << j;
+    EXPECT_NEAR(qdd[0], -0.25 * 3.0, 1e-15);
+    EXPECT_NEAR(qdd[1], -9.81 + 0.25 * 4.0, 1e-14);
+  }
+}
+
+lagrangian::LyapunovOptions lyapunov_over(double t_end) {
+  lagrangian::LyapunovOptions o;
+  o.run.t_end = t_end;
+  o.run.rtol = 1e-10;
+  o.run.atol = 1e-12;
+  return o;
+}
+
+TEST(TextLyapunov, ChaoticDoublePendulumHasTheBuiltInModelsSpectrum) {
+  const lm::DoublePendulum built_in;
+  const text::TextModel model(lagrangian::testing::double_pendulum_text(built_in));
+  lagrangian::State<2> s;
+  s.q << 2.0, 2.0;
+  // Over 10 s the two runs' trajectories (q̈ equal to rounding) stay within
+  // rounding grown by e^(λt), λ ≈ 1.5 1/s: about 1e-9.
+  const lagrangian::LyapunovResult cpp = lagrangian::lyapunov_spectrum(built_in, s, lyapunov_over(10.0));
+  const lagrangian::LyapunovResult txt =
+      text::lyapunov_spectrum(model, start({2.0, 2.0}, {0.0, 0.0}), lyapunov_over(10.0));
+  ASSERT_EQ(txt.spectrum.size(), 4u);
+  EXPECT_GT(txt.spectrum[0], 0.5);
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_NEAR(txt.spectrum[i], cpp.spectrum[i], 1e-6) << "exponent " << i;
+  EXPECT_NEAR(txt.megno, cpp.megno, 1e-6);
+  EXPECT_LE(std::abs(txt.sum), 1e-9);  // canonical coordinates keep phase-space volume
+  // The largest exponent alone (one direction per step, no Jacobian).
+  lagrangian::LyapunovOptions one = lyapunov_over(10.0);
+  one.exponents = 1;
+  const lagrangian::LyapunovResult a = text::lyapunov_spectrum(model, start({2.0, 2.0}, {0.0, 0.0}), one);
+  const lagrangian::LyapunovResult b = lagrangian::lyapunov_spectrum(built_in, s, one);
+  ASSERT_EQ(a.spectrum.size(), 1u);
+  EXPECT_NEAR(a.spectrum[0], b.spectrum[0], 1e-6);
+}
+
+TEST(TextLyapunov, LinearDragContractsPhaseSpaceAtMinusTwoBOverM) {
+  // Liouville: tr J = −2b/m at every state, so the exponents sum to −2b/m
+  // at every time, with the drag given either way.
+  for (bool as_dissipation : {true, false}) {
+    const text::TextModel model(linear_drag_text(as_dissipation));
+    for (double t_end : {1.0, 7.0}) {
+      const lagrangian::LyapunovResult r =
+          text::lyapunov_spectrum(model, start({0.0, 0.0}, {14.0, 14.0}), lyapunov_over(t_end));
+      ASSERT_EQ(r.spectrum.size(), 4u);
+      EXPECT_NEAR(r.sum, -2 * 0.5 / 2.0, 1e-8) << (as_dissipation ? "D" : "Q") << ", t_end = " << t_end;
+    }
+  }
+}
+
+lagrangian::FloquetOptions floquet_over(double period) {
+  lagrangian::FloquetOptions o;
+  o.period = period;
+  o.run.rtol = 1e-12;
+  o.run.atol = 1e-14;
+  return o;
+}
+
+TEST(TextFloquet, KapitzaPendulumIsUprightStableAboveTheCriterionOnly) {
+  // Upright (θ = π) is stable when a²Ω² > 2 g l = 19.62 m²/s²: Ω = 200 rad/s
+  // gives 100, Ω = 60 rad/s 9.
+  const text::TextModel fast(kapitza_text(200.0)), slow(kapitza_text(60.0));
+  const lagrangian::FloquetResult r =
+      text::floquet_multipliers(fast, start({M_PI}, {0.0}), floquet_over(2 * M_PI / 200));
+  EXPECT_TRUE(r.stable) << "largest |mu| = " << r.largest_modulus;
+  EXPECT_NEAR(r.monodromy.determinant(), 1.0, 1e-9);  // Hamiltonian: det Φ = 1
+  for (const std::complex<double>& mu : r.multipliers) EXPECT_NEAR(std::abs(mu), 1.0, 1e-8);
+  const lagrangian::FloquetResult u =
+      text::floquet_multipliers(slow, start({M_PI}, {0.0}), floquet_over(2 * M_PI / 60));
+  EXPECT_FALSE(u.stable);
+  EXPECT_GT(u.largest_modulus, 1.01);
+  // The same monodromy matrix as the C++ model's.
+  lagrangian::State<1> upright;
+  upright.q[0] = M_PI;
+  const lagrangian::FloquetResult c = lagrangian::floquet_multipliers(lm::DrivenPendulum(1.0, 1.0, 0.05, 60.0, 9.81),
+                                                                      upright, floquet_over(2 * M_PI / 60));
+  EXPECT_LE((u.monodromy - c.monodromy).norm(), 1e-9 * c.monodromy.norm()) << u.monodromy << "\n" << c.monodromy;
+}
+
+TEST(TextSensitivity, OscillatorStateTransitionIsTheRotation) {
+  // y″ = −ω² y: Φ(t) = [[cos ωt, sin ωt / ω], [−ω sin ωt, cos ωt]].
+  text::Definition d;
+  d.coordinates = {"y"};
+  d.kinetic = "0.5*m*y_dot^2";
+  d.potential = "0.5*k*y^2";
+  d.parameters = {{"m", 1.0}, {"k", 4.0}};
+  const text::TextModel model(d);
+  lagrangian::SensitivityOptions o;
+  o.run.t_end = 3.0;
+  o.run.rtol = 1e-12;
+  o.run.atol = 1e-14;
+  const lagrangian::SensitivityResult r = text::sensitivities(model, start({0.3}, {0.1}), o);
+  const double w = 2.0, t = 3.0;
+  Eigen::Matrix2d phi;
+  phi << std::cos(w * t), std::sin(w * t) / w, -w * std::sin(w * t), std::cos(w * t);
+  ASSERT_EQ(r.sensitivities.back().cols(), 2);
+  EXPECT_LE((r.sensitivities.back() - phi).norm(), 1e-9) << r.sensitivities.back();
+  // Its parameters are numbers bound into the expressions: no columns for them.
+  o.parameters = {"k"};
+  EXPECT_THROW((void)text::sensitivities(model, start({0.3}, {0.1}), o), lagrangian::AnalysisError);
+}
+
+template <class F>
+std::string message_of(F&& f) {
+  try {
+    f();
+  } catch (const lagrangian::Error& e) {
+    return e.what();
+  }
+  return "(nothing thrown)";
+}
+
+TEST(TextTangentFlow, RefusesWhatItIsNotDerivedFor) {
+  text::Definition seven;
+  for (int i = 0; i < 7; ++i) seven.coordinates.push_back("x" + std::to_string(i));
+  seven.kinetic = "0.5*(x0_dot^2 + x1_dot^2 + x2_dot^2 + x3_dot^2 + x4_dot^2 + x5_dot^2 + x6_dot^2)";
+  const text::TextModel big(seven);
+  lagrangian::State<lagrangian::Dynamic> s7(7);
+  EXPECT_EQ(message_of([&] { (void)text::lyapunov_spectrum(big, s7, lyapunov_over(1.0)); }),
+            "lyapunov: the tangent flow is derived for models of at most 6 coordinates; this text model has 7");
+
+  text::Definition rod;  // a particle on a circle, held by a holonomic constraint
+  rod.coordinates = {"x", "y"};
+  rod.kinetic = "0.5*(x_dot^2 + y_dot^2)";
+  rod.potential = "9.81*y";
+  rod.holonomic = {"x^2 + y^2 - 1"};
+  const text::TextModel held(rod);
+  const std::string why = message_of([&] {
+    (void)text::floquet_multipliers(held, start({1, 0}, {0, 0}), floquet_over(1.0));
+  });
+  EXPECT_NE(why.find("floquet: the tangent flow is derived for models without constraints or contacts; this model "
+                     "declares 1 constraint rows and 0 contacts"),
+            std::string::npos)
+      << why;
+  EXPECT_THROW((void)text::FixedSizeModel<2>(held), lagrangian::AnalysisError);
+
+  const text::TextModel pendulum(lagrangian::testing::double_pendulum_text(lm::DoublePendulum()));
+  EXPECT_EQ(message_of([&] { (void)text::lyapunov_spectrum(pendulum, start({1}, {0}), lyapunov_over(1.0)); }),
+            "lyapunov: the initial state's q and qd have sizes 1 and 1; the model has 2 coordinates");
+  EXPECT_THROW((void)text::FixedSizeModel<3>(pendulum), lagrangian::AnalysisError);
+}
+
+}  // namespace
