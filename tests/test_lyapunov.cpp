@@ -122,15 +122,18 @@ TEST(TangentFlow, AgreesWithDifferencesOfTheLibraryAccelerations) {
                          0.0);
 }
 
-/// A particle whose T depends on its position (m(x) = m0 (1 + x²)) but that
-/// declares constant_mass_matrix anyway.
+/// A particle whose T depends on its position (m(x) = m0 (1 + x²)) or, with
+/// `in_time`, on time (m(t) = m0 (1 + t²)), but that declares
+/// constant_mass_matrix anyway.
+template <bool in_time>
 struct WronglyDeclaredConstantMass {
   static constexpr int coordinate_count = 1;
   static constexpr bool constant_mass_matrix = true;
   std::string name() const { return "wrongly_declared"; }
   template <class S>
-  S kinetic(const Vec<S, 1>& q, const Vec<S, 1>& qd, const S&) const {
-    return 0.5 * (1.0 + q[0] * q[0]) * qd[0] * qd[0];
+  S kinetic(const Vec<S, 1>& q, const Vec<S, 1>& qd, const S& t) const {
+    const S& x = in_time ? t : q[0];
+    return 0.5 * (1.0 + x * x) * qd[0] * qd[0];
   }
   template <class S>
   S potential(const Vec<S, 1>& q, const S&) const {
@@ -142,11 +145,19 @@ TEST(TangentFlow, RefusesAConstantMassDeclarationThatTDenies) {
   Vec<double, 1> qdd;
   Eigen::Matrix<double, 1, 2> jac;
   try {
-    lagrangian::state_jacobian(WronglyDeclaredConstantMass(), Vec<double, 1>(0.5), Vec<double, 1>(1.0), 0.0, qdd, jac);
+    lagrangian::state_jacobian(WronglyDeclaredConstantMass<false>(), Vec<double, 1>(0.5), Vec<double, 1>(1.0), 0.0,
+                               qdd, jac);
     FAIL() << "a T that changes with q was taken as constant";
   } catch (const lagrangian::DynamicsError& e) {
     EXPECT_NE(std::string(e.what()).find("constant_mass_matrix"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("q[0]"), std::string::npos) << e.what();
+  }
+  try {
+    lagrangian::state_jacobian(WronglyDeclaredConstantMass<true>(), Vec<double, 1>(0.5), Vec<double, 1>(1.0), 0.3,
+                               qdd, jac);
+    FAIL() << "a T that changes with t was taken as constant";
+  } catch (const lagrangian::DynamicsError& e) {
+    EXPECT_NE(std::string(e.what()).find("T's coefficient of qd[0] changes with t"), std::string::npos) << e.what();
   }
 }
 

@@ -224,27 +224,75 @@ TEST(TextFloquet, KapitzaPendulumIsUprightStableAboveTheCriterionOnly) {
   EXPECT_LE((u.monodromy - c.monodromy).norm(), 1e-9 * c.monodromy.norm()) << u.monodromy << "\n" << c.monodromy;
 }
 
-TEST(TextSensitivity, OscillatorStateTransitionIsTheRotation) {
-  // y″ = −ω² y: Φ(t) = [[cos ωt, sin ωt / ω], [−ω sin ωt, cos ωt]].
+TEST(TextSensitivity, OscillatorStateTransitionAndParametersFollowTheClosedForm) {
+  // y″ = −ω² y, ω = √(k/m): Φ(t) = [[cos ωt, sin ωt / ω], [−ω sin ωt, cos ωt]];
+  // y = y0 cos ωt + (v0/ω) sin ωt depends on k and m through ω, with
+  // ∂ω/∂k = 1/(2mω) and ∂ω/∂m = −ω/(2m).
   text::Definition d;
   d.coordinates = {"y"};
   d.kinetic = "0.5*m*y_dot^2";
   d.potential = "0.5*k*y^2";
-  d.parameters = {{"m", 1.0}, {"k", 4.0}};
+  d.parameters = {{"m", 2.0}, {"k", 8.0}};
   const text::TextModel model(d);
   lagrangian::SensitivityOptions o;
   o.run.t_end = 3.0;
   o.run.rtol = 1e-12;
   o.run.atol = 1e-14;
-  const lagrangian::SensitivityResult r = text::sensitivities(model, start({0.3}, {0.1}), o);
-  const double w = 2.0, t = 3.0;
-  Eigen::Matrix2d phi;
-  phi << std::cos(w * t), std::sin(w * t) / w, -w * std::sin(w * t), std::cos(w * t);
-  ASSERT_EQ(r.sensitivities.back().cols(), 2);
-  EXPECT_LE((r.sensitivities.back() - phi).norm(), 1e-9) << r.sensitivities.back();
-  // Its parameters are numbers bound into the expressions: no columns for them.
-  o.parameters = {"k"};
-  EXPECT_THROW((void)text::sensitivities(model, start({0.3}, {0.1}), o), lagrangian::AnalysisError);
+  o.parameters = {"k", "m"};
+  const double y0 = 0.3, v0 = 0.1, m = 2.0, w = 2.0, t = 3.0, c = std::cos(w * t), s = std::sin(w * t);
+  const lagrangian::SensitivityResult r = text::sensitivities(model, start({y0}, {v0}), o);
+  Eigen::Matrix<double, 2, 4> expected;
+  expected.leftCols(2) << c, s / w, -w * s, c;
+  const Eigen::Vector2d d_omega(-y0 * t * s - v0 / (w * w) * s + v0 / w * t * c,   // ∂y/∂ω
+                                -y0 * s - y0 * w * t * c - v0 * t * s);             // ∂ẏ/∂ω
+  expected.col(2) = d_omega / (2 * m * w);
+  expected.col(3) = d_omega * (-w / (2 * m));
+  ASSERT_EQ(r.parameters, (std::vector<std::string>{"k", "m"}));
+  ASSERT_EQ(r.sensitivities.back().cols(), 4);
+  EXPECT_LE((r.sensitivities.back() - expected).norm(), 1e-9) << r.sensitivities.back() << "\n" << expected;
+  o.parameters = {"omega"};
+  EXPECT_THROW((void)text::sensitivities(model, start({y0}, {v0}), o), lagrangian::OptionError);
+}
+
+TEST(TextSensitivity, DoublePendulumParameterColumnsAreTheBuiltInModels) {
+  // The built-in model's columns are checked against differences of
+  // simulate() (test_sensitivity); the text model's must be the same.
+  const lm::DoublePendulum built_in(1.3, 0.8, 1.1, 0.7, 9.81);
+  const text::TextModel model(lagrangian::testing::double_pendulum_text(built_in));
+  lagrangian::SensitivityOptions o;
+  o.run.t_end = 1.0;
+  o.run.rtol = 1e-12;
+  o.run.atol = 1e-14;
+  o.parameters = {"m1", "m2", "l1", "l2", "g"};
+  lagrangian::State<2> s;
+  s.q << 1.2, -0.4;
+  s.qd << 0.3, 0.8;
+  const lagrangian::SensitivityResult cpp = lagrangian::sensitivities(built_in, s, o);
+  const lagrangian::SensitivityResult txt = text::sensitivities(model, start({1.2, -0.4}, {0.3, 0.8}), o);
+  ASSERT_EQ(txt.sensitivities.back().cols(), 9);
+  for (int col = 0; col < 9; ++col) {
+    const Eigen::VectorXd a = txt.sensitivities.back().col(col), b = cpp.sensitivities.back().col(col);
+    EXPECT_LE((a - b).norm(), 1e-9 * b.norm()) << "column " << col << ": " << a.transpose() << " / " << b.transpose();
+  }
+}
+
+TEST(TextSensitivity, DragParameterEntersThroughDissipationAndForcesAlike) {
+  // x(t) = x0 + (m u / b)(1 − e^(−bt/m)) under linear drag: ∂x/∂b from the
+  // closed form's central difference (step 1e-6 b: error ~1e-11).
+  auto x_of = [](double b) { return 14.0 * 2.0 / b * (1 - std::exp(-b * 1.5 / 2.0)); };
+  const double dxdb = (x_of(0.5 + 5e-7) - x_of(0.5 - 5e-7)) / 1e-6;
+  for (bool as_dissipation : {true, false}) {
+    const text::TextModel model(linear_drag_text(as_dissipation));
+    lagrangian::SensitivityOptions o;
+    o.run.t_end = 1.5;
+    o.run.rtol = 1e-12;
+    o.run.atol = 1e-14;
+    o.initial_state = false;
+    o.parameters = {"b"};
+    const lagrangian::SensitivityResult r = text::sensitivities(model, start({0.0, 0.0}, {14.0, 14.0}), o);
+    ASSERT_EQ(r.sensitivities.back().cols(), 1);
+    EXPECT_NEAR(r.sensitivities.back()(0, 0), dxdb, 1e-8 * std::abs(dxdb)) << (as_dissipation ? "D" : "Q");
+  }
 }
 
 template <class F>

@@ -5,6 +5,8 @@
 #include "lagrangian/text/tangent_flow.hpp"
 
 #include <string>
+#include <type_traits>
+#include <vector>
 
 #include "lagrangian/text/fixed_size.hpp"
 
@@ -70,10 +72,50 @@ FloquetResult floquet_multipliers(const TextModel& model, const State<Dynamic>& 
   });
 }
 
+namespace {
+
+using Seed = ad::Jet<double, 1, 1>;
+
+/// The model at size N with, for each of its parameters, a twin whose
+/// parameter carries the derivative 1 (built once per run).
+template <int N>
+struct WithSeeds : FixedSizeModel<N> {
+  std::vector<FixedSizeModel<N, Seed>> seeded;
+  WithSeeds(const FixedSizeModel<N>& fixed, const TextModel& model) : FixedSizeModel<N>(fixed) {
+    const std::size_t count = model.parsed().definition.parameters.size();
+    for (std::size_t i = 0; i < count; ++i) {
+      seeded.emplace_back(model);
+      seeded.back().parameter(static_cast<int>(i)).g[0] = 1.0;
+    }
+  }
+};
+
+/// q̈ and (∂q̈/∂x) v + ∂q̈/∂p_parameter (TangentModel::evaluate_parameter):
+/// the tangent pass on the twin whose parameter is seeded.
+template <int N>
+void parameter_direction(const void* model, const double* q, const double* qd, double t, const double* v,
+                         int parameter, double* qdd, double* jv) {
+  const auto& base = *static_cast<const FixedSizeModel<N>*>(model);
+  const auto& twins = static_cast<const WithSeeds<N>&>(base).seeded;
+  lagrangian::detail::jvp_along(base, q, qd, t, v, qdd, jv, &twins[static_cast<std::size_t>(parameter)]);
+}
+
+}  // namespace
+
 SensitivityResult sensitivities(const TextModel& model, const State<Dynamic>& initial,
                                 const SensitivityOptions& options) {
   return at_fixed_size(model, initial, "sensitivity: ", [&](const auto& fixed, const auto& start) {
-    return lagrangian::sensitivities(fixed, start, options);
+    constexpr int n = std::decay_t<decltype(fixed)>::coordinate_count;
+    const WithSeeds<n> with(fixed, model);
+    const FixedSizeModel<n>& base = with;
+    lagrangian::detail::TangentModel tm = lagrangian::detail::tangent_model_of(base, "sensitivity: ");
+    const std::vector<std::string> names = base.parameter_names();
+    std::vector<int> indices;
+    if (!options.parameters.empty()) {
+      indices = lagrangian::detail::parameter_indices(options.parameters, names);
+      tm.evaluate_parameter = &parameter_direction<n>;
+    }
+    return lagrangian::detail::sensitivities(tm, start.q.data(), start.qd.data(), indices, names, options);
   });
 }
 

@@ -125,8 +125,8 @@ void solve_tangent(const Mat<double, n>& mass, const Eigen::Matrix<double, n, K 
 /// q̇ alone, so M q̈ = r with r = −∂V/∂q + Q − ∂D/∂q̇, and only V, Q and D
 /// are differentiated along the directions (first-order Jets of ad::Jets
 /// along them); M and its derivative along the directions (non-zero only
-/// along a parameter: ∂M/∂m) from T on a second-order Jet over (q, q̇),
-/// whose q-derivatives are checked to vanish as the declaration says.
+/// along a parameter: ∂M/∂m) from T on a second-order Jet over (q, q̇, t),
+/// whose q- and t-derivatives are checked to vanish as the declaration says.
 template <int K, class M, class E, int n>
 void constant_mass_jvp(const M& model, const E& eval, const Vec<double, n>& q, const Vec<double, n>& qd, double t,
                        const Eigen::Matrix<double, 2 * n, K>& v, Vec<double, n>& qdd, Eigen::Matrix<double, n, K>& jv) {
@@ -134,18 +134,20 @@ void constant_mass_jvp(const M& model, const E& eval, const Vec<double, n>& q, c
   Vec<I, n> qi, qdi;
   along_directions(q, qd, v, qi, qdi);
   const I ti(t);
-  using T2 = ad::Jet<I, 2 * n, 2>;  // T to second order in (q, q̇)
+  using T2 = ad::Jet<I, 2 * n + 1, 2>;  // T to second order in (q, q̇, t)
   Vec<T2, n> qt, qdt;
   for (int k = 0; k < n; ++k) {
     qt[k] = T2::variable(qi[k], k);
     qdt[k] = T2::variable(qdi[k], n + k);
   }
-  const T2 kinetic = T2(eval.kinetic(qt, qdt, T2(ti)));
+  const T2 kinetic = T2(eval.kinetic(qt, qdt, T2::variable(ti, 2 * n)));
   Mat<double, n> mass;
   std::array<Mat<double, n>, K> dmass;
   for (int i = 0; i < n; ++i) {
     const auto where = [&] { return "the tangent flow's state " + describe_state(q, qd, t); };
     if (kinetic.g[i] != 0.0) constant_mass_declaration_failure("dT/dq[" + std::to_string(i) + "] is not zero", where());
+    if (kinetic.hess(n + i, 2 * n) != 0.0)
+      constant_mass_declaration_failure("T's coefficient of qd[" + std::to_string(i) + "] changes with t", where());
     for (int j = 0; j < n; ++j) {
       if (kinetic.hess(n + i, j) != 0.0)
         constant_mass_declaration_failure("T's coefficient of qd[" + std::to_string(i) + "] changes with q", where());

@@ -57,18 +57,25 @@ S apply(const Node& n, const S& a, const S& b) {
 /// Leaves are read where they are (q, q̇, t: no copy), numbers (constants and
 /// parameters) enter the operations as doubles (a·c costs what scaling
 /// costs), and integer and half powers are products and square roots.
-template <class S, class QVec, class QdVec>
+/// Parameters given as numbers of type S (P = S: carrying derivatives with
+/// respect to parameters) are read where they are, as the leaves are.
+template <class S, class QVec, class QdVec, class P = double>
 S evaluate(const Expression& e, const QVec& q, const QdVec& qd, const S& t, std::vector<S>& slots,
-           const double* parameters = nullptr) {
+           const P* parameters = nullptr) {
+  static_assert(std::is_same_v<P, double> || std::is_same_v<P, S>, "text::evaluate: parameters of type double or S");
   using std::pow, std::sqrt;
   const std::size_t count = e.nodes.size();
   if (slots.size() < count) slots.resize(count);
   const Node* nodes = e.nodes.data();
   auto is_number = [&](int k) {
-    return nodes[k].op == Op::constant || nodes[k].op == Op::parameter;
+    return nodes[k].op == Op::constant || (std::is_same_v<P, double> && nodes[k].op == Op::parameter);
   };
-  auto number = [&](int k) {
-    return nodes[k].op == Op::constant ? nodes[k].value : parameters[nodes[k].index];
+  auto number = [&](int k) -> double {
+    if constexpr (std::is_same_v<P, double>) {
+      return nodes[k].op == Op::constant ? nodes[k].value : parameters[nodes[k].index];
+    } else {
+      return nodes[k].value;  // (constants only)
+    }
   };
   // Node k as an S: a leaf in place, a number in `scratch`, else its slot.
   // (A vector whose elements come by value, such as an Eigen::Map of
@@ -86,8 +93,10 @@ S evaluate(const Expression& e, const QVec& q, const QdVec& qd, const S& t, std:
       case Op::coordinate: return element(q, nodes[k].index, scratch);
       case Op::velocity: return element(qd, nodes[k].index, scratch);
       case Op::time: return t;
-      case Op::constant:
-      case Op::parameter: scratch = S(number(k)); return scratch;
+      case Op::parameter:
+        if constexpr (!std::is_same_v<P, double>) return parameters[nodes[k].index];
+        [[fallthrough]];
+      case Op::constant: scratch = S(number(k)); return scratch;
       default: return slots[static_cast<std::size_t>(k)];
     }
   };

@@ -10,9 +10,9 @@
 ///
 /// Scope, as for C++ models: at most kMaxTangentFlowCoordinates (6)
 /// coordinates, no constraints or contacts (AnalysisError naming what the
-/// model has). A text model's parameters are numbers bound into its
-/// expressions, so sensitivities to them are not offered (AnalysisError
-/// when asked for).
+/// model has). Sensitivities to the model's parameters (by name, as in its
+/// definition) come from its expressions as written, each parameter
+/// carrying its derivative through them.
 
 #include "lagrangian/analysis/floquet.hpp"
 #include "lagrangian/analysis/lyapunov.hpp"
@@ -30,9 +30,9 @@ LyapunovResult lyapunov_spectrum(const TextModel& model, const State<Dynamic>& i
 /// one period (see lagrangian::floquet_multipliers()).
 FloquetResult floquet_multipliers(const TextModel& model, const State<Dynamic>& initial, const FloquetOptions& options);
 
-/// ∂x(t)/∂x(t0) of the motion of `model` from `initial` (see
-/// lagrangian::sensitivities()); AnalysisError when options.parameters is
-/// not empty.
+/// ∂x(t)/∂x(t0), and ∂x(t)/∂p for the parameters named in
+/// options.parameters (OptionError naming an unknown one), of the motion of
+/// `model` from `initial` (see lagrangian::sensitivities()).
 SensitivityResult sensitivities(const TextModel& model, const State<Dynamic>& initial,
                                 const SensitivityOptions& options);
 
