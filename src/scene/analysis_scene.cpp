@@ -37,9 +37,12 @@ const detail::ModelEntry& model_entry(const Scene& input, const std::string& opt
   return *entry;
 }
 
-/// The model's name in the results: a built-in model's, or "text" for one
-/// stated as text (its summaries say "the model stated as text").
-std::string model_name(const Scene& scene) { return scene.model->name.empty() ? "text" : scene.model->name; }
+/// The model's name in the results: a built-in model's, or its registry
+/// entry's ("text") for one stated as text, which the summaries call "the
+/// model stated as text".
+std::string model_name(const Scene& scene, const detail::ModelEntry& entry) {
+  return scene.model->text ? entry.name : scene.model->name;
+}
 std::string model_phrase(const std::string& name) { return name == "text" ? "the model stated as text" : name; }
 
 /// f() with a scene error that names a key but no line (the registry's:
@@ -209,7 +212,7 @@ LyapunovRun lyapunov(const Scene& scene, const LyapunovRequest& request) {
     throw OptionError("--interval: must be a finite time >= 0 s (0 lets the code choose), got " +
                       g10(request.interval));
   LyapunovRun out;
-  out.model = model_name(scene);
+  out.model = model_name(scene, entry);
   out.run = scene.run;
   LyapunovOptions options;
   options.run = scene.run;
@@ -265,7 +268,7 @@ FloquetRun floquet(const Scene& scene, const FloquetRequest& request) {
   if (!std::isfinite(request.tolerance) || request.tolerance < 0)
     throw OptionError("--tolerance: must be finite and >= 0, got " + g10(request.tolerance));
   FloquetRun out;
-  out.model = model_name(scene);
+  out.model = model_name(scene, entry);
   out.run = scene.run;
   out.tolerance = request.tolerance;
   out.find_orbit = request.find_orbit;

@@ -113,13 +113,13 @@ std::string analyse_model(const M& model, const ModelInfo& info, const State<coo
   }
 }
 
-/// The OptionError of a scene whose model the tangent flow is not derived
-/// for (Lyapunov exponents, Floquet multipliers; `what` names the
-/// analysis): `this_one_has` says why ("7 coordinates", "constraints or
-/// contacts").
-inline OptionError no_tangent_flow(const char* what, const ModelInfo& info, const std::string& this_one_has) {
-  return OptionError(std::string(what) + ": model '" + info.name +
-                     "': the tangent flow is derived for models without constraints or contacts and with at most " +
+/// The OptionError of a scene whose model (`model`: "model 'NAME'" or "the
+/// model stated as text") the tangent flow is not derived for (Lyapunov
+/// exponents, Floquet multipliers; `what` names the analysis):
+/// `this_one_has` says why ("7 coordinates", "constraints or contacts").
+inline OptionError no_tangent_flow(const char* what, const std::string& model, const std::string& this_one_has) {
+  return OptionError(std::string(what) + ": " + model +
+                     ": the tangent flow is derived for models without constraints or contacts and with at most " +
                      std::to_string(kMaxTangentFlowCoordinates) + " coordinates; this one has " + this_one_has);
 }
 
@@ -134,7 +134,7 @@ Result with_tangent_flow(const M& model, const ModelInfo& info, const char* what
   if constexpr (n == Dynamic || n > kMaxTangentFlowCoordinates || constraint_count_v<M> != 0 ||
                 unilateral_count_v<M> != 0) {
     (void)model, (void)run;
-    throw no_tangent_flow(what, info,
+    throw no_tangent_flow(what, "model '" + info.name + "'",
                           n == Dynamic                       ? std::string("a run-time number of coordinates")
                           : n > kMaxTangentFlowCoordinates ? std::to_string(n) + " coordinates"
                                                            : std::string("constraints or contacts"));

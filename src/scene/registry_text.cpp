@@ -130,10 +130,10 @@ template <class Compute>
 auto with_text_tangent_flow(const ModelSpec& spec, double t0, const char* what, Compute&& compute) {
   const State<Dynamic> s0 = initial_of(spec);
   const lagrangian::text::TextModel model(parsed_of(spec));
-  if (has_constraints(model) || unilateral_count(model) > 0)
-    throw no_tangent_flow(what, *model_info(spec), "constraints or contacts");
+  const std::string label = "the model stated as text";
+  if (has_constraints(model) || unilateral_count(model) > 0) throw no_tangent_flow(what, label, "constraints or contacts");
   if (model.size() > kMaxTangentFlowCoordinates)
-    throw no_tangent_flow(what, *model_info(spec), std::to_string(model.size()) + " coordinates");
+    throw no_tangent_flow(what, label, std::to_string(model.size()) + " coordinates");
   check_start(model, s0, t0);
   return compute(model, s0);
 }

@@ -251,7 +251,7 @@ Expression parse(std::string_view source, const Symbols& symbols, const std::str
   return Parser(source, symbols, field).run();
 }
 
-Expression bind_parameters(const Expression& e, const std::vector<double>& parameter_values) {
+Expression bind_parameters(const Expression& e, const std::vector<double>& parameter_values, int keep) {
   Expression out;
   Builder b(out);
   std::vector<int> at(e.nodes.size());
@@ -259,8 +259,9 @@ Expression bind_parameters(const Expression& e, const std::vector<double>& param
     const Node& n = e.nodes[i];
     const int a = n.a >= 0 ? at[static_cast<std::size_t>(n.a)] : -1;
     const int c = n.b >= 0 ? at[static_cast<std::size_t>(n.b)] : -1;
-    at[i] = n.op == Op::parameter ? b.constant(parameter_values.at(static_cast<std::size_t>(n.index)))
-                                  : b.copy(n, a, c);
+    at[i] = n.op == Op::parameter && n.index != keep
+                ? b.constant(parameter_values.at(static_cast<std::size_t>(n.index)))
+                : b.copy(n, a, c);
   }
   return at.empty() ? out : reachable(out, at.back());
 }

@@ -4,6 +4,7 @@
 
 #include "lagrangian/text/tangent_flow.hpp"
 
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -76,16 +77,17 @@ namespace {
 
 using Seed = ad::Jet<double, 1, 1>;
 
-/// The model at size N with, for each of its parameters, a twin whose
-/// parameter carries the derivative 1 (built once per run).
+/// The model at size N with, for each parameter asked for, the twin whose
+/// parameter carries the derivative 1 (built once per call).
 template <int N>
 struct WithSeeds : FixedSizeModel<N> {
-  std::vector<FixedSizeModel<N, Seed>> seeded;
-  WithSeeds(const FixedSizeModel<N>& fixed, const TextModel& model) : FixedSizeModel<N>(fixed) {
-    const std::size_t count = model.parsed().definition.parameters.size();
-    for (std::size_t i = 0; i < count; ++i) {
-      seeded.emplace_back(model);
-      seeded.back().parameter(static_cast<int>(i)).g[0] = 1.0;
+  std::vector<std::optional<FixedSizeModel<N, Seed>>> seeded;  // by the parameter's index
+  WithSeeds(const FixedSizeModel<N>& fixed, const TextModel& model, const std::vector<int>& parameters)
+      : FixedSizeModel<N>(fixed), seeded(model.parsed().definition.parameters.size()) {
+    for (int i : parameters) {
+      Seed value(model.parsed().definition.parameters[static_cast<std::size_t>(i)].second);
+      value.g[0] = 1.0;
+      seeded[static_cast<std::size_t>(i)].emplace(model, i, value);
     }
   }
 };
@@ -97,7 +99,7 @@ void parameter_direction(const void* model, const double* q, const double* qd, d
                          int parameter, double* qdd, double* jv) {
   const auto& base = *static_cast<const FixedSizeModel<N>*>(model);
   const auto& twins = static_cast<const WithSeeds<N>&>(base).seeded;
-  lagrangian::detail::jvp_along(base, q, qd, t, v, qdd, jv, &twins[static_cast<std::size_t>(parameter)]);
+  lagrangian::detail::jvp_along(base, q, qd, t, v, qdd, jv, &*twins[static_cast<std::size_t>(parameter)]);
 }
 
 }  // namespace
@@ -106,15 +108,13 @@ SensitivityResult sensitivities(const TextModel& model, const State<Dynamic>& in
                                 const SensitivityOptions& options) {
   return at_fixed_size(model, initial, "sensitivity: ", [&](const auto& fixed, const auto& start) {
     constexpr int n = std::decay_t<decltype(fixed)>::coordinate_count;
-    const WithSeeds<n> with(fixed, model);
+    const std::vector<std::string> names = fixed.parameter_names();
+    std::vector<int> indices;
+    if (!options.parameters.empty()) indices = lagrangian::detail::parameter_indices(options.parameters, names);
+    const WithSeeds<n> with(fixed, model, indices);
     const FixedSizeModel<n>& base = with;
     lagrangian::detail::TangentModel tm = lagrangian::detail::tangent_model_of(base, "sensitivity: ");
-    const std::vector<std::string> names = base.parameter_names();
-    std::vector<int> indices;
-    if (!options.parameters.empty()) {
-      indices = lagrangian::detail::parameter_indices(options.parameters, names);
-      tm.evaluate_parameter = &parameter_direction<n>;
-    }
+    if (!indices.empty()) tm.evaluate_parameter = &parameter_direction<n>;
     return lagrangian::detail::sensitivities(tm, start.q.data(), start.qd.data(), indices, names, options);
   });
 }

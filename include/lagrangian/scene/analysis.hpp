@@ -63,7 +63,8 @@ struct BvpRun {
 /// singular or Newton's method does not converge.
 BvpRun solve_bvp(const Scene& scene, const BvpRequest& request);
 
-/// Lyapunov exponents of a scene's built-in model (analysis/lyapunov.hpp),
+/// Lyapunov exponents of a scene's model, built in or stated as text
+/// (analysis/lyapunov.hpp, text/tangent_flow.hpp),
 /// as `lagrangian lyapunov` runs them: from the scene's initial state, over
 /// its run (t0, t_end, method, rtol, atol).
 struct LyapunovRequest {
@@ -74,7 +75,7 @@ struct LyapunovRequest {
 /// What lyapunov() found.
 struct LyapunovRun {
   LyapunovResult result;
-  std::string model;       ///< the model's registry name
+  std::string model;       ///< the model's registry name ("text" for a model stated as text)
   SimulationOptions run;   ///< the run the exponents come from
   /// A few lines for a terminal: the exponents (1/s), their sum, MEGNO, the
   /// intervals and the cost.
@@ -88,12 +89,12 @@ struct LyapunovRun {
 
 /// The Lyapunov exponents and MEGNO of the scene's model. Throws OptionError
 /// for a particle scene, a bad request (naming it) or a model the tangent
-/// flow is not derived for (constraints, contacts, more than 6 or a
-/// run-time number of coordinates, models stated as text), and
-/// SimulationError when the run fails.
+/// flow is not derived for (constraints, contacts, more than 6 coordinates,
+/// a C++ model with a run-time number of them), and SimulationError when
+/// the run fails.
 LyapunovRun lyapunov(const Scene& scene, const LyapunovRequest& request);
 
-/// Floquet multipliers of a scene's built-in model over one period
+/// Floquet multipliers of a scene's model (built in or stated as text) over one period
 /// (analysis/floquet.hpp), as `lagrangian floquet` runs them: from the
 /// scene's initial state at its t0, with its method and tolerances.
 struct FloquetRequest {
@@ -108,7 +109,7 @@ struct FloquetRequest {
 /// What floquet() found.
 struct FloquetRun {
   FloquetResult result;
-  std::string model;      ///< the model's registry name
+  std::string model;      ///< the model's registry name ("text" for a model stated as text)
   SimulationOptions run;  ///< method, tolerances, t0
   double period = 0;      ///< s
   double tolerance = 0;

@@ -109,8 +109,9 @@ struct Expression {
 Expression parse(std::string_view source, const Symbols& symbols, const std::string& field);
 
 /// The expression with each parameter replaced by its value and every
-/// subexpression of constants folded into one constant (what is evaluated).
-Expression bind_parameters(const Expression& e, const std::vector<double>& parameter_values);
+/// subexpression of constants folded into one constant (what is evaluated);
+/// parameter number `keep`, when given, stays a parameter (its sensitivity).
+Expression bind_parameters(const Expression& e, const std::vector<double>& parameter_values, int keep = -1);
 
 /// ∂e/∂v, v the coordinate (`variable` = Op::coordinate) or velocity
 /// (Op::velocity) of index `index`, as an expression over the same names,

@@ -17,10 +17,12 @@
 /// Constraints and contacts are not carried over: a FixedSizeModel is built
 /// only from a text model that declares none (AnalysisError otherwise).
 
+#include <memory>
 #include <string>
 #include <type_traits>
 #include <vector>
 
+#include "lagrangian/analysis/tangent_flow.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/text/evaluate.hpp"
@@ -28,11 +30,12 @@
 
 namespace lagrangian::text {
 
-/// The text model `model` (which must outlive this view) as a model of N
-/// coordinates: T (J), V (J), Q (N or N·m per coordinate) and D (W) are the
-/// model's expressions. With P = ad::Jet<double, K, 1> (with_parameter_type,
-/// the seeded twin of analysis/sensitivity.hpp) the parameters are numbers
-/// of type P carrying derivatives along K directions, set by seed().
+/// The text model `model` as a model of N coordinates: T (J), V (J), Q (N
+/// or N·m per coordinate) and D (W) are the model's expressions, bound to
+/// its parameters' values. With P = ad::Jet<double, K, 1>
+/// (with_parameter_type: the seeded twin of analysis/sensitivity.hpp), one
+/// parameter is a number of type P, carrying derivatives along K
+/// directions, and the expressions are bound to the others only.
 template <int N, class P = double>
 class FixedSizeModel {
  public:
@@ -43,17 +46,20 @@ class FixedSizeModel {
 
   /// AnalysisError unless `model` has N coordinates and neither constraints
   /// nor contacts.
-  explicit FixedSizeModel(const TextModel& model) : p_(&model.parsed()) {
-    if (model.size() != N)
-      throw AnalysisError("text::FixedSizeModel<" + std::to_string(N) + ">: the text model has " +
-                          std::to_string(model.size()) + " coordinates");
-    const int rows = model.holonomic_count() + model.pfaffian_count();
-    if (rows > 0 || model.unilateral_count() > 0)
-      throw AnalysisError("text::FixedSizeModel: the text model declares " + std::to_string(rows) +
-                          " constraint rows and " + std::to_string(model.unilateral_count()) +
-                          " contacts; only an unconstrained model is seen at a fixed size");
-    if constexpr (!std::is_same_v<P, double>)
-      for (const auto& [name, value] : p_->definition.parameters) parameters_.push_back(P(value));
+  explicit FixedSizeModel(const TextModel& model)
+    requires std::is_same_v<P, double>
+      : p_(checked(model)) {}
+  /// The twin whose parameter number `parameter` (in the definition's
+  /// order) is `value`, a number of type P.
+  FixedSizeModel(const TextModel& model, int parameter, const P& value)
+    requires(!std::is_same_v<P, double>)
+      : p_(checked(model)), parameter_(parameter), value_(value) {
+    std::vector<double> values;
+    for (const auto& [name, v] : p_->definition.parameters) values.push_back(v);
+    kinetic_ = bind_parameters(p_->kinetic, values, parameter);
+    potential_ = bind_parameters(p_->potential, values, parameter);
+    dissipation_ = bind_parameters(p_->dissipation, values, parameter);
+    for (const Expression& f : p_->forces) forces_.push_back(bind_parameters(f, values, parameter));
   }
 
   std::string name() const { return p_->definition.name; }
@@ -64,23 +70,16 @@ class FixedSizeModel {
     for (const auto& [name, value] : p_->definition.parameters) out.push_back(name);
     return out;
   }
-  /// Parameter number `i` as a number of type P, its derivatives along the
-  /// directions set (seeded twin only).
-  P& parameter(int i)
-    requires(!std::is_same_v<P, double>)
-  {
-    return parameters_[static_cast<std::size_t>(i)];
-  }
 
   /// T (J).
   template <class S>
   S kinetic(const Vec<S, N>& q, const Vec<S, N>& qd, const S& t) const {
-    return value(p_->kinetic, p_->kinetic_bound, q, qd, t);
+    return value(kinetic_, p_->kinetic_bound, q, qd, t);
   }
   /// V (J).
   template <class S>
   S potential(const Vec<S, N>& q, const S& t) const {
-    return value(p_->potential, p_->potential_bound, q, q, t);
+    return value(potential_, p_->potential_bound, q, q, t);
   }
   /// Whether the definition gives Q and D (as TextModel).
   bool uses_generalized_forces() const { return p_->has_forces; }
@@ -91,40 +90,54 @@ class FixedSizeModel {
     Vec<S, N> out;
     for (int i = 0; i < N; ++i) {
       const std::size_t k = static_cast<std::size_t>(i);
-      out[i] = p_->has_forces ? value(p_->forces[k], p_->forces_bound[k], q, qd, t) : S(0.0);
+      out[i] = p_->has_forces ? value(seeded ? forces_[k] : p_->forces_bound[k], p_->forces_bound[k], q, qd, t)
+                              : S(0.0);
     }
     return out;
   }
   /// Rayleigh D (W); zero when the definition gives none.
   template <class S>
   S dissipation(const Vec<S, N>& q, const Vec<S, N>& qd) const {
-    return value(p_->dissipation, p_->dissipation_bound, q, qd, S(0.0));
+    return value(dissipation_, p_->dissipation_bound, q, qd, S(0.0));
   }
 
  private:
-  /// The expression on S: bound to the parameters' values (P = double), or
-  /// as written with the parameters as numbers of type S (their values and
-  /// derivatives along the directions lifted into S).
+  static constexpr bool seeded = !std::is_same_v<P, double>;
+
+  static std::shared_ptr<const Parsed> checked(const TextModel& model) {
+    if (model.size() != N)
+      throw AnalysisError("text::FixedSizeModel<" + std::to_string(N) + ">: the text model has " +
+                          std::to_string(model.size()) + " coordinates");
+    lagrangian::detail::require_no_constraints(model, "text::FixedSizeModel: ");
+    return model.shared_parsed();
+  }
+
+  /// `own` (the twin's expression, its parameter kept) with that parameter
+  /// as a number of type S (value_ lifted into S), or `bound` (P = double).
   template <class S, class QVec>
-  S value(const Expression& written, const Expression& bound, const QVec& q, const QVec& qd, const S& t) const {
-    if constexpr (std::is_same_v<P, double>) {
-      (void)written;
+  S value(const Expression& own, const Expression& bound, const QVec& q, const QVec& qd, const S& t) const {
+    if constexpr (!seeded) {
+      (void)own;
       return evaluate(bound, q, qd, t, detail::slots<S>());
     } else {
       (void)bound;
-      thread_local std::vector<S> lifted;
-      lifted.resize(parameters_.size());
+      thread_local std::vector<S> lifted;  // only the kept parameter's entry is read
+      const std::size_t at = static_cast<std::size_t>(parameter_);
+      if (lifted.size() <= at) lifted.resize(at + 1);
       using B = typename S::value_type;
-      for (std::size_t i = 0; i < parameters_.size(); ++i) {
-        lifted[i] = S(B(parameters_[i].v));
-        for (int c = 0; c < P::directions; ++c) lifted[i].g[static_cast<std::size_t>(c)] = B(parameters_[i].g[c]);
-      }
-      return evaluate(written, q, qd, t, detail::slots<S>(), lifted.data());
+      lifted[at] = S(B(value_.v));
+      for (int c = 0; c < P::directions; ++c) lifted[at].g[static_cast<std::size_t>(c)] = B(value_.g[c]);
+      return evaluate(own, q, qd, t, detail::slots<S>(), lifted.data());
     }
   }
 
-  const Parsed* p_;
-  std::vector<P> parameters_;  // (seeded twin only)
+  std::shared_ptr<const Parsed> p_;
+  // The twin's parameter, its value and the expressions bound to the others
+  // (empty for P = double).
+  int parameter_ = -1;
+  P value_{};
+  Expression kinetic_, potential_, dissipation_;
+  std::vector<Expression> forces_;
 };
 
 }  // namespace lagrangian::text

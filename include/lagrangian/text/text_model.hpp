@@ -106,6 +106,8 @@ class TextModel {
   }
   /// The definition as read.
   const Parsed& parsed() const { return *p_; }
+  /// The same, shared (a view that must not outlive it holds this).
+  const std::shared_ptr<const Parsed>& shared_parsed() const { return p_; }
 
   /// T (J).
   template <class S>
