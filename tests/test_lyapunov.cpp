@@ -145,7 +145,9 @@ TEST(TangentFlow, RefusesAConstantMassDeclarationThatTDenies) {
   Vec<double, 1> qdd;
   Eigen::Matrix<double, 1, 2> jac;
   try {
-    lagrangian::state_jacobian(WronglyDeclaredConstantMass<false>(), Vec<double, 1>(0.5), Vec<double, 1>(1.0), 0.0,
+    // At rest: T's derivatives in q vanish at q̇ = 0, so the check must look
+    // at another velocity.
+    lagrangian::state_jacobian(WronglyDeclaredConstantMass<false>(), Vec<double, 1>(0.5), Vec<double, 1>(0.0), 0.0,
                                qdd, jac);
     FAIL() << "a T that changes with q was taken as constant";
   } catch (const lagrangian::DynamicsError& e) {
@@ -153,7 +155,7 @@ TEST(TangentFlow, RefusesAConstantMassDeclarationThatTDenies) {
     EXPECT_NE(std::string(e.what()).find("q[0]"), std::string::npos) << e.what();
   }
   try {
-    lagrangian::state_jacobian(WronglyDeclaredConstantMass<true>(), Vec<double, 1>(0.5), Vec<double, 1>(1.0), 0.3,
+    lagrangian::state_jacobian(WronglyDeclaredConstantMass<true>(), Vec<double, 1>(0.5), Vec<double, 1>(0.0), 0.3,
                                qdd, jac);
     FAIL() << "a T that changes with t was taken as constant";
   } catch (const lagrangian::DynamicsError& e) {

@@ -125,8 +125,9 @@ void solve_tangent(const Mat<double, n>& mass, const Eigen::Matrix<double, n, K 
 /// q̇ alone, so M q̈ = r with r = −∂V/∂q + Q − ∂D/∂q̇, and only V, Q and D
 /// are differentiated along the directions (first-order Jets of ad::Jets
 /// along them); M and its derivative along the directions (non-zero only
-/// along a parameter: ∂M/∂m) from T on a second-order Jet over (q, q̇, t),
-/// whose q- and t-derivatives are checked to vanish as the declaration says.
+/// along a parameter: ∂M/∂m) from T on a second-order Jet over (q, q̇, t)
+/// at the run's test velocities, whose q- and t-derivatives are checked to
+/// vanish as the declaration says.
 template <int K, class M, class E, int n>
 void constant_mass_jvp(const M& model, const E& eval, const Vec<double, n>& q, const Vec<double, n>& qd, double t,
                        const Eigen::Matrix<double, 2 * n, K>& v, Vec<double, n>& qdd, Eigen::Matrix<double, n, K>& jv) {
@@ -134,11 +135,16 @@ void constant_mass_jvp(const M& model, const E& eval, const Vec<double, n>& q, c
   Vec<I, n> qi, qdi;
   along_directions(q, qd, v, qi, qdi);
   const I ti(t);
-  using T2 = ad::Jet<I, 2 * n + 1, 2>;  // T to second order in (q, q̇, t)
+  // T to second order in (q, q̇, t), at the test velocities of the run's
+  // check (M does not depend on q̇ under the declaration, and there a T that
+  // changes with q or t shows even when the state is at rest).
+  using T2 = ad::Jet<I, 2 * n + 1, 2>;
   Vec<T2, n> qt, qdt;
   for (int k = 0; k < n; ++k) {
+    I test = qdi[k];
+    test.v = constant_mass_test_velocity(k);
     qt[k] = T2::variable(qi[k], k);
-    qdt[k] = T2::variable(qdi[k], n + k);
+    qdt[k] = T2::variable(test, n + k);
   }
   const T2 kinetic = T2(eval.kinetic(qt, qdt, T2::variable(ti, 2 * n)));
   Mat<double, n> mass;

@@ -22,6 +22,11 @@ namespace lagrangian::detail {
       why + " at " + where + "; remove the declaration (the general equations of motion then apply)");
 }
 
+/// The velocity q̇_k at which a constant_mass_matrix declaration is checked
+/// (m/s or rad/s): nonzero, so that T's coefficients changing with q or t
+/// show in ∂²T/∂q̇∂q and ∂²T/∂q̇∂t even at a state at rest.
+constexpr double constant_mass_test_velocity(int k) { return 1.0 + 0.5 * k; }
+
 template <class M>
 class ConstantMassAccelerations {
  public:
@@ -42,7 +47,7 @@ class ConstantMassAccelerations {
     Vec<double, n> q2, v1, v2;
     for (int k = 0; k < n; ++k) {
       q2[k] = q[k] + 0.25 + 0.125 * k;
-      v1[k] = 1.0 + 0.5 * k;
+      v1[k] = constant_mass_test_velocity(k);
       v2[k] = -2.0 + 0.75 * k;
     }
     const Mat<double, n> mass = kinetic_mass(model, q, v1, t);
