@@ -12,6 +12,7 @@
 
 #include "lagrangian/errors.hpp"
 #include "lagrangian/scene/io.hpp"
+#include "scene_messages.hpp"
 #include "toml_document.hpp"
 
 namespace lagrangian::scene::detail {
@@ -60,6 +61,20 @@ std::string type_of(const toml::node& n) {
   return os.str();
 }
 
+/// A built-in model takes a parameter the scene does not write (its
+/// default then); a model stated as text has only the parameters its
+/// [model.parameters] declares, so a new one is a misspelt name: `fail`.
+template <class Fail>
+void refuse_new_text_parameter(const toml::table& root, const toml::table& parameters, const std::string& name,
+                               Fail&& fail) {
+  const toml::table* model = root["model"].as_table();
+  if (!model || !model->contains("kinetic")) return;
+  std::vector<std::string> names;
+  for (const auto& [key, value] : parameters) names.emplace_back(key.str());
+  fail("the model stated as text has no parameter '" + name + "'" + unknown_hint(name, names) +
+       "; its parameters are those its [model.parameters] declares");
+}
+
 }  // namespace
 
 void assign(toml::table& root, const std::string& option, const std::string& key, const std::vector<PathPart>& path,
@@ -85,6 +100,7 @@ void assign(toml::table& root, const std::string& option, const std::string& key
       if (!t) fail("the scene has " + where.substr(0, where.rfind('.')) + " as " + type_of(*cur) + ", not a table");
       toml::node* child = t->get(*name);
       if (last) {
+        if (!child && where == "model.parameters." + *name) refuse_new_text_parameter(root, *t, *name, fail);
         numeric(child, [&](auto&& v) { t->insert_or_assign(*name, std::move(v)); });
         return;
       }

@@ -423,6 +423,9 @@ analysis_json floquet kapitza_fast "d['stable'] and len(d['multipliers']) == 2 a
 analysis_json floquet kapitza_slow "not d['stable'] and d['largest_modulus'] > 1.2" -- "$kap" --set 'model.q[0]=3.141592653589793' --set model.parameters.Omega=60 --period 0.10471975511965977
 # Kapitza's pendulum stated as text (T and V depend on t): the same verdicts.
 tkap="$src/examples/scenes/text/driven_pendulum.toml"
+# A text model has the parameters its file declares: a new name is a typo, not a setting.
+expect 2 "--set model.parameters.Omga: the model stated as text has no parameter 'Omga'.*Omega" -- "$bin" floquet "$tkap" --set model.parameters.Omga=60 --period 0.1
+expect 2 "--vary model.parameters.Omga: the model stated as text has no parameter 'Omga'" -- "$bin" sweep "$tkap" --vary model.parameters.Omga=50:60:2 --out "$work/omga"
 analysis_json floquet text_kapitza_fast "d['stable'] and len(d['multipliers']) == 2 and all(abs(abs(complex(*m)) - 1) < 1e-6 for m in d['multipliers']) and d['closure'] < 1e-12" -- "$tkap" --set 'model.q[0]=3.141592653589793' --period 0.031415926535897934
 analysis_json floquet text_kapitza_slow "not d['stable'] and d['largest_modulus'] > 1.2" -- "$tkap" --set 'model.q[0]=3.141592653589793' --set model.parameters.Omega=60 --period 0.10471975511965977
 expect 0 "^stable: largest \\|mu\\| = 1 <= 1 \\+ 1e-06" -- "$bin" floquet "$kap" --set 'model.q[0]=3.141592653589793' --period 0.031415926535897934 --rtol 1e-11

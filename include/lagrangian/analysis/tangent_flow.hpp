@@ -125,9 +125,9 @@ void solve_tangent(const Mat<double, n>& mass, const Eigen::Matrix<double, n, K 
 /// q̇ alone, so M q̈ = r with r = −∂V/∂q + Q − ∂D/∂q̇, and only V, Q and D
 /// are differentiated along the directions (first-order Jets of ad::Jets
 /// along them); M and its derivative along the directions (non-zero only
-/// along a parameter: ∂M/∂m) from T on a second-order Jet over (q, q̇, t)
-/// at the run's test velocities, whose q- and t-derivatives are checked to
-/// vanish as the declaration says.
+/// along a parameter: ∂M/∂m) from T on a second-order Jet over q̇; the
+/// declaration checked on T over (q, q̇, t) at the run's test velocities
+/// (its q- and t-derivatives vanish).
 template <int K, class M, class E, int n>
 void constant_mass_jvp(const M& model, const E& eval, const Vec<double, n>& q, const Vec<double, n>& qd, double t,
                        const Eigen::Matrix<double, 2 * n, K>& v, Vec<double, n>& qdd, Eigen::Matrix<double, n, K>& jv) {
@@ -135,33 +135,44 @@ void constant_mass_jvp(const M& model, const E& eval, const Vec<double, n>& q, c
   Vec<I, n> qi, qdi;
   along_directions(q, qd, v, qi, qdi);
   const I ti(t);
-  // T to second order in (q, q̇, t), at the test velocities of the run's
-  // check (M does not depend on q̇ under the declaration, and there a T that
-  // changes with q or t shows even when the state is at rest).
-  using T2 = ad::Jet<I, 2 * n + 1, 2>;
+  // The declaration, on T to second order in (q, q̇, t) at the test
+  // velocities of the run's check (there a T that changes with q or t shows
+  // even when the state is at rest).
+  {
+    using C = ad::Jet<double, 2 * n + 1, 2>;
+    Vec<C, n> qc, qdc;
+    for (int k = 0; k < n; ++k) {
+      qc[k] = C::variable(q[k], k);
+      qdc[k] = C::variable(constant_mass_test_velocity(k), n + k);
+    }
+    const C kinetic = C(model.kinetic(qc, qdc, C::variable(t, 2 * n)));
+    const auto where = [&] { return "the tangent flow's state " + describe_state(q, qd, t); };
+    for (int i = 0; i < n; ++i) {
+      if (kinetic.g[i] != 0.0) constant_mass_declaration_failure("dT/dq[" + std::to_string(i) + "] is not zero", where());
+      if (kinetic.hess(n + i, 2 * n) != 0.0)
+        constant_mass_declaration_failure("T's coefficient of qd[" + std::to_string(i) + "] changes with t", where());
+      for (int j = 0; j < n; ++j)
+        if (kinetic.hess(n + i, j) != 0.0)
+          constant_mass_declaration_failure("T's coefficient of qd[" + std::to_string(i) + "] changes with q", where());
+    }
+  }
+  // M and its derivatives along the directions (∂M/∂m along a parameter)
+  // from T to second order in q̇ alone.
+  using T2 = ad::Jet<I, n, 2>;
   Vec<T2, n> qt, qdt;
   for (int k = 0; k < n; ++k) {
-    I test = qdi[k];
-    test.v = constant_mass_test_velocity(k);
-    qt[k] = T2::variable(qi[k], k);
-    qdt[k] = T2::variable(test, n + k);
+    qt[k] = T2(qi[k]);
+    qdt[k] = T2::variable(qdi[k], k);
   }
-  const T2 kinetic = T2(eval.kinetic(qt, qdt, T2::variable(ti, 2 * n)));
+  const T2 kinetic = T2(eval.kinetic(qt, qdt, T2(ti)));
   Mat<double, n> mass;
   std::array<Mat<double, n>, K> dmass;
-  for (int i = 0; i < n; ++i) {
-    const auto where = [&] { return "the tangent flow's state " + describe_state(q, qd, t); };
-    if (kinetic.g[i] != 0.0) constant_mass_declaration_failure("dT/dq[" + std::to_string(i) + "] is not zero", where());
-    if (kinetic.hess(n + i, 2 * n) != 0.0)
-      constant_mass_declaration_failure("T's coefficient of qd[" + std::to_string(i) + "] changes with t", where());
+  for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
-      if (kinetic.hess(n + i, j) != 0.0)
-        constant_mass_declaration_failure("T's coefficient of qd[" + std::to_string(i) + "] changes with q", where());
-      const I& mij = kinetic.hess(n + i, n + j);
+      const I& mij = kinetic.hess(i, j);
       mass(i, j) = mij.v;
       for (int c = 0; c < K; ++c) dmass[c](i, j) = mij.g[c];
     }
-  }
   using G = ad::Jet<I, n, 1>;  // first order in q (for V) or q̇ (for D)
   Vec<G, n> qg;
   for (int k = 0; k < n; ++k) qg[k] = G::variable(qi[k], k);
