@@ -5,7 +5,11 @@
 //     differences of plain runs (2 runs per column) at the same tolerance,
 //     each side's error measured against the sensitivities at rtol 1e-13;
 //  2. fit_drag() on the record of tests/test_identification.cpp by each
-//     FitMethod: runs and wall time per fit.
+//     FitMethod: runs and wall time per fit;
+//  3. across impacts: a ball (e = 0.75) on a tilted plane, two bounces in
+//     1.4 s, dopri5 at rtol 1e-10: a plain run, Φ (6 columns, each impact
+//     crossed by its saltation matrix) and central differences of plain
+//     runs (12), errors against Φ at rtol 1e-13.
 // Usage: bench_sensitivity [REPEATS] (default 3)
 #include <chrono>
 #include <cstdio>
@@ -16,6 +20,7 @@
 #include "lagrangian/integrate/observers.hpp"
 #include "lagrangian/integrate/simulate.hpp"
 #include "lagrangian/models/identification.hpp"
+#include "lagrangian/models/impacts.hpp"
 #include "lagrangian/models/pendulums.hpp"
 
 #include "drag_record.hpp"
@@ -30,18 +35,38 @@ double since(Clock::time_point start) { return std::chrono::duration<double>(Clo
 
 using lagrangian::testing::final_state;
 
+/// Φ = ∂x(T)/∂x(0) (2n × 2n) by central differences of plain runs, each
+/// component of the start moved by ±h.
+template <class M>
+Eigen::MatrixXd state_by_differences(const M& m, const lagrangian::State<lagrangian::coordinate_count_v<M>>& s,
+                                     const lagrangian::SimulationOptions& o, double h) {
+  constexpr int n = lagrangian::coordinate_count_v<M>;
+  Eigen::MatrixXd out(2 * n, 2 * n);
+  for (int j = 0; j < 2 * n; ++j) {
+    auto up = s, down = s;
+    (j < n ? up.q[j] : up.qd[j - n]) += h;
+    (j < n ? down.q[j] : down.qd[j - n]) -= h;
+    out.col(j) = (final_state(m, up, o) - final_state(m, down, o)) / (2 * h);
+  }
+  return out;
+}
+
+/// The sensitivities of `o` at t_end computed at rtol 1e-13, atol 1e-15: the
+/// reference both sides' errors are measured against.
+template <class M>
+Eigen::MatrixXd reference_of(const M& m, const lagrangian::State<lagrangian::coordinate_count_v<M>>& s,
+                             lagrangian::SensitivityOptions o) {
+  o.run.rtol = 1e-13;
+  o.run.atol = 1e-15;
+  return lagrangian::sensitivities(m, s, o).sensitivities.back();
+}
+
 /// The 4 × 9 matrix [Φ | ∂x/∂p] by central differences of plain runs.
 Eigen::MatrixXd by_differences(const double (&p)[5], const lagrangian::State<2>& s,
                                const lagrangian::SimulationOptions& o) {
   Eigen::MatrixXd out(4, 9);
   const double h = 1e-5;
-  const lm::DoublePendulum m(p[0], p[1], p[2], p[3], p[4]);
-  for (int j = 0; j < 4; ++j) {
-    lagrangian::State<2> up = s, down = s;
-    (j < 2 ? up.q[j] : up.qd[j - 2]) += h;
-    (j < 2 ? down.q[j] : down.qd[j - 2]) -= h;
-    out.col(j) = (final_state(m, up, o) - final_state(m, down, o)) / (2 * h);
-  }
+  out.leftCols(4) = state_by_differences(lm::DoublePendulum(p[0], p[1], p[2], p[3], p[4]), s, o, h);
   for (int j = 0; j < 5; ++j) {
     double up[5], down[5];
     for (int i = 0; i < 5; ++i) up[i] = down[i] = p[i];
@@ -69,10 +94,7 @@ int main(int argc, char** argv) {
   o.run.atol = 1e-12;
   o.run.output_interval = -1;
   o.parameters = {"m1", "m2", "l1", "l2", "g"};
-  lagrangian::SensitivityOptions tight = o;
-  tight.run.rtol = 1e-13;
-  tight.run.atol = 1e-15;
-  const Eigen::MatrixXd reference = lagrangian::sensitivities(dp, s, tight).sensitivities.back();
+  const Eigen::MatrixXd reference = reference_of(dp, s, o);
   const double scale = reference.cwiseAbs().maxCoeff();
   std::printf("double pendulum, 5 s, dopri5 at rtol 1e-10; errors against rtol 1e-13, relative to the largest "
               "entry (%.1f)\n",
@@ -119,5 +141,41 @@ int main(int argc, char** argv) {
                   1e6 * per_fit / f.evaluations);
     }
     std::printf("\n");
+  }
+
+  // Across impacts.
+  const lm::BallAndPlane ball(1.0, 0.1, 0.75, 9.81, {0.4, 0.0, 1.0}, 0.0);
+  lagrangian::State<3> b;
+  b.q << 0.3, 0.1, 1.2;
+  b.qd << -0.5, 0.2, 0.4;
+  lagrangian::SensitivityOptions bo;
+  bo.run.t_end = 1.4;
+  bo.run.rtol = 1e-10;
+  bo.run.atol = 1e-12;
+  const Eigen::MatrixXd bref = reference_of(ball, b, bo);
+  const double bscale = bref.cwiseAbs().maxCoeff();
+  std::printf("ball on a tilted plane, two bounces in 1.4 s, dopri5 at rtol 1e-10; errors against rtol 1e-13, "
+              "relative to the largest entry (%.1f)\n",
+              bscale);
+  for (int r = 0; r < repeats; ++r) {
+    const int runs = 200;
+    auto start = Clock::now();
+    lagrangian::RunReport plain;
+    for (int i = 0; i < runs; ++i) plain = lagrangian::simulate(ball, b, bo.run);
+    const double t_plain = since(start) / runs;
+    start = Clock::now();
+    lagrangian::SensitivityResult phi;
+    for (int i = 0; i < runs; ++i) phi = lagrangian::sensitivities(ball, b, bo);
+    const double t_phi = since(start) / runs;
+    start = Clock::now();
+    Eigen::MatrixXd fd;
+    for (int i = 0; i < runs / 10; ++i) fd = state_by_differences(ball, b, bo.run, 1e-6);
+    const double t_fd = since(start) / (runs / 10);
+    std::printf("  plain run %.1f us (%llu steps, %zu events); Phi (6 columns, %d impacts) %.1f us = %.1fx (%llu "
+                "steps), error %.1e; central differences (12 runs) %.1f us = %.1fx, error %.1e\n",
+                1e6 * t_plain, static_cast<unsigned long long>(plain.steps), plain.events.size(), phi.impacts,
+                1e6 * t_phi, t_phi / t_plain, static_cast<unsigned long long>(phi.steps),
+                (phi.sensitivities.back() - bref).cwiseAbs().maxCoeff() / bscale, 1e6 * t_fd, t_fd / t_plain,
+                (fd - bref).cwiseAbs().maxCoeff() / bscale);
   }
 }

@@ -58,6 +58,7 @@ void monodromy(const TangentModel& model, const double* q0, const double* qd0, S
   }
   result.steps += report.steps;
   result.rhs_evaluations += system.evaluations();
+  result.impacts = system.impacts();
 }
 
 /// The eigenvalues of result.monodromy, largest modulus first, and the

@@ -63,6 +63,7 @@ LyapunovResult lyapunov_spectrum(const TangentModel& model, const double* q0, co
   std::sort(result.spectrum.begin(), result.spectrum.end(), std::greater<>());
   for (double l : result.spectrum) result.sum += l;
   result.renormalisations = system.renormalisations();
+  result.impacts = system.impacts();
   result.interval_min = system.shortest();
   result.interval_max = system.longest();
   result.steps = report.steps;

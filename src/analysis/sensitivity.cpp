@@ -53,6 +53,7 @@ SensitivityResult sensitivities(const TangentModel& model, const double* q0, con
   result.states = system.states();
   result.sensitivities = system.recorded_columns();
   result.steps = report.steps;
+  result.impacts = system.impacts();
   result.rhs_evaluations = system.evaluations();
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
   return result;

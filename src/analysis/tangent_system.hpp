@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -16,7 +17,10 @@
 #include <Eigen/QR>
 
 #include "lagrangian/analysis/lyapunov.hpp"
+#include "lagrangian/analysis/saltation.hpp"
 #include "lagrangian/errors.hpp"
+#include "lagrangian/integrate/detail/contact_rules.hpp"
+#include "lagrangian/integrate/detail/roots.hpp"
 #include "lagrangian/integrate/integrate.hpp"
 #include "lagrangian/integrate/method.hpp"
 #include "lagrangian/integrate/system.hpp"
@@ -42,6 +46,11 @@ namespace lagrangian::detail {
 /// `parameters` (sensitivity.hpp), from 0, with
 ///   d/dt δq̇ = (∂q̈/∂q) δq + (∂q̈/∂q̇) δq̇ + ∂q̈/∂p_j.
 /// With `record`, every sample keeps its time, state and columns.
+/// A model's contacts are located at the end of every accepted step by the
+/// plain run's rules (contact_rules.hpp, on the step's interpolant); at the
+/// earliest impact the step end moves there, q̇ becomes q̇⁺ and every column
+/// w becomes S w (saltation.hpp); MEGNO's ℓ jumps with the first vector's
+/// length.
 class TangentSystem final : public System {
  public:
   TangentSystem(const TangentModel& model, int k, double longest, bool benettin, std::vector<int> parameters = {},
@@ -51,6 +60,12 @@ class TangentSystem final : public System {
         jacobian_(static_cast<std::size_t>(2 * model.n * model.n)), w_(2 * model.n, columns_), qr_(2 * model.n, k),
         sums_(static_cast<std::size_t>(k), 0.0) {
     if (benettin_ && columns_ != k_) throw std::logic_error("TangentSystem: Benettin's method takes no parameter columns");
+    if (model_.contacts > 0 && columns_ != k_)
+      throw AnalysisError(
+          "sensitivity: parameter columns across impacts are not derived (the impact map and the gaps may depend on "
+          "the parameters); this model has " +
+          std::to_string(model_.contacts) + " contacts: ask for the initial state's columns only");
+    jumped_.resize(2 * model_.n, columns_);
   }
 
   int coordinate_count() const override { return model_.n * (1 + columns_); }
@@ -85,6 +100,15 @@ class TangentSystem final : public System {
 
   void start(double* x, double t0) override {
     last_ = t0_ = t0;
+    if (model_.contacts > 0) {
+      model_.gaps(model_.model, x, x + coordinate_count(), t0, gap_new_.data(), rate_new_.data());
+      const double touch = contact_touch_tolerance(x, model_.n);
+      for (int j = 0; j < model_.contacts; ++j)
+        if (gap_new_[static_cast<std::size_t>(j)] < -touch)
+          throw SimulationError("tangent flow: contact '" + contact(j) + "' is penetrated at the start (gap " +
+                                    number(gap_new_[static_cast<std::size_t>(j)]) + " < 0)",
+                                t0);
+    }
     if (benettin_) {
       canonical(x, t0);
       w_ = from_canonical(Eigen::MatrixXd::Identity(2 * model_.n, k_));
@@ -113,17 +137,26 @@ class TangentSystem final : public System {
     if (sample_end) sample(t, x);
   }
 
-  bool has_events() const override { return benettin_; }
-  bool handle_events(double t_old, const double*, double& t, double* x, const StepInterpolant& interpolant) override {
-    megno_step(t_old, t, x, interpolant);
+  bool has_events() const override { return benettin_ || model_.contacts > 0; }
+  bool handle_events(double t_old, const double* x_old, double& t, double* x,
+                     const StepInterpolant& interpolant) override {
+    const bool impact = model_.contacts > 0 && cross_impact(t_old, x_old, t, x, interpolant);
+    if (!benettin_) return impact;
+    if (!impact) megno_step(t_old, t, x, interpolant);
     load(x);
     bool due = t - last_ >= longest_;
     for (int j = 0; j < k_ && !due; ++j)
       due = std::abs(std::log(w_.col(j).norm() / lengths_[static_cast<std::size_t>(j)])) > 1.0;
-    if (!due) return false;
-    renormalise(x, t);
-    return true;
+    if (due) renormalise(x, t);
+    return impact || due;
   }
+
+  /// Impacts crossed so far.
+  int impacts() const { return impacts_; }
+  /// The run's options: its contact_touch_speed (a contact touching slower
+  /// is not an impact) and Zeno rule (zeno_speed_ratio, zeno_min_interval:
+  /// where a plain run lets a contact rest), contact_rules.hpp.
+  void set_run(const SimulationOptions& run) { run_ = run; }
 
   /// The last renormalisation, at the end of the run at t.
   void close(double* x, double t) {
@@ -255,6 +288,126 @@ class TangentSystem final : public System {
     last_ = t;
   }
 
+  /// x with 6 significant digits, for messages.
+  static std::string number(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", x);
+    return buf;
+  }
+  std::string contact(int j) const {
+    return j < static_cast<int>(model_.contact_names.size()) ? model_.contact_names[static_cast<std::size_t>(j)]
+                                                              : std::to_string(j);
+  }
+  /// The earliest contact closing in the step (t_old, t], located by the
+  /// plain run's rules (locate_closing: crossings, dips of the gap, a
+  /// contact leaving and coming back within the step): false when none;
+  /// otherwise the step end moves to the impact (t, x), MEGNO is taken to
+  /// it, the impact law applied to q̇ and the saltation matrix to every
+  /// column. SimulationError where a plain run would let the contact rest
+  /// (a touch slower than contact_touch_speed, the Zeno rule), for two
+  /// contacts closing or touching at one instant, for a grazing contact and
+  /// for one found penetrated.
+  bool cross_impact(double t_old, const double* x_old, double& t, double* x, const StepInterpolant& interpolant) {
+    const int n = model_.n, c = coordinate_count();
+    model_.gaps(model_.model, x_old, x_old + c, t_old, gap_old_.data(), rate_old_.data());
+    model_.gaps(model_.model, x, x + c, t, gap_new_.data(), rate_new_.data());
+    const double touch = contact_touch_tolerance(x, n);
+    int first = -1;
+    double at = t;
+    for (int j = 0; j < model_.contacts; ++j) {
+      const auto jj = static_cast<std::size_t>(j);
+      const GapRate a{gap_old_[jj], rate_old_[jj]}, b{gap_new_[jj], rate_new_[jj]};
+      if (a.gap > touch && b.gap > touch && !(a.rate < 0 && b.rate > 0)) continue;  // open throughout
+      const auto on_step = [&](double s) {
+        interpolant(s, mid_.data());
+        model_.gaps(model_.model, mid_.data(), mid_.data() + c, s, gap_at_.data(), rate_at_.data());
+        return GapRate{gap_at_[jj], rate_at_[jj]};
+      };
+      const Closing found = locate_closing(t_old, t, a, b, touch, run_.contact_touch_speed, gap_function(on_step));
+      if (found.kind == Closing::Kind::penetrated) throw_penetrated(contact(j), t_old, a.gap);
+      if (found.kind == Closing::Kind::none) {
+        if (b.gap < 0)
+          throw SimulationError("tangent flow: contact '" + contact(j) +
+                                    "' comes to rest (it touches slower than contact_touch_speed, where a plain run "
+                                    "lets it rest): the tangent flow through a resting contact is not derived",
+                                t_old);
+        continue;
+      }
+      if (first >= 0 && std::abs(found.t - at) <= 2 * event_time_tolerance * std::max(1.0, std::abs(at)))
+        throw SimulationError("tangent flow: contacts '" + contact(first) + "' and '" + contact(j) +
+                                  "' close at one instant: the saltation matrix of simultaneous impacts is not "
+                                  "derived",
+                              found.t);
+      if (first < 0 || found.t < at) {
+        first = j;
+        at = found.t;
+      }
+    }
+    if (first < 0) return false;
+    progress_.check(at, t_old);
+    if (at < t) interpolant(at, x);
+    if (benettin_) megno_step(t_old, at, x, interpolant);
+    t = at;
+    // Another contact touching at the impact (a ball in a corner, a row of
+    // touching spheres): impacts in sequence at one instant.
+    model_.gaps(model_.model, x, x + c, t, gap_at_.data(), rate_at_.data());
+    for (int j = 0; j < model_.contacts; ++j)
+      if (j != first && std::abs(gap_at_[static_cast<std::size_t>(j)]) <= contact_touch_tolerance(x, n))
+        throw SimulationError("tangent flow: contacts '" + contact(first) + "' and '" + contact(j) +
+                                  "' touch at one instant: the saltation matrix of simultaneous impacts is not "
+                                  "derived",
+                              t);
+    const double ell_before = log_length(x);
+    double gamma = 0;
+    const double v = model_.impact(model_.model, x, x + c, t, first, model_.restitution[static_cast<std::size_t>(first)],
+                                   qd_plus_.data(), impact_jacobian_.data(), gap_gradient_.data(), &gamma);
+    if (!(v < 0))
+      throw SimulationError("tangent flow: contact '" + contact(first) + "' grazes (approach speed " +
+                                number(v) + " >= 0): its saltation matrix is not defined",
+                            t);
+    const double e = model_.restitution[static_cast<std::size_t>(first)];
+    if (e == 0)
+      throw SimulationError("tangent flow: contact '" + contact(first) +
+                                "' comes to rest (a plastic impact, e = 0: the bodies stick, and a plain run holds "
+                                "the contact shut): the tangent flow through a resting contact is not derived",
+                            t);
+    std::fill(zero_.begin(), zero_.end(), 0.0);
+    model_.evaluate_direction(model_.model, x, x + c, t, zero_.data(), qdd_minus_.data(), scratch_.data());
+    // Where a plain run lets the contact rest (the Zeno rule: an approach
+    // slower than the touch speed, or an accumulation of impacts while the
+    // forces press the contact shut, d²φ/dt² = G q̈ + γ < 0), stop.
+    ContactHistory& history = history_[static_cast<std::size_t>(first)];
+    const auto pressed = [&] {
+      double accel = gamma;
+      for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k) accel += gap_gradient_[k] * qdd_minus_[k];
+      return accel < 0;
+    };
+    if (-v <= run_.contact_touch_speed || zeno_accumulation(history, -v, t, run_, predicate(pressed)))
+      throw SimulationError("tangent flow: contact '" + contact(first) + "' comes to rest (approach speed " +
+                                number(-v) +
+                                ", where a plain run's Zeno rule lets it rest): the tangent flow through a resting "
+                                "contact is not derived",
+                            t);
+    history.record(-v, t);
+    model_.evaluate_direction(model_.model, x, qd_plus_.data(), t, zero_.data(), qdd_plus_.data(), scratch_.data());
+    saltation_from(n, x + c, qdd_minus_.data(), qd_plus_.data(), qdd_plus_.data(), impact_jacobian_.data(),
+                   gap_gradient_.data(), v, salt_scratch_.data(), saltation_.data());
+    std::copy(qd_plus_.begin(), qd_plus_.end(), x + c);
+    load(x);
+    const Eigen::Map<const Eigen::MatrixXd> s(saltation_.data(), 2 * n, 2 * n);
+    jumped_.noalias() = s * w_;
+    w_ = jumped_;
+    store(x);
+    if (benettin_) {
+      // ℓ jumps at the impact: ∫ s dℓ gains s (ℓ⁺ − ℓ⁻).
+      ell_ = log_length(x);
+      megno_i_ += (t - t0_) * (ell_ - ell_before);
+      if (t > t0_) megno_ = 2 * megno_i_ / (t - t0_);
+    }
+    ++impacts_;
+    return true;
+  }
+
   TangentModel model_;
   int k_, columns_;
   std::vector<int> parameters_;
@@ -276,6 +429,22 @@ class TangentSystem final : public System {
   // MEGNO: ℓ at the last step end, its offset, I, Y and ∫ Y ds.
   double ell_ = 0, ell_offset_ = 0, megno_i_ = 0, megno_ = 0, megno_integral_ = 0;
   std::vector<double> mid_ = std::vector<double>(static_cast<std::size_t>(2 * model_.n * (1 + columns_)));
+  // Contacts: gaps at the step's ends and inside it, the impact map, the
+  // accelerations either side, S and the columns after it.
+  std::vector<double> gap_old_ = std::vector<double>(static_cast<std::size_t>(model_.contacts)),
+                      gap_new_ = gap_old_, gap_at_ = gap_old_, rate_old_ = gap_old_, rate_new_ = gap_old_,
+                      rate_at_ = gap_old_;
+  SimulationOptions run_;
+  std::vector<ContactHistory> history_ = std::vector<ContactHistory>(static_cast<std::size_t>(model_.contacts));
+  EventProgress progress_;
+  std::vector<double> qd_plus_ = std::vector<double>(static_cast<std::size_t>(model_.n)),
+                      impact_jacobian_ = std::vector<double>(static_cast<std::size_t>(model_.n * (2 * model_.n + 1))),
+                      gap_gradient_ = qd_plus_, qdd_minus_ = qd_plus_, qdd_plus_ = qd_plus_, scratch_ = qd_plus_,
+                      zero_ = std::vector<double>(static_cast<std::size_t>(2 * model_.n)),
+                      saltation_ = std::vector<double>(static_cast<std::size_t>(4 * model_.n * model_.n)),
+                      salt_scratch_ = zero_;
+  Eigen::MatrixXd jumped_;
+  int impacts_ = 0;
   int renormalisations_ = 0;
   double shortest_ = std::numeric_limits<double>::infinity();
   double longest_taken_ = 0;
@@ -288,6 +457,7 @@ inline void integrate_tangents(TangentSystem& system, int n, const double* q0, c
                                const SimulationOptions& run, const std::string& stopped, std::vector<double>& x,
                                RunReport& report) {
   const int c = system.coordinate_count();
+  system.set_run(run);
   x.assign(static_cast<std::size_t>(2 * c), 0.0);
   std::copy(q0, q0 + n, x.begin());
   std::copy(qd0, qd0 + n, x.begin() + c);

@@ -230,6 +230,10 @@ std::string LyapunovRun::summary() const {
   for (std::size_t i = 0; i < r.spectrum.size(); ++i)
     out += "  lambda_" + std::to_string(i + 1) + " = " + g10(r.spectrum[i]) + "\n";
   out += "sum " + g10(r.sum) + " 1/s (canonical coordinates: 0 for a Hamiltonian flow, to the integration error)\n";
+  if (r.impacts > 0)
+    out += "impacts crossed " + std::to_string(r.impacts) +
+           " (each by its saltation matrix S: the sum includes sum ln|det S| / T, 2 ln e per bounce on a fixed "
+           "plane)\n";
   out += "MEGNO <Y> = " + g10(r.megno_mean) + " (Y(t_end) = " + g10(r.megno) +
          "; -> 0 isochronous, -> 2 regular, grows as lambda_1 t / 2 when chaotic)\n";
   out += "renormalisations " + std::to_string(r.renormalisations) + ", intervals " + g10(r.interval_min) + " .. " +
@@ -253,6 +257,7 @@ std::string LyapunovRun::json() const {
   o.number("rtol", run.rtol);
   o.number("atol", run.atol);
   o.integer("renormalisations", r.renormalisations);
+  o.integer("impacts", r.impacts);
   o.number("interval_min", r.interval_min);
   o.number("interval_max", r.interval_max);
   o.integer("steps", static_cast<long long>(r.steps));
@@ -310,6 +315,7 @@ std::string FloquetRun::summary() const {
                              "the one-period map, not a periodic motion's)"
                            : "") +
          "\n";
+  if (r.impacts > 0) out += "impacts crossed over the period " + std::to_string(r.impacts) + " (each by its saltation matrix)\n";
   out += "cost: " + std::to_string(r.steps) + " steps, " + std::to_string(r.rhs_evaluations) +
          " evaluations of q'' with its Jacobian, " + g10(r.seconds) + " s\n";
   return out;
@@ -339,6 +345,7 @@ std::string FloquetRun::json() const {
   o.string("method", std::string(to_string(run.method)));
   o.number("rtol", run.rtol);
   o.number("atol", run.atol);
+  o.integer("impacts", r.impacts);
   o.integer("steps", static_cast<long long>(r.steps));
   o.integer("evaluations", static_cast<long long>(r.rhs_evaluations));
   o.number("seconds", r.seconds);

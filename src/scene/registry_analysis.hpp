@@ -116,28 +116,33 @@ std::string analyse_model(const M& model, const ModelInfo& info, const State<coo
 /// The OptionError of a scene whose model (`model`: "model 'NAME'" or "the
 /// model stated as text") the tangent flow is not derived for (Lyapunov
 /// exponents, Floquet multipliers; `what` names the analysis):
-/// `this_one_has` says why ("7 coordinates", "constraints or contacts").
+/// `this_one_has` says why ("7 coordinates", "constraints").
 inline OptionError no_tangent_flow(const char* what, const std::string& model, const std::string& this_one_has) {
   return OptionError(std::string(what) + ": " + model +
-                     ": the tangent flow is derived for models without constraints or contacts and with at most " +
+                     ": the tangent flow is derived for models without bilateral constraints, whose contacts (if "
+                     "any) have restitution coefficients, and with at most " +
                      std::to_string(kMaxTangentFlowCoordinates) + " coordinates; this one has " + this_one_has);
 }
 
-/// `run(model)` for the models the tangent flow is derived for, the
-/// OptionError of no_tangent_flow() for the others (the scene asks for what
-/// its model cannot give, as solve-bvp's refusals do), which never
-/// instantiate it. (Text models, whose size is known at run time, are seen
-/// at their size by text/tangent_flow.hpp.)
+/// `run(model)` for the models the tangent flow is derived for (contacts
+/// crossed at their impacts, analysis/saltation.hpp), the OptionError of
+/// no_tangent_flow() for the others (the scene asks for what its model
+/// cannot give, as solve-bvp's refusals do), which never instantiate it.
+/// (Text models, whose size is known at run time, are seen at their size
+/// by text/tangent_flow.hpp.)
 template <class Result, class M, class Run>
 Result with_tangent_flow(const M& model, const ModelInfo& info, const char* what, Run&& run) {
   constexpr int n = coordinate_count_v<M>;
-  if constexpr (n == Dynamic || n > kMaxTangentFlowCoordinates || constraint_count_v<M> != 0 ||
-                unilateral_count_v<M> != 0) {
+  constexpr int u = unilateral_count_v<M>;
+  constexpr bool bilateral = holonomic_count_v<M> != 0 || pfaffian_count_v<M> != 0;
+  constexpr bool contacts_crossed = u == 0 || has_restitution_v<M>;
+  if constexpr (n == Dynamic || n > kMaxTangentFlowCoordinates || bilateral || !contacts_crossed) {
     (void)model, (void)run;
     throw no_tangent_flow(what, "model '" + info.name + "'",
                           n == Dynamic                       ? std::string("a run-time number of coordinates")
                           : n > kMaxTangentFlowCoordinates ? std::to_string(n) + " coordinates"
-                                                           : std::string("constraints or contacts"));
+                          : bilateral                      ? std::string("constraints")
+                                                           : std::string("contacts without restitution coefficients"));
   } else {
     return run(model);
   }

@@ -124,14 +124,15 @@ BvpResult bvp_text(const ModelSpec& spec, const BvpRequest& request, DiscreteRul
 
 /// `compute(model, initial)` on the scene's text model and initial state,
 /// checked as a run's start is; the refusals of built-in models
-/// (no_tangent_flow) for a model with constraints, contacts or more
-/// coordinates than the tangent flow takes.
+/// (no_tangent_flow) for a model with holonomic or Pfaffian constraints or
+/// with more coordinates than the tangent flow takes (contacts are crossed
+/// at their impacts).
 template <class Compute>
 auto with_text_tangent_flow(const ModelSpec& spec, double t0, const char* what, Compute&& compute) {
   const State<Dynamic> s0 = initial_of(spec);
   const lagrangian::text::TextModel model(parsed_of(spec));
   const std::string label = "the model stated as text";
-  if (has_constraints(model) || unilateral_count(model) > 0) throw no_tangent_flow(what, label, "constraints or contacts");
+  if (holonomic_count(model) > 0 || pfaffian_count(model) > 0) throw no_tangent_flow(what, label, "constraints");
   if (model.size() > kMaxTangentFlowCoordinates)
     throw no_tangent_flow(what, label, std::to_string(model.size()) + " coordinates");
   check_start(model, s0, t0);

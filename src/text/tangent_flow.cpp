@@ -26,13 +26,13 @@ auto at_size(const TextModel& model, const State<Dynamic>& initial, Compute&& co
 }
 
 /// compute(FixedSizeModel<n>, State<n>) for the model's size n; AnalysisError
-/// (its message starting with `prefix`) for a model with constraints, contacts
-/// or more coordinates than the tangent flow takes, OptionError for a start of
-/// another size.
+/// (its message starting with `prefix`) for a model with holonomic or
+/// Pfaffian constraints or more coordinates than the tangent flow takes,
+/// OptionError for a start of another size. Contacts are carried over.
 template <class Compute>
 auto at_fixed_size(const TextModel& model, const State<Dynamic>& initial, const std::string& prefix,
                    Compute&& compute) {
-  lagrangian::detail::require_no_constraints(model, prefix);
+  lagrangian::detail::require_no_bilateral_constraints(model, prefix);
   const int n = model.size();
   if (initial.q.size() != n || initial.qd.size() != n)
     throw OptionError(prefix + "the initial state's q and qd have sizes " + std::to_string(initial.q.size()) + " and " +

@@ -400,7 +400,21 @@ analysis_json lyapunov dp_largest "len(d['spectrum']) == 1 and d['spectrum'][0] 
 analysis_json lyapunov dp_calm "d['spectrum'][0] < 0.1 and d['megno'] < 3" -- "$dp" --t-end 100
 expect 0 "MEGNO <Y> = " -- "$bin" lyapunov "$ho" --t-end 10
 expect 2 "lyapunov: .*particle scene" -- "$bin" lyapunov "$src/examples/scenes/bouncing_ball.toml"
-expect 2 "lyapunov: model 'atwood_machine'.*constraints or contacts" -- "$bin" lyapunov "$src/examples/scenes/atwood_machine.toml"
+expect 2 "lyapunov: model 'atwood_machine': the tangent flow is derived for models without bilateral constraints.*this one has constraints" -- "$bin" lyapunov "$src/examples/scenes/atwood_machine.toml"
+# A model with contacts: the ball (e = 0.5, from 1 m) bounces at 0.45 s and
+# 0.90 s within 1 s, each bounce multiplying phase volume by det S = e^2:
+# the six exponents sum to 4 ln 0.5 = -2.7725887 1/s. Over the scene's 3 s
+# it comes to rest (at 1.35 s): refused, exit 1, not integrated through.
+ball="$src/examples/scenes/ball_and_plane.toml"
+analysis_json lyapunov ball "len(d['spectrum']) == 6 and d['impacts'] == 2 and abs(d['sum'] + 2.772588722239781) < 1e-6" -- "$ball" --t-end 1
+expect 1 "contact 'ball-plane' comes to rest" -- "$bin" lyapunov "$ball"
+# A model stated as text with a contact (the projectile on a 30-degree
+# incline, e = 0.5): bounces at 1.18 s and 1.77 s within 2 s, the four
+# exponents summing to 2 ln 0.5 per bounce over 2 s.
+analysis_json lyapunov text_incline "d['impacts'] == 2 and abs(d['sum'] - 2 * d['impacts'] * __import__('math').log(0.5) / d['t_end']) < 1e-6" -- "$src/examples/scenes/text/projectile_on_incline.toml" --t-end 2
+# The elastic bounce from its apex 1 m up is periodic, T = 2 sqrt(2/9.81) s:
+# a closed orbit, every multiplier 1 (a double one per plane: to ~1e-6).
+analysis_json floquet ball_elastic "d['impacts'] == 1 and d['closure'] < 1e-8 and len(d['multipliers']) == 6 and all(abs(abs(complex(*m)) - 1) < 1e-4 for m in d['multipliers'])" -- "$ball" --set model.parameters.e=1 --set 'model.qd[0]=0' --period 0.9030472819714618 --rtol 1e-12
 # A model stated as text: the double pendulum's spectrum is the built-in
 # model's (over 10 s rounding grows by e^(1.5 * 10): the two runs agree to
 # about 1e-9); constraints are refused as for a built-in model.
@@ -409,7 +423,7 @@ analysis_json lyapunov dp_ten "len(d['spectrum']) == 4" -- "$dp" --set 'model.q[
 analysis_json lyapunov text_dp "len(d['spectrum']) == 4 and d['spectrum'][0] > 0.5 and abs(d['sum']) < 1e-8 and all(abs(a - b) < 1e-6 for a, b in zip(d['spectrum'], json.load(open('$work/dp_ten.json'))['spectrum'])) and abs(d['megno'] - json.load(open('$work/dp_ten.json'))['megno']) < 1e-6" -- "$tdp" --t-end 10 --rtol 1e-10 --atol 1e-12 --method dopri5
 analysis_json lyapunov sph "len(d['spectrum']) == 4" -- "$src/examples/scenes/spherical_pendulum.toml" --t-end 5
 analysis_json lyapunov text_sph "len(d['spectrum']) == 4 and all(abs(a - b) < 1e-6 for a, b in zip(d['spectrum'], json.load(open('$work/sph.json'))['spectrum'])) and abs(d['sum']) < 1e-8" -- "$src/examples/scenes/text/spherical_pendulum.toml" --t-end 5 --rtol 1e-10 --atol 1e-12 --method dopri5
-expect 2 "lyapunov: the model stated as text: the tangent flow is derived for models without constraints or contacts.*this one has constraints or contacts" -- "$bin" lyapunov "$src/examples/scenes/text/atwood_machine.toml"
+expect 2 "lyapunov: the model stated as text: the tangent flow is derived for models without bilateral constraints.*this one has constraints" -- "$bin" lyapunov "$src/examples/scenes/text/atwood_machine.toml"
 expect 2 "exponents = 9 is outside \\[0, 4\\]" -- "$bin" lyapunov "$dp" --exponents 9
 expect 2 "--exponents: must be at least 1" -- "$bin" lyapunov "$dp" --exponents -1
 expect 2 "--interval: must be a finite time" -- "$bin" lyapunov "$dp" --interval -2
@@ -433,7 +447,7 @@ expect 2 "floquet: --period T \\(s\\) is required" -- "$bin" floquet "$kap"
 expect 2 "--period: must be a finite time > 0 s, got -1" -- "$bin" floquet "$kap" --period -1
 expect 2 "--tolerance: must be finite and >= 0" -- "$bin" floquet "$kap" --period 1 --tolerance -1
 expect 2 "floquet: .*particle scene" -- "$bin" floquet "$src/examples/scenes/bouncing_ball.toml" --period 1
-expect 2 "floquet: model 'atwood_machine'.*constraints or contacts" -- "$bin" floquet "$src/examples/scenes/atwood_machine.toml" --period 1
+expect 2 "floquet: model 'atwood_machine'.*this one has constraints" -- "$bin" floquet "$src/examples/scenes/atwood_machine.toml" --period 1
 # floquet --find-orbit: from the pendulum's state at 0.5 rad and a guess of 2.2 s (8 % long) Newton finds an
 # orbit of the family near it, whose period is 4 K(k) / w0 at its own energy, k^2 = (qd/2w0)^2 + sin^2(q/2),
 # w0 = sqrt(g/l) (K by the arithmetic-geometric mean); its multipliers are 1.

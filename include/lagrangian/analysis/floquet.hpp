@@ -81,6 +81,7 @@ struct FloquetResult {
   std::uint64_t steps = 0;                       ///< accepted steps (of every iteration)
   std::uint64_t rhs_evaluations = 0;             ///< evaluations of q̈ with its Jacobian
   double seconds = 0;                            ///< wall time (s)
+  int impacts = 0;                               ///< impacts crossed over the (last) period (saltation.hpp)
 };
 
 namespace detail {
@@ -92,7 +93,7 @@ FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, c
 /// The Floquet multipliers of the motion of `model` from `initial` at
 /// options.run.t0 over one period (see the file comment). Throws
 /// OptionError for a bad option (naming it and its value), AnalysisError
-/// for a model with constraints or contacts or, with find_orbit, when
+/// for a model with holonomic or Pfaffian constraints or, with find_orbit, when
 /// Newton's method finds no orbit within max_iterations (with the closure
 /// reached) or its period leaves [T/2, 2T] of the guess T (every motion
 /// closes as T → 0), SimulationError when a run fails.

@@ -44,10 +44,23 @@
 /// the state, so the stepper restarts after it, as after an impact. A
 /// model's watched events (a projectile's landing) are not applied: the
 /// exponents are those of its equations of motion.
+///
+/// A model with contacts (and restitution coefficients) has its impacts
+/// located and resolved in the tangent run as in a plain one, and every
+/// tangent vector crosses an impact by its saltation matrix S
+/// (saltation.hpp); the exponents' sum then includes (1/T) Σ ln |det S| of
+/// the impacts (2 ln e per bounce of a ball on a floor). Impacts are located
+/// by the plain run's rules (integrate/detail/contact_rules.hpp); a contact
+/// that comes to rest where a plain run lets it (its Zeno rule, or a touch
+/// slower than contact_touch_speed) and two contacts closing or touching at
+/// one instant stop the run with SimulationError: the tangent flow through
+/// a resting contact or a simultaneous impact is not derived.
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
+#include "lagrangian/analysis/saltation.hpp"
 #include "lagrangian/analysis/tangent_flow.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/integrate/report.hpp"
@@ -78,6 +91,7 @@ struct LyapunovResult {
   std::uint64_t steps = 0;           ///< accepted steps of the augmented system
   std::uint64_t rhs_evaluations = 0; ///< evaluations of q̈ with its derivatives along the k vectors
   double seconds = 0;                ///< wall time of the run (s)
+  int impacts = 0;                   ///< impacts crossed (saltation.hpp); 0 for a model without contacts
   std::vector<double> q_final, qd_final;  ///< the state at t_final
   /// MEGNO Y(T) of the first tangent vector and its time mean ⟨Y⟩(T)
   /// (dimensionless; see the file comment).
@@ -104,6 +118,20 @@ struct TangentModel {
   /// `parameter` (sensitivity.hpp); null unless parameters were asked for.
   void (*evaluate_parameter)(const void* model, const double* q, const double* qd, double t, const double* v,
                              int parameter, double* qdd, double* jv) = nullptr;
+  /// The model's contacts, crossed at their impacts by the saltation
+  /// matrix (saltation.hpp): their number (0 for none), names and
+  /// restitution coefficients, their gaps φ_j(q, t) and rates φ̇_j
+  /// (`contacts` values each, contact_gaps()) and the impact map of contact
+  /// j with coefficient e at (q, q̇⁻, t): q̇⁺ (n values), ∂q̇⁺/∂(q, q̇, t)
+  /// (n × (2n + 1), column-major), G = ∂φ_j/∂q (n values) and γ (the gap's
+  /// acceleration is G q̈ + γ); it returns the approach speed
+  /// v = G q̇⁻ + ∂φ_j/∂t.
+  int contacts = 0;
+  std::vector<std::string> contact_names;
+  std::vector<double> restitution;
+  void (*gaps)(const void* model, const double* q, const double* qd, double t, double* gap, double* rate) = nullptr;
+  double (*impact)(const void* model, const double* q, const double* qd, double t, int contact, double e,
+                   double* qd_plus, double* jacobian, double* gap_gradient, double* gamma) = nullptr;
 };
 
 /// Benettin's method over a TangentModel (src/analysis/lyapunov.cpp).
@@ -155,13 +183,56 @@ void evaluate_momentum(const void* model, const double* q, const double* qd, dou
   out_map = j;
 }
 
-/// The TangentModel of `model`, after require_no_constraints (`prefix`
-/// starts its message).
+template <class M>
+void evaluate_gaps(const void* model, const double* q, const double* qd, double t, double* gap, double* rate) {
+  constexpr int n = coordinate_count_v<M>, u = unilateral_count_v<M>;
+  const M& m = *static_cast<const M*>(model);
+  const int count = unilateral_count(m);
+  thread_local Vec<double, u> g, r;  // sized once per thread for a run-time count
+  if (g.size() != count) g.resize(count), r.resize(count);
+  contact_gaps(m, Eigen::Map<const Vec<double, n>>(q), Eigen::Map<const Vec<double, n>>(qd), t, g, r);
+  std::copy(g.data(), g.data() + count, gap);
+  std::copy(r.data(), r.data() + count, rate);
+}
+
+template <class M>
+double evaluate_impact(const void* model, const double* q, const double* qd, double t, int contact, double e,
+                       double* qd_plus, double* jacobian, double* gap_gradient, double* gamma) {
+  constexpr int n = coordinate_count_v<M>;
+  const ImpactMap<n> map = impact_map_with(*static_cast<const M*>(model), Eigen::Map<const Vec<double, n>>(q),
+                                           Eigen::Map<const Vec<double, n>>(qd), t, contact, e);
+  *gamma = map.gamma;
+  Eigen::Map<Vec<double, n>> plus_out(qd_plus), gradient_out(gap_gradient);
+  Eigen::Map<Eigen::Matrix<double, n, 2 * n + 1>> jacobian_out(jacobian);
+  plus_out = map.qd_plus;
+  jacobian_out = map.jacobian;
+  gradient_out = map.gap_gradient;
+  return map.approach;
+}
+
+/// The TangentModel of `model`: AnalysisError (`prefix` starting its
+/// message) for a model with holonomic or Pfaffian constraints, or with
+/// contacts but no restitution coefficients.
 template <class M>
 TangentModel tangent_model_of(const M& model, const std::string& prefix) {
-  require_no_constraints(model, prefix);
-  return TangentModel{&model, &evaluate_tangent<M>, &evaluate_momentum<M>, coordinate_count_v<M>,
-                      &evaluate_tangent_direction<M>};
+  require_no_bilateral_constraints(model, prefix);
+  TangentModel tm{&model, &evaluate_tangent<M>, &evaluate_momentum<M>, coordinate_count_v<M>,
+                  &evaluate_tangent_direction<M>};
+  if constexpr (unilateral_count_v<M> != 0) {
+    const int count = unilateral_count(model);
+    if (count > 0) {
+      (void)restitution_of(model, 0, prefix);  // AnalysisError without restitution()
+      const auto e = restitution_coefficients(model);
+      tm.restitution.assign(e.begin(), e.end());
+      tm.contacts = count;
+      const auto names = constraint_names(model);
+      const auto first = names.begin() + holonomic_count(model);
+      tm.contact_names.assign(first, first + count);
+      tm.gaps = &evaluate_gaps<M>;
+      tm.impact = &evaluate_impact<M>;
+    }
+  }
+  return tm;
 }
 
 }  // namespace detail
@@ -169,7 +240,8 @@ TangentModel tangent_model_of(const M& model, const std::string& prefix) {
 /// The Lyapunov exponents of the motion of `model` from `initial` at
 /// options.run.t0 to options.run.t_end (see the file comment). Throws
 /// OptionError for a bad option (naming it and its value), AnalysisError
-/// for a model with constraints or contacts, SimulationError when the run
+/// for a model with holonomic or Pfaffian constraints (contacts are
+/// crossed at their impacts), SimulationError when the run
 /// fails.
 template <class M>
 LyapunovResult lyapunov_spectrum(const M& model, const State<coordinate_count_v<M>>& initial,

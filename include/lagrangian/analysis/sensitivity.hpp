@@ -35,9 +35,12 @@
 /// m1 + m2 would keep its default). The built-in double pendulum, harmonic oscillator and
 /// projectiles are written so (models/pendulums.hpp, models/projectile.hpp).
 ///
-/// Scope as tangent_flow.hpp: models without constraints or contacts with a
-/// fixed n ≤ 6 coordinates. A model's watched events are not applied (a
-/// projectile flies on through its landing plane).
+/// Scope as tangent_flow.hpp: models without bilateral constraints with a
+/// fixed n ≤ 6 coordinates. A model's contacts are crossed at their impacts
+/// by the saltation matrix (saltation.hpp) for the initial state's columns;
+/// parameter columns of a model with contacts are refused (AnalysisError).
+/// A model's watched events are not applied (a projectile flies on through
+/// its landing plane).
 
 #include <cstddef>
 #include <cstdint>
@@ -106,6 +109,7 @@ struct SensitivityResult {
   std::uint64_t steps = 0;            ///< accepted steps
   std::uint64_t rhs_evaluations = 0;  ///< right-hand sides of the whole system
   double seconds = 0;                 ///< wall time (s)
+  int impacts = 0;                    ///< impacts crossed (saltation.hpp)
 };
 
 namespace detail {
@@ -143,8 +147,9 @@ std::vector<int> parameter_indices(const std::vector<std::string>& wanted, const
 /// ∂x(t)/∂x(t0) and ∂x(t)/∂p of the motion of `model` from `initial` at
 /// options.run.t0 (see the file comment). Throws OptionError for a bad
 /// option or an unknown parameter (naming it), AnalysisError for a model
-/// with constraints or contacts or asked for parameters it does not offer
-/// (has_parameter_type_v), SimulationError when the run fails.
+/// with holonomic or Pfaffian constraints or asked for parameters it does not offer
+/// (has_parameter_type_v) or for parameters of a model with contacts,
+/// SimulationError when the run fails.
 template <class M>
 SensitivityResult sensitivities(const M& model, const State<coordinate_count_v<M>>& initial,
                                 const SensitivityOptions& options) {

@@ -31,10 +31,12 @@
 /// m/s² per m), ∂q̈/∂q̇ in 1/s.
 ///
 /// Scope: models with a fixed number of coordinates (n ≤ 6: a number holds
-/// K + 1 EomJets of n² entries each) and without constraints or contacts
-/// (their tangent flow, kept in the constraint manifold and carried across
-/// impacts, is not derived here); such models are refused with
-/// AnalysisError.
+/// K + 1 EomJets of n² entries each) and without bilateral constraints
+/// (their tangent flow, kept in the constraint manifold, is not derived
+/// here); such models are refused with AnalysisError. A model's contacts
+/// do not act between impacts, so J is that of its free motion; the tangent
+/// runs (lyapunov.hpp, sensitivity.hpp) cross each impact with its
+/// saltation matrix (saltation.hpp).
 
 #include <algorithm>
 #include <array>
@@ -65,6 +67,18 @@ void require_no_constraints(const M& model, const std::string& prefix) {
                         "the tangent flow is derived for models without constraints or contacts; this model declares " +
                         std::to_string(constraint_count(model)) + " constraint rows and " +
                         std::to_string(unilateral_count(model)) + " contacts");
+}
+/// AnalysisError (its message starting with `prefix`) when the model has
+/// holonomic or Pfaffian constraints. Contacts act only at impacts: between
+/// them the tangent flow is that of the free equations of motion, and an
+/// impact is crossed by its saltation matrix (saltation.hpp).
+template <class M>
+void require_no_bilateral_constraints(const M& model, const std::string& prefix) {
+  if (holonomic_count(model) > 0 || pfaffian_count(model) > 0)
+    throw AnalysisError(prefix +
+                        "the tangent flow is derived for models without bilateral constraints; this model declares " +
+                        std::to_string(holonomic_count(model)) + " holonomic and " +
+                        std::to_string(pfaffian_count(model)) + " Pfaffian constraint rows");
 }
 }  // namespace detail
 
@@ -267,8 +281,8 @@ inline constexpr int kTangentPassDirections = 4;
 /// is evaluated on it, and column c of JV is the derivative of q̈ along the
 /// state direction V_c and the parameter direction of its seeds together:
 /// (∂q̈/∂x) V_c + (∂q̈/∂p) δp_c. Throws DynamicsError when M is not
-/// positive definite there, AnalysisError for a model with constraints or
-/// contacts.
+/// positive definite there, AnalysisError for a model with holonomic or
+/// Pfaffian constraints (contacts are ignored: the free motion's J).
 template <int K, class M, class E = M>
 void state_jvp(const M& model, const Vec<double, coordinate_count_v<M>>& q, const Vec<double, coordinate_count_v<M>>& qd,
                double t, const Eigen::Matrix<double, 2 * coordinate_count_v<M>, K>& v,
@@ -281,7 +295,7 @@ void state_jvp(const M& model, const Vec<double, coordinate_count_v<M>>& q, cons
                 "state_jvp: the tangent flow is derived for models of at most kMaxTangentFlowCoordinates "
                 "coordinates");
   static_assert(K >= 1 && K <= 2 * n, "state_jvp: between 1 and 2n directions");
-  detail::require_no_constraints(model, "");
+  detail::require_no_bilateral_constraints(model, "");
   const E& eval = [&]() -> const E& {
     if constexpr (std::is_same_v<E, M>) {
       return model;
@@ -302,7 +316,7 @@ void state_jvp(const M& model, const Vec<double, coordinate_count_v<M>>& q, cons
 /// ∂/∂q̇_0 … ∂/∂q̇_{n−1}) at (q, q̇, t): state_jvp() along the 2n unit
 /// vectors, kTangentPassDirections of them per pass. Throws DynamicsError
 /// when M is not positive definite there, AnalysisError for a model with
-/// constraints or contacts.
+/// holonomic or Pfaffian constraints.
 template <class M>
 void state_jacobian(const M& model, const Vec<double, coordinate_count_v<M>>& q,
                     const Vec<double, coordinate_count_v<M>>& qd, double t, Vec<double, coordinate_count_v<M>>& qdd,

@@ -14,8 +14,11 @@
 /// lagrangian::state_jacobian(fixed, q, qd, t, qdd, jacobian);
 /// \endcode
 ///
-/// Constraints and contacts are not carried over: a FixedSizeModel is built
-/// only from a text model that declares none (AnalysisError otherwise).
+/// Contacts are carried over (their gaps, names, units and restitution
+/// coefficients: the tangent flow crosses their impacts,
+/// analysis/saltation.hpp); holonomic and Pfaffian constraints are not: a
+/// FixedSizeModel is built only from a text model without them
+/// (AnalysisError otherwise).
 
 #include <memory>
 #include <string>
@@ -44,8 +47,8 @@ class FixedSizeModel {
   template <class Q>
   using with_parameter_type = FixedSizeModel<N, Q>;
 
-  /// AnalysisError unless `model` has N coordinates and neither constraints
-  /// nor contacts.
+  /// AnalysisError unless `model` has N coordinates and no holonomic or
+  /// Pfaffian constraints.
   explicit FixedSizeModel(const TextModel& model)
     requires std::is_same_v<P, double>
       : p_(checked(model)) {}
@@ -101,6 +104,23 @@ class FixedSizeModel {
     return value(dissipation_, p_->dissipation_bound, q, qd, S(0.0));
   }
 
+  /// Contacts, as the text model's: their count, gaps φ(q, t) ≥ 0 (into a
+  /// per-thread vector: no allocation per call), names, units and
+  /// restitution coefficients.
+  int unilateral_count() const { return static_cast<int>(p_->gaps_bound.size()); }
+  template <class S>
+  Eigen::Map<const Vec<S, Dynamic>> unilateral(const Vec<S, N>& q, const S& t) const {
+    thread_local Vec<S, Dynamic> out;
+    const int m = unilateral_count();
+    if (out.size() < m) out.resize(m);
+    for (int j = 0; j < m; ++j)
+      out[j] = evaluate(p_->gaps_bound[static_cast<std::size_t>(j)], q, q, t, detail::slots<S>());
+    return {out.data(), m};
+  }
+  std::vector<double> restitution() const { return TextModel(p_).restitution(); }
+  std::vector<std::string> unilateral_names() const { return TextModel(p_).unilateral_names(); }
+  std::vector<std::string> constraint_units() const { return TextModel(p_).constraint_units(); }
+
  private:
   static constexpr bool seeded = !std::is_same_v<P, double>;
 
@@ -108,7 +128,7 @@ class FixedSizeModel {
     if (model.size() != N)
       throw AnalysisError("text::FixedSizeModel<" + std::to_string(N) + ">: the text model has " +
                           std::to_string(model.size()) + " coordinates");
-    lagrangian::detail::require_no_constraints(model, "text::FixedSizeModel: ");
+    lagrangian::detail::require_no_bilateral_constraints(model, "text::FixedSizeModel: ");
     return model.shared_parsed();
   }
 

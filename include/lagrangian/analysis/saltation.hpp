@@ -1,0 +1,230 @@
+#pragma once
+/// \file saltation.hpp
+/// How a small change of the state crosses an impact: the saltation matrix.
+///
+/// At an impact of contact j at time τ the gap φ_j(q, t) (impact.hpp) falls
+/// through zero and Newton's law of restitution replaces the velocities:
+///   x⁺ = R(x⁻, τ),  R(q, q̇, t) = (q, q̇⁺(q, q̇, t)),
+///   q̇⁺ = q̇ − (1 + e) v M⁻¹Gᵀ / (G M⁻¹ Gᵀ),
+///   G = ∂φ_j/∂q (a row),  v = G q̇ + ∂φ_j/∂t  (the approach speed, < 0),
+/// M = ∂²L/∂q̇² (one contact, no bilateral constraints: apply_impact()'s law).
+/// A neighbouring motion x + w reaches the contact at τ + δτ with
+/// δτ = −(∇ₓφ · w) / v, ∇ₓφ = (G, 0), and leaves it at
+///   w⁺ = S w,   S = R_x + (f⁺ − R_x f⁻ − R_t) ∇ₓφᵀ / v,
+/// with f∓ = (q̇∓, q̈∓) the motion's rates just before and after, R_x the
+/// 2n × 2n derivative of R in x = (q, q̇) and R_t its derivative in t:
+/// the saltation matrix (Aizerman & Gantmacher 1958; Müller 1995). Its top
+/// rows are those of [I + (q̇⁺ − q̇⁻) G / v, 0]: a neighbour that hits
+/// later flies on with the old velocity meanwhile. For a ball on a floor
+/// (x = (z, ż), R = (z, −e ż)) it is S = [[−e, 0], [(1 + e) g / |v|, −e]].
+///
+/// ∂q̇⁺/∂(q, q̇, t) comes from automatic differentiation: M (L on ad::Jet to
+/// second order in q̇), G and ∂φ/∂t (φ on ad::Jet to first order in (q, t))
+/// and the solve above are evaluated on numbers that carry their first
+/// derivatives along (q, q̇, t). No finite differences.
+///
+/// Units: S maps a change (δq, δq̇) before the impact to one after it, each
+/// in the units of the state (m or rad, m/s or rad/s).
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "lagrangian/ad.hpp"
+#include "lagrangian/analysis/tangent_flow.hpp"
+#include "lagrangian/errors.hpp"
+#include "lagrangian/mechanics/constraint_counts.hpp"
+#include "lagrangian/mechanics/dynamics.hpp"
+#include "lagrangian/mechanics/impact.hpp"
+#include "lagrangian/model.hpp"
+
+namespace lagrangian {
+
+/// The impact map at an impact of one contact, with its derivatives.
+template <int n>
+struct ImpactMap {
+  Vec<double, n> qd_plus;                         ///< q̇⁺ (m/s or rad/s)
+  Eigen::Matrix<double, n, 2 * n + 1> jacobian;   ///< ∂q̇⁺/∂(q, q̇, t): columns q_0 … q_{n−1}, q̇_0 … q̇_{n−1}, t
+  Vec<double, n> gap_gradient;                    ///< G = ∂φ/∂q (m per unit of each coordinate for a distance gap)
+  double gap_rate_t = 0;                          ///< ∂φ/∂t (m/s for a distance gap)
+  double approach = 0;                            ///< v = G q̇⁻ + ∂φ/∂t before the impact (< 0 when approaching)
+  /// γ = d²φ/dt² − G q̈ along the motion before the impact (q̇⁻ᵀ ∂²φ/∂q² q̇⁻
+  /// + 2 ∂²φ/∂q∂t q̇⁻ + ∂²φ/∂t²; m/s² for a distance gap): the gap's
+  /// acceleration is G q̈ + γ.
+  double gamma = 0;
+};
+
+namespace detail {
+
+/// x ↦ x M⁻¹ for a symmetric positive definite M of numbers S (Cholesky,
+/// no pivoting): solves M w = b in place of b. DynamicsError when a pivot
+/// is not positive.
+template <class S, int n>
+void solve_spd_in_place(Mat<S, n>& m, Vec<S, n>& b) {
+  using std::sqrt;
+  const int size = static_cast<int>(b.size());
+  double largest = 0;
+  for (int j = 0; j < size; ++j) largest = std::max(largest, std::abs(ad::value_of(m(j, j))));
+  for (int j = 0; j < size; ++j) {
+    S d = m(j, j);
+    for (int k = 0; k < j; ++k) d -= m(j, k) * m(j, k);
+    // The pivots are the squares of the Cholesky factor's diagonal: the
+    // test of factor_mass_matrix (dynamics.hpp).
+    if (!(ad::value_of(d) > 0.0) || ad::value_of(d) < singular_mass_tolerance * largest)
+      throw DynamicsError("impact map: the mass matrix M = d2L/dqd2 is singular or not positive definite");
+    m(j, j) = sqrt(d);
+    for (int i = j + 1; i < size; ++i) {
+      S s = m(i, j);
+      for (int k = 0; k < j; ++k) s -= m(i, k) * m(j, k);
+      m(i, j) = s / m(j, j);
+    }
+  }
+  for (int i = 0; i < size; ++i) {  // L y = b
+    for (int k = 0; k < i; ++k) b[i] -= m(i, k) * b[k];
+    b[i] /= m(i, i);
+  }
+  for (int i = size - 1; i >= 0; --i) {  // Lᵀ w = y
+    for (int k = i + 1; k < size; ++k) b[i] -= m(k, i) * b[k];
+    b[i] /= m(i, i);
+  }
+}
+
+/// The restitution coefficient of `contact`; AnalysisError unless the
+/// model declares restitution().
+template <class M>
+double restitution_of(const M& model, int contact, const std::string& prefix) {
+  if constexpr (has_restitution_v<M>) {
+    return restitution_coefficients(model)[static_cast<std::size_t>(contact)];
+  } else {
+    (void)contact;
+    throw AnalysisError(prefix + "model '" + model_name(model) +
+                        "' has contacts without restitution coefficients: its impacts cannot be crossed");
+  }
+}
+
+}  // namespace detail
+
+namespace detail {
+/// impact_map() with the restitution coefficient e given (the tangent run
+/// reads them once).
+template <class M>
+ImpactMap<coordinate_count_v<M>> impact_map_with(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                                                 const Vec<double, coordinate_count_v<M>>& qd, double t, int contact,
+                                                 double e) {
+  constexpr int n = coordinate_count_v<M>;
+  using D = ad::Jet<double, 2 * n + 1, 1>;  // along (q, q̇, t)
+  Vec<D, n> qx, qdx;
+  for (int k = 0; k < n; ++k) {
+    qx[k] = D::variable(q[k], k);
+    qdx[k] = D::variable(qd[k], n + k);
+  }
+  const D tx = D::variable(t, 2 * n);
+  // M on numbers along (q, q̇, t): L to second order in q̇.
+  using H = ad::Jet<D, n, 2>;
+  Vec<H, n> qh, qdh;
+  for (int k = 0; k < n; ++k) {
+    qh[k] = H(qx[k]);
+    qdh[k] = H::variable(qdx[k], k);
+  }
+  const H l = detail::lagrangian_of(model, qh, qdh, H(tx));
+  Mat<D, n> mass;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) mass(i, j) = l.hess(i, j);
+  // G and ∂φ/∂t: the gap to first order in (q, t).
+  using G = ad::Jet<D, n + 1, 1>;
+  Vec<G, n> qg;
+  for (int k = 0; k < n; ++k) qg[k] = G::variable(qx[k], k);
+  const G phi = G(model.unilateral(qg, G::variable(tx, n))[contact]);
+  Vec<D, n> w;
+  D v = phi.g[n];
+  for (int k = 0; k < n; ++k) {
+    w[k] = phi.g[k];
+    v += phi.g[k] * qdx[k];
+  }
+  detail::solve_spd_in_place(mass, w);  // w = M⁻¹ Gᵀ
+  D gw(0.0);
+  for (int k = 0; k < n; ++k) gw += phi.g[k] * w[k];
+  if (!(gw.v > 0.0))
+    throw DynamicsError("impact map: contact " + std::to_string(contact) +
+                        " has G M^-1 G^T = 0 (its gap does not change with the coordinates here)");
+  const D scale = (1.0 + e) * v / gw;
+  ImpactMap<n> out;
+  for (int i = 0; i < n; ++i) {
+    const D plus = qdx[i] - scale * w[i];
+    out.qd_plus[i] = plus.v;
+    for (int c = 0; c < 2 * n + 1; ++c) out.jacobian(i, c) = plus.g[c];
+    out.gap_gradient[i] = phi.g[i].v;
+  }
+  out.gap_rate_t = phi.g[n].v;
+  out.approach = v.v;
+  // γ: the gap to second order along the path direction (q̇, 1).
+  using P = ad::Jet<double, 1, 2>;
+  Vec<P, n> qp;
+  for (int k = 0; k < n; ++k) {
+    qp[k] = P(q[k]);
+    qp[k].g[0] = qd[k];
+  }
+  P tp(t);
+  tp.g[0] = 1.0;
+  out.gamma = P(model.unilateral(qp, tp)[contact]).hess(0, 0);
+  return out;
+}
+}  // namespace detail
+
+/// q̇⁺ and its derivatives at an impact of contact `contact` (an index among
+/// the model's unilateral constraints) at (q, q̇⁻, t), by the law of the
+/// file comment with the model's restitution coefficient. For models with
+/// a fixed number of coordinates and no bilateral constraints; DynamicsError when M is singular or not positive definite
+/// or the contact's G M⁻¹ Gᵀ vanishes.
+template <class M>
+ImpactMap<coordinate_count_v<M>> impact_map(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                                            const Vec<double, coordinate_count_v<M>>& qd, double t, int contact) {
+  check_model<M>();
+  constexpr int n = coordinate_count_v<M>;
+  static_assert(n != Dynamic, "impact_map: for models with a fixed coordinate_count");
+  static_assert(unilateral_count_v<M> != 0, "impact_map: for models with contacts");
+  detail::require_no_bilateral_constraints(model, "impact_map: ");
+  if (contact < 0 || contact >= unilateral_count(model))
+    throw OptionError("impact_map: contact index " + std::to_string(contact) + " is outside [0, " +
+                      std::to_string(unilateral_count(model)) + ")");
+  return detail::impact_map_with(model, q, qd, t, contact, detail::restitution_of(model, contact, "impact_map: "));
+}
+
+namespace detail {
+/// S (2n × 2n, column-major, into `out`) from the impact map's q̇⁻, q̇⁺,
+/// ∂q̇⁺/∂(q, q̇, t) (n × (2n + 1), column-major), G, v and the
+/// accelerations q̈∓ (src/analysis/saltation.cpp).
+/// `scratch` holds 2n values.
+void saltation_from(int n, const double* qd_minus, const double* qdd_minus, const double* qd_plus,
+                    const double* qdd_plus, const double* jacobian, const double* gap_gradient, double approach,
+                    double* scratch, double* out);
+}  // namespace detail
+
+/// The saltation matrix S (file comment) of an impact of contact `contact`
+/// at (q, q̇⁻, t): a change w of the state just before the impact becomes
+/// S w just after it. AnalysisError when the contact is not approaching
+/// (v ≥ 0: S is not defined at a grazing contact).
+template <class M>
+Mat<double, 2 * coordinate_count_v<M>> saltation_matrix(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                                                        const Vec<double, coordinate_count_v<M>>& qd, double t,
+                                                        int contact) {
+  constexpr int n = coordinate_count_v<M>;
+  const ImpactMap<n> map = impact_map(model, q, qd, t, contact);
+  if (!(map.approach < 0.0))
+    throw AnalysisError("saltation_matrix: contact " + std::to_string(contact) +
+                        " is not approaching (v = " + std::to_string(map.approach) + " >= 0)");
+  Vec<double, n> before, after;
+  Eigen::Matrix<double, n, 1> unused;
+  const Eigen::Matrix<double, 2 * n, 1> none = Eigen::Matrix<double, 2 * n, 1>::Zero();
+  state_jvp<1>(model, q, qd, t, none, before, unused);
+  state_jvp<1>(model, q, map.qd_plus, t, none, after, unused);
+  Mat<double, 2 * n> s;
+  Eigen::Matrix<double, 2 * n, 1> scratch;
+  detail::saltation_from(n, qd.data(), before.data(), map.qd_plus.data(), after.data(), map.jacobian.data(),
+                         map.gap_gradient.data(), map.approach, scratch.data(), s.data());
+  return s;
+}
+
+}  // namespace lagrangian

@@ -1,0 +1,355 @@
+// The tangent flow across impacts (analysis/saltation.hpp): the saltation
+// matrix of a ball on a floor against its closed form, the flow's Jacobian
+// over two bounces against the product of closed forms, and against
+// central differences of simulate() for a ball on a tilted plane and for
+// two spheres (a direct and an oblique impact); Liouville across impacts
+// (the exponents' sum gains 2 ln e per bounce), the monodromy matrix of an
+// elastic bounce, and the refusals (a contact coming to rest, two contacts
+// at one instant, parameter columns across impacts).
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "lagrangian/analysis/floquet.hpp"
+#include "lagrangian/analysis/lyapunov.hpp"
+#include "lagrangian/analysis/saltation.hpp"
+#include "lagrangian/analysis/sensitivity.hpp"
+#include "lagrangian/models/impacts.hpp"
+#include "lagrangian/models/pendulums.hpp"
+
+#include "final_state.hpp"
+
+namespace {
+
+namespace lm = lagrangian::models;
+using lagrangian::Vec;
+
+lagrangian::SensitivityOptions tight(double t_end) {
+  lagrangian::SensitivityOptions o;
+  o.run.t_end = t_end;
+  o.run.rtol = 1e-13;
+  o.run.atol = 1e-15;
+  return o;
+}
+
+/// Free flight of a ball over Δ seconds: x ↦ (q + Δ q̇, q̇) (gravity
+/// enters only q̈, which does not depend on the state).
+Eigen::MatrixXd flight(double dt) {
+  Eigen::MatrixXd f = Eigen::MatrixXd::Identity(6, 6);
+  f.topRightCorner(3, 3) = dt * Eigen::MatrixXd::Identity(3, 3);
+  return f;
+}
+
+/// The saltation matrix of a bounce on the floor z = 0 at approach speed
+/// |v|: identity except, in (z, ż), [[−e, 0], [(1 + e) g / |v|, −e]].
+Eigen::MatrixXd floor_bounce(double e, double g, double speed) {
+  Eigen::MatrixXd s = Eigen::MatrixXd::Identity(6, 6);
+  s(2, 2) = -e;
+  s(5, 5) = -e;
+  s(5, 2) = (1 + e) * g / speed;
+  return s;
+}
+
+double worst_relative(const Eigen::MatrixXd& got, const Eigen::MatrixXd& expected) {
+  return ((got - expected).array().abs() / (1.0 + expected.array().abs())).maxCoeff();
+}
+
+/// Central differences of simulate()'s x(T) along each component of the
+/// initial state (steps h (1 + |x_i|)).
+template <class M>
+Eigen::MatrixXd differences(const M& model, const lagrangian::State<lagrangian::coordinate_count_v<M>>& s, double T,
+                            double h) {
+  constexpr int n = lagrangian::coordinate_count_v<M>;
+  Eigen::MatrixXd out(2 * n, 2 * n);
+  for (int i = 0; i < 2 * n; ++i) {
+    auto up = s, down = s;
+    double& u = i < n ? up.q[i] : up.qd[i - n];
+    double& d = i < n ? down.q[i] : down.qd[i - n];
+    const double step = h * (1 + std::abs(u));
+    u += step;
+    d -= step;
+    out.col(i) = (lagrangian::testing::final_state(model, up, T) - lagrangian::testing::final_state(model, down, T)) /
+                 (2 * step);
+  }
+  return out;
+}
+
+}  // namespace
+
+// S for a ball meeting the floor at ż = −2 m/s (file comment of
+// saltation.hpp): its z-rows [[−e, 0], [(1 + e) g / 2, −e]], the rest the
+// identity (the tangential motion and the plane's other directions cross
+// unchanged).
+TEST(Saltation, BallOnFloorMatchesItsClosedForm) {
+  const double e = 0.7, g = 9.81;
+  const lm::BallAndPlane ball(1.5, 0.1, e, g);
+  const Vec<double, 3> q(0.2, -0.1, 0.1);
+  const Vec<double, 3> qd(0.3, 0.4, -2.0);
+  const auto map = lagrangian::impact_map(ball, q, qd, 0.0, 0);
+  EXPECT_NEAR(map.approach, -2.0, 1e-15);
+  EXPECT_NEAR(map.qd_plus[2], 2.0 * e, 1e-15);
+  const Eigen::MatrixXd s = lagrangian::saltation_matrix(ball, q, qd, 0.0, 0);
+  EXPECT_LT(worst_relative(s, floor_bounce(e, g, 2.0)), 1e-14) << s;
+}
+
+// Dropped from rest 1 m above the floor (with a horizontal velocity), the
+// ball lands at τ1 = √(2h/g) at speed g τ1, again at τ2 = τ1 (1 + 2e) at
+// e g τ1, and at t = τ2 + e² τ1 (the next apex)
+//   Φ = F(e² τ1) S(e g τ1) F(2e τ1) S(g τ1) F(τ1),
+// F and S the closed forms above.
+TEST(Saltation, BallFlowJacobianOverTwoBouncesMatchesTheProductOfClosedForms) {
+  const double e = 0.8, g = 9.81, R = 0.1, h = 1.0;
+  const lm::BallAndPlane ball(1.0, R, e, g);
+  lagrangian::State<3> s;
+  s.q << 0.0, 0.0, R + h;
+  s.qd << 0.3, -0.2, 0.0;
+  const double t1 = std::sqrt(2 * h / g), t2 = t1 * (1 + 2 * e), T = t2 + e * e * t1;
+  const Eigen::MatrixXd expected =
+      flight(e * e * t1) * floor_bounce(e, g, e * g * t1) * flight(2 * e * t1) * floor_bounce(e, g, g * t1) * flight(t1);
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(ball, s, tight(T));
+  EXPECT_EQ(r.impacts, 2);
+  EXPECT_LT(worst_relative(r.sensitivities.back(), expected), 1e-8) << r.sensitivities.back() << "\n\n" << expected;
+  // The state itself: at the apex after two bounces, height e⁴ h.
+  EXPECT_NEAR(r.states.back()[2], R + std::pow(e, 4) * h, 1e-10);
+}
+
+// A ball on a tilted plane (normal (0.4, 0, 1), normalised) through two
+// bounces (at 0.52 s and 1.26 s): the flow's Jacobian against central
+// differences of plain simulate() runs (which locate and resolve the impacts
+// themselves).
+TEST(Saltation, BallOnTiltedPlaneMatchesDifferencesOfSimulate) {
+  const lm::BallAndPlane ball(1.0, 0.1, 0.75, 9.81, {0.4, 0.0, 1.0}, 0.0);
+  lagrangian::State<3> s;
+  s.q << 0.3, 0.1, 1.2;
+  s.qd << -0.5, 0.2, 0.4;
+  const double T = 1.4;
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(ball, s, tight(T));
+  EXPECT_EQ(r.impacts, 2);
+  const Eigen::MatrixXd fd = differences(ball, s, T, 1e-6);
+  EXPECT_LT(worst_relative(r.sensitivities.back(), fd), 1e-6) << r.sensitivities.back() << "\n\n" << fd;
+  // The run crossed impacts: Φ is not the free flight's.
+  EXPECT_GT(worst_relative(r.sensitivities.back(), flight(T)), 0.1);
+}
+
+// Two spheres on a line, 1 kg at 1 m/s meeting 2 kg at −0.5 m/s (e = 0.8),
+// and two discs in the plane meeting off-centre (the line of centres, and
+// with it G, turns with the positions: ∂q̇⁺/∂q ≠ 0): Φ at a time after the
+// impact against central differences of simulate().
+TEST(Saltation, TwoSpheresDirectAndObliqueImpactsMatchDifferencesOfSimulate) {
+  {
+    const lm::SpheresOnLine<2> line({1.0, 2.0}, {0.1, 0.1}, 0.8);
+    lagrangian::State<2> s;
+    s.q << 0.0, 0.7;
+    s.qd << 1.0, -0.5;
+    const lagrangian::SensitivityResult r = lagrangian::sensitivities(line, s, tight(1.0));
+    EXPECT_EQ(r.impacts, 1);
+    const Eigen::MatrixXd& got = r.sensitivities.back();
+    const Eigen::MatrixXd fd = differences(line, s, 1.0, 1e-6);
+    EXPECT_LT(worst_relative(got, fd), 1e-6) << got << "\n\n" << fd;
+    Eigen::MatrixXd free = Eigen::MatrixXd::Identity(4, 4);  // free flight over 1 s
+    free.topRightCorner(2, 2) = Eigen::MatrixXd::Identity(2, 2);
+    EXPECT_GT(worst_relative(got, free), 0.1);
+  }
+  {
+    const lm::TwoSpheres<2> discs(1.0, 3.0, 0.1, 0.15, 0.6);
+    lagrangian::State<4> s;
+    s.q << 0.0, 0.0, 1.0, 0.12;
+    s.qd << 1.5, 0.2, -0.5, 0.0;
+    const lagrangian::SensitivityResult r = lagrangian::sensitivities(discs, s, tight(1.0));
+    EXPECT_EQ(r.impacts, 1);
+    const Eigen::MatrixXd& got = r.sensitivities.back();
+    const Eigen::MatrixXd fd = differences(discs, s, 1.0, 1e-6);
+    EXPECT_LT(worst_relative(got, fd), 1e-6) << got << "\n\n" << fd;
+  }
+}
+
+// Liouville across impacts: between bounces the ball's flow keeps phase
+// volume, and each bounce multiplies it by det S = e². Over 1 s from 1 m
+// (bounces at 0.45 s and 0.90 s for e = 0.5) the six exponents therefore
+// sum to 4 ln e / (1 s).
+TEST(Saltation, LyapunovSumOfABouncingBallIsTwoLogEPerBounce) {
+  const double e = 0.5;
+  const lm::BallAndPlane ball(1.0, 0.1, e);
+  lagrangian::State<3> s;
+  s.q << 0.0, 0.0, 1.1;
+  s.qd << 0.3, 0.0, 0.0;
+  lagrangian::LyapunovOptions o;
+  o.run.t_end = 1.0;
+  o.run.rtol = 1e-12;
+  o.run.atol = 1e-14;
+  const lagrangian::LyapunovResult r = lagrangian::lyapunov_spectrum(ball, s, o);
+  ASSERT_EQ(r.spectrum.size(), 6u);
+  EXPECT_EQ(r.impacts, 2);
+  EXPECT_NEAR(r.sum, 4 * std::log(e), 1e-8);
+  // Without the bounces' volume loss the sum would be 0.
+  EXPECT_LT(r.sum, -2.7);
+}
+
+// An elastic bounce (e = 1) from its apex 1 m above the floor is periodic
+// with T = 2√(2h/g). Its monodromy matrix is F(T/2) S F(T/2): in (z, ż)
+// [[1, 0], [2g/v, 1]] with v = √(2gh) (a higher apex is a longer period),
+// along x and y the shear [[1, T], [0, 1]]; every multiplier is 1.
+TEST(Saltation, ElasticBounceMonodromyMatchesItsClosedForm) {
+  const double g = 9.81, h = 1.0, R = 0.1;
+  const lm::BallAndPlane ball(1.0, R, 1.0, g);
+  lagrangian::State<3> s;
+  s.q << 0.0, 0.0, R + h;
+  s.qd << 0.25, 0.0, 0.0;
+  lagrangian::FloquetOptions o;
+  o.period = 2 * std::sqrt(2 * h / g);
+  o.run.rtol = 1e-13;
+  o.run.atol = 1e-15;
+  const lagrangian::FloquetResult r = lagrangian::floquet_multipliers(ball, s, o);
+  Eigen::MatrixXd expected = flight(o.period);
+  expected(2, 5) = 0.0;
+  expected(5, 2) = 2 * g / std::sqrt(2 * g * h);
+  EXPECT_EQ(r.impacts, 1);
+  EXPECT_LT(worst_relative(r.monodromy, expected), 1e-8) << r.monodromy;
+  // The multipliers are a defective double 1 (a Jordan block in each
+  // plane): an error δ of Φ moves them by about √δ.
+  for (const auto& mu : r.multipliers) EXPECT_NEAR(std::abs(mu), 1.0, 1e-5);
+  EXPECT_LT(std::abs(r.q[2] - (R + h)), 1e-12);
+}
+
+// A ball with e = 0.5 comes to rest after 1.35 s (its bounces' times sum
+// to 3 τ1): a tangent run past that is refused where a plain run's Zeno
+// rule lets the contact rest (an approach below zeno_speed_ratio of the
+// fastest, the floor pressing), not integrated through ever-shorter
+// flights.
+TEST(Saltation, ContactComingToRestStopsTheRun) {
+  const lm::BallAndPlane ball(1.0, 0.1, 0.5);
+  lagrangian::State<3> s;
+  s.q << 0.0, 0.0, 1.1;
+  lagrangian::LyapunovOptions o;
+  o.run.t_end = 3.0;
+  try {
+    lagrangian::lyapunov_spectrum(ball, s, o);
+    FAIL() << "a ball at rest on the floor was carried through";
+  } catch (const lagrangian::SimulationError& e) {
+    EXPECT_NE(std::string(e.what()).find("contact 'ball-plane' comes to rest"), std::string::npos) << e.what();
+  }
+  // A plastic impact (e = 0): the spheres stick, and a plain run holds the
+  // contact shut from there.
+  const lm::SpheresOnLine<2> line({1.0, 2.0}, {0.1, 0.1}, 0.0);
+  lagrangian::State<2> pair;
+  pair.q << 0.0, 0.7;
+  pair.qd << 1.0, -0.5;
+  try {
+    lagrangian::sensitivities(line, pair, tight(1.0));
+    FAIL() << "a plastic impact was crossed";
+  } catch (const lagrangian::SimulationError& e) {
+    EXPECT_NE(std::string(e.what()).find("a plastic impact, e = 0"), std::string::npos) << e.what();
+  }
+}
+
+// Three equal spheres on a line, the outer two meeting the middle one at
+// one instant: the saltation matrix of two simultaneous impacts is not
+// defined by one contact's law, and the run says so.
+TEST(Saltation, SimultaneousImpactsStopTheRun) {
+  const lm::SpheresOnLine<3> line({1.0, 1.0, 1.0}, {0.1, 0.1, 0.1}, 1.0);
+  lagrangian::State<3> s;
+  s.q << -1.0, 0.0, 1.0;
+  s.qd << 1.0, 0.0, -1.0;
+  try {
+    lagrangian::sensitivities(line, s, tight(2.0));
+    FAIL() << "two impacts at one instant were crossed";
+  } catch (const lagrangian::SimulationError& e) {
+    EXPECT_NE(std::string(e.what()).find("close at one instant"), std::string::npos) << e.what();
+  }
+}
+
+
+
+namespace {
+/// A ball on a table that moves up and down, z_table = A sin ωt: the gap
+/// φ = z − A sin ωt changes with t (the saltation matrix's R_t and the
+/// impact law's ∂φ/∂t). Its parameters may carry derivatives
+/// (sensitivity.hpp), so that a parameter column can be asked for.
+template <class P = double>
+struct BouncingBall {
+  static constexpr int coordinate_count = 1;
+  static constexpr std::array<std::string_view, 4> parameter_names{"g", "e", "amplitude", "omega"};
+  template <class Q>
+  using with_parameter_type = BouncingBall<Q>;
+  static constexpr std::array<P BouncingBall::*, 4> parameter_members() {
+    return {&BouncingBall::g, &BouncingBall::e, &BouncingBall::amplitude, &BouncingBall::omega};
+  }
+  P g = 9.81, e = 0.8, amplitude = 0.05, omega = 10.0;
+  std::string name() const { return "bouncing_ball"; }
+  std::array<double, 1> restitution() const { return {lagrangian::ad::value_of(e)}; }
+  template <class S>
+  S kinetic(const Vec<S, 1>&, const Vec<S, 1>& qd, const S&) const {
+    return 0.5 * qd[0] * qd[0];
+  }
+  template <class S>
+  S potential(const Vec<S, 1>& q, const S&) const {
+    return g * q[0];
+  }
+  template <class S>
+  Vec<S, 1> unilateral(const Vec<S, 1>& q, const S& t) const {
+    using std::sin;
+    return Vec<S, 1>(q[0] - amplitude * sin(omega * t));
+  }
+};
+
+/// The double pendulum (1 kg, 1 m each) whose lower bob meets a wall at
+/// x = 0.9 m: M depends on the angles and the gap's gradient turns with
+/// them (∂q̇⁺/∂q ≠ 0 through both).
+struct DoublePendulumAgainstWall : lm::DoublePendulum {
+  std::string name() const { return "double_pendulum_against_wall"; }
+  std::array<double, 1> restitution() const { return {0.9}; }
+  template <class S>
+  Vec<S, 1> unilateral(const Vec<S, 2>& q, const S&) const {
+    using std::sin;
+    return Vec<S, 1>(0.9 - (l1 * sin(q[0]) + l2 * sin(q[1])));
+  }
+};
+}  // namespace
+
+// A gap that moves with time and a mass matrix and gap gradient that move
+// with the coordinates: Φ against central differences of simulate().
+TEST(Saltation, MovingTableAndPendulumAgainstAWallMatchDifferencesOfSimulate) {
+  {
+    const BouncingBall<> ball;
+    lagrangian::State<1> s;
+    s.q[0] = 0.3;
+    const lagrangian::SensitivityResult r = lagrangian::sensitivities(ball, s, tight(1.0));
+    EXPECT_GE(r.impacts, 2);
+    const Eigen::MatrixXd fd = differences(ball, s, 1.0, 1e-6);
+    EXPECT_LT(worst_relative(r.sensitivities.back(), fd), 1e-6) << r.sensitivities.back() << "\n\n" << fd;
+  }
+  {
+    const DoublePendulumAgainstWall pendulum;
+    lagrangian::State<2> s;
+    s.q << 0.2, 0.2;
+    s.qd << 1.0, 1.5;
+    const lagrangian::SensitivityResult r = lagrangian::sensitivities(pendulum, s, tight(1.5));
+    EXPECT_GE(r.impacts, 1);
+    const Eigen::MatrixXd fd = differences(pendulum, s, 1.5, 1e-6);
+    EXPECT_LT(worst_relative(r.sensitivities.back(), fd), 1e-6) << r.sensitivities.back() << "\n\n" << fd;
+  }
+}
+
+TEST(Saltation, ParameterColumnsAcrossImpactsAreRefused) {
+  BouncingBall<> ball;
+  ball.amplitude = 0.0;  // a fixed floor
+  lagrangian::State<1> s;
+  s.q[0] = 1.0;
+  lagrangian::SensitivityOptions o = tight(0.5);  // dropped from 1 m: the bounce at 0.45 s
+  // The initial state's columns cross; a parameter's are refused by name.
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(ball, s, o);
+  EXPECT_EQ(r.impacts, 1);
+  EXPECT_EQ(r.sensitivities.back().cols(), 2);
+  o.parameters = {"g"};
+  try {
+    lagrangian::sensitivities(ball, s, o);
+    FAIL() << "a parameter column was carried across impacts";
+  } catch (const lagrangian::AnalysisError& e) {
+    EXPECT_NE(std::string(e.what()).find("parameter columns across impacts are not derived"), std::string::npos)
+        << e.what();
+  }
+}
