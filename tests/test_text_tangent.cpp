@@ -15,6 +15,7 @@
 #include "lagrangian/models/pendulums.hpp"
 #include "lagrangian/text/fixed_size.hpp"
 #include "lagrangian/text/tangent_flow.hpp"
+#include "contact_models.hpp"
 #include "text_definitions.hpp"
 
 namespace {
@@ -374,6 +375,52 @@ TEST(TextSaltation, BallOnAPlaneCrossesItsImpactsAsTheBuiltInModel) {
   const lagrangian::LyapunovResult r = text::lyapunov_spectrum(dropped, start({0.0, 0.0, 1.1}, {0.3, 0.0, 0.0}), l);
   EXPECT_EQ(r.impacts, 2);
   EXPECT_NEAR(r.sum, 4 * std::log(0.5), 1e-8);
+}
+
+// Gaps that move with t and with the coordinates, as text and in C++
+// (tests/contact_models.hpp): a ball on a table moving as 0.05 sin 10t m
+// (three bounces in 1 s) and the double pendulum against a wall at
+// x = 0.9 m (one impact in 1.5 s). ∂q̇⁺/∂q, R_t and the gap's γ all enter
+// the saltation matrices here, on the interpreter's nested numbers.
+TEST(TextSaltation, MovingAndTurningGapsCrossAsTheCppModels) {
+  lagrangian::SensitivityOptions o;
+  o.run.rtol = 1e-12;
+  o.run.atol = 1e-14;
+  {
+    text::Definition d;
+    d.coordinates = {"z"};
+    d.kinetic = "0.5*z_dot^2";
+    d.potential = "g*z";
+    d.contacts = {{"table", "z - A*sin(w*t)", 0.8, "m"}};
+    d.parameters = {{"g", 9.81}, {"A", 0.05}, {"w", 10.0}};
+    o.run.t_end = 1.0;
+    lagrangian::State<1> s;
+    s.q[0] = 0.3;
+    const lagrangian::SensitivityResult got = text::sensitivities(text::TextModel(d), start({0.3}, {0.0}), o);
+    const lagrangian::SensitivityResult want = lagrangian::sensitivities(lagrangian::testing::BouncingBall<>(), s, o);
+    EXPECT_EQ(got.impacts, 3);
+    EXPECT_EQ(want.impacts, 3);
+    EXPECT_LE((got.sensitivities.back() - want.sensitivities.back()).cwiseAbs().maxCoeff(), 1e-8)
+        << got.sensitivities.back() << "\n\n"
+        << want.sensitivities.back();
+  }
+  {
+    text::Definition d = lagrangian::testing::double_pendulum_text(lm::DoublePendulum());
+    d.contacts = {{"wall", "0.9 - (l1*sin(th1) + l2*sin(th2))", 0.9, "m"}};
+    o.run.t_end = 1.5;
+    lagrangian::State<2> s;
+    s.q << 0.2, 0.2;
+    s.qd << 1.0, 1.5;
+    const lagrangian::SensitivityResult got =
+        text::sensitivities(text::TextModel(d), start({0.2, 0.2}, {1.0, 1.5}), o);
+    const lagrangian::SensitivityResult want =
+        lagrangian::sensitivities(lagrangian::testing::DoublePendulumAgainstWall(), s, o);
+    EXPECT_EQ(got.impacts, 1);
+    EXPECT_EQ(want.impacts, 1);
+    EXPECT_LE((got.sensitivities.back() - want.sensitivities.back()).cwiseAbs().maxCoeff(), 1e-8)
+        << got.sensitivities.back() << "\n\n"
+        << want.sensitivities.back();
+  }
 }
 
 TEST(TextTangentFlow, RefusesWhatItIsNotDerivedFor) {

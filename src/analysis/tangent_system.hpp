@@ -50,7 +50,9 @@ namespace lagrangian::detail {
 /// plain run's rules (contact_rules.hpp, on the step's interpolant); at the
 /// earliest impact the step end moves there, q̇ becomes q̇⁺ and every column
 /// w becomes S w (saltation.hpp); MEGNO's ℓ jumps with the first vector's
-/// length.
+/// length. Refused with SimulationError: a contact coming to rest (the plain
+/// run's Zeno rule, a touch not faster than contact_touch_speed, a plastic
+/// impact), a grazing one, two contacts closing or touching at one instant.
 class TangentSystem final : public System {
  public:
   TangentSystem(const TangentModel& model, int k, double longest, bool benettin, std::vector<int> parameters = {},
@@ -312,7 +314,7 @@ class TangentSystem final : public System {
     model_.gaps(model_.model, x_old, x_old + c, t_old, gap_old_.data(), rate_old_.data());
     model_.gaps(model_.model, x, x + c, t, gap_new_.data(), rate_new_.data());
     const double touch = contact_touch_tolerance(x, n);
-    int first = -1;
+    int first = -1, slow = -1;
     double at = t;
     for (int j = 0; j < model_.contacts; ++j) {
       const auto jj = static_cast<std::size_t>(j);
@@ -326,11 +328,7 @@ class TangentSystem final : public System {
       const Closing found = locate_closing(t_old, t, a, b, touch, run_.contact_touch_speed, gap_function(on_step));
       if (found.kind == Closing::Kind::penetrated) throw_penetrated(contact(j), t_old, a.gap);
       if (found.kind == Closing::Kind::none) {
-        if (b.gap < 0)
-          throw SimulationError("tangent flow: contact '" + contact(j) +
-                                    "' comes to rest (it touches slower than contact_touch_speed, where a plain run "
-                                    "lets it rest): the tangent flow through a resting contact is not derived",
-                                t_old);
+        if (b.gap < 0 && slow < 0) slow = j;  // a touch too slow to be an impact, ending shut
         continue;
       }
       if (first >= 0 && std::abs(found.t - at) <= 2 * event_time_tolerance * std::max(1.0, std::abs(at)))
@@ -343,6 +341,11 @@ class TangentSystem final : public System {
         at = found.t;
       }
     }
+    if (first < 0 && slow >= 0)
+      throw SimulationError("tangent flow: contact '" + contact(slow) +
+                                "' touches slower than contact_touch_speed and stays shut (a plain run lets it rest "
+                                "or slide along): the tangent flow through a closed contact is not derived",
+                            t_old);
     if (first < 0) return false;
     progress_.check(at, t_old);
     if (at < t) interpolant(at, x);
@@ -382,11 +385,18 @@ class TangentSystem final : public System {
       for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k) accel += gap_gradient_[k] * qdd_minus_[k];
       return accel < 0;
     };
-    if (-v <= run_.contact_touch_speed || zeno_accumulation(history, -v, t, run_, predicate(pressed)))
+    if (-v <= run_.contact_touch_speed)
       throw SimulationError("tangent flow: contact '" + contact(first) + "' comes to rest (approach speed " +
                                 number(-v) +
-                                ", where a plain run's Zeno rule lets it rest): the tangent flow through a resting "
-                                "contact is not derived",
+                                ", not above contact_touch_speed): the tangent flow through a resting contact is "
+                                "not derived",
+                            t);
+    if (zeno_accumulation(history, -v, t, run_, predicate(pressed)))
+      throw SimulationError("tangent flow: contact '" + contact(first) + "' comes to rest (approach speed " +
+                                number(-v) +
+                                ": an accumulation of impacts with the forces pressing it shut, where the plain "
+                                "run's Zeno rule lets it rest): the tangent flow through a resting contact is not "
+                                "derived",
                             t);
     history.record(-v, t);
     model_.evaluate_direction(model_.model, x, qd_plus_.data(), t, zero_.data(), qdd_plus_.data(), scratch_.data());

@@ -51,10 +51,11 @@
 /// (saltation.hpp); the exponents' sum then includes (1/T) Σ ln |det S| of
 /// the impacts (2 ln e per bounce of a ball on a floor). Impacts are located
 /// by the plain run's rules (integrate/detail/contact_rules.hpp); a contact
-/// that comes to rest where a plain run lets it (its Zeno rule, or a touch
-/// slower than contact_touch_speed) and two contacts closing or touching at
-/// one instant stop the run with SimulationError: the tangent flow through
-/// a resting contact or a simultaneous impact is not derived.
+/// that comes to rest where a plain run lets it (its Zeno rule, a touch not
+/// faster than contact_touch_speed, a plastic impact), a grazing contact
+/// (no saltation matrix) and two contacts closing or touching at one instant
+/// stop the run with SimulationError: the tangent flow through a resting
+/// contact or a simultaneous impact is not derived.
 
 #include <cstdint>
 #include <string>

@@ -70,8 +70,8 @@ void solve_spd_in_place(Mat<S, n>& m, Vec<S, n>& b) {
   for (int j = 0; j < size; ++j) {
     S d = m(j, j);
     for (int k = 0; k < j; ++k) d -= m(j, k) * m(j, k);
-    // The pivots are the squares of the Cholesky factor's diagonal: the
-    // test of factor_mass_matrix (dynamics.hpp).
+    // The pivots are the squares of the Cholesky factor's diagonal; each
+    // must exceed singular_mass_tolerance times M's largest diagonal entry.
     if (!(ad::value_of(d) > 0.0) || ad::value_of(d) < singular_mass_tolerance * largest)
       throw DynamicsError("impact map: the mass matrix M = d2L/dqd2 is singular or not positive definite");
     m(j, j) = sqrt(d);

@@ -57,17 +57,6 @@
 namespace lagrangian {
 
 namespace detail {
-/// AnalysisError (its message starting with `prefix`) unless the model has
-/// neither constraints nor contacts: the tangent flow is derived only for
-/// such models.
-template <class M>
-void require_no_constraints(const M& model, const std::string& prefix) {
-  if (has_constraints(model) || unilateral_count(model) > 0)
-    throw AnalysisError(prefix +
-                        "the tangent flow is derived for models without constraints or contacts; this model declares " +
-                        std::to_string(constraint_count(model)) + " constraint rows and " +
-                        std::to_string(unilateral_count(model)) + " contacts");
-}
 /// AnalysisError (its message starting with `prefix`) when the model has
 /// holonomic or Pfaffian constraints. Contacts act only at impacts: between
 /// them the tangent flow is that of the free equations of motion, and an

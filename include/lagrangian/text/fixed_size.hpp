@@ -105,8 +105,9 @@ class FixedSizeModel {
   }
 
   /// Contacts, as the text model's: their count, gaps φ(q, t) ≥ 0 (into a
-  /// per-thread vector: no allocation per call), names, units and
-  /// restitution coefficients.
+  /// per-thread vector, one per number type S: no allocation per call; the
+  /// values hold until the next unilateral() call with the same S on this
+  /// thread), names, units and restitution coefficients.
   int unilateral_count() const { return static_cast<int>(p_->gaps_bound.size()); }
   template <class S>
   Eigen::Map<const Vec<S, Dynamic>> unilateral(const Vec<S, N>& q, const S& t) const {

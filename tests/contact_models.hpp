@@ -1,0 +1,62 @@
+#pragma once
+// Models with contacts written for the tests of the tangent flow across
+// impacts (test_saltation.cpp, and their text forms in
+// test_text_tangent.cpp): a gap that moves with time, and a mass matrix and
+// gap gradient that move with the coordinates.
+
+#include <array>
+#include <cmath>
+#include <string>
+#include <string_view>
+
+#include "lagrangian/ad.hpp"
+#include "lagrangian/model.hpp"
+#include "lagrangian/models/pendulums.hpp"
+
+namespace lagrangian::testing {
+
+/// A ball on a table that moves up and down, z_table = A sin ωt: the gap
+/// φ = z − A sin ωt changes with t (the saltation matrix's R_t and the
+/// impact law's ∂φ/∂t). Its parameters may carry derivatives
+/// (sensitivity.hpp), so that a parameter column can be asked for.
+template <class P = double>
+struct BouncingBall {
+  static constexpr int coordinate_count = 1;
+  static constexpr std::array<std::string_view, 4> parameter_names{"g", "e", "amplitude", "omega"};
+  template <class Q>
+  using with_parameter_type = BouncingBall<Q>;
+  static constexpr std::array<P BouncingBall::*, 4> parameter_members() {
+    return {&BouncingBall::g, &BouncingBall::e, &BouncingBall::amplitude, &BouncingBall::omega};
+  }
+  P g = 9.81, e = 0.8, amplitude = 0.05, omega = 10.0;
+  std::string name() const { return "bouncing_ball"; }
+  std::array<double, 1> restitution() const { return {lagrangian::ad::value_of(e)}; }
+  template <class S>
+  S kinetic(const Vec<S, 1>&, const Vec<S, 1>& qd, const S&) const {
+    return 0.5 * qd[0] * qd[0];
+  }
+  template <class S>
+  S potential(const Vec<S, 1>& q, const S&) const {
+    return g * q[0];
+  }
+  template <class S>
+  Vec<S, 1> unilateral(const Vec<S, 1>& q, const S& t) const {
+    using std::sin;
+    return Vec<S, 1>(q[0] - amplitude * sin(omega * t));
+  }
+};
+
+/// The double pendulum (1 kg, 1 m each) whose lower bob meets a wall at
+/// x = 0.9 m: M depends on the angles and the gap's gradient turns with
+/// them (∂q̇⁺/∂q ≠ 0 through both).
+struct DoublePendulumAgainstWall : models::DoublePendulum {
+  std::string name() const { return "double_pendulum_against_wall"; }
+  std::array<double, 1> restitution() const { return {0.9}; }
+  template <class S>
+  Vec<S, 1> unilateral(const Vec<S, 2>& q, const S&) const {
+    using std::sin;
+    return Vec<S, 1>(0.9 - (l1 * sin(q[0]) + l2 * sin(q[1])));
+  }
+};
+
+}  // namespace lagrangian::testing
