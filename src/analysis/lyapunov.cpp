@@ -24,12 +24,18 @@
 namespace lagrangian::detail {
 namespace {
 
-void check_options(const LyapunovOptions& options, int n) {
+/// d: 2n, or for a constrained model the dimension of its manifold's
+/// tangent space (tangent_system.hpp).
+void check_options(const LyapunovOptions& options, int n, int d) {
   check_tangent_run(options.run, "lyapunov");
-  if (options.exponents < 0 || options.exponents > 2 * n) {
+  if (options.exponents < 0 || options.exponents > d) {
     std::ostringstream os;
-    os << "lyapunov: exponents = " << options.exponents << " is outside [0, " << 2 * n
-       << "] (0 asks for all 2n = " << 2 * n << ")";
+    os << "lyapunov: exponents = " << options.exponents << " is outside [0, " << d << "] (0 asks for all ";
+    if (d == 2 * n) {
+      os << "2n = " << d << ")";
+    } else {
+      os << d << ", the dimension of the constraint manifold's tangent space)";
+    }
     throw OptionError(os.str());
   }
   if (!(options.interval >= 0) || !std::isfinite(options.interval)) {
@@ -44,8 +50,10 @@ void check_options(const LyapunovOptions& options, int n) {
 LyapunovResult lyapunov_spectrum(const TangentModel& model, const double* q0, const double* qd0,
                                  const LyapunovOptions& options) {
   const int n = model.n;
-  check_options(options, n);
-  const int k = options.exponents == 0 ? 2 * n : options.exponents;
+  const int d =
+      model.manifold > 0 ? static_cast<int>(tangent_basis(model, q0, qd0, options.run.t0).cols()) : 2 * n;
+  check_options(options, n, d);
+  const int k = options.exponents == 0 ? d : options.exponents;
   const auto clock_start = std::chrono::steady_clock::now();
   const double span = options.run.t_end - options.run.t0;
   TangentSystem system(model, k, options.interval > 0 ? options.interval : span / 100, true);

@@ -15,6 +15,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/QR>
+#include <Eigen/SVD>
 
 #include "lagrangian/analysis/lyapunov.hpp"
 #include "lagrangian/analysis/saltation.hpp"
@@ -27,12 +28,34 @@
 
 namespace lagrangian::detail {
 
+/// A basis (2n × d, orthonormal in (q, q̇)) of the tangent space of the
+/// constraint manifold of `model` at (q, q̇, t): the null space of
+/// H = ∂h/∂(q, q̇), h = (g, ġ, φ), of dimension d = 2n − rank H (2n for a
+/// model without holonomic or Pfaffian constraints: the identity).
+inline Eigen::MatrixXd tangent_basis(const TangentModel& model, const double* q, const double* qd, double t) {
+  const int n = model.n;
+  if (model.manifold == 0) return Eigen::MatrixXd::Identity(2 * n, 2 * n);
+  std::vector<double> residual(static_cast<std::size_t>(model.manifold)),
+      jacobian(static_cast<std::size_t>(2 * n * model.manifold));
+  model.manifold_rows(model.model, q, qd, t, residual.data(), jacobian.data());
+  const Eigen::Map<const Eigen::MatrixXd> h(jacobian.data(), model.manifold, 2 * n);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(h, Eigen::ComputeFullV);
+  const int rank = static_cast<int>(svd.rank());
+  return svd.matrixV().rightCols(2 * n - rank);
+}
+
 /// ẋ = f(x, t) with k tangent vectors: the n(1 + k) coordinates
 /// (q, δq_1, …, δq_k) and their rates (q̇, δq̇_1, …, δq̇_k), so that
 /// d/dt δq_j = δq̇_j comes from the driver's layout and
 ///   d/dt δq̇_j = (∂q̈/∂q) δq_j + (∂q̈/∂q̇) δq̇_j.
 /// With `benettin` (Lyapunov exponents) the tangent vectors start as the
-/// first k canonical unit vectors and Benettin's renormalisation is the
+/// first k canonical unit vectors (for a model with holonomic or Pfaffian
+/// constraints: the first k vectors of a basis of the constraint manifold's
+/// tangent space orthonormal in the reduced canonical coordinates
+/// (Uᵀ δq, Uᵀ δp), U a basis of ker ∂g/∂q, in which it is factored; a
+/// renormalisation projects the state onto the manifold and the vectors
+/// onto its tangent space first)
+/// and Benettin's renormalisation is the
 /// system's one event: after an accepted step in which a tangent vector's
 /// length changed by more than a factor e since the last one, or `longest`
 /// seconds after it, the canonical tangent matrix Z = P W
@@ -67,6 +90,10 @@ class TangentSystem final : public System {
           "sensitivity: parameter columns across impacts are not derived (the impact map and the gaps may depend on "
           "the parameters); this model has " +
           std::to_string(model_.contacts) + " contacts: ask for the initial state's columns only");
+    if (model_.manifold > 0 && !benettin_)
+      throw AnalysisError(
+          "the monodromy matrix and the sensitivities of a model with holonomic or Pfaffian constraints are not "
+          "derived (its Lyapunov exponents are: the tangent vectors must stay on the constraint manifold)");
     jumped_.resize(2 * model_.n, columns_);
   }
 
@@ -111,7 +138,16 @@ class TangentSystem final : public System {
                                     number(gap_new_[static_cast<std::size_t>(j)]) + " < 0)",
                                 t0);
     }
-    if (benettin_) {
+    if (model_.manifold > 0) check_on_manifold(x, t0);
+    if (benettin_ && model_.manifold > 0) {
+      // The first k vectors of a basis of the manifold's tangent space,
+      // orthonormal in the reduced canonical coordinates.
+      canonical(x, t0);
+      reduce_ = configuration_basis();
+      const Eigen::MatrixXd basis = tangent_basis(model_, x, x + coordinate_count(), t0);
+      qr_.compute(reduced_canonical(basis));
+      w_ = divided_by_r(basis, qr_.matrixQR()).leftCols(k_);
+    } else if (benettin_) {
       canonical(x, t0);
       w_ = from_canonical(Eigen::MatrixXd::Identity(2 * model_.n, k_));
     } else {
@@ -259,12 +295,17 @@ class TangentSystem final : public System {
   }
   void renormalise(double* x, double t) {
     const int n = model_.n;
+    if (model_.manifold > 0) to_manifold(x, t);
     canonical(x, t);
     const Eigen::Map<const Eigen::MatrixXd> dp(p_.data(), n, 2 * n);
-    Eigen::MatrixXd z(2 * n, k_);
-    z.topRows(n) = w_.topRows(n);
-    z.bottomRows(n) = dp * w_;
-    qr_.compute(z);
+    if (model_.manifold > 0) {
+      qr_.compute(reduced_canonical(w_));
+    } else {
+      Eigen::MatrixXd z(2 * n, k_);
+      z.topRows(n) = w_.topRows(n);
+      z.bottomRows(n) = dp * w_;
+      qr_.compute(z);
+    }
     const Eigen::MatrixXd& r = qr_.matrixQR();
     for (int j = 0; j < k_; ++j) {
       const double grow = std::log(std::abs(r(j, j)));
@@ -276,18 +317,92 @@ class TangentSystem final : public System {
       sums_[static_cast<std::size_t>(j)] += grow;
     }
     ell_offset_ += std::log(r(0, 0) < 0 ? -r(0, 0) : r(0, 0));
-    // Q with the signs that make R's diagonal positive: each tangent vector
-    // keeps its direction.
-    Eigen::MatrixXd q = qr_.householderQ() * Eigen::MatrixXd::Identity(2 * n, k_);
-    for (int j = 0; j < k_; ++j)
-      if (r(j, j) < 0) q.col(j) = -q.col(j);
-    w_ = from_canonical(q);
+    if (model_.manifold > 0) {
+      w_ = divided_by_r(w_, r);
+    } else {
+      // Q with the signs that make R's diagonal positive: each tangent
+      // vector keeps its direction.
+      Eigen::MatrixXd q = qr_.householderQ() * Eigen::MatrixXd::Identity(2 * n, k_);
+      for (int j = 0; j < k_; ++j)
+        if (r(j, j) < 0) q.col(j) = -q.col(j);
+      w_ = from_canonical(q);
+    }
     remember_lengths();
     store(x);
     ++renormalisations_;
     shortest_ = std::min(shortest_, t - last_);
     longest_taken_ = std::max(longest_taken_, t - last_);
     last_ = t;
+  }
+
+  /// ConstraintError naming the first row h_i of the constraint manifold
+  /// (g, ġ or φ) off zero at the start by more than 1e-9 (1 + ‖q‖∞) or
+  /// 1e-9 (1 + ‖q̇‖∞), the plain run's test.
+  void check_on_manifold(const double* x, double t) {
+    const int n = model_.n, c = coordinate_count(), mh = model_.manifold_holonomic;
+    model_.manifold_rows(model_.model, x, x + c, t, residual_.data(), manifold_jacobian_.data());
+    const Eigen::Map<const Eigen::VectorXd> q(x, n), qd(x + c, n);
+    const double qs = 1.0 + q.lpNorm<Eigen::Infinity>(), vs = 1.0 + qd.lpNorm<Eigen::Infinity>();
+    for (int i = 0; i < model_.manifold; ++i) {
+      const double h = residual_[static_cast<std::size_t>(i)];
+      if (!(std::abs(h) <= 1e-9 * (i < mh ? qs : vs)))
+        throw ConstraintError("tangent flow: the initial state violates constraint " +
+                              model_.manifold_names[static_cast<std::size_t>(i)] + " (" + number(h) +
+                              "); use consistent_initial_state() to find the nearest consistent state");
+    }
+  }
+  /// The state of x projected onto the constraint manifold (the model's
+  /// projection) and the tangent vectors onto its tangent space,
+  /// W ← W − H⁺ (H W) with H = ∂h/∂(q, q̇): a renormalisation takes off
+  /// the drift the integration left (the exact flow keeps both on it).
+  void to_manifold(double* x, double t) {
+    const int n = model_.n, c = coordinate_count();
+    model_.project(model_.model, x, x + c, t);
+    model_.manifold_rows(model_.model, x, x + c, t, residual_.data(), manifold_jacobian_.data());
+    const Eigen::Map<const Eigen::MatrixXd> h(manifold_jacobian_.data(), model_.manifold, 2 * n);
+    const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(h);
+    w_ -= cod.solve(h * w_);
+    reduce_ = configuration_basis();
+    store(x);
+  }
+  /// U: an orthonormal basis (n × f) of the configuration's tangent space
+  /// ker G, G = ∂g/∂q of the holonomic rows (from the last manifold_rows()
+  /// evaluation; the identity without holonomic rows).
+  Eigen::MatrixXd configuration_basis() const {
+    const int n = model_.n, mh = model_.manifold_holonomic;
+    if (mh == 0) return Eigen::MatrixXd::Identity(n, n);
+    const Eigen::Map<const Eigen::MatrixXd> h(manifold_jacobian_.data(), model_.manifold, 2 * n);
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(h.topLeftCorner(mh, n), Eigen::ComputeFullV);
+    return svd.matrixV().rightCols(n - static_cast<int>(svd.rank()));
+  }
+  /// The reduced canonical coordinates (Uᵀ δq, Uᵀ δp) of tangent vectors
+  /// (the columns of w) of the manifold, δp = (∂p/∂q) δq + M δq̇ (p_ at
+  /// the state): on the manifold of a holonomic system they are Darboux
+  /// coordinates of the symplectic form Σ δq_i ∧ δp_i restricted to it
+  /// (δq = U a, Uᵀ δp = b: ω = a₁·b₂ − a₂·b₁), so volumes in them are
+  /// phase-space volumes and a Hamiltonian spectrum sums to zero at every
+  /// time, as in (q, p) without constraints; they determine a tangent
+  /// vector of the manifold (Pfaffian rows too: the map is injective).
+  Eigen::MatrixXd reduced_canonical(const Eigen::MatrixXd& w) const {
+    const int n = model_.n, f = static_cast<int>(reduce_.cols());
+    const Eigen::Map<const Eigen::MatrixXd> dp(p_.data(), n, 2 * n);
+    Eigen::MatrixXd z(2 * f, w.cols());
+    z.topRows(f) = reduce_.transpose() * w.topRows(n);
+    z.bottomRows(f) = reduce_.transpose() * (dp * w);
+    return z;
+  }
+  /// W R⁻¹ D, D = sign(diag R): the tangent vectors whose reduced canonical
+  /// coordinates are the orthonormal Q of their QR factors, each keeping its
+  /// direction (R is the upper triangle of `factors`, QR of the reduced
+  /// coordinates of W).
+  Eigen::MatrixXd divided_by_r(const Eigen::MatrixXd& w, const Eigen::MatrixXd& factors) const {
+    const int k = static_cast<int>(w.cols());
+    Eigen::MatrixXd wt = w.transpose();
+    factors.topLeftCorner(k, k).triangularView<Eigen::Upper>().transpose().solveInPlace(wt);
+    Eigen::MatrixXd out = wt.transpose();
+    for (int j = 0; j < k; ++j)
+      if (factors(j, j) < 0) out.col(j) = -out.col(j);
+    return out;
   }
 
   /// x with 6 significant digits, for messages.
@@ -454,6 +569,10 @@ class TangentSystem final : public System {
                       saltation_ = std::vector<double>(static_cast<std::size_t>(4 * model_.n * model_.n)),
                       salt_scratch_ = zero_;
   Eigen::MatrixXd jumped_;
+  // The constraint manifold: its rows and their Jacobian, U (configuration_basis()).
+  Eigen::MatrixXd reduce_;
+  std::vector<double> residual_ = std::vector<double>(static_cast<std::size_t>(model_.manifold)),
+                      manifold_jacobian_ = std::vector<double>(static_cast<std::size_t>(2 * model_.n * model_.manifold));
   int impacts_ = 0;
   int renormalisations_ = 0;
   double shortest_ = std::numeric_limits<double>::infinity();

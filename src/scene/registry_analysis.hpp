@@ -115,34 +115,49 @@ std::string analyse_model(const M& model, const ModelInfo& info, const State<coo
 
 /// The OptionError of a scene whose model (`model`: "model 'NAME'" or "the
 /// model stated as text") the tangent flow is not derived for (Lyapunov
-/// exponents, Floquet multipliers; `what` names the analysis):
-/// `this_one_has` says why ("7 coordinates", "constraints").
-inline OptionError no_tangent_flow(const char* what, const std::string& model, const std::string& this_one_has) {
-  return OptionError(std::string(what) + ": " + model +
-                     ": the tangent flow is derived for models without bilateral constraints, whose contacts (if "
-                     "any) have restitution coefficients, and with at most " +
-                     std::to_string(kMaxTangentFlowCoordinates) + " coordinates; this one has " + this_one_has);
+/// exponents, Floquet multipliers; `what` names the analysis): `why` says
+/// what is derived and what this model has.
+inline OptionError no_tangent_flow(const char* what, const std::string& model, const std::string& why) {
+  return OptionError(std::string(what) + ": " + model + ": " + why);
 }
 
+/// The reasons of no_tangent_flow().
+inline std::string too_many_coordinates(const std::string& count) {
+  return "the tangent flow is derived for models with at most " + std::to_string(kMaxTangentFlowCoordinates) +
+         " coordinates; this one has " + count;
+}
+inline const char* const kNoRestitution =
+    "the tangent flow crosses impacts of contacts with restitution coefficients; this model's contacts have none";
+inline const char* const kConstraintsAndContacts =
+    "the tangent flow is derived for models with holonomic or Pfaffian constraints or with contacts, not both; "
+    "this one has both";
+inline const char* const kMonodromyOfConstraints =
+    "the monodromy matrix is derived for models without holonomic or Pfaffian constraints (their Lyapunov "
+    "exponents are); this one has constraints";
+
 /// `run(model)` for the models the tangent flow is derived for (contacts
-/// crossed at their impacts, analysis/saltation.hpp), the OptionError of
-/// no_tangent_flow() for the others (the scene asks for what its model
-/// cannot give, as solve-bvp's refusals do), which never instantiate it.
-/// (Text models, whose size is known at run time, are seen at their size
-/// by text/tangent_flow.hpp.)
-template <class Result, class M, class Run>
+/// crossed at their impacts, analysis/saltation.hpp; holonomic and
+/// Pfaffian constraints kept when `constraints` is true: Lyapunov
+/// exponents), the OptionError of no_tangent_flow() for the others (the
+/// scene asks for what its model cannot give, as solve-bvp's refusals do),
+/// which never instantiate it. (Text models, whose size is known at run
+/// time, are seen at their size by text/tangent_flow.hpp.)
+template <class Result, bool constraints, class M, class Run>
 Result with_tangent_flow(const M& model, const ModelInfo& info, const char* what, Run&& run) {
   constexpr int n = coordinate_count_v<M>;
   constexpr int u = unilateral_count_v<M>;
   constexpr bool bilateral = holonomic_count_v<M> != 0 || pfaffian_count_v<M> != 0;
+  constexpr bool bilateral_fixed = lagrangian::detail::bilateral_rows_v<M> != Dynamic;
   constexpr bool contacts_crossed = u == 0 || has_restitution_v<M>;
-  if constexpr (n == Dynamic || n > kMaxTangentFlowCoordinates || bilateral || !contacts_crossed) {
+  if constexpr (n == Dynamic || n > kMaxTangentFlowCoordinates || !contacts_crossed ||
+                (bilateral && (!constraints || u != 0 || !bilateral_fixed))) {
     (void)model, (void)run;
     throw no_tangent_flow(what, "model '" + info.name + "'",
-                          n == Dynamic                       ? std::string("a run-time number of coordinates")
-                          : n > kMaxTangentFlowCoordinates ? std::to_string(n) + " coordinates"
-                          : bilateral                      ? std::string("constraints")
-                                                           : std::string("contacts without restitution coefficients"));
+                          n == Dynamic                       ? too_many_coordinates("a run-time number")
+                          : n > kMaxTangentFlowCoordinates ? too_many_coordinates(std::to_string(n))
+                          : !contacts_crossed              ? std::string(kNoRestitution)
+                          : !constraints                   ? std::string(kMonodromyOfConstraints)
+                                                           : std::string(kConstraintsAndContacts));
   } else {
     return run(model);
   }

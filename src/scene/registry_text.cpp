@@ -132,9 +132,12 @@ auto with_text_tangent_flow(const ModelSpec& spec, double t0, const char* what, 
   const State<Dynamic> s0 = initial_of(spec);
   const lagrangian::text::TextModel model(parsed_of(spec));
   const std::string label = "the model stated as text";
-  if (holonomic_count(model) > 0 || pfaffian_count(model) > 0) throw no_tangent_flow(what, label, "constraints");
+  if (holonomic_count(model) > 0 || pfaffian_count(model) > 0)
+    throw no_tangent_flow(what, label,
+                          "the tangent flow of a model stated as text is derived without holonomic or Pfaffian "
+                          "constraints (a model written in C++ may have them); this one has constraints");
   if (model.size() > kMaxTangentFlowCoordinates)
-    throw no_tangent_flow(what, label, std::to_string(model.size()) + " coordinates");
+    throw no_tangent_flow(what, label, too_many_coordinates(std::to_string(model.size())));
   check_start(model, s0, t0);
   return compute(model, s0);
 }

@@ -56,6 +56,20 @@
 /// (no saltation matrix) and two contacts closing or touching at one instant
 /// stop the run with SimulationError: the tangent flow through a resting
 /// contact or a simultaneous impact is not derived.
+///
+/// A model with holonomic or Pfaffian constraints moves on its constraint
+/// manifold h = (g, ġ, φ) = 0 in the state space, of dimension
+/// d = 2n − rank ∂h/∂(q, q̇) (2 per degree of freedom of a holonomic
+/// system), and so do its tangent vectors: they start as the first k vectors
+/// of a basis of the manifold's tangent space orthonormal in (q, p), and
+/// there are d exponents (k ≤ d; 0 asks for all d). J is that of the
+/// constrained motion (tangent_flow.hpp); the state integrates the
+/// constrained equations without stabilisation, and at every
+/// renormalisation the state is projected onto the manifold (the model's
+/// project_positions() and project_velocities()) and the tangent vectors
+/// onto its tangent space (W ← W − H⁺ H W, H = ∂h/∂(q, q̇)), which takes off
+/// the drift the integration left. A start off the manifold (beyond the
+/// plain run's 1e-9) is a ConstraintError.
 
 #include <cstdint>
 #include <string>
@@ -65,6 +79,7 @@
 #include "lagrangian/analysis/tangent_flow.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/integrate/report.hpp"
+#include "lagrangian/mechanics/projection.hpp"
 #include "lagrangian/model.hpp"
 
 namespace lagrangian {
@@ -74,7 +89,8 @@ struct LyapunovOptions {
   /// The run: method, tolerances, t0 and t_end (s). Its output settings
   /// are not used.
   SimulationOptions run;
-  /// Exponents wanted, k in [1, 2n]; 0 asks for all 2n.
+  /// Exponents wanted, k in [1, d] (d = 2n, or the dimension of the
+  /// constraint manifold's tangent space); 0 asks for all d.
   int exponents = 0;
   /// Longest time between renormalisations (s); 0 takes T/100. Shorter
   /// intervals come from the tangent vectors' growth (above).
@@ -133,6 +149,16 @@ struct TangentModel {
   void (*gaps)(const void* model, const double* q, const double* qd, double t, double* gap, double* rate) = nullptr;
   double (*impact)(const void* model, const double* q, const double* qd, double t, int contact, double e,
                    double* qd_plus, double* jacobian, double* gap_gradient, double* gamma) = nullptr;
+  /// The constraint manifold of a model with holonomic or Pfaffian rows:
+  /// the number of its rows h = (g, ġ, φ) (2 mh + mp; 0 for a model
+  /// without such constraints), mh and the rows' names, h and ∂h/∂(q, q̇) at
+  /// (q, q̇, t) (manifold_rows() of tangent_solve.hpp), and the projection of
+  /// a state onto it (project_positions(), then project_velocities()).
+  int manifold = 0, manifold_holonomic = 0;
+  std::vector<std::string> manifold_names;
+  void (*manifold_rows)(const void* model, const double* q, const double* qd, double t, double* residual,
+                        double* jacobian) = nullptr;
+  void (*project)(const void* model, double* q, double* qd, double t) = nullptr;
 };
 
 /// Benettin's method over a TangentModel (src/analysis/lyapunov.cpp).
@@ -211,14 +237,47 @@ double evaluate_impact(const void* model, const double* q, const double* qd, dou
   return map.approach;
 }
 
+template <class M>
+void evaluate_manifold(const void* model, const double* q, const double* qd, double t, double* residual,
+                       double* jacobian) {
+  constexpr int n = coordinate_count_v<M>;
+  manifold_rows(*static_cast<const M*>(model), Eigen::Map<const Vec<double, n>>(q),
+                Eigen::Map<const Vec<double, n>>(qd), t, residual, jacobian);
+}
+
+template <class M>
+void evaluate_projection(const void* model, double* q, double* qd, double t) {
+  constexpr int n = coordinate_count_v<M>;
+  const M& m = *static_cast<const M*>(model);
+  Vec<double, n> qv = Eigen::Map<const Vec<double, n>>(q), qdv = Eigen::Map<const Vec<double, n>>(qd);
+  project_positions(m, qv, t, 1e-12 * (1.0 + qv.template lpNorm<Eigen::Infinity>()));
+  Workspace<n> ws(n);
+  project_velocities(m, ws, qv, qdv, t);
+  Eigen::Map<Vec<double, n> > q_out(q), qd_out(qd);
+  q_out = qv;
+  qd_out = qdv;
+}
+
 /// The TangentModel of `model`: AnalysisError (`prefix` starting its
-/// message) for a model with holonomic or Pfaffian constraints, or with
-/// contacts but no restitution coefficients.
+/// message) for constraints the tangent flow is not derived for
+/// (require_tangent_flow_constraints()) and for contacts without
+/// restitution coefficients.
 template <class M>
 TangentModel tangent_model_of(const M& model, const std::string& prefix) {
-  require_no_bilateral_constraints(model, prefix);
+  require_tangent_flow_constraints(model, prefix);
   TangentModel tm{&model, &evaluate_tangent<M>, &evaluate_momentum<M>, coordinate_count_v<M>,
                   &evaluate_tangent_direction<M>};
+  if constexpr (bilateral_rows_v<M> != Dynamic && bilateral_rows_v<M> > 0) {
+    constexpr int mh = holonomic_count_v<M>;
+    tm.manifold = 2 * mh + pfaffian_count_v<M>;
+    tm.manifold_holonomic = mh;
+    const auto names = constraint_names(model);
+    for (int i = 0; i < mh; ++i) tm.manifold_names.push_back(names[static_cast<std::size_t>(i)]);
+    for (int i = 0; i < mh; ++i) tm.manifold_names.push_back(names[static_cast<std::size_t>(i)] + " (rate)");
+    for (int i = mh; i < mh + pfaffian_count_v<M>; ++i) tm.manifold_names.push_back(names[static_cast<std::size_t>(i)]);
+    tm.manifold_rows = &evaluate_manifold<M>;
+    tm.project = &evaluate_projection<M>;
+  }
   if constexpr (unilateral_count_v<M> != 0) {
     const int count = unilateral_count(model);
     if (count > 0) {
@@ -241,9 +300,10 @@ TangentModel tangent_model_of(const M& model, const std::string& prefix) {
 /// The Lyapunov exponents of the motion of `model` from `initial` at
 /// options.run.t0 to options.run.t_end (see the file comment). Throws
 /// OptionError for a bad option (naming it and its value), AnalysisError
-/// for a model with holonomic or Pfaffian constraints (contacts are
-/// crossed at their impacts), SimulationError when the run
-/// fails.
+/// for constraints the tangent flow is not derived for (holonomic or
+/// Pfaffian rows together with contacts; contacts alone are crossed at
+/// their impacts), ConstraintError for a start off the constraint
+/// manifold, SimulationError when the run fails.
 template <class M>
 LyapunovResult lyapunov_spectrum(const M& model, const State<coordinate_count_v<M>>& initial,
                                  const LyapunovOptions& options) {

@@ -1,7 +1,7 @@
 #pragma once
 /// \file tangent_flow.hpp
 /// The Jacobian of the equations of motion with respect to the state, by
-/// automatic differentiation: the tangent flow of an unconstrained model.
+/// automatic differentiation: the tangent flow of a model.
 ///
 /// With x = (q, q̇) the motion is ẋ = f(x, t) = (q̇, q̈(q, q̇, t)), where
 ///   M q̈ = r,   M = ∂²L/∂q̇²,
@@ -30,13 +30,23 @@
 /// Units: ∂q̈/∂q in 1/s² (per unit of the coordinate: rad/s² per rad,
 /// m/s² per m), ∂q̈/∂q̇ in 1/s.
 ///
+/// Holonomic and Pfaffian constraints: q̈ solves M q̈ = r + Cᵀλ, C q̈ = −γ
+/// (constrained_accelerations.hpp, without stabilisation), and its
+/// derivative along a direction solves the same saddle-point system with
+/// right-hand sides δr − δM q̈ + δCᵀλ and −δγ − δC q̈; C, γ and their
+/// derivatives along the directions come from the constraint functions on
+/// ad::Jets of ad::Jets (analysis/detail/tangent_solve.hpp). J then maps
+/// the tangent space of the constraint manifold (tangent vectors with
+/// δg = δġ = δφ = 0) into itself; vectors off it have no meaning for the
+/// constrained motion (lyapunov.hpp keeps its vectors on it).
+///
 /// Scope: models with a fixed number of coordinates (n ≤ 6: a number holds
-/// K + 1 EomJets of n² entries each) and without bilateral constraints
-/// (their tangent flow, kept in the constraint manifold, is not derived
-/// here); such models are refused with AnalysisError. A model's contacts
-/// do not act between impacts, so J is that of its free motion; the tangent
-/// runs (lyapunov.hpp, sensitivity.hpp) cross each impact with its
-/// saltation matrix (saltation.hpp).
+/// K + 1 EomJets of n² entries each) and of constraint rows. Refused with
+/// AnalysisError: bilateral rows counted at run time, and bilateral
+/// constraints together with contacts. A model's contacts do not act
+/// between impacts, so J is that of its free motion; the tangent runs
+/// (lyapunov.hpp, sensitivity.hpp) cross each impact with its saltation
+/// matrix (saltation.hpp).
 
 #include <algorithm>
 #include <array>
@@ -48,6 +58,7 @@
 #include <Eigen/Core>
 
 #include "lagrangian/ad.hpp"
+#include "lagrangian/analysis/detail/tangent_solve.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/mechanics/constraint_counts.hpp"
 #include "lagrangian/mechanics/detail/constant_mass.hpp"
@@ -58,9 +69,10 @@ namespace lagrangian {
 
 namespace detail {
 /// AnalysisError (its message starting with `prefix`) when the model has
-/// holonomic or Pfaffian constraints. Contacts act only at impacts: between
-/// them the tangent flow is that of the free equations of motion, and an
-/// impact is crossed by its saltation matrix (saltation.hpp).
+/// holonomic or Pfaffian constraints (the impact map, saltation.hpp, and
+/// models stated as text, whose rows are counted at run time). Contacts act
+/// only at impacts: between them the tangent flow is that of the free
+/// equations of motion, and an impact is crossed by its saltation matrix.
 template <class M>
 void require_no_bilateral_constraints(const M& model, const std::string& prefix) {
   if (holonomic_count(model) > 0 || pfaffian_count(model) > 0)
@@ -68,6 +80,25 @@ void require_no_bilateral_constraints(const M& model, const std::string& prefix)
                         "the tangent flow is derived for models without bilateral constraints; this model declares " +
                         std::to_string(holonomic_count(model)) + " holonomic and " +
                         std::to_string(pfaffian_count(model)) + " Pfaffian constraint rows");
+}
+
+/// AnalysisError (its message starting with `prefix`) for constraints the
+/// tangent flow is not derived for: holonomic or Pfaffian rows whose number
+/// is known only at run time, and such rows together with contacts (an
+/// impact under bilateral constraints has no saltation matrix here).
+template <class M>
+void require_tangent_flow_constraints(const M& model, const std::string& prefix) {
+  const int bilateral = holonomic_count(model) + pfaffian_count(model);
+  if (bilateral == 0) return;
+  if (bilateral_rows_v<M> == Dynamic)
+    throw AnalysisError(prefix + "the tangent flow of holonomic and Pfaffian constraints is derived for models whose "
+                                 "rows are counted at compile time; this model declares " +
+                        std::to_string(bilateral) + " rows at run time");
+  if (unilateral_count(model) > 0)
+    throw AnalysisError(prefix + "the tangent flow is derived for models with holonomic or Pfaffian constraints or "
+                                 "with contacts, not both; this model declares " +
+                        std::to_string(bilateral) + " bilateral rows and " +
+                        std::to_string(unilateral_count(model)) + " contacts");
 }
 }  // namespace detail
 
@@ -80,49 +111,6 @@ namespace detail {
 /// directions (each itself an EomJet).
 template <int n, int K>
 using TangentNumber = ad::Jet<ad::EomJet<n>, K, 1>;
-
-/// q and q̇ as first-order Jets along the K directions V: the derivatives
-/// of q_k are the row k of V, those of q̇_k the row n + k.
-template <int K, int n>
-void along_directions(const Vec<double, n>& q, const Vec<double, n>& qd, const Eigen::Matrix<double, 2 * n, K>& v,
-                      Vec<ad::Jet<double, K, 1>, n>& qi, Vec<ad::Jet<double, K, 1>, n>& qdi) {
-  for (int k = 0; k < n; ++k) {
-    qi[k] = ad::Jet<double, K, 1>(q[k]);
-    qdi[k] = ad::Jet<double, K, 1>(qd[k]);
-    for (int c = 0; c < K; ++c) {
-      qi[k].g[c] = v(k, c);
-      qdi[k].g[c] = v(n + k, c);
-    }
-  }
-}
-
-/// q̈ = M⁻¹ r and JV = M⁻¹ (dR − dM_c q̈)_c from M, r (column 0 of R) and
-/// their derivatives along the K directions (R's columns 1 … K, dmass(c));
-/// DynamicsError naming the state when M is not positive definite.
-template <int n, int K, class DMass>
-void solve_tangent(const Mat<double, n>& mass, const Eigen::Matrix<double, n, K + 1>& r, DMass&& dmass,
-                   const Vec<double, n>& q, const Vec<double, n>& qd, double t, Vec<double, n>& qdd,
-                   Eigen::Matrix<double, n, K>& jv) {
-  const Eigen::LLT<Mat<double, n>> llt(mass);
-  const double big = mass.cwiseAbs().maxCoeff();
-  bool positive = llt.info() == Eigen::Success && big > 0;
-  if (positive) {
-    const Vec<double, n> d = llt.matrixL().toDenseMatrix().diagonal();
-    positive = d.minCoeff() * d.minCoeff() >= singular_mass_tolerance * d.maxCoeff() * d.maxCoeff();
-  }
-  if (!positive) {
-    std::ostringstream os;
-    os.precision(17);
-    os << "tangent flow: the mass matrix M = d2L/dqd2 is singular or not positive definite at "
-       << describe_state(q, qd, t);
-    throw DynamicsError(os.str());
-  }
-  qdd = llt.solve(r.col(0));
-  // M (J V)_c = (∂r V)_c − (∂M V)_c q̈, the derivative of M q̈ = r along direction c.
-  Eigen::Matrix<double, n, K> rhs;
-  for (int c = 0; c < K; ++c) rhs.col(c) = r.col(c + 1) - dmass(c) * qdd;
-  jv = llt.solve(rhs);
-}
 
 /// state_jvp() of a model that declares constant_mass_matrix: T depends on
 /// q̇ alone, so M q̈ = r with r = −∂V/∂q + Q − ∂D/∂q̇, and only V, Q and D
@@ -204,7 +192,8 @@ void constant_mass_jvp(const M& model, const E& eval, const Vec<double, n>& q, c
       for (int i = 0; i < n; ++i) put(i, d.g[i], -1.0);
     }
   }
-  solve_tangent<n, K>(mass, r, [&](int c) -> const Mat<double, n>& { return dmass[c]; }, q, qd, t, qdd, jv);
+  finish_tangent<n, K>(model, mass, r, [&](int c) -> const Mat<double, n>& { return dmass[c]; }, q, qd, t, v, qdd,
+                       jv);
 }
 /// state_jvp() of any other model: L on TangentNumber<n, K> (the file
 /// comment), evaluated on `eval` (the model itself or its seeded twin).
@@ -246,13 +235,13 @@ void eom_tangent_jvp(const M& model, const E& eval, const Vec<double, n>& q, con
 
   Mat<double, n> mass, dmass;
   l.v.hessian_to(mass);
-  solve_tangent<n, K>(
-      mass, r,
+  finish_tangent<n, K>(
+      model, mass, r,
       [&](int c) -> const Mat<double, n>& {
         l.g[c].hessian_to(dmass);
         return dmass;
       },
-      q, qd, t, qdd, jv);
+      q, qd, t, v, qdd, jv);
 }
 }  // namespace detail
 
@@ -270,8 +259,9 @@ inline constexpr int kTangentPassDirections = 4;
 /// is evaluated on it, and column c of JV is the derivative of q̈ along the
 /// state direction V_c and the parameter direction of its seeds together:
 /// (∂q̈/∂x) V_c + (∂q̈/∂p) δp_c. Throws DynamicsError when M is not
-/// positive definite there, AnalysisError for a model with holonomic or
-/// Pfaffian constraints (contacts are ignored: the free motion's J).
+/// positive definite there, AnalysisError for constraints the tangent flow
+/// is not derived for (require_tangent_flow_constraints(); contacts are
+/// ignored: the free motion's J).
 template <int K, class M, class E = M>
 void state_jvp(const M& model, const Vec<double, coordinate_count_v<M>>& q, const Vec<double, coordinate_count_v<M>>& qd,
                double t, const Eigen::Matrix<double, 2 * coordinate_count_v<M>, K>& v,
@@ -284,7 +274,13 @@ void state_jvp(const M& model, const Vec<double, coordinate_count_v<M>>& q, cons
                 "state_jvp: the tangent flow is derived for models of at most kMaxTangentFlowCoordinates "
                 "coordinates");
   static_assert(K >= 1 && K <= 2 * n, "state_jvp: between 1 and 2n directions");
-  detail::require_no_bilateral_constraints(model, "");
+  detail::require_tangent_flow_constraints(model, "");
+  if constexpr (!std::is_same_v<E, M>) {
+    if (holonomic_count(model) + pfaffian_count(model) > 0)
+      throw AnalysisError(
+          "state_jvp: derivatives along a parameter of a model with holonomic or Pfaffian constraints are not "
+          "derived (the constraint rows may depend on it)");
+  }
   const E& eval = [&]() -> const E& {
     if constexpr (std::is_same_v<E, M>) {
       return model;
@@ -304,8 +300,8 @@ void state_jvp(const M& model, const Vec<double, coordinate_count_v<M>>& q, cons
 /// q̈ and J_a = ∂q̈/∂(q, q̇) (n × 2n: the columns ∂/∂q_0 … ∂/∂q_{n−1}, then
 /// ∂/∂q̇_0 … ∂/∂q̇_{n−1}) at (q, q̇, t): state_jvp() along the 2n unit
 /// vectors, kTangentPassDirections of them per pass. Throws DynamicsError
-/// when M is not positive definite there, AnalysisError for a model with
-/// holonomic or Pfaffian constraints.
+/// when M is not positive definite there, AnalysisError for constraints the
+/// tangent flow is not derived for (state_jvp()).
 template <class M>
 void state_jacobian(const M& model, const Vec<double, coordinate_count_v<M>>& q,
                     const Vec<double, coordinate_count_v<M>>& qd, double t, Vec<double, coordinate_count_v<M>>& qdd,

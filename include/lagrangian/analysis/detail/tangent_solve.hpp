@@ -1,0 +1,258 @@
+#pragma once
+// Internal: the last step of the tangent pass (tangent_flow.hpp): q̈ and its
+// derivatives along K directions from M, r and their derivatives, for a
+// free model (M q̈ = r) and for one with holonomic and Pfaffian constraints
+// (the saddle-point system of constrained_accelerations.hpp, differentiated);
+// and the rows of the constraint manifold in the state space.
+//
+// With bilateral constraints C q̈ + γ = 0 (C = ∂g/∂q for holonomic rows
+// g(q, t) = 0, γ = q̇ᵀ ∂²g/∂q² q̇ + 2 ∂²g/∂q∂t q̇ + ∂²g/∂t²; C = A for
+// Pfaffian rows φ = A(q, t) q̇ + a(q, t) = 0, γ = (∂φ/∂q) q̇ + ∂φ/∂t at
+// fixed q̇) the motion is
+//   M q̈ = r + Cᵀλ,   C q̈ = −γ,
+// and its derivative along a direction δ of the state
+//   M δq̈ = δr − δM q̈ + δCᵀ λ + Cᵀ δλ,   C δq̈ = −δγ − δC q̈,
+// both solved through the Schur complement S = C M⁻¹ Cᵀ by its
+// minimum-norm pseudo-inverse (redundant rows: λ is not unique, q̈ and δq̈
+// are), as the run solves the first. C and γ along the directions come
+// from the constraint functions on ad::Jets of ad::Jets: no finite
+// differences.
+
+#include <array>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include "lagrangian/ad.hpp"
+#include "lagrangian/errors.hpp"
+#include "lagrangian/mechanics/constraint_counts.hpp"
+#include "lagrangian/mechanics/detail/min_norm_solver.hpp"
+#include "lagrangian/mechanics/dynamics.hpp"
+#include "lagrangian/model.hpp"
+
+namespace lagrangian::detail {
+
+/// The holonomic and Pfaffian rows of M when both counts are known at
+/// compile time; Dynamic otherwise.
+template <class M>
+inline constexpr int bilateral_rows_v = holonomic_count_v<M> == Dynamic || pfaffian_count_v<M> == Dynamic
+                                            ? Dynamic
+                                            : holonomic_count_v<M> + pfaffian_count_v<M>;
+
+/// q and q̇ as first-order Jets along the K directions V: the derivatives
+/// of q_k are the row k of V, those of q̇_k the row n + k.
+template <int K, int n>
+void along_directions(const Vec<double, n>& q, const Vec<double, n>& qd, const Eigen::Matrix<double, 2 * n, K>& v,
+                      Vec<ad::Jet<double, K, 1>, n>& qi, Vec<ad::Jet<double, K, 1>, n>& qdi) {
+  for (int k = 0; k < n; ++k) {
+    qi[k] = ad::Jet<double, K, 1>(q[k]);
+    qdi[k] = ad::Jet<double, K, 1>(qd[k]);
+    for (int c = 0; c < K; ++c) {
+      qi[k].g[c] = v(k, c);
+      qdi[k].g[c] = v(n + k, c);
+    }
+  }
+}
+
+/// The Cholesky factors of M; DynamicsError naming the state when M is not
+/// positive definite (relative to its largest diagonal factor).
+template <int n>
+void factor_tangent_mass(Eigen::LLT<Mat<double, n>>& llt, const Mat<double, n>& mass, const Vec<double, n>& q,
+                         const Vec<double, n>& qd, double t) {
+  llt.compute(mass);
+  const double big = mass.cwiseAbs().maxCoeff();
+  bool positive = llt.info() == Eigen::Success && big > 0;
+  if (positive) {
+    const Vec<double, n> d = llt.matrixL().toDenseMatrix().diagonal();
+    positive = d.minCoeff() * d.minCoeff() >= singular_mass_tolerance * d.maxCoeff() * d.maxCoeff();
+  }
+  if (!positive) {
+    std::ostringstream os;
+    os.precision(17);
+    os << "tangent flow: the mass matrix M = d2L/dqd2 is singular or not positive definite at "
+       << describe_state(q, qd, t);
+    throw DynamicsError(os.str());
+  }
+}
+
+/// q̈ = M⁻¹ r and JV = M⁻¹ (dR − dM_c q̈)_c from M, r (column 0 of R) and
+/// their derivatives along the K directions (R's columns 1 … K, dmass(c)).
+template <int n, int K, class DMass>
+void solve_tangent(const Mat<double, n>& mass, const Eigen::Matrix<double, n, K + 1>& r, DMass&& dmass,
+                   const Vec<double, n>& q, const Vec<double, n>& qd, double t, Vec<double, n>& qdd,
+                   Eigen::Matrix<double, n, K>& jv) {
+  Eigen::LLT<Mat<double, n>> llt;
+  factor_tangent_mass(llt, mass, q, qd, t);
+  qdd = llt.solve(r.col(0));
+  // M (J V)_c = (∂r V)_c − (∂M V)_c q̈, the derivative of M q̈ = r along direction c.
+  Eigen::Matrix<double, n, K> rhs;
+  for (int c = 0; c < K; ++c) rhs.col(c) = r.col(c + 1) - dmass(c) * qdd;
+  jv = llt.solve(rhs);
+}
+
+/// C (m × n) and γ of the holonomic rows, then the Pfaffian rows, of
+/// `model` at (q, q̇, t), on numbers D that carry derivatives (the
+/// directions of the tangent pass, or the state itself).
+template <class M, class D, int n, int m>
+void bilateral_rows_on(const M& model, const Vec<D, n>& q, const Vec<D, n>& qd, const D& t,
+                       Eigen::Matrix<D, m, n>& c, Vec<D, m>& gamma) {
+  constexpr int mh = holonomic_count_v<M>, mp = pfaffian_count_v<M>;
+  using J1 = ad::Jet<D, n, 1>;  // first order in q (holonomic) or q̇ (Pfaffian)
+  if constexpr (mh > 0) {
+    Vec<J1, n> qj;
+    for (int k = 0; k < n; ++k) qj[k] = J1::variable(q[k], k);
+    const auto g1 = model.holonomic(qj, J1(t));
+    for (int i = 0; i < mh; ++i)
+      for (int k = 0; k < n; ++k) c(i, k) = g1[i].g[k];
+    // γ = d²g/ds² along the path (q + s q̇, t + s).
+    using J2 = ad::Jet<D, 1, 2>;
+    Vec<J2, n> qp;
+    for (int k = 0; k < n; ++k) {
+      qp[k] = J2(q[k]);
+      qp[k].g[0] = qd[k];
+    }
+    J2 tp(t);
+    tp.g[0] = D(1.0);
+    const auto g2 = model.holonomic(qp, tp);
+    for (int i = 0; i < mh; ++i) gamma[i] = g2[i].hess(0, 0);
+  }
+  if constexpr (mp > 0) {
+    Vec<J1, n> qj, qdj;
+    for (int k = 0; k < n; ++k) {
+      qj[k] = J1(q[k]);
+      qdj[k] = J1::variable(qd[k], k);
+    }
+    const auto phi = model.pfaffian(qj, qdj, J1(t));
+    for (int i = 0; i < mp; ++i)
+      for (int k = 0; k < n; ++k) c(mh + i, k) = phi[i].g[k];
+    // γ = (∂φ/∂q) q̇ + ∂φ/∂t at fixed q̇.
+    using P = ad::Jet<D, 1, 1>;
+    Vec<P, n> qp, qdp;
+    for (int k = 0; k < n; ++k) {
+      qp[k] = P(q[k]);
+      qp[k].g[0] = qd[k];
+      qdp[k] = P(qd[k]);
+    }
+    P tp(t);
+    tp.g[0] = D(1.0);
+    const auto phi2 = model.pfaffian(qp, qdp, tp);
+    for (int i = 0; i < mp; ++i) gamma[mh + i] = phi2[i].g[0];
+  }
+}
+
+/// solve_tangent() for a model with holonomic or Pfaffian constraints (the
+/// file comment): C, γ and their derivatives along the K directions V from
+/// the constraint functions on first-order Jets along V.
+template <int n, int K, class M, class DMass>
+void solve_constrained_tangent(const M& model, const Mat<double, n>& mass, const Eigen::Matrix<double, n, K + 1>& r,
+                               DMass&& dmass, const Vec<double, n>& q, const Vec<double, n>& qd, double t,
+                               const Eigen::Matrix<double, 2 * n, K>& v, Vec<double, n>& qdd,
+                               Eigen::Matrix<double, n, K>& jv) {
+  constexpr int m = bilateral_rows_v<M>;
+  static_assert(m > 0, "solve_constrained_tangent: a model with holonomic or Pfaffian rows of fixed number");
+  using D = ad::Jet<double, K, 1>;
+  Vec<D, n> qi, qdi;
+  along_directions(q, qd, v, qi, qdi);
+  Eigen::Matrix<D, m, n> cd;
+  Vec<D, m> gd;
+  bilateral_rows_on(model, qi, qdi, D(t), cd, gd);
+  Eigen::Matrix<double, m, n> c;
+  Vec<double, m> gamma;
+  for (int i = 0; i < m; ++i) {
+    gamma[i] = gd[i].v;
+    for (int k = 0; k < n; ++k) c(i, k) = cd(i, k).v;
+  }
+  Eigen::LLT<Mat<double, n>> llt;
+  factor_tangent_mass(llt, mass, q, qd, t);
+  const Eigen::Matrix<double, n, m> minv_ct = llt.solve(c.transpose());
+  const Mat<double, m> schur = c * minv_ct;
+  thread_local MinNormSolver solver(m, m);  // storage once per thread
+  solver.factorize(schur.data());
+  // δq̈ = M⁻¹ (a + Cᵀ δλ), δλ = S⁺ (b − C M⁻¹ a), for (a, b) the right-hand
+  // sides of the two equations.
+  const auto solve = [&](const Vec<double, n>& a, const Vec<double, m>& b, Vec<double, n>& out,
+                         Vec<double, m>& multipliers) {
+    const Vec<double, n> free = llt.solve(a);
+    const Vec<double, m> target = b - c * free;
+    solver.solve(target.data(), multipliers.data());
+    out = free + minv_ct * multipliers;
+  };
+  Vec<double, m> lambda, dlambda;
+  solve(r.col(0), -gamma, qdd, lambda);
+  for (int col = 0; col < K; ++col) {
+    Eigen::Matrix<double, m, n> dc;
+    Vec<double, m> dgamma;
+    for (int i = 0; i < m; ++i) {
+      dgamma[i] = gd[i].g[col];
+      for (int k = 0; k < n; ++k) dc(i, k) = cd(i, k).g[col];
+    }
+    const Vec<double, n> a = r.col(col + 1) - dmass(col) * qdd + dc.transpose() * lambda;
+    const Vec<double, m> b = -dgamma - dc * qdd;
+    Vec<double, n> out;
+    solve(a, b, out, dlambda);
+    jv.col(col) = out;
+  }
+}
+
+/// The last step of the tangent pass of `model`: solve_constrained_tangent()
+/// when it has holonomic or Pfaffian rows, solve_tangent() otherwise.
+template <int n, int K, class M, class DMass>
+void finish_tangent(const M& model, const Mat<double, n>& mass, const Eigen::Matrix<double, n, K + 1>& r,
+                    DMass&& dmass, const Vec<double, n>& q, const Vec<double, n>& qd, double t,
+                    const Eigen::Matrix<double, 2 * n, K>& v, Vec<double, n>& qdd, Eigen::Matrix<double, n, K>& jv) {
+  if constexpr (bilateral_rows_v<M> != Dynamic && bilateral_rows_v<M> > 0) {
+    solve_constrained_tangent<n, K>(model, mass, r, dmass, q, qd, t, v, qdd, jv);
+  } else {
+    (void)model, (void)v;
+    solve_tangent<n, K>(mass, r, dmass, q, qd, t, qdd, jv);
+  }
+}
+
+/// The constraint manifold in the state space x = (q, q̇) at (q, q̇, t):
+/// its rows h = (g, ġ, φ) (the holonomic rows, their rates
+/// ġ = ∂g/∂q q̇ + ∂g/∂t, the Pfaffian rows; 2 mh + mp values) into
+/// `residual` and their Jacobian ∂h/∂(q, q̇) ((2 mh + mp) × 2n, column-major)
+/// into `jacobian`. A tangent vector of the constrained motion has
+/// (∂h/∂x) δx = 0.
+template <class M>
+void manifold_rows(const M& model, const Vec<double, coordinate_count_v<M>>& q,
+                   const Vec<double, coordinate_count_v<M>>& qd, double t, double* residual, double* jacobian) {
+  constexpr int n = coordinate_count_v<M>, mh = holonomic_count_v<M>, mp = pfaffian_count_v<M>;
+  static_assert(bilateral_rows_v<M> != Dynamic, "manifold_rows: constraint rows of fixed number");
+  constexpr int rows = 2 * mh + mp;
+  using D = ad::Jet<double, 2 * n, 1>;  // along (q, q̇)
+  Eigen::Map<Eigen::Matrix<double, rows, 2 * n>> jac(jacobian);
+  const auto put = [&](int row, const D& x) {
+    residual[row] = x.v;
+    for (int k = 0; k < 2 * n; ++k) jac(row, k) = x.g[k];
+  };
+  Vec<D, n> qx, qdx;
+  for (int k = 0; k < n; ++k) {
+    qx[k] = D::variable(q[k], k);
+    qdx[k] = D::variable(qd[k], n + k);
+  }
+  if constexpr (mh > 0) {
+    using P = ad::Jet<D, 1, 1>;  // along the path (q + s q̇, t + s)
+    Vec<P, n> qp;
+    for (int k = 0; k < n; ++k) {
+      qp[k] = P(qx[k]);
+      qp[k].g[0] = qdx[k];
+    }
+    P tp{D(t)};
+    tp.g[0] = D(1.0);
+    const auto g = model.holonomic(qp, tp);
+    for (int i = 0; i < mh; ++i) {
+      put(i, g[i].v);
+      put(mh + i, g[i].g[0]);
+    }
+  }
+  if constexpr (mp > 0) {
+    const auto phi = model.pfaffian(qx, qdx, D(t));
+    for (int i = 0; i < mp; ++i) put(2 * mh + i, phi[i]);
+  }
+}
+
+}  // namespace lagrangian::detail

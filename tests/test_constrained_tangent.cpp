@@ -1,0 +1,271 @@
+// The tangent flow of models with holonomic and Pfaffian constraints
+// (analysis/tangent_flow.hpp, analysis/detail/tangent_solve.hpp) and the
+// Lyapunov exponents on the constraint manifold (analysis/lyapunov.hpp):
+// against a closed-form Jacobian (the knife edge), the same system in other
+// coordinates (the double pendulum in angles and in Cartesian coordinates
+// with two rods), and the closed-form flow of a bead on a spinning wire.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "lagrangian/analysis/floquet.hpp"
+#include "lagrangian/analysis/lyapunov.hpp"
+#include "lagrangian/analysis/sensitivity.hpp"
+#include "lagrangian/analysis/tangent_flow.hpp"
+#include "lagrangian/mechanics/constrained_accelerations.hpp"
+#include "lagrangian/models/constrained.hpp"
+#include "lagrangian/models/pendulums.hpp"
+#include "lyapunov_options.hpp"
+
+namespace {
+
+using lagrangian::Vec;
+namespace lm = lagrangian::models;
+
+// The knife edge, M = diag(m, m, I), no sideslip φ = ẋ sin ϕ − ẏ cos ϕ = 0
+// (ϕ the heading). C = (sin ϕ, −cos ϕ, 0), γ = (ẋ cos ϕ + ẏ sin ϕ) ϕ̇ = u ϕ̇,
+// so M q̈ = Cᵀλ with C q̈ = −γ gives λ = −m u ϕ̇ and
+//   q̈ = −u ϕ̇ (sin ϕ, −cos ϕ, 0),   u = ẋ cos ϕ + ẏ sin ϕ,
+// at every state, on the constraint or off it. Its derivatives, by hand:
+TEST(ConstrainedTangent, KnifeEdgeJacobianIsTheClosedForm) {
+  const lm::KnifeEdge knife(1.7, 0.3);
+  for (const auto& [phi, xd, yd, phid] : {std::array<double, 4>{0.3, 1.2, -0.4, 0.9},
+                                           std::array<double, 4>{2.1, -0.5, 0.8, -1.3},
+                                           std::array<double, 4>{-1.0, 0.6 * std::cos(-1.0), 0.6 * std::sin(-1.0), 2.0}}) {
+    const Vec<double, 3> q(0.4, -0.2, phi), qd(xd, yd, phid);
+    Vec<double, 3> qdd;
+    Eigen::Matrix<double, 3, 6> jac;
+    lagrangian::state_jacobian(knife, q, qd, 0.0, qdd, jac);
+    const double s = std::sin(phi), c = std::cos(phi);
+    const double u = xd * c + yd * s, du_dphi = -xd * s + yd * c;
+    EXPECT_NEAR(qdd[0], -u * phid * s, 1e-14);
+    EXPECT_NEAR(qdd[1], u * phid * c, 1e-14);
+    EXPECT_NEAR(qdd[2], 0.0, 1e-14);
+    const Vec<double, 3> library = lagrangian::constrained_accelerations(knife, q, qd, 0.0);
+    EXPECT_LE((qdd - library).norm(), 1e-14);
+    Eigen::Matrix<double, 3, 6> expected = Eigen::Matrix<double, 3, 6>::Zero();
+    expected(0, 2) = -phid * (du_dphi * s + u * c);
+    expected(0, 3) = -phid * c * s;
+    expected(0, 4) = -phid * s * s;
+    expected(0, 5) = -u * s;
+    expected(1, 2) = phid * (du_dphi * c - u * s);
+    expected(1, 3) = phid * c * c;
+    expected(1, 4) = phid * s * c;
+    expected(1, 5) = u * c;
+    EXPECT_LE((jac - expected).norm(), 1e-13) << "AD:\n" << jac << "\nclosed form:\n" << expected;
+  }
+}
+
+// The double pendulum in angles x = (θ, θ̇) and in Cartesian coordinates
+// X = ψ(x) = (r1, r2, ṙ1, ṙ2), r1 = l1 (sin θ1, −cos θ1),
+// r2 = r1 + l2 (sin θ2, −cos θ2), with the rods as holonomic constraints.
+template <class S>
+Eigen::Matrix<S, 8, 1> to_cartesian(const Eigen::Matrix<S, 4, 1>& x, double l1, double l2) {
+  using std::cos;
+  using std::sin;
+  Eigen::Matrix<S, 8, 1> y;
+  y[0] = l1 * sin(x[0]);
+  y[1] = -l1 * cos(x[0]);
+  y[2] = y[0] + l2 * sin(x[1]);
+  y[3] = y[1] - l2 * cos(x[1]);
+  y[4] = l1 * cos(x[0]) * x[2];
+  y[5] = l1 * sin(x[0]) * x[2];
+  y[6] = y[4] + l2 * cos(x[1]) * x[3];
+  y[7] = y[5] + l2 * sin(x[1]) * x[3];
+  return y;
+}
+
+// The two flows are one: ψ(φ_a(t, x)) = φ_c(t, ψ(x)). Differentiating
+// along δ and then in t at t = 0:
+//   J_c(ψ(x)) Dψ(x) δ = D²ψ(x)[f_a(x), δ] + Dψ(x) J_a(x) δ,
+// and f_c(ψ(x)) = Dψ(x) f_a(x): the constrained model's J on tangent
+// vectors of its manifold against the angle model's J, to rounding.
+// Dψ and D²ψ by a second-order Jet along (f_a, δ).
+TEST(ConstrainedTangent, CartesianDoublePendulumIsTheAngleModel) {
+  const double m1 = 1.3, m2 = 0.7, l1 = 1.0, l2 = 0.8, g = 9.81;
+  const lm::DoublePendulum angles(m1, m2, l1, l2, g);
+  const lm::CartesianDoublePendulum cartesian(m1, m2, l1, l2, g);
+  for (const auto& x : {Eigen::Vector4d(2.0, 2.0, 0.0, 0.0), Eigen::Vector4d(0.4, -1.1, 1.7, -0.6),
+                        Eigen::Vector4d(-2.5, 0.9, -3.0, 4.2)}) {
+    Vec<double, 2> qdd_a;
+    Eigen::Matrix<double, 2, 4> j_a;
+    lagrangian::state_jacobian(angles, Vec<double, 2>(x.head<2>()), Vec<double, 2>(x.tail<2>()), 0.0, qdd_a, j_a);
+    Eigen::Matrix4d full_a = Eigen::Matrix4d::Zero();
+    full_a.topRightCorner<2, 2>().setIdentity();
+    full_a.bottomRows<2>() = j_a;
+    const Eigen::Vector4d f_a(x[2], x[3], qdd_a[0], qdd_a[1]);
+
+    const Eigen::Matrix<double, 8, 1> big = to_cartesian(x, l1, l2);
+    const Vec<double, 4> q_c = big.head<4>(), qd_c = big.tail<4>();
+    Vec<double, 4> qdd_c;
+    Eigen::Matrix<double, 4, 8> j_c;
+    lagrangian::state_jacobian(cartesian, q_c, qd_c, 0.0, qdd_c, j_c);
+    const double scale = 1.0 + j_c.norm();
+    for (int d = 0; d < 4; ++d) {
+      using J = lagrangian::ad::Jet<double, 2, 2>;
+      Eigen::Matrix<J, 4, 1> xs;
+      for (int k = 0; k < 4; ++k) {
+        xs[k] = J(x[k]);
+        xs[k].g[0] = f_a[k];
+        xs[k].g[1] = d == k ? 1.0 : 0.0;
+      }
+      const Eigen::Matrix<J, 8, 1> y = to_cartesian(xs, l1, l2);
+      Eigen::Matrix<double, 8, 1> dpsi_f, dpsi_delta, second;
+      for (int i = 0; i < 8; ++i) {
+        dpsi_f[i] = y[i].g[0];
+        dpsi_delta[i] = y[i].g[1];
+        second[i] = y[i].hess(0, 1);
+      }
+      // Dψ (J_a δ): Dψ along the vector J_a δ, by a first-order Jet.
+      Eigen::Matrix<double, 8, 1> dpsi_j_delta;
+      {
+        using J1 = lagrangian::ad::Jet<double, 1, 1>;
+        const Eigen::Vector4d direction = full_a.col(d);
+        Eigen::Matrix<J1, 4, 1> x1;
+        for (int k = 0; k < 4; ++k) {
+          x1[k] = J1(x[k]);
+          x1[k].g[0] = direction[k];
+        }
+        const Eigen::Matrix<J1, 8, 1> y1 = to_cartesian(x1, l1, l2);
+        for (int i = 0; i < 8; ++i) dpsi_j_delta[i] = y1[i].g[0];
+      }
+      const Eigen::Matrix<double, 8, 1> expected = second + dpsi_j_delta;
+      // J_c Dψ δ: the bottom rows (the top ones are the identity's).
+      const Eigen::Matrix<double, 4, 1> got = j_c * dpsi_delta;
+      EXPECT_LE((got - expected.tail<4>()).norm(), 1e-12 * scale)
+          << "direction " << d << " at " << x.transpose() << "\nJ_c Dpsi d: " << got.transpose()
+          << "\nexpected:   " << expected.tail<4>().transpose();
+      EXPECT_LE((dpsi_delta.tail<4>() - expected.head<4>()).norm(), 1e-12 * scale);
+      if (d == 0) {
+        EXPECT_LE((qdd_c - dpsi_f.tail<4>()).norm(), 1e-12 * (1 + qdd_c.norm()));
+      }
+    }
+  }
+}
+
+lagrangian::LyapunovOptions options(double t_end, double rtol = 1e-11) {
+  return lagrangian_test::lyapunov_options(t_end, rtol);
+}
+
+// A bead on a horizontal wire spinning at ω: in the wire's frame r̈ = ω² r,
+// so the flow on the manifold (dimension 2: r, ṙ) is
+//   [[cosh ωt, sinh ωt / ω], [ω sinh ωt, cosh ωt]],  det = 1.
+// In (q, p), p = m q̇, a tangent vector (δr, δṙ) is
+// (δr e_r, m (δṙ e_r + ω δr e_θ)), whose two basis images are orthogonal
+// with constant lengths: areas in (q, p) are areas in (r, ṙ) times a
+// constant, so the two exponents sum to 0 at every time. The first tangent
+// vector grows as a e^{ωT} + b e^{−ωT}: T λ₁(T) = ωT + log|a| + O(e^{−2ωT}),
+// so the growth of T λ₁ between T₁ and T₂ is ω (T₂ − T₁).
+TEST(ConstrainedLyapunov, BeadOnASpinningWireClosedForm) {
+  const double omega = 1.0;
+  const lm::BeadOnRotatingWire bead(0.8, omega, 10.0);
+  lagrangian::State<2> s;
+  s.q = Vec<double, 2>(0.1, 0.0);
+  s.qd = Vec<double, 2>(0.05, omega * 0.1);  // ġ = ẋ sin ωt − ẏ cos ωt + ω x cos ωt + ω y sin ωt = 0 at t = 0
+  const double t1 = 10, t2 = 20;
+  const lagrangian::LyapunovResult a = lagrangian::lyapunov_spectrum(bead, s, options(t1));
+  const lagrangian::LyapunovResult b = lagrangian::lyapunov_spectrum(bead, s, options(t2));
+  ASSERT_EQ(a.spectrum.size(), 2u);
+  ASSERT_EQ(b.spectrum.size(), 2u);
+  EXPECT_NEAR(a.sum, 0.0, 1e-8);
+  EXPECT_NEAR(b.sum, 0.0, 1e-8);
+  EXPECT_NEAR((t2 * b.spectrum[0] - t1 * a.spectrum[0]) / (t2 - t1), omega, 1e-6)
+      << a.spectrum[0] << " " << b.spectrum[0];
+  EXPECT_NEAR((t2 * b.spectrum[1] - t1 * a.spectrum[1]) / (t2 - t1), -omega, 1e-6);
+  // The state stays on the wire: r(T) = r0 cosh ωT + (ṙ0/ω) sinh ωT.
+  const double r = 0.1 * std::cosh(omega * t2) + 0.05 / omega * std::sinh(omega * t2);
+  EXPECT_NEAR(std::hypot(b.q_final[0], b.q_final[1]) / r, 1.0, 1e-8);
+  EXPECT_NEAR(std::atan2(b.q_final[1], b.q_final[0]), std::remainder(omega * t2, 2 * M_PI), 1e-8);
+  // The largest exponent alone (one tangent vector, J along it) is the same.
+  lagrangian::LyapunovOptions one = options(t2);
+  one.exponents = 1;
+  const lagrangian::LyapunovResult c = lagrangian::lyapunov_spectrum(bead, s, one);
+  EXPECT_NEAR(c.spectrum[0], b.spectrum[0], 1e-9);
+}
+
+// The chaotic double pendulum (θ1 = θ2 = 2 rad from rest) in both
+// formulations over 10 s: the same motion, and tangent vectors that map
+// into each other by Dψ. The two runs measure a tangent vector in different
+// Darboux coordinates ((δθ, δp_θ) and (Uᵀδq, Uᵀδp)), related by a
+// symplectic map that changes lengths by a bounded factor κ (and they start
+// from different first vectors), so their finite-time exponents differ by
+// O(log κ / T): the largest ones agree to 0.25 1/s over 10 s (measured:
+// 0.12), both well above the 0.5 1/s of chaos; each spectrum sums to 0.
+TEST(ConstrainedLyapunov, CartesianDoublePendulumAgreesWithAngles) {
+  const double m1 = 1.0, m2 = 1.0, l1 = 1.0, l2 = 1.0, g = 9.81;
+  const lm::DoublePendulum angles(m1, m2, l1, l2, g);
+  const lm::CartesianDoublePendulum cartesian(m1, m2, l1, l2, g);
+  lagrangian::State<2> sa;
+  sa.q = Vec<double, 2>(2.0, 2.0);
+  sa.qd.setZero();
+  const Eigen::Matrix<double, 8, 1> big = to_cartesian(Eigen::Vector4d(2.0, 2.0, 0.0, 0.0), l1, l2);
+  lagrangian::State<4> sc;
+  sc.q = big.head<4>();
+  sc.qd = big.tail<4>();
+  const double t_end = 10;
+  const lagrangian::LyapunovResult a = lagrangian::lyapunov_spectrum(angles, sa, options(t_end));
+  const lagrangian::LyapunovResult c = lagrangian::lyapunov_spectrum(cartesian, sc, options(t_end));
+  ASSERT_EQ(c.spectrum.size(), 4u);
+  EXPECT_GT(a.spectrum[0], 0.5);
+  EXPECT_GT(c.spectrum[0], 0.5);
+  EXPECT_NEAR(c.spectrum[0], a.spectrum[0], 0.25) << "angles " << a.spectrum[0] << ", Cartesian " << c.spectrum[0];
+  // The same final state, mapped.
+  const Eigen::Matrix<double, 8, 1> end =
+      to_cartesian(Eigen::Vector4d(a.q_final[0], a.q_final[1], a.qd_final[0], a.qd_final[1]), l1, l2);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_NEAR(c.q_final[static_cast<std::size_t>(i)], end[i], 1e-5);
+    EXPECT_NEAR(c.qd_final[static_cast<std::size_t>(i)], end[4 + i], 1e-4);
+  }
+  // Measured in the reduced canonical coordinates (Uᵀ δq, Uᵀ δp), volumes
+  // are phase-space volumes, which the constrained Hamiltonian flow keeps:
+  // the spectrum sums to 0 at every time, as the angle model's does.
+  EXPECT_NEAR(c.sum, 0.0, 1e-8);
+  EXPECT_NEAR(a.sum, 0.0, 1e-8);
+}
+
+TEST(ConstrainedLyapunov, RefusalsSayWhy) {
+  const lm::CartesianPendulum pendulum;
+  lagrangian::State<2> s;
+  s.q = Vec<double, 2>(std::sin(0.5), -std::cos(0.5));
+  s.qd.setZero();
+  // More exponents than the manifold has dimensions (2: one degree of freedom).
+  lagrangian::LyapunovOptions o = options(1.0);
+  o.exponents = 3;
+  try {
+    lagrangian::lyapunov_spectrum(pendulum, s, o);
+    FAIL() << "3 exponents of a 2-dimensional manifold were computed";
+  } catch (const lagrangian::OptionError& e) {
+    EXPECT_NE(std::string(e.what()).find("exponents = 3 is outside [0, 2] (0 asks for all 2, the dimension of the "
+                                         "constraint manifold's tangent space)"),
+              std::string::npos)
+        << e.what();
+  }
+  // A start off the rod.
+  lagrangian::State<2> off = s;
+  off.q *= 1.01;
+  try {
+    lagrangian::lyapunov_spectrum(pendulum, off, options(1.0));
+    FAIL() << "a start off the constraint was taken";
+  } catch (const lagrangian::ConstraintError& e) {
+    EXPECT_NE(std::string(e.what()).find("the initial state violates constraint rod (0.01)"), std::string::npos)
+        << e.what();
+  }
+  // The monodromy matrix and sensitivities: tangent vectors off the manifold.
+  lagrangian::FloquetOptions f;
+  f.period = 1.0;
+  try {
+    lagrangian::floquet_multipliers(pendulum, s, f);
+    FAIL() << "a constrained model's monodromy matrix was computed";
+  } catch (const lagrangian::AnalysisError& e) {
+    EXPECT_NE(std::string(e.what()).find("the monodromy matrix and the sensitivities of a model with holonomic or "
+                                         "Pfaffian constraints are not derived"),
+              std::string::npos)
+        << e.what();
+  }
+  lagrangian::SensitivityOptions so;
+  so.run.t_end = 1.0;
+  EXPECT_THROW(lagrangian::sensitivities(pendulum, s, so), lagrangian::AnalysisError);
+}
+
+}  // namespace
