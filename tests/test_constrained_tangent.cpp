@@ -9,6 +9,8 @@
 #include <cmath>
 #include <string>
 
+#include <Eigen/LU>
+
 #include "lagrangian/analysis/floquet.hpp"
 #include "lagrangian/analysis/lyapunov.hpp"
 #include "lagrangian/analysis/sensitivity.hpp"
@@ -16,7 +18,7 @@
 #include "lagrangian/mechanics/constrained_accelerations.hpp"
 #include "lagrangian/models/constrained.hpp"
 #include "lagrangian/models/pendulums.hpp"
-#include "lyapunov_options.hpp"
+#include "tangent_options.hpp"
 
 namespace {
 
@@ -151,12 +153,13 @@ lagrangian::LyapunovOptions options(double t_end, double rtol = 1e-11) {
 // A bead on a horizontal wire spinning at ω: in the wire's frame r̈ = ω² r,
 // so the flow on the manifold (dimension 2: r, ṙ) is
 //   [[cosh ωt, sinh ωt / ω], [ω sinh ωt, cosh ωt]],  det = 1.
-// In (q, p), p = m q̇, a tangent vector (δr, δṙ) is
-// (δr e_r, m (δṙ e_r + ω δr e_θ)), whose two basis images are orthogonal
-// with constant lengths: areas in (q, p) are areas in (r, ṙ) times a
-// constant, so the two exponents sum to 0 at every time. The first tangent
-// vector grows as a e^{ωT} + b e^{−ωT}: T λ₁(T) = ωT + log|a| + O(e^{−2ωT}),
-// so the growth of T λ₁ between T₁ and T₂ is ω (T₂ − T₁).
+// In the reduced canonical coordinates (Uᵀδq, Uᵀδp), U = e_r the wire's
+// direction, a tangent vector (δr, δṙ) is (δr, m δṙ): areas in them are m
+// times areas in (r, ṙ), so the two exponents sum to 0 at every time. The
+// first tangent vector grows as a e^{ωT} + b e^{−ωT}:
+// T λ₁(T) = ωT + log|a| + O(e^{−2ωT}), so the growth of T λ₁ between T₁ and
+// T₂ is ω (T₂ − T₁). (The bead would leave the wire's end, L = 10 m, at
+// 4.9 s: the exponents are those of the equations of motion, which go on.)
 TEST(ConstrainedLyapunov, BeadOnASpinningWireClosedForm) {
   const double omega = 1.0;
   const lm::BeadOnRotatingWire bead(0.8, omega, 10.0);
@@ -185,8 +188,8 @@ TEST(ConstrainedLyapunov, BeadOnASpinningWireClosedForm) {
 }
 
 // The chaotic double pendulum (θ1 = θ2 = 2 rad from rest) in both
-// formulations over 10 s: the same motion, and tangent vectors that map
-// into each other by Dψ. The two runs measure a tangent vector in different
+// formulations over 10 s: the same motion, whose tangent flows map into
+// each other by Dψ (checked state by state above). The two runs measure a tangent vector in different
 // Darboux coordinates ((δθ, δp_θ) and (Uᵀδq, Uᵀδp)), related by a
 // symplectic map that changes lengths by a bounded factor κ (and they start
 // from different first vectors), so their finite-time exponents differ by
@@ -224,6 +227,33 @@ TEST(ConstrainedLyapunov, CartesianDoublePendulumAgreesWithAngles) {
   EXPECT_NEAR(a.sum, 0.0, 1e-8);
 }
 
+// The knife edge (Pfaffian: no sideslip), 1 m/s turning at 0.5 rad/s. On
+// the manifold, in (x, y, ϕ, v, ω) with v the speed and ω = ϕ̇, the motion
+// is ẋ = v cos ϕ, ẏ = v sin ϕ, ϕ̇ = ω, v̇ = ω̇ = 0: divergence-free, so it
+// keeps dx dy dϕ dv dω; the reduced coordinates (δq, δp) of that basis'
+// tangent vectors have a constant Gram determinant ((1 + m²v²) m² I²), so
+// the five exponents sum to 0 at every time. A change of ω or v shifts the
+// phase along a circle: tangent vectors grow polynomially (linearly), not
+// exponentially, so every |T λ_j(T)| stays below 2 log(T / 1 s) (quadratic
+// growth), where an exponent λ would give λ T.
+TEST(ConstrainedLyapunov, KnifeEdgeHasFiveExponentsThatVanish) {
+  const lm::KnifeEdge knife(1.0, 0.1);
+  lagrangian::State<3> s;
+  s.q.setZero();
+  s.qd = Vec<double, 3>(1.0, 0.0, 0.5);
+  const lagrangian::LyapunovResult a = lagrangian::lyapunov_spectrum(knife, s, options(50.0));
+  const lagrangian::LyapunovResult b = lagrangian::lyapunov_spectrum(knife, s, options(200.0));
+  ASSERT_EQ(a.spectrum.size(), 5u);
+  EXPECT_NEAR(a.sum, 0.0, 1e-8);
+  EXPECT_NEAR(b.sum, 0.0, 1e-8);
+  EXPECT_GT(b.spectrum[0], 0.0);
+  for (double l : a.spectrum) EXPECT_LE(50.0 * std::abs(l), 2 * std::log(50.0));
+  for (double l : b.spectrum) EXPECT_LE(200.0 * std::abs(l), 2 * std::log(200.0));
+  // The speed is kept: the state stays on the no-sideslip manifold.
+  EXPECT_NEAR(std::hypot(b.qd_final[0], b.qd_final[1]), 1.0, 1e-9);
+  EXPECT_NEAR(b.qd_final[0] * std::sin(b.q_final[2]) - b.qd_final[1] * std::cos(b.q_final[2]), 0.0, 1e-9);
+}
+
 TEST(ConstrainedLyapunov, RefusalsSayWhy) {
   const lm::CartesianPendulum pendulum;
   lagrangian::State<2> s;
@@ -251,21 +281,79 @@ TEST(ConstrainedLyapunov, RefusalsSayWhy) {
     EXPECT_NE(std::string(e.what()).find("the initial state violates constraint rod (0.01)"), std::string::npos)
         << e.what();
   }
-  // The monodromy matrix and sensitivities: tangent vectors off the manifold.
+  // Newton's method for the orbit would move the start off the manifold.
   lagrangian::FloquetOptions f;
   f.period = 1.0;
+  f.find_orbit = true;
   try {
     lagrangian::floquet_multipliers(pendulum, s, f);
-    FAIL() << "a constrained model's monodromy matrix was computed";
+    FAIL() << "a constrained model's orbit was searched for";
   } catch (const lagrangian::AnalysisError& e) {
-    EXPECT_NE(std::string(e.what()).find("the monodromy matrix and the sensitivities of a model with holonomic or "
-                                         "Pfaffian constraints are not derived"),
+    EXPECT_NE(std::string(e.what()).find("floquet: finding the periodic orbit of a model with holonomic or Pfaffian "
+                                         "constraints is not derived"),
               std::string::npos)
         << e.what();
   }
   lagrangian::SensitivityOptions so;
   so.run.t_end = 1.0;
-  EXPECT_THROW(lagrangian::sensitivities(pendulum, s, so), lagrangian::AnalysisError);
+  try {
+    lagrangian::sensitivities(pendulum, s, so);
+    FAIL() << "a constrained model's sensitivities were computed";
+  } catch (const lagrangian::AnalysisError& e) {
+    EXPECT_NE(std::string(e.what()).find("the sensitivities of a model with holonomic or Pfaffian constraints are "
+                                         "not derived"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+lagrangian::FloquetOptions floquet_over(double period) { return lagrangian_test::floquet_options(period); }
+
+// The bead on the wire spinning at ω: the constraint repeats after
+// T = 2π/ω and r̈ = ω² r is linear, so over T the flow on the manifold has
+// the multipliers e^{±ωT} = e^{±2π} (an unstable, hyperbolic motion),
+// whatever the start.
+TEST(ConstrainedFloquet, BeadOnASpinningWireHasMultipliersExpOfPlusMinusTwoPi) {
+  const double omega = 1.5;
+  const lm::BeadOnRotatingWire bead(0.8, omega, 1e6);
+  lagrangian::State<2> s;
+  s.q = Vec<double, 2>(0.3, 0.0);
+  s.qd = Vec<double, 2>(-0.2, omega * 0.3);
+  const lagrangian::FloquetResult r = lagrangian::floquet_multipliers(bead, s, floquet_over(2 * M_PI / omega));
+  ASSERT_EQ(r.multipliers.size(), 2u);
+  ASSERT_EQ(r.monodromy.rows(), 2);
+  EXPECT_NEAR(r.multipliers[0].real() / std::exp(2 * M_PI), 1.0, 1e-8);
+  EXPECT_NEAR(r.multipliers[1].real() / std::exp(-2 * M_PI), 1.0, 1e-6);
+  EXPECT_EQ(r.multipliers[0].imag(), 0.0);
+  EXPECT_NEAR(r.monodromy.determinant(), 1.0, 1e-8);
+  EXPECT_FALSE(r.stable);
+}
+
+// The pendulum released at rest from 1 rad, as a particle on a rod, over
+// its period T = 4 K(k) / ω0, k = sin(θ0/2), ω0 = √(g/l): a closed orbit of
+// a conservative system, so its monodromy on the manifold is a Jordan block
+// [[1, a], [0, 1]] (a shift along the orbit family): trace 2, det 1, both
+// multipliers 1 — as for the same pendulum in its angle.
+TEST(ConstrainedFloquet, RodPendulumOrbitHasUnitMultipliersAsTheAngleModel) {
+  const double m = 0.7, l = 1.3, g = 9.81, theta0 = 1.0;
+  const double period = 4 * std::comp_ellint_1(std::sin(theta0 / 2)) / std::sqrt(g / l);
+  const lm::CartesianPendulum rod(m, l, g);
+  lagrangian::State<2> s;
+  s.q = Vec<double, 2>(l * std::sin(theta0), -l * std::cos(theta0));
+  s.qd.setZero();
+  const lagrangian::FloquetResult r = lagrangian::floquet_multipliers(rod, s, floquet_over(period));
+  ASSERT_EQ(r.multipliers.size(), 2u);
+  EXPECT_LE(r.closure, 1e-9);
+  EXPECT_NEAR(r.monodromy.trace(), 2.0, 1e-7) << r.monodromy;
+  EXPECT_NEAR(r.monodromy.determinant(), 1.0, 1e-9);
+  for (const auto& mu : r.multipliers) EXPECT_LE(std::abs(mu - 1.0), 1e-3) << mu;
+  const lm::SimplePendulum angle(m, l, g);
+  lagrangian::State<1> a;
+  a.q[0] = theta0;
+  const lagrangian::FloquetResult ra = lagrangian::floquet_multipliers(angle, a, floquet_over(period));
+  EXPECT_NEAR(ra.monodromy.trace(), 2.0, 1e-7);
+  EXPECT_NEAR(ra.monodromy.determinant(), 1.0, 1e-9);
+  EXPECT_TRUE(r.stable);
 }
 
 }  // namespace

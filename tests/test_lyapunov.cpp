@@ -10,7 +10,7 @@
 #include "lagrangian/analysis/tangent_flow.hpp"
 #include "lagrangian/models/constrained.hpp"
 #include "lagrangian/models/pendulums.hpp"
-#include "lyapunov_options.hpp"
+#include "tangent_options.hpp"
 #include "lagrangian/models/projectile.hpp"
 #include "nested_jet_jacobian.hpp"
 
@@ -187,8 +187,8 @@ TEST(TangentFlow, RefusesConstraintsWithContacts) {
     FAIL() << "a model with a constraint and a contact was accepted";
   } catch (const lagrangian::AnalysisError& e) {
     EXPECT_NE(std::string(e.what()).find("the tangent flow is derived for models with holonomic or Pfaffian "
-                                         "constraints or with contacts, not both; this model declares 1 bilateral "
-                                         "rows and 1 contacts"),
+                                         "constraints or with contacts, not both; this model declares both "
+                                         "(bilateral rows: 1, contacts: 1)"),
               std::string::npos)
         << e.what();
   }

@@ -17,6 +17,7 @@
 #include "lagrangian/text/tangent_flow.hpp"
 #include "contact_models.hpp"
 #include "text_definitions.hpp"
+#include "tangent_options.hpp"
 
 namespace {
 
@@ -198,13 +199,7 @@ TEST(TextLyapunov, LinearDragContractsPhaseSpaceAtMinusTwoBOverM) {
   }
 }
 
-lagrangian::FloquetOptions floquet_over(double period) {
-  lagrangian::FloquetOptions o;
-  o.period = period;
-  o.run.rtol = 1e-12;
-  o.run.atol = 1e-14;
-  return o;
-}
+lagrangian::FloquetOptions floquet_over(double period) { return lagrangian_test::floquet_options(period); }
 
 TEST(TextFloquet, KapitzaPendulumIsUprightStableAboveTheCriterionOnly) {
   // Upright (θ = π) is stable when a²Ω² > 2 g l = 19.62 m²/s²: Ω = 200 rad/s

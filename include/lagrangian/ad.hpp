@@ -28,4 +28,5 @@
 #include "lagrangian/ad/eigen.hpp"    // IWYU pragma: export
 #include "lagrangian/ad/eom_jet.hpp"  // IWYU pragma: export
 #include "lagrangian/ad/jet.hpp"      // IWYU pragma: export
+#include "lagrangian/ad/path.hpp"     // IWYU pragma: export
 #include "lagrangian/ad/traits.hpp"   // IWYU pragma: export

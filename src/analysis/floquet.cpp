@@ -42,12 +42,21 @@ void monodromy(const TangentModel& model, const double* q0, const double* qd0, S
   const int n = model.n;
   run.t_end = run.t0 + period;
   run.output_interval = -1;
-  TangentSystem system(model, 2 * n, 0.0, false);
+  // On a constraint manifold: Φ on its tangent space, in the basis B0 of
+  // the start's (orthonormal): C = B0ᵀ Φ B0 (d × d), the tangent vectors at
+  // t0 + T projected back onto the start's tangent space, which they span
+  // when the motion closes.
+  const Eigen::MatrixXd basis = model.manifold > 0 ? tangent_basis(model, q0, qd0, run.t0) : Eigen::MatrixXd();
+  if (model.manifold > 0 && basis.cols() == 0)
+    throw AnalysisError(
+        "floquet: the constraints leave no motion (the constraint manifold's tangent space has dimension 0)");
+  TangentSystem system(model, model.manifold > 0 ? static_cast<int>(basis.cols()) : 2 * n, 0.0, false);
   const int c = system.coordinate_count();
   std::vector<double> x;
   RunReport report;
   integrate_tangents(system, n, q0, qd0, run, "floquet: the run stopped before t0 + period", x, report);
-  result.monodromy = system.tangents(x.data());
+  result.monodromy = model.manifold > 0 ? Eigen::MatrixXd(basis.transpose() * system.tangents(x.data()))
+                                        : system.tangents(x.data());
   x_end.resize(2 * n);
   result.closure = 0;
   for (int i = 0; i < n; ++i) {
@@ -112,6 +121,11 @@ FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, c
   run.output_interval = -1;
   check_tangent_run(run, "floquet");
   if (options.find_orbit) {
+    if (model.manifold > 0)
+      throw AnalysisError(
+          "floquet: finding the periodic orbit of a model with holonomic or Pfaffian constraints is not derived "
+          "(Newton's method would move the start off the constraint manifold); give a start on the orbit and its "
+          "period");
     check_positive("closure_tolerance", options.closure_tolerance, "");
     if (options.max_iterations < 1) {
       std::ostringstream os;

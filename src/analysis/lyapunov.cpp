@@ -52,6 +52,9 @@ LyapunovResult lyapunov_spectrum(const TangentModel& model, const double* q0, co
   const int n = model.n;
   const int d =
       model.manifold > 0 ? static_cast<int>(tangent_basis(model, q0, qd0, options.run.t0).cols()) : 2 * n;
+  if (d == 0)
+    throw AnalysisError(
+        "lyapunov: the constraints leave no motion (the constraint manifold's tangent space has dimension 0)");
   check_options(options, n, d);
   const int k = options.exponents == 0 ? d : options.exponents;
   const auto clock_start = std::chrono::steady_clock::now();

@@ -64,7 +64,9 @@ inline Eigen::MatrixXd tangent_basis(const TangentModel& model, const double* q,
 /// state, as after any event. MEGNO is summed over every accepted step.
 /// Without it (the monodromy matrix, sensitivities) they start as the first
 /// k unit vectors of the state (δq, δq̇) and are never touched: at the end
-/// they are the first k columns of the flow's Jacobian ∂x(t)/∂x(t0). After
+/// they are the first k columns of the flow's Jacobian ∂x(t)/∂x(t0) (for a
+/// model with holonomic or Pfaffian constraints, the monodromy matrix only:
+/// they start as tangent_basis(), k its d columns, and end as Φ times it). After
 /// them come the columns s_j = ∂x/∂p_j of the model's parameters
 /// `parameters` (sensitivity.hpp), from 0, with
 ///   d/dt δq̇ = (∂q̈/∂q) δq + (∂q̈/∂q̇) δq̇ + ∂q̈/∂p_j.
@@ -90,10 +92,10 @@ class TangentSystem final : public System {
           "sensitivity: parameter columns across impacts are not derived (the impact map and the gaps may depend on "
           "the parameters); this model has " +
           std::to_string(model_.contacts) + " contacts: ask for the initial state's columns only");
-    if (model_.manifold > 0 && !benettin_)
+    if (model_.manifold > 0 && (record_ || columns_ != k_))
       throw AnalysisError(
-          "the monodromy matrix and the sensitivities of a model with holonomic or Pfaffian constraints are not "
-          "derived (its Lyapunov exponents are: the tangent vectors must stay on the constraint manifold)");
+          "sensitivity: the sensitivities of a model with holonomic or Pfaffian constraints are not derived (its "
+          "state cannot move off the constraint manifold; its Lyapunov exponents and Floquet multipliers are)");
     jumped_.resize(2 * model_.n, columns_);
   }
 
@@ -150,6 +152,12 @@ class TangentSystem final : public System {
     } else if (benettin_) {
       canonical(x, t0);
       w_ = from_canonical(Eigen::MatrixXd::Identity(2 * model_.n, k_));
+    } else if (model_.manifold > 0) {
+      // The monodromy matrix on the manifold: its tangent space's basis.
+      const Eigen::MatrixXd basis = tangent_basis(model_, x, x + coordinate_count(), t0);
+      if (basis.cols() != k_)
+        throw std::logic_error("TangentSystem: k differs from the dimension of the constraint manifold");
+      w_ = basis;
     } else {
       w_.setZero();
       w_.leftCols(k_) = Eigen::MatrixXd::Identity(2 * model_.n, k_);
@@ -329,6 +337,9 @@ class TangentSystem final : public System {
     }
     remember_lengths();
     store(x);
+    // The projection moved the first vector a little: MEGNO's ℓ starts the
+    // next step from its length now.
+    if (model_.manifold > 0) ell_ = log_length(x);
     ++renormalisations_;
     shortest_ = std::min(shortest_, t - last_);
     longest_taken_ = std::max(longest_taken_, t - last_);
@@ -357,7 +368,12 @@ class TangentSystem final : public System {
   /// the drift the integration left (the exact flow keeps both on it).
   void to_manifold(double* x, double t) {
     const int n = model_.n, c = coordinate_count();
-    model_.project(model_.model, x, x + c, t);
+    try {
+      model_.project(model_.model, x, x + c, t);
+    } catch (const ConstraintError& e) {
+      throw SimulationError(std::string("tangent flow: projection onto the constraint manifold failed: ") + e.what(),
+                            t);
+    }
     model_.manifold_rows(model_.model, x, x + c, t, residual_.data(), manifold_jacobian_.data());
     const Eigen::Map<const Eigen::MatrixXd> h(manifold_jacobian_.data(), model_.manifold, 2 * n);
     const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(h);

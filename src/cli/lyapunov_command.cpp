@@ -16,7 +16,8 @@ void LyapunovCommand::declare(OptionList& o) {
   overrides_.add(o,
                  "stepper: rk4, dopri5, cash_karp54, fehlberg78, bulirsch_stoer, gauss_radau15 or rosenbrock4 "
                  "(the tangent vectors are integrated beside the state)");
-  o.value("--exponents", request_.exponents, "how many exponents, 1 .. 2n (default 0: all 2n; 1 is cheapest)");
+  o.value("--exponents", request_.exponents, "how many exponents, 1 .. d (d = 2n, or the dimension of a constraint manifold; default 0: all d; "
+                                               "1 is cheapest)");
   o.value("--interval", request_.interval,
           "longest time between renormalisations (s; default (t_end - t0)/100; shorter when the vectors grow)");
   o.flag("--json", json_, "print one JSON object (spectrum, sum, megno, ...) instead of text");

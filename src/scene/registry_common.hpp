@@ -357,25 +357,25 @@ std::string analyse_entry(const ModelSpec& spec, double t0, const AnalysisReques
 /// `compute(model, initial)` on the model and initial state of `spec` at
 /// options.run.t0, for the models the tangent flow is derived for (see
 /// with_tangent_flow; `what` names the analysis in a refusal).
-template <class Def, class Result, bool constraints, class Options, class Compute>
+template <class Def, class Result, class Options, class Compute>
 Result tangent_flow_entry(const ModelSpec& spec, const Options& options, const char* what, Compute&& compute) {
   const ModelInfo& info = info_of<Def>();
   const Parameters p(info, spec);
   const typename Def::Model model = build_model<Def>(info, p);
   const auto initial = initial_state(info, spec, default_state<Def>(info, model, options.run.t0));
-  return with_tangent_flow<Result, constraints>(model, info, what, [&](const auto& m) { return compute(m, initial); });
+  return with_tangent_flow<Result>(model, info, what, [&](const auto& m) { return compute(m, initial); });
 }
 
 template <class Def>
 LyapunovResult lyapunov_entry(const ModelSpec& spec, const LyapunovOptions& options) {
-  return tangent_flow_entry<Def, LyapunovResult, true>(spec, options, "lyapunov", [&](const auto& m, const auto& initial) {
+  return tangent_flow_entry<Def, LyapunovResult>(spec, options, "lyapunov", [&](const auto& m, const auto& initial) {
     return lyapunov_spectrum(m, initial, options);
   });
 }
 
 template <class Def>
 FloquetResult floquet_entry(const ModelSpec& spec, const FloquetOptions& options) {
-  return tangent_flow_entry<Def, FloquetResult, false>(spec, options, "floquet", [&](const auto& m, const auto& initial) {
+  return tangent_flow_entry<Def, FloquetResult>(spec, options, "floquet", [&](const auto& m, const auto& initial) {
     return floquet_multipliers(m, initial, options);
   });
 }

@@ -19,8 +19,18 @@
 /// integration error of Φ at the default tolerances); `closure` =
 /// max_i |x_i(t0 + T) − x_i(t0)| says how periodic the motion from the given
 /// state was (the multipliers describe a periodic motion only when it is
-/// small). Scope as tangent_flow.hpp: unconstrained models with a fixed
-/// number n ≤ 6 of coordinates.
+/// small). Scope as tangent_flow.hpp: models with a fixed number n ≤ 6 of
+/// coordinates.
+///
+/// A model with holonomic or Pfaffian constraints moves on its constraint
+/// manifold (lyapunov.hpp), so its monodromy is a map of the manifold's
+/// tangent space (dimension d = 2n − rank ∂h/∂(q, q̇)): the tangent
+/// vectors start as an orthonormal basis B0 of the start's tangent space,
+/// and the result's monodromy is C = B0ᵀ Φ B0 (d × d), with d multipliers.
+/// On a closed motion Φ maps the tangent space onto itself and C is that
+/// map in the basis B0; a time-periodic constraint whose manifold's tangent
+/// space repeats (a spinning wire) gives the same. find_orbit is refused
+/// for such models: Newton's steps would move the start off the manifold.
 ///
 /// With find_orbit, floquet_multipliers() first finds the periodic orbit near
 /// the start and a guessed period by Newton's method on x(t0 + T; x0) − x0 = 0, with the
@@ -70,7 +80,7 @@ struct FloquetOptions {
 
 /// The monodromy matrix and its eigenvalues.
 struct FloquetResult {
-  Eigen::MatrixXd monodromy;                     ///< Φ (2n × 2n), in (q, q̇)
+  Eigen::MatrixXd monodromy;                     ///< Φ (2n × 2n), in (q, q̇); B0ᵀ Φ B0 (d × d) on a constraint manifold
   std::vector<std::complex<double>> multipliers;  ///< eigenvalues of Φ, largest modulus first
   double largest_modulus = 0;                    ///< max |μ|
   bool stable = false;                           ///< every |μ| ≤ 1 + tolerance
@@ -93,7 +103,9 @@ FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, c
 /// The Floquet multipliers of the motion of `model` from `initial` at
 /// options.run.t0 over one period (see the file comment). Throws
 /// OptionError for a bad option (naming it and its value), AnalysisError
-/// for a model with holonomic or Pfaffian constraints or, with find_orbit, when
+/// for constraints the tangent flow is not derived for (tangent_flow.hpp),
+/// for find_orbit on a model with holonomic or Pfaffian constraints or,
+/// with find_orbit, when
 /// Newton's method finds no orbit within max_iterations (with the closure
 /// reached) or its period leaves [T/2, 2T] of the guess T (every motion
 /// closes as T → 0), SimulationError when a run fails.

@@ -61,15 +61,21 @@
 /// manifold h = (g, ġ, φ) = 0 in the state space, of dimension
 /// d = 2n − rank ∂h/∂(q, q̇) (2 per degree of freedom of a holonomic
 /// system), and so do its tangent vectors: they start as the first k vectors
-/// of a basis of the manifold's tangent space orthonormal in (q, p), and
-/// there are d exponents (k ≤ d; 0 asks for all d). J is that of the
+/// of a basis of the manifold's tangent space, and there are d exponents
+/// (k ≤ d; 0 asks for all d). They are measured and factored in the
+/// reduced canonical coordinates (Uᵀδq, Uᵀδp), U an orthonormal basis of
+/// ker ∂g/∂q: Darboux coordinates of the symplectic form restricted to the
+/// manifold of a holonomic system, in which a Hamiltonian spectrum sums to
+/// zero at every time. J is that of the
 /// constrained motion (tangent_flow.hpp); the state integrates the
 /// constrained equations without stabilisation, and at every
 /// renormalisation the state is projected onto the manifold (the model's
 /// project_positions() and project_velocities()) and the tangent vectors
 /// onto its tangent space (W ← W − H⁺ H W, H = ∂h/∂(q, q̇)), which takes off
-/// the drift the integration left. A start off the manifold (beyond the
-/// plain run's 1e-9) is a ConstraintError.
+/// the drift the integration left (a projection that fails stops the run
+/// with SimulationError). A start off the manifold (beyond the plain run's
+/// 1e-9) is a ConstraintError; a manifold of dimension 0 (constraints that
+/// leave no motion) an AnalysisError.
 
 #include <cstdint>
 #include <string>
@@ -250,7 +256,7 @@ void evaluate_projection(const void* model, double* q, double* qd, double t) {
   constexpr int n = coordinate_count_v<M>;
   const M& m = *static_cast<const M*>(model);
   Vec<double, n> qv = Eigen::Map<const Vec<double, n>>(q), qdv = Eigen::Map<const Vec<double, n>>(qd);
-  project_positions(m, qv, t, 1e-12 * (1.0 + qv.template lpNorm<Eigen::Infinity>()));
+  project_positions(m, qv, t, 1e-12);  // ‖g‖∞ ≤ 1e-12 (1 + ‖q‖∞)
   Workspace<n> ws(n);
   project_velocities(m, ws, qv, qdv, t);
   Eigen::Map<Vec<double, n> > q_out(q), qd_out(qd);

@@ -162,12 +162,8 @@ ImpactMap<coordinate_count_v<M>> impact_map_with(const M& model, const Vec<doubl
   // γ: the gap to second order along the path direction (q̇, 1).
   using P = ad::Jet<double, 1, 2>;
   Vec<P, n> qp;
-  for (int k = 0; k < n; ++k) {
-    qp[k] = P(q[k]);
-    qp[k].g[0] = qd[k];
-  }
-  P tp(t);
-  tp.g[0] = 1.0;
+  P tp;
+  ad::along_path(q, qd, t, qp, tp);
   out.gamma = P(model.unilateral(qp, tp)[contact]).hess(0, 0);
   return out;
 }

@@ -96,9 +96,8 @@ void require_tangent_flow_constraints(const M& model, const std::string& prefix)
                         std::to_string(bilateral) + " rows at run time");
   if (unilateral_count(model) > 0)
     throw AnalysisError(prefix + "the tangent flow is derived for models with holonomic or Pfaffian constraints or "
-                                 "with contacts, not both; this model declares " +
-                        std::to_string(bilateral) + " bilateral rows and " +
-                        std::to_string(unilateral_count(model)) + " contacts");
+                                 "with contacts, not both; this model declares both (bilateral rows: " +
+                        std::to_string(bilateral) + ", contacts: " + std::to_string(unilateral_count(model)) + ")");
 }
 }  // namespace detail
 

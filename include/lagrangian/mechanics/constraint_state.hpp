@@ -86,12 +86,8 @@ void position_rows_into(const Vec<double, coordinate_count_v<M>>& q, const Vec<d
   using J2 = ad::Jet<double, 1, 2>;
   std::optional<Vec<J2, n>> local;
   auto& qp = detail::jet_storage<J2>(local, 0, size);
-  for (int k = 0; k < size; ++k) {
-    qp[k] = J2(q[k]);
-    qp[k].g[0] = qd[k];
-  }
-  J2 tp(t);
-  tp.g[0] = 1.0;
+  J2 tp;
+  ad::along_path(q, qd, t, qp, tp);
   const auto g2 = fn(qp, tp);
   detail::check_rows(g2, rows, function);
   for (int i = 0; i < rows; ++i) {
@@ -132,13 +128,9 @@ void pfaffian_rows_into(const M& model, const Vec<double, coordinate_count_v<M>>
     using J = ad::Jet<double, 1, 1>;
     auto& qp = detail::jet_vector<J>(0, size);
     auto& qdp = detail::jet_vector<J>(1, size);
-    for (int k = 0; k < size; ++k) {
-      qp[k] = J(q[k]);
-      qp[k].g[0] = qd[k];
-      qdp[k] = J(qd[k]);
-    }
-    J tp(t);
-    tp.g[0] = 1.0;
+    for (int k = 0; k < size; ++k) qdp[k] = J(qd[k]);
+    J tp;
+    ad::along_path(q, qd, t, qp, tp);
     const auto phi = model.pfaffian(qp, qdp, tp);
     detail::check_rows(phi, mp, "pfaffian()");
     for (int i = 0; i < mp; ++i) cs.gamma[mpos + i] = phi[i].g[0];

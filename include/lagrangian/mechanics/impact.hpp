@@ -167,12 +167,8 @@ void contact_gaps(const M& model, const Vec<double, coordinate_count_v<M>>& q,
   const int size = static_cast<int>(q.size());
   std::optional<Vec<J, n>> local;
   auto& qp = detail::jet_storage<J>(local, 0, size);
-  for (int k = 0; k < size; ++k) {
-    qp[k] = J(q[k]);
-    qp[k].g[0] = qd[k];
-  }
-  J tp(t);
-  tp.g[0] = 1.0;
+  J tp;
+  ad::along_path(q, qd, t, qp, tp);
   const auto phi = model.unilateral(qp, tp);
   const int count = unilateral_count(model);
   detail::check_rows(phi, count, "unilateral()");

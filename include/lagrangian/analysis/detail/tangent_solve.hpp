@@ -110,12 +110,8 @@ void bilateral_rows_on(const M& model, const Vec<D, n>& q, const Vec<D, n>& qd, 
     // γ = d²g/ds² along the path (q + s q̇, t + s).
     using J2 = ad::Jet<D, 1, 2>;
     Vec<J2, n> qp;
-    for (int k = 0; k < n; ++k) {
-      qp[k] = J2(q[k]);
-      qp[k].g[0] = qd[k];
-    }
-    J2 tp(t);
-    tp.g[0] = D(1.0);
+    J2 tp;
+    ad::along_path(q, qd, t, qp, tp);
     const auto g2 = model.holonomic(qp, tp);
     for (int i = 0; i < mh; ++i) gamma[i] = g2[i].hess(0, 0);
   }
@@ -131,13 +127,9 @@ void bilateral_rows_on(const M& model, const Vec<D, n>& q, const Vec<D, n>& qd, 
     // γ = (∂φ/∂q) q̇ + ∂φ/∂t at fixed q̇.
     using P = ad::Jet<D, 1, 1>;
     Vec<P, n> qp, qdp;
-    for (int k = 0; k < n; ++k) {
-      qp[k] = P(q[k]);
-      qp[k].g[0] = qd[k];
-      qdp[k] = P(qd[k]);
-    }
-    P tp(t);
-    tp.g[0] = D(1.0);
+    for (int k = 0; k < n; ++k) qdp[k] = P(qd[k]);
+    P tp;
+    ad::along_path(q, qd, t, qp, tp);
     const auto phi2 = model.pfaffian(qp, qdp, tp);
     for (int i = 0; i < mp; ++i) gamma[mh + i] = phi2[i].g[0];
   }
@@ -237,12 +229,8 @@ void manifold_rows(const M& model, const Vec<double, coordinate_count_v<M>>& q,
   if constexpr (mh > 0) {
     using P = ad::Jet<D, 1, 1>;  // along the path (q + s q̇, t + s)
     Vec<P, n> qp;
-    for (int k = 0; k < n; ++k) {
-      qp[k] = P(qx[k]);
-      qp[k].g[0] = qdx[k];
-    }
-    P tp{D(t)};
-    tp.g[0] = D(1.0);
+    P tp;
+    ad::along_path(qx, qdx, D(t), qp, tp);
     const auto g = model.holonomic(qp, tp);
     for (int i = 0; i < mh; ++i) {
       put(i, g[i].v);
