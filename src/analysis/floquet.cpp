@@ -46,7 +46,7 @@ void monodromy(const TangentModel& model, const double* q0, const double* qd0, S
   // the start's (orthonormal): C = B0ᵀ Φ B0 (d × d), the tangent vectors at
   // t0 + T projected back onto the start's tangent space, which they span
   // when the motion closes.
-  const Eigen::MatrixXd basis = model.manifold > 0 ? tangent_basis(model, q0, qd0, run.t0) : Eigen::MatrixXd();
+  const Eigen::MatrixXd basis = model.manifold > 0 ? manifold_basis(model, q0, qd0, run.t0) : Eigen::MatrixXd();
   if (model.manifold > 0 && basis.cols() == 0)
     throw AnalysisError(
         "floquet: the constraints leave no motion (the constraint manifold's tangent space has dimension 0)");

@@ -51,7 +51,7 @@ LyapunovResult lyapunov_spectrum(const TangentModel& model, const double* q0, co
                                  const LyapunovOptions& options) {
   const int n = model.n;
   const int d =
-      model.manifold > 0 ? static_cast<int>(tangent_basis(model, q0, qd0, options.run.t0).cols()) : 2 * n;
+      model.manifold > 0 ? static_cast<int>(manifold_basis(model, q0, qd0, options.run.t0).cols()) : 2 * n;
   if (d == 0)
     throw AnalysisError(
         "lyapunov: the constraints leave no motion (the constraint manifold's tangent space has dimension 0)");

@@ -15,7 +15,6 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/QR>
-#include <Eigen/SVD>
 
 #include "lagrangian/analysis/lyapunov.hpp"
 #include "lagrangian/analysis/saltation.hpp"
@@ -25,24 +24,9 @@
 #include "lagrangian/integrate/integrate.hpp"
 #include "lagrangian/integrate/method.hpp"
 #include "lagrangian/integrate/system.hpp"
+#include "manifold.hpp"
 
 namespace lagrangian::detail {
-
-/// A basis (2n × d, orthonormal in (q, q̇)) of the tangent space of the
-/// constraint manifold of `model` at (q, q̇, t): the null space of
-/// H = ∂h/∂(q, q̇), h = (g, ġ, φ), of dimension d = 2n − rank H (2n for a
-/// model without holonomic or Pfaffian constraints: the identity).
-inline Eigen::MatrixXd tangent_basis(const TangentModel& model, const double* q, const double* qd, double t) {
-  const int n = model.n;
-  if (model.manifold == 0) return Eigen::MatrixXd::Identity(2 * n, 2 * n);
-  std::vector<double> residual(static_cast<std::size_t>(model.manifold)),
-      jacobian(static_cast<std::size_t>(2 * n * model.manifold));
-  model.manifold_rows(model.model, q, qd, t, residual.data(), jacobian.data());
-  const Eigen::Map<const Eigen::MatrixXd> h(jacobian.data(), model.manifold, 2 * n);
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(h, Eigen::ComputeFullV);
-  const int rank = static_cast<int>(svd.rank());
-  return svd.matrixV().rightCols(2 * n - rank);
-}
 
 /// ẋ = f(x, t) with k tangent vectors: the n(1 + k) coordinates
 /// (q, δq_1, …, δq_k) and their rates (q̇, δq̇_1, …, δq̇_k), so that
@@ -66,7 +50,7 @@ inline Eigen::MatrixXd tangent_basis(const TangentModel& model, const double* q,
 /// k unit vectors of the state (δq, δq̇) and are never touched: at the end
 /// they are the first k columns of the flow's Jacobian ∂x(t)/∂x(t0) (for a
 /// model with holonomic or Pfaffian constraints, the monodromy matrix only:
-/// they start as tangent_basis(), k its d columns, and end as Φ times it). After
+/// they start as manifold_basis(), k its d columns, and end as Φ times it). After
 /// them come the columns s_j = ∂x/∂p_j of the model's parameters
 /// `parameters` (sensitivity.hpp), from 0, with
 ///   d/dt δq̇ = (∂q̈/∂q) δq + (∂q̈/∂q̇) δq̇ + ∂q̈/∂p_j.
@@ -146,7 +130,8 @@ class TangentSystem final : public System {
       // orthonormal in the reduced canonical coordinates.
       canonical(x, t0);
       reduce_ = configuration_basis();
-      const Eigen::MatrixXd basis = tangent_basis(model_, x, x + coordinate_count(), t0);
+      // H at the start, from check_on_manifold().
+      const Eigen::MatrixXd basis = tangent_basis(manifold_jacobian(), 2 * model_.n);
       qr_.compute(reduced_canonical(basis));
       w_ = divided_by_r(basis, qr_.matrixQR()).leftCols(k_);
     } else if (benettin_) {
@@ -154,7 +139,8 @@ class TangentSystem final : public System {
       w_ = from_canonical(Eigen::MatrixXd::Identity(2 * model_.n, k_));
     } else if (model_.manifold > 0) {
       // The monodromy matrix on the manifold: its tangent space's basis.
-      const Eigen::MatrixXd basis = tangent_basis(model_, x, x + coordinate_count(), t0);
+      // H at the start, from check_on_manifold().
+      const Eigen::MatrixXd basis = tangent_basis(manifold_jacobian(), 2 * model_.n);
       if (basis.cols() != k_)
         throw std::logic_error("TangentSystem: k differs from the dimension of the constraint manifold");
       w_ = basis;
@@ -367,7 +353,7 @@ class TangentSystem final : public System {
   /// W ← W − H⁺ (H W) with H = ∂h/∂(q, q̇): a renormalisation takes off
   /// the drift the integration left (the exact flow keeps both on it).
   void to_manifold(double* x, double t) {
-    const int n = model_.n, c = coordinate_count();
+    const int c = coordinate_count();
     try {
       model_.project(model_.model, x, x + c, t);
     } catch (const ConstraintError& e) {
@@ -375,9 +361,8 @@ class TangentSystem final : public System {
                             t);
     }
     model_.manifold_rows(model_.model, x, x + c, t, residual_.data(), manifold_jacobian_.data());
-    const Eigen::Map<const Eigen::MatrixXd> h(manifold_jacobian_.data(), model_.manifold, 2 * n);
-    const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(h);
-    w_ -= cod.solve(h * w_);
+    const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(manifold_jacobian());
+    w_ -= cod.solve(manifold_jacobian() * w_);
     reduce_ = configuration_basis();
     store(x);
   }
@@ -387,9 +372,11 @@ class TangentSystem final : public System {
   Eigen::MatrixXd configuration_basis() const {
     const int n = model_.n, mh = model_.manifold_holonomic;
     if (mh == 0) return Eigen::MatrixXd::Identity(n, n);
-    const Eigen::Map<const Eigen::MatrixXd> h(manifold_jacobian_.data(), model_.manifold, 2 * n);
-    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(h.topLeftCorner(mh, n), Eigen::ComputeFullV);
-    return svd.matrixV().rightCols(n - static_cast<int>(svd.rank()));
+    return tangent_basis(manifold_jacobian().topLeftCorner(mh, n), n);
+  }
+  /// H = ∂h/∂(q, q̇) of the last manifold_rows() evaluation.
+  Eigen::Map<const Eigen::MatrixXd> manifold_jacobian() const {
+    return Eigen::Map<const Eigen::MatrixXd>(manifold_jacobian_.data(), model_.manifold, 2 * model_.n);
   }
   /// The reduced canonical coordinates (Uᵀ δq, Uᵀ δp) of tangent vectors
   /// (the columns of w) of the manifold, δp = (∂p/∂q) δq + M δq̇ (p_ at
@@ -407,20 +394,6 @@ class TangentSystem final : public System {
     z.bottomRows(f) = reduce_.transpose() * (dp * w);
     return z;
   }
-  /// W R⁻¹ D, D = sign(diag R): the tangent vectors whose reduced canonical
-  /// coordinates are the orthonormal Q of their QR factors, each keeping its
-  /// direction (R is the upper triangle of `factors`, QR of the reduced
-  /// coordinates of W).
-  Eigen::MatrixXd divided_by_r(const Eigen::MatrixXd& w, const Eigen::MatrixXd& factors) const {
-    const int k = static_cast<int>(w.cols());
-    Eigen::MatrixXd wt = w.transpose();
-    factors.topLeftCorner(k, k).triangularView<Eigen::Upper>().transpose().solveInPlace(wt);
-    Eigen::MatrixXd out = wt.transpose();
-    for (int j = 0; j < k; ++j)
-      if (factors(j, j) < 0) out.col(j) = -out.col(j);
-    return out;
-  }
-
   /// x with 6 significant digits, for messages.
   static std::string number(double x) {
     char buf[32];
