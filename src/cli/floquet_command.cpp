@@ -8,11 +8,11 @@ namespace lagrangian::cli {
 
 const Subcommand FloquetCommand::kInfo{
     "floquet",
-    "Floquet multipliers of the scene model over one period T from its initial state (the monodromy matrix, by "
+    "Floquet multipliers of the scene model (or its bodies) over one period T from its initial state (the monodromy matrix, by "
     "the variational equations) and the verdict stable or unstable."};
 
 void FloquetCommand::declare(OptionList& o) {
-  scene_.add(o, "scene file (TOML) with a built-in model or one stated as text");
+  scene_.add(o, "scene file (TOML) with a built-in model, one stated as text, or bodies under force effects");
   scene_.add_settings(o);
   o.value("--period", period_, "T (s): the period of the drive or of the orbit (required; with --find-orbit the guess)");
   o.flag("--find-orbit", request_.find_orbit,

@@ -7,11 +7,11 @@ namespace lagrangian::cli {
 
 const Subcommand LyapunovCommand::kInfo{
     "lyapunov",
-    "Lyapunov exponents (1/s, largest first), their sum and MEGNO of the scene model from its initial state: the "
+    "Lyapunov exponents (1/s, largest first), their sum and MEGNO of the scene model (or its bodies) from its initial state: the "
     "variational equations integrated beside the motion, renormalised by Benettin's method."};
 
 void LyapunovCommand::declare(OptionList& o) {
-  scene_.add(o, "scene file (TOML) with a built-in model or one stated as text");
+  scene_.add(o, "scene file (TOML) with a built-in model, one stated as text, or bodies under force effects");
   scene_.add_settings(o);
   overrides_.add(o,
                  "stepper: rk4, dopri5, cash_karp54, fehlberg78, bulirsch_stoer, gauss_radau15 or rosenbrock4 "

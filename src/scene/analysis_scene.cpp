@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "json_object.hpp"
+#include "particle_engine.hpp"
 #include "lagrangian/detail/csv_header.hpp"
 #include "lagrangian/integrate/method.hpp"
 #include "lagrangian/scene/detail/registry.hpp"
@@ -43,7 +44,11 @@ const detail::ModelEntry& model_entry(const Scene& input, const std::string& opt
 std::string model_name(const Scene& scene, const detail::ModelEntry& entry) {
   return scene.model->text ? entry.name : scene.model->name;
 }
-std::string model_phrase(const std::string& name) { return name == "text" ? "the model stated as text" : name; }
+std::string model_phrase(const std::string& name) {
+  if (name == "text") return "the model stated as text";
+  if (name == "particles") return "the bodies of the particle scene";
+  return name;
+}
 
 /// f() with a scene error that names a key but no line (the registry's:
 /// parameters, initial state) placed at the key's line in the scene file.
@@ -205,19 +210,25 @@ std::string BvpRun::summary() const {
 }
 
 LyapunovRun lyapunov(const Scene& scene, const LyapunovRequest& request) {
-  const detail::ModelEntry& entry = model_entry(scene, "lyapunov");
+  scene.validate();
   if (request.exponents < 0)
     throw OptionError("--exponents: must be at least 1 (or 0 for all), got " + std::to_string(request.exponents));
   if (!std::isfinite(request.interval) || request.interval < 0)
     throw OptionError("--interval: must be a finite time >= 0 s (0 lets the code choose), got " +
                       g10(request.interval));
   LyapunovRun out;
-  out.model = model_name(scene, entry);
   out.run = scene.run;
   LyapunovOptions options;
   options.run = scene.run;
   options.exponents = request.exponents;
   options.interval = request.interval;
+  if (!scene.model) {
+    out.model = "particles";
+    out.result = detail::particle_lyapunov(scene, options);
+    return out;
+  }
+  const detail::ModelEntry& entry = model_entry(scene, "lyapunov");
+  out.model = model_name(scene, entry);
   out.result = with_scene_lines(scene, [&] { return entry.lyapunov(*scene.model, options); });
   return out;
 }
@@ -267,13 +278,12 @@ std::string LyapunovRun::json() const {
 }
 
 FloquetRun floquet(const Scene& scene, const FloquetRequest& request) {
-  const detail::ModelEntry& entry = model_entry(scene, "floquet");
+  scene.validate();
   if (!std::isfinite(request.period) || !(request.period > 0))
     throw OptionError("--period: must be a finite time > 0 s, got " + g10(request.period));
   if (!std::isfinite(request.tolerance) || request.tolerance < 0)
     throw OptionError("--tolerance: must be finite and >= 0, got " + g10(request.tolerance));
   FloquetRun out;
-  out.model = model_name(scene, entry);
   out.run = scene.run;
   out.tolerance = request.tolerance;
   out.find_orbit = request.find_orbit;
@@ -284,7 +294,14 @@ FloquetRun floquet(const Scene& scene, const FloquetRequest& request) {
   options.find_orbit = request.find_orbit;
   options.fixed_period = request.fixed_period;
   options.keep_energy = request.keep_energy;
-  out.result = with_scene_lines(scene, [&] { return entry.floquet(*scene.model, options); });
+  if (!scene.model) {
+    out.model = "particles";
+    out.result = detail::particle_floquet(scene, options);
+  } else {
+    const detail::ModelEntry& entry = model_entry(scene, "floquet");
+    out.model = model_name(scene, entry);
+    out.result = with_scene_lines(scene, [&] { return entry.floquet(*scene.model, options); });
+  }
   out.period = out.result.period;
   return out;
 }

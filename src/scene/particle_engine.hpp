@@ -16,6 +16,13 @@
 #include "lagrangian/integrate/report.hpp"
 #include "lagrangian/scene/scene.hpp"
 
+namespace lagrangian {
+struct LyapunovOptions;
+struct LyapunovResult;
+struct FloquetOptions;
+struct FloquetResult;
+}  // namespace lagrangian
+
 namespace lagrangian::scene::detail {
 
 /// What a particle run reports as it goes. `begin`, once before the first
@@ -71,6 +78,19 @@ std::vector<double> initial_state(const Scene& scene);
 /// True when the bodies fly freely between contacts: sphere or box contacts,
 /// a box, and no effect or constraint (the exact event-driven engine applies).
 bool event_driven_eligible(const Scene& scene);
+
+/// Lyapunov exponents and MEGNO, and Floquet multipliers, of a particle
+/// scene's motion from its bodies' state at t0 (particle_tangent.cpp): its
+/// tangent flow by automatic differentiation of its force effects. A scene
+/// with constraint rows (links, surfaces) or contacts is refused with
+/// OptionError ("lyapunov: particle scene '<name>': …").
+LyapunovResult particle_lyapunov(const Scene& scene, const LyapunovOptions& options);
+FloquetResult particle_floquet(const Scene& scene, const FloquetOptions& options);
+/// What that tangent flow integrates: ∂a/∂(r, v) (3N × 6N; 1/s², 1/s) of
+/// the scene's force effects at x = [r; v] (6N values, m and m/s), with the
+/// accelerations a (3N values, m/s²) when `a` is given. OptionError as above.
+Eigen::MatrixXd particle_acceleration_jacobian(const Scene& scene, const std::vector<double>& x,
+                                               Eigen::VectorXd* a = nullptr);
 
 /// Inspection text of a particle scene at t0.
 std::string inspect_particles(const Scene& scene, bool as_json = false);

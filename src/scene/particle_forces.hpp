@@ -1,7 +1,9 @@
 #pragma once
 // Internal to the particle scenes' engine: the force kernels. Each declared
 // effect kind is one kernel; a body's state is 3 Cartesian coordinates
-// (m) in x = [r; v].
+// (m) in x = [r; v]. A kernel's accelerations are a template on the number
+// type: doubles in a run, AD numbers (ad::Jet) for its tangent flow
+// (particle_tangent.cpp).
 
 #include <cmath>
 #include <cstdint>
@@ -13,9 +15,15 @@
 namespace lagrangian::scene::detail::particles {
 
 using Eigen::Vector3d;
+template <class S>
+using Vector3 = Eigen::Matrix<S, 3, 1>;
 
-inline Vector3d at(const double* p, int i) { return {p[3 * i], p[3 * i + 1], p[3 * i + 2]}; }
-inline void add(double* p, int i, const Vector3d& f) {
+template <class S>
+Vector3<S> at(const S* p, int i) {
+  return {p[3 * i], p[3 * i + 1], p[3 * i + 2]};
+}
+template <class S>
+void add(S* p, int i, const Vector3<S>& f) {
   p[3 * i] += f[0];
   p[3 * i + 1] += f[1];
   p[3 * i + 2] += f[2];
@@ -44,7 +52,8 @@ struct GravityKernel final : Kernel {
   GravityKernel(const std::vector<double>& m, Vector3d g_) : Kernel("uniform_gravity"), mass(m), g(g_) {}
   std::vector<double> mass;
   Vector3d g;
-  void add(const double*, const double*, double* a) {
+  template <class S>
+  void add(const S*, const S*, S* a) {
     ++evaluations;
     const int n = static_cast<int>(mass.size());
     for (int i = 0; i < n; ++i) {
@@ -78,16 +87,18 @@ struct NewtonKernel final : Kernel {
   NewtonKernel(const std::vector<double>& m, double G_) : Kernel("newtonian_gravity"), mass(m), G(G_) {}
   std::vector<double> mass;
   double G;
-  void add(const double* r, const double*, double* a) {
+  template <class S>
+  void add(const S* r, const S*, S* a) {
+    using std::sqrt;
     ++evaluations;
     const int n = static_cast<int>(mass.size());
     for (int i = 0; i < n; ++i)
       for (int j = i + 1; j < n; ++j) {
-        const Vector3d d = at(r, i) - at(r, j);
-        const double d2 = d.squaredNorm();
-        const Vector3d f = (-G / (d2 * std::sqrt(d2))) * d;  // per unit mass of each
-        add3(a, i, mass[static_cast<std::size_t>(j)] * f);
-        add3(a, j, -mass[static_cast<std::size_t>(i)] * f);
+        const Vector3<S> d = at(r, i) - at(r, j);
+        const S d2 = d.squaredNorm();
+        const Vector3<S> f = (-G / (d2 * sqrt(d2))) * d;  // per unit mass of each
+        add3(a, i, Vector3<S>(mass[static_cast<std::size_t>(j)] * f));
+        add3(a, j, Vector3<S>(-mass[static_cast<std::size_t>(i)] * f));
       }
   }
   double potential(const double* r) const override {
@@ -98,7 +109,10 @@ struct NewtonKernel final : Kernel {
         V -= G * mass[static_cast<std::size_t>(i)] * mass[static_cast<std::size_t>(j)] / (at(r, i) - at(r, j)).norm();
     return V;
   }
-  static void add3(double* a, int i, const Vector3d& f) { lagrangian::scene::detail::particles::add(a, i, f); }
+  template <class S>
+  static void add3(S* a, int i, const Vector3<S>& f) {
+    lagrangian::scene::detail::particles::add(a, i, f);
+  }
 };
 
 struct SpringData {
@@ -112,19 +126,20 @@ struct SpringData {
 struct SpringKernel final : Kernel {
   explicit SpringKernel(std::vector<SpringData> s) : Kernel("springs"), springs(std::move(s)) {}
   std::vector<SpringData> springs;
-  void add(const double* r, const double*, double* acc) {
+  template <class S>
+  void add(const S* r, const S*, S* acc) {
     ++evaluations;
     for (const auto& s : springs) {
-      const Vector3d d = at(r, s.a) - (s.b >= 0 ? at(r, s.b) : s.anchor);
-      Vector3d f;
+      const Vector3<S> d = at(r, s.a) - (s.b >= 0 ? at(r, s.b) : Vector3<S>(s.anchor.cast<S>()));
+      Vector3<S> f;
       if (s.L0 == 0.0) {
         f = -s.k * d;
       } else {
-        const double l = d.norm();
+        const S l = d.norm();
         f = (-s.k * (l - s.L0) / l) * d;  // l = 0 gives NaN, caught as a non-finite state
       }
-      lagrangian::scene::detail::particles::add(acc, s.a, s.inv_ma * f);
-      if (s.b >= 0) lagrangian::scene::detail::particles::add(acc, s.b, -s.inv_mb * f);
+      lagrangian::scene::detail::particles::add(acc, s.a, Vector3<S>(s.inv_ma * f));
+      if (s.b >= 0) lagrangian::scene::detail::particles::add(acc, s.b, Vector3<S>(-s.inv_mb * f));
     }
   }
   double potential(const double* r) const override {
@@ -142,9 +157,11 @@ struct LinearDragKernel final : Kernel {
   LinearDragKernel(std::vector<int> b, std::vector<double> c) : Kernel("linear_drag"), body(std::move(b)), rate(std::move(c)) {}
   std::vector<int> body;
   std::vector<double> rate;  // b/m (1/s) per entry
-  void add(const double*, const double* v, double* a) {
+  template <class S>
+  void add(const S*, const S* v, S* a) {
     ++evaluations;
-    for (std::size_t k = 0; k < body.size(); ++k) lagrangian::scene::detail::particles::add(a, body[k], -rate[k] * at(v, body[k]));
+    for (std::size_t k = 0; k < body.size(); ++k)
+      lagrangian::scene::detail::particles::add(a, body[k], Vector3<S>(-rate[k] * at(v, body[k])));
   }
   bool dissipative() const override { return true; }
 };
@@ -155,11 +172,12 @@ struct QuadraticDragKernel final : Kernel {
       : Kernel("quadratic_drag"), body(std::move(b)), rate(std::move(c)) {}
   std::vector<int> body;
   std::vector<double> rate;  // c/m (1/m) per entry
-  void add(const double*, const double* v, double* a) {
+  template <class S>
+  void add(const S*, const S* v, S* a) {
     ++evaluations;
     for (std::size_t k = 0; k < body.size(); ++k) {
-      const Vector3d u = at(v, body[k]);
-      lagrangian::scene::detail::particles::add(a, body[k], -rate[k] * u.norm() * u);
+      const Vector3<S> u = at(v, body[k]);
+      lagrangian::scene::detail::particles::add(a, body[k], Vector3<S>(-rate[k] * u.norm() * u));
     }
   }
   bool dissipative() const override { return true; }

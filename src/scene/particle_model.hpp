@@ -117,22 +117,29 @@ class ParticleModel {
     if constexpr (Constrained) s.constrain(r, v, a);
   }
 
+  /// a = F(r, v)/m (m/s², 3N values) of the declared force kernels alone,
+  /// on numbers of any type S: doubles, or AD numbers for the tangent flow
+  /// (particle_tangent.cpp), which takes scenes without constraint rows or
+  /// contacts, whose accelerations these are.
+  template <class S>
+  void force_accelerations(const S* r, const S* v, S* a) {
+    for (int i = 0; i < dim_; ++i) a[i] = S(0.0);
+    if (gravity_) gravity_->add(r, v, a);
+    if (newton_) newton_->add(r, v, a);
+    if (springs_) springs_->add(r, v, a);
+    if (linear_drag_) linear_drag_->add(r, v, a);
+    if (quadratic_drag_) quadratic_drag_->add(r, v, a);
+  }
+
   using RhsFn = void (*)(ParticleModel&, const double*, double*, double);
   template <unsigned... K>
   static constexpr std::array<RhsFn, 64> rhs_table(std::integer_sequence<unsigned, K...>) {
     return {rhs_for<(K >> 1), (K & 1u) != 0>...};
   }
-  /// Chooses the right-hand side once, from what the scene declares.
-  void select_rhs() {
-    unsigned kinds = 0;
-    if (gravity_) kinds |= 1u;
-    if (newton_) kinds |= 2u;
-    if (springs_) kinds |= 4u;
-    if (linear_drag_) kinds |= 8u;
-    if (quadratic_drag_) kinds |= 16u;
-    static constexpr auto table = rhs_table(std::make_integer_sequence<unsigned, 64>{});
-    rhs_fn_ = table[(kinds << 1) | (constrained_ ? 1u : 0u)];
-  }
+  /// Chooses the right-hand side once, from what the scene declares
+  /// (defined in particle_system.cpp, which compiles the 64 right-hand
+  /// sides once for every file that builds a ParticleModel).
+  void select_rhs();
 
 
   double kinetic(const double* x) const {

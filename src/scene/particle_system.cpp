@@ -435,6 +435,18 @@ class ParticleSystem final : public lagrangian::System {
 
 }  // namespace
 
+// The 64 right-hand sides (particle_model.hpp) are compiled here, once.
+void particles::ParticleModel::select_rhs() {
+  unsigned kinds = 0;
+  if (gravity_) kinds |= 1u;
+  if (newton_) kinds |= 2u;
+  if (springs_) kinds |= 4u;
+  if (linear_drag_) kinds |= 8u;
+  if (quadratic_drag_) kinds |= 16u;
+  static constexpr auto table = rhs_table(std::make_integer_sequence<unsigned, 64>{});
+  rhs_fn_ = table[(kinds << 1) | (constrained_ ? 1u : 0u)];
+}
+
 std::vector<std::string> body_coordinates(const Scene& scene) {
   std::vector<std::string> names;
   for (const Body& b : scene.bodies)

@@ -399,7 +399,11 @@ analysis_json lyapunov dp_chaos "len(d['spectrum']) == 4 and d['spectrum'][0] > 
 analysis_json lyapunov dp_largest "len(d['spectrum']) == 1 and d['spectrum'][0] > 0.5 and d['method'] == 'fehlberg78'" -- "$dp" --set 'model.q[0]=2' --set 'model.q[1]=2' --t-end 25 --exponents 1 --method fehlberg78
 analysis_json lyapunov dp_calm "d['spectrum'][0] < 0.1 and d['megno'] < 3" -- "$dp" --t-end 100
 expect 0 "MEGNO <Y> = " -- "$bin" lyapunov "$ho" --t-end 10
-expect 2 "lyapunov: .*particle scene" -- "$bin" lyapunov "$src/examples/scenes/bouncing_ball.toml"
+expect 2 "lyapunov: particle scene 'bouncing ball': .*this one has contacts" -- "$bin" lyapunov "$src/examples/scenes/bouncing_ball.toml"
+# A particle scene's bodies under their forces: the binary star's circular
+# orbits, 12 exponents of a Hamiltonian flow (sum 0, MEGNO near 2: Kepler shear).
+binary="$src/examples/scenes/binary_star.toml"
+analysis_json lyapunov binary "d['model'] == 'particles' and len(d['spectrum']) == 12 and abs(d['sum']) < 1e-9 and abs(d['megno'] - 2) < 0.2" -- "$binary"
 # A model with a holonomic constraint: the Atwood machine (3 kg, 1 kg) moves
 # on a 2-dimensional manifold, tangent vectors (a, -a, b, -b) in (y1, y2,
 # y1', y2') with a(t) = a0 + b0 t. Its reduced canonical coordinates
@@ -457,7 +461,10 @@ expect 0 "^stable: largest \\|mu\\| = 1 <= 1 \\+ 1e-06" -- "$bin" floquet "$kap"
 expect 2 "floquet: --period T \\(s\\) is required" -- "$bin" floquet "$kap"
 expect 2 "--period: must be a finite time > 0 s, got -1" -- "$bin" floquet "$kap" --period -1
 expect 2 "--tolerance: must be finite and >= 0" -- "$bin" floquet "$kap" --period 1 --tolerance -1
-expect 2 "floquet: .*particle scene" -- "$bin" floquet "$src/examples/scenes/bouncing_ball.toml" --period 1
+expect 2 "floquet: particle scene 'bouncing ball': .*this one has contacts" -- "$bin" floquet "$src/examples/scenes/bouncing_ball.toml" --period 1
+# One period of the binary star's circular orbits (2 pi sqrt(d^3 / G(m1 + m2)), d = 2):
+# every multiplier 1.
+analysis_json floquet binary_floquet "len(d['multipliers']) == 12 and all(abs(complex(*m) - 1) < 1e-5 for m in d['multipliers']) and d['stable']" -- "$binary" --period 8.885765876316732
 # On a constraint manifold: the Atwood machine's uniform acceleration is a
 # shear on its 2-dimensional manifold, both multipliers 1 (a Jordan block:
 # trace 2 and det 1 of the 2 x 2 monodromy); --find-orbit is refused there.

@@ -37,8 +37,8 @@ expect 2 "--vary model.q\[5\]: index 5 is out of range" -- "$bin" sweep "$scene"
 expect 2 "--set model.qd\[0\]: .*unknown name 'alpah'; did you mean 'alpha'" -- "$bin" sweep "$scene" --vary alpha=0:1:2 --set 'model.qd[0]=alpah' --out "$work/x"
 expect 2 "--first-time flip: .*unknown name 'theta3'; did you mean 'theta1'" -- "$bin" sweep "$flip" --vary 'model.q[0]=0:1:2' --first-time 'flip=abs(theta3)-pi' --out "$work/x"
 expect 2 "--output: unknown column group 'energie'; did you mean 'energy'" -- "$bin" sweep "$scene" --vary model.parameters.e=0:1:2 --output final,energie
-# The chaos columns need a model with a tangent flow: a particle scene has none.
-expect 2 "--output chaos: .*binary star.*particle scene" -- "$bin" sweep "$src/examples/scenes/binary_star.toml" --vary 'bodies[1].mass=1:2:2' --output chaos --out "$work/x"
+# The chaos columns need a tangent flow: a particle scene with contacts has none.
+expect 2 "--output chaos: particle scene 'bouncing ball': .*this one has contacts" -- "$bin" sweep "$src/examples/scenes/bouncing_ball.toml" --vary 'bodies[0].mass=1:2:2' --output chaos --out "$work/x"
 # A varied variable that no --set expression reads changes nothing: the sweep says so before it runs.
 expect 0 "warning: --vary alpha: no --set expression uses the variable 'alpha'" -- "$bin" sweep "$scene" --vary alpha=0:1:2 --out "$work/unused" --no-plots
 expect 0 "" -- "$bin" sweep "$scene" --vary alpha=0:1:2 --set 'model.parameters.e=0.5+0.1*alpha' --out "$work/used" --no-plots
@@ -68,6 +68,17 @@ expect 0 "" -- "$bin" "${chaos[@]}" --threads 1 --out "$work/c1"
 expect 0 "" -- "$bin" "${chaos[@]}" --threads 2 --out "$work/c2"
 head -1 "$work/c1/sweep.csv" | grep -q ',lyapunov_max \[1/s\],megno$' || { echo "FAIL: no chaos columns"; head -1 "$work/c1/sweep.csv"; fails=$((fails + 1)); }
 cmp "$work/c1/sweep.csv" "$work/c2/sweep.csv" || { echo "FAIL: chaos columns differ with the thread count"; fails=$((fails + 1)); }
+# A particle scene's bodies have a tangent flow too: the binary star's mass
+# ratio varied, every orbit regular (MEGNO of a Kepler orbit, below 3).
+expect 0 "" -- "$bin" sweep "$src/examples/scenes/binary_star.toml" --vary 'bodies[1].mass=1:2:2' --set run.t_end=20 \
+  --output chaos -q --no-plots --out "$work/c_particles"
+/usr/bin/python3 - "$work/c_particles/sweep.csv" <<'PY' || fails=$((fails + 1))
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+ok = len(rows) == 2 and all(0 < float(r['megno']) < 3 and abs(float(r['lyapunov_max [1/s]'])) < 0.5 for r in rows)
+print("ok: particle chaos columns" if ok else "FAIL: particle chaos columns " + str(rows))
+sys.exit(0 if ok else 1)
+PY
 # The same map from the double pendulum stated as text, with the same run settings: the same exponents and MEGNO.
 expect 0 "" -- "$bin" sweep "$src/examples/scenes/text/double_pendulum.toml" --vary 'model.q[0]=0.5:2.5:3' --vary 'model.q[1]=2:2:1' \
   --set 'run.t_end=10' --set 'run.rtol=1e-8' --set 'run.atol=1e-10' --output final,chaos -q --no-plots --out "$work/c_text"

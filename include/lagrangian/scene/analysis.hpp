@@ -64,9 +64,10 @@ struct BvpRun {
 BvpRun solve_bvp(const Scene& scene, const BvpRequest& request);
 
 /// Lyapunov exponents of a scene's model, built in or stated as text
-/// (analysis/lyapunov.hpp, text/tangent_flow.hpp),
-/// as `lagrangian lyapunov` runs them: from the scene's initial state, over
-/// its run (t0, t_end, method, rtol, atol).
+/// (analysis/lyapunov.hpp, text/tangent_flow.hpp), or of a particle scene's
+/// bodies under their force effects (q their 3N positions), as `lagrangian
+/// lyapunov` runs them: from the scene's initial state, over its run (t0,
+/// t_end, method, rtol, atol).
 struct LyapunovRequest {
   int exponents = 0;      ///< k in [1, 2n]; 0: all 2n
   double interval = 0.0;  ///< longest time between renormalisations (s); 0: (t_end − t0)/100
@@ -75,7 +76,7 @@ struct LyapunovRequest {
 /// What lyapunov() found.
 struct LyapunovRun {
   LyapunovResult result;
-  std::string model;       ///< the model's registry name ("text" for a model stated as text)
+  std::string model;       ///< the model's registry name ("text" for a model stated as text, "particles" for bodies)
   SimulationOptions run;   ///< the run the exponents come from
   /// A few lines for a terminal: the exponents (1/s), their sum, MEGNO, the
   /// intervals and the cost.
@@ -87,14 +88,15 @@ struct LyapunovRun {
   std::string json() const;
 };
 
-/// The Lyapunov exponents and MEGNO of the scene's model. Throws OptionError
-/// for a particle scene, a bad request (naming it) or a model the tangent
-/// flow is not derived for (constraints, contacts, more than 6 coordinates,
-/// a C++ model with a run-time number of them), and SimulationError when
-/// the run fails.
+/// The Lyapunov exponents and MEGNO of the scene's model or bodies. Throws
+/// OptionError for a bad request (naming it), a particle scene with
+/// constraint rows or contacts, or a model the tangent flow is not derived
+/// for (constraints with contacts, more than 6 coordinates, a C++ model with
+/// a run-time number of them), and SimulationError when the run fails.
 LyapunovRun lyapunov(const Scene& scene, const LyapunovRequest& request);
 
-/// Floquet multipliers of a scene's model (built in or stated as text) over one period
+/// Floquet multipliers of a scene's model (built in or stated as text) or of
+/// a particle scene's bodies under their force effects over one period
 /// (analysis/floquet.hpp), as `lagrangian floquet` runs them: from the
 /// scene's initial state at its t0, with its method and tolerances.
 struct FloquetRequest {
@@ -109,7 +111,7 @@ struct FloquetRequest {
 /// What floquet() found.
 struct FloquetRun {
   FloquetResult result;
-  std::string model;      ///< the model's registry name ("text" for a model stated as text)
+  std::string model;      ///< the model's registry name ("text" for a model stated as text, "particles" for bodies)
   SimulationOptions run;  ///< method, tolerances, t0
   double period = 0;      ///< s
   double tolerance = 0;
@@ -125,9 +127,10 @@ struct FloquetRun {
   std::string json() const;
 };
 
-/// The Floquet multipliers of the scene's model. Throws OptionError for a
-/// particle scene, a bad request (naming --period, --tolerance) or a model
-/// the tangent flow is not derived for, AnalysisError when the multipliers
+/// The Floquet multipliers of the scene's model or bodies. Throws
+/// OptionError for a bad request (naming --period, --tolerance), a particle
+/// scene with constraint rows or contacts, or a model the tangent flow is
+/// not derived for, AnalysisError when the multipliers
 /// cannot be computed, and SimulationError when the run fails.
 FloquetRun floquet(const Scene& scene, const FloquetRequest& request);
 
