@@ -281,19 +281,6 @@ TEST(ConstrainedLyapunov, RefusalsSayWhy) {
     EXPECT_NE(std::string(e.what()).find("the initial state violates constraint rod (0.01)"), std::string::npos)
         << e.what();
   }
-  // Newton's method for the orbit would move the start off the manifold.
-  lagrangian::FloquetOptions f;
-  f.period = 1.0;
-  f.find_orbit = true;
-  try {
-    lagrangian::floquet_multipliers(pendulum, s, f);
-    FAIL() << "a constrained model's orbit was searched for";
-  } catch (const lagrangian::AnalysisError& e) {
-    EXPECT_NE(std::string(e.what()).find("floquet: finding the periodic orbit of a model with holonomic or Pfaffian "
-                                         "constraints is not derived"),
-              std::string::npos)
-        << e.what();
-  }
   lagrangian::SensitivityOptions so;
   so.run.t_end = 1.0;
   try {
@@ -354,6 +341,56 @@ TEST(ConstrainedFloquet, RodPendulumOrbitHasUnitMultipliersAsTheAngleModel) {
   EXPECT_NEAR(ra.monodromy.trace(), 2.0, 1e-7);
   EXPECT_NEAR(ra.monodromy.determinant(), 1.0, 1e-9);
   EXPECT_TRUE(r.stable);
+}
+
+// Newton's method for the orbit on the manifold: the rod pendulum released
+// at rest from θ0 = 1 rad, the period guessed 5 % short. The energy row
+// holds the start's energy to first order in each step, so the orbit found
+// swings to about θ0; it is a periodic orbit (it closes to 1e-10) whose
+// period is the closed form 4 K(sin(θm/2)) / √(g/l) of its own amplitude
+// θm (from its energy −m g l cos θm), and its start is on the rod.
+TEST(ConstrainedFloquet, RodPendulumOrbitFoundFromAShortGuess) {
+  const double m = 0.7, l = 1.3, g = 9.81, theta0 = 1.0;
+  const double period = 4 * std::comp_ellint_1(std::sin(theta0 / 2)) / std::sqrt(g / l);
+  const lm::CartesianPendulum rod(m, l, g);
+  lagrangian::State<2> s;
+  s.q = Vec<double, 2>(l * std::sin(theta0), -l * std::cos(theta0));
+  s.qd.setZero();
+  lagrangian::FloquetOptions o = floquet_over(0.95 * period);
+  o.find_orbit = true;
+  o.closure_tolerance = 1e-10;
+  const lagrangian::FloquetResult r = lagrangian::floquet_multipliers(rod, s, o);
+  EXPECT_GT(r.iterations, 1);
+  ASSERT_EQ(r.q.size(), 2u);
+  EXPECT_NEAR(std::hypot(r.q[0], r.q[1]), l, 1e-10);             // on the rod
+  EXPECT_NEAR(r.q[0] * r.qd[0] + r.q[1] * r.qd[1], 0.0, 1e-10);  // moving along it
+  const double energy = 0.5 * m * (r.qd[0] * r.qd[0] + r.qd[1] * r.qd[1]) + m * g * r.q[1];
+  const double amplitude = std::acos(-energy / (m * g * l));
+  EXPECT_NEAR(amplitude, theta0, 1e-3);  // near the start's orbit
+  EXPECT_NEAR(r.period, 4 * std::comp_ellint_1(std::sin(amplitude / 2)) / std::sqrt(g / l), 1e-8 * period);
+  EXPECT_GT(std::abs(r.period - 0.95 * period), 0.04 * period);  // not the guess
+  EXPECT_NEAR(r.monodromy.trace(), 2.0, 1e-6);
+}
+
+// A Pfaffian system: its orbit is not searched for (the energy row would
+// leave out the constraint force, which does work along the manifold's
+// directions of δq there).
+TEST(ConstrainedFloquet, OrbitsOfPfaffianSystemsAreNotSearchedFor) {
+  const lm::KnifeEdge knife(1.0, 0.1);
+  lagrangian::State<3> s;
+  s.q.setZero();
+  s.qd = Vec<double, 3>(1.0, 0.0, 0.5);
+  lagrangian::FloquetOptions o = floquet_over(4 * M_PI);
+  o.find_orbit = true;
+  try {
+    lagrangian::floquet_multipliers(knife, s, o);
+    FAIL() << "a Pfaffian system's orbit was searched for";
+  } catch (const lagrangian::AnalysisError& e) {
+    EXPECT_NE(std::string(e.what()).find("floquet: finding the periodic orbit is derived for holonomic constraints"),
+              std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("this model has Pfaffian ones"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -121,11 +121,11 @@ FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, c
   run.output_interval = -1;
   check_tangent_run(run, "floquet");
   if (options.find_orbit) {
-    if (model.manifold > 0)
+    if (model.manifold > 2 * model.manifold_holonomic)
       throw AnalysisError(
-          "floquet: finding the periodic orbit of a model with holonomic or Pfaffian constraints is not derived "
-          "(Newton's method would move the start off the constraint manifold); give a start on the orbit and its "
-          "period");
+          "floquet: finding the periodic orbit is derived for holonomic constraints (the energy row of Newton's "
+          "step leaves out the constraint force, which does no work along a holonomic manifold only); this model "
+          "has Pfaffian ones: give a start on the orbit and its period");
     check_positive("closure_tolerance", options.closure_tolerance, "");
     if (options.max_iterations < 1) {
       std::ostringstream os;
@@ -161,23 +161,39 @@ FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, c
     // conservative system, ∇E(x0)·δx0 = 0 (its orbits come in families,
     // one per energy, and the rest point is one of them: the energy row
     // keeps the start's). Least squares with the minimum-norm solution
-    // (complete orthogonal decomposition).
-    const int unknowns = options.fixed_period ? 2 * n : 2 * n + 1;
-    const int rows = options.fixed_period ? 2 * n : 2 * n + (options.keep_energy ? 2 : 1);
+    // (complete orthogonal decomposition). On a constraint manifold the
+    // start moves in its tangent space, δx0 = B0 δ (B0 the orthonormal basis
+    // of the monodromy matrix C = B0ᵀ Φ B0), the equations are those
+    // projected on it, B0ᵀ (x(t0 + T) − x0) + (C − I) δ + B0ᵀ f(x_end) δT = 0,
+    // and the new start is projected back onto the manifold. (The energy
+    // row takes ∂L/∂q = ṗ, which misses the constraint force Gᵀλ; along
+    // B0 that force does no work when every row is holonomic, G δq = 0:
+    // Pfaffian rows are refused above.)
+    const Eigen::MatrixXd basis = model.manifold > 0
+                                      ? manifold_basis(model, x0.data(), x0.data() + n, run.t0)
+                                      : Eigen::MatrixXd(Eigen::MatrixXd::Identity(2 * n, 2 * n));
+    const int d = static_cast<int>(basis.cols());
+    const int unknowns = options.fixed_period ? d : d + 1;
+    const int rows = options.fixed_period ? d : d + (options.keep_energy ? 2 : 1);
     Eigen::MatrixXd a = Eigen::MatrixXd::Zero(rows, unknowns);
     Eigen::VectorXd b = Eigen::VectorXd::Zero(rows);
-    a.topLeftCorner(2 * n, 2 * n) = f.monodromy - Eigen::MatrixXd::Identity(2 * n, 2 * n);
-    b.head(2 * n) = x0 - x_end;
+    a.topLeftCorner(d, d) = f.monodromy - Eigen::MatrixXd::Identity(d, d);
+    b.head(d) = basis.transpose() * (x0 - x_end);
     if (!options.fixed_period) {
-      a.block(0, 2 * n, 2 * n, 1) = rate(model, x_end, run.t0 + period);
+      a.block(0, d, d, 1) = basis.transpose() * rate(model, x_end, run.t0 + period);
       const Eigen::VectorXd f0 = rate(model, x0, run.t0);
-      a.block(2 * n, 0, 1, 2 * n) = f0.transpose();
-      if (options.keep_energy) a.block(2 * n + 1, 0, 1, 2 * n) = energy_gradient(model, x0, f0, run.t0).transpose();
+      a.block(d, 0, 1, d) = (basis.transpose() * f0).transpose();
+      if (options.keep_energy)
+        a.block(d + 1, 0, 1, d) = (basis.transpose() * energy_gradient(model, x0, f0, run.t0)).transpose();
     }
     const Eigen::VectorXd step = a.completeOrthogonalDecomposition().solve(b);
     if (!step.allFinite()) throw AnalysisError("floquet: the Newton step for the periodic orbit is not finite");
-    x0 += step.head(2 * n);
-    if (!options.fixed_period) period += step[2 * n];
+    x0 += basis * step.head(d);
+    if (model.manifold > 0) {
+      model.project(model.model, x0.data(), x0.data() + n, run.t0);
+      if (!x0.allFinite()) throw AnalysisError("floquet: the Newton step left the constraint manifold for good");
+    }
+    if (!options.fixed_period) period += step[d];
     // Every motion closes as T → 0: a period that leaves [T/2, 2T] of the
     // guess is Newton walking off to that, not an orbit near the guess.
     if (!(period >= 0.5 * options.period && period <= 2 * options.period)) {

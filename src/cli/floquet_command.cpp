@@ -1,5 +1,5 @@
 // `lagrangian floquet SCENE --period T`: the Floquet multipliers of the
-// scene's model over one period from its initial state
+// scene's model or bodies over one period from its initial state
 // (analysis/floquet.hpp).
 
 #include "commands.hpp"

@@ -1,5 +1,5 @@
 // `lagrangian lyapunov SCENE`: the Lyapunov exponents and MEGNO of the
-// scene's model from its initial state (analysis/lyapunov.hpp).
+// scene's model or bodies from its initial state (analysis/lyapunov.hpp).
 
 #include "commands.hpp"
 

@@ -1,6 +1,8 @@
 // Equilibria, normal modes and stationary-action boundary-value problems of a
-// scene's built-in model (scene/analysis.hpp): dispatch through the registry,
-// the path written as CSV through a partial file, and its plots.
+// scene's built-in model, Lyapunov exponents and Floquet multipliers of its
+// model or its bodies (scene/analysis.hpp): dispatch through the registry
+// (particle scenes: particle_tangent.cpp), the path written as CSV through a
+// partial file, and its plots.
 
 #include "lagrangian/scene/analysis.hpp"
 
@@ -210,7 +212,6 @@ std::string BvpRun::summary() const {
 }
 
 LyapunovRun lyapunov(const Scene& scene, const LyapunovRequest& request) {
-  scene.validate();
   if (request.exponents < 0)
     throw OptionError("--exponents: must be at least 1 (or 0 for all), got " + std::to_string(request.exponents));
   if (!std::isfinite(request.interval) || request.interval < 0)
@@ -223,6 +224,7 @@ LyapunovRun lyapunov(const Scene& scene, const LyapunovRequest& request) {
   options.exponents = request.exponents;
   options.interval = request.interval;
   if (!scene.model) {
+    scene.validate();
     out.model = "particles";
     out.result = detail::particle_lyapunov(scene, options);
     return out;
@@ -278,7 +280,6 @@ std::string LyapunovRun::json() const {
 }
 
 FloquetRun floquet(const Scene& scene, const FloquetRequest& request) {
-  scene.validate();
   if (!std::isfinite(request.period) || !(request.period > 0))
     throw OptionError("--period: must be a finite time > 0 s, got " + g10(request.period));
   if (!std::isfinite(request.tolerance) || request.tolerance < 0)
@@ -295,6 +296,7 @@ FloquetRun floquet(const Scene& scene, const FloquetRequest& request) {
   options.fixed_period = request.fixed_period;
   options.keep_energy = request.keep_energy;
   if (!scene.model) {
+    scene.validate();
     out.model = "particles";
     out.result = detail::particle_floquet(scene, options);
   } else {

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -177,6 +178,11 @@ struct QuadraticDragKernel final : Kernel {
     ++evaluations;
     for (std::size_t k = 0; k < body.size(); ++k) {
       const Vector3<S> u = at(v, body[k]);
+      if constexpr (!std::is_same_v<S, double>) {
+        // |u| u has the derivative 0 at u = 0, where |u|'s is undefined:
+        // on AD numbers a body at rest adds nothing.
+        if (u.squaredNorm() == 0.0) continue;
+      }
       lagrangian::scene::detail::particles::add(a, body[k], Vector3<S>(-rate[k] * u.norm() * u));
     }
   }

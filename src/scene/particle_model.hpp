@@ -66,6 +66,8 @@ class ParticleModel {
   const std::vector<std::string>& names() const { return names_; }
   const std::vector<double>& mass() const { return mass_; }
   bool has_contacts() const { return has_contacts_; }
+  /// True when a declared force depends on the velocities (a drag).
+  bool velocity_dependent() const { return linear_drag_ != nullptr || quadratic_drag_ != nullptr; }
   /// The contacts of bodies with fixed planes and the box's walls.
   const std::vector<Contact>& wall_contacts() const { return wall_contacts_; }
   bool dissipative() const {
@@ -95,6 +97,8 @@ class ParticleModel {
   /// The right-hand side for one set of declared kinds (bits: uniform
   /// gravity, Newtonian gravity, springs, linear drag, quadratic drag) and
   /// with or without constraint rows. Undeclared kinds are not in the code.
+  /// (force_accelerations() lists the kernels too: a new kind goes into
+  /// both.)
   template <unsigned Kinds, bool Constrained>
   static void rhs_for(ParticleModel& s, const double* x, double* dx, double) {
     ++s.rhs_evaluations;
@@ -120,7 +124,8 @@ class ParticleModel {
   /// a = F(r, v)/m (m/s², 3N values) of the declared force kernels alone,
   /// on numbers of any type S: doubles, or AD numbers for the tangent flow
   /// (particle_tangent.cpp), which takes scenes without constraint rows or
-  /// contacts, whose accelerations these are.
+  /// contacts, whose accelerations these are. (The kernels a run calls are
+  /// listed in rhs_for() too: a new kind goes into both.)
   template <class S>
   void force_accelerations(const S* r, const S* v, S* a) {
     for (int i = 0; i < dim_; ++i) a[i] = S(0.0);

@@ -5,6 +5,8 @@
 // lyapunov_spectrum() and floquet_multipliers() run.
 
 #include <algorithm>
+#include <cstddef>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -26,10 +28,38 @@ constexpr int kWidth = 4;
 using JetWide = ad::Jet<double, kWidth, 1>;
 using JetOne = ad::Jet<double, 1, 1>;
 
-Scene expanded(const Scene& scene) {
-  Scene s = scene;
-  s.expand_gas();
-  return s;
+/// The most bodies whose tangent flow is taken: 6N tangent vectors of 6N
+/// values each, and J (3N × 6N) in 6N/4 passes of the force kernels.
+constexpr std::size_t kMaxBodies = 100;
+
+/// OptionError (`command: particle scene '<name>': …`) for a scene whose
+/// tangent flow is not derived: constraint rows, contacts, a gas (whose
+/// spheres are held by contacts), more than kMaxBodies bodies. Read from the
+/// scene before anything is built.
+void require_force_effects_only(const Scene& scene, const char* command) {
+  std::vector<std::string> has;
+  const auto count = [](std::size_t k, const char* one, const char* many) {
+    return std::to_string(k) + " " + (k == 1 ? one : many);
+  };
+  if (!scene.links.empty()) has.push_back(count(scene.links.size(), "link", "links"));
+  if (!scene.surfaces.empty()) has.push_back(count(scene.surfaces.size(), "surface", "surfaces"));
+  if (scene.gas) has.push_back("a gas");
+  if (scene.sphere_contacts) has.push_back("sphere contacts");
+  if (!scene.planes.empty()) has.push_back(count(scene.planes.size(), "contact plane", "contact planes"));
+  if (scene.box) has.push_back("a box");
+  std::string why;
+  if (!has.empty()) {
+    why = "the tangent flow of a particle scene is derived for bodies under force effects ([gravity], "
+          "[newtonian_gravity], [[springs]], [[linear_drag]], [[quadratic_drag]]), without constraints or contacts; "
+          "this one has ";
+    for (std::size_t i = 0; i < has.size(); ++i) why += (i == 0 ? "" : ", ") + has[i];
+  } else if (scene.bodies.size() > kMaxBodies) {
+    why = "the tangent flow of a particle scene is taken for at most " + std::to_string(kMaxBodies) +
+          " bodies; this one has " + std::to_string(scene.bodies.size());
+  } else {
+    return;
+  }
+  throw OptionError(std::string(command) + ": particle scene '" + scene.name + "': " + why);
 }
 
 /// A particle scene without constraint rows or contacts as a TangentModel:
@@ -37,16 +67,10 @@ Scene expanded(const Scene& scene) {
 /// p = m v. The numbers of the passes are kept, sized once.
 class ParticleTangent {
  public:
-  ParticleTangent(const Scene& scene, const char* command) : scene_(expanded(scene)), model_(scene_) {
-    const auto refuse = [&](const std::string& has) {
-      return OptionError(std::string(command) + ": particle scene '" + scene_.name +
-                         "': the tangent flow of a particle scene is derived for its force effects (gravity, "
-                         "newtonian_gravity, springs, linear_drag, quadratic_drag); this one has " +
-                         has);
-    };
-    if (model_.fixed_rows() > 0)
-      throw refuse("constraint rows (links or surfaces: " + std::to_string(model_.fixed_rows()) + ")");
-    if (model_.has_contacts()) throw refuse("contacts (sphere, plane or box contacts)");
+  /// `scene` has passed require_force_effects_only().
+  explicit ParticleTangent(const Scene& scene) : scene_(scene), model_(scene_) {
+    if (model_.fixed_rows() > 0 || model_.has_contacts())
+      throw std::logic_error("ParticleTangent: a scene with constraint rows or contacts");
     const auto dim = static_cast<std::size_t>(model_.dim());
     wide_.resize(3 * dim);
     one_.resize(3 * dim);
@@ -68,17 +92,20 @@ class ParticleTangent {
   const double* qd0() const { return x0_.data() + model_.dim(); }
 
  private:
-  /// q̈ and ∂q̈/∂(q, q̇) (n × 2n, column-major) in passes of kWidth directions.
+  /// q̈ and ∂q̈/∂(q, q̇) (n × 2n, column-major) in passes of kWidth
+  /// directions; without a drag the velocity columns are 0 and not passed.
   static void evaluate(const void* self, const double* q, const double* qd, double, double* qdd, double* jacobian) {
     const auto& s = *static_cast<const ParticleTangent*>(self);
     const int n = s.model_.dim();
+    const int directions = s.model_.velocity_dependent() ? 2 * n : n;
+    if (directions == n) std::fill(jacobian + static_cast<std::ptrdiff_t>(n) * n, jacobian + 2 * static_cast<std::ptrdiff_t>(n) * n, 0.0);
     JetWide *r = s.wide_.data(), *v = r + n, *a = v + n;
-    for (int first = 0; first < 2 * n; first += kWidth) {
+    for (int first = 0; first < directions; first += kWidth) {
       for (int i = 0; i < n; ++i) {
         r[i] = JetWide(q[i]);
         v[i] = JetWide(qd[i]);
       }
-      const int width = std::min(kWidth, 2 * n - first);
+      const int width = std::min(kWidth, directions - first);
       for (int k = 0; k < width; ++k) {
         const int d = first + k;
         (d < n ? r[d] : v[d - n]).g[static_cast<std::size_t>(k)] = 1.0;
@@ -126,18 +153,21 @@ class ParticleTangent {
 }  // namespace
 
 LyapunovResult particle_lyapunov(const Scene& scene, const LyapunovOptions& options) {
-  const ParticleTangent tangent(scene, "lyapunov");
+  require_force_effects_only(scene, "lyapunov");
+  const ParticleTangent tangent(scene);
   return lagrangian::detail::lyapunov_spectrum(tangent.tangent_model(), tangent.q0(), tangent.qd0(), options);
 }
 
 FloquetResult particle_floquet(const Scene& scene, const FloquetOptions& options) {
-  const ParticleTangent tangent(scene, "floquet");
+  require_force_effects_only(scene, "floquet");
+  const ParticleTangent tangent(scene);
   return lagrangian::detail::floquet_multipliers(tangent.tangent_model(), tangent.q0(), tangent.qd0(), options);
 }
 
 Eigen::MatrixXd particle_acceleration_jacobian(const Scene& scene, const std::vector<double>& x,
                                                Eigen::VectorXd* a) {
-  const ParticleTangent tangent(scene, "particle_acceleration_jacobian");
+  require_force_effects_only(scene, "particle_acceleration_jacobian");
+  const ParticleTangent tangent(scene);
   const lagrangian::detail::TangentModel tm = tangent.tangent_model();
   const int n = tm.n;
   if (static_cast<int>(x.size()) != 2 * n)

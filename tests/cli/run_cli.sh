@@ -399,7 +399,7 @@ analysis_json lyapunov dp_chaos "len(d['spectrum']) == 4 and d['spectrum'][0] > 
 analysis_json lyapunov dp_largest "len(d['spectrum']) == 1 and d['spectrum'][0] > 0.5 and d['method'] == 'fehlberg78'" -- "$dp" --set 'model.q[0]=2' --set 'model.q[1]=2' --t-end 25 --exponents 1 --method fehlberg78
 analysis_json lyapunov dp_calm "d['spectrum'][0] < 0.1 and d['megno'] < 3" -- "$dp" --t-end 100
 expect 0 "MEGNO <Y> = " -- "$bin" lyapunov "$ho" --t-end 10
-expect 2 "lyapunov: particle scene 'bouncing ball': .*this one has contacts" -- "$bin" lyapunov "$src/examples/scenes/bouncing_ball.toml"
+expect 2 "lyapunov: particle scene 'bouncing ball': .*this one has 1 contact plane" -- "$bin" lyapunov "$src/examples/scenes/bouncing_ball.toml"
 # A particle scene's bodies under their forces: the binary star's circular
 # orbits, 12 exponents of a Hamiltonian flow (sum 0, MEGNO near 2: Kepler shear).
 binary="$src/examples/scenes/binary_star.toml"
@@ -461,15 +461,15 @@ expect 0 "^stable: largest \\|mu\\| = 1 <= 1 \\+ 1e-06" -- "$bin" floquet "$kap"
 expect 2 "floquet: --period T \\(s\\) is required" -- "$bin" floquet "$kap"
 expect 2 "--period: must be a finite time > 0 s, got -1" -- "$bin" floquet "$kap" --period -1
 expect 2 "--tolerance: must be finite and >= 0" -- "$bin" floquet "$kap" --period 1 --tolerance -1
-expect 2 "floquet: particle scene 'bouncing ball': .*this one has contacts" -- "$bin" floquet "$src/examples/scenes/bouncing_ball.toml" --period 1
+expect 2 "floquet: particle scene 'bouncing ball': .*this one has 1 contact plane" -- "$bin" floquet "$src/examples/scenes/bouncing_ball.toml" --period 1
 # One period of the binary star's circular orbits (2 pi sqrt(d^3 / G(m1 + m2)), d = 2):
 # every multiplier 1.
 analysis_json floquet binary_floquet "len(d['multipliers']) == 12 and all(abs(complex(*m) - 1) < 1e-5 for m in d['multipliers']) and d['stable']" -- "$binary" --period 8.885765876316732
 # On a constraint manifold: the Atwood machine's uniform acceleration is a
 # shear on its 2-dimensional manifold, both multipliers 1 (a Jordan block:
-# trace 2 and det 1 of the 2 x 2 monodromy); --find-orbit is refused there.
+# trace 2 and det 1 of the 2 x 2 monodromy); it has no periodic orbit for --find-orbit to find.
 analysis_json floquet atwood_floquet "len(d['multipliers']) == 2 and all(abs(complex(*m) - 1) < 1e-4 for m in d['multipliers'])" -- "$atwood" --period 1
-expect 1 "floquet: finding the periodic orbit of a model with holonomic or Pfaffian constraints is not derived" -- "$bin" floquet "$atwood" --period 1 --find-orbit
+expect 1 "floquet: no periodic orbit found" -- "$bin" floquet "$atwood" --period 1 --find-orbit
 # floquet --find-orbit: from the pendulum's state at 0.5 rad and a guess of 2.2 s (8 % long) Newton finds an
 # orbit of the family near it, whose period is 4 K(k) / w0 at its own energy, k^2 = (qd/2w0)^2 + sin^2(q/2),
 # w0 = sqrt(g/l) (K by the arithmetic-geometric mean); its multipliers are 1.

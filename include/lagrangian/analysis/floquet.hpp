@@ -29,8 +29,11 @@
 /// and the result's monodromy is C = B0ᵀ Φ B0 (d × d), with d multipliers.
 /// On a closed motion Φ maps the tangent space onto itself and C is that
 /// map in the basis B0; a time-periodic constraint whose manifold's tangent
-/// space repeats (a spinning wire) gives the same. find_orbit is refused
-/// for such models: Newton's steps would move the start off the manifold.
+/// space repeats (a spinning wire) gives the same. With find_orbit the
+/// start moves in that tangent space (δx0 = B0 δ, the Newton equations
+/// projected on it) and is projected back onto the manifold after each
+/// step; holonomic constraints only (the energy row leaves out the
+/// constraint force, which does no work along a holonomic manifold alone).
 ///
 /// With find_orbit, floquet_multipliers() first finds the periodic orbit near
 /// the start and a guessed period by Newton's method on x(t0 + T; x0) − x0 = 0, with the
@@ -104,7 +107,7 @@ FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, c
 /// options.run.t0 over one period (see the file comment). Throws
 /// OptionError for a bad option (naming it and its value), AnalysisError
 /// for constraints the tangent flow is not derived for (tangent_flow.hpp),
-/// for find_orbit on a model with holonomic or Pfaffian constraints or,
+/// for find_orbit on a model with Pfaffian constraints or,
 /// with find_orbit, when
 /// Newton's method finds no orbit within max_iterations (with the closure
 /// reached) or its period leaves [T/2, 2T] of the guess T (every motion
