@@ -321,13 +321,25 @@ TEST(ConstrainedFloquet, BeadOnASpinningWireHasMultipliersExpOfPlusMinusTwoPi) {
 // a conservative system, so its monodromy on the manifold is a Jordan block
 // [[1, a], [0, 1]] (a shift along the orbit family): trace 2, det 1, both
 // multipliers 1 — as for the same pendulum in its angle.
-TEST(ConstrainedFloquet, RodPendulumOrbitHasUnitMultipliersAsTheAngleModel) {
-  const double m = 0.7, l = 1.3, g = 9.81, theta0 = 1.0;
-  const double period = 4 * std::comp_ellint_1(std::sin(theta0 / 2)) / std::sqrt(g / l);
-  const lm::CartesianPendulum rod(m, l, g);
+// The rod pendulum of the tests below: 0.7 kg on a 1.3 m rod released at
+// rest from 1 rad; the period of a pendulum swinging to θ0 is
+// 4 K(sin(θ0/2)) / √(g/l).
+constexpr double kRodMass = 0.7, kRodLength = 1.3, kGravity = 9.81, kRodRelease = 1.0;
+double pendulum_period(double theta0, double l, double g) {
+  return 4 * std::comp_ellint_1(std::sin(theta0 / 2)) / std::sqrt(g / l);
+}
+lagrangian::State<2> rod_at_rest(double theta0, double l) {
   lagrangian::State<2> s;
   s.q = Vec<double, 2>(l * std::sin(theta0), -l * std::cos(theta0));
   s.qd.setZero();
+  return s;
+}
+
+TEST(ConstrainedFloquet, RodPendulumOrbitHasUnitMultipliersAsTheAngleModel) {
+  const double m = kRodMass, l = kRodLength, g = kGravity, theta0 = kRodRelease;
+  const double period = pendulum_period(theta0, l, g);
+  const lm::CartesianPendulum rod(m, l, g);
+  const lagrangian::State<2> s = rod_at_rest(theta0, l);
   const lagrangian::FloquetResult r = lagrangian::floquet_multipliers(rod, s, floquet_over(period));
   ASSERT_EQ(r.multipliers.size(), 2u);
   EXPECT_LE(r.closure, 1e-9);
@@ -350,12 +362,10 @@ TEST(ConstrainedFloquet, RodPendulumOrbitHasUnitMultipliersAsTheAngleModel) {
 // period is the closed form 4 K(sin(θm/2)) / √(g/l) of its own amplitude
 // θm (from its energy −m g l cos θm), and its start is on the rod.
 TEST(ConstrainedFloquet, RodPendulumOrbitFoundFromAShortGuess) {
-  const double m = 0.7, l = 1.3, g = 9.81, theta0 = 1.0;
-  const double period = 4 * std::comp_ellint_1(std::sin(theta0 / 2)) / std::sqrt(g / l);
+  const double m = kRodMass, l = kRodLength, g = kGravity, theta0 = kRodRelease;
+  const double period = pendulum_period(theta0, l, g);
   const lm::CartesianPendulum rod(m, l, g);
-  lagrangian::State<2> s;
-  s.q = Vec<double, 2>(l * std::sin(theta0), -l * std::cos(theta0));
-  s.qd.setZero();
+  const lagrangian::State<2> s = rod_at_rest(theta0, l);
   lagrangian::FloquetOptions o = floquet_over(0.95 * period);
   o.find_orbit = true;
   o.closure_tolerance = 1e-10;
@@ -367,7 +377,7 @@ TEST(ConstrainedFloquet, RodPendulumOrbitFoundFromAShortGuess) {
   const double energy = 0.5 * m * (r.qd[0] * r.qd[0] + r.qd[1] * r.qd[1]) + m * g * r.q[1];
   const double amplitude = std::acos(-energy / (m * g * l));
   EXPECT_NEAR(amplitude, theta0, 1e-3);  // near the start's orbit
-  EXPECT_NEAR(r.period, 4 * std::comp_ellint_1(std::sin(amplitude / 2)) / std::sqrt(g / l), 1e-8 * period);
+  EXPECT_NEAR(r.period, pendulum_period(amplitude, l, g), 1e-8 * period);
   EXPECT_GT(std::abs(r.period - 0.95 * period), 0.04 * period);  // not the guess
   EXPECT_NEAR(r.monodromy.trace(), 2.0, 1e-6);
 }
