@@ -98,7 +98,7 @@ class ParticleTangent {
     const auto& s = *static_cast<const ParticleTangent*>(self);
     const int n = s.model_.dim();
     const int directions = s.model_.velocity_dependent() ? 2 * n : n;
-    if (directions == n) std::fill(jacobian + static_cast<std::ptrdiff_t>(n) * n, jacobian + 2 * static_cast<std::ptrdiff_t>(n) * n, 0.0);
+    if (directions == n) std::fill(jacobian + n * n, jacobian + 2 * n * n, 0.0);  // n ≤ 300: no overflow
     JetWide *r = s.wide_.data(), *v = r + n, *a = v + n;
     for (int first = 0; first < directions; first += kWidth) {
       for (int i = 0; i < n; ++i) {
