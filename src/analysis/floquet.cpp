@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <sstream>
+#include <string>
 #include <vector>
 
 #include <Eigen/Eigenvalues>
@@ -156,7 +157,7 @@ FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, c
          << options.closure_tolerance << "); start closer to an orbit, or give a better period";
       throw AnalysisError(os.str());
     }
-    // Newton on x(t0 + T; x0) − x0 = 0: 2n equations in δx0 and, with a
+    // Newton on x(t0 + T; x0) − x0 = 0: 2n equations (d on a manifold) in δx0 and, with a
     // free period, δT, with the phase condition f(x0)·δx0 = 0 and, for a
     // conservative system, ∇E(x0)·δx0 = 0 (its orbits come in families,
     // one per energy, and the rest point is one of them: the energy row
@@ -166,9 +167,9 @@ FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, c
     // of the monodromy matrix C = B0ᵀ Φ B0), the equations are those
     // projected on it, B0ᵀ (x(t0 + T) − x0) + (C − I) δ + B0ᵀ f(x_end) δT = 0,
     // and the new start is projected back onto the manifold. (The energy
-    // row takes ∂L/∂q = ṗ, which misses the constraint force Gᵀλ; along
-    // B0 that force does no work when every row is holonomic, G δq = 0:
-    // Pfaffian rows are refused above.)
+    // row takes ∂L/∂q = ṗ, which misses the constraint force Gᵀλ; its
+    // virtual work λᵀ G δq vanishes along B0 when every row is holonomic,
+    // G δq = 0: Pfaffian rows are refused above.)
     const Eigen::MatrixXd basis = model.manifold > 0
                                       ? manifold_basis(model, x0.data(), x0.data() + n, run.t0)
                                       : Eigen::MatrixXd(Eigen::MatrixXd::Identity(2 * n, 2 * n));
@@ -190,8 +191,13 @@ FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, c
     if (!step.allFinite()) throw AnalysisError("floquet: the Newton step for the periodic orbit is not finite");
     x0 += basis * step.head(d);
     if (model.manifold > 0) {
-      model.project(model.model, x0.data(), x0.data() + n, run.t0);
-      if (!x0.allFinite()) throw AnalysisError("floquet: the Newton step left the constraint manifold for good");
+      try {
+        model.project(model.model, x0.data(), x0.data() + n, run.t0);
+      } catch (const ConstraintError& e) {
+        throw AnalysisError(std::string("floquet: no periodic orbit found: the Newton step's start could not be "
+                                        "projected back onto the constraint manifold (") +
+                            e.what() + "); start closer to an orbit, or give a better period");
+      }
     }
     if (!options.fixed_period) period += step[d];
     // Every motion closes as T → 0: a period that leaves [T/2, 2T] of the

@@ -33,7 +33,10 @@
 /// start moves in that tangent space (δx0 = B0 δ, the Newton equations
 /// projected on it) and is projected back onto the manifold after each
 /// step; holonomic constraints only (the energy row leaves out the
-/// constraint force, which does no work along a holonomic manifold alone).
+/// constraint force, whose virtual work vanishes along the tangent
+/// displacements of a holonomic manifold alone). A time-dependent
+/// constraint repeats with its own period: take fixed_period and
+/// keep_energy = false, as for a driven model.
 ///
 /// With find_orbit, floquet_multipliers() first finds the periodic orbit near
 /// the start and a guessed period by Newton's method on x(t0 + T; x0) − x0 = 0, with the
@@ -84,7 +87,7 @@ struct FloquetOptions {
 /// The monodromy matrix and its eigenvalues.
 struct FloquetResult {
   Eigen::MatrixXd monodromy;                     ///< Φ (2n × 2n), in (q, q̇); B0ᵀ Φ B0 (d × d) on a constraint manifold
-  std::vector<std::complex<double>> multipliers;  ///< eigenvalues of Φ, largest modulus first
+  std::vector<std::complex<double>> multipliers;  ///< eigenvalues of Φ (of C on a manifold), largest modulus first
   double largest_modulus = 0;                    ///< max |μ|
   bool stable = false;                           ///< every |μ| ≤ 1 + tolerance
   double closure = 0;                            ///< max_i |x_i(t0 + T) − x_i(t0)| (units of each)
@@ -110,8 +113,10 @@ FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, c
 /// for find_orbit on a model with Pfaffian constraints or,
 /// with find_orbit, when
 /// Newton's method finds no orbit within max_iterations (with the closure
-/// reached) or its period leaves [T/2, 2T] of the guess T (every motion
-/// closes as T → 0), SimulationError when a run fails.
+/// reached), its period leaves [T/2, 2T] of the guess T (every motion
+/// closes as T → 0) or its start cannot be projected back onto a constraint
+/// manifold, ConstraintError for a start off the manifold, SimulationError
+/// when a run fails.
 template <class M>
 FloquetResult floquet_multipliers(const M& model, const State<coordinate_count_v<M>>& initial,
                                   const FloquetOptions& options) {
