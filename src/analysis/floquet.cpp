@@ -37,9 +37,10 @@ void check_tolerance(double tolerance) {
 
 /// One period T from (q0, q̇0) with the 2n columns of Φ: the monodromy
 /// matrix, the closure and the cost into `result`, the state at t0 + T into
-/// x_end (2n values).
+/// x_end (2n values), the basis B0 the monodromy is taken in into `basis`
+/// (manifold_basis(): the identity without constraints).
 void monodromy(const TangentModel& model, const double* q0, const double* qd0, SimulationOptions run, double period,
-               FloquetResult& result, Eigen::VectorXd& x_end) {
+               FloquetResult& result, Eigen::VectorXd& x_end, Eigen::MatrixXd& basis) {
   const int n = model.n;
   run.t_end = run.t0 + period;
   run.output_interval = -1;
@@ -47,11 +48,11 @@ void monodromy(const TangentModel& model, const double* q0, const double* qd0, S
   // the start's (orthonormal): C = B0ᵀ Φ B0 (d × d), the tangent vectors at
   // t0 + T projected back onto the start's tangent space, which they span
   // when the motion closes.
-  const Eigen::MatrixXd basis = model.manifold > 0 ? manifold_basis(model, q0, qd0, run.t0) : Eigen::MatrixXd();
-  if (model.manifold > 0 && basis.cols() == 0)
+  basis = manifold_basis(model, q0, qd0, run.t0);
+  if (basis.cols() == 0)
     throw AnalysisError(
         "floquet: the constraints leave no motion (the constraint manifold's tangent space has dimension 0)");
-  TangentSystem system(model, model.manifold > 0 ? static_cast<int>(basis.cols()) : 2 * n, 0.0, false);
+  TangentSystem system(model, static_cast<int>(basis.cols()), 0.0, false);
   const int c = system.coordinate_count();
   std::vector<double> x;
   RunReport report;
@@ -139,13 +140,14 @@ FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, c
 
   FloquetResult f;
   Eigen::VectorXd x0(2 * n), x_end;
+  Eigen::MatrixXd basis;  // B0 of the last monodromy (the identity without constraints)
   for (int i = 0; i < n; ++i) {
     x0[i] = q0[i];
     x0[n + i] = qd0[i];
   }
   double period = options.period;
   for (int iteration = 1;; ++iteration) {
-    monodromy(model, x0.data(), x0.data() + n, run, period, f, x_end);
+    monodromy(model, x0.data(), x0.data() + n, run, period, f, x_end, basis);
     if (!options.find_orbit) break;
     f.iterations = iteration;
     if (f.closure <= options.closure_tolerance * (1 + x0.cwiseAbs().maxCoeff())) break;
@@ -170,9 +172,6 @@ FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, c
     // row takes ∂L/∂q = ṗ, which misses the constraint force Gᵀλ; its
     // virtual work λᵀ G δq vanishes along B0 when every row is holonomic,
     // G δq = 0: Pfaffian rows are refused above.)
-    const Eigen::MatrixXd basis = model.manifold > 0
-                                      ? manifold_basis(model, x0.data(), x0.data() + n, run.t0)
-                                      : Eigen::MatrixXd(Eigen::MatrixXd::Identity(2 * n, 2 * n));
     const int d = static_cast<int>(basis.cols());
     const int unknowns = options.fixed_period ? d : d + 1;
     const int rows = options.fixed_period ? d : d + (options.keep_energy ? 2 : 1);

@@ -68,13 +68,12 @@ void require_force_effects_only(const Scene& scene, const char* command) {
 class ParticleTangent {
  public:
   /// `scene` has passed require_force_effects_only().
-  explicit ParticleTangent(const Scene& scene) : scene_(scene), model_(scene_) {
+  explicit ParticleTangent(const Scene& scene) : model_(scene), x0_(initial_state(scene)) {
     if (model_.fixed_rows() > 0 || model_.has_contacts())
       throw std::logic_error("ParticleTangent: a scene with constraint rows or contacts");
     const auto dim = static_cast<std::size_t>(model_.dim());
     wide_.resize(3 * dim);
     one_.resize(3 * dim);
-    x0_ = initial_state(scene_);
   }
   ParticleTangent(const ParticleTangent&) = delete;
   ParticleTangent& operator=(const ParticleTangent&) = delete;
@@ -143,7 +142,6 @@ class ParticleTangent {
     for (int i = 0; i < n; ++i) out[(n + i) * n + i] = s.model_.mass()[static_cast<std::size_t>(i / 3)];
   }
 
-  Scene scene_;
   mutable ParticleModel model_;  // its kernels count their evaluations
   mutable std::vector<JetWide> wide_;
   mutable std::vector<JetOne> one_;
