@@ -3,7 +3,9 @@
 // Lyapunov exponents on the constraint manifold (analysis/lyapunov.hpp):
 // against a closed-form Jacobian (the knife edge), the same system in other
 // coordinates (the double pendulum in angles and in Cartesian coordinates
-// with two rods), and the closed-form flow of a bead on a spinning wire.
+// with two rods), the closed-form flow of a bead on a spinning wire, and the
+// sensitivities on the manifold (the Atwood machine's closed form; the two
+// double pendulums).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -284,14 +286,102 @@ TEST(ConstrainedLyapunov, RefusalsSayWhy) {
   lagrangian::SensitivityOptions so;
   so.run.t_end = 1.0;
   try {
-    lagrangian::sensitivities(pendulum, s, so);
-    FAIL() << "a constrained model's sensitivities were computed";
-  } catch (const lagrangian::AnalysisError& e) {
-    EXPECT_NE(std::string(e.what()).find("the sensitivities of a model with holonomic or Pfaffian constraints are "
-                                         "not derived"),
-              std::string::npos)
+    lagrangian::sensitivities(pendulum, off, so);
+    FAIL() << "sensitivities from a start off the constraint were computed";
+  } catch (const lagrangian::ConstraintError& e) {
+    EXPECT_NE(std::string(e.what()).find("the initial state violates constraint rod (0.01)"), std::string::npos)
         << e.what();
   }
+}
+
+// The Atwood machine (y1 + y2 = c) falls with the constant acceleration
+// a = −(m1 − m2) g / (m1 + m2) of the first mass, so along any perturbation
+// that keeps the string's length and rate (δy1 + δy2 = 0, δẏ1 + δẏ2 = 0)
+//   δy(t) = δy(0) + t δẏ(0),  δẏ(t) = δẏ(0).
+// The sensitivities on the manifold are Φ(t) P0, P0 the orthogonal
+// projector on those perturbations, blockdiag(P, P) with
+// P = ½ [[1, −1], [−1, 1]]: [[P, t P], [0, P]] at every sample.
+TEST(ConstrainedSensitivity, AtwoodMachineClosedForm) {
+  const lm::AtwoodMachine atwood(3.0, 1.0, 9.81, 0.0, 1.0);
+  lagrangian::State<2> s;
+  s.q = Vec<double, 2>(0.2, -0.2);
+  s.qd = Vec<double, 2>(0.3, -0.3);
+  lagrangian::SensitivityOptions o;
+  o.run = lagrangian_test::lyapunov_options(0.5, 1e-12).run;
+  o.run.output_interval = 0.125;
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(atwood, s, o);
+  ASSERT_EQ(r.times.size(), 5u);
+  EXPECT_EQ(r.state_columns, 4);
+  Eigen::Matrix2d p;
+  p << 0.5, -0.5, -0.5, 0.5;
+  for (std::size_t i = 0; i < r.times.size(); ++i) {
+    const double t = r.times[i];
+    Eigen::Matrix4d expected = Eigen::Matrix4d::Zero();
+    expected.topLeftCorner<2, 2>() = p;
+    expected.topRightCorner<2, 2>() = t * p;
+    expected.bottomRightCorner<2, 2>() = p;
+    ASSERT_EQ(r.sensitivities[i].rows(), 4);
+    ASSERT_EQ(r.sensitivities[i].cols(), 4);
+    EXPECT_LE((r.sensitivities[i] - expected).norm(), 1e-10) << "t = " << t << "\n" << r.sensitivities[i];
+  }
+  // The state: y1(t) = y1(0) + ẏ1(0) t + ½ a t².
+  const double a = -(3.0 - 1.0) * 9.81 / 4.0, t = r.times.back();
+  EXPECT_NEAR(r.states.back()[0], 0.2 + 0.3 * t + 0.5 * a * t * t, 1e-10);
+  EXPECT_NEAR(r.states.back()[0] + r.states.back()[1], 0.0, 1e-10);
+}
+
+// The double pendulum in Cartesian coordinates with two rods, and in
+// angles, over 1 s from a regular start: one flow, so for every angle
+// perturbation δ (whose image Dψ(x0) δ lies in the manifold's tangent
+// space, where P0 is the identity)
+//   S_c(t) Dψ(x0) δ = Dψ(x(t)) S_a(t) δ,
+// S_c the Cartesian model's sensitivities (8 × 8, Φ P0) and S_a the angle
+// model's (4 × 4). Dψ by a first-order Jet.
+Eigen::Matrix<double, 8, 4> dpsi(const Eigen::Vector4d& x, double l1, double l2) {
+  using J = lagrangian::ad::Jet<double, 4, 1>;
+  Eigen::Matrix<J, 4, 1> xs;
+  for (int k = 0; k < 4; ++k) {
+    xs[k] = J(x[k]);
+    xs[k].g[k] = 1.0;
+  }
+  const Eigen::Matrix<J, 8, 1> y = to_cartesian(xs, l1, l2);
+  Eigen::Matrix<double, 8, 4> d;
+  for (int i = 0; i < 8; ++i)
+    for (int k = 0; k < 4; ++k) d(i, k) = y[i].g[k];
+  return d;
+}
+
+TEST(ConstrainedSensitivity, CartesianDoublePendulumIsTheAngleModel) {
+  const double m1 = 1.3, m2 = 0.7, l1 = 1.0, l2 = 0.8, g = 9.81;
+  const lm::DoublePendulum angles(m1, m2, l1, l2, g);
+  const lm::CartesianDoublePendulum cartesian(m1, m2, l1, l2, g);
+  const Eigen::Vector4d x0(0.4, -1.1, 1.7, -0.6);
+  lagrangian::SensitivityOptions o;
+  o.run = lagrangian_test::lyapunov_options(1.0, 1e-12).run;
+  lagrangian::State<2> sa;
+  sa.q = x0.head<2>();
+  sa.qd = x0.tail<2>();
+  const lagrangian::SensitivityResult ra = lagrangian::sensitivities(angles, sa, o);
+  const Eigen::Matrix<double, 8, 1> big = to_cartesian(x0, l1, l2);
+  lagrangian::State<4> sc;
+  sc.q = big.head<4>();
+  sc.qd = big.tail<4>();
+  const lagrangian::SensitivityResult rc = lagrangian::sensitivities(cartesian, sc, o);
+  ASSERT_EQ(rc.sensitivities.back().rows(), 8);
+  ASSERT_EQ(rc.sensitivities.back().cols(), 8);
+  EXPECT_EQ(rc.state_columns, 8);
+  const Eigen::Vector4d x1 = ra.states.back();
+  const Eigen::Matrix<double, 8, 4> left = rc.sensitivities.back() * dpsi(x0, l1, l2);
+  const Eigen::Matrix<double, 8, 4> right = dpsi(x1, l1, l2) * ra.sensitivities.back();
+  EXPECT_LE((left - right).norm(), 1e-9 * right.norm()) << "Cartesian:\n" << left << "\nangles:\n" << right;
+  // Both runs reach the same state.
+  EXPECT_LE((rc.states.back() - to_cartesian(x1, l1, l2)).norm(), 1e-8);
+  // The first bob moved outward along its rod, the second kept: the
+  // gradient of the first rod's constraint (zero in q̇), normal to the
+  // manifold, so P0 and with it S_c map it to 0.
+  Eigen::Matrix<double, 8, 1> outward = Eigen::Matrix<double, 8, 1>::Zero();
+  outward.head<2>() = big.head<2>() / l1;
+  EXPECT_LE((rc.sensitivities.back() * outward).norm(), 1e-9 * right.norm());
 }
 
 lagrangian::FloquetOptions floquet_over(double period) { return lagrangian_test::floquet_options(period); }

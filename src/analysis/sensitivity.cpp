@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "manifold.hpp"
 #include "tangent_system.hpp"
 
 namespace lagrangian::detail {
@@ -40,7 +41,11 @@ SensitivityResult sensitivities(const TangentModel& model, const double* q0, con
   const int n = model.n;
   const auto clock_start = std::chrono::steady_clock::now();
 
-  const int k = options.initial_state ? 2 * n : 0;
+  // On a constraint manifold of dimension d the d columns Φ B0 of its
+  // tangent space's basis, recorded as Φ P0 (tangent_system.hpp).
+  const int k = !options.initial_state ? 0
+                : model.manifold > 0   ? static_cast<int>(manifold_basis(model, q0, qd0, run.t0).cols())
+                                       : 2 * n;
   TangentSystem system(model, k, 0.0, false, parameters, true);
   std::vector<double> x;
   RunReport report;
@@ -48,7 +53,7 @@ SensitivityResult sensitivities(const TangentModel& model, const double* q0, con
 
   SensitivityResult result;
   for (int p : parameters) result.parameters.push_back(names[static_cast<std::size_t>(p)]);
-  result.state_columns = k;
+  result.state_columns = options.initial_state ? 2 * n : 0;
   result.times = system.times();
   result.states = system.states();
   result.sensitivities = system.recorded_columns();

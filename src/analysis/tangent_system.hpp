@@ -49,8 +49,9 @@ namespace lagrangian::detail {
 /// Without it (the monodromy matrix, sensitivities) they start as the first
 /// k unit vectors of the state (δq, δq̇) and are never touched: at the end
 /// they are the first k columns of the flow's Jacobian ∂x(t)/∂x(t0) (for a
-/// model with holonomic or Pfaffian constraints, the monodromy matrix only:
-/// they start as manifold_basis(), k its d columns, and end as Φ times it). After
+/// model with holonomic or Pfaffian constraints they start as the basis B0
+/// of manifold_basis(), k its d columns, and end as Φ B0; a recorded sample
+/// holds Φ B0 B0ᵀ). After
 /// them come the columns s_j = ∂x/∂p_j of the model's parameters
 /// `parameters` (sensitivity.hpp), from 0, with
 ///   d/dt δq̇ = (∂q̈/∂q) δq + (∂q̈/∂q̇) δq̇ + ∂q̈/∂p_j.
@@ -76,10 +77,10 @@ class TangentSystem final : public System {
           "sensitivity: parameter columns across impacts are not derived (the impact map and the gaps may depend on "
           "the parameters); this model has " +
           std::to_string(model_.contacts) + " contacts: ask for the initial state's columns only");
-    if (model_.manifold > 0 && (record_ || columns_ != k_))
+    if (model_.manifold > 0 && columns_ != k_)
       throw AnalysisError(
-          "sensitivity: the sensitivities of a model with holonomic or Pfaffian constraints are not derived (its "
-          "state cannot move off the constraint manifold; its Lyapunov exponents and Floquet multipliers are)");
+          "sensitivity: parameter columns of a model with holonomic or Pfaffian constraints are not derived (a "
+          "parameter may move the constraint manifold itself); ask for the initial state's columns only");
     jumped_.resize(2 * model_.n, columns_);
   }
 
@@ -144,6 +145,7 @@ class TangentSystem final : public System {
       if (basis.cols() != k_)
         throw std::logic_error("TangentSystem: k differs from the dimension of the constraint manifold");
       w_ = basis;
+      start_basis_ = basis;
     } else {
       w_.setZero();
       w_.leftCols(k_) = Eigen::MatrixXd::Identity(2 * model_.n, k_);
@@ -163,7 +165,9 @@ class TangentSystem final : public System {
     load(x);
     times_.push_back(t);
     states_.push_back(std::move(state));
-    columns_taken_.push_back(w_);
+    // On a manifold the d columns W = Φ B0 are recorded as Φ P0 = W B0ᵀ.
+    columns_taken_.push_back(model_.manifold > 0 && !benettin_ ? Eigen::MatrixXd(w_ * start_basis_.transpose())
+                                                               : w_);
   }
   void finish(double t, const double* x, bool sample_end) override {
     if (sample_end) sample(t, x);
@@ -196,7 +200,9 @@ class TangentSystem final : public System {
     if (t > last_) renormalise(x, t);
   }
 
-  /// With `record`: the samples' times, states (q, q̇) and columns.
+  /// With `record`: the samples' times, states (q, q̇) and columns (on a
+  /// constraint manifold, 2n × 2n: Φ(t) P0, P0 = B0 B0ᵀ the orthogonal
+  /// projector on the start's tangent space).
   const std::vector<double>& times() const { return times_; }
   const std::vector<Eigen::VectorXd>& states() const { return states_; }
   const std::vector<Eigen::MatrixXd>& recorded_columns() const { return columns_taken_; }
@@ -534,7 +540,7 @@ class TangentSystem final : public System {
   mutable std::vector<double> qdd_, jacobian_;
   mutable std::vector<double> direction_ = std::vector<double>(static_cast<std::size_t>(2 * model_.n));
   mutable std::uint64_t evaluations_ = 0;
-  Eigen::MatrixXd w_;
+  Eigen::MatrixXd w_, start_basis_;  // start_basis_: B0 on a manifold, without Benettin
   std::vector<double> p_ = std::vector<double>(static_cast<std::size_t>(2 * model_.n * model_.n));
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::HouseholderQR<Eigen::MatrixXd> qr_;

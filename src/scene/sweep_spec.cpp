@@ -317,7 +317,7 @@ VarySpec parse_vary(const std::string& text) {
   auto number = [&](const std::string& s, const char* what) {
     double x = 0;
     if (!parse_number(s, x))
-      throw OptionError("--vary " + key + ": " + what + " must be a finite number, got " + q(s) + " in " +
+      throw OptionError("--vary " + v.key + ": " + what + " must be a finite number, got " + q(s) + " in " +
                         q(text));
     return x;
   };

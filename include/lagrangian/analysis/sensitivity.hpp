@@ -35,8 +35,16 @@
 /// m1 + m2 would keep its default). The built-in double pendulum, harmonic oscillator and
 /// projectiles are written so (models/pendulums.hpp, models/projectile.hpp).
 ///
-/// Scope as tangent_flow.hpp: models without bilateral constraints with a
-/// fixed n ≤ 6 coordinates. A model's contacts are crossed at their impacts
+/// Scope as tangent_flow.hpp: models with a fixed n ≤ 6 coordinates.
+/// **Constraints.** A model with holonomic or Pfaffian constraints moves on
+/// its manifold h = (g, ġ, φ) = 0, and only perturbations in its tangent
+/// space keep the start on it: the d columns Φ B0 of an orthonormal basis B0
+/// of that space at the start are integrated, and each sample holds the
+/// 2n × 2n matrix Φ(t) P0, P0 = B0 B0ᵀ the orthogonal projector on it
+/// (Φ(t) δx0 for an admissible δx0; the part across the manifold is
+/// dropped). Parameter columns of such a model are refused (AnalysisError): a
+/// parameter may move the manifold and so the start.
+/// A model's contacts are crossed at their impacts
 /// by the saltation matrix (saltation.hpp) for the initial state's columns;
 /// parameter columns of a model with contacts are refused (AnalysisError).
 /// A model's watched events are not applied (a projectile flies on through
@@ -104,7 +112,8 @@ struct SensitivityResult {
   std::vector<double> times;            ///< sample times (s), t0 first and t_end last
   std::vector<Eigen::VectorXd> states;  ///< x = (q, q̇) at each time
   /// At each time the 2n × (state_columns + parameters) matrix
-  /// [∂x(t)/∂x(t0) | ∂x(t)/∂p_1 … ∂x(t)/∂p_P].
+  /// [∂x(t)/∂x(t0) | ∂x(t)/∂p_1 … ∂x(t)/∂p_P] (on a constraint manifold
+  /// Φ(t) P0 in place of ∂x(t)/∂x(t0): see the file comment).
   std::vector<Eigen::MatrixXd> sensitivities;
   std::uint64_t steps = 0;            ///< accepted steps
   std::uint64_t rhs_evaluations = 0;  ///< right-hand sides of the whole system
@@ -146,10 +155,10 @@ std::vector<int> parameter_indices(const std::vector<std::string>& wanted, const
 
 /// ∂x(t)/∂x(t0) and ∂x(t)/∂p of the motion of `model` from `initial` at
 /// options.run.t0 (see the file comment). Throws OptionError for a bad
-/// option or an unknown parameter (naming it), AnalysisError for a model
-/// with holonomic or Pfaffian constraints or asked for parameters it does not offer
-/// (has_parameter_type_v) or for parameters of a model with contacts,
-/// SimulationError when the run fails.
+/// option or an unknown parameter (naming it), ConstraintError for a start
+/// off a constraint manifold, AnalysisError for parameters a model does not
+/// offer (has_parameter_type_v) or parameters of a model with contacts or
+/// constraints, SimulationError when the run fails.
 template <class M>
 SensitivityResult sensitivities(const M& model, const State<coordinate_count_v<M>>& initial,
                                 const SensitivityOptions& options) {
