@@ -294,6 +294,50 @@ TEST(ConstrainedLyapunov, RefusalsSayWhy) {
   }
 }
 
+// Refusals that need no model: a TangentModel (one coordinate) whose
+// manifold rows h = (g, ġ) have the Jacobian `rank` rows of the identity
+// (rank 2: a coordinate pinned by a rheonomic row g = x − A sin ωt, whose
+// ġ fixes ẋ too; rank 1: one row). Nothing is integrated.
+template <int rank>
+void pinned_rows(const void*, const double*, const double*, double, double* residual, double* jacobian) {
+  residual[0] = residual[1] = 0;
+  jacobian[0] = 1, jacobian[1] = 0, jacobian[2] = 0, jacobian[3] = rank == 2 ? 1 : 0;  // 2 × 2, column-major
+}
+
+lagrangian::detail::TangentModel pinned(int rank) {
+  lagrangian::detail::TangentModel tm;
+  tm.n = 1;
+  tm.manifold = 2;
+  tm.manifold_holonomic = 1;
+  tm.manifold_names = {"pin", "pin (rate)"};
+  tm.manifold_rows = rank == 2 ? &pinned_rows<2> : &pinned_rows<1>;
+  return tm;
+}
+
+TEST(ConstrainedSensitivity, RefusalsSayWhy) {
+  const double q = 0, qd = 0;
+  lagrangian::SensitivityOptions o;
+  o.run.t_end = 1.0;
+  try {
+    lagrangian::detail::sensitivities(pinned(2), &q, &qd, {}, {}, o);
+    FAIL() << "the sensitivities of a motion the constraints fix were computed";
+  } catch (const lagrangian::AnalysisError& e) {
+    EXPECT_NE(std::string(e.what()).find("sensitivity: the constraints leave no motion (the constraint manifold's "
+                                         "tangent space has dimension 0)"),
+              std::string::npos)
+        << e.what();
+  }
+  try {
+    lagrangian::detail::sensitivities(pinned(1), &q, &qd, {0}, {"A"}, o);
+    FAIL() << "a parameter column of a constrained model was computed";
+  } catch (const lagrangian::AnalysisError& e) {
+    EXPECT_NE(std::string(e.what()).find("sensitivity: parameter columns of a model with holonomic or Pfaffian "
+                                         "constraints are not derived"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 // The Atwood machine (y1 + y2 = c) falls with the constant acceleration
 // a = −(m1 − m2) g / (m1 + m2) of the first mass, so along any perturbation
 // that keeps the string's length and rate (δy1 + δy2 = 0, δẏ1 + δẏ2 = 0)

@@ -46,6 +46,9 @@ SensitivityResult sensitivities(const TangentModel& model, const double* q0, con
   const int k = !options.initial_state ? 0
                 : model.manifold > 0   ? static_cast<int>(manifold_basis(model, q0, qd0, run.t0).cols())
                                        : 2 * n;
+  if (options.initial_state && k == 0)
+    throw AnalysisError(
+        "sensitivity: the constraints leave no motion (the constraint manifold's tangent space has dimension 0)");
   TangentSystem system(model, k, 0.0, false, parameters, true);
   std::vector<double> x;
   RunReport report;

@@ -69,18 +69,20 @@ inline constexpr bool memoize_trig_v<EomJet<N, R>> = EomJet<N, R>::memoize_trig;
 namespace detail {
 /// sin x and cos x, evaluated once (g++ fuses the two calls into sincos).
 /// With `memo` (the Euler–Lagrange pass of systems with more than four
-/// coordinates) the last few results are kept per thread: model code takes
-/// sin and cos of the same angle, in T and again in V, and a hit returns the
-/// very same numbers a call would, so results are unchanged bit for bit.
-/// The key is the argument's exact value.
+/// coordinates) the last results are kept per thread, 64 slots addressed by
+/// a hash of the argument's exact value: model code takes sin and cos of
+/// the same angle, in T and again in V, and a hit returns the very same
+/// numbers a call would, so results are unchanged bit for bit. (With 8
+/// slots a 10-link chain's angles collided and half the lookups missed.)
 template <class T>
 inline void sin_cos(const T& x, T& s, T& c, bool memo) {
   using std::cos;
   using std::sin;
   if constexpr (std::is_same_v<T, double>) {
     if (memo) {
+      constexpr unsigned slots = 64;
       struct Memo {
-        double x[8], s[8], c[8];
+        double x[slots], s[slots], c[slots];
       };
       static thread_local constinit Memo m = [] {
         Memo r{};
@@ -89,14 +91,18 @@ inline void sin_cos(const T& x, T& s, T& c, bool memo) {
       }();
       std::uint64_t bits = 0;
       std::memcpy(&bits, &x, sizeof bits);
-      const unsigned slot = static_cast<unsigned>((bits ^ (bits >> 23) ^ (bits >> 45)) & 7u);
+      const unsigned slot = static_cast<unsigned>((bits ^ (bits >> 23) ^ (bits >> 45)) & (slots - 1));
       if (m.x[slot] == x) {
         s = m.s[slot];
         c = m.c[slot];
         return;
       }
+#if defined(__GLIBC__)
+      ::sincos(x, &s, &c);  // (g++ does not fuse the two calls here)
+#else
       s = sin(x);
       c = cos(x);
+#endif
       m.x[slot] = x;
       m.s[slot] = s;
       m.c[slot] = c;

@@ -41,9 +41,15 @@
 /// space keep the start on it: the d columns Φ B0 of an orthonormal basis B0
 /// of that space at the start are integrated, and each sample holds the
 /// 2n × 2n matrix Φ(t) P0, P0 = B0 B0ᵀ the orthogonal projector on it
-/// (Φ(t) δx0 for an admissible δx0; the part across the manifold is
-/// dropped). Parameter columns of such a model are refused (AnalysisError): a
-/// parameter may move the manifold and so the start.
+/// (Φ(t) δx0 for an admissible δx0, the only use the matrix has: P0 is
+/// orthogonal in the Euclidean metric of (q, q̇) in SI units, which mixes m
+/// and m/s, so its part across the manifold means nothing physical beyond
+/// "not admissible"). Nothing projects the state or the columns back onto
+/// the manifold during the run: they drift off it by what the tolerances
+/// let through. A manifold of dimension 0 (constraints that leave no
+/// motion) is an AnalysisError. Parameter columns of such a model are
+/// refused (AnalysisError): a parameter may move the manifold and so the
+/// start.
 /// A model's contacts are crossed at their impacts
 /// by the saltation matrix (saltation.hpp) for the initial state's columns;
 /// parameter columns of a model with contacts are refused (AnalysisError).
@@ -157,8 +163,10 @@ std::vector<int> parameter_indices(const std::vector<std::string>& wanted, const
 /// options.run.t0 (see the file comment). Throws OptionError for a bad
 /// option or an unknown parameter (naming it), ConstraintError for a start
 /// off a constraint manifold, AnalysisError for parameters a model does not
-/// offer (has_parameter_type_v) or parameters of a model with contacts or
-/// constraints, SimulationError when the run fails.
+/// offer (has_parameter_type_v), parameters of a model with contacts or
+/// constraints, constraints together with contacts, constraint rows counted
+/// at run time, or constraints that leave no motion, SimulationError when
+/// the run fails.
 template <class M>
 SensitivityResult sensitivities(const M& model, const State<coordinate_count_v<M>>& initial,
                                 const SensitivityOptions& options) {
