@@ -51,9 +51,8 @@ namespace lagrangian::detail {
 /// they are the first k columns of the flow's Jacobian ∂x(t)/∂x(t0) (for a
 /// model with holonomic or Pfaffian constraints they start as the basis B0
 /// of manifold_basis(), k its d columns, and end as Φ B0; a recorded sample
-/// holds Φ B0 B0ᵀ). After
-/// them come the columns s_j = ∂x/∂p_j of the model's parameters
-/// `parameters` (sensitivity.hpp), from 0, with
+/// holds Φ B0 B0ᵀ). After them come the columns s_j = ∂x/∂p_j of the
+/// model's parameters `parameters` (sensitivity.hpp), from 0, with
 ///   d/dt δq̇ = (∂q̈/∂q) δq + (∂q̈/∂q̇) δq̇ + ∂q̈/∂p_j.
 /// With `record`, every sample keeps its time, state and columns.
 /// A model's contacts are located at the end of every accepted step by the
@@ -125,27 +124,25 @@ class TangentSystem final : public System {
                                     number(gap_new_[static_cast<std::size_t>(j)]) + " < 0)",
                                 t0);
     }
-    if (model_.manifold > 0) check_on_manifold(x, t0);
+    if (model_.manifold > 0) {
+      check_on_manifold(x, t0);
+      // B0, the tangent space's basis (H at the start, from check_on_manifold()).
+      start_basis_ = tangent_basis(manifold_jacobian(), 2 * model_.n);
+    }
     if (benettin_ && model_.manifold > 0) {
-      // The first k vectors of a basis of the manifold's tangent space,
-      // orthonormal in the reduced canonical coordinates.
+      // The first k vectors of B0, orthonormal in reduced canonical coordinates.
       canonical(x, t0);
       reduce_ = configuration_basis();
-      // H at the start, from check_on_manifold().
-      const Eigen::MatrixXd basis = tangent_basis(manifold_jacobian(), 2 * model_.n);
-      qr_.compute(reduced_canonical(basis));
-      w_ = divided_by_r(basis, qr_.matrixQR()).leftCols(k_);
+      qr_.compute(reduced_canonical(start_basis_));
+      w_ = divided_by_r(start_basis_, qr_.matrixQR()).leftCols(k_);
     } else if (benettin_) {
       canonical(x, t0);
       w_ = from_canonical(Eigen::MatrixXd::Identity(2 * model_.n, k_));
     } else if (model_.manifold > 0) {
-      // The monodromy matrix on the manifold: its tangent space's basis.
-      // H at the start, from check_on_manifold().
-      const Eigen::MatrixXd basis = tangent_basis(manifold_jacobian(), 2 * model_.n);
-      if (basis.cols() != k_)
+      // The monodromy matrix and the sensitivities on the manifold: B0.
+      if (start_basis_.cols() != k_)
         throw std::logic_error("TangentSystem: k differs from the dimension of the constraint manifold");
-      w_ = basis;
-      start_basis_ = basis;
+      w_ = start_basis_;
     } else {
       w_.setZero();
       w_.leftCols(k_) = Eigen::MatrixXd::Identity(2 * model_.n, k_);
@@ -200,9 +197,7 @@ class TangentSystem final : public System {
     if (t > last_) renormalise(x, t);
   }
 
-  /// With `record`: the samples' times, states (q, q̇) and columns (on a
-  /// constraint manifold, 2n × 2n: Φ(t) P0, P0 = B0 B0ᵀ the orthogonal
-  /// projector on the start's tangent space).
+  /// With `record`: the samples' times, states (q, q̇) and columns (above).
   const std::vector<double>& times() const { return times_; }
   const std::vector<Eigen::VectorXd>& states() const { return states_; }
   const std::vector<Eigen::MatrixXd>& recorded_columns() const { return columns_taken_; }
@@ -540,7 +535,7 @@ class TangentSystem final : public System {
   mutable std::vector<double> qdd_, jacobian_;
   mutable std::vector<double> direction_ = std::vector<double>(static_cast<std::size_t>(2 * model_.n));
   mutable std::uint64_t evaluations_ = 0;
-  Eigen::MatrixXd w_, start_basis_;  // start_basis_: B0 on a manifold, without Benettin
+  Eigen::MatrixXd w_, start_basis_;  // start_basis_: B0 on a manifold
   std::vector<double> p_ = std::vector<double>(static_cast<std::size_t>(2 * model_.n * model_.n));
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::HouseholderQR<Eigen::MatrixXd> qr_;
