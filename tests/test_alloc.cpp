@@ -10,6 +10,7 @@
 #include <new>
 
 #include "lagrangian/lagrangian.hpp"
+#include "lagrangian/text/fixed_size.hpp"
 #include "lagrangian/text/text_model.hpp"
 #include "lagrangian/models/constrained.hpp"
 #include "lagrangian/models/impacts.hpp"
@@ -154,18 +155,24 @@ TEST(NoAllocation, ConstrainedAccelerationsDoNotAllocate) {
   EXPECT_TRUE(qdd.allFinite());
 }
 
-// A text model with a holonomic constraint, a Pfaffian one and a contact
-// (counted at run time): its constraint rows come from per-thread vectors,
-// into a workspace sized once.
-TEST(NoAllocation, ConstrainedTextModelAccelerationsDoNotAllocate) {
+/// A text model with a holonomic row (a rod of length l) and a Pfaffian
+/// one (φ̇ = 0.1 ẋ), counted at run time.
+text::Definition rod_and_wheel_text() {
   text::Definition d;
   d.coordinates = {"x", "y", "phi"};
   d.kinetic = "0.5*m*(x_dot^2 + y_dot^2) + 0.5*I*phi_dot^2";
   d.potential = "m*g*y";
   d.holonomic = {"sqrt(x^2 + y^2) - l"};
   d.pfaffian = {"phi_dot - 0.1*x_dot"};
-  d.contacts = {{"floor", "y + 2*l", 0.5, "m"}};
   d.parameters = {{"m", 1.0}, {"I", 0.2}, {"g", 9.81}, {"l", 1.0}};
+  return d;
+}
+
+// The same with a contact: its constraint rows come from per-thread
+// vectors, into a workspace sized once.
+TEST(NoAllocation, ConstrainedTextModelAccelerationsDoNotAllocate) {
+  text::Definition d = rod_and_wheel_text();
+  d.contacts = {{"floor", "y + 2*l", 0.5, "m"}};
   const text::TextModel model(d);
   Workspace<Dynamic> ws(3);
   ConstraintWorkspaceFor<text::TextModel> cw = constraint_workspace(model);
@@ -181,6 +188,30 @@ TEST(NoAllocation, ConstrainedTextModelAccelerationsDoNotAllocate) {
   EXPECT_EQ(g_allocations.load() - before, 0);
   EXPECT_TRUE(qdd.allFinite());
   EXPECT_EQ(cw.multipliers.size(), 3);
+}
+
+// The tangent pass of a text model with run-time counted holonomic and
+// Pfaffian rows (text::FixedSizeModel, the matrices of capacity
+// kMaxRuntimeBilateralRows): J v along one direction and the whole J.
+TEST(NoAllocation, ConstrainedTextModelTangentPassDoesNotAllocate) {
+  const text::TextModel model(rod_and_wheel_text());
+  const text::FixedSizeModel<3> fixed(model);
+  Vec<double, 3> q(0.6, -0.8, 0.0), qd(0.8, 0.6, 0.08), qdd;
+  Eigen::Matrix<double, 6, 1> v;
+  v << 0.1, -0.2, 0.3, 0.05, 0.02, -0.1;
+  Eigen::Matrix<double, 3, 1> jv;
+  Eigen::Matrix<double, 3, 6> jacobian;
+  state_jvp<1>(fixed, q, qd, 0.0, v, qdd, jv);
+  state_jacobian(fixed, q, qd, 0.0, qdd, jacobian);
+  const long before = g_allocations.load();
+  for (int i = 0; i < 100; ++i) {
+    qd[2] += 1e-4;
+    state_jvp<1>(fixed, q, qd, 0.0, v, qdd, jv);
+    state_jacobian(fixed, q, qd, 0.0, qdd, jacobian);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_TRUE(jacobian.allFinite());
+  EXPECT_TRUE(jv.allFinite());
 }
 
 TEST(NoAllocation, AllocationCountOfARunDoesNotGrowWithSteps) {

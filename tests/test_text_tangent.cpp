@@ -1,6 +1,7 @@
 // The tangent flow of models stated as text (text/fixed_size.hpp,
 // text/tangent_flow.hpp): against the same systems written in C++, closed
-// forms, Liouville's theorem and Kapitza's criterion.
+// forms, Liouville's theorem and Kapitza's criterion; with holonomic and
+// Pfaffian constraints, on their manifold.
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
@@ -11,6 +12,7 @@
 #include "lagrangian/analysis/lyapunov.hpp"
 #include "lagrangian/analysis/sensitivity.hpp"
 #include "lagrangian/analysis/tangent_flow.hpp"
+#include "lagrangian/models/constrained.hpp"
 #include "lagrangian/models/impacts.hpp"
 #include "lagrangian/models/pendulums.hpp"
 #include "lagrangian/text/fixed_size.hpp"
@@ -418,6 +420,250 @@ TEST(TextSaltation, MovingAndTurningGapsCrossAsTheCppModels) {
   }
 }
 
+// Constrained models as text: the C++ models of models/constrained.hpp
+// written out. The double pendulum in Cartesian coordinates held by two
+// rods (holonomic), a knife edge that cannot slip sideways (Pfaffian), a
+// bead on a horizontal wire spinning at ω (holonomic, depending on t).
+text::Definition cartesian_double_pendulum_text(const lm::CartesianDoublePendulum& p) {
+  text::Definition d;
+  d.coordinates = {"x1", "y1", "x2", "y2"};
+  d.kinetic = "0.5*m1*(x1_dot^2 + y1_dot^2) + 0.5*m2*(x2_dot^2 + y2_dot^2)";
+  d.potential = "m1*g*y1 + m2*g*y2";
+  d.holonomic = {"sqrt(x1^2 + y1^2) - l1", "sqrt((x2 - x1)^2 + (y2 - y1)^2) - l2"};
+  d.parameters = {{"m1", p.m1}, {"m2", p.m2}, {"l1", p.l1}, {"l2", p.l2}, {"g", p.g}};
+  return d;
+}
+
+text::Definition knife_edge_text(double m, double inertia) {
+  text::Definition d;
+  d.coordinates = {"x", "y", "phi"};
+  d.kinetic = "0.5*m*(x_dot^2 + y_dot^2) + 0.5*I*phi_dot^2";
+  d.potential = "0";
+  d.pfaffian = {"x_dot*sin(phi) - y_dot*cos(phi)"};
+  d.parameters = {{"m", m}, {"I", inertia}};
+  return d;
+}
+
+text::Definition spinning_wire_text(double m, double omega) {
+  text::Definition d;
+  d.coordinates = {"x", "y"};
+  d.kinetic = "0.5*m*(x_dot^2 + y_dot^2)";
+  d.potential = "0";
+  d.holonomic = {"x*sin(omega*t) - y*cos(omega*t)"};
+  d.parameters = {{"m", m}, {"omega", omega}};
+  return d;
+}
+
+/// J = ∂q̈/∂(q, q̇) of the text model seen at size N and of the C++ model
+/// at (q, q̇, t), and their q̈: equal to rounding (relative to |J|).
+template <int N, class M>
+void expect_same_jacobian(const text::TextModel& model, const M& cpp, const Vec<double, N>& q, const Vec<double, N>& qd,
+                          double t) {
+  const text::FixedSizeModel<N> fixed(model);
+  Vec<double, N> a_text, a_cpp;
+  Eigen::Matrix<double, N, 2 * N> j_text, j_cpp;
+  lagrangian::state_jacobian(fixed, q, qd, t, a_text, j_text);
+  lagrangian::state_jacobian(cpp, q, qd, t, a_cpp, j_cpp);
+  EXPECT_LE((a_text - a_cpp).norm(), 1e-13 * (1 + a_cpp.norm())) << a_text.transpose() << "\n" << a_cpp.transpose();
+  EXPECT_LE((j_text - j_cpp).norm(), 1e-13 * (1 + j_cpp.norm())) << "text:\n" << j_text << "\nC++:\n" << j_cpp;
+}
+
+TEST(TextConstrainedTangent, JacobiansAreTheCppModels) {
+  const lm::CartesianDoublePendulum rods(1.3, 0.7, 1.0, 0.8, 9.81);
+  const text::TextModel rods_text(cartesian_double_pendulum_text(rods));
+  // On the rods (θ = (0.4, −1.1) rad, θ̇ = (1.7, −0.6) rad/s) and off them.
+  const double s1 = std::sin(0.4), c1 = std::cos(0.4), s2 = std::sin(-1.1), c2 = std::cos(-1.1);
+  const Vec<double, 4> q(s1, -c1, s1 + 0.8 * s2, -c1 - 0.8 * c2);
+  const Vec<double, 4> qd(1.7 * c1, 1.7 * s1, 1.7 * c1 - 0.6 * 0.8 * c2, 1.7 * s1 - 0.6 * 0.8 * s2);
+  expect_same_jacobian<4>(rods_text, rods, q, qd, 0.0);
+  expect_same_jacobian<4>(rods_text, rods, Vec<double, 4>(0.3, -0.9, 0.9, -1.2), Vec<double, 4>(0.5, 0.1, -0.2, 0.7),
+                          0.0);
+
+  const lm::KnifeEdge knife(1.7, 0.3);
+  const text::TextModel knife_text(knife_edge_text(1.7, 0.3));
+  expect_same_jacobian<3>(knife_text, knife, Vec<double, 3>(0.4, -0.2, 0.3), Vec<double, 3>(1.2, -0.4, 0.9), 0.0);
+  expect_same_jacobian<3>(knife_text, knife, Vec<double, 3>(0.4, -0.2, 2.1), Vec<double, 3>(-0.5, 0.8, -1.3), 0.0);
+
+  const lm::BeadOnRotatingWire bead(0.8, 1.5, 10.0);
+  const text::TextModel bead_text(spinning_wire_text(0.8, 1.5));
+  expect_same_jacobian<2>(bead_text, bead, Vec<double, 2>(0.3, 0.2), Vec<double, 2>(0.1, -0.4), 0.7);
+}
+
+// A skate on a ramp: a holonomic row g = z − s x and a Pfaffian one (no
+// sideslip, φ_a = ẋ sin φ − ẏ cos φ), written here in C++ and as text.
+// The manifold's rows are h = (g, ġ, φ_a) (the holonomic rows, their rates,
+// then the Pfaffian rows), of gradients in (q, q̇), q = (x, y, z, φ):
+//   ∇g = (−s, 0, 1, 0; 0), ∇ġ = (0; −s, 0, 1, 0),
+//   ∇φ_a = (0, 0, 0, ẋ cos φ + ẏ sin φ; sin φ, −cos φ, 0, 0).
+// J agrees with the C++ model's; the sensitivities Φ(t) P0 have rank
+// d = 8 − 3 = 5, P0 maps each gradient at the start to 0, and the flow
+// keeps tangent vectors tangent: ∇h(x(t))ᵀ Φ(t) P0 = 0.
+struct SkateOnRamp {
+  static constexpr int coordinate_count = 4;
+  double m = 1.3, I = 0.2, g = 9.81, s = 0.5;
+  std::string name() const { return "skate_on_ramp"; }
+  template <class S>
+  S kinetic(const Vec<S, 4>&, const Vec<S, 4>& qd, const S&) const {
+    return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1] + qd[2] * qd[2]) + 0.5 * I * qd[3] * qd[3];
+  }
+  template <class S>
+  S potential(const Vec<S, 4>& q, const S&) const {
+    return m * g * q[2];
+  }
+  template <class S>
+  Vec<S, 1> holonomic(const Vec<S, 4>& q, const S&) const {
+    return Vec<S, 1>(q[2] - s * q[0]);
+  }
+  template <class S>
+  Vec<S, 1> pfaffian(const Vec<S, 4>& q, const Vec<S, 4>& qd, const S&) const {
+    using std::cos;
+    using std::sin;
+    return Vec<S, 1>(qd[0] * sin(q[3]) - qd[1] * cos(q[3]));
+  }
+};
+
+text::Definition skate_on_ramp_text() {
+  text::Definition d;
+  d.coordinates = {"x", "y", "z", "phi"};
+  d.kinetic = "0.5*m*(x_dot^2 + y_dot^2 + z_dot^2) + 0.5*I*phi_dot^2";
+  d.potential = "m*g*z";
+  d.holonomic = {"z - s*x"};
+  d.pfaffian = {"x_dot*sin(phi) - y_dot*cos(phi)"};
+  d.parameters = {{"m", 1.3}, {"I", 0.2}, {"g", 9.81}, {"s", 0.5}};
+  return d;
+}
+
+/// The gradients of the skate's rows h = (g, ġ, φ_a) at the state x, as rows.
+Eigen::Matrix<double, 3, 8> skate_row_gradients(const Eigen::VectorXd& x, double slope) {
+  Eigen::Matrix<double, 3, 8> h = Eigen::Matrix<double, 3, 8>::Zero();
+  h(0, 0) = -slope;
+  h(0, 2) = 1.0;
+  h(1, 4) = -slope;
+  h(1, 6) = 1.0;
+  const double phi = x[3], xd = x[4], yd = x[5];
+  h(2, 3) = xd * std::cos(phi) + yd * std::sin(phi);
+  h(2, 4) = std::sin(phi);
+  h(2, 5) = -std::cos(phi);
+  return h;
+}
+
+TEST(TextConstrainedSensitivity, HolonomicAndPfaffianRowsKeepToTheManifold) {
+  const SkateOnRamp cpp;
+  const text::TextModel skate(skate_on_ramp_text());
+  const double phi = 0.3, u = 1.1, x = 0.2;
+  const Vec<double, 4> q(x, -0.1, 0.5 * x, phi), qd(u * std::cos(phi), u * std::sin(phi), 0.5 * u * std::cos(phi), 0.4);
+  expect_same_jacobian<4>(skate, cpp, q, qd, 0.0);
+  lagrangian::SensitivityOptions o;
+  o.run = lagrangian_test::lyapunov_options(2.0, 1e-12).run;
+  o.run.output_interval = 1.0;
+  const lagrangian::SensitivityResult r =
+      text::sensitivities(skate, start({q[0], q[1], q[2], q[3]}, {qd[0], qd[1], qd[2], qd[3]}), o);
+  ASSERT_EQ(r.times.size(), 3u);
+  EXPECT_EQ(r.state_columns, 8);
+  const Eigen::MatrixXd& p0 = r.sensitivities.front();
+  EXPECT_NEAR(p0.trace(), 5.0, 1e-12);  // an orthogonal projector of rank d = 5
+  EXPECT_LE((p0 * p0 - p0).norm(), 1e-12);
+  EXPECT_LE((p0 * skate_row_gradients(r.states.front(), 0.5).transpose()).norm(), 1e-12);
+  for (std::size_t i = 1; i < r.times.size(); ++i) {
+    const Eigen::MatrixXd& s = r.sensitivities[i];
+    EXPECT_LE((skate_row_gradients(r.states[i], 0.5) * s).norm(), 1e-8 * s.norm()) << "t = " << r.times[i];
+    EXPECT_GT(s.norm(), 1.0);
+  }
+
+  // A state off both rows, projected: on the ramp, ġ = 0 and no sideslip.
+  const text::FixedSizeModel<4> fixed(skate);
+  double qp[4] = {0.3, 0.1, 0.4, 0.7}, qdp[4] = {0.5, -0.2, 0.9, 0.1};
+  fixed.project_state(qp, qdp, 0.0);
+  EXPECT_NEAR(qp[2] - 0.5 * qp[0], 0.0, 1e-12);
+  EXPECT_NEAR(qdp[2] - 0.5 * qdp[0], 0.0, 1e-12);
+  EXPECT_NEAR(qdp[0] * std::sin(qp[3]) - qdp[1] * std::cos(qp[3]), 0.0, 1e-12);
+}
+
+// The bead on the wire spinning at ω = 1 rad/s, as the C++ model's test
+// (test_constrained_tangent.cpp) states it: in the wire's frame r̈ = ω² r,
+// so the two exponents on the manifold sum to 0 and T λ₁(T) grows by
+// ω (T₂ − T₁) between T₁ and T₂.
+TEST(TextConstrainedLyapunov, BeadOnASpinningWireClosedForm) {
+  const double omega = 1.0;
+  const text::TextModel bead(spinning_wire_text(0.8, omega));
+  const auto s = start({0.1, 0.0}, {0.05, omega * 0.1});
+  const double t1 = 10, t2 = 20;
+  const lagrangian::LyapunovResult a = text::lyapunov_spectrum(bead, s, lagrangian_test::lyapunov_options(t1));
+  const lagrangian::LyapunovResult b = text::lyapunov_spectrum(bead, s, lagrangian_test::lyapunov_options(t2));
+  ASSERT_EQ(b.spectrum.size(), 2u);
+  EXPECT_NEAR(a.sum, 0.0, 1e-8);
+  EXPECT_NEAR(b.sum, 0.0, 1e-8);
+  EXPECT_NEAR((t2 * b.spectrum[0] - t1 * a.spectrum[0]) / (t2 - t1), omega, 1e-6);
+  EXPECT_NEAR((t2 * b.spectrum[1] - t1 * a.spectrum[1]) / (t2 - t1), -omega, 1e-6);
+  const double r = 0.1 * std::cosh(omega * t2) + 0.05 / omega * std::sinh(omega * t2);
+  EXPECT_NEAR(std::hypot(b.q_final[0], b.q_final[1]) / r, 1.0, 1e-8);
+}
+
+// The knife edge from 1 m/s turning at 0.5 rad/s: five exponents (three
+// coordinates, one Pfaffian row), summing to 0, none growing faster than
+// polynomially (test_constrained_tangent.cpp gives the reasons); the speed
+// stays 1 m/s without sideslip.
+TEST(TextConstrainedLyapunov, KnifeEdgeHasFiveExponentsThatVanish) {
+  const text::TextModel knife(knife_edge_text(1.0, 0.1));
+  const lagrangian::LyapunovResult r =
+      text::lyapunov_spectrum(knife, start({0, 0, 0}, {1.0, 0.0, 0.5}), lagrangian_test::lyapunov_options(50.0));
+  ASSERT_EQ(r.spectrum.size(), 5u);
+  EXPECT_NEAR(r.sum, 0.0, 1e-8);
+  for (double l : r.spectrum) EXPECT_LE(50.0 * std::abs(l), 2 * std::log(50.0));
+  EXPECT_NEAR(std::hypot(r.qd_final[0], r.qd_final[1]), 1.0, 1e-9);
+  EXPECT_NEAR(r.qd_final[0] * std::sin(r.q_final[2]) - r.qd_final[1] * std::cos(r.q_final[2]), 0.0, 1e-9);
+}
+
+// The Atwood machine of examples/scenes/text/atwood_machine.toml (3 and
+// 1 kg, y1 + y2 = c) falls with a uniform acceleration, so its
+// sensitivities on the manifold are [[P, t P], [0, P]] at every sample,
+// P = ½ [[1, −1], [−1, 1]] (test_constrained_tangent.cpp); a parameter
+// column is refused (the string's length c moves the manifold).
+TEST(TextConstrainedSensitivity, AtwoodMachineClosedFormAndParameterRefusal) {
+  text::Definition d;
+  d.coordinates = {"y1", "y2"};
+  d.kinetic = "0.5*m1*y1_dot^2 + 0.5*m2*y2_dot^2";
+  d.potential = "m1*g*y1 + m2*g*y2";
+  d.holonomic = {"y1 + y2 - c"};
+  d.parameters = {{"m1", 3.0}, {"m2", 1.0}, {"g", 9.81}, {"c", 1.0}};
+  const text::TextModel atwood(d);
+  lagrangian::SensitivityOptions o;
+  o.run = lagrangian_test::lyapunov_options(0.5, 1e-12).run;
+  o.run.output_interval = 0.125;
+  const lagrangian::SensitivityResult r = text::sensitivities(atwood, start({0.7, 0.3}, {0.3, -0.3}), o);
+  ASSERT_EQ(r.times.size(), 5u);
+  EXPECT_EQ(r.state_columns, 4);
+  Eigen::Matrix2d p;
+  p << 0.5, -0.5, -0.5, 0.5;
+  for (std::size_t i = 0; i < r.times.size(); ++i) {
+    Eigen::Matrix4d expected = Eigen::Matrix4d::Zero();
+    expected.topLeftCorner<2, 2>() = p;
+    expected.topRightCorner<2, 2>() = r.times[i] * p;
+    expected.bottomRightCorner<2, 2>() = p;
+    EXPECT_LE((r.sensitivities[i] - expected).norm(), 1e-10) << "t = " << r.times[i] << "\n" << r.sensitivities[i];
+  }
+  const double a = -(3.0 - 1.0) * 9.81 / 4.0, t = r.times.back();
+  EXPECT_NEAR(r.states.back()[0], 0.7 + 0.3 * t + 0.5 * a * t * t, 1e-10);
+  o.parameters = {"c"};
+  EXPECT_EQ(message_of([&] { (void)text::sensitivities(atwood, start({0.7, 0.3}, {0.3, -0.3}), o); }),
+            "sensitivity: parameter columns of a model with holonomic or Pfaffian constraints are not derived (a "
+            "parameter may move the constraint manifold itself); ask for the initial state's columns only");
+}
+
+// Floquet multipliers on the manifold: the wire spinning at ω repeats after
+// T = 2π/ω and r̈ = ω² r is linear, so the multipliers are e^{±2π}.
+TEST(TextConstrainedFloquet, BeadOnASpinningWireHasMultipliersExpOfPlusMinusTwoPi) {
+  const double omega = 1.5;
+  const text::TextModel bead(spinning_wire_text(0.8, omega));
+  const lagrangian::FloquetResult r =
+      text::floquet_multipliers(bead, start({0.2, 0.0}, {0.0, omega * 0.2}), floquet_over(2 * M_PI / omega));
+  ASSERT_EQ(r.multipliers.size(), 2u);
+  EXPECT_FALSE(r.stable);
+  const double big = std::exp(2 * M_PI);
+  EXPECT_NEAR(std::abs(r.multipliers[0]) / big, 1.0, 1e-6);
+  EXPECT_NEAR(std::abs(r.multipliers[1]) * big, 1.0, 1e-6);
+}
+
 TEST(TextTangentFlow, RefusesWhatItIsNotDerivedFor) {
   text::Definition seven;
   for (int i = 0; i < 7; ++i) seven.coordinates.push_back("x" + std::to_string(i));
@@ -427,20 +673,25 @@ TEST(TextTangentFlow, RefusesWhatItIsNotDerivedFor) {
   EXPECT_EQ(message_of([&] { (void)text::lyapunov_spectrum(big, s7, lyapunov_over(1.0)); }),
             "lyapunov: the tangent flow is derived for models of at most 6 coordinates; this text model has 7");
 
-  text::Definition rod;  // a particle on a circle, held by a holonomic constraint
+  text::Definition rod;  // a particle on a circle, held by a holonomic constraint, above a floor
   rod.coordinates = {"x", "y"};
   rod.kinetic = "0.5*(x_dot^2 + y_dot^2)";
   rod.potential = "9.81*y";
   rod.holonomic = {"x^2 + y^2 - 1"};
+  rod.contacts = {{"floor", "y + 2", 0.5, "m"}};
   const text::TextModel held(rod);
-  const std::string why = message_of([&] {
-    (void)text::floquet_multipliers(held, start({1, 0}, {0, 0}), floquet_over(1.0));
-  });
-  EXPECT_NE(why.find("floquet: the tangent flow is derived for models without bilateral constraints; this model "
-                     "declares 1 holonomic and 0 Pfaffian constraint rows"),
-            std::string::npos)
-      << why;
-  EXPECT_THROW((void)text::FixedSizeModel<2>(held), lagrangian::AnalysisError);
+  EXPECT_EQ(message_of([&] { (void)text::floquet_multipliers(held, start({1, 0}, {0, 0}), floquet_over(1.0)); }),
+            "floquet: the tangent flow is derived for models with holonomic or Pfaffian constraints or with "
+            "contacts, not both; this model declares both (bilateral rows: 1, contacts: 1)");
+  rod.contacts.clear();
+  rod.holonomic.assign(8, "x^2 + y^2 - 1");  // the most rows taken, each the same circle: d = 2
+  const text::TextModel eight(rod);
+  EXPECT_EQ(text::lyapunov_spectrum(eight, start({1, 0}, {0, 1}), lyapunov_over(1.0)).spectrum.size(), 2u);
+  rod.holonomic.assign(9, "x^2 + y^2 - 1");
+  const text::TextModel nine(rod);
+  EXPECT_EQ(message_of([&] { (void)text::lyapunov_spectrum(nine, start({1, 0}, {0, 0}), lyapunov_over(1.0)); }),
+            "lyapunov: the tangent flow takes at most 8 holonomic and Pfaffian rows counted at run time; this model "
+            "declares 9");
 
   const text::TextModel pendulum(lagrangian::testing::double_pendulum_text(lm::DoublePendulum()));
   EXPECT_EQ(message_of([&] { (void)text::lyapunov_spectrum(pendulum, start({1}, {0}), lyapunov_over(1.0)); }),

@@ -128,9 +128,6 @@ inline std::string too_many_coordinates(const std::string& count) {
 }
 inline const char* const kNoRestitution =
     "the tangent flow crosses impacts of contacts with restitution coefficients; this model's contacts have none";
-inline const char* const kConstraintsCountedAtRunTime =
-    "the tangent flow of holonomic and Pfaffian constraints is derived for rows counted at compile time; this "
-    "model counts them at run time";
 inline const char* const kConstraintsAndContacts =
     "the tangent flow is derived for models with holonomic or Pfaffian constraints or with contacts, not both; "
     "this one has both";
@@ -146,16 +143,13 @@ Result with_tangent_flow(const M& model, const ModelInfo& info, const char* what
   constexpr int n = coordinate_count_v<M>;
   constexpr int u = unilateral_count_v<M>;
   constexpr bool bilateral = holonomic_count_v<M> != 0 || pfaffian_count_v<M> != 0;
-  constexpr bool bilateral_fixed = lagrangian::detail::bilateral_rows_v<M> != Dynamic;
   constexpr bool contacts_crossed = u == 0 || has_restitution_v<M>;
-  if constexpr (n == Dynamic || n > kMaxTangentFlowCoordinates || !contacts_crossed ||
-                (bilateral && (u != 0 || !bilateral_fixed))) {
+  if constexpr (n == Dynamic || n > kMaxTangentFlowCoordinates || !contacts_crossed || (bilateral && u != 0)) {
     (void)model, (void)run;
     throw no_tangent_flow(what, "model '" + info.name + "'",
                           n == Dynamic                       ? too_many_coordinates("a run-time number")
                           : n > kMaxTangentFlowCoordinates ? too_many_coordinates(std::to_string(n))
                           : !contacts_crossed              ? std::string(kNoRestitution)
-                          : !bilateral_fixed               ? std::string(kConstraintsCountedAtRunTime)
                                                            : std::string(kConstraintsAndContacts));
   } else {
     return run(model);

@@ -124,20 +124,24 @@ BvpResult bvp_text(const ModelSpec& spec, const BvpRequest& request, DiscreteRul
 
 /// `compute(model, initial)` on the scene's text model and initial state,
 /// checked as a run's start is; the refusals of built-in models
-/// (no_tangent_flow) for a model with holonomic or Pfaffian constraints or
-/// with more coordinates than the tangent flow takes (contacts are crossed
-/// at their impacts).
+/// (no_tangent_flow) for a model with more coordinates than the tangent
+/// flow takes, and for constraints it is not derived for
+/// (require_tangent_flow_constraints(): both bilateral constraints and
+/// contacts, or more bilateral rows than it takes at run time). Holonomic
+/// and Pfaffian constraints are kept to their manifold, contacts crossed
+/// at their impacts.
 template <class Compute>
 auto with_text_tangent_flow(const ModelSpec& spec, double t0, const char* what, Compute&& compute) {
   const State<Dynamic> s0 = initial_of(spec);
   const lagrangian::text::TextModel model(parsed_of(spec));
   const std::string label = "the model stated as text";
-  if (holonomic_count(model) > 0 || pfaffian_count(model) > 0)
-    throw no_tangent_flow(what, label,
-                          "the tangent flow of a model stated as text is derived without holonomic or Pfaffian "
-                          "constraints (a model written in C++ may have them); this one has constraints");
   if (model.size() > kMaxTangentFlowCoordinates)
     throw no_tangent_flow(what, label, too_many_coordinates(std::to_string(model.size())));
+  try {
+    lagrangian::detail::require_tangent_flow_constraints(model, "");
+  } catch (const AnalysisError& e) {
+    throw no_tangent_flow(what, label, e.what());
+  }
   check_start(model, s0, t0);
   return compute(model, s0);
 }

@@ -12,6 +12,12 @@
 #include "lagrangian/text/fixed_size.hpp"
 
 namespace lagrangian::text {
+
+void detail::project_state(const std::shared_ptr<const Parsed>& parsed, double* q, double* qd, double t) {
+  const TextModel model(parsed);
+  lagrangian::detail::evaluate_projection<TextModel>(&model, q, qd, t);
+}
+
 namespace {
 
 static_assert(kMaxTangentFlowCoordinates == 6, "at_fixed_size() lists the sizes 1 … 6");
@@ -26,13 +32,14 @@ auto at_size(const TextModel& model, const State<Dynamic>& initial, Compute&& co
 }
 
 /// compute(FixedSizeModel<n>, State<n>) for the model's size n; AnalysisError
-/// (its message starting with `prefix`) for a model with holonomic or
-/// Pfaffian constraints or more coordinates than the tangent flow takes,
-/// OptionError for a start of another size. Contacts are carried over.
+/// (its message starting with `prefix`) for a model with more coordinates
+/// than the tangent flow takes, or constraints it is not derived for
+/// (require_tangent_flow_constraints()), OptionError for a start of another
+/// size. Constraints and contacts are carried over.
 template <class Compute>
 auto at_fixed_size(const TextModel& model, const State<Dynamic>& initial, const std::string& prefix,
                    Compute&& compute) {
-  lagrangian::detail::require_no_bilateral_constraints(model, prefix);
+  lagrangian::detail::require_tangent_flow_constraints(model, prefix);
   const int n = model.size();
   if (initial.q.size() != n || initial.qd.size() != n)
     throw OptionError(prefix + "the initial state's q and qd have sizes " + std::to_string(initial.q.size()) + " and " +

@@ -255,13 +255,25 @@ template <class M>
 void evaluate_projection(const void* model, double* q, double* qd, double t) {
   constexpr int n = coordinate_count_v<M>;
   const M& m = *static_cast<const M*>(model);
-  Vec<double, n> qv = Eigen::Map<const Vec<double, n>>(q), qdv = Eigen::Map<const Vec<double, n>>(qd);
+  const int size = model_size(m);
+  Vec<double, n> qv = Eigen::Map<const Vec<double, n>>(q, size), qdv = Eigen::Map<const Vec<double, n>>(qd, size);
   project_positions(m, qv, t, 1e-12);  // ‖g‖∞ ≤ 1e-12 (1 + ‖q‖∞)
-  Workspace<n> ws(n);
+  Workspace<n> ws(size);
   project_velocities(m, ws, qv, qdv, t);
-  Eigen::Map<Vec<double, n> > q_out(q), qd_out(qd);
+  Eigen::Map<Vec<double, n>> q_out(q, size), qd_out(qd, size);
   q_out = qv;
   qd_out = qdv;
+}
+
+/// A model that projects a state onto its constraints itself
+/// (`void project_state(double* q, double* qd, double t) const`, as
+/// evaluate_projection() does: positions onto g = 0, then velocities).
+template <class M>
+concept projects_own_state = requires(const M& m, double* x, double t) { m.project_state(x, x, t); };
+
+template <class M>
+void evaluate_own_projection(const void* model, double* q, double* qd, double t) {
+  static_cast<const M*>(model)->project_state(q, qd, t);
 }
 
 /// The TangentModel of `model`: AnalysisError (`prefix` starting its
@@ -273,16 +285,22 @@ TangentModel tangent_model_of(const M& model, const std::string& prefix) {
   require_tangent_flow_constraints(model, prefix);
   TangentModel tm{&model, &evaluate_tangent<M>, &evaluate_momentum<M>, coordinate_count_v<M>,
                   &evaluate_tangent_direction<M>};
-  if constexpr (bilateral_rows_v<M> != Dynamic && bilateral_rows_v<M> > 0) {
-    constexpr int mh = holonomic_count_v<M>;
-    tm.manifold = 2 * mh + pfaffian_count_v<M>;
-    tm.manifold_holonomic = mh;
-    const auto names = constraint_names(model);
-    for (int i = 0; i < mh; ++i) tm.manifold_names.push_back(names[static_cast<std::size_t>(i)]);
-    for (int i = 0; i < mh; ++i) tm.manifold_names.push_back(names[static_cast<std::size_t>(i)] + " (rate)");
-    for (int i = mh; i < mh + pfaffian_count_v<M>; ++i) tm.manifold_names.push_back(names[static_cast<std::size_t>(i)]);
-    tm.manifold_rows = &evaluate_manifold<M>;
-    tm.project = &evaluate_projection<M>;
+  if constexpr (bilateral_rows_v<M> != 0) {
+    const int mh = holonomic_count(model), mp = pfaffian_count(model);
+    if (mh + mp > 0) {
+      tm.manifold = 2 * mh + mp;
+      tm.manifold_holonomic = mh;
+      const auto names = constraint_names(model);  // holonomic, contacts (none here), Pfaffian
+      for (int i = 0; i < mh; ++i) tm.manifold_names.push_back(names[static_cast<std::size_t>(i)]);
+      for (int i = 0; i < mh; ++i) tm.manifold_names.push_back(names[static_cast<std::size_t>(i)] + " (rate)");
+      for (int i = mh; i < mh + mp; ++i) tm.manifold_names.push_back(names[static_cast<std::size_t>(i)]);
+      tm.manifold_rows = &evaluate_manifold<M>;
+      if constexpr (projects_own_state<M>) {
+        tm.project = &evaluate_own_projection<M>;
+      } else {
+        tm.project = &evaluate_projection<M>;
+      }
+    }
   }
   if constexpr (unilateral_count_v<M> != 0) {
     const int count = unilateral_count(model);

@@ -41,9 +41,10 @@
 /// constrained motion (lyapunov.hpp keeps its vectors on it).
 ///
 /// Scope: models with a fixed number of coordinates (n ≤ 6: a number holds
-/// K + 1 EomJets of n² entries each) and of constraint rows. Refused with
-/// AnalysisError: bilateral rows counted at run time, and bilateral
-/// constraints together with contacts. A model's contacts do not act
+/// K + 1 EomJets of n² entries each); constraint rows counted at compile
+/// time, or at run time (a model stated as text) up to
+/// kMaxRuntimeBilateralRows. Refused with AnalysisError: more rows counted
+/// at run time, and bilateral constraints together with contacts. A model's contacts do not act
 /// between impacts, so J is that of its free motion; the tangent runs
 /// (lyapunov.hpp, sensitivity.hpp) cross each impact with its saltation
 /// matrix (saltation.hpp).
@@ -69,10 +70,10 @@ namespace lagrangian {
 
 namespace detail {
 /// AnalysisError (its message starting with `prefix`) when the model has
-/// holonomic or Pfaffian constraints (the impact map, saltation.hpp, and
-/// models stated as text, whose rows are counted at run time). Contacts act
-/// only at impacts: between them the tangent flow is that of the free
-/// equations of motion, and an impact is crossed by its saltation matrix.
+/// holonomic or Pfaffian constraints (the impact map, saltation.hpp).
+/// Contacts act only at impacts: between them the tangent flow is that of
+/// the free equations of motion, and an impact is crossed by its saltation
+/// matrix.
 template <class M>
 void require_no_bilateral_constraints(const M& model, const std::string& prefix) {
   if (holonomic_count(model) > 0 || pfaffian_count(model) > 0)
@@ -83,17 +84,18 @@ void require_no_bilateral_constraints(const M& model, const std::string& prefix)
 }
 
 /// AnalysisError (its message starting with `prefix`) for constraints the
-/// tangent flow is not derived for: holonomic or Pfaffian rows whose number
-/// is known only at run time, and such rows together with contacts (an
-/// impact under bilateral constraints has no saltation matrix here).
+/// tangent flow is not derived for: more than kMaxRuntimeBilateralRows
+/// holonomic and Pfaffian rows counted at run time, and such rows together
+/// with contacts (an impact under bilateral constraints has no saltation
+/// matrix here).
 template <class M>
 void require_tangent_flow_constraints(const M& model, const std::string& prefix) {
   const int bilateral = holonomic_count(model) + pfaffian_count(model);
   if (bilateral == 0) return;
-  if (bilateral_rows_v<M> == Dynamic)
-    throw AnalysisError(prefix + "the tangent flow of holonomic and Pfaffian constraints is derived for models whose "
-                                 "rows are counted at compile time; this model declares " +
-                        std::to_string(bilateral) + " rows at run time");
+  if (bilateral_rows_v<M> == Dynamic && bilateral > kMaxRuntimeBilateralRows)
+    throw AnalysisError(prefix + "the tangent flow takes at most " + std::to_string(kMaxRuntimeBilateralRows) +
+                        " holonomic and Pfaffian rows counted at run time; this model declares " +
+                        std::to_string(bilateral));
   if (unilateral_count(model) > 0)
     throw AnalysisError(prefix + "the tangent flow is derived for models with holonomic or Pfaffian constraints or "
                                  "with contacts, not both; this model declares both (bilateral rows: " +

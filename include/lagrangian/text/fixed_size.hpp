@@ -14,11 +14,11 @@
 /// lagrangian::state_jacobian(fixed, q, qd, t, qdd, jacobian);
 /// \endcode
 ///
-/// Contacts are carried over (their gaps, names, units and restitution
-/// coefficients: the tangent flow crosses their impacts,
-/// analysis/saltation.hpp); holonomic and Pfaffian constraints are not: a
-/// FixedSizeModel is built only from a text model without them
-/// (AnalysisError otherwise).
+/// Constraints are carried over, counted at run time as the text model
+/// counts them: holonomic and Pfaffian rows (the tangent flow keeps to
+/// their manifold, analysis/lyapunov.hpp) and contacts (their gaps, names,
+/// units and restitution coefficients: the tangent flow crosses their
+/// impacts, analysis/saltation.hpp).
 
 #include <memory>
 #include <string>
@@ -33,12 +33,20 @@
 
 namespace lagrangian::text {
 
+namespace detail {
+/// (q, q̇) of the text model `parsed` projected onto its constraints
+/// (src/text/tangent_flow.cpp).
+void project_state(const std::shared_ptr<const Parsed>& parsed, double* q, double* qd, double t);
+}  // namespace detail
+
 /// The text model `model` as a model of N coordinates: T (J), V (J), Q (N
 /// or N·m per coordinate) and D (W) are the model's expressions, bound to
 /// its parameters' values. With P = ad::Jet<double, K, 1>
 /// (with_parameter_type: the seeded twin of analysis/sensitivity.hpp), one
 /// parameter is a number of type P, carrying derivatives along K
-/// directions, and the expressions are bound to the others only.
+/// directions, and T, V, Q and D are bound to the others only (the
+/// constraints keep every parameter's value: derivatives along a parameter
+/// are not taken for a constrained model, analysis/sensitivity.hpp).
 template <int N, class P = double>
 class FixedSizeModel {
  public:
@@ -47,8 +55,7 @@ class FixedSizeModel {
   template <class Q>
   using with_parameter_type = FixedSizeModel<N, Q>;
 
-  /// AnalysisError unless `model` has N coordinates and no holonomic or
-  /// Pfaffian constraints.
+  /// AnalysisError unless `model` has N coordinates.
   explicit FixedSizeModel(const TextModel& model)
     requires std::is_same_v<P, double>
       : p_(checked(model)) {}
@@ -104,21 +111,35 @@ class FixedSizeModel {
     return value(dissipation_, p_->dissipation_bound, q, qd, S(0.0));
   }
 
-  /// Contacts, as the text model's: their count, gaps φ(q, t) ≥ 0 (into a
-  /// per-thread vector, one per number type S: no allocation per call; the
-  /// values hold until the next unilateral() call with the same S on this
-  /// thread), names, units and restitution coefficients.
+  /// The text model's constraints, each kind's values into a per-thread
+  /// vector (one per kind and number type S: no allocation per call; the
+  /// values hold until the next call of the same kind with the same S on
+  /// this thread). Holonomic g(q, t) = 0 (m for lengths, rad for angles):
+  int holonomic_count() const { return static_cast<int>(p_->holonomic_bound.size()); }
+  template <class S>
+  Eigen::Map<const Vec<S, Dynamic>> holonomic(const Vec<S, N>& q, const S& t) const {
+    return detail::constraint_rows<S>(0, p_->holonomic_bound, q, q, t);
+  }
+  /// Pfaffian φ(q, q̇, t) = A q̇ + a = 0 (m/s or rad/s):
+  int pfaffian_count() const { return static_cast<int>(p_->pfaffian_bound.size()); }
+  template <class S>
+  Eigen::Map<const Vec<S, Dynamic>> pfaffian(const Vec<S, N>& q, const Vec<S, N>& qd, const S& t) const {
+    return detail::constraint_rows<S>(2, p_->pfaffian_bound, q, qd, t);
+  }
+  /// Contacts, gaps φ(q, t) ≥ 0 (m or rad), with their restitution coefficients:
   int unilateral_count() const { return static_cast<int>(p_->gaps_bound.size()); }
   template <class S>
   Eigen::Map<const Vec<S, Dynamic>> unilateral(const Vec<S, N>& q, const S& t) const {
-    thread_local Vec<S, Dynamic> out;
-    const int m = unilateral_count();
-    if (out.size() < m) out.resize(m);
-    for (int j = 0; j < m; ++j)
-      out[j] = evaluate(p_->gaps_bound[static_cast<std::size_t>(j)], q, q, t, detail::slots<S>());
-    return {out.data(), m};
+    return detail::constraint_rows<S>(1, p_->gaps_bound, q, q, t);
   }
   std::vector<double> restitution() const { return TextModel(p_).restitution(); }
+  /// Moves (q, q̇) onto the holonomic constraints and then onto the
+  /// velocity rows, as a run of the text model projects its state (through
+  /// the text model itself, compiled once in the library).
+  void project_state(double* q, double* qd, double t) const { detail::project_state(p_, q, qd, t); }
+  /// Names and units, as the text model's.
+  std::vector<std::string> holonomic_names() const { return TextModel(p_).holonomic_names(); }
+  std::vector<std::string> pfaffian_names() const { return TextModel(p_).pfaffian_names(); }
   std::vector<std::string> unilateral_names() const { return TextModel(p_).unilateral_names(); }
   std::vector<std::string> constraint_units() const { return TextModel(p_).constraint_units(); }
 
@@ -129,7 +150,6 @@ class FixedSizeModel {
     if (model.size() != N)
       throw AnalysisError("text::FixedSizeModel<" + std::to_string(N) + ">: the text model has " +
                           std::to_string(model.size()) + " coordinates");
-    lagrangian::detail::require_no_bilateral_constraints(model, "text::FixedSizeModel: ");
     return model.shared_parsed();
   }
 

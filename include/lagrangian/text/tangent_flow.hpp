@@ -9,9 +9,11 @@
 /// library for n = 1 … kMaxTangentFlowCoordinates.
 ///
 /// Scope, as for C++ models: at most kMaxTangentFlowCoordinates (6)
-/// coordinates, no holonomic or Pfaffian constraints (AnalysisError naming
-/// what the model has); contacts are crossed at their impacts by the
-/// saltation matrix (analysis/saltation.hpp). Sensitivities to the model's parameters (by name, as in its
+/// coordinates; holonomic and Pfaffian constraints are kept on their
+/// manifold (at most kMaxRuntimeBilateralRows rows: the text model counts
+/// them at run time), contacts are crossed at their impacts by the
+/// saltation matrix (analysis/saltation.hpp), a model with both is refused
+/// (AnalysisError naming what the model has). Sensitivities to the model's parameters (by name, as in its
 /// definition) come from its expressions as written, each parameter
 /// carrying its derivative through them.
 

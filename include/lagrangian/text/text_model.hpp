@@ -80,6 +80,22 @@ std::vector<S>& slots() {
   return h.v;
 }
 
+/// The values of the expressions `es` (a kind of constraint row: 0
+/// holonomic, 1 contacts, 2 Pfaffian) at (q, q̇, t) on numbers S, into this
+/// thread's vector for that kind, S and vector type QV: no allocation per
+/// call; the values hold until the next call with the same kind, S and QV
+/// on this thread.
+template <class S, class QV>
+Eigen::Map<const Vec<S, Dynamic>> constraint_rows(int kind, const std::vector<Expression>& es, const QV& q,
+                                                  const QV& qd, const S& t) {
+  thread_local Vec<S, Dynamic> vectors[3];
+  Vec<S, Dynamic>& out = vectors[kind];
+  const int m = static_cast<int>(es.size());
+  if (out.size() < m) out.resize(m);
+  for (int i = 0; i < m; ++i) out[i] = evaluate(es[static_cast<std::size_t>(i)], q, qd, t, slots<S>());
+  return {out.data(), m};
+}
+
 }  // namespace detail
 
 /// A model stated as text (see the file comment). Its constraints are
@@ -142,13 +158,13 @@ class TextModel {
   int holonomic_count() const { return static_cast<int>(p_->holonomic_bound.size()); }
   template <class S>
   Eigen::Map<const Vec<S, Dynamic>> holonomic(const Vec<S, Dynamic>& q, const S& t) const {
-    return rows<S>(0, p_->holonomic_bound, q, q, t);
+    return detail::constraint_rows<S>(0, p_->holonomic_bound, q, q, t);
   }
   /// Contacts: gaps φ(q, t) ≥ 0, their count and restitution coefficients.
   int unilateral_count() const { return static_cast<int>(p_->gaps_bound.size()); }
   template <class S>
   Eigen::Map<const Vec<S, Dynamic>> unilateral(const Vec<S, Dynamic>& q, const S& t) const {
-    return rows<S>(1, p_->gaps_bound, q, q, t);
+    return detail::constraint_rows<S>(1, p_->gaps_bound, q, q, t);
   }
   std::vector<double> restitution() const {
     std::vector<double> e;
@@ -179,7 +195,7 @@ class TextModel {
   int pfaffian_count() const { return static_cast<int>(p_->pfaffian_bound.size()); }
   template <class S>
   Eigen::Map<const Vec<S, Dynamic>> pfaffian(const Vec<S, Dynamic>& q, const Vec<S, Dynamic>& qd, const S& t) const {
-    return rows<S>(2, p_->pfaffian_bound, q, qd, t);
+    return detail::constraint_rows<S>(2, p_->pfaffian_bound, q, qd, t);
   }
 
   /// The points of [[model.points]] with a mass, in their order: what the
@@ -205,18 +221,6 @@ class TextModel {
       out.push_back(given.empty() ? prefix + std::to_string(i) : given[static_cast<std::size_t>(from + i)]);
     return out;
   }
-  /// The values of `es` into this thread's vector `kind` (0 holonomic, 1 contacts, 2 Pfaffian).
-  template <class S>
-  Eigen::Map<const Vec<S, Dynamic>> rows(int kind, const std::vector<Expression>& es, const Vec<S, Dynamic>& q,
-                                         const Vec<S, Dynamic>& qd, const S& t) const {
-    thread_local Vec<S, Dynamic> vectors[3];
-    Vec<S, Dynamic>& out = vectors[kind];
-    const int m = static_cast<int>(es.size());
-    if (out.size() < m) out.resize(m);
-    for (int i = 0; i < m; ++i) out[i] = evaluate(es[static_cast<std::size_t>(i)], q, qd, t, detail::slots<S>());
-    return {out.data(), m};
-  }
-
   std::shared_ptr<const Parsed> p_;
 };
 

@@ -16,8 +16,10 @@
 // minimum-norm pseudo-inverse (redundant rows: λ is not unique, q̈ and δq̈
 // are), as the run solves the first. C and γ along the directions come
 // from the constraint functions on ad::Jets of ad::Jets: no finite
-// differences.
+// differences. Rows counted at run time (models stated as text) take
+// matrices of a fixed capacity, kMaxRuntimeBilateralRows.
 
+#include <algorithm>
 #include <array>
 #include <sstream>
 #include <string>
@@ -41,6 +43,21 @@ template <class M>
 inline constexpr int bilateral_rows_v = holonomic_count_v<M> == Dynamic || pfaffian_count_v<M> == Dynamic
                                             ? Dynamic
                                             : holonomic_count_v<M> + pfaffian_count_v<M>;
+
+/// Most holonomic and Pfaffian rows the tangent flow takes from a model that
+/// counts them at run time (its matrices then have this capacity, on the
+/// stack: no allocation per call).
+inline constexpr int kMaxRuntimeBilateralRows = 8;
+
+/// The row capacity of the tangent pass's constraint matrices for `rows`
+/// (a fixed count, or Dynamic).
+constexpr int bilateral_capacity(int rows) { return rows == Dynamic ? kMaxRuntimeBilateralRows : rows; }
+
+/// An R × C matrix of S with room for MR × MC (R or C Dynamic up to that),
+/// in the storage order Eigen requires for its shape.
+template <class S, int R, int C, int MR, int MC>
+using CappedMatrix =
+    Eigen::Matrix<S, R, C, (MR == 1 && MC != 1) ? Eigen::RowMajor : Eigen::ColMajor, MR, MC>;
 
 /// q and q̇ as first-order Jets along the K directions V: the derivatives
 /// of q_k are the row k of V, those of q̇_k the row n + k.
@@ -95,18 +112,33 @@ void solve_tangent(const Mat<double, n>& mass, const Eigen::Matrix<double, n, K 
 
 /// C (m × n) and γ of the holonomic rows, then the Pfaffian rows, of
 /// `model` at (q, q̇, t), on numbers D that carry derivatives (the
-/// directions of the tangent pass, or the state itself).
-template <class M, class D, int n, int m>
-void bilateral_rows_on(const M& model, const Vec<D, n>& q, const Vec<D, n>& qd, const D& t,
-                       Eigen::Matrix<D, m, n>& c, Vec<D, m>& gamma) {
-  constexpr int mh = holonomic_count_v<M>, mp = pfaffian_count_v<M>;
-  using J1 = ad::Jet<D, n, 1>;  // first order in q (holonomic) or q̇ (Pfaffian)
-  if constexpr (mh > 0) {
-    Vec<J1, n> qj;
-    for (int k = 0; k < n; ++k) qj[k] = J1::variable(q[k], k);
-    const auto g1 = model.holonomic(qj, J1(t));
-    for (int i = 0; i < mh; ++i)
-      for (int k = 0; k < n; ++k) c(i, k) = g1[i].g[k];
+/// directions of the tangent pass, or the state itself); m counted at
+/// compile time or, for a model that counts its rows at run time, at most
+/// the capacity of `c` and `gamma`, which are sized here. C's columns are
+/// taken Wq at a time (Wq = n: in one evaluation of the rows).
+template <int Wq, class M, class D, int n, class CM, class GV>
+void bilateral_rows_on(const M& model, const Vec<D, n>& q, const Vec<D, n>& qd, const D& t, CM& c, GV& gamma) {
+  const int mh = holonomic_count(model), mp = pfaffian_count(model);
+  if constexpr (CM::RowsAtCompileTime == Dynamic) {
+    c.resize(mh + mp, n);
+    gamma.resize(mh + mp);
+  }
+  using J1 = ad::Jet<D, Wq, 1>;  // first order in Wq of the q (holonomic) or q̇ (Pfaffian)
+  // x as J1 numbers whose directions are x_first … x_{first+Wq−1}.
+  const auto seed = [](const Vec<D, n>& x, int first, Vec<J1, n>& out) {
+    for (int k = 0; k < n; ++k) {
+      out[k] = J1(x[k]);
+      if (k >= first && k < first + Wq) out[k].g[k - first] = D(1.0);
+    }
+  };
+  if constexpr (holonomic_count_v<M> != 0) {
+    for (int first = 0; first < n; first += Wq) {
+      Vec<J1, n> qj;
+      seed(q, first, qj);
+      const auto g1 = model.holonomic(qj, J1(t));
+      for (int i = 0; i < mh; ++i)
+        for (int k = first; k < std::min(n, first + Wq); ++k) c(i, k) = g1[i].g[k - first];
+    }
     // γ = d²g/ds² along the path (q + s q̇, t + s).
     using J2 = ad::Jet<D, 1, 2>;
     Vec<J2, n> qp;
@@ -115,15 +147,15 @@ void bilateral_rows_on(const M& model, const Vec<D, n>& q, const Vec<D, n>& qd, 
     const auto g2 = model.holonomic(qp, tp);
     for (int i = 0; i < mh; ++i) gamma[i] = g2[i].hess(0, 0);
   }
-  if constexpr (mp > 0) {
-    Vec<J1, n> qj, qdj;
-    for (int k = 0; k < n; ++k) {
-      qj[k] = J1(q[k]);
-      qdj[k] = J1::variable(qd[k], k);
+  if constexpr (pfaffian_count_v<M> != 0) {
+    for (int first = 0; first < n; first += Wq) {
+      Vec<J1, n> qj, qdj;
+      for (int k = 0; k < n; ++k) qj[k] = J1(q[k]);
+      seed(qd, first, qdj);
+      const auto phi = model.pfaffian(qj, qdj, J1(t));
+      for (int i = 0; i < mp; ++i)
+        for (int k = first; k < std::min(n, first + Wq); ++k) c(mh + i, k) = phi[i].g[k - first];
     }
-    const auto phi = model.pfaffian(qj, qdj, J1(t));
-    for (int i = 0; i < mp; ++i)
-      for (int k = 0; k < n; ++k) c(mh + i, k) = phi[i].g[k];
     // γ = (∂φ/∂q) q̇ + ∂φ/∂t at fixed q̇.
     using P = ad::Jet<D, 1, 1>;
     Vec<P, n> qp, qdp;
@@ -135,54 +167,103 @@ void bilateral_rows_on(const M& model, const Vec<D, n>& q, const Vec<D, n>& qd, 
   }
 }
 
+/// How many directions one evaluation of a model's constraint rows
+/// carries, out of `all`: all of them for rows counted at compile time (one
+/// evaluation, compiled code); one for rows counted at run time (a model
+/// stated as text: its expressions are then interpreted on a few number
+/// types per size, not on more for each width of the tangent pass).
+template <class M>
+constexpr int rows_directions(int all) {
+  return bilateral_rows_v<M> == Dynamic ? 1 : all;
+}
+
+/// A matrix of type X, of rows × cols when its size is chosen at run time
+/// (within its capacity: nothing allocated); the values are left unset.
+template <class X>
+X sized(int rows, int cols) {
+  X x;
+  if constexpr (X::RowsAtCompileTime == Dynamic || X::ColsAtCompileTime == Dynamic) x.resize(rows, cols);
+  (void)rows, (void)cols;
+  return x;
+}
+
+/// This thread's minimum-norm solver for Schur complements of m × m, mc
+/// the rows counted at compile time (or Dynamic: the solver is made again
+/// when a model of another row count comes).
+template <int mc>
+MinNormSolver& schur_solver(int m) {
+  if constexpr (mc != Dynamic) {
+    (void)m;
+    thread_local MinNormSolver solver(mc, mc);
+    return solver;
+  } else {
+    thread_local MinNormSolver solver(m, m);
+    thread_local int rows = m;
+    if (rows != m) solver = MinNormSolver(m, m), rows = m;
+    return solver;
+  }
+}
+
 /// solve_tangent() for a model with holonomic or Pfaffian constraints (the
 /// file comment): C, γ and their derivatives along the K directions V from
-/// the constraint functions on first-order Jets along V.
+/// the constraint functions on first-order Jets along V. Rows counted at
+/// run time take matrices of capacity kMaxRuntimeBilateralRows
+/// (require_tangent_flow_constraints() refuses more).
 template <int n, int K, class M, class DMass>
 void solve_constrained_tangent(const M& model, const Mat<double, n>& mass, const Eigen::Matrix<double, n, K + 1>& r,
                                DMass&& dmass, const Vec<double, n>& q, const Vec<double, n>& qd, double t,
                                const Eigen::Matrix<double, 2 * n, K>& v, Vec<double, n>& qdd,
                                Eigen::Matrix<double, n, K>& jv) {
-  constexpr int m = bilateral_rows_v<M>;
-  static_assert(m > 0, "solve_constrained_tangent: a model with holonomic or Pfaffian rows of fixed number");
-  using D = ad::Jet<double, K, 1>;
-  Vec<D, n> qi, qdi;
-  along_directions(q, qd, v, qi, qdi);
-  Eigen::Matrix<D, m, n> cd;
-  Vec<D, m> gd;
-  bilateral_rows_on(model, qi, qdi, D(t), cd, gd);
-  Eigen::Matrix<double, m, n> c;
-  Vec<double, m> gamma;
+  constexpr int mc = bilateral_rows_v<M>, cap = bilateral_capacity(mc);
+  static_assert(mc == Dynamic || mc > 0, "solve_constrained_tangent: a model with holonomic or Pfaffian rows");
+  const int m = holonomic_count(model) + pfaffian_count(model);
+  constexpr int W = rows_directions<M>(K);  // directions per evaluation of the rows
+  using D = ad::Jet<double, W, 1>;
+  using RowsD = CappedMatrix<D, mc, n, cap, n>;
+  using RowsV = CappedMatrix<double, mc, n, cap, n>;
+  using Multipliers = CappedMatrix<double, mc, 1, cap, 1>;
+  RowsD cd;
+  CappedMatrix<D, mc, 1, cap, 1> gd;
+  // C and γ with their derivatives along the directions first … first + W − 1.
+  const auto rows_along = [&](int first) {
+    Vec<D, n> qi, qdi;
+    along_directions<W, n>(q, qd, v.template middleCols<W>(first), qi, qdi);
+    bilateral_rows_on<rows_directions<M>(n)>(model, qi, qdi, D(t), cd, gd);
+  };
+  rows_along(0);
+  RowsV c = sized<RowsV>(m, n);
+  Multipliers gamma = sized<Multipliers>(m, 1);
   for (int i = 0; i < m; ++i) {
     gamma[i] = gd[i].v;
     for (int k = 0; k < n; ++k) c(i, k) = cd(i, k).v;
   }
   Eigen::LLT<Mat<double, n>> llt;
   factor_tangent_mass(llt, mass, q, qd, t);
-  const Eigen::Matrix<double, n, m> minv_ct = llt.solve(c.transpose());
-  const Mat<double, m> schur = c * minv_ct;
-  thread_local MinNormSolver solver(m, m);  // storage once per thread
+  const CappedMatrix<double, n, mc, n, cap> minv_ct = llt.solve(c.transpose());
+  const CappedMatrix<double, mc, mc, cap, cap> schur = c * minv_ct;
+  MinNormSolver& solver = schur_solver<mc>(m);
   solver.factorize(schur.data());
   // δq̈ = M⁻¹ (a + Cᵀ δλ), δλ = S⁺ (b − C M⁻¹ a), for (a, b) the right-hand
   // sides of the two equations.
-  const auto solve = [&](const Vec<double, n>& a, const Vec<double, m>& b, Vec<double, n>& out,
-                         Vec<double, m>& multipliers) {
+  const auto solve = [&](const Vec<double, n>& a, const Multipliers& b, Vec<double, n>& out,
+                         Multipliers& multipliers) {
     const Vec<double, n> free = llt.solve(a);
-    const Vec<double, m> target = b - c * free;
+    const Multipliers target = b - c * free;
     solver.solve(target.data(), multipliers.data());
     out = free + minv_ct * multipliers;
   };
-  Vec<double, m> lambda, dlambda;
+  Multipliers lambda = sized<Multipliers>(m, 1), dlambda = lambda;
   solve(r.col(0), -gamma, qdd, lambda);
   for (int col = 0; col < K; ++col) {
-    Eigen::Matrix<double, m, n> dc;
-    Vec<double, m> dgamma;
+    if (col % W == 0 && col > 0) rows_along(col);
+    RowsV dc = sized<RowsV>(m, n);
+    Multipliers dgamma = sized<Multipliers>(m, 1);
     for (int i = 0; i < m; ++i) {
-      dgamma[i] = gd[i].g[col];
-      for (int k = 0; k < n; ++k) dc(i, k) = cd(i, k).g[col];
+      dgamma[i] = gd[i].g[col % W];
+      for (int k = 0; k < n; ++k) dc(i, k) = cd(i, k).g[col % W];
     }
     const Vec<double, n> a = r.col(col + 1) - dmass(col) * qdd + dc.transpose() * lambda;
-    const Vec<double, m> b = -dgamma - dc * qdd;
+    const Multipliers b = -dgamma - dc * qdd;
     Vec<double, n> out;
     solve(a, b, out, dlambda);
     jv.col(col) = out;
@@ -195,12 +276,14 @@ template <int n, int K, class M, class DMass>
 void finish_tangent(const M& model, const Mat<double, n>& mass, const Eigen::Matrix<double, n, K + 1>& r,
                     DMass&& dmass, const Vec<double, n>& q, const Vec<double, n>& qd, double t,
                     const Eigen::Matrix<double, 2 * n, K>& v, Vec<double, n>& qdd, Eigen::Matrix<double, n, K>& jv) {
-  if constexpr (bilateral_rows_v<M> != Dynamic && bilateral_rows_v<M> > 0) {
-    solve_constrained_tangent<n, K>(model, mass, r, dmass, q, qd, t, v, qdd, jv);
-  } else {
-    (void)model, (void)v;
-    solve_tangent<n, K>(mass, r, dmass, q, qd, t, qdd, jv);
+  if constexpr (bilateral_rows_v<M> != 0) {
+    if (bilateral_rows_v<M> != Dynamic || holonomic_count(model) + pfaffian_count(model) > 0) {
+      solve_constrained_tangent<n, K>(model, mass, r, dmass, q, qd, t, v, qdd, jv);
+      return;
+    }
   }
+  (void)model, (void)v;
+  solve_tangent<n, K>(mass, r, dmass, q, qd, t, qdd, jv);
 }
 
 /// The constraint manifold in the state space x = (q, q̇) at (q, q̇, t):
@@ -212,34 +295,40 @@ void finish_tangent(const M& model, const Mat<double, n>& mass, const Eigen::Mat
 template <class M>
 void manifold_rows(const M& model, const Vec<double, coordinate_count_v<M>>& q,
                    const Vec<double, coordinate_count_v<M>>& qd, double t, double* residual, double* jacobian) {
-  constexpr int n = coordinate_count_v<M>, mh = holonomic_count_v<M>, mp = pfaffian_count_v<M>;
-  static_assert(bilateral_rows_v<M> != Dynamic, "manifold_rows: constraint rows of fixed number");
-  constexpr int rows = 2 * mh + mp;
-  using D = ad::Jet<double, 2 * n, 1>;  // along (q, q̇)
-  Eigen::Map<Eigen::Matrix<double, rows, 2 * n>> jac(jacobian);
-  const auto put = [&](int row, const D& x) {
-    residual[row] = x.v;
-    for (int k = 0; k < 2 * n; ++k) jac(row, k) = x.g[k];
-  };
-  Vec<D, n> qx, qdx;
-  for (int k = 0; k < n; ++k) {
-    qx[k] = D::variable(q[k], k);
-    qdx[k] = D::variable(qd[k], n + k);
-  }
-  if constexpr (mh > 0) {
-    using P = ad::Jet<D, 1, 1>;  // along the path (q + s q̇, t + s)
-    Vec<P, n> qp;
-    P tp;
-    ad::along_path(qx, qdx, D(t), qp, tp);
-    const auto g = model.holonomic(qp, tp);
-    for (int i = 0; i < mh; ++i) {
-      put(i, g[i].v);
-      put(mh + i, g[i].g[0]);
+  constexpr int n = coordinate_count_v<M>, W = rows_directions<M>(2 * n);  // columns per evaluation
+  const int mh = holonomic_count(model), mp = pfaffian_count(model);
+  using D = ad::Jet<double, W, 1>;  // along W of the (q, q̇)
+  Eigen::Map<Eigen::Matrix<double, Dynamic, 2 * n>> jac(jacobian, 2 * mh + mp, 2 * n);
+  for (int first = 0; first < 2 * n; first += W) {
+    const int count = std::min(W, 2 * n - first);
+    const auto put = [&](int row, const D& x) {
+      residual[row] = x.v;
+      for (int w = 0; w < count; ++w) jac(row, first + w) = x.g[w];
+    };
+    Vec<D, n> qx, qdx;
+    for (int k = 0; k < n; ++k) {
+      qx[k] = D(q[k]);
+      qdx[k] = D(qd[k]);
     }
-  }
-  if constexpr (mp > 0) {
-    const auto phi = model.pfaffian(qx, qdx, D(t));
-    for (int i = 0; i < mp; ++i) put(2 * mh + i, phi[i]);
+    for (int w = 0; w < count; ++w) {
+      const int j = first + w;
+      (j < n ? qx[j] : qdx[j - n]).g[w] = 1.0;
+    }
+    if constexpr (holonomic_count_v<M> != 0) {
+      using P = ad::Jet<D, 1, 1>;  // along the path (q + s q̇, t + s)
+      Vec<P, n> qp;
+      P tp;
+      ad::along_path(qx, qdx, D(t), qp, tp);
+      const auto g = model.holonomic(qp, tp);
+      for (int i = 0; i < mh; ++i) {
+        put(i, g[i].v);
+        put(mh + i, g[i].g[0]);
+      }
+    }
+    if constexpr (pfaffian_count_v<M> != 0) {
+      const auto phi = model.pfaffian(qx, qdx, D(t));
+      for (int i = 0; i < mp; ++i) put(2 * mh + i, phi[i]);
+    }
   }
 }
 
