@@ -164,9 +164,9 @@ std::vector<int> parameter_indices(const std::vector<std::string>& wanted, const
 /// option or an unknown parameter (naming it), ConstraintError for a start
 /// off a constraint manifold, AnalysisError for parameters a model does not
 /// offer (has_parameter_type_v), parameters of a model with contacts or
-/// constraints, constraints together with contacts, constraint rows counted
-/// at run time, or constraints that leave no motion, SimulationError when
-/// the run fails.
+/// constraints, constraints together with contacts, more than
+/// kMaxRuntimeBilateralRows constraint rows counted at run time, or
+/// constraints that leave no motion, SimulationError when the run fails.
 template <class M>
 SensitivityResult sensitivities(const M& model, const State<coordinate_count_v<M>>& initial,
                                 const SensitivityOptions& options) {
