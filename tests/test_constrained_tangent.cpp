@@ -3,13 +3,20 @@
 // Lyapunov exponents on the constraint manifold (analysis/lyapunov.hpp):
 // against a closed-form Jacobian (the knife edge), the same system in other
 // coordinates (the double pendulum in angles and in Cartesian coordinates
-// with two rods), the closed-form flow of a bead on a spinning wire, and the
+// with two rods), the closed-form flow of a bead on a spinning wire, the
 // sensitivities on the manifold (the Atwood machine's closed form; the two
-// double pendulums).
+// double pendulums), parameter columns through the energies and through the
+// rows (the Atwood machine's masses and g, an incline's slope), and the
+// periodic-orbit search's energy row under constraint forces.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include <Eigen/LU>
 
@@ -329,12 +336,11 @@ TEST(ConstrainedSensitivity, RefusalsSayWhy) {
   }
   try {
     lagrangian::detail::sensitivities(pinned(1), &q, &qd, {0}, {"A"}, o);
-    FAIL() << "a parameter column of a constrained model was computed";
+    FAIL() << "a parameter column of a model without the rows' derivative along it was computed";
   } catch (const lagrangian::AnalysisError& e) {
-    EXPECT_NE(std::string(e.what()).find("sensitivity: parameter columns of a model with holonomic or Pfaffian "
-                                         "constraints are not derived"),
-              std::string::npos)
-        << e.what();
+    EXPECT_EQ(std::string(e.what()),
+              "sensitivity: the model gives no derivative of its constraint rows along a parameter ('A'); ask for "
+              "the initial state's columns only");
   }
 }
 
@@ -372,6 +378,148 @@ TEST(ConstrainedSensitivity, AtwoodMachineClosedForm) {
   const double a = -(3.0 - 1.0) * 9.81 / 4.0, t = r.times.back();
   EXPECT_NEAR(r.states.back()[0], 0.2 + 0.3 * t + 0.5 * a * t * t, 1e-10);
   EXPECT_NEAR(r.states.back()[0] + r.states.back()[1], 0.0, 1e-10);
+}
+
+// The Atwood machine's parameter columns. y1(t) = y1(0) + ẏ1(0) t + ½ a t²
+// with a = −(m1 − m2) g / (m1 + m2) and y2 = c − y1, so
+//   ∂y1/∂p = ½ t² ∂a/∂p,  ∂ẏ1/∂p = t ∂a/∂p,  ∂y2/∂p = −∂y1/∂p,
+//   ∂a/∂m1 = −2 m2 g/(m1 + m2)²,  ∂a/∂m2 = 2 m1 g/(m1 + m2)²,
+//   ∂a/∂g = −(m1 − m2)/(m1 + m2),
+// and the pulley's height d enters no energy and no row: its column is 0.
+// The string's constant c moves the manifold past the start (∂g/∂c = −1):
+// refused, naming it.
+TEST(ConstrainedSensitivity, AtwoodMachineParametersClosedForm) {
+  const double m1 = 3.0, m2 = 1.0, g = 9.81;
+  const lm::AtwoodMachine atwood(m1, m2, g, 0.0, 1.0);
+  lagrangian::State<2> s;
+  s.q = Vec<double, 2>(0.2, -0.2);
+  s.qd = Vec<double, 2>(0.3, -0.3);
+  lagrangian::SensitivityOptions o;
+  o.run = lagrangian_test::lyapunov_options(0.5, 1e-12).run;
+  o.run.output_interval = 0.25;
+  o.parameters = {"m1", "m2", "g", "d"};
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(atwood, s, o);
+  ASSERT_EQ(r.times.size(), 3u);
+  ASSERT_EQ(r.parameters, (std::vector<std::string>{"m1", "m2", "g", "d"}));
+  const double sum = m1 + m2;
+  const double da[4] = {-2 * m2 * g / (sum * sum), 2 * m1 * g / (sum * sum), -(m1 - m2) / sum, 0.0};
+  double worst = 0;
+  for (std::size_t i = 0; i < r.times.size(); ++i) {
+    const double t = r.times[i];
+    ASSERT_EQ(r.sensitivities[i].cols(), 4 + 4);
+    for (int j = 0; j < 4; ++j) {
+      Eigen::Vector4d expected(0.5 * t * t * da[j], -0.5 * t * t * da[j], t * da[j], -t * da[j]);
+      worst = std::max(worst, (r.sensitivities[i].col(4 + j) - expected).norm());
+      EXPECT_LE((r.sensitivities[i].col(4 + j) - expected).norm(), 1e-10)
+          << "d/d" << r.parameters[static_cast<std::size_t>(j)] << " at t = " << t << "\n"
+          << r.sensitivities[i].col(4 + j).transpose();
+    }
+  }
+  std::printf("Atwood machine, columns of m1, m2, g, d against the closed form: %.1e\n", worst);
+  EXPECT_GT(r.sensitivities.back().col(4).norm(), 0.1);
+  o.parameters = {"c"};
+  try {
+    lagrangian::sensitivities(atwood, s, o);
+    FAIL() << "a parameter that moves the string's manifold past the start was taken";
+  } catch (const lagrangian::AnalysisError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "sensitivity: parameter 'c' moves the constraint manifold past the start: d(string)/dc = -1 there, so "
+              "the start would leave the constraints when c changes; ask for other parameters, or start where the "
+              "constraints do not depend on it");
+  }
+}
+
+// A block on a frictionless incline y = s x of slope s (a parameter of the
+// row itself) under gravity, released at rest at the origin, where every
+// incline passes: the start stays on the manifold when s changes
+// (g = y − s x = 0 and ġ = ẏ − s ẋ = 0 there for every s). Along the
+// incline the block accelerates at g sin α, tan α = s, downhill:
+//   x(t) = −½ g t² s/(1 + s²),  y = s x,
+// so ∂x/∂s = −½ g t² (1 − s²)/(1 + s²)² and ∂y/∂s = −g t² s/(1 + s²)²
+// (both by a Jet over s of the closed form below). The motion's energies do
+// not contain s, so the column comes from the row's derivative alone: the
+// test fails if the rows are read without it. A start elsewhere on the
+// incline would leave it as s changes (∂g/∂s = −x ≠ 0): refused.
+template <class P = double>
+struct Incline {
+  static constexpr int coordinate_count = 2;
+  P m = 1.0, g = 9.81, s = 0.5;
+  template <class Q>
+  using with_parameter_type = Incline<Q>;
+  static constexpr std::array<std::string_view, 3> parameter_names{"m", "g", "s"};
+  static constexpr std::array<P Incline::*, 3> parameter_members() { return {&Incline::m, &Incline::g, &Incline::s}; }
+  std::string name() const { return "incline"; }
+  template <class S>
+  S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
+    return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1]);
+  }
+  template <class S>
+  S potential(const Vec<S, 2>& q, const S&) const {
+    return m * g * q[1];
+  }
+  template <class S>
+  Vec<S, 1> holonomic(const Vec<S, 2>& q, const S&) const {
+    return Vec<S, 1>(q[1] - s * q[0]);
+  }
+};
+
+TEST(ConstrainedSensitivity, InclineSlopeEntersThroughTheRowClosedForm) {
+  const Incline<> incline;
+  lagrangian::State<2> at_rest;
+  at_rest.q.setZero();
+  at_rest.qd.setZero();
+  lagrangian::SensitivityOptions o;
+  o.run = lagrangian_test::lyapunov_options(1.0, 1e-12).run;
+  o.run.output_interval = 0.5;
+  o.parameters = {"s", "g", "m"};
+  o.initial_state = false;
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(incline, at_rest, o);
+  ASSERT_EQ(r.times.size(), 3u);
+  using J = lagrangian::ad::Jet<double, 2, 1>;  // along s and g
+  J sj(incline.s), gj(incline.g);
+  sj.g[0] = 1.0;
+  gj.g[1] = 1.0;
+  double worst = 0;
+  for (std::size_t i = 0; i < r.times.size(); ++i) {
+    const double t = r.times[i];
+    const J x = -0.5 * gj * t * t * sj / (1.0 + sj * sj), xd = -gj * t * sj / (1.0 + sj * sj);
+    const J y = sj * x, yd = sj * xd;
+    ASSERT_EQ(r.sensitivities[i].cols(), 3);
+    for (int j = 0; j < 2; ++j) {
+      const Eigen::Vector4d expected(x.g[j], y.g[j], xd.g[j], yd.g[j]);
+      worst = std::max(worst, (r.sensitivities[i].col(j) - expected).norm() / (1 + expected.norm()));
+      EXPECT_LE((r.sensitivities[i].col(j) - expected).norm(), 1e-10 * (1 + expected.norm()))
+          << "d/d" << r.parameters[static_cast<std::size_t>(j)] << " at t = " << t << "\n"
+          << r.sensitivities[i].col(j).transpose() << "\n" << expected.transpose();
+    }
+    EXPECT_LE(r.sensitivities[i].col(2).norm(), 1e-12);  // m: the motion does not depend on it
+  }
+  std::printf("incline, columns of s and g against the closed form: %.1e relative; m: %.1e\n", worst,
+              r.sensitivities.back().col(2).norm());
+  EXPECT_GT(r.sensitivities.back().col(0).norm(), 1.0);
+  // On the incline away from the origin: x = 1, y = s.
+  lagrangian::State<2> up;
+  up.q = Vec<double, 2>(1.0, incline.s);
+  up.qd.setZero();
+  o.parameters = {"g", "s"};
+  try {
+    lagrangian::sensitivities(incline, up, o);
+    FAIL() << "a start the slope moves the incline away from was taken";
+  } catch (const lagrangian::AnalysisError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "sensitivity: parameter 's' moves the constraint manifold past the start: d(g0)/ds = -1 there, so the "
+              "start would leave the constraints when s changes; ask for other parameters, or start where the "
+              "constraints do not depend on it");
+  }
+  // Off the incline altogether: the start's own check speaks first.
+  up.q[1] = 0.0;
+  try {
+    lagrangian::sensitivities(incline, up, o);
+    FAIL() << "a start off the incline was taken";
+  } catch (const lagrangian::ConstraintError& e) {
+    EXPECT_NE(std::string(e.what()).find("the initial state violates constraint g0 (-0.5)"), std::string::npos)
+        << e.what();
+  }
 }
 
 // The double pendulum in Cartesian coordinates with two rods, and in
@@ -516,25 +664,76 @@ TEST(ConstrainedFloquet, RodPendulumOrbitFoundFromAShortGuess) {
   EXPECT_NEAR(r.monodromy.trace(), 2.0, 1e-6);
 }
 
-// A Pfaffian system: its orbit is not searched for (the energy row would
-// leave out the constraint force, which does work along the manifold's
-// directions of δq there).
-TEST(ConstrainedFloquet, OrbitsOfPfaffianSystemsAreNotSearchedFor) {
-  const lm::KnifeEdge knife(1.0, 0.1);
-  lagrangian::State<3> s;
-  s.q.setZero();
-  s.qd = Vec<double, 3>(1.0, 0.0, 0.5);
-  lagrangian::FloquetOptions o = floquet_over(4 * M_PI);
-  o.find_orbit = true;
-  try {
-    lagrangian::floquet_multipliers(knife, s, o);
-    FAIL() << "a Pfaffian system's orbit was searched for";
-  } catch (const lagrangian::AnalysisError& e) {
-    EXPECT_NE(std::string(e.what()).find("floquet: finding the periodic orbit is derived for holonomic constraints"),
-              std::string::npos)
-        << e.what();
-    EXPECT_NE(std::string(e.what()).find("this model has Pfaffian ones"), std::string::npos) << e.what();
+// find_orbit's energy row is ∇E of E = p·q̇ − L from L alone: at a state
+// where the constraint force is not zero it must not take it in (a row
+// from ṗ = ∂L/∂q + Cᵀλ would). The knife edge moving at 0.9 m/s while
+// turning at 0.7 rad/s (side force λ = −m u φ̇), E = ½ m (ẋ² + ẏ²) + ½ I φ̇²:
+// ∇E = (0, 0, 0, m ẋ, m ẏ, I φ̇); the pendulum on a rod (tension), with
+// V = m g y: ∇E = (0, m g, m ẋ, m ẏ).
+TEST(ConstrainedFloquet, EnergyRowIsTheEnergysGradientUnderConstraintForces) {
+  const double m = 1.3, inertia = 0.2, u = 0.9, phi = 0.4, turn = 0.7;
+  const lm::KnifeEdge knife(m, inertia);
+  Eigen::VectorXd x(6);
+  x << 0.3, -0.2, phi, u * std::cos(phi), u * std::sin(phi), turn;
+  Eigen::VectorXd expected(6);
+  expected << 0, 0, 0, m * x[3], m * x[4], inertia * turn;
+  const auto knife_model = lagrangian::detail::tangent_model_of(knife, "");
+  const double knife_error = (lagrangian::detail::energy_gradient(knife_model, x, 0.0) - expected).norm();
+  EXPECT_LE(knife_error, 1e-14);
+
+  const lm::CartesianPendulum rod(kRodMass, kRodLength, kGravity);
+  Eigen::VectorXd y(4);
+  y << kRodLength * std::sin(0.6), -kRodLength * std::cos(0.6), 0.8 * std::cos(0.6), 0.8 * std::sin(0.6);
+  Eigen::VectorXd expected_rod(4);
+  expected_rod << 0, kRodMass * kGravity, kRodMass * y[2], kRodMass * y[3];
+  const auto rod_model = lagrangian::detail::tangent_model_of(rod, "");
+  const double rod_error = (lagrangian::detail::energy_gradient(rod_model, y, 0.0) - expected_rod).norm();
+  EXPECT_LE(rod_error, 1e-13);
+  std::printf("energy row against the energy's gradient: knife edge %.1e, rod %.1e\n", knife_error, rod_error);
+}
+
+// The rod of the tests above with a Pfaffian row beside its holonomic one:
+// the rod's rate x ẋ + y ẏ = 0, redundant with ġ (a genuinely nonholonomic
+// row leaves no libration to find: the knife edge's motions turn its
+// heading without end). The search takes the Pfaffian row as it takes the
+// holonomic ones, and from the start and the period guess of
+// RodPendulumOrbitFoundFromAShortGuess finds that test's orbit: its period
+// the closed form of its amplitude, at the start's energy.
+struct RodWithItsRate : lm::CartesianPendulum {
+  using lm::CartesianPendulum::CartesianPendulum;
+  std::array<std::string_view, 1> pfaffian_names() const { return {"radial_rate"}; }
+  std::array<std::string_view, 2> constraint_units() const { return {"m", "m^2/s"}; }
+  template <class S>
+  Vec<S, 1> pfaffian(const Vec<S, 2>& q, const Vec<S, 2>& qd, const S&) const {
+    return Vec<S, 1>(q[0] * qd[0] + q[1] * qd[1]);
   }
+};
+
+TEST(ConstrainedFloquet, OrbitFoundWithAPfaffianRowAsWithoutIt) {
+  const double m = kRodMass, l = kRodLength, g = kGravity;
+  const double period = pendulum_period(kRodRelease, l, g);
+  const RodWithItsRate rod(m, l, g);
+  const lagrangian::State<2> s = rod_at_rest(kRodRelease, l);
+  lagrangian::FloquetOptions o = floquet_over(0.95 * period);
+  o.find_orbit = true;
+  o.closure_tolerance = 1e-10;
+  const lagrangian::FloquetResult r = lagrangian::floquet_multipliers(rod, s, o);
+  const lagrangian::FloquetResult plain = lagrangian::floquet_multipliers(lm::CartesianPendulum(m, l, g), s, o);
+  ASSERT_EQ(r.multipliers.size(), 2u);  // rank 2: the Pfaffian row repeats ġ
+  EXPECT_GT(r.iterations, 1);
+  EXPECT_NEAR(std::hypot(r.q[0], r.q[1]), l, 1e-10);
+  const double energy = 0.5 * m * (r.qd[0] * r.qd[0] + r.qd[1] * r.qd[1]) + m * g * r.q[1];
+  // The start's energy, to second order in Newton's steps (5 % of the period).
+  EXPECT_NEAR(energy, m * g * s.q[1], 1e-3 * m * g * l);
+  const double amplitude = std::acos(-energy / (m * g * l));
+  EXPECT_NEAR(r.period, pendulum_period(amplitude, l, g), 1e-8 * period);
+  EXPECT_NEAR(r.period, plain.period, 1e-8 * period);
+  std::printf("with the Pfaffian row: %d iterations, period %.12f s (without it %.12f s, its amplitude's closed "
+              "form %.12f s), energy %.1e relative from the start's, trace - 2 = %.1e\n",
+              r.iterations, r.period, plain.period, pendulum_period(amplitude, l, g),
+              (energy - m * g * s.q[1]) / (m * g * l), r.monodromy.trace() - 2.0);
+  EXPECT_GT(std::abs(r.period - 0.95 * period), 0.04 * period);  // not the guess
+  EXPECT_NEAR(r.monodromy.trace(), 2.0, 1e-6);
 }
 
 }  // namespace

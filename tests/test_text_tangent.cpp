@@ -5,13 +5,17 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstdio>
 #include <string>
 
 #include "lagrangian/analysis/lyapunov.hpp"
 #include "lagrangian/analysis/sensitivity.hpp"
 #include "lagrangian/analysis/tangent_flow.hpp"
+#include "lagrangian/integrate/observers.hpp"
+#include "lagrangian/integrate/simulate.hpp"
 #include "lagrangian/models/constrained.hpp"
 #include "lagrangian/models/impacts.hpp"
 #include "lagrangian/models/pendulums.hpp"
@@ -617,8 +621,10 @@ TEST(TextConstrainedLyapunov, KnifeEdgeHasFiveExponentsThatVanish) {
 // The Atwood machine of examples/scenes/text/atwood_machine.toml (3 and
 // 1 kg, y1 + y2 = c) falls with a uniform acceleration, so its
 // sensitivities on the manifold are [[P, t P], [0, P]] at every sample,
-// P = ½ [[1, −1], [−1, 1]] (test_constrained_tangent.cpp); a parameter
-// column is refused (the string's length c moves the manifold).
+// P = ½ [[1, −1], [−1, 1]] (test_constrained_tangent.cpp), and its
+// parameters' columns are those of the C++ model's test: ∂y1/∂p = ½ t² ∂a/∂p,
+// ∂y2/∂p = −∂y1/∂p, a = −(m1 − m2) g/(m1 + m2). The string's constant c
+// moves the manifold past the start: refused, naming it.
 TEST(TextConstrainedSensitivity, AtwoodMachineClosedFormAndParameterRefusal) {
   text::Definition d;
   d.coordinates = {"y1", "y2"};
@@ -644,10 +650,128 @@ TEST(TextConstrainedSensitivity, AtwoodMachineClosedFormAndParameterRefusal) {
   }
   const double a = -(3.0 - 1.0) * 9.81 / 4.0, t = r.times.back();
   EXPECT_NEAR(r.states.back()[0], 0.7 + 0.3 * t + 0.5 * a * t * t, 1e-10);
+
+  o.parameters = {"m1", "m2", "g"};
+  const lagrangian::SensitivityResult rp = text::sensitivities(atwood, start({0.7, 0.3}, {0.3, -0.3}), o);
+  const double da[3] = {-2 * 1.0 * 9.81 / 16.0, 2 * 3.0 * 9.81 / 16.0, -2.0 / 4.0};
+  double worst = 0;
+  for (std::size_t i = 0; i < rp.times.size(); ++i) {
+    const double ti = rp.times[i];
+    ASSERT_EQ(rp.sensitivities[i].cols(), 4 + 3);
+    for (int j = 0; j < 3; ++j) {
+      const Eigen::Vector4d expected(0.5 * ti * ti * da[j], -0.5 * ti * ti * da[j], ti * da[j], -ti * da[j]);
+      worst = std::max(worst, (rp.sensitivities[i].col(4 + j) - expected).norm());
+      EXPECT_LE((rp.sensitivities[i].col(4 + j) - expected).norm(), 1e-10)
+          << "d/d" << rp.parameters[static_cast<std::size_t>(j)] << " at t = " << ti;
+    }
+  }
+  std::printf("Atwood machine (text), columns of m1, m2, g against the closed form: %.1e\n", worst);
   o.parameters = {"c"};
   EXPECT_EQ(message_of([&] { (void)text::sensitivities(atwood, start({0.7, 0.3}, {0.3, -0.3}), o); }),
-            "sensitivity: parameter columns of a model with holonomic or Pfaffian constraints are not derived (a "
-            "parameter may move the constraint manifold itself); ask for the initial state's columns only");
+            "sensitivity: parameter 'c' moves the constraint manifold past the start: d(g0)/dc = -1 there, so the "
+            "start would leave the constraints when c changes; ask for other parameters, or start where the "
+            "constraints do not depend on it");
+}
+
+// A bead sent from the centre of a wire spinning at ω (the row
+// x sin ωt − y cos ωt = 0 depends on ω and t): r̈ = ω² r from r(0) = 0,
+// ṙ(0) = v, so r = (v/ω) sinh ωt, x = r cos ωt, y = r sin ωt. The start is
+// on the wire for every ω (g = 0 and ġ = x ω − ẏ = 0 there), so ∂x/∂ω is a
+// column, here against a Jet over ω of that closed form. T contains no ω:
+// the column comes through the row's derivative along ω (C and γ) alone.
+// Sent from x = 0.2 instead, ġ changes with ω (∂ġ/∂ω = x): refused.
+TEST(TextConstrainedSensitivity, SpinningWireRateEntersThroughTheRowClosedForm) {
+  const double omega = 1.5, v = 0.4;
+  const text::TextModel bead(spinning_wire_text(0.8, omega));
+  lagrangian::SensitivityOptions o;
+  o.run = lagrangian_test::lyapunov_options(2.0, 1e-12).run;
+  o.run.output_interval = 1.0;
+  o.parameters = {"omega", "m"};
+  const lagrangian::SensitivityResult r = text::sensitivities(bead, start({0.0, 0.0}, {v, 0.0}), o);
+  ASSERT_EQ(r.times.size(), 3u);
+  using J = lagrangian::ad::Jet<double, 1, 1>;
+  J w(omega);
+  w.g[0] = 1.0;
+  double worst = 0;
+  for (std::size_t i = 0; i < r.times.size(); ++i) {
+    const double t = r.times[i];
+    using std::cos, std::cosh, std::sin, std::sinh;
+    const J radius = v / w * sinh(w * t), rate = v * cosh(w * t);
+    const J x = radius * cos(w * t), y = radius * sin(w * t);
+    const J xd = rate * cos(w * t) - radius * w * sin(w * t), yd = rate * sin(w * t) + radius * w * cos(w * t);
+    const Eigen::Vector4d expected(x.g[0], y.g[0], xd.g[0], yd.g[0]);
+    ASSERT_EQ(r.sensitivities[i].cols(), 4 + 2);
+    worst = std::max(worst, (r.sensitivities[i].col(4) - expected).norm() / (1 + expected.norm()));
+    EXPECT_LE((r.sensitivities[i].col(4) - expected).norm(), 1e-9 * (1 + expected.norm()))
+        << "t = " << t << "\n" << r.sensitivities[i].col(4).transpose() << "\n" << expected.transpose();
+    EXPECT_LE(r.sensitivities[i].col(5).norm(), 1e-12);  // m: the motion does not depend on it
+  }
+  std::printf("bead on the spinning wire (text), column of omega against the closed form: %.1e relative (|s| = %.2f "
+              "at 2 s); m: %.1e\n",
+              worst, r.sensitivities.back().col(4).norm(), r.sensitivities.back().col(5).norm());
+  EXPECT_GT(r.sensitivities.back().col(4).norm(), 1.0);
+  o.parameters = {"omega"};
+  EXPECT_EQ(message_of([&] { (void)text::sensitivities(bead, start({0.2, 0.0}, {v, 0.3}), o); }),
+            "sensitivity: parameter 'omega' moves the constraint manifold past the start: d(g0 (rate))/domega = 0.2 "
+            "there, so the start would leave the constraints when omega changes; ask for other parameters, or start "
+            "where the constraints do not depend on it");
+}
+
+// The double pendulum with two rods as text, its masses and g against
+// central differences of simulate()'s state at t = 1 s (each parameter
+// moved by ±1e-5 of itself, as test_sensitivity.cpp does for the angle
+// model); a rod's length moves the manifold past the start: refused.
+TEST(TextConstrainedSensitivity, CartesianDoublePendulumParametersMatchCentralDifferences) {
+  const lm::CartesianDoublePendulum p(1.3, 0.7, 1.0, 0.8, 9.81);
+  const text::Definition d = cartesian_double_pendulum_text(p);
+  const double a1 = 1.2, a2 = -0.4, w1 = 0.3, w2 = 0.8;  // angles and rates
+  const double x1 = p.l1 * std::sin(a1), y1 = -p.l1 * std::cos(a1);
+  const double x2 = x1 + p.l2 * std::sin(a2), y2 = y1 - p.l2 * std::cos(a2);
+  const double u1 = p.l1 * std::cos(a1) * w1, v1 = p.l1 * std::sin(a1) * w1;
+  const double u2 = u1 + p.l2 * std::cos(a2) * w2, v2 = v1 + p.l2 * std::sin(a2) * w2;
+  const auto s = start({x1, y1, x2, y2}, {u1, v1, u2, v2});
+  lagrangian::SensitivityOptions o;
+  o.run.t_end = 1.0;
+  o.run.rtol = 1e-12;
+  o.run.atol = 1e-14;
+  o.initial_state = false;
+  o.parameters = {"m1", "m2", "g"};
+  const lagrangian::SensitivityResult r = text::sensitivities(text::TextModel(d), s, o);
+  const Eigen::MatrixXd& got = r.sensitivities.back();
+  ASSERT_EQ(got.cols(), 3);
+  const auto final_state = [&](const std::string& name, double value) {
+    text::Definition moved = d;
+    for (auto& [n, v] : moved.parameters)
+      if (n == name) v = value;
+    lagrangian::SimulationOptions so;
+    so.t_end = 1.0;
+    so.rtol = 1e-13;
+    so.atol = 1e-15;
+    so.output_interval = -1;
+    lagrangian::Recorder<lagrangian::Dynamic> rec;
+    lagrangian::simulate(text::TextModel(moved), s, so, rec);
+    Eigen::VectorXd x(8);
+    x << rec.samples.back().q, rec.samples.back().qd;
+    return x;
+  };
+  for (int j = 0; j < 3; ++j) {
+    const std::string& name = r.parameters[static_cast<std::size_t>(j)];
+    double value = 0;
+    for (const auto& [n, v] : d.parameters)
+      if (n == name) value = v;
+    const double h = 1e-5 * value;
+    const Eigen::VectorXd fd = (final_state(name, value + h) - final_state(name, value - h)) / (2 * h);
+    const double scale = fd.cwiseAbs().maxCoeff();
+    EXPECT_GT(scale, 1e-2) << name;
+    std::printf("Cartesian double pendulum (text) d/d%s: largest entry %.4f, against central differences %.2e of it\n",
+                name.c_str(), scale, (got.col(j) - fd).cwiseAbs().maxCoeff() / scale);
+    EXPECT_LE((got.col(j) - fd).cwiseAbs().maxCoeff(), 1e-6 * scale) << name << "\n" << got.col(j) << "\n\n" << fd;
+  }
+  o.parameters = {"l2"};
+  EXPECT_EQ(message_of([&] { (void)text::sensitivities(text::TextModel(d), s, o); }),
+            "sensitivity: parameter 'l2' moves the constraint manifold past the start: d(g1)/dl2 = -1 there, so the "
+            "start would leave the constraints when l2 changes; ask for other parameters, or start where the "
+            "constraints do not depend on it");
 }
 
 // Floquet multipliers on the manifold: the wire spinning at ω repeats after

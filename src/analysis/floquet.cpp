@@ -95,24 +95,24 @@ Eigen::VectorXd rate(const TangentModel& model, const Eigen::VectorXd& x, double
   return f;
 }
 
-/// ∇E at the state x (2n values) for E = p·q̇ − L of an autonomous,
-/// unforced model, from its rate f = (q̇, q̈) there: with C = ∂p/∂q,
-/// M = ∂p/∂q̇ and the Euler–Lagrange equations ∂L/∂q = ṗ = C q̇ + M q̈,
-///   ∂E/∂q = Cᵀ q̇ − C q̇ − M q̈,   ∂E/∂q̇ = M q̇.
-Eigen::VectorXd energy_gradient(const TangentModel& model, const Eigen::VectorXd& x, const Eigen::VectorXd& f,
-                                double t) {
+}  // namespace
+
+/// ∇E at the state x (2n values) for E = p·q̇ − L, p = ∂L/∂q̇: with
+/// C = ∂p/∂q and M = ∂p/∂q̇,
+///   ∂E/∂q = Cᵀ q̇ − ∂L/∂q,   ∂E/∂q̇ = M q̇,
+/// from L's derivatives alone (no equation of motion, so no constraint
+/// force enters).
+Eigen::VectorXd energy_gradient(const TangentModel& model, const Eigen::VectorXd& x, double t) {
   const int n = model.n;
   Eigen::MatrixXd dp(n, 2 * n);
-  model.momentum(model.model, x.data(), x.data() + n, t, dp.data());
-  const Eigen::VectorXd qd = x.tail(n), qdd = f.tail(n);
-  const Eigen::MatrixXd c = dp.leftCols(n), m = dp.rightCols(n);
+  Eigen::VectorXd dl_dq(n);
+  model.momentum(model.model, x.data(), x.data() + n, t, dp.data(), dl_dq.data());
+  const Eigen::VectorXd qd = x.tail(n);
   Eigen::VectorXd g(2 * n);
-  g.head(n) = c.transpose() * qd - c * qd - m * qdd;
-  g.tail(n) = m * qd;
+  g.head(n) = dp.leftCols(n).transpose() * qd - dl_dq;
+  g.tail(n) = dp.rightCols(n) * qd;
   return g;
 }
-
-}  // namespace
 
 FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, const double* qd0,
                                   const FloquetOptions& options) {
@@ -123,11 +123,6 @@ FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, c
   run.output_interval = -1;
   check_tangent_run(run, "floquet");
   if (options.find_orbit) {
-    if (model.manifold > 2 * model.manifold_holonomic)
-      throw AnalysisError(
-          "floquet: finding the periodic orbit is derived for holonomic constraints (the energy row of Newton's "
-          "step leaves out the constraint force, which does no work along a holonomic manifold only); this model "
-          "has Pfaffian ones: give a start on the orbit and its period");
     check_positive("closure_tolerance", options.closure_tolerance, "");
     if (options.max_iterations < 1) {
       std::ostringstream os;
@@ -169,9 +164,9 @@ FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, c
     // of the monodromy matrix C = B0ᵀ Φ B0), the equations are those
     // projected on it, B0ᵀ (x(t0 + T) − x0) + (C − I) δ + B0ᵀ f(x_end) δT = 0,
     // and the new start is projected back onto the manifold. (The energy
-    // row takes ∂L/∂q = ṗ, which misses the constraint force Gᵀλ; its
-    // virtual work λᵀ G δq vanishes along B0 when every row is holonomic,
-    // G δq = 0: Pfaffian rows are refused above.)
+    // row is ∇E from L itself, energy_gradient(): E is conserved under
+    // holonomic rows g(q) and Pfaffian rows A(q) q̇ = 0, whose forces do no
+    // work on the motion.)
     const int d = static_cast<int>(basis.cols());
     const int unknowns = options.fixed_period ? d : d + 1;
     const int rows = options.fixed_period ? d : d + (options.keep_energy ? 2 : 1);
@@ -184,7 +179,7 @@ FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, c
       const Eigen::VectorXd f0 = rate(model, x0, run.t0);
       a.block(d, 0, 1, d) = (basis.transpose() * f0).transpose();
       if (options.keep_energy)
-        a.block(d + 1, 0, 1, d) = (basis.transpose() * energy_gradient(model, x0, f0, run.t0)).transpose();
+        a.block(d + 1, 0, 1, d) = (basis.transpose() * energy_gradient(model, x0, run.t0)).transpose();
     }
     const Eigen::VectorXd step = a.completeOrthogonalDecomposition().solve(b);
     if (!step.allFinite()) throw AnalysisError("floquet: the Newton step for the periodic orbit is not finite");

@@ -76,10 +76,6 @@ class TangentSystem final : public System {
           "sensitivity: parameter columns across impacts are not derived (the impact map and the gaps may depend on "
           "the parameters); this model has " +
           std::to_string(model_.contacts) + " contacts: ask for the initial state's columns only");
-    if (model_.manifold > 0 && columns_ != k_)
-      throw AnalysisError(
-          "sensitivity: parameter columns of a model with holonomic or Pfaffian constraints are not derived (a "
-          "parameter may move the constraint manifold itself); ask for the initial state's columns only");
     jumped_.resize(2 * model_.n, columns_);
   }
 
@@ -139,10 +135,12 @@ class TangentSystem final : public System {
       canonical(x, t0);
       w_ = from_canonical(Eigen::MatrixXd::Identity(2 * model_.n, k_));
     } else if (model_.manifold > 0) {
-      // The monodromy matrix and the sensitivities on the manifold: B0.
-      if (start_basis_.cols() != k_)
+      // The monodromy matrix and the sensitivities on the manifold: B0, then
+      // the parameters' columns from 0.
+      if (k_ > 0 && start_basis_.cols() != k_)
         throw std::logic_error("TangentSystem: k differs from the dimension of the constraint manifold");
-      w_ = start_basis_;
+      w_.setZero();
+      w_.leftCols(k_) = start_basis_.leftCols(k_);
     } else {
       w_.setZero();
       w_.leftCols(k_) = Eigen::MatrixXd::Identity(2 * model_.n, k_);
@@ -162,9 +160,17 @@ class TangentSystem final : public System {
     load(x);
     times_.push_back(t);
     states_.push_back(std::move(state));
-    // On a manifold the d columns W = Φ B0 are recorded as Φ P0 = W B0ᵀ.
-    columns_taken_.push_back(model_.manifold > 0 && !benettin_ ? Eigen::MatrixXd(w_ * start_basis_.transpose())
-                                                               : w_);
+    // On a manifold the d columns W = Φ B0 are recorded as Φ P0 = W B0ᵀ,
+    // the parameters' columns as they are.
+    if (model_.manifold > 0 && !benettin_) {
+      const int d = k_ > 0 ? 2 * model_.n : 0, p = columns_ - k_;
+      Eigen::MatrixXd taken(2 * model_.n, d + p);
+      if (k_ > 0) taken.leftCols(d) = w_.leftCols(k_) * start_basis_.transpose();
+      taken.rightCols(p) = w_.rightCols(p);
+      columns_taken_.push_back(std::move(taken));
+    } else {
+      columns_taken_.push_back(w_);
+    }
   }
   void finish(double t, const double* x, bool sample_end) override {
     if (sample_end) sample(t, x);
@@ -244,7 +250,7 @@ class TangentSystem final : public System {
   /// Cholesky factor of M = ∂p/∂q̇.
   void canonical(const double* x, double t) {
     const int n = model_.n, c = coordinate_count();
-    model_.momentum(model_.model, x, x + c, t, p_.data());
+    model_.momentum(model_.model, x, x + c, t, p_.data(), nullptr);
     const Eigen::Map<const Eigen::MatrixXd> dp(p_.data(), n, 2 * n);
     llt_.compute(dp.rightCols(n));
     if (llt_.info() != Eigen::Success)

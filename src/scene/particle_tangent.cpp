@@ -135,11 +135,21 @@ class ParticleTangent {
     }
   }
   /// ∂p/∂(q, q̇) = [0 | diag(m ⊗ 1₃)] (n × 2n, column-major), p = m v.
-  static void momentum(const void* self, const double*, const double*, double, double* out) {
+  /// With `dl_dq`, ∂L/∂q = −∂V/∂q = m a(r, v), the force kernels' forces
+  /// (drag included: a scene with drag conserves no energy).
+  static void momentum(const void* self, const double* q, const double* qd, double, double* out, double* dl_dq) {
     const auto& s = *static_cast<const ParticleTangent*>(self);
     const int n = s.model_.dim();
     std::fill(out, out + 2 * n * n, 0.0);
     for (int i = 0; i < n; ++i) out[(n + i) * n + i] = s.model_.mass()[static_cast<std::size_t>(i / 3)];
+    if (dl_dq == nullptr) return;
+    JetOne *r = s.one_.data(), *v = r + n, *a = v + n;
+    for (int i = 0; i < n; ++i) {
+      r[i] = JetOne(q[i]);
+      v[i] = JetOne(qd[i]);
+    }
+    s.model_.force_accelerations(r, v, a);
+    for (int i = 0; i < n; ++i) dl_dq[i] = s.model_.mass()[static_cast<std::size_t>(i / 3)] * a[i].v;
   }
 
   mutable ParticleModel model_;  // its kernels count their evaluations

@@ -89,10 +89,12 @@ using Seed = ad::Jet<double, 1, 1>;
 template <int N>
 struct WithSeeds : FixedSizeModel<N> {
   std::vector<std::optional<FixedSizeModel<N, Seed>>> seeded;  // by the parameter's index
+  std::vector<double> values;                                   // the parameters' values
   WithSeeds(const FixedSizeModel<N>& fixed, const TextModel& model, const std::vector<int>& parameters)
       : FixedSizeModel<N>(fixed), seeded(model.parsed().definition.parameters.size()) {
+    for (const auto& [name, v] : model.parsed().definition.parameters) values.push_back(v);
     for (int i : parameters) {
-      Seed value(model.parsed().definition.parameters[static_cast<std::size_t>(i)].second);
+      Seed value(values[static_cast<std::size_t>(i)]);
       value.g[0] = 1.0;
       seeded[static_cast<std::size_t>(i)].emplace(model, i, value);
     }
@@ -109,6 +111,16 @@ void parameter_direction(const void* model, const double* q, const double* qd, d
   lagrangian::detail::jvp_along(base, q, qd, t, v, qdd, jv, &*twins[static_cast<std::size_t>(parameter)]);
 }
 
+/// ∂h/∂p of the constraint manifold's rows on the twin whose parameter is
+/// seeded (TangentModel::parameter_manifold); returns p.
+template <int N>
+double parameter_manifold(const void* model, const double* q, const double* qd, double t, int parameter, double* out) {
+  const auto& with = static_cast<const WithSeeds<N>&>(*static_cast<const FixedSizeModel<N>*>(model));
+  const std::size_t i = static_cast<std::size_t>(parameter);
+  lagrangian::detail::manifold_rows_along_parameter<N>(*with.seeded[i], q, qd, t, out);
+  return with.values[i];
+}
+
 }  // namespace
 
 SensitivityResult sensitivities(const TextModel& model, const State<Dynamic>& initial,
@@ -121,7 +133,10 @@ SensitivityResult sensitivities(const TextModel& model, const State<Dynamic>& in
     const WithSeeds<n> with(fixed, model, indices);
     const FixedSizeModel<n>& base = with;
     lagrangian::detail::TangentModel tm = lagrangian::detail::tangent_model_of(base, "sensitivity: ");
-    if (!indices.empty()) tm.evaluate_parameter = &parameter_direction<n>;
+    if (!indices.empty()) {
+      tm.evaluate_parameter = &parameter_direction<n>;
+      if (tm.manifold > 0) tm.parameter_manifold = &parameter_manifold<n>;
+    }
     return lagrangian::detail::sensitivities(tm, start.q.data(), start.qd.data(), indices, names, options);
   });
 }

@@ -32,11 +32,12 @@
 /// space repeats (a spinning wire) gives the same. With find_orbit the
 /// start moves in that tangent space (δx0 = B0 δ, the Newton equations
 /// projected on it) and is projected back onto the manifold after each
-/// step; holonomic constraints only (the energy row leaves out the
-/// constraint force, whose virtual work vanishes along the tangent
-/// displacements of a holonomic manifold alone). A time-dependent
-/// constraint repeats with its own period: take fixed_period and
-/// keep_energy = false, as for a driven model.
+/// step, for holonomic and Pfaffian constraints alike (the energy row is
+/// ∇E from L itself; holonomic rows g(q) and Pfaffian rows A(q) q̇ = 0 do
+/// no work on the motion, so E is conserved). A time-dependent constraint
+/// repeats with its own period, and a Pfaffian row with a term free of q̇
+/// does work: take fixed_period and keep_energy = false there, as for a
+/// driven model.
 ///
 /// With find_orbit, floquet_multipliers() first finds the periodic orbit near
 /// the start and a guessed period by Newton's method on x(t0 + T; x0) − x0 = 0, with the
@@ -104,14 +105,17 @@ namespace detail {
 /// The monodromy matrix over a TangentModel (src/analysis/floquet.cpp).
 FloquetResult floquet_multipliers(const TangentModel& model, const double* q0, const double* qd0,
                                   const FloquetOptions& options);
+/// ∇E = (∂E/∂q, ∂E/∂q̇) of E = p·q̇ − L at the state x = (q, q̇) (2n
+/// values) and t, from L's derivatives alone (find_orbit's energy row;
+/// src/analysis/floquet.cpp).
+Eigen::VectorXd energy_gradient(const TangentModel& model, const Eigen::VectorXd& x, double t);
 }  // namespace detail
 
 /// The Floquet multipliers of the motion of `model` from `initial` at
 /// options.run.t0 over one period (see the file comment). Throws
 /// OptionError for a bad option (naming it and its value), AnalysisError
-/// for constraints the tangent flow is not derived for (tangent_flow.hpp),
-/// for find_orbit on a model with Pfaffian constraints or,
-/// with find_orbit, when
+/// for constraints the tangent flow is not derived for (tangent_flow.hpp)
+/// or, with find_orbit, when
 /// Newton's method finds no orbit within max_iterations (with the closure
 /// reached), its period leaves [T/2, 2T] of the guess T (every motion
 /// closes as T → 0) or its start cannot be projected back onto a constraint

@@ -77,6 +77,7 @@
 /// 1e-9) is a ConstraintError; a manifold of dimension 0 (constraints that
 /// leave no motion) an AnalysisError.
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -129,8 +130,12 @@ struct TangentModel {
   const void* model = nullptr;
   void (*evaluate)(const void* model, const double* q, const double* qd, double t, double* qdd, double* jacobian) =
       nullptr;
-  /// ∂p/∂(q, q̇) at (q, q̇, t) (n × 2n, column-major; momentum_jacobian()).
-  void (*momentum)(const void* model, const double* q, const double* qd, double t, double* out) = nullptr;
+  /// ∂p/∂(q, q̇) at (q, q̇, t) (n × 2n, column-major; momentum_jacobian())
+  /// and, unless `dl_dq` is null, ∂L/∂q (n values; a particle scene gives
+  /// its force kernels' forces, drag included, which only a scene without
+  /// drag has as −∂V/∂q).
+  void (*momentum)(const void* model, const double* q, const double* qd, double t, double* out,
+                   double* dl_dq) = nullptr;
   int n = 0;
   /// q̈ and (∂q̈/∂(q, q̇)) v along one direction v (2n values) at (q, q̇, t),
   /// without the whole Jacobian (state_jvp() with K = 1): what one tangent
@@ -141,6 +146,12 @@ struct TangentModel {
   /// `parameter` (sensitivity.hpp); null unless parameters were asked for.
   void (*evaluate_parameter)(const void* model, const double* q, const double* qd, double t, const double* v,
                              int parameter, double* qdd, double* jv) = nullptr;
+  /// For a model with holonomic or Pfaffian rows and parameters asked for:
+  /// ∂h/∂p of the manifold's rows h = (g, ġ, φ) along the parameter number
+  /// `parameter` at (q, q̇, t) (`manifold` values into `out`,
+  /// manifold_rows_along_parameter()); it returns the parameter's value.
+  double (*parameter_manifold)(const void* model, const double* q, const double* qd, double t, int parameter,
+                               double* out) = nullptr;
   /// The model's contacts, crossed at their impacts by the saltation
   /// matrix (saltation.hpp): their number (0 for none), names and
   /// restitution coefficients, their gaps φ_j(q, t) and rates φ̇_j
@@ -207,13 +218,16 @@ void evaluate_tangent_direction(const void* model, const double* q, const double
 }
 
 template <class M>
-void evaluate_momentum(const void* model, const double* q, const double* qd, double t, double* out) {
+void evaluate_momentum(const void* model, const double* q, const double* qd, double t, double* out,
+                       double* dl_dq) {
   constexpr int n = coordinate_count_v<M>;
   Eigen::Matrix<double, n, 2 * n> j;
+  Vec<double, n> gradient;
   momentum_jacobian(*static_cast<const M*>(model), Eigen::Map<const Vec<double, n>>(q),
-                    Eigen::Map<const Vec<double, n>>(qd), t, j);
+                    Eigen::Map<const Vec<double, n>>(qd), t, j, &gradient);
   Eigen::Map<Eigen::Matrix<double, n, 2 * n>> out_map(out);
   out_map = j;
+  if (dl_dq != nullptr) std::copy(gradient.data(), gradient.data() + n, dl_dq);
 }
 
 template <class M>
@@ -283,8 +297,12 @@ void evaluate_own_projection(const void* model, double* q, double* qd, double t)
 template <class M>
 TangentModel tangent_model_of(const M& model, const std::string& prefix) {
   require_tangent_flow_constraints(model, prefix);
-  TangentModel tm{&model, &evaluate_tangent<M>, &evaluate_momentum<M>, coordinate_count_v<M>,
-                  &evaluate_tangent_direction<M>};
+  TangentModel tm;
+  tm.model = &model;
+  tm.evaluate = &evaluate_tangent<M>;
+  tm.momentum = &evaluate_momentum<M>;
+  tm.n = coordinate_count_v<M>;
+  tm.evaluate_direction = &evaluate_tangent_direction<M>;
   if constexpr (bilateral_rows_v<M> != 0) {
     const int mh = holonomic_count(model), mp = pfaffian_count(model);
     if (mh + mp > 0) {

@@ -32,8 +32,9 @@
 /// `static constexpr std::array<std::string_view, np> parameter_names`;
 /// Model<Q> must be default constructible (its parameters are then set from
 /// the model's), and hold nothing computed from its parameters (a cached
-/// m1 + m2 would keep its default). The built-in double pendulum, harmonic oscillator and
-/// projectiles are written so (models/pendulums.hpp, models/projectile.hpp).
+/// m1 + m2 would keep its default). The built-in double pendulum, harmonic oscillator,
+/// projectiles and Atwood machine are written so (models/pendulums.hpp,
+/// models/projectile.hpp, models/constrained.hpp).
 ///
 /// Scope as tangent_flow.hpp: models with a fixed n ≤ 6 coordinates.
 /// **Constraints.** A model with holonomic or Pfaffian constraints moves on
@@ -47,9 +48,16 @@
 /// "not admissible"). Nothing projects the state or the columns back onto
 /// the manifold during the run: they drift off it by what the tolerances
 /// let through. A manifold of dimension 0 (constraints that leave no
-/// motion) is an AnalysisError. Parameter columns of such a model are
-/// refused (AnalysisError): a parameter may move the manifold and so the
-/// start.
+/// motion) is an AnalysisError. A parameter column s = ∂x/∂p of such a
+/// model differentiates q̈ through the saddle-point system with the rows'
+/// own derivatives along p (an incline's slope, a wire's rate of turn: C, γ and
+/// their derivatives from the rows of the seeded model), from s(t0) = 0:
+/// the start is the same for every p, so it must stay on the manifold when
+/// p changes, ∂h/∂p = 0 at the start. A parameter that moves the manifold
+/// past the start (h = (g, ġ, φ) changing by more than the 1e-9 the start is
+/// held to when p changes by max(|p|, 1)) is refused with AnalysisError
+/// naming it and the row. Along the motion s obeys ∂h/∂x s + ∂h/∂p = 0: it
+/// leaves the tangent space where the rows depend on p.
 /// A model's contacts are crossed at their impacts
 /// by the saltation matrix (saltation.hpp) for the initial state's columns;
 /// parameter columns of a model with contacts are refused (AnalysisError).
@@ -129,22 +137,41 @@ struct SensitivityResult {
 
 namespace detail {
 
-/// q̈ and J v + ∂q̈/∂p_parameter (n values) at (q, q̇, t) for v = (δq, δq̇)
-/// (2n values): state_jvp() with K = 1 on the model with its parameter
-/// seeded.
+/// The model with parameters of type ad::Jet<double, 1, 1>, the parameter
+/// number `parameter` carrying the derivative 1.
 template <class M>
-void evaluate_parameter_direction(const void* model, const double* q, const double* qd, double t, const double* v,
-                                  int parameter, double* qdd, double* jv) {
+typename M::template with_parameter_type<ad::Jet<double, 1, 1>> seeded_twin(const M& m, int parameter) {
   using I = ad::Jet<double, 1, 1>;
   using E = typename M::template with_parameter_type<I>;
-  const M& m = *static_cast<const M*>(model);
   constexpr auto from = M::parameter_members();
   constexpr auto to = E::parameter_members();
   static_assert(from.size() == to.size(), "with_parameter_type<Q> lists other parameters than the model");
   E seeded;
   for (std::size_t i = 0; i < from.size(); ++i) seeded.*to[i] = I(m.*from[i]);
   (seeded.*to[static_cast<std::size_t>(parameter)]).g[0] = 1.0;
+  return seeded;
+}
+
+/// q̈ and J v + ∂q̈/∂p_parameter (n values) at (q, q̇, t) for v = (δq, δq̇)
+/// (2n values): state_jvp() with K = 1 on the model with its parameter
+/// seeded.
+template <class M>
+void evaluate_parameter_direction(const void* model, const double* q, const double* qd, double t, const double* v,
+                                  int parameter, double* qdd, double* jv) {
+  const M& m = *static_cast<const M*>(model);
+  const auto seeded = seeded_twin(m, parameter);
   jvp_along(m, q, qd, t, v, qdd, jv, &seeded);
+}
+
+/// TangentModel::parameter_manifold of a model with holonomic or Pfaffian
+/// rows: ∂h/∂p on its seeded twin; returns p.
+template <class M>
+double evaluate_parameter_manifold(const void* model, const double* q, const double* qd, double t, int parameter,
+                                   double* out) {
+  constexpr int n = coordinate_count_v<M>;
+  const M& m = *static_cast<const M*>(model);
+  manifold_rows_along_parameter<n>(seeded_twin(m, parameter), q, qd, t, out);
+  return m.*M::parameter_members()[static_cast<std::size_t>(parameter)];
 }
 
 /// The sensitivities over a TangentModel (src/analysis/sensitivity.cpp);
@@ -164,7 +191,8 @@ std::vector<int> parameter_indices(const std::vector<std::string>& wanted, const
 /// option or an unknown parameter (naming it), ConstraintError for a start
 /// off a constraint manifold, AnalysisError for parameters a model does not
 /// offer (has_parameter_type_v), parameters of a model with contacts or
-/// constraints, constraints together with contacts, more than
+/// parameters that move the constraint manifold past the start, constraints
+/// together with contacts, more than
 /// kMaxRuntimeBilateralRows constraint rows counted at run time, or
 /// constraints that leave no motion, SimulationError when the run fails.
 template <class M>
@@ -180,6 +208,9 @@ SensitivityResult sensitivities(const M& model, const State<coordinate_count_v<M
       names = parameter_names_of<M>();
       indices = detail::parameter_indices(options.parameters, names);
       tm.evaluate_parameter = &detail::evaluate_parameter_direction<M>;
+      if constexpr (detail::bilateral_rows_v<M> != 0) {
+        if (tm.manifold > 0) tm.parameter_manifold = &detail::evaluate_parameter_manifold<M>;
+      }
     } else {
       throw AnalysisError("sensitivity: model '" + model_name(model) +
                           "' does not offer parameter sensitivities: its parameters are not of a template type "

@@ -193,7 +193,7 @@ void constant_mass_jvp(const M& model, const E& eval, const Vec<double, n>& q, c
       for (int i = 0; i < n; ++i) put(i, d.g[i], -1.0);
     }
   }
-  finish_tangent<n, K>(model, mass, r, [&](int c) -> const Mat<double, n>& { return dmass[c]; }, q, qd, t, v, qdd,
+  finish_tangent<n, K>(eval, mass, r, [&](int c) -> const Mat<double, n>& { return dmass[c]; }, q, qd, t, v, qdd,
                        jv);
 }
 /// state_jvp() of any other model: L on TangentNumber<n, K> (the file
@@ -237,7 +237,7 @@ void eom_tangent_jvp(const M& model, const E& eval, const Vec<double, n>& q, con
   Mat<double, n> mass, dmass;
   l.v.hessian_to(mass);
   finish_tangent<n, K>(
-      model, mass, r,
+      eval, mass, r,
       [&](int c) -> const Mat<double, n>& {
         l.g[c].hessian_to(dmass);
         return dmass;
@@ -257,9 +257,11 @@ inline constexpr int kTangentPassDirections = 4;
 /// costs a fraction of the whole Jacobian (see state_jacobian()). With
 /// `seeded`, the same model with parameters of type ad::Jet<double, K, 1>
 /// carrying derivatives along the K directions too (sensitivity.hpp), L
-/// is evaluated on it, and column c of JV is the derivative of q̈ along the
-/// state direction V_c and the parameter direction of its seeds together:
-/// (∂q̈/∂x) V_c + (∂q̈/∂p) δp_c. Throws DynamicsError when M is not
+/// and the constraint rows are evaluated on it, and column c of JV is the
+/// derivative of q̈ along the state direction V_c and the parameter
+/// direction of its seeds together: (∂q̈/∂x) V_c + (∂q̈/∂p) δp_c (a model
+/// whose rows are counted at run time takes K = 1 then: AnalysisError
+/// otherwise). Throws DynamicsError when M is not
 /// positive definite there, AnalysisError for constraints the tangent flow
 /// is not derived for (require_tangent_flow_constraints(); contacts are
 /// ignored: the free motion's J).
@@ -276,11 +278,12 @@ void state_jvp(const M& model, const Vec<double, coordinate_count_v<M>>& q, cons
                 "coordinates");
   static_assert(K >= 1 && K <= 2 * n, "state_jvp: between 1 and 2n directions");
   detail::require_tangent_flow_constraints(model, "");
-  if constexpr (!std::is_same_v<E, M>) {
+  if constexpr (!std::is_same_v<E, M> && detail::bilateral_rows_v<M> == Dynamic && K > 1) {
     if (holonomic_count(model) + pfaffian_count(model) > 0)
       throw AnalysisError(
-          "state_jvp: derivatives along a parameter of a model with holonomic or Pfaffian constraints are not "
-          "derived (the constraint rows may depend on it)");
+          "state_jvp: derivatives along a parameter of a model whose constraint rows are counted at run time are "
+          "taken one direction at a time (K = 1), not K = " +
+          std::to_string(K));
   }
   const E& eval = [&]() -> const E& {
     if constexpr (std::is_same_v<E, M>) {
@@ -322,11 +325,13 @@ void state_jacobian(const M& model, const Vec<double, coordinate_count_v<M>>& q,
 /// ∂p/∂(q, q̇) at (q, q̇, t), p = ∂L/∂q̇: the n × 2n matrix [C, M] with
 /// C_ij = ∂²L/∂q̇_i∂q_j and M = ∂²L/∂q̇² (one second-order ad::Jet pass over
 /// (q, q̇)). It maps a tangent vector (δq, δq̇) to the canonical one
-/// (δq, δp = C δq + M δq̇).
+/// (δq, δp = C δq + M δq̇). With `lagrangian_gradient`, ∂L/∂q (n values,
+/// N or N·m) from the same pass.
 template <class M>
 void momentum_jacobian(const M& model, const Vec<double, coordinate_count_v<M>>& q,
                        const Vec<double, coordinate_count_v<M>>& qd, double t,
-                       Eigen::Matrix<double, coordinate_count_v<M>, 2 * coordinate_count_v<M>>& out) {
+                       Eigen::Matrix<double, coordinate_count_v<M>, 2 * coordinate_count_v<M>>& out,
+                       Vec<double, coordinate_count_v<M>>* lagrangian_gradient = nullptr) {
   check_model<M>();
   constexpr int n = coordinate_count_v<M>;
   static_assert(n != Dynamic, "momentum_jacobian: for models with a fixed coordinate_count");
@@ -339,6 +344,8 @@ void momentum_jacobian(const M& model, const Vec<double, coordinate_count_v<M>>&
   const J l = detail::lagrangian_of(model, qj, qdj, J(t));
   for (int i = 0; i < n; ++i)
     for (int c = 0; c < 2 * n; ++c) out(i, c) = l.hess(n + i, c);
+  if (lagrangian_gradient != nullptr)
+    for (int i = 0; i < n; ++i) (*lagrangian_gradient)[i] = l.g[i];
 }
 
 }  // namespace lagrangian

@@ -40,13 +40,15 @@ void project_state(const std::shared_ptr<const Parsed>& parsed, double* q, doubl
 }  // namespace detail
 
 /// The text model `model` as a model of N coordinates: T (J), V (J), Q (N
-/// or N·m per coordinate) and D (W) are the model's expressions, bound to
-/// its parameters' values. With P = ad::Jet<double, K, 1>
-/// (with_parameter_type: the seeded twin of analysis/sensitivity.hpp), one
-/// parameter is a number of type P, carrying derivatives along K
-/// directions, and T, V, Q and D are bound to the others only (the
-/// constraints keep every parameter's value: derivatives along a parameter
-/// are not taken for a constrained model, analysis/sensitivity.hpp).
+/// or N·m per coordinate), D (W) and the constraint rows are the model's
+/// expressions, bound to its parameters' values. With
+/// P = ad::Jet<double, K, 1> (with_parameter_type: the seeded twin of
+/// analysis/sensitivity.hpp), one parameter is a number of type P, carrying
+/// derivatives along K directions, and every expression is bound to the
+/// others only: a parameter that moves the holonomic or Pfaffian rows (an
+/// incline's slope, a wire's rate) is differentiated through them too (the
+/// rows of a model counted at run time take one direction at a time, so
+/// there K = 1: analysis/tangent_flow.hpp).
 template <int N, class P = double>
 class FixedSizeModel {
  public:
@@ -70,6 +72,8 @@ class FixedSizeModel {
     potential_ = bind_parameters(p_->potential, values, parameter);
     dissipation_ = bind_parameters(p_->dissipation, values, parameter);
     for (const Expression& f : p_->forces) forces_.push_back(bind_parameters(f, values, parameter));
+    for (const Expression& g : p_->holonomic) holonomic_.push_back(bind_parameters(g, values, parameter));
+    for (const Expression& a : p_->pfaffian) pfaffian_.push_back(bind_parameters(a, values, parameter));
   }
 
   std::string name() const { return p_->definition.name; }
@@ -118,13 +122,13 @@ class FixedSizeModel {
   int holonomic_count() const { return static_cast<int>(p_->holonomic_bound.size()); }
   template <class S>
   Eigen::Map<const Vec<S, Dynamic>> holonomic(const Vec<S, N>& q, const S& t) const {
-    return detail::constraint_rows<S>(0, p_->holonomic_bound, q, q, t);
+    return rows(0, holonomic_, p_->holonomic_bound, q, q, t);
   }
   /// Pfaffian φ(q, q̇, t) = A q̇ + a = 0 (m/s or rad/s):
   int pfaffian_count() const { return static_cast<int>(p_->pfaffian_bound.size()); }
   template <class S>
   Eigen::Map<const Vec<S, Dynamic>> pfaffian(const Vec<S, N>& q, const Vec<S, N>& qd, const S& t) const {
-    return detail::constraint_rows<S>(2, p_->pfaffian_bound, q, qd, t);
+    return rows(2, pfaffian_, p_->pfaffian_bound, q, qd, t);
   }
   /// Contacts, gaps φ(q, t) ≥ 0 (m or rad), with their restitution coefficients:
   int unilateral_count() const { return static_cast<int>(p_->gaps_bound.size()); }
@@ -154,7 +158,7 @@ class FixedSizeModel {
   }
 
   /// `own` (the twin's expression, its parameter kept) with that parameter
-  /// as a number of type S (value_ lifted into S), or `bound` (P = double).
+  /// as a number of type S (lifted()), or `bound` (P = double).
   template <class S, class QVec>
   S value(const Expression& own, const Expression& bound, const QVec& q, const QVec& qd, const S& t) const {
     if constexpr (!seeded) {
@@ -162,14 +166,50 @@ class FixedSizeModel {
       return evaluate(bound, q, qd, t, detail::slots<S>());
     } else {
       (void)bound;
-      thread_local std::vector<S> lifted;  // only the kept parameter's entry is read
-      const std::size_t at = static_cast<std::size_t>(parameter_);
-      if (lifted.size() <= at) lifted.resize(at + 1);
-      using B = typename S::value_type;
-      lifted[at] = S(B(value_.v));
-      for (int c = 0; c < P::directions; ++c) lifted[at].g[static_cast<std::size_t>(c)] = B(value_.g[c]);
-      return evaluate(own, q, qd, t, detail::slots<S>(), lifted.data());
+      return evaluate(own, q, qd, t, detail::slots<S>(), lifted<S>());
     }
+  }
+
+  /// The rows of one kind (text_model.hpp's constraint_rows()): `own` (the
+  /// twin's, on q as a vector of any length, so the interpreter is compiled
+  /// once per number type, not per N) or `bound` (P = double).
+  template <class S>
+  Eigen::Map<const Vec<S, Dynamic>> rows(int kind, const std::vector<Expression>& own,
+                                         const std::vector<Expression>& bound, const Vec<S, N>& q,
+                                         const Vec<S, N>& qd, const S& t) const {
+    if constexpr (!seeded) {
+      (void)own;
+      return detail::constraint_rows<S>(kind, bound, q, qd, t);
+    } else {
+      (void)bound;
+      using V = Eigen::Map<const Vec<S, Dynamic>>;
+      return detail::constraint_rows<S>(kind, own, V(q.data(), N), V(qd.data(), N), t, lifted<S>());
+    }
+  }
+
+  /// This thread's parameter values as numbers of type S, only the twin's
+  /// parameter's entry set: value_ with its derivatives at the level of S
+  /// that carries the K directions — S itself (S = P), the value of each of
+  /// S's parts (S a Jet over P: the constraint rows' numbers, whose own
+  /// derivatives are along q or the path) or S's derivatives (S a Jet over
+  /// the Euler–Lagrange numbers along the directions, the tangent pass).
+  template <class S>
+  const S* lifted() const {
+    thread_local std::vector<S> values;
+    const std::size_t at = static_cast<std::size_t>(parameter_);
+    if (values.size() <= at) values.resize(at + 1);
+    S& x = values[at];
+    if constexpr (std::is_same_v<S, P>) {
+      x = value_;
+    } else if constexpr (std::is_same_v<typename S::value_type, P>) {
+      x = S(value_);
+    } else {
+      static_assert(S::directions >= P::directions, "text::FixedSizeModel: the parameter's directions are S's");
+      using B = typename S::value_type;
+      x = S(B(value_.v));
+      for (int c = 0; c < P::directions; ++c) x.g[static_cast<std::size_t>(c)] = B(value_.g[c]);
+    }
+    return values.data();
   }
 
   std::shared_ptr<const Parsed> p_;
@@ -178,7 +218,7 @@ class FixedSizeModel {
   int parameter_ = -1;
   P value_{};
   Expression kinetic_, potential_, dissipation_;
-  std::vector<Expression> forces_;
+  std::vector<Expression> forces_, holonomic_, pfaffian_;
 };
 
 }  // namespace lagrangian::text

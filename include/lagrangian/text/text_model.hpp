@@ -84,15 +84,16 @@ std::vector<S>& slots() {
 /// holonomic, 1 contacts, 2 Pfaffian) at (q, q̇, t) on numbers S, into this
 /// thread's vector for that kind, S and vector type QV: no allocation per
 /// call; the values hold until the next call with the same kind, S and QV
-/// on this thread.
-template <class S, class QV>
+/// on this thread. `parameters`, for expressions that keep parameters
+/// (text::evaluate()): their values as numbers of type S.
+template <class S, class QV, class P = double>
 Eigen::Map<const Vec<S, Dynamic>> constraint_rows(int kind, const std::vector<Expression>& es, const QV& q,
-                                                  const QV& qd, const S& t) {
+                                                  const QV& qd, const S& t, const P* parameters = nullptr) {
   thread_local Vec<S, Dynamic> vectors[3];
   Vec<S, Dynamic>& out = vectors[kind];
   const int m = static_cast<int>(es.size());
   if (out.size() < m) out.resize(m);
-  for (int i = 0; i < m; ++i) out[i] = evaluate(es[static_cast<std::size_t>(i)], q, qd, t, slots<S>());
+  for (int i = 0; i < m; ++i) out[i] = evaluate(es[static_cast<std::size_t>(i)], q, qd, t, slots<S>(), parameters);
   return {out.data(), m};
 }
 

@@ -161,7 +161,8 @@ struct ParticleOnSphere {
 /// (c/2 + d − y_i falls through 0) stop the run. The string never goes
 /// slack: its tension, the multiplier, is 2 m1 m2 g / (m1 + m2) ≥ 0 at every
 /// state, whatever the velocities.
-struct AtwoodMachine {
+template <class P = double>
+struct BasicAtwoodMachine {
   static constexpr int coordinate_count = 2;
   static constexpr ModelDescription description{
       "atwood_machine",
@@ -173,10 +174,18 @@ struct AtwoodMachine {
        {"g", 9.81, "m/s^2", "acceleration of gravity"},
        {"c", 0.0, "m", "string constant: y1 + y2 = c"},
        {"d", 1.0, "m", "height of the pulley's axle above c/2: a mass reaching it stops the run"}}};
-  double m1, m2, g, c, d;
-  explicit AtwoodMachine(double mass1 = description.value("m1"), double mass2 = description.value("m2"),
-                         double gravity = description.value("g"), double length = description.value("c"),
-                         double pulley_height = description.value("d"))
+  P m1, m2, g, c, d;
+  /// The model with parameters of type Q (parameter sensitivities,
+  /// analysis/sensitivity.hpp), and its parameters in the description's order.
+  template <class Q>
+  using with_parameter_type = BasicAtwoodMachine<Q>;
+  static constexpr std::array<P BasicAtwoodMachine::*, 5> parameter_members() {
+    return {&BasicAtwoodMachine::m1, &BasicAtwoodMachine::m2, &BasicAtwoodMachine::g, &BasicAtwoodMachine::c,
+            &BasicAtwoodMachine::d};
+  }
+  explicit BasicAtwoodMachine(double mass1 = description.value("m1"), double mass2 = description.value("m2"),
+                              double gravity = description.value("g"), double length = description.value("c"),
+                              double pulley_height = description.value("d"))
       : m1(require_positive("AtwoodMachine", "m1", mass1)),
         m2(require_positive("AtwoodMachine", "m2", mass2)),
         g(require_nonnegative("AtwoodMachine", "g", gravity)),
@@ -188,7 +197,7 @@ struct AtwoodMachine {
   std::array<std::string_view, 1> holonomic_names() const { return {"string"}; }
   std::array<std::string_view, 1> constraint_units() const { return {"m"}; }  ///< g in m: λ, the tension, in N
   /// Height of the pulley's axle (m), where a mass reaches the pulley.
-  double pulley_axle() const { return 0.5 * c + d; }
+  P pulley_axle() const { return 0.5 * c + d; }
   /// c/2 + d − y_i (m): each mass's distance below the pulley's axle.
   template <class S>
   Vec<S, 2> events(const Vec<S, 2>& q, const Vec<S, 2>&, const S&) const {
@@ -211,6 +220,8 @@ struct AtwoodMachine {
     return Vec<S, 1>(q[0] + q[1] - c);
   }
 };
+/// The Atwood machine with parameters in double precision.
+using AtwoodMachine = BasicAtwoodMachine<>;
 
 /// Double pendulum in Cartesian coordinates (x1, y1, x2, y2) with two rod
 /// constraints |r1| = l1 and |r2 − r1| = l2.

@@ -272,6 +272,8 @@ void solve_constrained_tangent(const M& model, const Mat<double, n>& mass, const
 
 /// The last step of the tangent pass of `model`: solve_constrained_tangent()
 /// when it has holonomic or Pfaffian rows, solve_tangent() otherwise.
+/// `model` is the one the pass evaluated L on: along a parameter, its
+/// seeded twin, whose rows then carry their derivative along it too.
 template <int n, int K, class M, class DMass>
 void finish_tangent(const M& model, const Mat<double, n>& mass, const Eigen::Matrix<double, n, K + 1>& r,
                     DMass&& dmass, const Vec<double, n>& q, const Vec<double, n>& qd, double t,
@@ -284,6 +286,29 @@ void finish_tangent(const M& model, const Mat<double, n>& mass, const Eigen::Mat
   }
   (void)model, (void)v;
   solve_tangent<n, K>(mass, r, dmass, q, qd, t, qdd, jv);
+}
+
+/// The rows h = (g, ġ, φ) of `model` (manifold_rows()) on numbers D at
+/// (q, q̇, t) given as such numbers: put(row, h_row) for each of the
+/// 2 mh + mp rows, ġ as the derivative of g along the path (q + s q̇, t + s).
+template <class M, class D, int n, class Put>
+void manifold_rows_on(const M& model, const Vec<D, n>& q, const Vec<D, n>& qd, const D& t, Put&& put) {
+  const int mh = holonomic_count(model), mp = pfaffian_count(model);
+  if constexpr (holonomic_count_v<M> != 0) {
+    using P = ad::Jet<D, 1, 1>;
+    Vec<P, n> qp;
+    P tp;
+    ad::along_path(q, qd, t, qp, tp);
+    const auto g = model.holonomic(qp, tp);
+    for (int i = 0; i < mh; ++i) {
+      put(i, g[i].v);
+      put(mh + i, g[i].g[0]);
+    }
+  }
+  if constexpr (pfaffian_count_v<M> != 0) {
+    const auto phi = model.pfaffian(q, qd, t);
+    for (int i = 0; i < mp; ++i) put(2 * mh + i, phi[i]);
+  }
 }
 
 /// The constraint manifold in the state space x = (q, q̇) at (q, q̇, t):
@@ -301,10 +326,6 @@ void manifold_rows(const M& model, const Vec<double, coordinate_count_v<M>>& q,
   Eigen::Map<Eigen::Matrix<double, Dynamic, 2 * n>> jac(jacobian, 2 * mh + mp, 2 * n);
   for (int first = 0; first < 2 * n; first += W) {
     const int count = std::min(W, 2 * n - first);
-    const auto put = [&](int row, const D& x) {
-      residual[row] = x.v;
-      for (int w = 0; w < count; ++w) jac(row, first + w) = x.g[w];
-    };
     Vec<D, n> qx, qdx;
     for (int k = 0; k < n; ++k) {
       qx[k] = D(q[k]);
@@ -314,22 +335,27 @@ void manifold_rows(const M& model, const Vec<double, coordinate_count_v<M>>& q,
       const int j = first + w;
       (j < n ? qx[j] : qdx[j - n]).g[w] = 1.0;
     }
-    if constexpr (holonomic_count_v<M> != 0) {
-      using P = ad::Jet<D, 1, 1>;  // along the path (q + s q̇, t + s)
-      Vec<P, n> qp;
-      P tp;
-      ad::along_path(qx, qdx, D(t), qp, tp);
-      const auto g = model.holonomic(qp, tp);
-      for (int i = 0; i < mh; ++i) {
-        put(i, g[i].v);
-        put(mh + i, g[i].g[0]);
-      }
-    }
-    if constexpr (pfaffian_count_v<M> != 0) {
-      const auto phi = model.pfaffian(qx, qdx, D(t));
-      for (int i = 0; i < mp; ++i) put(2 * mh + i, phi[i]);
-    }
+    manifold_rows_on(model, qx, qdx, D(t), [&](int row, const D& x) {
+      residual[row] = x.v;
+      for (int w = 0; w < count; ++w) jac(row, first + w) = x.g[w];
+    });
   }
+}
+
+/// ∂h/∂p at (q, q̇, t), h = (g, ġ, φ) the rows of manifold_rows(), for the
+/// parameter seeded in `seeded` (the model with parameters of type
+/// ad::Jet<double, 1, 1>, one of them carrying the derivative 1:
+/// sensitivity.hpp): how the constraint manifold moves past the state when
+/// the parameter changes (2 mh + mp values into `out`; q and q̇ n values each).
+template <int n, class E>
+void manifold_rows_along_parameter(const E& seeded, const double* q, const double* qd, double t, double* out) {
+  using D = ad::Jet<double, 1, 1>;  // the parameter's direction
+  Vec<D, n> qx, qdx;
+  for (int k = 0; k < n; ++k) {
+    qx[k] = D(q[k]);
+    qdx[k] = D(qd[k]);
+  }
+  manifold_rows_on(seeded, qx, qdx, D(t), [&](int row, const D& x) { out[row] = x.g[0]; });
 }
 
 }  // namespace lagrangian::detail
