@@ -38,8 +38,7 @@ namespace lagrangian::detail {
 /// tangent space orthonormal in the reduced canonical coordinates
 /// (Uᵀ δq, Uᵀ δp), U a basis of ker ∂g/∂q, in which it is factored; a
 /// renormalisation projects the state onto the manifold and the vectors
-/// onto its tangent space first)
-/// and Benettin's renormalisation is the
+/// onto its tangent space first) and Benettin's renormalisation is the
 /// system's one event: after an accepted step in which a tangent vector's
 /// length changed by more than a factor e since the last one, or `longest`
 /// seconds after it, the canonical tangent matrix Z = P W
@@ -134,16 +133,16 @@ class TangentSystem final : public System {
     } else if (benettin_) {
       canonical(x, t0);
       w_ = from_canonical(Eigen::MatrixXd::Identity(2 * model_.n, k_));
-    } else if (model_.manifold > 0) {
-      // The monodromy matrix and the sensitivities on the manifold: B0, then
-      // the parameters' columns from 0.
-      if (k_ > 0 && start_basis_.cols() != k_)
+    } else {
+      // The monodromy matrix and the sensitivities: the first k unit vectors
+      // (on a manifold B0), then the parameters' columns from 0.
+      if (model_.manifold > 0 && k_ > 0 && start_basis_.cols() != k_)
         throw std::logic_error("TangentSystem: k differs from the dimension of the constraint manifold");
       w_.setZero();
-      w_.leftCols(k_) = start_basis_.leftCols(k_);
-    } else {
-      w_.setZero();
-      w_.leftCols(k_) = Eigen::MatrixXd::Identity(2 * model_.n, k_);
+      if (model_.manifold > 0)
+        w_.leftCols(k_) = start_basis_.leftCols(k_);
+      else
+        w_.leftCols(k_) = Eigen::MatrixXd::Identity(2 * model_.n, k_);
     }
     remember_lengths();
     store(x);
@@ -151,26 +150,23 @@ class TangentSystem final : public System {
   }
   void sample(double t, const double* x) override {
     if (!record_) return;
-    const int c = coordinate_count();
+    using V = Eigen::Map<const Eigen::VectorXd>;
     Eigen::VectorXd state(2 * model_.n);
-    for (int i = 0; i < model_.n; ++i) {
-      state[i] = x[i];
-      state[model_.n + i] = x[c + i];
-    }
+    state << V(x, model_.n), V(x + coordinate_count(), model_.n);  // (q, q̇)
     load(x);
     times_.push_back(t);
     states_.push_back(std::move(state));
     // On a manifold the d columns W = Φ B0 are recorded as Φ P0 = W B0ᵀ,
-    // the parameters' columns as they are.
-    if (model_.manifold > 0 && !benettin_) {
-      const int d = k_ > 0 ? 2 * model_.n : 0, p = columns_ - k_;
-      Eigen::MatrixXd taken(2 * model_.n, d + p);
-      if (k_ > 0) taken.leftCols(d) = w_.leftCols(k_) * start_basis_.transpose();
-      taken.rightCols(p) = w_.rightCols(p);
-      columns_taken_.push_back(std::move(taken));
-    } else {
+    // the parameters' columns after them as they are.
+    if (model_.manifold == 0 || benettin_ || k_ == 0) {
       columns_taken_.push_back(w_);
+      return;
     }
+    const int m = 2 * model_.n, p = columns_ - k_;
+    Eigen::MatrixXd taken(m, m + p);
+    taken.leftCols(m) = w_.leftCols(k_) * start_basis_.transpose();
+    taken.rightCols(p) = w_.rightCols(p);
+    columns_taken_.push_back(std::move(taken));
   }
   void finish(double t, const double* x, bool sample_end) override {
     if (sample_end) sample(t, x);
@@ -230,21 +226,17 @@ class TangentSystem final : public System {
     std::copy(x + j * n, x + (j + 1) * n, direction_.begin());
     std::copy(x + c + j * n, x + c + (j + 1) * n, direction_.begin() + n);
   }
+  /// The columns W (2n × columns) from x (their δq after q, their δq̇ after
+  /// q̇, each n × columns column-major) and back.
   void load(const double* x) {
     const int n = model_.n, c = coordinate_count();
-    for (int j = 0; j < columns_; ++j)
-      for (int i = 0; i < n; ++i) {
-        w_(i, j) = x[(j + 1) * n + i];
-        w_(n + i, j) = x[c + (j + 1) * n + i];
-      }
+    w_.topRows(n) = Eigen::Map<const Eigen::MatrixXd>(x + n, n, columns_);
+    w_.bottomRows(n) = Eigen::Map<const Eigen::MatrixXd>(x + c + n, n, columns_);
   }
   void store(double* x) const {
     const int n = model_.n, c = coordinate_count();
-    for (int j = 0; j < columns_; ++j)
-      for (int i = 0; i < n; ++i) {
-        x[(j + 1) * n + i] = w_(i, j);
-        x[c + (j + 1) * n + i] = w_(n + i, j);
-      }
+    Eigen::Map<Eigen::MatrixXd>(x + n, n, columns_) = w_.topRows(n);
+    Eigen::Map<Eigen::MatrixXd>(x + c + n, n, columns_) = w_.bottomRows(n);
   }
   /// P at the state of x, in p_ (its lower n rows ∂p/∂(q, q̇)) and the
   /// Cholesky factor of M = ∂p/∂q̇.
