@@ -81,13 +81,14 @@ bool event_driven_eligible(const Scene& scene);
 
 /// Lyapunov exponents and MEGNO, and Floquet multipliers, of a particle
 /// scene's motion from its bodies' state at t0 (particle_tangent.cpp): its
-/// tangent flow by automatic differentiation of its force effects. A scene
-/// with constraint rows (links, surfaces) or contacts is refused with
-/// OptionError ("lyapunov: particle scene '<name>': …").
+/// tangent flow by automatic differentiation of its force effects and of
+/// the rows of its links and surfaces. A scene with contacts is refused
+/// with OptionError ("lyapunov: particle scene '<name>': …").
 LyapunovResult particle_lyapunov(const Scene& scene, const LyapunovOptions& options);
 FloquetResult particle_floquet(const Scene& scene, const FloquetOptions& options);
 /// What that tangent flow integrates: ∂a/∂(r, v) (3N × 6N; 1/s², 1/s) of
-/// the scene's force effects at x = [r; v] (6N values, m and m/s), with the
+/// the scene's accelerations (its force effects, constrained by its links
+/// and surfaces) at x = [r; v] (6N values, m and m/s), with the
 /// accelerations a (3N values, m/s²) when `a` is given. OptionError as above.
 Eigen::MatrixXd particle_acceleration_jacobian(const Scene& scene, const std::vector<double>& x,
                                                Eigen::VectorXd* a = nullptr);

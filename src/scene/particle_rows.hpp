@@ -26,45 +26,57 @@ struct Row {
   double length = 0;  // link L, sphere ρ, contact R or R_a + R_b
   std::string name;
 
-  Vector3d d(const double* r) const { return at(r, a) - (b >= 0 ? at(r, b) : p); }
+  // g, its gradient and γ on numbers S: doubles in a run, AD numbers
+  // (ad::Jet) for the tangent flow (particle_tangent.cpp).
+
+  /// r_a − r_b (m), or r_a − p for a fixed end.
+  template <class S>
+  Vector3<S> d(const S* r) const {
+    return at(r, a) - (b >= 0 ? at(r, b) : Vector3<S>(p.template cast<S>()));
+  }
   /// Unit of the row's multiplier: N/m for the rows ½(|d|² − L²), N for gaps in m.
   const char* multiplier_unit() const { return kind == Kind::link || kind == Kind::sphere ? "N/m" : "N"; }
-  double value(const double* r) const {
+  /// g(r): m² for the rows ½(|d|² − L²), m for gaps.
+  template <class S>
+  S value(const S* r) const {
     switch (kind) {
       case Kind::link: return 0.5 * (d(r).squaredNorm() - length * length);
-      case Kind::plane: return n.dot(at(r, a) - p);
-      case Kind::sphere: return 0.5 * ((at(r, a) - p).squaredNorm() - length * length);
-      case Kind::rest_plane: return n.dot(at(r, a) - p) - length;
+      case Kind::plane: return n.template cast<S>().dot(at(r, a) - p.template cast<S>());
+      case Kind::sphere: return 0.5 * ((at(r, a) - p.template cast<S>()).squaredNorm() - length * length);
+      case Kind::rest_plane: return n.template cast<S>().dot(at(r, a) - p.template cast<S>()) - length;
       case Kind::rest_spheres: return d(r).norm() - length;
     }
-    return 0;
+    return S(0.0);
   }
   /// Gradient with respect to body a (body b gets its negative).
-  Vector3d grad(const double* r) const {
+  template <class S>
+  Vector3<S> grad(const S* r) const {
     switch (kind) {
       case Kind::link: return d(r);
       case Kind::plane:
-      case Kind::rest_plane: return n;
-      case Kind::sphere: return at(r, a) - p;
+      case Kind::rest_plane: return n.template cast<S>();
+      case Kind::sphere: return at(r, a) - p.template cast<S>();
       case Kind::rest_spheres: return d(r).normalized();
     }
-    return Vector3d::Zero();
+    return Vector3<S>(S(0.0), S(0.0), S(0.0));
   }
-  double gamma(const double* r, const double* v) const {
-    const Vector3d dv = at(v, a) - (b >= 0 ? at(v, b) : Vector3d::Zero());
+  /// γ = g̈ − ∇g·a = vᵀ ∂²g/∂r² v (m²/s² or m/s²).
+  template <class S>
+  S gamma(const S* r, const S* v) const {
+    const Vector3<S> dv = b >= 0 ? Vector3<S>(at(v, a) - at(v, b)) : at(v, a);
     switch (kind) {
       case Kind::link:
       case Kind::sphere: return dv.squaredNorm();
       case Kind::plane:
-      case Kind::rest_plane: return 0.0;
+      case Kind::rest_plane: return S(0.0);
       case Kind::rest_spheres: {
-        const Vector3d dd = d(r);
-        const double l = dd.norm();
-        const double radial = dd.dot(dv) / l;
+        const Vector3<S> dd = d(r);
+        const S l = dd.norm();
+        const S radial = dd.dot(dv) / l;
         return (dv.squaredNorm() - radial * radial) / l;
       }
     }
-    return 0;
+    return S(0.0);
   }
 };
 

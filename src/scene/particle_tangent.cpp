@@ -1,11 +1,13 @@
 // The tangent flow of a particle scene (particle_engine.hpp): bodies in
-// Cartesian coordinates under their declared force effects, with
-// J = ∂a/∂(r, v) by automatic differentiation of the force kernels
-// (particle_forces.hpp) on ad::Jet numbers, as the TangentModel that
+// Cartesian coordinates under their declared force effects, held by their
+// links and surfaces, with J = ∂a/∂(r, v) by automatic differentiation of
+// the force kernels (particle_forces.hpp) and of the rows
+// (particle_rows.hpp) on ad::Jet numbers, as the TangentModel that
 // lyapunov_spectrum() and floquet_multipliers() run.
 
 #include <algorithm>
 #include <cstddef>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -15,6 +17,7 @@
 #include "lagrangian/analysis/floquet.hpp"
 #include "lagrangian/analysis/lyapunov.hpp"
 #include "lagrangian/errors.hpp"
+#include "lagrangian/mechanics/detail/min_norm_solver.hpp"
 #include "particle_engine.hpp"
 #include "particle_model.hpp"
 
@@ -22,6 +25,8 @@ namespace lagrangian::scene::detail {
 namespace {
 
 using particles::ParticleModel;
+using particles::Row;
+using particles::Vector3;
 
 /// Directions per pass of the whole Jacobian.
 constexpr int kWidth = 4;
@@ -33,16 +38,14 @@ using JetOne = ad::Jet<double, 1, 1>;
 constexpr std::size_t kMaxBodies = 100;
 
 /// OptionError (`command: particle scene '<name>': …`) for a scene whose
-/// tangent flow is not derived: constraint rows, contacts, a gas (whose
-/// spheres are held by contacts), more than kMaxBodies bodies. Read from the
-/// scene before anything is built.
-void require_force_effects_only(const Scene& scene, const char* command) {
+/// tangent flow is not derived: contacts, a gas (whose spheres are held by
+/// contacts), more than kMaxBodies bodies. Read from the scene before
+/// anything is built.
+void require_tangent_flow_scene(const Scene& scene, const char* command) {
   std::vector<std::string> has;
   const auto count = [](std::size_t k, const char* one, const char* many) {
     return std::to_string(k) + " " + (k == 1 ? one : many);
   };
-  if (!scene.links.empty()) has.push_back(count(scene.links.size(), "link", "links"));
-  if (!scene.surfaces.empty()) has.push_back(count(scene.surfaces.size(), "surface", "surfaces"));
   if (scene.gas) has.push_back("a gas");
   if (scene.sphere_contacts) has.push_back("sphere contacts");
   if (!scene.planes.empty()) has.push_back(count(scene.planes.size(), "contact plane", "contact planes"));
@@ -50,8 +53,8 @@ void require_force_effects_only(const Scene& scene, const char* command) {
   std::string why;
   if (!has.empty()) {
     why = "the tangent flow of a particle scene is derived for bodies under force effects ([gravity], "
-          "[newtonian_gravity], [[springs]], [[linear_drag]], [[quadratic_drag]]), without constraints or contacts; "
-          "this one has ";
+          "[newtonian_gravity], [[springs]], [[linear_drag]], [[quadratic_drag]]) held by [[links]] and "
+          "[[surfaces]], without contacts; this one has ";
     for (std::size_t i = 0; i < has.size(); ++i) why += (i == 0 ? "" : ", ") + has[i];
   } else if (scene.bodies.size() > kMaxBodies) {
     why = "the tangent flow of a particle scene is taken for at most " + std::to_string(kMaxBodies) +
@@ -62,18 +65,45 @@ void require_force_effects_only(const Scene& scene, const char* command) {
   throw OptionError(std::string(command) + ": particle scene '" + scene.name + "': " + why);
 }
 
-/// A particle scene without constraint rows or contacts as a TangentModel:
-/// q = r (3N positions, m), q̇ = v (m/s), q̈ = a(r, v) of its force kernels,
-/// p = m v. The numbers of the passes are kept, sized once.
+/// A particle scene without contacts as a TangentModel: q = r (3N
+/// positions, m), q̇ = v (m/s), p = m v, and q̈ = a(r, v) of its force
+/// kernels (F = m a) held by the rows g(r) = 0 of its links and surfaces:
+///   M q̈ = F + Cᵀλ,   C q̈ = −γ,
+/// M = diag(m) ⊗ I₃, C = ∂g/∂r, γ = vᵀ ∂²g/∂r² v, and along a direction δ
+/// of the state
+///   M δq̈ = δF + δCᵀλ + Cᵀδλ,   C δq̈ = −δγ − δC q̈,
+/// both solved through S = C M⁻¹ Cᵀ by its minimum-norm pseudo-inverse
+/// (redundant rows allowed), as for a C++ model (analysis/detail/
+/// tangent_solve.hpp) but with M diagonal and the sizes chosen at run time.
+/// C, γ and F along the directions come from the rows and the kernels on
+/// ad::Jets. The numbers and matrices of the passes are kept, sized once.
 class ParticleTangent {
  public:
-  /// `scene` has passed require_force_effects_only().
-  explicit ParticleTangent(const Scene& scene) : model_(scene), x0_(initial_state(scene)) {
-    if (model_.fixed_rows() > 0 || model_.has_contacts())
-      throw std::logic_error("ParticleTangent: a scene with constraint rows or contacts");
-    const auto dim = static_cast<std::size_t>(model_.dim());
+  /// `scene` has passed require_tangent_flow_scene().
+  explicit ParticleTangent(const Scene& scene)
+      : model_(scene), x0_(initial_state(scene)), m_(model_.fixed_rows()), solver_(std::max(m_, 1)) {
+    if (model_.has_contacts()) throw std::logic_error("ParticleTangent: a scene with contacts");
+    const int n = model_.dim();
+    const auto dim = static_cast<std::size_t>(n);
     wide_.resize(3 * dim);
     one_.resize(3 * dim);
+    inv_mass_.resize(n);
+    for (int i = 0; i < n; ++i) inv_mass_[i] = 1.0 / model_.mass()[static_cast<std::size_t>(i / 3)];
+    if (m_ == 0) return;
+    six_.resize(dim);
+    x_.resize(2 * dim);
+    c_.setZero(m_, n);
+    dc_.assign(kWidth, Eigen::MatrixXd::Zero(m_, n));
+    gamma_.setZero(m_, kWidth + 1);
+    minv_ct_.setZero(n, m_);
+    schur_.setZero(m_, m_);
+    free_.setZero(n, kWidth + 1);
+    qdd_.setZero(n);
+    u_.setZero(n);
+    scratch_.setZero(n);
+    rhs_.setZero(m_);
+    lambda_.setZero(m_);
+    dlambda_.setZero(m_);
   }
   ParticleTangent(const ParticleTangent&) = delete;
   ParticleTangent& operator=(const ParticleTangent&) = delete;
@@ -85,6 +115,14 @@ class ParticleTangent {
     tm.evaluate = &evaluate;
     tm.momentum = &momentum;
     tm.evaluate_direction = &evaluate_direction;
+    if (m_ > 0) {
+      tm.manifold = 2 * m_;
+      tm.manifold_holonomic = m_;
+      for (const Row& row : model_.rows()) tm.manifold_names.push_back(row.name);
+      for (const Row& row : model_.rows()) tm.manifold_names.push_back(row.name + " (rate)");
+      tm.manifold_rows = &manifold_rows;
+      tm.project = &project;
+    }
     return tm;
   }
   const double* q0() const { return x0_.data(); }
@@ -92,11 +130,12 @@ class ParticleTangent {
 
  private:
   /// q̈ and ∂q̈/∂(q, q̇) (n × 2n, column-major) in passes of kWidth
-  /// directions; without a drag the velocity columns are 0 and not passed.
+  /// directions; without a drag or rows the velocity columns are 0 and not
+  /// passed.
   static void evaluate(const void* self, const double* q, const double* qd, double, double* qdd, double* jacobian) {
     const auto& s = *static_cast<const ParticleTangent*>(self);
     const int n = s.model_.dim();
-    const int directions = s.model_.velocity_dependent() ? 2 * n : n;
+    const int directions = s.model_.velocity_dependent() || s.m_ > 0 ? 2 * n : n;
     if (directions == n) std::fill(jacobian + n * n, jacobian + 2 * n * n, 0.0);  // n ≤ 300: no overflow
     JetWide *r = s.wide_.data(), *v = r + n, *a = v + n;
     for (int first = 0; first < directions; first += kWidth) {
@@ -109,7 +148,7 @@ class ParticleTangent {
         const int d = first + k;
         (d < n ? r[d] : v[d - n]).g[static_cast<std::size_t>(k)] = 1.0;
       }
-      s.model_.force_accelerations(r, v, a);
+      s.accelerations(r, v, a, width);
       for (int k = 0; k < width; ++k)
         for (int i = 0; i < n; ++i) jacobian[(first + k) * n + i] = a[i].g[static_cast<std::size_t>(k)];
       if (first == 0)
@@ -128,7 +167,7 @@ class ParticleTangent {
       v[i] = JetOne(qd[i]);
       v[i].g[0] = w[n + i];
     }
-    s.model_.force_accelerations(r, v, a);
+    s.accelerations(r, v, a, 1);
     for (int i = 0; i < n; ++i) {
       qdd[i] = a[i].v;
       jw[i] = a[i].g[0];
@@ -136,7 +175,8 @@ class ParticleTangent {
   }
   /// ∂p/∂(q, q̇) = [0 | diag(m ⊗ 1₃)] (n × 2n, column-major), p = m v.
   /// With `dl_dq`, ∂L/∂q = −∂V/∂q = m a(r, v), the force kernels' forces
-  /// (drag included: a scene with drag conserves no energy).
+  /// (drag included: a scene with drag conserves no energy; the rows'
+  /// forces Cᵀλ are not part of ∂L/∂q).
   static void momentum(const void* self, const double* q, const double* qd, double, double* out, double* dl_dq) {
     const auto& s = *static_cast<const ParticleTangent*>(self);
     const int n = s.model_.dim();
@@ -151,30 +191,152 @@ class ParticleTangent {
     s.model_.force_accelerations(r, v, a);
     for (int i = 0; i < n; ++i) dl_dq[i] = s.model_.mass()[static_cast<std::size_t>(i / 3)] * a[i].v;
   }
+  /// The rows h = (g, ġ) of the links and surfaces, ġ = ∇g · (v_a − v_b),
+  /// and ∂h/∂(q, q̇) (2m × 2n, column-major): each row by ad::Jets along the
+  /// six positions of its two bodies.
+  static void manifold_rows(const void* self, const double* q, const double* qd, double, double* residual,
+                            double* jacobian) {
+    const auto& s = *static_cast<const ParticleTangent*>(self);
+    const int n = s.model_.dim(), m = s.m_;
+    Eigen::Map<Eigen::MatrixXd> jac(jacobian, 2 * m, 2 * n);
+    jac.setZero();
+    JetSix* r = s.six_.data();
+    for (int i = 0; i < n; ++i) r[i] = JetSix(q[i]);
+    for (int i = 0; i < m; ++i) {
+      const Row& row = s.model_.rows()[static_cast<std::size_t>(i)];
+      const int bodies[2] = {row.a, row.b};
+      for (int side = 0; side < 2; ++side)
+        for (int c = 0; c < 3 && bodies[side] >= 0; ++c) r[3 * bodies[side] + c].g[static_cast<std::size_t>(3 * side + c)] = 1.0;
+      const JetSix g = row.value(r);
+      const Vector3<JetSix> grad = row.grad(r);
+      JetSix rate(0.0);
+      for (int c = 0; c < 3; ++c)
+        rate += grad[c] * (qd[3 * row.a + c] - (row.b >= 0 ? qd[3 * row.b + c] : 0.0));
+      residual[i] = g.v;
+      residual[m + i] = rate.v;
+      for (int side = 0; side < 2; ++side) {
+        if (bodies[side] < 0) continue;
+        const double sign = side == 0 ? 1.0 : -1.0;
+        for (int c = 0; c < 3; ++c) {
+          const int col = 3 * bodies[side] + c;
+          const auto d = static_cast<std::size_t>(3 * side + c);
+          jac(i, col) = g.g[d];
+          jac(m + i, col) = rate.g[d];
+          jac(m + i, n + col) = sign * grad[c].v;
+          r[col].g[d] = 0.0;
+        }
+      }
+    }
+  }
+  /// The state projected onto the rows: positions onto g = 0
+  /// (M-weighted Gauss–Newton, ‖g‖∞ ≤ 1e-12 (1 + ‖r‖∞)), then velocities
+  /// onto C v = 0; ConstraintError when the positions do not get there.
+  static void project(const void* self, double* q, double* qd, double) {
+    const auto& s = *static_cast<const ParticleTangent*>(self);
+    const int n = s.model_.dim();
+    std::copy(q, q + n, s.x_.begin());
+    std::copy(qd, qd + n, s.x_.begin() + n);
+    constexpr double tolerance = 1e-12;
+    s.model_.project(s.x_.data(), tolerance);
+    const double scale = 1.0 + Eigen::Map<const Eigen::VectorXd>(s.x_.data(), n).lpNorm<Eigen::Infinity>();
+    const double residual = s.model_.position_residual(s.x_.data());
+    if (!(residual <= 10 * tolerance * scale)) {
+      std::ostringstream os;
+      os << "particle scene: the projection onto the links and surfaces left max |g| = " << residual
+         << " (tolerance " << tolerance * scale << ")";
+      throw ConstraintError(os.str());
+    }
+    std::copy(s.x_.begin(), s.x_.begin() + n, q);
+    std::copy(s.x_.begin() + n, s.x_.end(), qd);
+  }
 
+  /// a: q̈ on numbers J that carry `width` directions, from the force
+  /// kernels and, with rows, their multipliers (the class comment).
+  template <class J>
+  void accelerations(const J* r, const J* v, J* a, int width) const {
+    model_.force_accelerations(r, v, a);
+    if (m_ == 0) return;
+    const int n = model_.dim();
+    // C, γ and the free accelerations F/m, with their derivatives.
+    for (int k = 0; k < width; ++k) dc_[static_cast<std::size_t>(k)].setZero();
+    c_.setZero();
+    for (int i = 0; i < m_; ++i) {
+      const Row& row = model_.rows()[static_cast<std::size_t>(i)];
+      const Vector3<J> grad = row.grad(r);
+      const J gamma = row.gamma(r, v);
+      gamma_(i, 0) = gamma.v;
+      for (int k = 0; k < width; ++k) gamma_(i, k + 1) = gamma.g[static_cast<std::size_t>(k)];
+      for (int c = 0; c < 3; ++c) {
+        c_(i, 3 * row.a + c) += grad[c].v;
+        if (row.b >= 0) c_(i, 3 * row.b + c) -= grad[c].v;
+        for (int k = 0; k < width; ++k) {
+          const double dg = grad[c].g[static_cast<std::size_t>(k)];
+          dc_[static_cast<std::size_t>(k)](i, 3 * row.a + c) += dg;
+          if (row.b >= 0) dc_[static_cast<std::size_t>(k)](i, 3 * row.b + c) -= dg;
+        }
+      }
+    }
+    for (int i = 0; i < n; ++i) {
+      free_(i, 0) = a[i].v;
+      for (int k = 0; k < width; ++k) free_(i, k + 1) = a[i].g[static_cast<std::size_t>(k)];
+    }
+    minv_ct_.noalias() = inv_mass_.asDiagonal() * c_.transpose();
+    schur_.noalias() = c_ * minv_ct_;
+    solver_.factorize(schur_.data());
+    // λ = S⁺ (−γ − C a_F), q̈ = a_F + M⁻¹Cᵀλ.
+    rhs_ = -gamma_.col(0);
+    rhs_.noalias() -= c_ * free_.col(0);
+    solver_.solve(rhs_.data(), lambda_.data());
+    qdd_ = free_.col(0);
+    qdd_.noalias() += minv_ct_ * lambda_;
+    for (int i = 0; i < n; ++i) a[i].v = qdd_[i];
+    // δq̈ = u + M⁻¹Cᵀδλ, u = δa_F + M⁻¹δCᵀλ, δλ = S⁺ (−δγ − δC q̈ − C u).
+    for (int k = 0; k < width; ++k) {
+      const Eigen::MatrixXd& dc = dc_[static_cast<std::size_t>(k)];
+      scratch_.noalias() = dc.transpose() * lambda_;
+      u_ = free_.col(k + 1) + inv_mass_.cwiseProduct(scratch_);
+      rhs_ = -gamma_.col(k + 1);
+      rhs_.noalias() -= dc * qdd_;
+      rhs_.noalias() -= c_ * u_;
+      solver_.solve(rhs_.data(), dlambda_.data());
+      u_.noalias() += minv_ct_ * dlambda_;
+      for (int i = 0; i < n; ++i) a[i].g[static_cast<std::size_t>(k)] = u_[i];
+    }
+  }
+
+  using JetSix = ad::Jet<double, 6, 1>;  // the positions of a row's two bodies
   mutable ParticleModel model_;  // its kernels count their evaluations
   mutable std::vector<JetWide> wide_;
   mutable std::vector<JetOne> one_;
   std::vector<double> x0_;
+  int m_;  // rows of the links and surfaces
+  Eigen::VectorXd inv_mass_;  // 1/m of each coordinate
+  // The passes' workspace (the class comment's names).
+  mutable std::vector<JetSix> six_;
+  mutable std::vector<double> x_;
+  mutable Eigen::MatrixXd c_, gamma_, minv_ct_, schur_, free_;
+  mutable std::vector<Eigen::MatrixXd> dc_;
+  mutable Eigen::VectorXd qdd_, u_, scratch_, rhs_, lambda_, dlambda_;
+  mutable lagrangian::detail::MinNormSolver solver_;
 };
 
 }  // namespace
 
 LyapunovResult particle_lyapunov(const Scene& scene, const LyapunovOptions& options) {
-  require_force_effects_only(scene, "lyapunov");
+  require_tangent_flow_scene(scene, "lyapunov");
   const ParticleTangent tangent(scene);
   return lagrangian::detail::lyapunov_spectrum(tangent.tangent_model(), tangent.q0(), tangent.qd0(), options);
 }
 
 FloquetResult particle_floquet(const Scene& scene, const FloquetOptions& options) {
-  require_force_effects_only(scene, "floquet");
+  require_tangent_flow_scene(scene, "floquet");
   const ParticleTangent tangent(scene);
   return lagrangian::detail::floquet_multipliers(tangent.tangent_model(), tangent.q0(), tangent.qd0(), options);
 }
 
 Eigen::MatrixXd particle_acceleration_jacobian(const Scene& scene, const std::vector<double>& x,
                                                Eigen::VectorXd* a) {
-  require_force_effects_only(scene, "particle_acceleration_jacobian");
+  require_tangent_flow_scene(scene, "particle_acceleration_jacobian");
   const ParticleTangent tangent(scene);
   const lagrangian::detail::TangentModel tm = tangent.tangent_model();
   const int n = tm.n;

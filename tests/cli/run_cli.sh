@@ -404,6 +404,9 @@ expect 2 "lyapunov: particle scene 'bouncing ball': .*this one has 1 contact pla
 # orbits, 12 exponents of a Hamiltonian flow (sum 0, MEGNO near 2: Kepler shear).
 binary="$src/examples/scenes/binary_star.toml"
 analysis_json lyapunov binary "d['model'] == 'particles' and len(d['spectrum']) == 12 and abs(d['sum']) < 1e-9 and abs(d['megno'] - 2) < 0.2" -- "$binary"
+# Bodies held by links: the double pendulum on two links (3-D, 2 rows) has
+# 8 exponents on its manifold, summing to 0, the largest positive (chaotic).
+analysis_json lyapunov links "d['model'] == 'particles' and len(d['spectrum']) == 8 and abs(d['sum']) < 1e-8 and d['spectrum'][0] > 0.5" -- "$src/examples/scenes/double_pendulum_links.toml"
 # A model with a holonomic constraint: the Atwood machine (3 kg, 1 kg) moves
 # on a 2-dimensional manifold, tangent vectors (a, -a, b, -b) in (y1, y2,
 # y1', y2') with a(t) = a0 + b0 t. Its reduced canonical coordinates
