@@ -522,19 +522,19 @@ TEST(SweepChaos, TheChaosColumnsAreTheLyapunovExponentAndMegnoOfEachPoint) {
   EXPECT_TRUE(std::isnan(plain.records[0].lyapunov_max));
 }
 
-// A scene without a tangent flow (a particle scene with a contact plane)
-// is refused before any run, with scene::lyapunov()'s reason.
+// A scene without a tangent flow (a particle scene with links and sphere
+// contacts) is refused before any run, with scene::lyapunov()'s reason.
 TEST(SweepChaos, AModelWithoutATangentFlowIsRefusedBeforeAnyRun) {
   SweepOptions o = options("chaos_refused", {parse_vary("bodies[0].mass=1:2:3")});
   o.outputs = {"chaos"};
   try {
-    sweep(std::string(LAGRANGIAN_SOURCE_DIR) + "/examples/scenes/bouncing_ball.toml", o);
+    sweep(std::string(LAGRANGIAN_SOURCE_DIR) + "/examples/scenes/newtons_cradle.toml", o);
     ADD_FAILURE() << "the sweep ran";
   } catch (const OptionError& e) {
     const std::string m = e.what();
     EXPECT_EQ(m.rfind("--output chaos: ", 0), 0u) << m;
-    EXPECT_NE(m.find("particle scene 'bouncing ball': "), std::string::npos) << m;
-    EXPECT_NE(m.find("this one has 1 contact plane"), std::string::npos) << m;
+    EXPECT_NE(m.find("particle scene 'Newton's cradle': "), std::string::npos) << m;
+    EXPECT_NE(m.find("not both; this one has 5 links, sphere contacts"), std::string::npos) << m;
   }
   EXPECT_FALSE(fs::exists(o.out_dir + "/sweep.csv"));
 }

@@ -82,8 +82,10 @@ bool event_driven_eligible(const Scene& scene);
 /// Lyapunov exponents and MEGNO, and Floquet multipliers, of a particle
 /// scene's motion from its bodies' state at t0 (particle_tangent.cpp): its
 /// tangent flow by automatic differentiation of its force effects and of
-/// the rows of its links and surfaces. A scene with contacts is refused
-/// with OptionError ("lyapunov: particle scene '<name>': …").
+/// the rows of its links and surfaces, its contacts crossed at their
+/// impacts by the saltation matrix. A scene with rows and contacts
+/// together, or a gas, is refused with OptionError ("lyapunov: particle
+/// scene '<name>': …").
 LyapunovResult particle_lyapunov(const Scene& scene, const LyapunovOptions& options);
 FloquetResult particle_floquet(const Scene& scene, const FloquetOptions& options);
 /// What that tangent flow integrates: ∂a/∂(r, v) (3N × 6N; 1/s², 1/s) of

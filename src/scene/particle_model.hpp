@@ -73,6 +73,8 @@ class ParticleModel {
   bool dissipative() const {
     return std::any_of(kernels_.begin(), kernels_.end(), [](const auto& k) { return k->dissipative(); });
   }
+  /// The bodies that meet each other as spheres ([sphere_contacts]).
+  const std::vector<int>& pair_members() const { return pair_members_; }
   const std::vector<Row>& rows() const { return rows_; }
   int fixed_rows() const { return fixed_rows_; }
   std::uint64_t rhs_evaluations = 0;

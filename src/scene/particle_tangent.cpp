@@ -1,9 +1,10 @@
 // The tangent flow of a particle scene (particle_engine.hpp): bodies in
 // Cartesian coordinates under their declared force effects, held by their
-// links and surfaces, with J = ∂a/∂(r, v) by automatic differentiation of
-// the force kernels (particle_forces.hpp) and of the rows
-// (particle_rows.hpp) on ad::Jet numbers, as the TangentModel that
-// lyapunov_spectrum() and floquet_multipliers() run.
+// links and surfaces or meeting their contacts, with J = ∂a/∂(r, v) by
+// automatic differentiation of the force kernels (particle_forces.hpp) and
+// of the rows (particle_rows.hpp) on ad::Jet numbers, and the impacts'
+// maps for the saltation matrix (analysis/saltation.hpp), as the
+// TangentModel that lyapunov_spectrum() and floquet_multipliers() run.
 
 #include <algorithm>
 #include <cstddef>
@@ -25,6 +26,7 @@ namespace lagrangian::scene::detail {
 namespace {
 
 using particles::ParticleModel;
+using particles::Contact;
 using particles::Row;
 using particles::Vector3;
 
@@ -38,24 +40,28 @@ using JetOne = ad::Jet<double, 1, 1>;
 constexpr std::size_t kMaxBodies = 100;
 
 /// OptionError (`command: particle scene '<name>': …`) for a scene whose
-/// tangent flow is not derived: contacts, a gas (whose spheres are held by
-/// contacts), more than kMaxBodies bodies. Read from the scene before
+/// tangent flow is not derived: rows (links, surfaces) together with
+/// contacts, a gas, more than kMaxBodies bodies. Read from the scene before
 /// anything is built.
 void require_tangent_flow_scene(const Scene& scene, const char* command) {
-  std::vector<std::string> has;
+  std::vector<std::string> rows, contacts;
   const auto count = [](std::size_t k, const char* one, const char* many) {
     return std::to_string(k) + " " + (k == 1 ? one : many);
   };
-  if (scene.gas) has.push_back("a gas");
-  if (scene.sphere_contacts) has.push_back("sphere contacts");
-  if (!scene.planes.empty()) has.push_back(count(scene.planes.size(), "contact plane", "contact planes"));
-  if (scene.box) has.push_back("a box");
+  if (!scene.links.empty()) rows.push_back(count(scene.links.size(), "link", "links"));
+  if (!scene.surfaces.empty()) rows.push_back(count(scene.surfaces.size(), "surface", "surfaces"));
+  if (scene.sphere_contacts) contacts.push_back("sphere contacts");
+  if (!scene.planes.empty()) contacts.push_back(count(scene.planes.size(), "contact plane", "contact planes"));
+  if (scene.box) contacts.push_back("a box");
   std::string why;
-  if (!has.empty()) {
+  if (scene.gas) {
+    why = "the tangent flow of a particle scene is not derived for a gas";
+  } else if (!rows.empty() && !contacts.empty()) {
     why = "the tangent flow of a particle scene is derived for bodies under force effects ([gravity], "
           "[newtonian_gravity], [[springs]], [[linear_drag]], [[quadratic_drag]]) held by [[links]] and "
-          "[[surfaces]], without contacts; this one has ";
-    for (std::size_t i = 0; i < has.size(); ++i) why += (i == 0 ? "" : ", ") + has[i];
+          "[[surfaces]], or meeting contacts crossed at their impacts, not both; this one has ";
+    rows.insert(rows.end(), contacts.begin(), contacts.end());
+    for (std::size_t i = 0; i < rows.size(); ++i) why += (i == 0 ? "" : ", ") + rows[i];
   } else if (scene.bodies.size() > kMaxBodies) {
     why = "the tangent flow of a particle scene is taken for at most " + std::to_string(kMaxBodies) +
           " bodies; this one has " + std::to_string(scene.bodies.size());
@@ -76,13 +82,23 @@ void require_tangent_flow_scene(const Scene& scene, const char* command) {
 /// (redundant rows allowed), as for a C++ model (analysis/detail/
 /// tangent_solve.hpp) but with M diagonal and the sizes chosen at run time.
 /// C, γ and F along the directions come from the rows and the kernels on
-/// ad::Jets. The numbers and matrices of the passes are kept, sized once.
+/// ad::Jets. Contacts (planes, a box's walls, sphere pairs) are crossed at
+/// their impacts by Newton's law along the contact normal n̂:
+///   v_a⁺ = v_a + J n̂/m_a,  v_b⁺ = v_b − J n̂/m_b,  J = −(1 + e) v / (1/m_a + 1/m_b),
+/// v = n̂ · (v_a − v_b) the approach speed (a wall: 1/m_b = 0, v_b = 0), whose
+/// derivatives in the state the saltation matrix takes come from the same
+/// law on ad::Jets. The numbers and matrices of the passes are kept, sized
+/// once.
 class ParticleTangent {
  public:
   /// `scene` has passed require_tangent_flow_scene().
   explicit ParticleTangent(const Scene& scene)
       : model_(scene), x0_(initial_state(scene)), m_(model_.fixed_rows()), solver_(std::max(m_, 1)) {
-    if (model_.has_contacts()) throw std::logic_error("ParticleTangent: a scene with contacts");
+    if (model_.has_contacts() && m_ > 0) throw std::logic_error("ParticleTangent: rows and contacts");
+    contacts_ = model_.wall_contacts();
+    const std::vector<int>& members = model_.pair_members();
+    for (std::size_t p = 0; p < members.size(); ++p)
+      for (std::size_t r = p + 1; r < members.size(); ++r) contacts_.push_back(model_.pair_contact(members[p], members[r]));
     const int n = model_.dim();
     const auto dim = static_cast<std::size_t>(n);
     wide_.resize(3 * dim);
@@ -122,6 +138,15 @@ class ParticleTangent {
       for (const Row& row : model_.rows()) tm.manifold_names.push_back(row.name + " (rate)");
       tm.manifold_rows = &manifold_rows;
       tm.project = &project;
+    }
+    if (!contacts_.empty()) {
+      tm.contacts = static_cast<int>(contacts_.size());
+      for (const Contact& c : contacts_) {
+        tm.contact_names.push_back(c.name);
+        tm.restitution.push_back(c.e);
+      }
+      tm.gaps = &gaps;
+      tm.impact = &impact;
     }
     return tm;
   }
@@ -250,6 +275,67 @@ class ParticleTangent {
     std::copy(s.x_.begin() + n, s.x_.end(), qd);
   }
 
+  /// The contacts' gaps φ (m) and rates φ̇ (m/s).
+  static void gaps(const void* self, const double* q, const double* qd, double, double* gap, double* rate) {
+    const auto& s = *static_cast<const ParticleTangent*>(self);
+    for (std::size_t j = 0; j < s.contacts_.size(); ++j) {
+      const Contact& c = s.contacts_[j];
+      const int b = c.pair ? c.b : c.a;  // (a wall reads no second body)
+      const lagrangian::detail::GapRate g =
+          c.gap_rate(particles::at(q, c.a), particles::at(qd, c.a), particles::at(q, b), particles::at(qd, b));
+      gap[j] = g.gap;
+      rate[j] = g.rate;
+    }
+  }
+  /// The impact map of contact j with coefficient e at (q, q̇⁻) (the class
+  /// comment): q̇⁺, ∂q̇⁺/∂(q, q̇, t) (n × (2n + 1), column-major), G = ∂φ/∂q,
+  /// γ (φ̈ = G q̈ + γ); returns the approach speed v.
+  static double impact(const void* self, const double* q, const double* qd, double, int j, double e, double* qd_plus,
+                       double* jacobian, double* gap_gradient, double* gamma) {
+    const auto& s = *static_cast<const ParticleTangent*>(self);
+    const Contact& c = s.contacts_[static_cast<std::size_t>(j)];
+    const int n = s.model_.dim();
+    using D = ad::Jet<double, 12, 1>;  // along r_a, v_a, r_b, v_b
+    Vector3<D> ra, va, rb, vb;
+    for (int k = 0; k < 3; ++k) {
+      ra[k] = D::variable(q[3 * c.a + k], k);
+      va[k] = D::variable(qd[3 * c.a + k], 3 + k);
+      rb[k] = c.pair ? D::variable(q[3 * c.b + k], 6 + k) : D(0.0);
+      vb[k] = c.pair ? D::variable(qd[3 * c.b + k], 9 + k) : D(0.0);
+    }
+    const Vector3<D> d = ra - rb, dv = va - vb;
+    const Vector3<D> normal = c.pair ? Vector3<D>(d.normalized()) : Vector3<D>(c.n.cast<D>());
+    const D v = normal.dot(dv);
+    const double inv_a = 1.0 / s.model_.mass()[static_cast<std::size_t>(c.a)];
+    const double inv_b = c.pair ? 1.0 / s.model_.mass()[static_cast<std::size_t>(c.b)] : 0.0;
+    const D impulse = -(1.0 + e) * v / (inv_a + inv_b);
+    std::copy(qd, qd + n, qd_plus);
+    std::fill(jacobian, jacobian + static_cast<std::ptrdiff_t>(n) * (2 * n + 1), 0.0);
+    for (int i = 0; i < n; ++i) jacobian[(n + i) * n + i] = 1.0;
+    std::fill(gap_gradient, gap_gradient + n, 0.0);
+    // Column of the local variable l in ∂q̇⁺/∂(q, q̇, t).
+    const auto column = [&](int l) {
+      const int body = l < 6 ? c.a : c.b, k = l % 3;
+      return (l % 6 < 3 ? 0 : n) + 3 * body + k;
+    };
+    const int sides = c.pair ? 2 : 1;
+    for (int side = 0; side < sides; ++side) {
+      const int body = side == 0 ? c.a : c.b;
+      const double sign = side == 0 ? 1.0 : -1.0;
+      for (int k = 0; k < 3; ++k) {
+        const int row = 3 * body + k;
+        const D plus = (side == 0 ? va[k] : vb[k]) + sign * (side == 0 ? inv_a : inv_b) * impulse * normal[k];
+        qd_plus[row] = plus.v;
+        for (int l = 0; l < 6 * sides; ++l) jacobian[column(l) * n + row] = plus.g[static_cast<std::size_t>(l)];
+        gap_gradient[row] = sign * normal[k].v;
+      }
+    }
+    // γ: a wall's gap n̂·(r_a − p) − R has none; a pair's |d| − R has
+    // (|ḋ|² − (n̂·ḋ)²)/|d|.
+    *gamma = c.pair ? (dv.squaredNorm().v - v.v * v.v) / d.norm().v : 0.0;
+    return v.v;
+  }
+
   /// a: q̈ on numbers J that carry `width` directions, from the force
   /// kernels and, with rows, their multipliers (the class comment).
   template <class J>
@@ -309,6 +395,7 @@ class ParticleTangent {
   mutable std::vector<JetWide> wide_;
   mutable std::vector<JetOne> one_;
   std::vector<double> x0_;
+  std::vector<Contact> contacts_;  // walls and planes, then the sphere pairs
   int m_;  // rows of the links and surfaces
   Eigen::VectorXd inv_mass_;  // 1/m of each coordinate
   // The passes' workspace (the class comment's names).
