@@ -516,17 +516,15 @@ coefficient = 0.001
   EXPECT_LT(r.result.sum, 0.0);
 }
 
-// A body on a spring to an anchor with rest length 0 (a 3-D harmonic
-// oscillator, ω = √(k/m)): over half a period Φ = −I, so all six
-// multipliers are −1 (the free flight J = 0 would give +1).
-TEST(ParticleTangent, IsotropicOscillatorOverHalfAPeriodHasMultipliersMinusOne) {
-  const Scene scene = parse_scene(R"(
+/// A body on a spring to an anchor with rest length 0 (a 3-D harmonic
+/// oscillator, ω = √(k/m) = 4 rad/s), run to t = 1.3 s.
+const char* const kOscillator = R"(
 name = "oscillator"
 [run]
 method = "dopri5"
 rtol = 1e-12
 atol = 1e-14
-t_end = 1.0
+t_end = 1.3
 [[bodies]]
 name = "bob"
 mass = 0.5
@@ -537,12 +535,45 @@ a = "bob"
 anchor = [0.0, 0.0, 0.0]
 stiffness = 8.0
 rest_length = 0.0
-)");
+)";
+
+// A body on a spring to an anchor with rest length 0 (a 3-D harmonic
+// oscillator, ω = √(k/m)): over half a period Φ = −I, so all six
+// multipliers are −1 (the free flight J = 0 would give +1).
+TEST(ParticleTangent, IsotropicOscillatorOverHalfAPeriodHasMultipliersMinusOne) {
+  const Scene scene = parse_scene(kOscillator);
   const double omega = std::sqrt(8.0 / 0.5);
   const FloquetRun r = floquet(scene, FloquetRequest{std::acos(-1.0) / omega});
   ASSERT_EQ(r.result.multipliers.size(), 6u);
   for (const auto& mu : r.result.multipliers) EXPECT_LT(std::abs(mu + 1.0), 1e-8) << mu;
   EXPECT_LT((r.result.monodromy + Eigen::MatrixXd::Identity(6, 6)).cwiseAbs().maxCoeff(), 1e-8);
+}
+
+// The same oscillator's sensitivities at t = 1.3 s (scene::sensitivity,
+// as `lagrangian sensitivity` runs them): per axis Φ = [[cos ωt, sin ωt/ω],
+// [−ω sin ωt, cos ωt]]; a parameter is refused, naming it.
+TEST(ParticleTangent, OscillatorSensitivitiesAreTheClosedForm) {
+  const Scene scene = parse_scene(kOscillator);
+  const SensitivityRun r = sensitivity(scene, SensitivityRequest{});
+  ASSERT_EQ(r.model, "particles");
+  const double w = std::sqrt(8.0 / 0.5), t = 1.3, c = std::cos(w * t), s = std::sin(w * t);
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(6, 6);
+  for (int k = 0; k < 3; ++k) {
+    expected(k, k) = expected(3 + k, 3 + k) = c;
+    expected(k, 3 + k) = s / w;
+    expected(3 + k, k) = -w * s;
+  }
+  EXPECT_LT((r.result.sensitivities.back() - expected).cwiseAbs().maxCoeff(), 1e-9) << r.result.sensitivities.back();
+  EXPECT_DOUBLE_EQ(r.result.times.back(), t);
+  SensitivityRequest with_mass;
+  with_mass.parameters = {"m"};
+  try {
+    sensitivity(scene, with_mass);
+    ADD_FAILURE() << "a particle scene's parameter column was computed";
+  } catch (const OptionError& e) {
+    EXPECT_NE(std::string(e.what()).find("sensitivity: particle scene 'oscillator': --parameter m: "), std::string::npos)
+        << e.what();
+  }
 }
 
 // The largest exponent from one tangent vector (J along its direction,

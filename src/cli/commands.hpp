@@ -97,6 +97,20 @@ class LyapunovCommand {
   bool json_ = false, quiet_ = false;
 };
 
+/// `sensitivity SCENE`: ∂x(t_end)/∂x(t0) and ∂x(t_end)/∂p of the scene's model.
+class SensitivityCommand {
+ public:
+  static const Subcommand kInfo;
+  void declare(OptionList& options);
+  int run();
+
+ private:
+  SceneArgument scene_;
+  RunOverrides overrides_;
+  scene::SensitivityRequest request_;
+  bool parameters_only_ = false, json_ = false, quiet_ = false;
+};
+
 /// `floquet SCENE --period T`: Floquet multipliers of the scene's model.
 class FloquetCommand {
  public:

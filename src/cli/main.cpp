@@ -1,4 +1,4 @@
-// The `lagrangian` command: run, inspect, list, solve-bvp, lyapunov, floquet, bench, sweep and
+// The `lagrangian` command: run, inspect, list, solve-bvp, lyapunov, floquet, sensitivity, bench, sweep and
 // completion, one file each (commands.hpp, sweep_command.hpp); exit codes
 // in command_support.hpp. The parser (CLI11) is compiled here only.
 
@@ -75,13 +75,15 @@ int main(int argc, char** argv) {
   BvpCommand bvp;
   LyapunovCommand lyapunov;
   FloquetCommand floquet;
+  SensitivityCommand sensitivity;
   BenchCommand bench;
   SweepCommand sweep;
   CompletionScriptCommand completion;
   completion.set_application(app);
   // In this order in --help and in the completion scripts.
   const std::vector<std::pair<CLI::App*, std::function<int()>>> commands = {
-      add(app, run), add(app, inspect), add(app, list), add(app, bvp), add(app, lyapunov), add(app, floquet), add(app, bench),
+      add(app, run), add(app, inspect), add(app, list), add(app, bvp), add(app, lyapunov), add(app, floquet),
+      add(app, sensitivity), add(app, bench),
       {sweep.add(app), [&] { return sweep.run(); }}, add(app, completion)};
 
   if (const auto word = unknown_subcommand(app, argc, argv)) {

@@ -211,6 +211,24 @@ std::string BvpRun::summary() const {
   return out;
 }
 
+namespace {
+/// An analysis of the tangent flow (`what` names it in a refusal): of a
+/// particle scene's bodies by `particles(scene)`, of its model by
+/// `on_model(entry, spec)`; sets `model` to "particles" or the model's name.
+template <class Particles, class OnModel>
+auto tangent_analysis(const Scene& scene, const char* what, std::string& model, Particles&& particles,
+                      OnModel&& on_model) {
+  if (!scene.model) {
+    scene.validate();
+    model = "particles";
+    return particles(scene);
+  }
+  const detail::ModelEntry& entry = model_entry(scene, what);
+  model = model_name(scene, entry);
+  return with_scene_lines(scene, [&] { return on_model(entry, *scene.model); });
+}
+}  // namespace
+
 LyapunovRun lyapunov(const Scene& scene, const LyapunovRequest& request) {
   if (request.exponents < 0)
     throw OptionError("--exponents: must be at least 1 (or 0 for all), got " + std::to_string(request.exponents));
@@ -223,15 +241,9 @@ LyapunovRun lyapunov(const Scene& scene, const LyapunovRequest& request) {
   options.run = scene.run;
   options.exponents = request.exponents;
   options.interval = request.interval;
-  if (!scene.model) {
-    scene.validate();
-    out.model = "particles";
-    out.result = detail::particle_lyapunov(scene, options);
-    return out;
-  }
-  const detail::ModelEntry& entry = model_entry(scene, "lyapunov");
-  out.model = model_name(scene, entry);
-  out.result = with_scene_lines(scene, [&] { return entry.lyapunov(*scene.model, options); });
+  out.result = tangent_analysis(
+      scene, "lyapunov", out.model, [&](const Scene& s) { return detail::particle_lyapunov(s, options); },
+      [&](const detail::ModelEntry& entry, const ModelSpec& spec) { return entry.lyapunov(spec, options); });
   return out;
 }
 
@@ -295,15 +307,9 @@ FloquetRun floquet(const Scene& scene, const FloquetRequest& request) {
   options.find_orbit = request.find_orbit;
   options.fixed_period = request.fixed_period;
   options.keep_energy = request.keep_energy;
-  if (!scene.model) {
-    scene.validate();
-    out.model = "particles";
-    out.result = detail::particle_floquet(scene, options);
-  } else {
-    const detail::ModelEntry& entry = model_entry(scene, "floquet");
-    out.model = model_name(scene, entry);
-    out.result = with_scene_lines(scene, [&] { return entry.floquet(*scene.model, options); });
-  }
+  out.result = tangent_analysis(
+      scene, "floquet", out.model, [&](const Scene& s) { return detail::particle_floquet(s, options); },
+      [&](const detail::ModelEntry& entry, const ModelSpec& spec) { return entry.floquet(spec, options); });
   out.period = out.result.period;
   return out;
 }
@@ -365,6 +371,82 @@ std::string FloquetRun::json() const {
   o.number("rtol", run.rtol);
   o.number("atol", run.atol);
   o.integer("impacts", r.impacts);
+  o.integer("steps", static_cast<long long>(r.steps));
+  o.integer("evaluations", static_cast<long long>(r.rhs_evaluations));
+  o.number("seconds", r.seconds);
+  return o.str() + "\n";
+}
+
+SensitivityRun sensitivity(const Scene& scene, const SensitivityRequest& request) {
+  SensitivityRun out;
+  out.run = scene.run;
+  SensitivityOptions options;
+  options.run = scene.run;
+  options.run.output_interval = 0;  // t0 and t_end only
+  options.initial_state = request.initial_state;
+  options.parameters = request.parameters;
+  out.result = tangent_analysis(
+      scene, "sensitivity", out.model, [&](const Scene& s) { return detail::particle_sensitivities(s, options); },
+      [&](const detail::ModelEntry& entry, const ModelSpec& spec) { return entry.sensitivity(spec, options); });
+  return out;
+}
+
+namespace {
+/// [a, b, …] of the values of `v` in g10 format.
+template <class V>
+std::string bracketed(const V& v) {
+  std::string s = "[";
+  for (Eigen::Index i = 0; i < v.size(); ++i) s += (i ? ", " : "") + g10(v[i]);
+  return s + "]";
+}
+}  // namespace
+
+std::string SensitivityRun::summary() const {
+  const SensitivityResult& r = result;
+  const Eigen::MatrixXd& s = r.sensitivities.back();
+  std::string out = "sensitivities of " + model_phrase(model) + " at t = " + g10(r.times.back()) + " s to its state at t0 = " +
+                    g10(r.times.front()) + " s" + (r.parameters.empty() ? "" : " and to its parameters") + " (" +
+                    std::string(to_string(run.method)) + ", rtol " + g10(run.rtol) + "); x = (q, qdot):\n";
+  out += "x(t) = " + bracketed(r.states.back()) + "\n";
+  if (r.state_columns > 0) {
+    out += "d x(t) / d x(t0), row i: x_i(t), column j: x_j(t0):\n";
+    for (Eigen::Index i = 0; i < s.rows(); ++i) out += "  " + bracketed(s.row(i).head(r.state_columns)) + "\n";
+  }
+  for (std::size_t k = 0; k < r.parameters.size(); ++k)
+    out += "d x(t) / d " + r.parameters[k] + " = " + bracketed(s.col(r.state_columns + static_cast<Eigen::Index>(k))) +
+           "\n";
+  if (r.impacts > 0) out += "impacts crossed " + std::to_string(r.impacts) + " (each by its saltation matrix)\n";
+  out += "cost: " + std::to_string(r.steps) + " steps, " + std::to_string(r.rhs_evaluations) +
+         " evaluations of the state and its columns, " + g10(r.seconds) + " s\n";
+  return out;
+}
+
+std::string SensitivityRun::json() const {
+  const SensitivityResult& r = result;
+  const Eigen::MatrixXd& s = r.sensitivities.back();
+  detail::JsonObject o;
+  o.string("model", model);
+  o.number("t0", r.times.front());
+  o.number("t_end", r.times.back());
+  o.raw("state", detail::json_numbers(r.states.back().data(), static_cast<int>(r.states.back().size())));
+  if (r.state_columns > 0) {
+    std::vector<std::string> rows;
+    for (Eigen::Index i = 0; i < s.rows(); ++i) {
+      const Eigen::RowVectorXd row = s.row(i).head(r.state_columns);
+      rows.push_back(detail::json_numbers(row.data(), r.state_columns));
+    }
+    o.raw("state_transition", detail::json_array(rows));
+  }
+  detail::JsonObject p;
+  for (std::size_t k = 0; k < r.parameters.size(); ++k) {
+    const Eigen::VectorXd col = s.col(r.state_columns + static_cast<Eigen::Index>(k));
+    p.raw(r.parameters[k], detail::json_numbers(col.data(), static_cast<int>(col.size())));
+  }
+  o.raw("parameters", p.str());
+  o.integer("impacts", r.impacts);
+  o.string("method", std::string(to_string(run.method)));
+  o.number("rtol", run.rtol);
+  o.number("atol", run.atol);
   o.integer("steps", static_cast<long long>(r.steps));
   o.integer("evaluations", static_cast<long long>(r.rhs_evaluations));
   o.number("seconds", r.seconds);

@@ -88,6 +88,10 @@ bool event_driven_eligible(const Scene& scene);
 /// scene '<name>': …").
 LyapunovResult particle_lyapunov(const Scene& scene, const LyapunovOptions& options);
 FloquetResult particle_floquet(const Scene& scene, const FloquetOptions& options);
+/// ∂x(t)/∂x(t0) of the same motion (analysis/sensitivity.hpp); OptionError
+/// as above, and for parameters (a particle scene's masses and effects are
+/// not parameters of its tangent flow).
+SensitivityResult particle_sensitivities(const Scene& scene, const SensitivityOptions& options);
 /// What that tangent flow integrates: ∂a/∂(r, v) (3N × 6N; 1/s², 1/s) of
 /// the scene's accelerations (its force effects, constrained by its links
 /// and surfaces) at x = [r; v] (6N values, m and m/s), with the

@@ -17,6 +17,7 @@
 #include "lagrangian/ad/jet.hpp"
 #include "lagrangian/analysis/floquet.hpp"
 #include "lagrangian/analysis/lyapunov.hpp"
+#include "lagrangian/analysis/sensitivity.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/mechanics/detail/min_norm_solver.hpp"
 #include "particle_engine.hpp"
@@ -419,6 +420,16 @@ FloquetResult particle_floquet(const Scene& scene, const FloquetOptions& options
   require_tangent_flow_scene(scene, "floquet");
   const ParticleTangent tangent(scene);
   return lagrangian::detail::floquet_multipliers(tangent.tangent_model(), tangent.q0(), tangent.qd0(), options);
+}
+
+SensitivityResult particle_sensitivities(const Scene& scene, const SensitivityOptions& options) {
+  require_tangent_flow_scene(scene, "sensitivity");
+  if (!options.parameters.empty())
+    throw OptionError("sensitivity: particle scene '" + scene.name + "': --parameter " + options.parameters.front() +
+                      ": a particle scene's sensitivities are those of its initial state (its masses and effects are "
+                      "not parameters of its tangent flow)");
+  const ParticleTangent tangent(scene);
+  return lagrangian::detail::sensitivities(tangent.tangent_model(), tangent.q0(), tangent.qd0(), {}, {}, options);
 }
 
 Eigen::MatrixXd particle_acceleration_jacobian(const Scene& scene, const std::vector<double>& x,

@@ -380,6 +380,22 @@ FloquetResult floquet_entry(const ModelSpec& spec, const FloquetOptions& options
   });
 }
 
+/// sensitivities() of the model; OptionError naming --parameter for a
+/// model whose parameters are plain doubles (has_parameter_type_v).
+template <class Def>
+SensitivityResult sensitivity_entry(const ModelSpec& spec, const SensitivityOptions& options) {
+  return tangent_flow_entry<Def, SensitivityResult>(
+      spec, options, "sensitivity", [&](const auto& m, const auto& initial) {
+        if constexpr (!has_parameter_type_v<std::decay_t<decltype(m)>>) {
+          if (!options.parameters.empty())
+            throw OptionError("--parameter " + options.parameters.front() + ": model '" + info_of<Def>().name +
+                              "' does not offer parameter sensitivities (its parameters are plain doubles); "
+                              "without --parameter its initial state's columns are computed");
+        }
+        return sensitivities(m, initial, options);
+      });
+}
+
 template <class Def>
 BvpResult bvp_entry(const ModelSpec& spec, const BvpRequest& request, DiscreteRule rule) {
   const ModelInfo& info = info_of<Def>();

@@ -100,7 +100,7 @@ template <class Def>
 ModelEntry entry() {
   return ModelEntry{std::string(name_of<Def>()), &run_entry<Def>, &inspect_entry<Def>, &analyse_entry<Def>,
                     &bvp_entry<Def>, &picture_entry<Def>, &particle_axes_entry<Def>, &eom_entry<Def>,
-                    &lyapunov_entry<Def>, &floquet_entry<Def>};
+                    &lyapunov_entry<Def>, &floquet_entry<Def>, &sensitivity_entry<Def>};
 }
 
 }  // namespace lagrangian::scene::detail

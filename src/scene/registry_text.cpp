@@ -151,6 +151,11 @@ LyapunovResult lyapunov_text(const ModelSpec& spec, const LyapunovOptions& optio
     return lagrangian::text::lyapunov_spectrum(model, s0, options);
   });
 }
+SensitivityResult sensitivity_text(const ModelSpec& spec, const SensitivityOptions& options) {
+  return with_text_tangent_flow(spec, options.run.t0, "sensitivity", [&](const auto& model, const auto& s0) {
+    return lagrangian::text::sensitivities(model, s0, options);
+  });
+}
 FloquetResult floquet_text(const ModelSpec& spec, const FloquetOptions& options) {
   return with_text_tangent_flow(spec, options.run.t0, "floquet", [&](const auto& model, const auto& s0) {
     return lagrangian::text::floquet_multipliers(model, s0, options);
@@ -191,8 +196,9 @@ std::vector<std::array<int, 3>> no_particles(const ModelSpec&) { return {}; }
 }  // namespace
 
 const ModelEntry& text_entry() {
-  static const ModelEntry e{"text",        &run_text,     &inspect_text, &analyse_text, &bvp_text,
-                            &picture_text, &no_particles, &eom_text,     &lyapunov_text, &floquet_text};
+  static const ModelEntry e{"text",        &run_text,     &inspect_text, &analyse_text,  &bvp_text,
+                            &picture_text, &no_particles, &eom_text,     &lyapunov_text, &floquet_text,
+                            &sensitivity_text};
   return e;
 }
 

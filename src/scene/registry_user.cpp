@@ -28,6 +28,7 @@ lagrangian::detail::EomSample eom_user(const ModelSpec&, const double*, const do
 
 LyapunovResult lyapunov_user(const ModelSpec&, const LyapunovOptions&) { not_for_user("lyapunov"); }
 FloquetResult floquet_user(const ModelSpec&, const FloquetOptions&) { not_for_user("floquet"); }
+SensitivityResult sensitivity_user(const ModelSpec&, const SensitivityOptions&) { not_for_user("sensitivity"); }
 
 view::Figure picture_user(const ModelSpec& spec, const double* t, const double* q, std::size_t rows,
                           std::vector<double>& xyz) {
@@ -39,8 +40,9 @@ std::vector<std::array<int, 3>> axes_user(const ModelSpec& spec) { return spec.u
 }  // namespace
 
 const ModelEntry& user_entry() {
-  static const ModelEntry e{"user",        &run_user,  &inspect_user, &analyse_user, &bvp_user,
-                            &picture_user, &axes_user, &eom_user,     &lyapunov_user, &floquet_user};
+  static const ModelEntry e{"user",        &run_user,  &inspect_user, &analyse_user,  &bvp_user,
+                            &picture_user, &axes_user, &eom_user,     &lyapunov_user, &floquet_user,
+                            &sensitivity_user};
   return e;
 }
 

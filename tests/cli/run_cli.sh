@@ -189,7 +189,7 @@ expect 2 "--rtol" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --rtol
 expect 2 "--t-end" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --t-end -3 --out "$work/x"
 expect 2 "did you mean 'dopri5'" -- "$bin" run "$src/examples/scenes/bouncing_ball.toml" --method dopri --out "$work/x"
 expect 2 "" -- "$bin" run
-expect 2 "unknown subcommand 'frobnicate'; the subcommands are: run, inspect, list, solve-bvp, lyapunov, floquet, bench, sweep" -- "$bin" frobnicate
+expect 2 "unknown subcommand 'frobnicate'; the subcommands are: run, inspect, list, solve-bvp, lyapunov, floquet, sensitivity, bench, sweep" -- "$bin" frobnicate
 expect 2 "unknown subcommand 'simulate'; the subcommands are: .*" -- "$bin" simulate "$src/examples/scenes/bouncing_ball.toml"
 expect 2 "unknown subcommand 'rnu'.*did you mean 'run'" -- "$bin" rnu "$src/examples/scenes/bouncing_ball.toml"
 touch "$work/blocker"
@@ -492,6 +492,27 @@ analysis_json floquet binary_floquet "len(d['multipliers']) == 12 and all(abs(co
 # trace 2 and det 1 of the 2 x 2 monodromy); it has no periodic orbit for --find-orbit to find.
 analysis_json floquet atwood_floquet "len(d['multipliers']) == 2 and all(abs(complex(*m) - 1) < 1e-4 for m in d['multipliers'])" -- "$atwood" --period 1
 expect 1 "floquet: no periodic orbit found" -- "$bin" floquet "$atwood" --period 1 --find-orbit
+# sensitivity: the harmonic oscillator (m = 1 kg, k = 4 N/m: w = 2 rad/s) at t = 1 s has the state
+# transition matrix [[cos w t, sin w t / w], [-w sin w t, cos w t]]; the projectile's column of g is
+# (0, -t^2/2, 0, -t); the double pendulum stated as text and the built-in one from the same start give
+# the same column of m1 (two derivations of one model).
+analysis_json sensitivity ho_phi "(lambda m, c, s: d['model'] == 'harmonic_oscillator' and all(abs(a - b) < 1e-8 for a, b in zip(sum(d['state_transition'], []), [c, s / 2, -2 * s, c])))(__import__('math'), __import__('math').cos(2.0), __import__('math').sin(2.0))" -- "$ho" --t-end 1
+analysis_json sensitivity projectile_g "len(d['parameters']['g']) == 4 and 'state_transition' not in d and all(abs(a - b) < 1e-9 for a, b in zip(d['parameters']['g'], [0, -0.5, 0, -1]))" -- "$src/examples/scenes/projectile.toml" --t-end 1 --parameter g --parameters-only
+if "$bin" sensitivity "$src/examples/scenes/text/double_pendulum.toml" --t-end 1 --parameter m1 --parameters-only --json > "$work/dp_text_m1.json" &&
+  "$bin" sensitivity "$src/examples/scenes/double_pendulum.toml" --set 'model.q[0]=2' --set 'model.q[1]=2' --t-end 1 \
+    --parameter m1 --parameters-only --json > "$work/dp_m1.json" &&
+  /usr/bin/python3 -c "import json, sys; a, b = (json.load(open(f))['parameters']['m1'] for f in sys.argv[1:]); sys.exit(0 if len(a) == 4 and max(abs(x - y) for x, y in zip(a, b)) < 1e-8 * max(map(abs, b)) and 'state_transition' not in json.load(open(sys.argv[1])) else 1)" \
+    "$work/dp_text_m1.json" "$work/dp_m1.json"; then
+  echo "ok: sensitivity: the text double pendulum's column of m1 is the built-in model's"
+else
+  echo "FAIL: sensitivity: the text and built-in double pendulums' columns of m1"; cat "$work/dp_text_m1.json" "$work/dp_m1.json"; fails=$((fails + 1))
+fi
+# Bodies on a link: the state transition of the 6 Cartesian coordinates, Phi P0 on the link's manifold.
+analysis_json sensitivity link_phi "d['model'] == 'particles' and len(d['state_transition']) == 6 and all(len(r) == 6 for r in d['state_transition'])" -- "$src/examples/scenes/link_pendulum.toml" --t-end 1
+expect 2 "sensitivity: particle scene 'pendulum on a link': --parameter m: a particle scene's sensitivities are those of its initial state" -- "$bin" sensitivity "$src/examples/scenes/link_pendulum.toml" --parameter m
+expect 2 "--parameter G: model 'kepler' does not offer parameter sensitivities" -- "$bin" sensitivity "$src/examples/scenes/kepler.toml" --parameter G
+expect 2 "'gee' is not a parameter of the model \\(m, g, beta\\)" -- "$bin" sensitivity "$src/examples/scenes/projectile.toml" --parameter gee
+expect 2 "--parameters-only needs at least one --parameter NAME" -- "$bin" sensitivity "$src/examples/scenes/projectile.toml" --parameters-only
 # floquet --find-orbit: from the pendulum's state at 0.5 rad and a guess of 2.2 s (8 % long) Newton finds an
 # orbit of the family near it, whose period is 4 K(k) / w0 at its own energy, k^2 = (qd/2w0)^2 + sin^2(q/2),
 # w0 = sqrt(g/l) (K by the arithmetic-geometric mean); its multipliers are 1.

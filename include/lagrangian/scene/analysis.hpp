@@ -134,4 +134,39 @@ struct FloquetRun {
 /// cannot be computed, and SimulationError when the run fails.
 FloquetRun floquet(const Scene& scene, const FloquetRequest& request);
 
+/// How the motion of a scene's model (built in or stated as text) or of a
+/// particle scene's bodies depends on where it starts and on the model's
+/// parameters (analysis/sensitivity.hpp), as `lagrangian sensitivity` runs
+/// it: ∂x(t_end)/∂x(t0) and ∂x(t_end)/∂p, x = (q, q̇), from the scene's
+/// initial state over its run (t0, t_end, method, rtol, atol).
+struct SensitivityRequest {
+  /// The parameters p_j, by name as in the scene's [model.parameters].
+  std::vector<std::string> parameters;
+  bool initial_state = true;  ///< the 2n columns ∂x(t_end)/∂x(t0)
+};
+
+/// What sensitivity() found.
+struct SensitivityRun {
+  SensitivityResult result;
+  std::string model;      ///< the model's registry name ("text", "particles")
+  SimulationOptions run;  ///< the run the sensitivities come from
+  /// A few lines for a terminal: x(t_end), the state transition matrix and
+  /// the parameter columns, the impacts crossed and the cost.
+  std::string summary() const;
+  /// One JSON object: model, t0, t_end (s), state (x(t_end), 2n values),
+  /// state_transition (2n rows of 2n: ∂x_i(t_end)/∂x_j(t0); Φ P0 on a
+  /// constraint manifold; absent without the initial state's columns),
+  /// parameters (name: the 2n values ∂x(t_end)/∂p), impacts, method, rtol,
+  /// atol, steps, evaluations, seconds.
+  std::string json() const;
+};
+
+/// The sensitivities of the scene's model or bodies. Throws OptionError for
+/// an unknown parameter (naming it and the model's), parameters of a
+/// particle scene, or a scene the tangent flow is not derived for;
+/// AnalysisError for parameters a built-in model does not offer, parameters
+/// of a model with contacts or parameters that move its constraint manifold
+/// past the start; SimulationError when the run fails.
+SensitivityRun sensitivity(const Scene& scene, const SensitivityRequest& request);
+
 }  // namespace lagrangian::scene

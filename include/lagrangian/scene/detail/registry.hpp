@@ -8,6 +8,7 @@
 
 #include "lagrangian/analysis/floquet.hpp"
 #include "lagrangian/analysis/lyapunov.hpp"
+#include "lagrangian/analysis/sensitivity.hpp"
 #include "lagrangian/integrate/detail/compiled_models.hpp"
 #include "lagrangian/integrate/discrete.hpp"
 #include "lagrangian/integrate/report.hpp"
@@ -74,6 +75,10 @@ struct ModelEntry {
   /// Floquet multipliers of the motion from the spec's initial state over
   /// one period (analysis/floquet.hpp); refused as lyapunov is.
   FloquetResult (*floquet)(const ModelSpec& spec, const FloquetOptions& options);
+  /// ∂x(t)/∂x(t0) and ∂x(t)/∂p of the motion from the spec's initial state
+  /// (analysis/sensitivity.hpp); refused as lyapunov is, and AnalysisError
+  /// for parameters a model does not offer.
+  SensitivityResult (*sensitivity)(const ModelSpec& spec, const SensitivityOptions& options);
 
   /// Runs the model (see run_fn).
   RunReport run(const ModelSpec& spec, const SimulationOptions& options, const std::string& csv_path,
