@@ -1,9 +1,12 @@
 // Forward sensitivities ∂x(t)/∂x(t0) and ∂x(t)/∂p (analysis/sensitivity.hpp)
 // against closed forms (the harmonic oscillator, a projectile with and
-// without linear drag, its range) and against central differences of
-// simulate() (the double pendulum).
+// without linear drag, its range, the plane pendulum's exact motion) and
+// against central differences of simulate() (the double, spherical,
+// elastic and driven pendulums).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -27,6 +30,56 @@ lagrangian::SensitivityOptions tight(double t_end, std::vector<std::string> para
   o.run.output_interval = interval;
   o.parameters = std::move(parameters);
   return o;
+}
+
+/// `model` with its parameters (in parameter_members() order) set to `values`.
+template <class M, std::size_t P>
+M with_parameters(M model, const std::array<double, P>& values) {
+  constexpr auto members = M::parameter_members();
+  static_assert(members.size() == P);
+  for (std::size_t i = 0; i < P; ++i) model.*members[i] = values[i];
+  return model;
+}
+
+/// Every parameter column of `model` from `s` at t = T against central
+/// differences of simulate()'s state at T, each parameter moved by ±1e-5 of
+/// itself (truncation ~h², integration noise ~1e-13/h, both far below the
+/// bound 1e-6 of the column's largest entry). The parameters named in
+/// `absent` cancel from the equations of motion (a mass that multiplies
+/// all of L): their columns are 0 to rounding.
+template <class M>
+void expect_parameters_match_central_differences(const M& model, const lagrangian::State<M::coordinate_count>& s,
+                                                 double T, const std::vector<std::string>& absent = {}) {
+  constexpr int n = M::coordinate_count;
+  constexpr auto members = M::parameter_members();
+  const std::vector<std::string> names = lagrangian::parameter_names_of<M>();
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(model, s, tight(T, names));
+  const Eigen::MatrixXd& got = r.sensitivities.back();
+  ASSERT_EQ(got.cols(), 2 * n + static_cast<int>(members.size()));
+  std::array<double, members.size()> base{};
+  for (std::size_t i = 0; i < members.size(); ++i) base[i] = model.*members[i];
+  for (std::size_t j = 0; j < members.size(); ++j) {
+    const Eigen::VectorXd column = got.col(2 * n + static_cast<int>(j));
+    if (std::find(absent.begin(), absent.end(), names[j]) != absent.end()) {
+      EXPECT_LE(column.cwiseAbs().maxCoeff(), 1e-12 * (1 + got.leftCols(2 * n).cwiseAbs().maxCoeff()))
+          << model.name() << " d/d" << names[j] << "\n" << column;
+      continue;
+    }
+    auto up = base, down = base;
+    const double h = 1e-5 * base[j];
+    up[j] += h;
+    down[j] -= h;
+    const Eigen::VectorXd fd =
+        (lagrangian::testing::final_state(with_parameters(model, up), s, T) -
+         lagrangian::testing::final_state(with_parameters(model, down), s, T)) /
+        (2 * h);
+    const double scale = fd.cwiseAbs().maxCoeff();
+    EXPECT_GT(scale, 1e-3) << model.name() << " d/d" << names[j];
+    std::printf("%s d/d%s: largest entry %.4f, against central differences %.2e of it\n", model.name().c_str(),
+                names[j].c_str(), scale, (column - fd).cwiseAbs().maxCoeff() / scale);
+    EXPECT_LE((column - fd).cwiseAbs().maxCoeff(), 1e-6 * scale) << model.name() << " d/d" << names[j] << "\n"
+                                                                  << column << "\n\n" << fd;
+  }
 }
 
 }  // namespace
@@ -135,36 +188,57 @@ TEST(Sensitivity, ProjectileRangeDerivativesMatchTheClosedForm) {
 using lagrangian::testing::final_state;
 
 // Every parameter of the double pendulum against central differences of
-// simulate()'s state at t = 1 s (each parameter moved by ±1e-5 of itself:
-// truncation ~h², integration noise ~1e-13/h, both far below the bound).
+// simulate()'s state at t = 1 s.
 TEST(Sensitivity, DoublePendulumParametersMatchCentralDifferencesOfTheFlow) {
-  const double m1 = 1.3, m2 = 0.8, l1 = 1.1, l2 = 0.7, g = 9.81;
   lagrangian::State<2> s;
   s.q << 1.2, -0.4;
   s.qd << 0.3, 0.8;
-  const double T = 1.0;
-  const lagrangian::SensitivityResult r =
-      lagrangian::sensitivities(lm::DoublePendulum(m1, m2, l1, l2, g), s, tight(T, {"m1", "m2", "l1", "l2", "g"}));
+  expect_parameters_match_central_differences(lm::DoublePendulum(1.3, 0.8, 1.1, 0.7, 9.81), s, 1.0);
+}
+
+// The spherical, elastic and driven pendulums (the drive's amplitude and
+// rate enter T and V through the pivot's motion) the same way; the bob's
+// mass multiplies all of L of the spherical and the driven pendulum.
+TEST(Sensitivity, PendulumParametersMatchCentralDifferencesOfTheFlow) {
+  lagrangian::State<2> sph;
+  sph.q << 0.9, 0.2;
+  sph.qd << 0.4, 1.3;
+  expect_parameters_match_central_differences(lm::SphericalPendulum(0.7, 1.2, 9.81), sph, 1.5, {"m"});
+  lagrangian::State<2> el;
+  el.q << 1.1, 0.6;
+  el.qd << 0.3, -0.5;
+  expect_parameters_match_central_differences(lm::ElasticPendulum(0.9, 35.0, 1.0, 9.81), el, 1.2);
+  lagrangian::State<1> dr;
+  dr.q << 0.4;
+  dr.qd << -0.2;
+  expect_parameters_match_central_differences(lm::DrivenPendulum(1.1, 0.8, 0.05, 30.0, 9.81), dr, 1.0, {"m"});
+}
+
+// The plane pendulum's exact motion (SimplePendulum::reference(), Jacobi's
+// elliptic functions) at 1.7 s from 1.1 rad, −0.6 rad/s: the columns of l
+// and g against central differences of the closed form (no integration on
+// that side; step 1e-6 of each), and θ does not depend on m: 0 to rounding.
+TEST(Sensitivity, PlanePendulumParametersMatchItsExactMotion) {
+  const lm::SimplePendulum model(0.6, 1.3, 9.81);
+  lagrangian::State<1> s;
+  s.q << 1.1;
+  s.qd << -0.6;
+  const double T = 1.7;
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(model, s, tight(T, {"m", "l", "g"}));
   const Eigen::MatrixXd& got = r.sensitivities.back();
-  ASSERT_EQ(got.cols(), 4 + 5);
-  const double base[5] = {m1, m2, l1, l2, g};
-  for (int j = 0; j < 5; ++j) {
-    double up[5], down[5];
-    for (int i = 0; i < 5; ++i) up[i] = down[i] = base[i];
-    const double h = 1e-5 * base[j];
-    up[j] += h;
-    down[j] -= h;
-    const Eigen::Vector4d fd = (final_state(lm::DoublePendulum(up[0], up[1], up[2], up[3], up[4]), s, T) -
-                                final_state(lm::DoublePendulum(down[0], down[1], down[2], down[3], down[4]), s, T)) /
-                               (2 * h);
-    const double scale = fd.cwiseAbs().maxCoeff();
-    EXPECT_GT(scale, 1e-2) << r.parameters[static_cast<std::size_t>(j)];
-    std::printf("double pendulum d/d%s: largest entry %.4f, against central differences %.2e of it\n",
-                r.parameters[static_cast<std::size_t>(j)].c_str(), scale,
-                (got.col(4 + j) - fd).cwiseAbs().maxCoeff() / scale);
-    EXPECT_LE((got.col(4 + j) - fd).cwiseAbs().maxCoeff(), 1e-6 * scale)
-        << r.parameters[static_cast<std::size_t>(j)] << "\n" << got.col(4 + j) << "\n\n" << fd;
-  }
+  ASSERT_EQ(got.cols(), 2 + 3);
+  EXPECT_LE(got.col(2).cwiseAbs().maxCoeff(), 1e-12 * got.leftCols(2).cwiseAbs().maxCoeff()) << got.col(2);
+  const auto exact = [&](double l, double g) {
+    const lagrangian::State<1> e = lm::SimplePendulum(0.6, l, g).reference(s, T);
+    return Eigen::Vector2d(e.q[0], e.qd[0]);
+  };
+  const Eigen::Vector2d dl = (exact(1.3 + 1.3e-6, 9.81) - exact(1.3 - 1.3e-6, 9.81)) / 2.6e-6;
+  const Eigen::Vector2d dg = (exact(1.3, 9.81 + 9.81e-6) - exact(1.3, 9.81 - 9.81e-6)) / 1.962e-5;
+  std::printf("plane pendulum d/dl %.3e, d/dg %.3e of the largest entry against the exact motion\n",
+              (got.col(3) - dl).cwiseAbs().maxCoeff() / dl.cwiseAbs().maxCoeff(),
+              (got.col(4) - dg).cwiseAbs().maxCoeff() / dg.cwiseAbs().maxCoeff());
+  EXPECT_LE((got.col(3) - dl).cwiseAbs().maxCoeff(), 1e-7 * dl.cwiseAbs().maxCoeff()) << got.col(3) << "\n" << dl;
+  EXPECT_LE((got.col(4) - dg).cwiseAbs().maxCoeff(), 1e-7 * dg.cwiseAbs().maxCoeff()) << got.col(4) << "\n" << dg;
 }
 
 // The parameters' columns alone (no state transition matrix) are the same
@@ -213,12 +287,12 @@ TEST(Sensitivity, BadRequestsAreNamed) {
   bad_interval.run.output_interval = std::nan("");
   EXPECT_THROW(lagrangian::sensitivities(m, s, bad_interval), lagrangian::OptionError);
   // A model whose parameters are plain doubles offers the initial state only.
-  const lm::SimplePendulum pendulum;
+  const lm::BeadOnRotatingHoop hoop;
   lagrangian::State<1> p;
   p.q[0] = 0.5;
-  EXPECT_EQ(lagrangian::sensitivities(pendulum, p, tight(1.0, {})).sensitivities.back().cols(), 2);
+  EXPECT_EQ(lagrangian::sensitivities(hoop, p, tight(1.0, {})).sensitivities.back().cols(), 2);
   try {
-    lagrangian::sensitivities(pendulum, p, tight(1.0, {"l"}));
+    lagrangian::sensitivities(hoop, p, tight(1.0, {"R"}));
     FAIL() << "a model without a parameter type was differentiated along a parameter";
   } catch (const lagrangian::AnalysisError& e) {
     EXPECT_NE(std::string(e.what()).find("does not offer parameter sensitivities"), std::string::npos) << e.what();

@@ -117,7 +117,7 @@ int guarded(const std::string& what, Body&& body) {
   }
 }
 
-/// The body of an analysis subcommand (lyapunov, floquet): reads the scene
+/// The body of an analysis subcommand (lyapunov, floquet, sensitivity): reads the scene
 /// with the run overrides (after `prepare`, which may throw BadInput), runs
 /// `compute(scene)` and prints its json() or, unless quiet, the scene's
 /// name and its summary(); exit codes as guarded().

@@ -12,7 +12,8 @@ const Subcommand FloquetCommand::kInfo{
     "the variational equations) and the verdict stable or unstable."};
 
 void FloquetCommand::declare(OptionList& o) {
-  scene_.add(o, "scene file (TOML) with a built-in model, one stated as text, or bodies under force effects");
+  scene_.add(o, "scene file (TOML) with a built-in model, one stated as text, or bodies (with links and surfaces, or "
+                "contacts)");
   scene_.add_settings(o);
   o.value("--period", period_, "T (s): the period of the drive or of the orbit (required; with --find-orbit the guess)");
   o.flag("--find-orbit", request_.find_orbit,

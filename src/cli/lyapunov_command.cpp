@@ -11,7 +11,8 @@ const Subcommand LyapunovCommand::kInfo{
     "variational equations integrated beside the motion, renormalised by Benettin's method."};
 
 void LyapunovCommand::declare(OptionList& o) {
-  scene_.add(o, "scene file (TOML) with a built-in model, one stated as text, or bodies under force effects");
+  scene_.add(o, "scene file (TOML) with a built-in model, one stated as text, or bodies (with links and surfaces, or "
+                "contacts)");
   scene_.add_settings(o);
   overrides_.add(o,
                  "stepper: rk4, dopri5, cash_karp54, fehlberg78, bulirsch_stoer, gauss_radau15 or rosenbrock4 "

@@ -404,9 +404,12 @@ std::string bracketed(const V& v) {
 std::string SensitivityRun::summary() const {
   const SensitivityResult& r = result;
   const Eigen::MatrixXd& s = r.sensitivities.back();
-  std::string out = "sensitivities of " + model_phrase(model) + " at t = " + g10(r.times.back()) + " s to its state at t0 = " +
-                    g10(r.times.front()) + " s" + (r.parameters.empty() ? "" : " and to its parameters") + " (" +
-                    std::string(to_string(run.method)) + ", rtol " + g10(run.rtol) + "); x = (q, qdot):\n";
+  const std::string start = "its state at t0 = " + g10(r.times.front()) + " s";
+  const std::string of = r.state_columns == 0  ? "its parameters (from t0 = " + g10(r.times.front()) + " s)"
+                         : r.parameters.empty() ? start
+                                                : start + " and to its parameters";
+  std::string out = "sensitivities of " + model_phrase(model) + " at t = " + g10(r.times.back()) + " s to " + of +
+                    " (" + std::string(to_string(run.method)) + ", rtol " + g10(run.rtol) + "); x = (q, qdot):\n";
   out += "x(t) = " + bracketed(r.states.back()) + "\n";
   if (r.state_columns > 0) {
     out += "d x(t) / d x(t0), row i: x_i(t), column j: x_j(t0):\n";

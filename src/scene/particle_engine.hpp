@@ -84,8 +84,8 @@ bool event_driven_eligible(const Scene& scene);
 /// tangent flow by automatic differentiation of its force effects and of
 /// the rows of its links and surfaces, its contacts crossed at their
 /// impacts by the saltation matrix. A scene with rows and contacts
-/// together, or a gas, is refused with OptionError ("lyapunov: particle
-/// scene '<name>': …").
+/// together, a gas or more than 100 bodies is refused with OptionError
+/// ("lyapunov: particle scene '<name>': …").
 LyapunovResult particle_lyapunov(const Scene& scene, const LyapunovOptions& options);
 FloquetResult particle_floquet(const Scene& scene, const FloquetOptions& options);
 /// ∂x(t)/∂x(t0) of the same motion (analysis/sensitivity.hpp); OptionError

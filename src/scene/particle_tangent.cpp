@@ -7,6 +7,7 @@
 // TangentModel that lyapunov_spectrum() and floquet_multipliers() run.
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <sstream>
 #include <stdexcept>
@@ -94,7 +95,8 @@ class ParticleTangent {
  public:
   /// `scene` has passed require_tangent_flow_scene().
   explicit ParticleTangent(const Scene& scene)
-      : model_(scene), x0_(initial_state(scene)), m_(model_.fixed_rows()), solver_(std::max(m_, 1)) {
+      : model_(scene), name_(scene.name), x0_(initial_state(scene)), m_(model_.fixed_rows()),
+        solver_(std::max(m_, 1)) {
     if (model_.has_contacts() && m_ > 0) throw std::logic_error("ParticleTangent: rows and contacts");
     contacts_ = model_.wall_contacts();
     const std::vector<int>& members = model_.pair_members();
@@ -174,7 +176,7 @@ class ParticleTangent {
         const int d = first + k;
         (d < n ? r[d] : v[d - n]).g[static_cast<std::size_t>(k)] = 1.0;
       }
-      s.accelerations(r, v, a, width);
+      s.accelerations(r, v, a, width, first == 0);
       for (int k = 0; k < width; ++k)
         for (int i = 0; i < n; ++i) jacobian[(first + k) * n + i] = a[i].g[static_cast<std::size_t>(k)];
       if (first == 0)
@@ -267,9 +269,12 @@ class ParticleTangent {
     const double scale = 1.0 + Eigen::Map<const Eigen::VectorXd>(s.x_.data(), n).lpNorm<Eigen::Infinity>();
     const double residual = s.model_.position_residual(s.x_.data());
     if (!(residual <= 10 * tolerance * scale)) {
+      const Row* worst = &s.model_.rows().front();
+      for (const Row& row : s.model_.rows())
+        if (std::abs(row.value(s.x_.data())) > std::abs(worst->value(s.x_.data()))) worst = &row;
       std::ostringstream os;
-      os << "particle scene: the projection onto the links and surfaces left max |g| = " << residual
-         << " (tolerance " << tolerance * scale << ")";
+      os << "particle scene '" << s.name_ << "': the projection onto the links and surfaces left |g| = " << residual
+         << " on row '" << worst->name << "' (tolerance " << tolerance * scale << ")";
       throw ConstraintError(os.str());
     }
     std::copy(s.x_.begin(), s.x_.begin() + n, q);
@@ -338,15 +343,17 @@ class ParticleTangent {
   }
 
   /// a: q̈ on numbers J that carry `width` directions, from the force
-  /// kernels and, with rows, their multipliers (the class comment).
+  /// kernels and, with rows, their multipliers (the class comment). The
+  /// values (C, S and its factors, λ, q̈) are the same in every pass of one
+  /// evaluation: `values` false reuses those of the pass before.
   template <class J>
-  void accelerations(const J* r, const J* v, J* a, int width) const {
+  void accelerations(const J* r, const J* v, J* a, int width, bool values = true) const {
     model_.force_accelerations(r, v, a);
     if (m_ == 0) return;
     const int n = model_.dim();
     // C, γ and the free accelerations F/m, with their derivatives.
     for (int k = 0; k < width; ++k) dc_[static_cast<std::size_t>(k)].setZero();
-    c_.setZero();
+    if (values) c_.setZero();
     for (int i = 0; i < m_; ++i) {
       const Row& row = model_.rows()[static_cast<std::size_t>(i)];
       const Vector3<J> grad = row.grad(r);
@@ -354,8 +361,10 @@ class ParticleTangent {
       gamma_(i, 0) = gamma.v;
       for (int k = 0; k < width; ++k) gamma_(i, k + 1) = gamma.g[static_cast<std::size_t>(k)];
       for (int c = 0; c < 3; ++c) {
-        c_(i, 3 * row.a + c) += grad[c].v;
-        if (row.b >= 0) c_(i, 3 * row.b + c) -= grad[c].v;
+        if (values) {
+          c_(i, 3 * row.a + c) += grad[c].v;
+          if (row.b >= 0) c_(i, 3 * row.b + c) -= grad[c].v;
+        }
         for (int k = 0; k < width; ++k) {
           const double dg = grad[c].g[static_cast<std::size_t>(k)];
           dc_[static_cast<std::size_t>(k)](i, 3 * row.a + c) += dg;
@@ -367,15 +376,17 @@ class ParticleTangent {
       free_(i, 0) = a[i].v;
       for (int k = 0; k < width; ++k) free_(i, k + 1) = a[i].g[static_cast<std::size_t>(k)];
     }
-    minv_ct_.noalias() = inv_mass_.asDiagonal() * c_.transpose();
-    schur_.noalias() = c_ * minv_ct_;
-    solver_.factorize(schur_.data());
-    // λ = S⁺ (−γ − C a_F), q̈ = a_F + M⁻¹Cᵀλ.
-    rhs_ = -gamma_.col(0);
-    rhs_.noalias() -= c_ * free_.col(0);
-    solver_.solve(rhs_.data(), lambda_.data());
-    qdd_ = free_.col(0);
-    qdd_.noalias() += minv_ct_ * lambda_;
+    if (values) {
+      minv_ct_.noalias() = inv_mass_.asDiagonal() * c_.transpose();
+      schur_.noalias() = c_ * minv_ct_;
+      solver_.factorize(schur_.data());
+      // λ = S⁺ (−γ − C a_F), q̈ = a_F + M⁻¹Cᵀλ.
+      rhs_ = -gamma_.col(0);
+      rhs_.noalias() -= c_ * free_.col(0);
+      solver_.solve(rhs_.data(), lambda_.data());
+      qdd_ = free_.col(0);
+      qdd_.noalias() += minv_ct_ * lambda_;
+    }
     for (int i = 0; i < n; ++i) a[i].v = qdd_[i];
     // δq̈ = u + M⁻¹Cᵀδλ, u = δa_F + M⁻¹δCᵀλ, δλ = S⁺ (−δγ − δC q̈ − C u).
     for (int k = 0; k < width; ++k) {
@@ -393,6 +404,7 @@ class ParticleTangent {
 
   using JetSix = ad::Jet<double, 6, 1>;  // the positions of a row's two bodies
   mutable ParticleModel model_;  // its kernels count their evaluations
+  std::string name_;             // the scene's
   mutable std::vector<JetWide> wide_;
   mutable std::vector<JetOne> one_;
   std::vector<double> x0_;

@@ -32,8 +32,9 @@
 /// `static constexpr std::array<std::string_view, np> parameter_names`;
 /// Model<Q> must be default constructible (its parameters are then set from
 /// the model's), and hold nothing computed from its parameters (a cached
-/// m1 + m2 would keep its default). The built-in double pendulum, harmonic oscillator,
-/// projectiles and Atwood machine are written so (models/pendulums.hpp,
+/// m1 + m2 would keep its default). The built-in plane, double, spherical,
+/// elastic and driven pendulums, the harmonic oscillator, the projectiles
+/// and the Atwood machine are written so (models/pendulums.hpp,
 /// models/projectile.hpp, models/constrained.hpp).
 ///
 /// Scope as tangent_flow.hpp: models with a fixed n ≤ 6 coordinates.

@@ -65,7 +65,8 @@ BvpRun solve_bvp(const Scene& scene, const BvpRequest& request);
 
 /// Lyapunov exponents of a scene's model, built in or stated as text
 /// (analysis/lyapunov.hpp, text/tangent_flow.hpp), or of a particle scene's
-/// bodies under their force effects (q their 3N positions), as `lagrangian
+/// bodies (q their 3N positions; their links and surfaces kept, their
+/// contacts crossed at their impacts), as `lagrangian
 /// lyapunov` runs them: from the scene's initial state, over its run (t0,
 /// t_end, method, rtol, atol).
 struct LyapunovRequest {
@@ -89,14 +90,15 @@ struct LyapunovRun {
 };
 
 /// The Lyapunov exponents and MEGNO of the scene's model or bodies. Throws
-/// OptionError for a bad request (naming it), a particle scene with
-/// constraint rows or contacts, or a model the tangent flow is not derived
-/// for (constraints with contacts, more than 6 coordinates, a C++ model with
-/// a run-time number of them), and SimulationError when the run fails.
+/// OptionError for a bad request (naming it), a particle scene with rows and
+/// contacts together, a gas or more than 100 bodies, or a model the tangent
+/// flow is not derived for (constraints with contacts, more than 6
+/// coordinates, a C++ model with a run-time number of them), and
+/// SimulationError when the run fails.
 LyapunovRun lyapunov(const Scene& scene, const LyapunovRequest& request);
 
 /// Floquet multipliers of a scene's model (built in or stated as text) or of
-/// a particle scene's bodies under their force effects over one period
+/// a particle scene's bodies (as for lyapunov()) over one period
 /// (analysis/floquet.hpp), as `lagrangian floquet` runs them: from the
 /// scene's initial state at its t0, with its method and tolerances.
 struct FloquetRequest {
@@ -129,8 +131,8 @@ struct FloquetRun {
 
 /// The Floquet multipliers of the scene's model or bodies. Throws
 /// OptionError for a bad request (naming --period, --tolerance), a particle
-/// scene with constraint rows or contacts, or a model the tangent flow is
-/// not derived for, AnalysisError when the multipliers
+/// scene or a model the tangent flow is not derived for (as for
+/// lyapunov()), AnalysisError when the multipliers
 /// cannot be computed, and SimulationError when the run fails.
 FloquetRun floquet(const Scene& scene, const FloquetRequest& request);
 

@@ -22,7 +22,8 @@ namespace lagrangian::models {
 
 /// Plane pendulum: a point mass m on a massless rod of length l.
 ///   T = ½ m l² θ̇²,  V = −m g l cos θ.
-struct SimplePendulum {
+template <class P = double>
+struct BasicSimplePendulum {
   static constexpr int coordinate_count = 1;
   static constexpr ModelDescription description{
       "simple_pendulum",
@@ -33,9 +34,16 @@ struct SimplePendulum {
        {"g", 9.81, "m/s^2", "acceleration of gravity"}}};
   /// T = ½ m l² θ̇²: M constant (model.hpp, constant_mass_matrix_v).
   static constexpr bool constant_mass_matrix = true;
-  double m, l, g;
-  explicit SimplePendulum(double mass = description.value("m"), double length = description.value("l"),
-                          double gravity = description.value("g"))
+  P m, l, g;
+  /// The model with parameters of type Q (parameter sensitivities,
+  /// analysis/sensitivity.hpp), and its parameters in the description's order.
+  template <class Q>
+  using with_parameter_type = BasicSimplePendulum<Q>;
+  static constexpr std::array<P BasicSimplePendulum::*, 3> parameter_members() {
+    return {&BasicSimplePendulum::m, &BasicSimplePendulum::l, &BasicSimplePendulum::g};
+  }
+  explicit BasicSimplePendulum(double mass = description.value("m"), double length = description.value("l"),
+                               double gravity = description.value("g"))
       : m(require_positive("SimplePendulum", "m", mass)),
         l(require_positive("SimplePendulum", "l", length)),
         g(require_nonnegative("SimplePendulum", "g", gravity)) {}
@@ -114,6 +122,8 @@ struct SimplePendulum {
     return s;
   }
 };
+/// The plane pendulum with parameters in double precision.
+using SimplePendulum = BasicSimplePendulum<>;
 
 /// Harmonic oscillator: a mass m on a linear spring of stiffness k, coordinate
 /// x (m) from the spring's rest position.
@@ -219,7 +229,8 @@ using DoublePendulum = BasicDoublePendulum<>;
 
 /// Spherical pendulum: polar angle θ from the downward vertical, azimuth φ.
 ///   T = ½ m l² (θ̇² + sin²θ φ̇²),  V = −m g l cos θ.  φ is cyclic.
-struct SphericalPendulum {
+template <class P = double>
+struct BasicSphericalPendulum {
   static constexpr int coordinate_count = 2;
   static constexpr ModelDescription description{
       "spherical_pendulum",
@@ -228,9 +239,16 @@ struct SphericalPendulum {
       {{"m", 1.0, "kg", "mass of the bob"},
        {"l", 1.0, "m", "length of the rod"},
        {"g", 9.81, "m/s^2", "acceleration of gravity"}}};
-  double m, l, g;
-  explicit SphericalPendulum(double mass = description.value("m"), double length = description.value("l"),
-                             double gravity = description.value("g"))
+  P m, l, g;
+  /// The model with parameters of type Q (parameter sensitivities,
+  /// analysis/sensitivity.hpp), and its parameters in the description's order.
+  template <class Q>
+  using with_parameter_type = BasicSphericalPendulum<Q>;
+  static constexpr std::array<P BasicSphericalPendulum::*, 3> parameter_members() {
+    return {&BasicSphericalPendulum::m, &BasicSphericalPendulum::l, &BasicSphericalPendulum::g};
+  }
+  explicit BasicSphericalPendulum(double mass = description.value("m"), double length = description.value("l"),
+                                  double gravity = description.value("g"))
       : m(require_positive("SphericalPendulum", "m", mass)),
         l(require_positive("SphericalPendulum", "l", length)),
         g(require_nonnegative("SphericalPendulum", "g", gravity)) {}
@@ -249,11 +267,14 @@ struct SphericalPendulum {
     return -m * g * l * cos(q[0]);
   }
 };
+/// The spherical pendulum with parameters in double precision.
+using SphericalPendulum = BasicSphericalPendulum<>;
 
 /// Elastic (spring) pendulum: radial distance r and angle θ; spring of
 /// stiffness k and rest length l0.
 ///   T = ½ m (ṙ² + r² θ̇²),  V = −m g r cos θ + ½ k (r − l0)².
-struct ElasticPendulum {
+template <class P = double>
+struct BasicElasticPendulum {
   static constexpr int coordinate_count = 2;
   static constexpr ModelDescription description{
       "elastic_pendulum",
@@ -263,9 +284,16 @@ struct ElasticPendulum {
        {"k", 40.0, "N/m", "spring stiffness"},
        {"l0", 1.0, "m", "rest length of the spring"},
        {"g", 9.81, "m/s^2", "acceleration of gravity"}}};
-  double m, k, l0, g;
-  explicit ElasticPendulum(double mass = description.value("m"), double stiffness = description.value("k"),
-                           double rest_length = description.value("l0"), double gravity = description.value("g"))
+  P m, k, l0, g;
+  /// The model with parameters of type Q (parameter sensitivities,
+  /// analysis/sensitivity.hpp), and its parameters in the description's order.
+  template <class Q>
+  using with_parameter_type = BasicElasticPendulum<Q>;
+  static constexpr std::array<P BasicElasticPendulum::*, 4> parameter_members() {
+    return {&BasicElasticPendulum::m, &BasicElasticPendulum::k, &BasicElasticPendulum::l0, &BasicElasticPendulum::g};
+  }
+  explicit BasicElasticPendulum(double mass = description.value("m"), double stiffness = description.value("k"),
+                                double rest_length = description.value("l0"), double gravity = description.value("g"))
       : m(require_positive("ElasticPendulum", "m", mass)),
         k(require_positive("ElasticPendulum", "k", stiffness)),
         l0(require_positive("ElasticPendulum", "l0", rest_length)),
@@ -284,6 +312,8 @@ struct ElasticPendulum {
     return -m * g * q[0] * cos(q[1]) + 0.5 * k * stretch * stretch;
   }
 };
+/// The elastic pendulum with parameters in double precision.
+using ElasticPendulum = BasicElasticPendulum<>;
 
 /// Bead of mass m on a circular hoop of radius R that spins at a constant
 /// rate ω (rad/s) about its vertical diameter (a moving, rheonomic
@@ -397,7 +427,8 @@ struct CartPendulum {
 /// Ω in rad/s): an explicitly time-dependent Lagrangian.
 ///   T = ½ m (l² θ̇² + ẏ_p² + 2 l ẏ_p θ̇ sin θ),  V = m g (y_p − l cos θ),
 /// whose equation of motion is θ̈ = −(g + ÿ_p) sin θ / l.
-struct DrivenPendulum {
+template <class P = double>
+struct BasicDrivenPendulum {
   static constexpr int coordinate_count = 1;
   static constexpr ModelDescription description{
       "driven_pendulum",
@@ -408,10 +439,17 @@ struct DrivenPendulum {
        {"a", 0.05, "m", "amplitude of the pivot's motion"},
        {"Omega", 30.0, "rad/s", "angular frequency of the drive"},
        {"g", 9.81, "m/s^2", "acceleration of gravity"}}};
-  double m, l, a, Omega, g;
-  explicit DrivenPendulum(double mass = description.value("m"), double length = description.value("l"),
-                          double amplitude = description.value("a"), double drive_rate = description.value("Omega"),
-                          double gravity = description.value("g"))
+  P m, l, a, Omega, g;
+  /// The model with parameters of type Q (parameter sensitivities,
+  /// analysis/sensitivity.hpp), and its parameters in the description's order.
+  template <class Q>
+  using with_parameter_type = BasicDrivenPendulum<Q>;
+  static constexpr std::array<P BasicDrivenPendulum::*, 5> parameter_members() {
+    return {&BasicDrivenPendulum::m, &BasicDrivenPendulum::l, &BasicDrivenPendulum::a, &BasicDrivenPendulum::Omega, &BasicDrivenPendulum::g};
+  }
+  explicit BasicDrivenPendulum(double mass = description.value("m"), double length = description.value("l"),
+                               double amplitude = description.value("a"), double drive_rate = description.value("Omega"),
+                               double gravity = description.value("g"))
       : m(require_positive("DrivenPendulum", "m", mass)),
         l(require_positive("DrivenPendulum", "l", length)),
         a(require_finite("DrivenPendulum", "a", amplitude)),
@@ -432,6 +470,8 @@ struct DrivenPendulum {
     return m * g * (a * cos(Omega * t) - l * cos(q[0]));
   }
 };
+/// The driven pendulum with parameters in double precision.
+using DrivenPendulum = BasicDrivenPendulum<>;
 
 /// Chain of N point masses m_i on massless rods l_i (a planar N-link
 /// pendulum), angles from the downward vertical. With x_k = Σ_{i≤k} l_i sin θ_i,
