@@ -571,7 +571,8 @@ TEST(ParticleTangent, OscillatorSensitivitiesAreTheClosedForm) {
     sensitivity(scene, with_mass);
     ADD_FAILURE() << "a particle scene's parameter column was computed";
   } catch (const OptionError& e) {
-    EXPECT_NE(std::string(e.what()).find("sensitivity: particle scene 'oscillator': --parameter m: "), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("sensitivity: particle scene 'oscillator': --parameter m: "),
+              std::string::npos)
         << e.what();
   }
 }

@@ -101,7 +101,8 @@ class ParticleTangent {
     contacts_ = model_.wall_contacts();
     const std::vector<int>& members = model_.pair_members();
     for (std::size_t p = 0; p < members.size(); ++p)
-      for (std::size_t r = p + 1; r < members.size(); ++r) contacts_.push_back(model_.pair_contact(members[p], members[r]));
+      for (std::size_t r = p + 1; r < members.size(); ++r)
+        contacts_.push_back(model_.pair_contact(members[p], members[r]));
     const int n = model_.dim();
     const auto dim = static_cast<std::size_t>(n);
     wide_.resize(3 * dim);
@@ -234,7 +235,8 @@ class ParticleTangent {
       const Row& row = s.model_.rows()[static_cast<std::size_t>(i)];
       const int bodies[2] = {row.a, row.b};
       for (int side = 0; side < 2; ++side)
-        for (int c = 0; c < 3 && bodies[side] >= 0; ++c) r[3 * bodies[side] + c].g[static_cast<std::size_t>(3 * side + c)] = 1.0;
+        for (int c = 0; c < 3 && bodies[side] >= 0; ++c)
+          r[3 * bodies[side] + c].g[static_cast<std::size_t>(3 * side + c)] = 1.0;
       const JetSix g = row.value(r);
       const Vector3<JetSix> grad = row.grad(r);
       JetSix rate(0.0);

@@ -445,11 +445,12 @@ struct BasicDrivenPendulum {
   template <class Q>
   using with_parameter_type = BasicDrivenPendulum<Q>;
   static constexpr std::array<P BasicDrivenPendulum::*, 5> parameter_members() {
-    return {&BasicDrivenPendulum::m, &BasicDrivenPendulum::l, &BasicDrivenPendulum::a, &BasicDrivenPendulum::Omega, &BasicDrivenPendulum::g};
+    return {&BasicDrivenPendulum::m, &BasicDrivenPendulum::l, &BasicDrivenPendulum::a, &BasicDrivenPendulum::Omega,
+            &BasicDrivenPendulum::g};
   }
   explicit BasicDrivenPendulum(double mass = description.value("m"), double length = description.value("l"),
-                               double amplitude = description.value("a"), double drive_rate = description.value("Omega"),
-                               double gravity = description.value("g"))
+                               double amplitude = description.value("a"),
+                               double drive_rate = description.value("Omega"), double gravity = description.value("g"))
       : m(require_positive("DrivenPendulum", "m", mass)),
         l(require_positive("DrivenPendulum", "l", length)),
         a(require_finite("DrivenPendulum", "a", amplitude)),
