@@ -76,8 +76,8 @@ struct ModelEntry {
   /// one period (analysis/floquet.hpp); refused as lyapunov is.
   FloquetResult (*floquet)(const ModelSpec& spec, const FloquetOptions& options);
   /// ∂x(t)/∂x(t0) and ∂x(t)/∂p of the motion from the spec's initial state
-  /// (analysis/sensitivity.hpp); refused as lyapunov is, and AnalysisError
-  /// for parameters a model does not offer.
+  /// (analysis/sensitivity.hpp); refused as lyapunov is, and OptionError
+  /// naming --parameter for parameters a model does not offer.
   SensitivityResult (*sensitivity)(const ModelSpec& spec, const SensitivityOptions& options);
 
   /// Runs the model (see run_fn).
