@@ -65,6 +65,8 @@ class ParticleModel {
   int dim() const { return dim_; }
   const std::vector<std::string>& names() const { return names_; }
   const std::vector<double>& mass() const { return mass_; }
+  /// 1/m of each of the 3N coordinates (1/kg).
+  const Eigen::VectorXd& inverse_masses() const { return inv_mass3_; }
   bool has_contacts() const { return has_contacts_; }
   /// True when a declared force depends on the velocities (a drag).
   bool velocity_dependent() const { return linear_drag_ != nullptr || quadratic_drag_ != nullptr; }

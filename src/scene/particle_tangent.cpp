@@ -107,8 +107,6 @@ class ParticleTangent {
     const auto dim = static_cast<std::size_t>(n);
     wide_.resize(3 * dim);
     one_.resize(3 * dim);
-    inv_mass_.resize(n);
-    for (int i = 0; i < n; ++i) inv_mass_[i] = 1.0 / model_.mass()[static_cast<std::size_t>(i / 3)];
     if (m_ == 0) return;
     six_.resize(dim);
     x_.resize(2 * dim);
@@ -379,7 +377,7 @@ class ParticleTangent {
       for (int k = 0; k < width; ++k) free_(i, k + 1) = a[i].g[static_cast<std::size_t>(k)];
     }
     if (values) {
-      minv_ct_.noalias() = inv_mass_.asDiagonal() * c_.transpose();
+      minv_ct_.noalias() = model_.inverse_masses().asDiagonal() * c_.transpose();
       schur_.noalias() = c_ * minv_ct_;
       solver_.factorize(schur_.data());
       // λ = S⁺ (−γ − C a_F), q̈ = a_F + M⁻¹Cᵀλ.
@@ -394,7 +392,7 @@ class ParticleTangent {
     for (int k = 0; k < width; ++k) {
       const Eigen::MatrixXd& dc = dc_[static_cast<std::size_t>(k)];
       scratch_.noalias() = dc.transpose() * lambda_;
-      u_ = free_.col(k + 1) + inv_mass_.cwiseProduct(scratch_);
+      u_ = free_.col(k + 1) + model_.inverse_masses().cwiseProduct(scratch_);
       rhs_ = -gamma_.col(k + 1);
       rhs_.noalias() -= dc * qdd_;
       rhs_.noalias() -= c_ * u_;
@@ -412,7 +410,6 @@ class ParticleTangent {
   std::vector<double> x0_;
   std::vector<Contact> contacts_;  // walls and planes, then the sphere pairs
   int m_;  // rows of the links and surfaces
-  Eigen::VectorXd inv_mass_;  // 1/m of each coordinate
   // The passes' workspace (the class comment's names).
   mutable std::vector<JetSix> six_;
   mutable std::vector<double> x_;
