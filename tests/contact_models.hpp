@@ -30,7 +30,7 @@ struct BouncingBall {
   }
   P g = 9.81, e = 0.8, amplitude = 0.05, omega = 10.0;
   std::string name() const { return "bouncing_ball"; }
-  std::array<double, 1> restitution() const { return {lagrangian::ad::value_of(e)}; }
+  std::array<P, 1> restitution() const { return {e}; }
   template <class S>
   S kinetic(const Vec<S, 1>&, const Vec<S, 1>& qd, const S&) const {
     return 0.5 * qd[0] * qd[0];

@@ -5,7 +5,7 @@
 // two spheres (a direct and an oblique impact); Liouville across impacts
 // (the exponents' sum gains 2 ln e per bounce), the monodromy matrix of an
 // elastic bounce, and the refusals (a contact coming to rest, two contacts
-// at one instant, parameter columns across impacts).
+// at one instant). Parameter columns across impacts: test_impact_sensitivity.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -344,25 +344,5 @@ TEST(Saltation, MovingTableAndPendulumAgainstAWallMatchDifferencesOfSimulate) {
     EXPECT_EQ(r.impacts, 1);
     const Eigen::MatrixXd fd = differences(pendulum, s, 1.5, 1e-6);
     EXPECT_LT(worst_relative(r.sensitivities.back(), fd), 1e-6) << r.sensitivities.back() << "\n\n" << fd;
-  }
-}
-
-TEST(Saltation, ParameterColumnsAcrossImpactsAreRefused) {
-  BouncingBall<> ball;
-  ball.amplitude = 0.0;  // a fixed floor
-  lagrangian::State<1> s;
-  s.q[0] = 1.0;
-  lagrangian::SensitivityOptions o = tight(0.5);  // dropped from 1 m: the bounce at 0.45 s
-  // The initial state's columns cross; a parameter's are refused by name.
-  const lagrangian::SensitivityResult r = lagrangian::sensitivities(ball, s, o);
-  EXPECT_EQ(r.impacts, 1);
-  EXPECT_EQ(r.sensitivities.back().cols(), 2);
-  o.parameters = {"g"};
-  try {
-    lagrangian::sensitivities(ball, s, o);
-    FAIL() << "a parameter column was carried across impacts";
-  } catch (const lagrangian::AnalysisError& e) {
-    EXPECT_NE(std::string(e.what()).find("parameter columns across impacts are not derived"), std::string::npos)
-        << e.what();
   }
 }

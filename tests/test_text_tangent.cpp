@@ -404,6 +404,21 @@ TEST(TextSaltation, MovingAndTurningGapsCrossAsTheCppModels) {
     EXPECT_LE((got.sensitivities.back() - want.sensitivities.back()).cwiseAbs().maxCoeff(), 1e-8)
         << got.sensitivities.back() << "\n\n"
         << want.sensitivities.back();
+    // The parameters' columns cross the same impacts: the gap moves with A
+    // and w (test_impact_sensitivity holds the C++ model's columns against
+    // central differences of simulate()).
+    lagrangian::SensitivityOptions p = o;
+    p.initial_state = false;
+    p.parameters = {"g", "A", "w"};
+    const lagrangian::SensitivityResult got_p = text::sensitivities(text::TextModel(d), start({0.3}, {0.0}), p);
+    p.parameters = {"g", "amplitude", "omega"};
+    const lagrangian::SensitivityResult want_p =
+        lagrangian::sensitivities(lagrangian::testing::BouncingBall<>(), s, p);
+    ASSERT_EQ(got_p.sensitivities.back().cols(), 3);
+    EXPECT_GT(want_p.sensitivities.back().cwiseAbs().minCoeff(), 1e-3) << want_p.sensitivities.back();
+    EXPECT_LE((got_p.sensitivities.back() - want_p.sensitivities.back()).cwiseAbs().maxCoeff(), 1e-8)
+        << got_p.sensitivities.back() << "\n\n"
+        << want_p.sensitivities.back();
   }
   {
     text::Definition d = lagrangian::testing::double_pendulum_text(lm::DoublePendulum());

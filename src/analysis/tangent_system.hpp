@@ -70,11 +70,8 @@ class TangentSystem final : public System {
         jacobian_(static_cast<std::size_t>(2 * model.n * model.n)), w_(2 * model.n, columns_), qr_(2 * model.n, k),
         sums_(static_cast<std::size_t>(k), 0.0) {
     if (benettin_ && columns_ != k_) throw std::logic_error("TangentSystem: Benettin's method takes no parameter columns");
-    if (model_.contacts > 0 && columns_ != k_)
-      throw AnalysisError(
-          "sensitivity: parameter columns across impacts are not derived (the impact map and the gaps may depend on "
-          "the parameters); this model has " +
-          std::to_string(model_.contacts) + " contacts: ask for the initial state's columns only");
+    if (model_.contacts > 0 && columns_ != k_ && model_.parameter_impact == nullptr)
+      throw std::logic_error("TangentSystem: parameter columns of a model with contacts need its parameter_impact");
     jumped_.resize(2 * model_.n, columns_);
   }
 
@@ -505,11 +502,22 @@ class TangentSystem final : public System {
     model_.evaluate_direction(model_.model, x, qd_plus_.data(), t, zero_.data(), qdd_plus_.data(), scratch_.data());
     saltation_from(n, x + c, qdd_minus_.data(), qd_plus_.data(), qdd_plus_.data(), impact_jacobian_.data(),
                    gap_gradient_.data(), v, salt_scratch_.data(), saltation_.data());
+    // A parameter's column s becomes S s + R_p + a ∂φ/∂p / v, with
+    // R_p = (0, ∂q̇⁺/∂p) and a = f⁺ − R_x f⁻ − R_t (saltation_from()'s
+    // scratch): the impact map and the gap move with the parameter too.
+    const Eigen::Map<const Eigen::VectorXd> a(salt_scratch_.data(), 2 * n);
+    for (int j = k_; j < columns_; ++j) {
+      const double dgap = model_.parameter_impact(model_.model, x, x + c, t, first,
+                                                  parameters_[static_cast<std::size_t>(j - k_)], scratch_.data());
+      parameter_jump_.col(j - k_) = a * (dgap / v);
+      parameter_jump_.col(j - k_).tail(n) += Eigen::Map<const Eigen::VectorXd>(scratch_.data(), n);
+    }
     std::copy(qd_plus_.begin(), qd_plus_.end(), x + c);
     load(x);
     const Eigen::Map<const Eigen::MatrixXd> s(saltation_.data(), 2 * n, 2 * n);
     jumped_.noalias() = s * w_;
     w_ = jumped_;
+    w_.rightCols(columns_ - k_) += parameter_jump_;
     store(x);
     if (benettin_) {
       // ℓ jumps at the impact: ∫ s dℓ gains s (ℓ⁺ − ℓ⁻).
@@ -556,7 +564,7 @@ class TangentSystem final : public System {
                       zero_ = std::vector<double>(static_cast<std::size_t>(2 * model_.n)),
                       saltation_ = std::vector<double>(static_cast<std::size_t>(4 * model_.n * model_.n)),
                       salt_scratch_ = zero_;
-  Eigen::MatrixXd jumped_;
+  Eigen::MatrixXd jumped_, parameter_jump_ = Eigen::MatrixXd(2 * model_.n, columns_ - k_);
   // The constraint manifold: its rows and their Jacobian, U (configuration_basis()).
   Eigen::MatrixXd reduce_;
   std::vector<double> residual_ = std::vector<double>(static_cast<std::size_t>(model_.manifold)),

@@ -103,14 +103,14 @@ struct BallAndPlaneDef {
   static State<3> initial(const Model& m, double) {
     const double h = m.d + m.R + 1.0;
     State<3> x;
-    x.q << m.n[0] * h, m.n[1] * h, m.n[2] * h;
+    x.q << m.nx * h, m.ny * h, m.nz * h;
     return x;
   }
   /// The ball and the plane n·r = d (through d n, normal n); gravity along −z.
   static view::Figure figure(const Model& m) {
     view::Figure f;
     f.bodies = {{.name = "ball", .radius = m.R}};
-    f.planes = {{.name = "plane", .point = {m.d * m.n[0], m.d * m.n[1], m.d * m.n[2]}, .normal = m.n}};
+    f.planes = {{.name = "plane", .point = {m.d * m.nx, m.d * m.ny, m.d * m.nz}, .normal = m.normal()}};
     f.up = {0, 0, 1};
     return f;
   }

@@ -121,6 +121,16 @@ double parameter_manifold(const void* model, const double* q, const double* qd, 
   return with.values[i];
 }
 
+/// ∂q̇⁺/∂p and ∂φ_j/∂p at an impact (TangentModel::parameter_impact) on
+/// the twin whose parameter is seeded.
+template <int N>
+double parameter_impact(const void* model, const double* q, const double* qd, double t, int contact, int parameter,
+                        double* dqd_plus) {
+  const auto& with = static_cast<const WithSeeds<N>&>(*static_cast<const FixedSizeModel<N>*>(model));
+  return lagrangian::detail::impact_along_parameter<N>(*with.seeded[static_cast<std::size_t>(parameter)], q, qd, t,
+                                                       contact, dqd_plus);
+}
+
 }  // namespace
 
 SensitivityResult sensitivities(const TextModel& model, const State<Dynamic>& initial,
@@ -136,6 +146,7 @@ SensitivityResult sensitivities(const TextModel& model, const State<Dynamic>& in
     if (!indices.empty()) {
       tm.evaluate_parameter = &parameter_direction<n>;
       if (tm.manifold > 0) tm.parameter_manifold = &parameter_manifold<n>;
+      if (tm.contacts > 0) tm.parameter_impact = &parameter_impact<n>;
     }
     return lagrangian::detail::sensitivities(tm, start.q.data(), start.qd.data(), indices, names, options);
   });

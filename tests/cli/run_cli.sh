@@ -498,6 +498,9 @@ expect 1 "floquet: no periodic orbit found" -- "$bin" floquet "$atwood" --period
 # the same column of m1 (two derivations of one model).
 analysis_json sensitivity ho_phi "(lambda m, c, s: d['model'] == 'harmonic_oscillator' and len(sum(d['state_transition'], [])) == 4 and all(abs(a - b) < 1e-8 for a, b in zip(sum(d['state_transition'], []), [c, s / 2, -2 * s, c])))(__import__('math'), __import__('math').cos(2.0), __import__('math').sin(2.0))" -- "$ho" --t-end 1
 analysis_json sensitivity projectile_g "len(d['parameters']['g']) == 4 and 'state_transition' not in d and all(abs(a - b) < 1e-9 for a, b in zip(d['parameters']['g'], [0, -0.5, 0, -1]))" -- "$src/examples/scenes/projectile.toml" --t-end 1 --parameter g --parameters-only
+# The ball dropped 1 m onto the floor (e = 0.5) bounces at t1 = sqrt(2/g) with speed v1 = g t1; at
+# t = 0.8 s its column of e is (0, 0, v1 (t - t1), 0, 0, v1): the parameter's column crosses the impact.
+analysis_json sensitivity ball_e "(lambda t1: all(abs(a - b) < 1e-7 for a, b in zip(d['parameters']['e'], [0, 0, 9.81 * t1 * (0.8 - t1), 0, 0, 9.81 * t1])) and len(d['parameters']['e']) == 6 and d['impacts'] == 1)((2 / 9.81) ** 0.5)" -- "$src/examples/scenes/ball_and_plane.toml" --t-end 0.8 --parameter e --parameters-only
 if "$bin" sensitivity "$src/examples/scenes/text/double_pendulum.toml" --t-end 1 --parameter m1 --parameters-only --json > "$work/dp_text_m1.json" &&
   "$bin" sensitivity "$src/examples/scenes/double_pendulum.toml" --set 'model.q[0]=2' --set 'model.q[1]=2' --t-end 1 \
     --parameter m1 --parameters-only --json > "$work/dp_m1.json" &&

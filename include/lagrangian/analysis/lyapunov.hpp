@@ -166,6 +166,13 @@ struct TangentModel {
   void (*gaps)(const void* model, const double* q, const double* qd, double t, double* gap, double* rate) = nullptr;
   double (*impact)(const void* model, const double* q, const double* qd, double t, int contact, double e,
                    double* qd_plus, double* jacobian, double* gap_gradient, double* gamma) = nullptr;
+  /// For a model with contacts and parameters asked for: the impact map of
+  /// contact j at (q, q̇⁻, t) along the model's parameter number
+  /// `parameter`: ∂q̇⁺/∂p (n values into `dqd_plus`); it returns ∂φ_j/∂p.
+  /// Null for a model whose contacts do not follow its parameters
+  /// (sensitivity.hpp): its parameter columns are refused.
+  double (*parameter_impact)(const void* model, const double* q, const double* qd, double t, int contact,
+                             int parameter, double* dqd_plus) = nullptr;
   /// The constraint manifold of a model with holonomic or Pfaffian rows:
   /// the number of its rows h = (g, ġ, φ) (2 mh + mp; 0 for a model
   /// without such constraints), mh and the rows' names, h and ∂h/∂(q, q̇) at

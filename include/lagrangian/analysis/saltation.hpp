@@ -107,6 +107,62 @@ double restitution_of(const M& model, int contact, const std::string& prefix) {
 }  // namespace detail
 
 namespace detail {
+/// Newton's law of the file comment on numbers B.
+template <class B, int n>
+struct ImpactLaw {
+  Vec<B, n> plus;      ///< q̇⁺
+  Vec<B, n> gradient;  ///< G = ∂φ_j/∂q
+  B rate_t;            ///< ∂φ_j/∂t
+  B approach;          ///< v = G q̇ + ∂φ_j/∂t
+  B gap;               ///< φ_j
+};
+
+/// The law at (q, q̇, t) given as numbers B, for the model or its seeded
+/// twin `eval` (sensitivity.hpp) and the restitution coefficient e (a
+/// double or a B). B carries the derivatives wanted: along (q, q̇, t) for
+/// the impact map, along a parameter for its parameter column.
+/// DynamicsError as impact_map().
+template <class B, class E, int n, class R>
+ImpactLaw<B, n> impact_law(const E& eval, const Vec<B, n>& qx, const Vec<B, n>& qdx, const B& tx, int contact,
+                           const R& e) {
+  ImpactLaw<B, n> out;
+  // M: L to second order in q̇.
+  using H = ad::Jet<B, n, 2>;
+  Vec<H, n> qh, qdh;
+  for (int k = 0; k < n; ++k) {
+    qh[k] = H(qx[k]);
+    qdh[k] = H::variable(qdx[k], k);
+  }
+  const H l = detail::lagrangian_of(eval, qh, qdh, H(tx));
+  Mat<B, n> mass;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) mass(i, j) = l.hess(i, j);
+  // G and ∂φ/∂t: the gap to first order in (q, t).
+  using G = ad::Jet<B, n + 1, 1>;
+  Vec<G, n> qg;
+  for (int k = 0; k < n; ++k) qg[k] = G::variable(qx[k], k);
+  const G phi = G(eval.unilateral(qg, G::variable(tx, n))[contact]);
+  Vec<B, n> w;
+  B v = phi.g[n];
+  for (int k = 0; k < n; ++k) {
+    w[k] = phi.g[k];
+    out.gradient[k] = phi.g[k];
+    v += phi.g[k] * qdx[k];
+  }
+  detail::solve_spd_in_place(mass, w);  // w = M⁻¹ Gᵀ
+  B gw(0.0);
+  for (int k = 0; k < n; ++k) gw += phi.g[k] * w[k];
+  if (!(ad::value_of(gw) > 0.0))
+    throw DynamicsError("impact map: contact " + std::to_string(contact) +
+                        " has G M^-1 G^T = 0 (its gap does not change with the coordinates here)");
+  const B scale = (1.0 + e) * v / gw;
+  for (int i = 0; i < n; ++i) out.plus[i] = qdx[i] - scale * w[i];
+  out.rate_t = phi.g[n];
+  out.approach = v;
+  out.gap = phi.v;
+  return out;
+}
+
 /// impact_map() with the restitution coefficient e given (the tangent run
 /// reads them once).
 template <class M>
@@ -120,45 +176,15 @@ ImpactMap<coordinate_count_v<M>> impact_map_with(const M& model, const Vec<doubl
     qx[k] = D::variable(q[k], k);
     qdx[k] = D::variable(qd[k], n + k);
   }
-  const D tx = D::variable(t, 2 * n);
-  // M on numbers along (q, q̇, t): L to second order in q̇.
-  using H = ad::Jet<D, n, 2>;
-  Vec<H, n> qh, qdh;
-  for (int k = 0; k < n; ++k) {
-    qh[k] = H(qx[k]);
-    qdh[k] = H::variable(qdx[k], k);
-  }
-  const H l = detail::lagrangian_of(model, qh, qdh, H(tx));
-  Mat<D, n> mass;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) mass(i, j) = l.hess(i, j);
-  // G and ∂φ/∂t: the gap to first order in (q, t).
-  using G = ad::Jet<D, n + 1, 1>;
-  Vec<G, n> qg;
-  for (int k = 0; k < n; ++k) qg[k] = G::variable(qx[k], k);
-  const G phi = G(model.unilateral(qg, G::variable(tx, n))[contact]);
-  Vec<D, n> w;
-  D v = phi.g[n];
-  for (int k = 0; k < n; ++k) {
-    w[k] = phi.g[k];
-    v += phi.g[k] * qdx[k];
-  }
-  detail::solve_spd_in_place(mass, w);  // w = M⁻¹ Gᵀ
-  D gw(0.0);
-  for (int k = 0; k < n; ++k) gw += phi.g[k] * w[k];
-  if (!(gw.v > 0.0))
-    throw DynamicsError("impact map: contact " + std::to_string(contact) +
-                        " has G M^-1 G^T = 0 (its gap does not change with the coordinates here)");
-  const D scale = (1.0 + e) * v / gw;
+  const ImpactLaw<D, n> law = impact_law(model, qx, qdx, D::variable(t, 2 * n), contact, e);
   ImpactMap<n> out;
   for (int i = 0; i < n; ++i) {
-    const D plus = qdx[i] - scale * w[i];
-    out.qd_plus[i] = plus.v;
-    for (int c = 0; c < 2 * n + 1; ++c) out.jacobian(i, c) = plus.g[c];
-    out.gap_gradient[i] = phi.g[i].v;
+    out.qd_plus[i] = law.plus[i].v;
+    for (int c = 0; c < 2 * n + 1; ++c) out.jacobian(i, c) = law.plus[i].g[c];
+    out.gap_gradient[i] = law.gradient[i].v;
   }
-  out.gap_rate_t = phi.g[n].v;
-  out.approach = v.v;
+  out.gap_rate_t = law.rate_t.v;
+  out.approach = law.approach.v;
   // γ: the gap to second order along the path direction (q̇, 1).
   using P = ad::Jet<double, 1, 2>;
   Vec<P, n> qp;

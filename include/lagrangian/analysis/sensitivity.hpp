@@ -33,9 +33,9 @@
 /// Model<Q> must be default constructible (its parameters are then set from
 /// the model's), and hold nothing computed from its parameters (a cached
 /// m1 + m2 would keep its default). The built-in plane, double, spherical,
-/// elastic and driven pendulums, the harmonic oscillator, the projectiles
-/// and the Atwood machine are written so (models/pendulums.hpp,
-/// models/projectile.hpp, models/constrained.hpp).
+/// elastic and driven pendulums, the harmonic oscillator, the projectiles,
+/// the Atwood machine and the ball on a plane are written so (models/pendulums.hpp,
+/// models/projectile.hpp, models/constrained.hpp, models/impacts.hpp).
 ///
 /// Scope as tangent_flow.hpp: models with a fixed n ≤ 6 coordinates.
 /// **Constraints.** A model with holonomic or Pfaffian constraints moves on
@@ -59,9 +59,20 @@
 /// held to when p changes by max(|p|, 1)) is refused with AnalysisError
 /// naming it and the row. Along the motion s obeys ∂h/∂x s + ∂h/∂p = 0: it
 /// leaves the tangent space where the rows depend on p.
-/// A model's contacts are crossed at their impacts
-/// by the saltation matrix (saltation.hpp) for the initial state's columns;
-/// parameter columns of a model with contacts are refused (AnalysisError).
+/// **Contacts.** A model's contacts are crossed at their impacts by the
+/// saltation matrix S (saltation.hpp). A parameter's column crosses as the
+/// column of the state (x, p) with ṗ = 0: the impact comes at τ(p), where
+/// the gap φ_j(q(τ), τ; p) = 0, so dτ/dp = −(G s_q + ∂φ_j/∂p)/v, and the
+/// map R(x; p) moves with p, so
+///   s⁺ = S s⁻ + R_p + a ∂φ_j/∂p / v,  R_p = (0, ∂q̇⁺/∂p),
+///   a = f⁺ − R_x f⁻ − R_t  (S = R_x + a ∇ₓφᵀ / v),
+/// with ∂q̇⁺/∂p and ∂φ_j/∂p from Newton's law evaluated on the seeded twin
+/// (M, G, v and e carrying the derivative along p). A model offers this by
+/// reading its parameters in unilateral() and giving restitution() as
+/// numbers of its parameters' type (std::array<P, u>: e may be a
+/// parameter); a model whose restitution() gives doubles whatever P is
+/// refused parameter columns (AnalysisError), as its gaps and coefficients
+/// may not follow its parameters.
 /// A model's watched events are not applied (a projectile flies on through
 /// its landing plane).
 
@@ -75,6 +86,7 @@
 #include <Eigen/Core>
 
 #include "lagrangian/analysis/lyapunov.hpp"
+#include "lagrangian/analysis/saltation.hpp"
 #include "lagrangian/analysis/tangent_flow.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/integrate/report.hpp"
@@ -175,6 +187,42 @@ double evaluate_parameter_manifold(const void* model, const double* q, const dou
   return m.*M::parameter_members()[static_cast<std::size_t>(parameter)];
 }
 
+/// True when the twin of M with parameters of type ad::Jet<double, 1, 1>
+/// gives its restitution coefficients as such numbers: the mark of a model
+/// whose contacts (gaps and coefficients) follow its parameters.
+template <class M>
+inline constexpr bool restitution_follows_parameters_v =
+    requires(const typename M::template with_parameter_type<ad::Jet<double, 1, 1>>& twin) {
+      requires std::is_same_v<std::remove_cvref_t<decltype(twin.restitution()[0])>, ad::Jet<double, 1, 1>>;
+    };
+
+/// ∂q̇⁺/∂p (n values into `dqd_plus`) and, returned, ∂φ_j/∂p at an impact
+/// of contact j at (q, q̇⁻, t): Newton's law (saltation.hpp) on the seeded
+/// twin `seeded` (parameters of type ad::Jet<double, 1, 1>), every input a
+/// constant and the parameter carrying δp = 1.
+template <int n, class E>
+double impact_along_parameter(const E& seeded, const double* q, const double* qd, double t, int contact,
+                              double* dqd_plus) {
+  using I = ad::Jet<double, 1, 1>;
+  Vec<I, n> qx, qdx;
+  for (int k = 0; k < n; ++k) {
+    qx[k] = I(q[k]);
+    qdx[k] = I(qd[k]);
+  }
+  const I e = seeded.restitution()[static_cast<std::size_t>(contact)];
+  const ImpactLaw<I, n> law = impact_law(seeded, qx, qdx, I(t), contact, e);
+  for (int i = 0; i < n; ++i) dqd_plus[i] = law.plus[i].g[0];
+  return law.gap.g[0];
+}
+
+/// TangentModel::parameter_impact of a model offering parameter types.
+template <class M>
+double evaluate_parameter_impact(const void* model, const double* q, const double* qd, double t, int contact,
+                                 int parameter, double* dqd_plus) {
+  return impact_along_parameter<coordinate_count_v<M>>(seeded_twin(*static_cast<const M*>(model), parameter), q, qd,
+                                                       t, contact, dqd_plus);
+}
+
 /// The sensitivities over a TangentModel (src/analysis/sensitivity.cpp);
 /// `parameters` are indices into the model's parameters, `names` theirs.
 SensitivityResult sensitivities(const TangentModel& model, const double* q0, const double* qd0,
@@ -191,7 +239,8 @@ std::vector<int> parameter_indices(const std::vector<std::string>& wanted, const
 /// options.run.t0 (see the file comment). Throws OptionError for a bad
 /// option or an unknown parameter (naming it), ConstraintError for a start
 /// off a constraint manifold, AnalysisError for parameters a model does not
-/// offer (has_parameter_type_v), parameters of a model with contacts or
+/// offer (has_parameter_type_v), parameters of a model whose contacts do not
+/// follow its parameters (restitution_follows_parameters_v) or
 /// parameters that move the constraint manifold past the start, constraints
 /// together with contacts, more than
 /// kMaxRuntimeBilateralRows constraint rows counted at run time, or
@@ -211,6 +260,19 @@ SensitivityResult sensitivities(const M& model, const State<coordinate_count_v<M
       tm.evaluate_parameter = &detail::evaluate_parameter_direction<M>;
       if constexpr (detail::bilateral_rows_v<M> != 0) {
         if (tm.manifold > 0) tm.parameter_manifold = &detail::evaluate_parameter_manifold<M>;
+      }
+      if constexpr (unilateral_count_v<M> != 0) {
+        if (tm.contacts > 0) {
+          if constexpr (detail::restitution_follows_parameters_v<M>) {
+            tm.parameter_impact = &detail::evaluate_parameter_impact<M>;
+          } else {
+            throw AnalysisError(
+                "sensitivity: model '" + model_name(model) +
+                "' has contacts whose gaps and restitution coefficients do not follow its parameters (its "
+                "restitution() gives doubles for every parameter type), so parameter columns cannot cross its "
+                "impacts; ask for the initial state's columns only");
+          }
+        }
       }
     } else {
       throw AnalysisError("sensitivity: model '" + model_name(model) +

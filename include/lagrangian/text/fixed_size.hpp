@@ -74,6 +74,7 @@ class FixedSizeModel {
     for (const Expression& f : p_->forces) forces_.push_back(bind_parameters(f, values, parameter));
     for (const Expression& g : p_->holonomic) holonomic_.push_back(bind_parameters(g, values, parameter));
     for (const Expression& a : p_->pfaffian) pfaffian_.push_back(bind_parameters(a, values, parameter));
+    for (const Expression& g : p_->gaps) gaps_.push_back(bind_parameters(g, values, parameter));
   }
 
   std::string name() const { return p_->definition.name; }
@@ -130,13 +131,22 @@ class FixedSizeModel {
   Eigen::Map<const Vec<S, Dynamic>> pfaffian(const Vec<S, N>& q, const Vec<S, N>& qd, const S& t) const {
     return rows(2, pfaffian_, p_->pfaffian_bound, q, qd, t);
   }
-  /// Contacts, gaps φ(q, t) ≥ 0 (m or rad), with their restitution coefficients:
+  /// Contacts, gaps φ(q, t) ≥ 0 (m or rad), with their restitution
+  /// coefficients (numbers of type P: the twin's gaps and coefficients
+  /// follow its parameter, so its parameter columns cross impacts):
   int unilateral_count() const { return static_cast<int>(p_->gaps_bound.size()); }
   template <class S>
   Eigen::Map<const Vec<S, Dynamic>> unilateral(const Vec<S, N>& q, const S& t) const {
-    return detail::constraint_rows<S>(1, p_->gaps_bound, q, q, t);
+    return rows(1, gaps_, p_->gaps_bound, q, q, t);
   }
-  std::vector<double> restitution() const { return TextModel(p_).restitution(); }
+  std::vector<P> restitution() const {
+    const std::vector<double> e = TextModel(p_).restitution();
+    if constexpr (seeded) {
+      return std::vector<P>(e.begin(), e.end());
+    } else {
+      return e;
+    }
+  }
   /// Moves (q, q̇) onto the holonomic constraints and then onto the
   /// velocity rows, as a run of the text model projects its state (through
   /// the text model itself, compiled once in the library).
@@ -218,7 +228,7 @@ class FixedSizeModel {
   int parameter_ = -1;
   P value_{};
   Expression kinetic_, potential_, dissipation_;
-  std::vector<Expression> forces_, holonomic_, pfaffian_;
+  std::vector<Expression> forces_, holonomic_, pfaffian_, gaps_;
 };
 
 }  // namespace lagrangian::text

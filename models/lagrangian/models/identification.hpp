@@ -130,7 +130,7 @@ inline Fit fit_restitution(const BallAndPlane& ball, const State<3>& x0, double 
   detail::check_record("fit_restitution", interval, {heights});
   return detail::fit_record(
       x0, interval, heights.size(),
-      [&](double e) { return BallAndPlane(ball.m, ball.R, e, ball.g, ball.n, ball.d); },
+      [&](double e) { return BallAndPlane(ball.m, ball.R, e, ball.g, ball.normal(), ball.d); },
       [&](const Sample<3>& s, std::size_t k) {
         const double r = s.q[2] - heights[k];
         return r * r;

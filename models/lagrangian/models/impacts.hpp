@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 
+#include "lagrangian/ad.hpp"
 #include "lagrangian/integrate/detail/compiled_models.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/model_description.hpp"
@@ -229,7 +230,12 @@ struct TwoSpheres : detail::ParticlePair<D> {
 ///   T = ½ m |ṙ|²,  V = m g z,  contact φ = n·r − d − R ≥ 0.
 /// Bounce: v⁺ = v⁻ − (1 + e)(n·v⁻) n (bounce_velocity). Dropped from rest
 /// with its lowest point at height h above a floor, it lands at t = √(2h/g).
-struct BallAndPlane {
+/// Its parameters may be numbers of another type P (parameter
+/// sensitivities, analysis/sensitivity.hpp: with restitution() of type P a
+/// parameter's column crosses the bounces). A column of nx, ny or nz moves
+/// that component of the stored unit normal alone (it is not renormalised).
+template <class P = double>
+struct BasicBallAndPlane {
   static constexpr int coordinate_count = 3;
   static constexpr ModelDescription description{
       "ball_and_plane",
@@ -245,31 +251,38 @@ struct BallAndPlane {
        {"offset", 0.0, "m", "plane offset d in n.r = d"}}};
   /// T = ½ m|v|²: M constant (model.hpp, constant_mass_matrix_v).
   static constexpr bool constant_mass_matrix = true;
-  double m, R, g, e;
-  std::array<double, 3> n;
-  double d;
-  BallAndPlane(double mass = description.value("m"), double radius = description.value("R"),
-               double restitution = description.value("e"), double gravity = description.value("g"),
-               std::array<double, 3> normal = {description.value("nx"), description.value("ny"),
-                                                description.value("nz")},
-               double offset = description.value("offset"))
+  P m, R, e, g, nx, ny, nz, d;
+  template <class Q>
+  using with_parameter_type = BasicBallAndPlane<Q>;
+  static constexpr std::array<P BasicBallAndPlane::*, 8> parameter_members() {
+    return {&BasicBallAndPlane::m,  &BasicBallAndPlane::R,  &BasicBallAndPlane::e,  &BasicBallAndPlane::g,
+            &BasicBallAndPlane::nx, &BasicBallAndPlane::ny, &BasicBallAndPlane::nz, &BasicBallAndPlane::d};
+  }
+  BasicBallAndPlane(double mass = description.value("m"), double radius = description.value("R"),
+                    double restitution = description.value("e"), double gravity = description.value("g"),
+                    std::array<double, 3> normal = {description.value("nx"), description.value("ny"),
+                                                    description.value("nz")},
+                    double offset = description.value("offset"))
       : m(require_positive("BallAndPlane", "m", mass)),
         R(require_nonnegative("BallAndPlane", "R", radius)),
-        g(require_nonnegative("BallAndPlane", "g", gravity)),
         e(require_in_range("BallAndPlane", "e", restitution, 0.0, 1.0)),
-        n(normal),
+        g(require_nonnegative("BallAndPlane", "g", gravity)),
         d(require_finite("BallAndPlane", "offset", offset)) {
-    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    const double len = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
     require_positive("BallAndPlane", "|normal|", len);
-    for (auto& c : n) c /= len;
+    nx = normal[0] / len;
+    ny = normal[1] / len;
+    nz = normal[2] / len;
   }
   std::string name() const { return std::string(description.name); }
   std::array<std::string_view, 3> coordinate_names() const { return description.coordinate_names(); }
   std::array<std::string_view, 3> coordinate_units() const { return description.coordinate_units(); }
   std::array<std::string, 1> unilateral_names() const { return {"ball-plane"}; }
   std::array<std::string, 1> constraint_units() const { return {"m"}; }  ///< gap in m: λ in N
-  std::array<double, 1> restitution() const { return {e}; }
-  std::array<Particle, 1> particles() const { return {Particle{m, {0, 1, 2}}}; }
+  std::array<P, 1> restitution() const { return {e}; }
+  std::array<Particle, 1> particles() const { return {Particle{ad::value_of(m), {0, 1, 2}}}; }
+  /// The plane's unit normal n.
+  std::array<P, 3> normal() const { return {nx, ny, nz}; }
   template <class S>
   S kinetic(const Vec<S, 3>&, const Vec<S, 3>& qd, const S&) const {
     return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1] + qd[2] * qd[2]);
@@ -280,18 +293,20 @@ struct BallAndPlane {
   }
   template <class S>
   Vec<S, 1> unilateral(const Vec<S, 3>& q, const S&) const {
-    return Vec<S, 1>(n[0] * q[0] + n[1] * q[1] + n[2] * q[2] - d - R);
+    return Vec<S, 1>(nx * q[0] + ny * q[1] + nz * q[2] - d - R);
   }
   /// Velocity after bouncing off the plane with velocity v (m/s):
   /// v − (1 + e)(n·v) n, the normal part reversed and scaled by e, the
   /// tangential part unchanged.
   std::array<double, 3> bounce_velocity(const std::array<double, 3>& v) const {
-    const double vn = n[0] * v[0] + n[1] * v[1] + n[2] * v[2];
-    return {v[0] - (1 + e) * vn * n[0], v[1] - (1 + e) * vn * n[1], v[2] - (1 + e) * vn * n[2]};
+    const double vn = nx * v[0] + ny * v[1] + nz * v[2];
+    return {v[0] - (1 + e) * vn * nx, v[1] - (1 + e) * vn * ny, v[2] - (1 + e) * vn * nz};
   }
   /// Time to fall from rest through a height h (m) onto a floor: √(2h/g) (s).
   double drop_time(double h) const { return std::sqrt(2.0 * h / g); }
 };
+/// The ball and plane with parameters in double precision.
+using BallAndPlane = BasicBallAndPlane<>;
 
 /// N smooth discs (spheres moving in a plane) in the box [0, W] × [0, H]
 /// (m), gravity g along −y (0 by default); coordinates (x₁, y₁, …, x_N, y_N).

@@ -1,0 +1,154 @@
+// Parameter columns across impacts (analysis/sensitivity.hpp): a ball
+// dropped onto a floor against the closed form of its motion after the
+// bounce, a ball on a moving table and a ball on a tilted plane against
+// central differences of simulate() over several bounces, and the refusal
+// of a model whose contacts do not follow its parameters.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "lagrangian/analysis/sensitivity.hpp"
+#include "lagrangian/models/impacts.hpp"
+
+#include "contact_models.hpp"
+#include "final_state.hpp"
+
+namespace {
+
+namespace lm = lagrangian::models;
+using lagrangian::testing::BouncingBall;
+
+lagrangian::SensitivityOptions tight(double t_end, std::vector<std::string> parameters) {
+  lagrangian::SensitivityOptions o;
+  o.run.t_end = t_end;
+  o.run.rtol = 1e-13;
+  o.run.atol = 1e-15;
+  o.initial_state = false;
+  o.parameters = std::move(parameters);
+  return o;
+}
+
+/// Central differences of simulate()'s x(T) along each of a model's
+/// parameters (steps h (1 + |p|)), one column per name in `names`.
+template <class M>
+Eigen::MatrixXd parameter_differences(const M& model, const lagrangian::State<lagrangian::coordinate_count_v<M>>& s,
+                                      double T, double h, const std::vector<std::string>& names) {
+  const std::vector<std::string> all = lagrangian::parameter_names_of<M>();
+  constexpr auto members = M::parameter_members();
+  Eigen::MatrixXd out(2 * lagrangian::coordinate_count_v<M>, static_cast<int>(names.size()));
+  for (std::size_t c = 0; c < names.size(); ++c) {
+    const std::size_t i = static_cast<std::size_t>(std::find(all.begin(), all.end(), names[c]) - all.begin());
+    EXPECT_LT(i, all.size()) << names[c];
+    M up = model, down = model;
+    const double step = h * (1 + std::abs(model.*members[i]));
+    up.*members[i] += step;
+    down.*members[i] -= step;
+    out.col(static_cast<int>(c)) =
+        (lagrangian::testing::final_state(up, s, T) - lagrangian::testing::final_state(down, s, T)) / (2 * step);
+  }
+  return out;
+}
+
+double worst_relative(const Eigen::MatrixXd& got, const Eigen::MatrixXd& expected) {
+  return ((got - expected).array().abs() / (1.0 + expected.array().abs())).maxCoeff();
+}
+
+// Dropped from rest at height z0 onto the floor z = 0: the bounce comes at
+// t1 = √(2 z0/g) with speed v1 = g t1, and after it
+//   z = e v1 (t − t1) − ½ g (t − t1)²,  ż = e v1 − g (t − t1),
+// so ∂z/∂e = v1 (t − t1), ∂ż/∂e = v1, and with dt1/dg = −t1/(2g),
+// dv1/dg = v1/(2g):
+//   ∂z/∂g = e v1 t/(2g) − ½ (t − t1)² − ½ t1 (t − t1),
+//   ∂ż/∂g = e v1/(2g) − (t − t1) − ½ t1.
+// Without the terms the impact adds (R_p and the shift of the impact time)
+// the columns would be those of the flight alone, and fail.
+TEST(ImpactSensitivity, BallDroppedOnAFloorMatchesItsClosedForm) {
+  BouncingBall<> ball;
+  ball.amplitude = 0.0;  // a fixed floor
+  ball.e = 0.8;
+  const double z0 = 1.0, g = ball.g, e = ball.e, T = 0.9;
+  lagrangian::State<1> s;
+  s.q[0] = z0;
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(ball, s, tight(T, {"e", "g"}));
+  ASSERT_EQ(r.impacts, 1);
+  const double t1 = std::sqrt(2 * z0 / g), v1 = g * t1, u = T - t1;
+  Eigen::MatrixXd expected(2, 2);
+  expected << v1 * u, e * v1 * T / (2 * g) - 0.5 * u * u - 0.5 * t1 * u,  //
+      v1, e * v1 / (2 * g) - u - 0.5 * t1;
+  const Eigen::MatrixXd& got = r.sensitivities.back();
+  ASSERT_EQ(got.cols(), 2);
+  std::printf("dropped ball, columns of e and g: %.2e from the closed form\n", (got - expected).cwiseAbs().maxCoeff());
+  EXPECT_LT((got - expected).cwiseAbs().maxCoeff(), 1e-9) << got << "\n\n" << expected;
+  // The state itself: z and ż of the closed form.
+  EXPECT_NEAR(r.states.back()[0], e * v1 * u - 0.5 * g * u * u, 1e-11);
+}
+
+// The table moves, z_table = A sin ωt: the gap depends on A and ω, the
+// approach speed on them through ∂φ/∂t. Three bounces in 1 s.
+TEST(ImpactSensitivity, BallOnAMovingTableMatchesDifferencesOfSimulate) {
+  const BouncingBall<> ball;
+  lagrangian::State<1> s;
+  s.q[0] = 0.3;
+  const std::vector<std::string> names = {"g", "e", "amplitude", "omega"};
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(ball, s, tight(1.0, names));
+  EXPECT_EQ(r.impacts, 3);
+  const Eigen::MatrixXd fd = parameter_differences(ball, s, 1.0, 1e-6, names);
+  std::printf("moving table: %.2e relative from central differences\n", worst_relative(r.sensitivities.back(), fd));
+  EXPECT_LT(worst_relative(r.sensitivities.back(), fd), 1e-6) << r.sensitivities.back() << "\n\n" << fd;
+}
+
+// A ball on a tilted plane in 3-D (the built-in BallAndPlane): every
+// parameter, the normal's components and the offset included, over two
+// bounces; the mass cancels from the motion (its column is 0).
+TEST(ImpactSensitivity, BallOnATiltedPlaneMatchesDifferencesOfSimulate) {
+  const lm::BallAndPlane ball(1.3, 0.1, 0.7, 9.81, {0.3, 0.1, 1.0}, 0.05);
+  lagrangian::State<3> s;
+  s.q << 0.2, -0.1, 0.9;
+  s.qd << 0.4, 0.2, 0.0;
+  const double T = 1.2;
+  const std::vector<std::string> names = {"R", "e", "g", "nx", "ny", "nz", "offset"};
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(ball, s, tight(T, names));
+  EXPECT_EQ(r.impacts, 2);
+  const Eigen::MatrixXd fd = parameter_differences(ball, s, T, 1e-6, names);
+  std::printf("tilted plane: %.2e relative from central differences\n", worst_relative(r.sensitivities.back(), fd));
+  EXPECT_LT(worst_relative(r.sensitivities.back(), fd), 1e-6) << r.sensitivities.back() << "\n\n" << fd;
+  const lagrangian::SensitivityResult mass = lagrangian::sensitivities(ball, s, tight(T, {"m"}));
+  EXPECT_LT(mass.sensitivities.back().cwiseAbs().maxCoeff(), 1e-12) << mass.sensitivities.back();
+}
+
+/// The moving table with a restitution() of doubles: its coefficient (and
+/// so perhaps its gaps) does not follow its parameters.
+template <class P = double>
+struct TableWithFixedRestitution : BouncingBall<P> {
+  template <class Q>
+  using with_parameter_type = TableWithFixedRestitution<Q>;
+  static constexpr std::array<P TableWithFixedRestitution::*, 4> parameter_members() {
+    return {&TableWithFixedRestitution::g, &TableWithFixedRestitution::e, &TableWithFixedRestitution::amplitude,
+            &TableWithFixedRestitution::omega};
+  }
+  std::array<double, 1> restitution() const { return {lagrangian::ad::value_of(this->e)}; }
+};
+
+TEST(ImpactSensitivity, ContactsThatDoNotFollowTheParametersAreRefused) {
+  const TableWithFixedRestitution<> ball;
+  lagrangian::State<1> s;
+  s.q[0] = 0.3;
+  lagrangian::SensitivityOptions o = tight(1.0, {"g"});
+  try {
+    (void)lagrangian::sensitivities(ball, s, o);
+    FAIL() << "a parameter column crossed impacts whose law does not follow the parameters";
+  } catch (const lagrangian::AnalysisError& e) {
+    EXPECT_NE(std::string(e.what()).find("do not follow its parameters"), std::string::npos) << e.what();
+  }
+  // The initial state's columns still cross.
+  o.initial_state = true;
+  o.parameters.clear();
+  EXPECT_EQ(lagrangian::sensitivities(ball, s, o).impacts, 3);
+}
+
+}  // namespace
