@@ -215,7 +215,8 @@ TEST(TextConstraints, ContactsAgreeWithTheBuiltInBallAndPlane) {
   d.kinetic = "0.5*m*(x_dot^2 + y_dot^2 + z_dot^2)";
   d.potential = "m*g*z";
   d.contacts = {{"ball-plane", "nx*x + nz*z - d - R", e, "m"}};
-  d.parameters = {{"m", m}, {"g", g}, {"R", R}, {"nx", built_in.nx}, {"nz", built_in.nz}, {"d", -0.2}};
+  d.parameters = {{"m", m},   {"g", g}, {"R", R}, {"nx", built_in.normal()[0]}, {"nz", built_in.normal()[2]},
+                  {"d", -0.2}};
   const text::TextModel text_model(d);
   State<3> s0;
   s0.q << 0.0, 0.0, 1.0;
@@ -243,7 +244,7 @@ TEST(TextConstraints, ContactsAgreeWithTheBuiltInBallAndPlane) {
   ASSERT_EQ(ra.samples.size(), rb.samples.size());
   EXPECT_LE((ra.samples.back().q - rb.samples.back().q).lpNorm<Eigen::Infinity>(), 1e-8);
   // Resting on the plane at the end, pressed by m g n_z (N).
-  EXPECT_NEAR(rb.samples.back().multipliers[0], m * g * built_in.nz, 1e-8);
+  EXPECT_NEAR(rb.samples.back().multipliers[0], m * g * built_in.normal()[2], 1e-8);
 }
 
 TEST(TextConstraints, MistakesNameTheField) {

@@ -57,7 +57,8 @@ namespace lagrangian::detail {
 /// A model's contacts are located at the end of every accepted step by the
 /// plain run's rules (contact_rules.hpp, on the step's interpolant); at the
 /// earliest impact the step end moves there, q̇ becomes q̇⁺ and every column
-/// w becomes S w (saltation.hpp); MEGNO's ℓ jumps with the first vector's
+/// w becomes S w (saltation.hpp), a parameter's column S w + R_p + a ∂φ/∂p / v
+/// (sensitivity.hpp); MEGNO's ℓ jumps with the first vector's
 /// length. Refused with SimulationError: a contact coming to rest (the plain
 /// run's Zeno rule, a touch not faster than contact_touch_speed, a plastic
 /// impact), a grazing one, two contacts closing or touching at one instant.
@@ -71,7 +72,8 @@ class TangentSystem final : public System {
         sums_(static_cast<std::size_t>(k), 0.0) {
     if (benettin_ && columns_ != k_) throw std::logic_error("TangentSystem: Benettin's method takes no parameter columns");
     if (model_.contacts > 0 && columns_ != k_ && model_.parameter_impact == nullptr)
-      throw std::logic_error("TangentSystem: parameter columns of a model with contacts need its parameter_impact");
+      throw std::logic_error(
+          "TangentSystem: parameter columns of a model with contacts need its parameter_impact");
     jumped_.resize(2 * model_.n, columns_);
   }
 

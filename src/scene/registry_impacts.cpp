@@ -102,15 +102,17 @@ struct BallAndPlaneDef {
   /// At rest with its surface 1 m from the plane along the normal.
   static State<3> initial(const Model& m, double) {
     const double h = m.d + m.R + 1.0;
+    const std::array<double, 3> n = m.normal();
     State<3> x;
-    x.q << m.nx * h, m.ny * h, m.nz * h;
+    x.q << n[0] * h, n[1] * h, n[2] * h;
     return x;
   }
   /// The ball and the plane n·r = d (through d n, normal n); gravity along −z.
   static view::Figure figure(const Model& m) {
     view::Figure f;
     f.bodies = {{.name = "ball", .radius = m.R}};
-    f.planes = {{.name = "plane", .point = {m.d * m.nx, m.d * m.ny, m.d * m.nz}, .normal = m.normal()}};
+    const std::array<double, 3> n = m.normal();
+    f.planes = {{.name = "plane", .point = {m.d * n[0], m.d * n[1], m.d * n[2]}, .normal = n}};
     f.up = {0, 0, 1};
     return f;
   }

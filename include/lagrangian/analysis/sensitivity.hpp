@@ -27,7 +27,8 @@
 /// template over its parameters' type P that declares
 ///   template <class Q> using with_parameter_type = Model<Q>;  // itself, parameters of type Q
 ///   static constexpr std::array<P Model::*, np> parameter_members();
-/// the members every energy, force and dissipation reads, in the order of
+/// the members every energy, force, dissipation, constraint, gap and
+/// restitution coefficient reads, in the order of
 /// its `description` (model_description.hpp) or of
 /// `static constexpr std::array<std::string_view, np> parameter_names`;
 /// Model<Q> must be default constructible (its parameters are then set from
@@ -72,7 +73,10 @@
 /// numbers of its parameters' type (std::array<P, u>: e may be a
 /// parameter); a model whose restitution() gives doubles whatever P is
 /// refused parameter columns (AnalysisError), as its gaps and coefficients
-/// may not follow its parameters.
+/// may not follow its parameters. The type of restitution() is the only
+/// mark the library can check: a model that gives it as P but reads a
+/// cached double in unilateral() gets columns without that double's
+/// derivative.
 /// A model's watched events are not applied (a projectile flies on through
 /// its landing plane).
 

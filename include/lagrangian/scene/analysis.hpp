@@ -167,8 +167,9 @@ struct SensitivityRun {
 /// an unknown parameter (naming it and the model's), parameters of a
 /// particle scene, or a scene the tangent flow is not derived for;
 /// AnalysisError for parameters a built-in model does not offer, parameters
-/// of a model with contacts or parameters that move its constraint manifold
-/// past the start; SimulationError when the run fails.
+/// of a model whose contacts do not follow its parameters or parameters
+/// that move its constraint manifold past the start; SimulationError when
+/// the run fails.
 SensitivityRun sensitivity(const Scene& scene, const SensitivityRequest& request);
 
 }  // namespace lagrangian::scene

@@ -132,7 +132,7 @@ class FixedSizeModel {
     return rows(2, pfaffian_, p_->pfaffian_bound, q, qd, t);
   }
   /// Contacts, gaps φ(q, t) ≥ 0 (m or rad), with their restitution
-  /// coefficients (numbers of type P: the twin's gaps and coefficients
+  /// coefficients (numbers, as numbers of type P for the twin: its gaps
   /// follow its parameter, so its parameter columns cross impacts):
   int unilateral_count() const { return static_cast<int>(p_->gaps_bound.size()); }
   template <class S>

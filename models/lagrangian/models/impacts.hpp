@@ -230,10 +230,11 @@ struct TwoSpheres : detail::ParticlePair<D> {
 ///   T = ½ m |ṙ|²,  V = m g z,  contact φ = n·r − d − R ≥ 0.
 /// Bounce: v⁺ = v⁻ − (1 + e)(n·v⁻) n (bounce_velocity). Dropped from rest
 /// with its lowest point at height h above a floor, it lands at t = √(2h/g).
-/// Its parameters may be numbers of another type P (parameter
+/// The normal is kept as given (nx, ny, nz) and normalised where it is
+/// used, so its parameters may be numbers of another type P (parameter
 /// sensitivities, analysis/sensitivity.hpp: with restitution() of type P a
-/// parameter's column crosses the bounces). A column of nx, ny or nz moves
-/// that component of the stored unit normal alone (it is not renormalised).
+/// parameter's column crosses the bounces) and a column of nx is the
+/// derivative along the given nx, the normal renormalised.
 template <class P = double>
 struct BasicBallAndPlane {
   static constexpr int coordinate_count = 3;
@@ -267,12 +268,12 @@ struct BasicBallAndPlane {
         R(require_nonnegative("BallAndPlane", "R", radius)),
         e(require_in_range("BallAndPlane", "e", restitution, 0.0, 1.0)),
         g(require_nonnegative("BallAndPlane", "g", gravity)),
+        nx(require_finite("BallAndPlane", "nx", normal[0])),
+        ny(require_finite("BallAndPlane", "ny", normal[1])),
+        nz(require_finite("BallAndPlane", "nz", normal[2])),
         d(require_finite("BallAndPlane", "offset", offset)) {
-    const double len = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
-    require_positive("BallAndPlane", "|normal|", len);
-    nx = normal[0] / len;
-    ny = normal[1] / len;
-    nz = normal[2] / len;
+    require_positive("BallAndPlane", "|normal|",
+                     std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]));
   }
   std::string name() const { return std::string(description.name); }
   std::array<std::string_view, 3> coordinate_names() const { return description.coordinate_names(); }
@@ -281,8 +282,12 @@ struct BasicBallAndPlane {
   std::array<std::string, 1> constraint_units() const { return {"m"}; }  ///< gap in m: λ in N
   std::array<P, 1> restitution() const { return {e}; }
   std::array<Particle, 1> particles() const { return {Particle{ad::value_of(m), {0, 1, 2}}}; }
-  /// The plane's unit normal n.
-  std::array<P, 3> normal() const { return {nx, ny, nz}; }
+  /// The plane's unit normal n = (nx, ny, nz) / |(nx, ny, nz)|.
+  std::array<P, 3> normal() const {
+    using std::sqrt;
+    const P length = sqrt(nx * nx + ny * ny + nz * nz);
+    return {nx / length, ny / length, nz / length};
+  }
   template <class S>
   S kinetic(const Vec<S, 3>&, const Vec<S, 3>& qd, const S&) const {
     return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1] + qd[2] * qd[2]);
@@ -293,14 +298,16 @@ struct BasicBallAndPlane {
   }
   template <class S>
   Vec<S, 1> unilateral(const Vec<S, 3>& q, const S&) const {
-    return Vec<S, 1>(nx * q[0] + ny * q[1] + nz * q[2] - d - R);
+    const std::array<P, 3> n = normal();
+    return Vec<S, 1>(n[0] * q[0] + n[1] * q[1] + n[2] * q[2] - d - R);
   }
   /// Velocity after bouncing off the plane with velocity v (m/s):
   /// v − (1 + e)(n·v) n, the normal part reversed and scaled by e, the
   /// tangential part unchanged.
   std::array<double, 3> bounce_velocity(const std::array<double, 3>& v) const {
-    const double vn = nx * v[0] + ny * v[1] + nz * v[2];
-    return {v[0] - (1 + e) * vn * nx, v[1] - (1 + e) * vn * ny, v[2] - (1 + e) * vn * nz};
+    const std::array<double, 3> n = normal();
+    const double vn = n[0] * v[0] + n[1] * v[1] + n[2] * v[2];
+    return {v[0] - (1 + e) * vn * n[0], v[1] - (1 + e) * vn * n[1], v[2] - (1 + e) * vn * n[2]};
   }
   /// Time to fall from rest through a height h (m) onto a floor: √(2h/g) (s).
   double drop_time(double h) const { return std::sqrt(2.0 * h / g); }
