@@ -14,6 +14,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 
+#include "tangent_run.hpp"
 #include "tangent_system.hpp"
 
 namespace lagrangian::detail {

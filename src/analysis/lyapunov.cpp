@@ -19,6 +19,7 @@
 #include "lagrangian/integrate/integrate.hpp"
 #include "lagrangian/integrate/method.hpp"
 #include "lagrangian/integrate/system.hpp"
+#include "tangent_run.hpp"
 #include "tangent_system.hpp"
 
 namespace lagrangian::detail {

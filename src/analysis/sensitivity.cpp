@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "manifold.hpp"
+#include "tangent_run.hpp"
 #include "tangent_system.hpp"
 
 namespace lagrangian::detail {

@@ -21,8 +21,6 @@
 #include "lagrangian/errors.hpp"
 #include "lagrangian/integrate/detail/contact_rules.hpp"
 #include "lagrangian/integrate/detail/roots.hpp"
-#include "lagrangian/integrate/integrate.hpp"
-#include "lagrangian/integrate/method.hpp"
 #include "lagrangian/integrate/system.hpp"
 #include "manifold.hpp"
 
@@ -504,22 +502,22 @@ class TangentSystem final : public System {
     model_.evaluate_direction(model_.model, x, qd_plus_.data(), t, zero_.data(), qdd_plus_.data(), scratch_.data());
     saltation_from(n, x + c, qdd_minus_.data(), qd_plus_.data(), qdd_plus_.data(), impact_jacobian_.data(),
                    gap_gradient_.data(), v, salt_scratch_.data(), saltation_.data());
-    // A parameter's column s becomes S s + R_p + a ∂φ/∂p / v, with
-    // R_p = (0, ∂q̇⁺/∂p) and a = f⁺ − R_x f⁻ − R_t (saltation_from()'s
-    // scratch): the impact map and the gap move with the parameter too.
-    const Eigen::Map<const Eigen::VectorXd> a(salt_scratch_.data(), 2 * n);
-    for (int j = k_; j < columns_; ++j) {
-      const double dgap = model_.parameter_impact(model_.model, x, x + c, t, first,
-                                                  parameters_[static_cast<std::size_t>(j - k_)], scratch_.data());
-      parameter_jump_.col(j - k_) = a * (dgap / v);
-      parameter_jump_.col(j - k_).tail(n) += Eigen::Map<const Eigen::VectorXd>(scratch_.data(), n);
-    }
-    std::copy(qd_plus_.begin(), qd_plus_.end(), x + c);
     load(x);
     const Eigen::Map<const Eigen::MatrixXd> s(saltation_.data(), 2 * n, 2 * n);
     jumped_.noalias() = s * w_;
     w_ = jumped_;
-    w_.rightCols(columns_ - k_) += parameter_jump_;
+    // A parameter's column s becomes S s + R_p + a ∂φ/∂p / v, with
+    // R_p = (0, ∂q̇⁺/∂p) at the state before the impact and
+    // a = f⁺ − R_x f⁻ − R_t (saltation_from()'s scratch): the impact map
+    // and the gap move with the parameter too.
+    const Eigen::Map<const Eigen::VectorXd> a(salt_scratch_.data(), 2 * n);
+    for (int j = k_; j < columns_; ++j) {
+      const double dgap = model_.parameter_impact(model_.model, x, x + c, t, first,
+                                                  parameters_[static_cast<std::size_t>(j - k_)], scratch_.data());
+      w_.col(j) += a * (dgap / v);
+      w_.col(j).tail(n) += Eigen::Map<const Eigen::VectorXd>(scratch_.data(), n);
+    }
+    std::copy(qd_plus_.begin(), qd_plus_.end(), x + c);
     store(x);
     if (benettin_) {
       // ℓ jumps at the impact: ∫ s dℓ gains s (ℓ⁺ − ℓ⁻).
@@ -566,7 +564,7 @@ class TangentSystem final : public System {
                       zero_ = std::vector<double>(static_cast<std::size_t>(2 * model_.n)),
                       saltation_ = std::vector<double>(static_cast<std::size_t>(4 * model_.n * model_.n)),
                       salt_scratch_ = zero_;
-  Eigen::MatrixXd jumped_, parameter_jump_ = Eigen::MatrixXd(2 * model_.n, columns_ - k_);
+  Eigen::MatrixXd jumped_;
   // The constraint manifold: its rows and their Jacobian, U (configuration_basis()).
   Eigen::MatrixXd reduce_;
   std::vector<double> residual_ = std::vector<double>(static_cast<std::size_t>(model_.manifold)),
@@ -576,33 +574,5 @@ class TangentSystem final : public System {
   double shortest_ = std::numeric_limits<double>::infinity();
   double longest_taken_ = 0;
 };
-
-/// Integrates `system` over `run` from the state (q0, q̇0) (n values each),
-/// its columns as start() sets them, into x (the whole augmented state);
-/// SimulationError(`stopped`) when the run ends before run.t_end.
-inline void integrate_tangents(TangentSystem& system, int n, const double* q0, const double* qd0,
-                               const SimulationOptions& run, const std::string& stopped, std::vector<double>& x,
-                               RunReport& report) {
-  const int c = system.coordinate_count();
-  system.set_run(run);
-  x.assign(static_cast<std::size_t>(2 * c), 0.0);
-  std::copy(q0, q0 + n, x.begin());
-  std::copy(qd0, qd0 + n, x.begin() + c);
-  integrate(system, x, run, report);
-  if (report.t_final < run.t_end) throw SimulationError(stopped, report.t_final);
-}
-
-/// OptionError for an invalid run or a method that cannot carry tangent
-/// vectors (the symplectic and variational ones integrate a model's own
-/// structure); `command` names the caller in the message.
-inline void check_tangent_run(const SimulationOptions& run, const std::string& command) {
-  run.validate();
-  const MethodInfo& method = method_info(run.method);
-  if (method.family != MethodFamily::explicit_runge_kutta && method.family != MethodFamily::gauss_radau &&
-      method.family != MethodFamily::rosenbrock)
-    throw OptionError(command + ": method '" + std::string(method.name) +
-                      "' integrates a model's own structure, not the tangent vectors beside it; take an explicit "
-                      "Runge-Kutta method (dopri5, fehlberg78, ...), gauss_radau15 or rosenbrock4");
-}
 
 }  // namespace lagrangian::detail
