@@ -6,8 +6,11 @@
 // with two rods), the closed-form flow of a bead on a spinning wire, the
 // sensitivities on the manifold (the Atwood machine's closed form; the two
 // double pendulums), parameter columns through the energies and through the
-// rows (the Atwood machine's masses and g, an incline's slope), and the
-// periodic-orbit search's energy row under constraint forces.
+// rows (the Atwood machine's masses and g, an incline's slope, the spinning
+// wire's rate from the axis; the Cartesian double pendulum and the particle
+// on a sphere against their angle models; a free knife edge's mass and
+// inertia), and the periodic-orbit search's energy row under constraint
+// forces.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -574,6 +577,183 @@ TEST(ConstrainedSensitivity, CartesianDoublePendulumIsTheAngleModel) {
   Eigen::Matrix<double, 8, 1> outward = Eigen::Matrix<double, 8, 1>::Zero();
   outward.head<2>() = big.head<2>() / l1;
   EXPECT_LE((rc.sensitivities.back() * outward).norm(), 1e-9 * right.norm());
+}
+
+// The same two models along their shared parameters m1, m2 and g: ψ does
+// not depend on them and both start at the same state, so the columns are
+// one, s_c(t) = Dψ(x(t)) s_a(t). The rods' lengths move the Cartesian
+// model's manifold past the start and are refused, naming the parameter.
+TEST(ConstrainedSensitivity, CartesianDoublePendulumParametersAreTheAngleModels) {
+  const double m1 = 1.3, m2 = 0.7, l1 = 1.0, l2 = 0.8, g = 9.81;
+  const lm::DoublePendulum angles(m1, m2, l1, l2, g);
+  const lm::CartesianDoublePendulum cartesian(m1, m2, l1, l2, g);
+  const Eigen::Vector4d x0(0.4, -1.1, 1.7, -0.6);
+  lagrangian::SensitivityOptions o;
+  o.run = lagrangian_test::lyapunov_options(1.0, 1e-12).run;
+  o.initial_state = false;
+  o.parameters = {"m1", "m2", "g"};
+  lagrangian::State<2> sa;
+  sa.q = x0.head<2>();
+  sa.qd = x0.tail<2>();
+  const lagrangian::SensitivityResult ra = lagrangian::sensitivities(angles, sa, o);
+  const Eigen::Matrix<double, 8, 1> big = to_cartesian(x0, l1, l2);
+  lagrangian::State<4> sc;
+  sc.q = big.head<4>();
+  sc.qd = big.tail<4>();
+  const lagrangian::SensitivityResult rc = lagrangian::sensitivities(cartesian, sc, o);
+  ASSERT_EQ(rc.sensitivities.back().rows(), 8);
+  ASSERT_EQ(rc.sensitivities.back().cols(), 3);
+  const Eigen::Matrix<double, 8, 3> expected = dpsi(ra.states.back(), l1, l2) * ra.sensitivities.back();
+  const double error = (rc.sensitivities.back() - expected).cwiseAbs().maxCoeff();
+  std::printf("Cartesian double pendulum d/dm1, d/dm2, d/dg against the angle model's: %.2e of the largest %.2f\n",
+              error, expected.cwiseAbs().maxCoeff());
+  EXPECT_GT(expected.cwiseAbs().maxCoeff(), 0.1);
+  EXPECT_LE(error, 1e-8 * expected.cwiseAbs().maxCoeff()) << rc.sensitivities.back() << "\n\n" << expected;
+  o.parameters = {"g", "l1"};
+  try {
+    lagrangian::sensitivities(cartesian, sc, o);
+    FAIL() << "a rod's length, which moves the manifold past the start, was taken";
+  } catch (const lagrangian::AnalysisError& e) {
+    EXPECT_NE(std::string(e.what()).find("parameter 'l1' moves the constraint manifold past the start"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// The bead on the wire spinning at ω, started on the axis at speed v along
+// the wire: r(t) = (v/ω) sinh ωt, (x, y) = r (cos ωt, sin ωt). The start
+// lies on the manifold for every ω (g = ġ = 0 and ∂g/∂ω = ∂ġ/∂ω = 0 there,
+// as x = y = 0), so ω has a column: the closed form differentiated in ω by
+// a first-order Jet. The mass and the wire's reach L (a watched event, not
+// applied) leave the motion as it is: their columns are 0.
+TEST(ConstrainedSensitivity, BeadOnASpinningWireFromTheAxisClosedForm) {
+  const double omega = 1.3, v = 0.4, T = 1.7;
+  const lm::BeadOnRotatingWire bead(0.8, omega, 10.0);
+  lagrangian::State<2> s;
+  s.q = Vec<double, 2>(0.0, 0.0);
+  s.qd = Vec<double, 2>(v, 0.0);
+  lagrangian::SensitivityOptions o;
+  o.run = lagrangian_test::lyapunov_options(T, 1e-12).run;
+  o.initial_state = false;
+  o.parameters = {"omega", "m", "L"};
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(bead, s, o);
+  using J = lagrangian::ad::Jet<double, 1, 1>;
+  J w(omega);
+  w.g[0] = 1.0;
+  using std::cos;
+  using std::cosh;
+  using std::sin;
+  using std::sinh;
+  const J radius = v / w * sinh(w * T), rate = v * cosh(w * T);
+  const J c = cos(w * T), sn = sin(w * T);
+  const std::array<J, 4> x = {radius * c, radius * sn, rate * c - radius * w * sn, rate * sn + radius * w * c};
+  Eigen::Vector4d expected;
+  for (int i = 0; i < 4; ++i) expected[i] = x[static_cast<std::size_t>(i)].g[0];
+  const Eigen::MatrixXd& got = r.sensitivities.back();
+  ASSERT_EQ(got.cols(), 3);
+  std::printf("bead on a spinning wire from the axis, d/domega: %.2e of the largest %.2f\n",
+              (got.col(0) - expected).cwiseAbs().maxCoeff(), expected.cwiseAbs().maxCoeff());
+  EXPECT_LE((got.col(0) - expected).cwiseAbs().maxCoeff(), 1e-9 * expected.cwiseAbs().maxCoeff())
+      << got.col(0) << "\n\n" << expected;
+  EXPECT_LE(got.rightCols(2).cwiseAbs().maxCoeff(), 1e-12 * expected.cwiseAbs().maxCoeff()) << got.rightCols(2);
+  // Off the axis the start's rate row ġ = ẋ sin ωt + x ω cos ωt − … moves with ω.
+  s.q = Vec<double, 2>(0.5, 0.0);
+  s.qd = Vec<double, 2>(v, omega * 0.5);
+  try {
+    lagrangian::sensitivities(bead, s, o);
+    FAIL() << "a spin rate that moves the manifold past the start was taken";
+  } catch (const lagrangian::AnalysisError& e) {
+    EXPECT_NE(std::string(e.what()).find("parameter 'omega' moves the constraint manifold past the start"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// A free knife edge turns at its constant φ̇ and runs at its constant
+// speed on a circle, whatever its mass and moment of inertia: both columns
+// vanish (the side force, which does depend on m, does no work).
+TEST(ConstrainedSensitivity, FreeKnifeEdgeDoesNotDependOnItsMassOrInertia) {
+  const lm::KnifeEdge knife(1.7, 0.3);
+  lagrangian::State<3> s;
+  s.q = Vec<double, 3>(0.1, -0.2, 0.5);
+  s.qd = Vec<double, 3>(0.8 * std::cos(0.5), 0.8 * std::sin(0.5), 1.4);
+  lagrangian::SensitivityOptions o;
+  o.run = lagrangian_test::lyapunov_options(3.0, 1e-12).run;
+  o.parameters = {"m", "I"};
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(knife, s, o);
+  const Eigen::MatrixXd& got = r.sensitivities.back();
+  ASSERT_EQ(got.cols(), 6 + 2);
+  const double state_scale = got.leftCols(6).cwiseAbs().maxCoeff();
+  std::printf("free knife edge: d/dm, d/dI largest entry %.2e (state columns up to %.2f)\n",
+              got.rightCols(2).cwiseAbs().maxCoeff(), state_scale);
+  EXPECT_GT(state_scale, 1.0);
+  EXPECT_LE(got.rightCols(2).cwiseAbs().maxCoeff(), 1e-12 * state_scale) << got.rightCols(2);
+}
+
+// The particle on a sphere is the spherical pendulum in Cartesian
+// coordinates, X = ψ(θ, φ, θ̇, φ̇) with r = R (sin θ cos φ, sin θ sin φ,
+// −cos θ): along g the columns are one, s_c(t) = Dψ(x(t)) s_a(t) (Dψ by a
+// first-order Jet); the mass cancels from both; the radius moves the
+// sphere past the start and is refused.
+TEST(ConstrainedSensitivity, ParticleOnASphereIsTheSphericalPendulumAlongGravity) {
+  const double m = 0.9, R = 1.2, g = 9.81;
+  const lm::SphericalPendulum angles(m, R, g);
+  const lm::ParticleOnSphere cartesian(m, R, g);
+  const auto psi = [R](const Eigen::Vector4d& x) {
+    using Jt = lagrangian::ad::Jet<double, 4, 1>;
+    std::array<Jt, 4> a;
+    for (int k = 0; k < 4; ++k) {
+      a[static_cast<std::size_t>(k)] = Jt(x[k]);
+      a[static_cast<std::size_t>(k)].g[k] = 1.0;
+    }
+    using std::cos;
+    using std::sin;
+    const Jt st = sin(a[0]), ct = cos(a[0]), sp = sin(a[1]), cp = cos(a[1]);
+    const std::array<Jt, 6> y = {R * st * cp,
+                                 R * st * sp,
+                                 -R * ct,
+                                 R * (ct * cp * a[2] - st * sp * a[3]),
+                                 R * (ct * sp * a[2] + st * cp * a[3]),
+                                 R * st * a[2]};
+    Eigen::Matrix<double, 6, 1> value;
+    Eigen::Matrix<double, 6, 4> d;
+    for (int i = 0; i < 6; ++i) {
+      value[i] = y[static_cast<std::size_t>(i)].v;
+      for (int k = 0; k < 4; ++k) d(i, k) = y[static_cast<std::size_t>(i)].g[k];
+    }
+    return std::make_pair(value, d);
+  };
+  const Eigen::Vector4d x0(0.8, 0.2, 0.5, 1.1);
+  lagrangian::SensitivityOptions o;
+  o.run = lagrangian_test::lyapunov_options(1.5, 1e-12).run;
+  o.initial_state = false;
+  o.parameters = {"g", "m"};
+  lagrangian::State<2> sa;
+  sa.q = x0.head<2>();
+  sa.qd = x0.tail<2>();
+  const lagrangian::SensitivityResult ra = lagrangian::sensitivities(angles, sa, o);
+  const Eigen::Matrix<double, 6, 1> big = psi(x0).first;
+  lagrangian::State<3> sc;
+  sc.q = big.head<3>();
+  sc.qd = big.tail<3>();
+  const lagrangian::SensitivityResult rc = lagrangian::sensitivities(cartesian, sc, o);
+  ASSERT_EQ(rc.sensitivities.back().cols(), 2);
+  const Eigen::Matrix<double, 6, 1> expected = psi(ra.states.back()).second * ra.sensitivities.back().col(0);
+  const double error = (rc.sensitivities.back().col(0) - expected).cwiseAbs().maxCoeff();
+  std::printf("particle on a sphere d/dg against the spherical pendulum's: %.2e of the largest %.3f\n", error,
+              expected.cwiseAbs().maxCoeff());
+  EXPECT_GT(expected.cwiseAbs().maxCoeff(), 0.01);
+  EXPECT_LE(error, 1e-8 * expected.cwiseAbs().maxCoeff()) << rc.sensitivities.back() << "\n\n" << expected;
+  EXPECT_LE(rc.sensitivities.back().col(1).cwiseAbs().maxCoeff(), 1e-12) << rc.sensitivities.back().col(1);
+  o.parameters = {"R"};
+  try {
+    lagrangian::sensitivities(cartesian, sc, o);
+    FAIL() << "a radius that moves the sphere past the start was taken";
+  } catch (const lagrangian::AnalysisError& e) {
+    EXPECT_NE(std::string(e.what()).find("parameter 'R' moves the constraint manifold past the start"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 lagrangian::FloquetOptions floquet_over(double period) { return lagrangian_test::floquet_options(period); }

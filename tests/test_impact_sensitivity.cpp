@@ -2,8 +2,9 @@
 // dropped onto a floor, and the built-in ball onto a raised floor, against
 // the closed form of the motion after the bounce; a ball on a moving table
 // and a ball on a tilted plane against central differences of simulate()
-// over several bounces; the refusal of a model whose contacts do not follow
-// its parameters.
+// over several bounces; two spheres head-on against their closed form and
+// obliquely against central differences; the refusal of a model whose
+// contacts do not follow its parameters.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -159,6 +160,64 @@ TEST(ImpactSensitivity, BallOnATiltedPlaneMatchesDifferencesOfSimulate) {
   EXPECT_LT(worst_relative(r.sensitivities.back(), fd), 1e-6) << r.sensitivities.back() << "\n\n" << fd;
   const lagrangian::SensitivityResult mass = lagrangian::sensitivities(ball, s, tight(T, {"m"}));
   EXPECT_LT(mass.sensitivities.back().cwiseAbs().maxCoeff(), 1e-12) << mass.sensitivities.back();
+}
+
+// Two spheres head-on along x (the built-in TwoSpheres<2>): sphere 1 from
+// x = 0 at u1, sphere 2 from x = X at u2 < u1. They touch at
+// tc = (X − r1 − r2)/(u1 − u2) and leave with (Newton's law)
+//   v1 = u1 − m2 (1 + e)(u1 − u2)/(m1 + m2),  v2 = u2 + m1 (1 + e)(u1 − u2)/(m1 + m2),
+// then x_i(t) = x_i(tc) + v_i (t − tc). So ∂x_i/∂e = ∂v_i/∂e (t − tc) with
+// ∂v1/∂e = −m2 (u1 − u2)/M, ∂v2/∂e = m1 (u1 − u2)/M (M = m1 + m2); a
+// radius moves the impact, ∂tc/∂r = −1/(u1 − u2), so ∂x_i/∂r = (u_i − v_i)
+// ∂tc/∂r; and ∂v1/∂m1 = ∂v2/∂m1 = m2 (1 + e)(u1 − u2)/M²,
+// ∂v1/∂m2 = ∂v2/∂m2 = −m1 (1 + e)(u1 − u2)/M². Nothing moves along y.
+TEST(ImpactSensitivity, TwoSpheresHeadOnMatchTheirClosedForm) {
+  const double m1 = 1.2, m2 = 0.7, r1 = 0.15, r2 = 0.1, e = 0.6, X = 1.0, u1 = 1.5, u2 = -0.4, T = 1.3;
+  const lm::TwoSpheres<2> spheres(m1, m2, r1, r2, e);
+  lagrangian::State<4> s;
+  s.q << 0.0, 0.0, X, 0.0;
+  s.qd << u1, 0.0, u2, 0.0;
+  const lagrangian::SensitivityResult r =
+      lagrangian::sensitivities(spheres, s, tight(T, {"m1", "m2", "r1", "r2", "e"}));
+  EXPECT_EQ(r.impacts, 1);
+  const double M = m1 + m2, w = u1 - u2, tc = (X - r1 - r2) / w;
+  const double v1 = u1 - m2 * (1 + e) * w / M, v2 = u2 + m1 * (1 + e) * w / M;
+  ASSERT_LT(tc, T);
+  // Rows (x1, y1, x2, y2, ẋ1, ẏ1, ẋ2, ẏ2); columns m1, m2, r1, r2, e.
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(8, 5);
+  const auto column = [&](int c, double dv1, double dv2, double dtc) {
+    expected(0, c) = dv1 * (T - tc) + (u1 - v1) * dtc;
+    expected(2, c) = dv2 * (T - tc) + (u2 - v2) * dtc;
+    expected(4, c) = dv1;
+    expected(6, c) = dv2;
+  };
+  column(0, m2 * (1 + e) * w / (M * M), m2 * (1 + e) * w / (M * M), 0.0);
+  column(1, -m1 * (1 + e) * w / (M * M), -m1 * (1 + e) * w / (M * M), 0.0);
+  column(2, 0.0, 0.0, -1 / w);
+  column(3, 0.0, 0.0, -1 / w);
+  column(4, -m2 * w / M, m1 * w / M, 0.0);
+  const double error = (r.sensitivities.back() - expected).cwiseAbs().maxCoeff();
+  std::printf("two spheres head-on: columns of m1, m2, r1, r2, e %.2e from the closed form\n", error);
+  EXPECT_LE(error, 1e-9) << r.sensitivities.back() << "\n\n" << expected;
+}
+
+// An oblique impact of the same spheres (the common normal turns with the
+// offset of the centres): every parameter against central differences of
+// simulate().
+TEST(ImpactSensitivity, TwoSpheresObliqueMatchDifferencesOfSimulate) {
+  const lm::TwoSpheres<2> spheres(1.2, 0.7, 0.15, 0.1, 0.6);
+  lagrangian::State<4> s;
+  s.q << 0.0, 0.0, 1.0, 0.12;
+  s.qd << 1.5, 0.1, -0.4, -0.05;
+  const double T = 1.3;
+  const std::vector<std::string> names = {"m1", "m2", "r1", "r2", "e"};
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(spheres, s, tight(T, names));
+  EXPECT_EQ(r.impacts, 1);
+  const Eigen::MatrixXd fd = parameter_differences(spheres, s, T, 1e-5, names);
+  std::printf("two spheres oblique: %.2e relative from central differences\n",
+              worst_relative(r.sensitivities.back(), fd));
+  EXPECT_GT(fd.cwiseAbs().maxCoeff(), 0.1);
+  EXPECT_LT(worst_relative(r.sensitivities.back(), fd), 1e-6) << r.sensitivities.back() << "\n\n" << fd;
 }
 
 /// The moving table with a restitution() of doubles: its coefficient (and

@@ -34,9 +34,13 @@
 /// Model<Q> must be default constructible (its parameters are then set from
 /// the model's), and hold nothing computed from its parameters (a cached
 /// m1 + m2 would keep its default). The built-in plane, double, spherical,
-/// elastic and driven pendulums, the harmonic oscillator, the projectiles,
-/// the Atwood machine and the ball on a plane are written so (models/pendulums.hpp,
-/// models/projectile.hpp, models/constrained.hpp, models/impacts.hpp).
+/// elastic and driven pendulums, the bead on a spinning hoop, the polar
+/// Kepler problem, the pendulum on a cart, the harmonic oscillator, the
+/// projectiles, the Atwood machine, the bead on a spinning wire, the
+/// particle on a sphere, the Cartesian double pendulum, the knife edge, the
+/// ball on a plane and two spheres (TwoSpheres) are written so
+/// (models/pendulums.hpp, models/projectile.hpp, models/constrained.hpp,
+/// models/impacts.hpp).
 ///
 /// Scope as tangent_flow.hpp: models with a fixed n ≤ 6 coordinates.
 /// **Constraints.** A model with holonomic or Pfaffian constraints moves on

@@ -48,7 +48,8 @@ struct BeadOnWire : detail::PlanarParticle<> {
 /// Domain: the wire reaches L (m) either side of the axis; the bead slides
 /// off its end where r = L, the watched event "bead_at_wire_end"
 /// (L − r falls through 0), which stops the run.
-struct BeadOnRotatingWire {
+template <class P = double>
+struct BasicBeadOnRotatingWire {
   static constexpr int coordinate_count = 2;
   static constexpr ModelDescription description{
       "bead_on_rotating_wire",
@@ -58,8 +59,15 @@ struct BeadOnRotatingWire {
       {{"m", 1.0, "kg", "mass of the bead"},
        {"omega", 2.0, "rad/s", "spin rate of the wire"},
        {"L", 10.0, "m", "reach of the wire either side of the axis: the bead leaves its end at r = L"}}};
-  double m, omega, L;
-  explicit BeadOnRotatingWire(double mass = description.value("m"), double spin_rate = description.value("omega"),
+  P m, omega, L;
+  /// The model with parameters of type Q (parameter sensitivities,
+  /// analysis/sensitivity.hpp), and its parameters in the description's order.
+  template <class Q>
+  using with_parameter_type = BasicBeadOnRotatingWire<Q>;
+  static constexpr std::array<P BasicBeadOnRotatingWire::*, 3> parameter_members() {
+    return {&BasicBeadOnRotatingWire::m, &BasicBeadOnRotatingWire::omega, &BasicBeadOnRotatingWire::L};
+  }
+  explicit BasicBeadOnRotatingWire(double mass = description.value("m"), double spin_rate = description.value("omega"),
                               double half_length = description.value("L"))
       : m(require_positive("BeadOnRotatingWire", "m", mass)),
         omega(require_finite("BeadOnRotatingWire", "omega", spin_rate)),
@@ -93,6 +101,8 @@ struct BeadOnRotatingWire {
     return Vec<S, 1>(q[0] * sin(omega * t) - q[1] * cos(omega * t));
   }
 };
+/// The bead on a spinning wire with parameters in double precision.
+using BeadOnRotatingWire = BasicBeadOnRotatingWire<>;
 
 /// Plane pendulum as a particle (x, y) held at distance l from the pivot.
 ///   T = ½ m (ẋ² + ẏ²),  V = m g y,  g_rod = √(x² + y²) − l = 0.
@@ -115,7 +125,8 @@ struct CartesianPendulum : detail::PlanarParticle<> {
 
 /// Particle (x, y, z) on a sphere of radius R about the origin, gravity −z:
 /// the spherical pendulum in Cartesian coordinates.
-struct ParticleOnSphere {
+template <class P = double>
+struct BasicParticleOnSphere {
   static constexpr int coordinate_count = 3;
   static constexpr ModelDescription description{
       "particle_on_sphere",
@@ -124,8 +135,15 @@ struct ParticleOnSphere {
       {{"m", 1.0, "kg", "mass of the particle"},
        {"R", 1.0, "m", "radius of the sphere"},
        {"g", 9.81, "m/s^2", "acceleration of gravity"}}};
-  double m, R, g;
-  explicit ParticleOnSphere(double mass = description.value("m"), double radius = description.value("R"),
+  P m, R, g;
+  /// The model with parameters of type Q (parameter sensitivities,
+  /// analysis/sensitivity.hpp), and its parameters in the description's order.
+  template <class Q>
+  using with_parameter_type = BasicParticleOnSphere<Q>;
+  static constexpr std::array<P BasicParticleOnSphere::*, 3> parameter_members() {
+    return {&BasicParticleOnSphere::m, &BasicParticleOnSphere::R, &BasicParticleOnSphere::g};
+  }
+  explicit BasicParticleOnSphere(double mass = description.value("m"), double radius = description.value("R"),
                             double gravity = description.value("g"))
       : m(require_positive("ParticleOnSphere", "m", mass)),
         R(require_positive("ParticleOnSphere", "R", radius)),
@@ -151,6 +169,8 @@ struct ParticleOnSphere {
     return Vec<S, 1>(sqrt(q.squaredNorm()) - R);
   }
 };
+/// The particle on a sphere with parameters in double precision.
+using ParticleOnSphere = BasicParticleOnSphere<>;
 
 /// Atwood machine: masses m1, m2 at heights y1, y2 (m, up) on an
 /// inextensible string over a massless pulley whose axle is at height
@@ -225,7 +245,8 @@ using AtwoodMachine = BasicAtwoodMachine<>;
 
 /// Double pendulum in Cartesian coordinates (x1, y1, x2, y2) with two rod
 /// constraints |r1| = l1 and |r2 − r1| = l2.
-struct CartesianDoublePendulum {
+template <class P = double>
+struct BasicCartesianDoublePendulum {
   static constexpr int coordinate_count = 4;
   static constexpr ModelDescription description{
       "cartesian_double_pendulum",
@@ -236,8 +257,16 @@ struct CartesianDoublePendulum {
        {"l1", 1.0, "m", "length of the upper rod"},
        {"l2", 1.0, "m", "length of the lower rod"},
        {"g", 9.81, "m/s^2", "acceleration of gravity"}}};
-  double m1, m2, l1, l2, g;
-  explicit CartesianDoublePendulum(double mass1 = description.value("m1"), double mass2 = description.value("m2"),
+  P m1, m2, l1, l2, g;
+  /// The model with parameters of type Q (parameter sensitivities,
+  /// analysis/sensitivity.hpp), and its parameters in the description's order.
+  template <class Q>
+  using with_parameter_type = BasicCartesianDoublePendulum<Q>;
+  static constexpr std::array<P BasicCartesianDoublePendulum::*, 5> parameter_members() {
+    using Self = BasicCartesianDoublePendulum;
+    return {&Self::m1, &Self::m2, &Self::l1, &Self::l2, &Self::g};
+  }
+  explicit BasicCartesianDoublePendulum(double mass1 = description.value("m1"), double mass2 = description.value("m2"),
                                    double length1 = description.value("l1"), double length2 = description.value("l2"),
                                    double gravity = description.value("g"))
       : m1(require_positive("CartesianDoublePendulum", "m1", mass1)),
@@ -268,6 +297,8 @@ struct CartesianDoublePendulum {
     return Vec<S, 2>(sqrt(q[0] * q[0] + q[1] * q[1]) - l1, sqrt(dx * dx + dy * dy) - l2);
   }
 };
+/// The double pendulum in Cartesian coordinates with parameters in double precision.
+using CartesianDoublePendulum = BasicCartesianDoublePendulum<>;
 
 /// Knife edge (or skate) on a horizontal plane: contact point (x, y), heading
 /// φ; it cannot slide sideways, a nonholonomic (Pfaffian) constraint
@@ -275,7 +306,8 @@ struct CartesianDoublePendulum {
 ///   T = ½ m (ẋ² + ẏ²) + ½ I φ̇².
 /// Configuration DOF 3, velocity DOF 2. Free motion: φ̇ and the speed are
 /// constant and the contact point runs on a circle of radius v/φ̇.
-struct KnifeEdge {
+template <class P = double>
+struct BasicKnifeEdge {
   static constexpr int coordinate_count = 3;
   static constexpr ModelDescription description{
       "knife_edge",
@@ -283,8 +315,15 @@ struct KnifeEdge {
       {{"x", "m"}, {"y", "m"}, {"phi", "rad"}},
       {{"m", 1.0, "kg", "mass"},
        {"I", 0.1, "kg*m^2", "moment of inertia about the vertical"}}};
-  double m, I;
-  explicit KnifeEdge(double mass = description.value("m"), double inertia = description.value("I"))
+  P m, I;
+  /// The model with parameters of type Q (parameter sensitivities,
+  /// analysis/sensitivity.hpp), and its parameters in the description's order.
+  template <class Q>
+  using with_parameter_type = BasicKnifeEdge<Q>;
+  static constexpr std::array<P BasicKnifeEdge::*, 2> parameter_members() {
+    return {&BasicKnifeEdge::m, &BasicKnifeEdge::I};
+  }
+  explicit BasicKnifeEdge(double mass = description.value("m"), double inertia = description.value("I"))
       : m(require_positive("KnifeEdge", "m", mass)), I(require_positive("KnifeEdge", "I", inertia)) {}
   std::string name() const { return std::string(description.name); }
   std::array<std::string_view, 3> coordinate_names() const { return description.coordinate_names(); }
@@ -307,6 +346,8 @@ struct KnifeEdge {
     return Vec<S, 1>(qd[0] * sin(q[2]) - qd[1] * cos(q[2]));
   }
 };
+/// The knife edge with parameters in double precision.
+using KnifeEdge = BasicKnifeEdge<>;
 
 /// Particle (x, y) sliding without friction on the outside of a smooth
 /// sphere (a circle in the vertical plane) of radius R centred at the origin;

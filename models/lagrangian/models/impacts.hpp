@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -197,19 +198,36 @@ struct SpheresOnLine {
 /// gravity; coordinates (x₁, y₁[, z₁], x₂, y₂[, z₂]) of the centres (m).
 ///   T = ½ m₁|ṙ₁|² + ½ m₂|ṙ₂|²,  contact φ = |r₂ − r₁| − (R₁ + R₂) ≥ 0.
 /// The oblique impact of course notes 1.4: the common normal is r₂ − r₁.
-template <int D>
-struct TwoSpheres : detail::ParticlePair<D> {
+/// P is the parameters' type (parameter sensitivities,
+/// analysis/sensitivity.hpp: restitution() gives P, so a parameter's
+/// column crosses the impact).
+template <int D, class P = double>
+struct TwoSpheres : detail::ParticlePair<D, P> {
   static constexpr int coordinate_count = 2 * D;
-  double r1, r2, e;
+  using detail::ParticlePair<D, P>::m1;
+  using detail::ParticlePair<D, P>::m2;
+  P r1, r2, e;
+  /// The model with parameters of type Q, and its parameters in the order
+  /// of parameter_names (the scene's `oblique_impact`).
+  template <class Q>
+  using with_parameter_type = TwoSpheres<D, Q>;
+  static constexpr std::array<std::string_view, 5> parameter_names{"m1", "m2", "r1", "r2", "e"};
+  static constexpr std::array<P TwoSpheres::*, 5> parameter_members() {
+    using Pair = detail::ParticlePair<D, P>;
+    return {&Pair::m1, &Pair::m2, &TwoSpheres::r1, &TwoSpheres::r2, &TwoSpheres::e};
+  }
+  /// Unit masses and radii 0.1 m, e = 1 (the parameters are then set one by one).
+  TwoSpheres() : TwoSpheres(1.0, 1.0, 0.1, 0.1, 1.0) {}
   TwoSpheres(double mass1, double mass2, double radius1, double radius2, double restitution)
-      : detail::ParticlePair<D>{require_positive("TwoSpheres", "m1", mass1), require_positive("TwoSpheres", "m2", mass2)},
+      : detail::ParticlePair<D, P>{require_positive("TwoSpheres", "m1", mass1),
+                                   require_positive("TwoSpheres", "m2", mass2)},
         r1(require_positive("TwoSpheres", "r1", radius1)),
         r2(require_positive("TwoSpheres", "r2", radius2)),
         e(require_in_range("TwoSpheres", "e", restitution, 0.0, 1.0)) {}
   std::string name() const { return D == 2 ? "two_spheres_2d" : "two_spheres_3d"; }
   std::array<std::string, 1> unilateral_names() const { return {"s1-s2"}; }
   std::array<std::string, 1> constraint_units() const { return {"m"}; }  ///< gap in m: λ in N
-  std::array<double, 1> restitution() const { return {e}; }
+  std::array<P, 1> restitution() const { return {e}; }
   template <class S>
   S potential(const Vec<S, coordinate_count>&, const S&) const {
     return S(0);

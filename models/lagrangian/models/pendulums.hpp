@@ -321,7 +321,8 @@ using ElasticPendulum = BasicElasticPendulum<>;
 ///   T = ½ m R² (θ̇² + ω² sin²θ),  V = −m g R cos θ.
 /// L has no explicit t, so the Jacobi integral h = ½ m R² (θ̇² − ω² sin²θ) + V
 /// is conserved while T + V is not (the motor does work).
-struct BeadOnRotatingHoop {
+template <class P = double>
+struct BasicBeadOnRotatingHoop {
   static constexpr int coordinate_count = 1;
   static constexpr ModelDescription description{
       "bead_on_rotating_hoop",
@@ -331,8 +332,16 @@ struct BeadOnRotatingHoop {
        {"R", 0.5, "m", "radius of the hoop"},
        {"omega", 6.0, "rad/s", "spin rate of the hoop"},
        {"g", 9.81, "m/s^2", "acceleration of gravity"}}};
-  double m, R, omega, g;
-  explicit BeadOnRotatingHoop(double mass = description.value("m"), double radius = description.value("R"),
+  P m, R, omega, g;
+  /// The model with parameters of type Q (parameter sensitivities,
+  /// analysis/sensitivity.hpp), and its parameters in the description's order.
+  template <class Q>
+  using with_parameter_type = BasicBeadOnRotatingHoop<Q>;
+  static constexpr std::array<P BasicBeadOnRotatingHoop::*, 4> parameter_members() {
+    using Self = BasicBeadOnRotatingHoop;
+    return {&Self::m, &Self::R, &Self::omega, &Self::g};
+  }
+  explicit BasicBeadOnRotatingHoop(double mass = description.value("m"), double radius = description.value("R"),
                               double spin_rate = description.value("omega"), double gravity = description.value("g"))
       : m(require_positive("BeadOnRotatingHoop", "m", mass)),
         R(require_positive("BeadOnRotatingHoop", "R", radius)),
@@ -356,11 +365,14 @@ struct BeadOnRotatingHoop {
     return -m * g * R * cos(q[0]);
   }
 };
+/// The bead on a spinning hoop with parameters in double precision.
+using BeadOnRotatingHoop = BasicBeadOnRotatingHoop<>;
 
 /// Particle of mass m in the attractive inverse-square field V = −k/r, in
 /// plane polar coordinates (r, φ); k = G M m (J·m).
 ///   T = ½ m (ṙ² + r² φ̇²).  φ is cyclic: p_φ = m r² φ̇ is conserved.
-struct KeplerPolar {
+template <class P = double>
+struct BasicKeplerPolar {
   static constexpr int coordinate_count = 2;
   static constexpr ModelDescription description{
       "kepler_polar",
@@ -368,8 +380,15 @@ struct KeplerPolar {
       {{"r", "m"}, {"phi", "rad"}},
       {{"m", 1.0, "kg", "mass of the particle"},
        {"k", 1.0, "J*m", "strength of the field, k = G M m"}}};
-  double m, k;
-  explicit KeplerPolar(double mass = description.value("m"), double strength = description.value("k"))
+  P m, k;
+  /// The model with parameters of type Q (parameter sensitivities,
+  /// analysis/sensitivity.hpp), and its parameters in the description's order.
+  template <class Q>
+  using with_parameter_type = BasicKeplerPolar<Q>;
+  static constexpr std::array<P BasicKeplerPolar::*, 2> parameter_members() {
+    return {&BasicKeplerPolar::m, &BasicKeplerPolar::k};
+  }
+  explicit BasicKeplerPolar(double mass = description.value("m"), double strength = description.value("k"))
       : m(require_positive("KeplerPolar", "m", mass)), k(require_positive("KeplerPolar", "k", strength)) {}
   std::string name() const { return std::string(description.name); }
   std::array<std::string_view, 2> coordinate_names() const { return description.coordinate_names(); }
@@ -383,12 +402,15 @@ struct KeplerPolar {
     return -k / q[0];
   }
 };
+/// The particle in the inverse-square field with parameters in double precision.
+using KeplerPolar = BasicKeplerPolar<>;
 
 /// Pendulum (mass m, length l) hanging from a cart of mass M that slides on
 /// a horizontal rail and is held by a spring of stiffness k; coordinates the
 /// cart position x (m) and the pendulum angle θ.
 ///   T = ½ (M + m) ẋ² + m l ẋ θ̇ cos θ + ½ m l² θ̇²,  V = ½ k x² − m g l cos θ.
-struct CartPendulum {
+template <class P = double>
+struct BasicCartPendulum {
   static constexpr int coordinate_count = 2;
   static constexpr ModelDescription description{
       "cart_pendulum",
@@ -399,8 +421,16 @@ struct CartPendulum {
        {"l", 1.0, "m", "length of the rod"},
        {"k", 10.0, "N/m", "stiffness of the spring holding the cart"},
        {"g", 9.81, "m/s^2", "acceleration of gravity"}}};
-  double M, m, l, k, g;
-  explicit CartPendulum(double cart_mass = description.value("M"), double bob_mass = description.value("m"),
+  P M, m, l, k, g;
+  /// The model with parameters of type Q (parameter sensitivities,
+  /// analysis/sensitivity.hpp), and its parameters in the description's order.
+  template <class Q>
+  using with_parameter_type = BasicCartPendulum<Q>;
+  static constexpr std::array<P BasicCartPendulum::*, 5> parameter_members() {
+    using Self = BasicCartPendulum;
+    return {&Self::M, &Self::m, &Self::l, &Self::k, &Self::g};
+  }
+  explicit BasicCartPendulum(double cart_mass = description.value("M"), double bob_mass = description.value("m"),
                         double length = description.value("l"), double stiffness = description.value("k"),
                         double gravity = description.value("g"))
       : M(require_positive("CartPendulum", "M", cart_mass)),
@@ -422,6 +452,8 @@ struct CartPendulum {
     return 0.5 * k * q[0] * q[0] - m * g * l * cos(q[1]);
   }
 };
+/// The pendulum on a cart with parameters in double precision.
+using CartPendulum = BasicCartPendulum<>;
 
 /// Pendulum whose pivot is driven vertically, y_p(t) = a cos(Ω t) (a in m,
 /// Ω in rad/s): an explicitly time-dependent Lagrangian.

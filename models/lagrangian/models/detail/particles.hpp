@@ -30,13 +30,14 @@ struct PlanarParticle {
 };
 
 /// Two free particles m₁, m₂ in D = 2 or 3 dimensions, coordinates
-/// (x₁, y₁[, z₁], x₂, y₂[, z₂]): T = ½ m₁|ṙ₁|² + ½ m₂|ṙ₂|².
-template <int D>
+/// (x₁, y₁[, z₁], x₂, y₂[, z₂]): T = ½ m₁|ṙ₁|² + ½ m₂|ṙ₂|²; P is the
+/// masses' type.
+template <int D, class P = double>
 struct ParticlePair {
   static_assert(D == 2 || D == 3, "a particle pair is planar (D = 2) or spatial (D = 3)");
   /// T = ½ m|v|²: M constant (model.hpp, constant_mass_matrix_v).
   static constexpr bool constant_mass_matrix = true;
-  double m1, m2;
+  P m1, m2;
   std::vector<std::string> coordinate_names() const {
     const char* axes[] = {"x", "y", "z"};
     std::vector<std::string> out;
