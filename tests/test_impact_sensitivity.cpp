@@ -50,9 +50,10 @@ Eigen::MatrixXd parameter_differences(const M& model, const lagrangian::State<la
       return out;
     }
     M up = model, down = model;
-    const double step = h * (1 + std::abs(model.*members[i]));
-    up.*members[i] += step;
-    down.*members[i] -= step;
+    using lagrangian::detail::parameter_of;
+    const double step = h * (1 + std::abs(parameter_of(model, members[i])));
+    parameter_of(up, members[i]) += step;
+    parameter_of(down, members[i]) -= step;
     out.col(static_cast<int>(c)) =
         (lagrangian::testing::final_state(up, s, T) - lagrangian::testing::final_state(down, s, T)) / (2 * step);
   }

@@ -16,6 +16,7 @@
 #include "lagrangian/analysis/sensitivity.hpp"
 #include "lagrangian/models/pendulums.hpp"
 #include "lagrangian/models/projectile.hpp"
+#include "lagrangian/models/two_body.hpp"
 
 #include "final_state.hpp"
 
@@ -38,7 +39,7 @@ template <class M, std::size_t P>
 M with_parameters(M model, const std::array<double, P>& values) {
   constexpr auto members = M::parameter_members();
   static_assert(members.size() == P);
-  for (std::size_t i = 0; i < P; ++i) model.*members[i] = values[i];
+  for (std::size_t i = 0; i < P; ++i) lagrangian::detail::parameter_of(model, members[i]) = values[i];
   return model;
 }
 
@@ -58,7 +59,7 @@ void expect_parameters_match_central_differences(const M& model, const lagrangia
   const Eigen::MatrixXd& got = r.sensitivities.back();
   ASSERT_EQ(got.cols(), 2 * n + static_cast<int>(members.size()));
   std::array<double, members.size()> base{};
-  for (std::size_t i = 0; i < members.size(); ++i) base[i] = model.*members[i];
+  for (std::size_t i = 0; i < members.size(); ++i) base[i] = lagrangian::detail::parameter_of(model, members[i]);
   for (std::size_t j = 0; j < members.size(); ++j) {
     const Eigen::VectorXd column = got.col(2 * n + static_cast<int>(j));
     if (std::find(absent.begin(), absent.end(), names[j]) != absent.end()) {
@@ -257,6 +258,91 @@ TEST(Sensitivity, KeplerPolarCircularOrbitMatchesItsClosedForm) {
   std::printf("polar Kepler circular orbit: largest error of d/dk, d/dm over %zu samples %.2e (entries up to %.1f)\n",
               r.times.size(), worst, 2 / k * w * T);
   EXPECT_LE(worst, 1e-9);
+}
+
+// The reduced Kepler problem in Cartesian coordinates (RelativeMotion, k in
+// its potential) and in polar ones (KeplerPolar, its columns held to a
+// closed form above), on an ellipse: one flow, ψ(r, φ, ṙ, φ̇) = (r cos φ,
+// r sin φ, ṙ cos φ − r φ̇ sin φ, ṙ sin φ + r φ̇ cos φ) not depending on μ or
+// k, so the columns are one, s_c(t) = Dψ(x_p(t)) s_p(t) (Dψ by a Jet).
+TEST(Sensitivity, KeplerInCartesianCoordinatesIsThePolarModelAlongMuAndK) {
+  const double mu = 0.8, k = 1.7;
+  const lm::RelativeMotion<2> cartesian(mu, lm::NewtonianGravity{k});
+  const lm::KeplerPolar polar(mu, k);
+  const auto psi = [](const Eigen::Vector4d& x) {
+    using J = lagrangian::ad::Jet<double, 4, 1>;
+    std::array<J, 4> a;
+    for (int i = 0; i < 4; ++i) {
+      a[static_cast<std::size_t>(i)] = J(x[i]);
+      a[static_cast<std::size_t>(i)].g[i] = 1.0;
+    }
+    using std::cos;
+    using std::sin;
+    const J c = cos(a[1]), sn = sin(a[1]);
+    const std::array<J, 4> y = {a[0] * c, a[0] * sn, a[2] * c - a[0] * a[3] * sn, a[2] * sn + a[0] * a[3] * c};
+    Eigen::Vector4d value;
+    Eigen::Matrix4d d;
+    for (int i = 0; i < 4; ++i) {
+      value[i] = y[static_cast<std::size_t>(i)].v;
+      for (int j = 0; j < 4; ++j) d(i, j) = y[static_cast<std::size_t>(i)].g[j];
+    }
+    return std::make_pair(value, d);
+  };
+  const Eigen::Vector4d x0(1.1, 0.4, 0.2, 0.9);
+  lagrangian::State<2> sp;
+  sp.q = x0.head<2>();
+  sp.qd = x0.tail<2>();
+  const Eigen::Vector4d big = psi(x0).first;
+  lagrangian::State<2> sc;
+  sc.q = big.head<2>();
+  sc.qd = big.tail<2>();
+  const double T = 6.0;
+  lagrangian::SensitivityOptions o = tight(T, {"mu", "k"});
+  o.initial_state = false;
+  const lagrangian::SensitivityResult rp = lagrangian::sensitivities(polar, sp, tight(T, {"m", "k"}));
+  const lagrangian::SensitivityResult rc = lagrangian::sensitivities(cartesian, sc, o);
+  ASSERT_EQ(rc.sensitivities.back().cols(), 2);
+  const Eigen::Matrix<double, 4, 2> expected = psi(rp.states.back()).second * rp.sensitivities.back().rightCols(2);
+  const double error = (rc.sensitivities.back() - expected).cwiseAbs().maxCoeff();
+  std::printf("Kepler in Cartesian coordinates, d/dmu and d/dk against the polar model's: %.2e of the largest %.2f\n",
+              error, expected.cwiseAbs().maxCoeff());
+  EXPECT_GT(expected.cwiseAbs().maxCoeff(), 1.0);
+  EXPECT_LE(error, 1e-8 * expected.cwiseAbs().maxCoeff()) << rc.sensitivities.back() << "\n\n" << expected;
+}
+
+// The two-body problem (TwoBody: m1, m2, k) along k: the relative
+// coordinate r = r2 − r1 moves as the reduced problem of μ = m1 m2/(m1 + m2)
+// in the same potential, and the centre of mass uniformly whatever k, so
+// the relative rows of the column are RelativeMotion's column of k and
+// m1 s_1 + m2 s_2 = 0. Every parameter against central differences of
+// simulate() too (m1 and m2 move the centre of mass's start).
+TEST(Sensitivity, TwoBodyAlongKIsTheReducedProblemAndMatchesCentralDifferences) {
+  const double m1 = 1.3, m2 = 0.6, k = 2.1;
+  const lm::TwoBody<2> pair(m1, m2, lm::NewtonianGravity{k});
+  lagrangian::State<4> s;
+  s.q << -0.3, 0.1, 0.8, -0.2;
+  s.qd << 0.1, -0.5, -0.2, 1.1;
+  const double T = 2.5;
+  lagrangian::SensitivityOptions o = tight(T, {"k"});
+  o.initial_state = false;
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(pair, s, o);
+  const lm::RelativeMotion<2> reduced(lm::reduced_mass(m1, m2), lm::NewtonianGravity{k});
+  lagrangian::State<2> rel;
+  rel.q = s.q.tail<2>() - s.q.head<2>();
+  rel.qd = s.qd.tail<2>() - s.qd.head<2>();
+  const lagrangian::SensitivityResult rr = lagrangian::sensitivities(reduced, rel, o);
+  const Eigen::VectorXd col = r.sensitivities.back().col(0);
+  Eigen::Vector4d relative, centre;
+  relative << col.segment<2>(2) - col.segment<2>(0), col.segment<2>(6) - col.segment<2>(4);
+  centre << m1 * col.segment<2>(0) + m2 * col.segment<2>(2), m1 * col.segment<2>(4) + m2 * col.segment<2>(6);
+  const Eigen::Vector4d expected = rr.sensitivities.back().col(0);
+  std::printf("two bodies d/dk: relative rows %.2e from the reduced problem's (largest %.2f), centre of mass %.2e\n",
+              (relative - expected).cwiseAbs().maxCoeff(), expected.cwiseAbs().maxCoeff(),
+              centre.cwiseAbs().maxCoeff());
+  EXPECT_GT(expected.cwiseAbs().maxCoeff(), 0.1);
+  EXPECT_LE((relative - expected).cwiseAbs().maxCoeff(), 1e-9 * expected.cwiseAbs().maxCoeff());
+  EXPECT_LE(centre.cwiseAbs().maxCoeff(), 1e-10 * expected.cwiseAbs().maxCoeff());
+  expect_parameters_match_central_differences(pair, s, T);
 }
 
 // The plane pendulum's exact motion (SimplePendulum::reference(), Jacobi's

@@ -28,7 +28,9 @@
 ///   template <class Q> using with_parameter_type = Model<Q>;  // itself, parameters of type Q
 ///   static constexpr std::array<P Model::*, np> parameter_members();
 /// the members every energy, force, dissipation, constraint, gap and
-/// restitution coefficient reads, in the order of
+/// restitution coefficient reads (pointers to data members, or accessors
+/// `P& (*)(Model&)` for a parameter held deeper, as TwoBody's k in its
+/// potential), in the order of
 /// its `description` (model_description.hpp) or of
 /// `static constexpr std::array<std::string_view, np> parameter_names`;
 /// Model<Q> must be default constructible (its parameters are then set from
@@ -38,9 +40,10 @@
 /// Kepler problem, the pendulum on a cart, the harmonic oscillator, the
 /// projectiles, the Atwood machine, the bead on a spinning wire, the
 /// particle on a sphere, the Cartesian double pendulum, the knife edge, the
-/// ball on a plane and two spheres (TwoSpheres) are written so
+/// ball on a plane, two spheres (TwoSpheres) and the two-body models under
+/// Newtonian gravity (TwoBody, RelativeMotion) are written so
 /// (models/pendulums.hpp, models/projectile.hpp, models/constrained.hpp,
-/// models/impacts.hpp).
+/// models/impacts.hpp, models/two_body.hpp).
 ///
 /// Scope as tangent_flow.hpp: models with a fixed n ≤ 6 coordinates.
 /// **Constraints.** A model with holonomic or Pfaffian constraints moves on
@@ -158,6 +161,25 @@ struct SensitivityResult {
 
 namespace detail {
 
+/// The parameter of `m` that `member` names: a pointer to a data member of
+/// M, or an accessor P& (*)(M&) (sensitivity.hpp's file comment).
+template <class M, class A>
+auto& parameter_of(M& m, A member) {
+  if constexpr (std::is_member_object_pointer_v<A>) {
+    return m.*member;
+  } else {
+    return member(m);
+  }
+}
+template <class M, class A>
+const auto& parameter_of(const M& m, A member) {
+  if constexpr (std::is_member_object_pointer_v<A>) {
+    return m.*member;
+  } else {
+    return member(const_cast<M&>(m));  // read only
+  }
+}
+
 /// The model with parameters of type ad::Jet<double, 1, 1>, the parameter
 /// number `parameter` carrying the derivative 1.
 template <class M>
@@ -168,8 +190,8 @@ typename M::template with_parameter_type<ad::Jet<double, 1, 1>> seeded_twin(cons
   constexpr auto to = E::parameter_members();
   static_assert(from.size() == to.size(), "with_parameter_type<Q> lists other parameters than the model");
   E seeded;
-  for (std::size_t i = 0; i < from.size(); ++i) seeded.*to[i] = I(m.*from[i]);
-  (seeded.*to[static_cast<std::size_t>(parameter)]).g[0] = 1.0;
+  for (std::size_t i = 0; i < from.size(); ++i) parameter_of(seeded, to[i]) = I(parameter_of(m, from[i]));
+  parameter_of(seeded, to[static_cast<std::size_t>(parameter)]).g[0] = 1.0;
   return seeded;
 }
 
@@ -192,7 +214,7 @@ double evaluate_parameter_manifold(const void* model, const double* q, const dou
   constexpr int n = coordinate_count_v<M>;
   const M& m = *static_cast<const M*>(model);
   manifold_rows_along_parameter<n>(seeded_twin(m, parameter), q, qd, t, out);
-  return m.*M::parameter_members()[static_cast<std::size_t>(parameter)];
+  return parameter_of(m, M::parameter_members()[static_cast<std::size_t>(parameter)]);
 }
 
 /// True when the twin of M with parameters of type ad::Jet<double, 1, 1>

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -42,28 +43,66 @@ inline double reduced_mass(double m1, double m2) {
 }
 
 /// Newtonian gravity between two masses: U(r) = −k/r with k = G m₁ m₂
-/// (J·m); the force on each body points to the other, |F| = k/r².
-struct NewtonianGravity {
-  double k;
+/// (J·m); the force on each body points to the other, |F| = k/r². P is
+/// k's type (parameter sensitivities, analysis/sensitivity.hpp).
+template <class P = double>
+struct BasicNewtonianGravity {
+  P k;
   template <class S>
   S operator()(const S& r) const {
     return -k / r;
   }
 };
+/// Newtonian gravity with k in double precision.
+using NewtonianGravity = BasicNewtonianGravity<>;
+
+namespace detail {
+/// The parameters' type of a model over `Potential`: k's type for Newtonian
+/// gravity, double for any other potential.
+template <class Potential>
+struct potential_parameter {
+  using type = double;
+};
+template <class P>
+struct potential_parameter<BasicNewtonianGravity<P>> {
+  using type = P;
+};
+/// True for Newtonian gravity of any parameter type.
+template <class Potential>
+inline constexpr bool is_newtonian_v = false;
+template <class P>
+inline constexpr bool is_newtonian_v<BasicNewtonianGravity<P>> = true;
+}  // namespace detail
 
 /// Two bodies interacting through a central potential U(r) in D = 2 or 3
 /// dimensions; coordinates (x₁, y₁[, z₁], x₂, y₂[, z₂]) (m).
 ///   T = ½ m₁|ṙ₁|² + ½ m₂|ṙ₂|²,  V = U(|r₂ − r₁|).
 /// `Potential` is any callable `template <class S> S operator()(const S& r)`
-/// giving U in J (NewtonianGravity by default).
+/// giving U in J (NewtonianGravity by default). Under Newtonian gravity the
+/// masses and k are numbers of k's type P, and the model offers parameter
+/// sensitivities (analysis/sensitivity.hpp) along m1, m2 and k.
 template <int D, class Potential = NewtonianGravity>
-struct TwoBody : detail::ParticlePair<D> {
+struct TwoBody : detail::ParticlePair<D, typename detail::potential_parameter<Potential>::type> {
+  using P = typename detail::potential_parameter<Potential>::type;
   static constexpr int coordinate_count = 2 * D;
-  using detail::ParticlePair<D>::m1;
-  using detail::ParticlePair<D>::m2;
+  using detail::ParticlePair<D, P>::m1;
+  using detail::ParticlePair<D, P>::m2;
   Potential U;
+  /// The model with parameters of type Q, and its parameters (m1, m2, k:
+  /// the scene's `two_body`), read through accessors as k sits in U.
+  template <class Q>
+  using with_parameter_type = TwoBody<D, BasicNewtonianGravity<Q>>;
+  static constexpr std::array<std::string_view, 3> parameter_names{"m1", "m2", "k"};
+  static constexpr std::array<P& (*)(TwoBody&), 3> parameter_members()
+    requires detail::is_newtonian_v<Potential>
+  {
+    return {[](TwoBody& b) -> P& { return b.m1; }, [](TwoBody& b) -> P& { return b.m2; },
+            [](TwoBody& b) -> P& { return b.U.k; }};
+  }
+  /// Unit masses and the default potential (the parameters are then set one by one).
+  TwoBody() : TwoBody(1.0, 1.0, Potential{}) {}
   TwoBody(double mass1, double mass2, Potential potential)
-      : detail::ParticlePair<D>{require_positive("TwoBody", "m1", mass1), require_positive("TwoBody", "m2", mass2)},
+      : detail::ParticlePair<D, P>{require_positive("TwoBody", "m1", mass1), require_positive("TwoBody", "m2", mass2)},
         U(potential) {}
   std::string name() const { return "two_body"; }
   template <class S>
@@ -157,14 +196,29 @@ TwoBody<D> gravitational_two_body(double m1, double m2, double G) {
 ///   T = ½ μ |ṙ|²,  V = U(|r|).
 /// Declares one watched event, "periapsis": r·ṙ rising through zero (the
 /// closest approach of each orbit), so runs log every passage.
+/// Under Newtonian gravity μ and k are numbers of k's type P, and the model
+/// offers parameter sensitivities (analysis/sensitivity.hpp) along μ and k.
 template <int D, class Potential = NewtonianGravity>
 struct RelativeMotion {
   static_assert(D == 2 || D == 3, "RelativeMotion is planar (D = 2) or spatial (D = 3)");
+  using P = typename detail::potential_parameter<Potential>::type;
   static constexpr int coordinate_count = D;
   /// T = ½ μ|ṙ|²: M constant (model.hpp, constant_mass_matrix_v).
   static constexpr bool constant_mass_matrix = true;
-  double mu;
+  P mu;
   Potential U;
+  /// The model with parameters of type Q, and its parameters (mu, k: the
+  /// scene's `kepler`), read through accessors as k sits in U.
+  template <class Q>
+  using with_parameter_type = RelativeMotion<D, BasicNewtonianGravity<Q>>;
+  static constexpr std::array<std::string_view, 2> parameter_names{"mu", "k"};
+  static constexpr std::array<P& (*)(RelativeMotion&), 2> parameter_members()
+    requires detail::is_newtonian_v<Potential>
+  {
+    return {[](RelativeMotion& b) -> P& { return b.mu; }, [](RelativeMotion& b) -> P& { return b.U.k; }};
+  }
+  /// μ = 1 kg and the default potential (the parameters are then set one by one).
+  RelativeMotion() : RelativeMotion(1.0, Potential{}) {}
   RelativeMotion(double reduced, Potential potential)
       : mu(require_positive("RelativeMotion", "mu", reduced)), U(potential) {}
   std::string name() const { return "relative_motion"; }
