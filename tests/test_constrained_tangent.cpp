@@ -628,10 +628,11 @@ TEST(ConstrainedSensitivity, CartesianDoublePendulumParametersAreTheAngleModels)
   expect_refused_as_moving_the_manifold(cartesian, sc, o, "l1");
 }
 
-// The bead on the wire spinning at ω, started on the axis at speed v along
-// the wire: r(t) = (v/ω) sinh ωt, (x, y) = r (cos ωt, sin ωt). The start
-// lies on the manifold for every ω (g = ġ = 0 and ∂g/∂ω = ∂ġ/∂ω = 0 there,
-// as x = y = 0), so ω has a column: the closed form differentiated in ω by
+// The bead on the wire spinning at ω, started at t0 = 0 on the axis at
+// speed v along the wire: r(t) = (v/ω) sinh ωt, (x, y) = r (cos ωt,
+// sin ωt). The start lies on the manifold for every ω (g = ġ = 0 and
+// ∂g/∂ω = ∂ġ/∂ω = 0 there, as x = y = 0 and t0 = 0; at another t0,
+// ∂ġ/∂ω = t0 (ẋ cos ωt0 + ẏ sin ωt0) would not vanish), so ω has a column: the closed form differentiated in ω by
 // a first-order Jet. The mass and the wire's reach L (a watched event, not
 // applied) leave the motion as it is: their columns are 0.
 TEST(ConstrainedSensitivity, BeadOnASpinningWireFromTheAxisClosedForm) {

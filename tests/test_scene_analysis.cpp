@@ -1,9 +1,13 @@
 // The analyses through the scene layer (scene/analysis.hpp): every built-in
 // model either answers (finite numbers) or refuses with a one-line reason —
-// never a crash, a hang or a NaN presented as a result.
+// never a crash, a hang or a NaN presented as a result; every parameter's
+// sensitivity under the name its scene gives it.
 
 #include <cmath>
+#include <cstdio>
+#include <set>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -70,6 +74,56 @@ TEST(SceneAnalysis, EveryBuiltInModelSolvesOrRefusesABoundaryValueProblem) {
   EXPECT_GE(solved, 10);
   EXPECT_GE(refused, 5);
   std::printf("boundary-value problems: %d solved, %d refused, %d failed with a reason\n", solved, refused, failed);
+}
+
+// Every parameter of every built-in model, named as its scene names it,
+// asked for alone from the model's default start over 0.05 s: its column
+// (2n finite values under that name), or one of two refusals, each for
+// exactly the cases listed: a parameter that moves the constraint manifold
+// past the start, and the models whose parameters are arrays of plain
+// doubles. A model whose parameter_names drifted from its scene's names
+// would fail here ("is not a parameter of the model").
+TEST(SceneAnalysis, EveryBuiltInParameterHasItsColumnUnderItsScenesName) {
+  const std::set<std::string> moves_the_manifold = {
+      "atwood_machine c", "bead_on_rotating_wire omega", "cartesian_double_pendulum l1",
+      "cartesian_double_pendulum l2", "particle_on_sphere R"};
+  const std::set<std::string> plain_doubles = {"direct_impact", "newtons_cradle", "pendulum_chain_3",
+                                               "spheres_in_box"};
+  std::set<std::string> refused_manifold, refused_plain;
+  int columns = 0;
+  for (const scene::ModelInfo& info : scene::builtin_models()) {
+    scene::Scene s = model_scene(info.name);
+    s.run.t_end = 0.05;
+    for (const scene::ParameterInfo& parameter : info.parameters) {
+      const std::string what = info.name + " " + parameter.name;
+      scene::SensitivityRequest req;
+      req.parameters = {parameter.name};
+      req.initial_state = false;
+      try {
+        const scene::SensitivityRun r = scene::sensitivity(s, req);
+        ASSERT_EQ(r.result.parameters, std::vector<std::string>{parameter.name}) << what;
+        const Eigen::MatrixXd& column = r.result.sensitivities.back();
+        EXPECT_EQ(column.rows(), 2 * static_cast<int>(info.coordinates.size())) << what;
+        EXPECT_EQ(column.cols(), 1) << what;
+        EXPECT_TRUE(column.allFinite()) << what;
+        ++columns;
+      } catch (const AnalysisError& e) {
+        EXPECT_NE(std::string(e.what()).find("parameter '" + parameter.name +
+                                             "' moves the constraint manifold past the start"),
+                  std::string::npos)
+            << what << ": " << e.what();
+        refused_manifold.insert(what);
+      } catch (const OptionError& e) {
+        EXPECT_NE(std::string(e.what()).find("does not offer parameter sensitivities"), std::string::npos)
+            << what << ": " << e.what();
+        refused_plain.insert(info.name);
+      }
+    }
+  }
+  EXPECT_EQ(refused_manifold, moves_the_manifold);
+  EXPECT_EQ(refused_plain, plain_doubles);
+  std::printf("parameter columns: %d computed, %zu refused as moving the manifold, %zu models of plain doubles\n",
+              columns, refused_manifold.size(), refused_plain.size());
 }
 
 TEST(SceneAnalysis, ParticleScenesAndBadRequestsAreRefused) {

@@ -216,8 +216,8 @@ struct TwoSpheres : detail::ParticlePair<D, P> {
     using Pair = detail::ParticlePair<D, P>;
     return {&Pair::m1, &Pair::m2, &TwoSpheres::r1, &TwoSpheres::r2, &TwoSpheres::e};
   }
-  /// Unit masses and radii 0.1 m, e = 1 (the parameters are then set one by one).
-  TwoSpheres() : TwoSpheres(1.0, 1.0, 0.1, 0.1, 1.0) {}
+  /// Unit masses, radii 0.1 m, e = 0.9: the scene `oblique_impact`'s defaults.
+  TwoSpheres() : TwoSpheres(1.0, 1.0, 0.1, 0.1, 0.9) {}
   TwoSpheres(double mass1, double mass2, double radius1, double radius2, double restitution)
       : detail::ParticlePair<D, P>{require_positive("TwoSpheres", "m1", mass1),
                                    require_positive("TwoSpheres", "m2", mass2)},

@@ -44,10 +44,11 @@ inline double reduced_mass(double m1, double m2) {
 
 /// Newtonian gravity between two masses: U(r) = −k/r with k = G m₁ m₂
 /// (J·m); the force on each body points to the other, |F| = k/r². P is
-/// k's type (parameter sensitivities, analysis/sensitivity.hpp).
+/// k's type (parameter sensitivities, analysis/sensitivity.hpp); k is 1 J·m
+/// unless given, as in the scenes' `two_body` and `kepler`.
 template <class P = double>
 struct BasicNewtonianGravity {
-  P k;
+  P k = P(1.0);
   template <class S>
   S operator()(const S& r) const {
     return -k / r;
@@ -79,30 +80,32 @@ inline constexpr bool is_newtonian_v<BasicNewtonianGravity<P>> = true;
 ///   T = ½ m₁|ṙ₁|² + ½ m₂|ṙ₂|²,  V = U(|r₂ − r₁|).
 /// `Potential` is any callable `template <class S> S operator()(const S& r)`
 /// giving U in J (NewtonianGravity by default). Under Newtonian gravity the
-/// masses and k are numbers of k's type P, and the model offers parameter
+/// masses and k are numbers of k's type, and the model offers parameter
 /// sensitivities (analysis/sensitivity.hpp) along m1, m2 and k.
 template <int D, class Potential = NewtonianGravity>
 struct TwoBody : detail::ParticlePair<D, typename detail::potential_parameter<Potential>::type> {
-  using P = typename detail::potential_parameter<Potential>::type;
+  using parameter_type = typename detail::potential_parameter<Potential>::type;
   static constexpr int coordinate_count = 2 * D;
-  using detail::ParticlePair<D, P>::m1;
-  using detail::ParticlePair<D, P>::m2;
+  using detail::ParticlePair<D, parameter_type>::m1;
+  using detail::ParticlePair<D, parameter_type>::m2;
   Potential U;
   /// The model with parameters of type Q, and its parameters (m1, m2, k:
   /// the scene's `two_body`), read through accessors as k sits in U.
   template <class Q>
   using with_parameter_type = TwoBody<D, BasicNewtonianGravity<Q>>;
   static constexpr std::array<std::string_view, 3> parameter_names{"m1", "m2", "k"};
-  static constexpr std::array<P& (*)(TwoBody&), 3> parameter_members()
+  static constexpr std::array<parameter_type& (*)(TwoBody&), 3> parameter_members()
     requires detail::is_newtonian_v<Potential>
   {
-    return {[](TwoBody& b) -> P& { return b.m1; }, [](TwoBody& b) -> P& { return b.m2; },
-            [](TwoBody& b) -> P& { return b.U.k; }};
+    return {[](TwoBody& b) -> parameter_type& { return b.m1; }, [](TwoBody& b) -> parameter_type& { return b.m2; },
+            [](TwoBody& b) -> parameter_type& { return b.U.k; }};
   }
-  /// Unit masses and the default potential (the parameters are then set one by one).
+  /// Unit masses in the default potential (for Newtonian gravity k = 1 J·m:
+  /// the scene `two_body`'s defaults).
   TwoBody() : TwoBody(1.0, 1.0, Potential{}) {}
   TwoBody(double mass1, double mass2, Potential potential)
-      : detail::ParticlePair<D, P>{require_positive("TwoBody", "m1", mass1), require_positive("TwoBody", "m2", mass2)},
+      : detail::ParticlePair<D, parameter_type>{require_positive("TwoBody", "m1", mass1),
+                                                require_positive("TwoBody", "m2", mass2)},
         U(potential) {}
   std::string name() const { return "two_body"; }
   template <class S>
@@ -196,28 +199,30 @@ TwoBody<D> gravitational_two_body(double m1, double m2, double G) {
 ///   T = ½ μ |ṙ|²,  V = U(|r|).
 /// Declares one watched event, "periapsis": r·ṙ rising through zero (the
 /// closest approach of each orbit), so runs log every passage.
-/// Under Newtonian gravity μ and k are numbers of k's type P, and the model
+/// Under Newtonian gravity μ and k are numbers of k's type, and the model
 /// offers parameter sensitivities (analysis/sensitivity.hpp) along μ and k.
 template <int D, class Potential = NewtonianGravity>
 struct RelativeMotion {
   static_assert(D == 2 || D == 3, "RelativeMotion is planar (D = 2) or spatial (D = 3)");
-  using P = typename detail::potential_parameter<Potential>::type;
+  using parameter_type = typename detail::potential_parameter<Potential>::type;
   static constexpr int coordinate_count = D;
   /// T = ½ μ|ṙ|²: M constant (model.hpp, constant_mass_matrix_v).
   static constexpr bool constant_mass_matrix = true;
-  P mu;
+  parameter_type mu;
   Potential U;
   /// The model with parameters of type Q, and its parameters (mu, k: the
   /// scene's `kepler`), read through accessors as k sits in U.
   template <class Q>
   using with_parameter_type = RelativeMotion<D, BasicNewtonianGravity<Q>>;
   static constexpr std::array<std::string_view, 2> parameter_names{"mu", "k"};
-  static constexpr std::array<P& (*)(RelativeMotion&), 2> parameter_members()
+  static constexpr std::array<parameter_type& (*)(RelativeMotion&), 2> parameter_members()
     requires detail::is_newtonian_v<Potential>
   {
-    return {[](RelativeMotion& b) -> P& { return b.mu; }, [](RelativeMotion& b) -> P& { return b.U.k; }};
+    return {[](RelativeMotion& b) -> parameter_type& { return b.mu; },
+            [](RelativeMotion& b) -> parameter_type& { return b.U.k; }};
   }
-  /// μ = 1 kg and the default potential (the parameters are then set one by one).
+  /// μ = 1 kg in the default potential (for Newtonian gravity k = 1 J·m:
+  /// the scene `kepler`'s defaults).
   RelativeMotion() : RelativeMotion(1.0, Potential{}) {}
   RelativeMotion(double reduced, Potential potential)
       : mu(require_positive("RelativeMotion", "mu", reduced)), U(potential) {}
