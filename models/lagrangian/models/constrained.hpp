@@ -68,7 +68,7 @@ struct BasicBeadOnRotatingWire {
     return {&BasicBeadOnRotatingWire::m, &BasicBeadOnRotatingWire::omega, &BasicBeadOnRotatingWire::L};
   }
   explicit BasicBeadOnRotatingWire(double mass = description.value("m"), double spin_rate = description.value("omega"),
-                              double half_length = description.value("L"))
+                                   double half_length = description.value("L"))
       : m(require_positive("BeadOnRotatingWire", "m", mass)),
         omega(require_finite("BeadOnRotatingWire", "omega", spin_rate)),
         L(require_positive("BeadOnRotatingWire", "L", half_length)) {}
@@ -144,7 +144,7 @@ struct BasicParticleOnSphere {
     return {&BasicParticleOnSphere::m, &BasicParticleOnSphere::R, &BasicParticleOnSphere::g};
   }
   explicit BasicParticleOnSphere(double mass = description.value("m"), double radius = description.value("R"),
-                            double gravity = description.value("g"))
+                                 double gravity = description.value("g"))
       : m(require_positive("ParticleOnSphere", "m", mass)),
         R(require_positive("ParticleOnSphere", "R", radius)),
         g(require_nonnegative("ParticleOnSphere", "g", gravity)) {}
@@ -267,8 +267,9 @@ struct BasicCartesianDoublePendulum {
     return {&Self::m1, &Self::m2, &Self::l1, &Self::l2, &Self::g};
   }
   explicit BasicCartesianDoublePendulum(double mass1 = description.value("m1"), double mass2 = description.value("m2"),
-                                   double length1 = description.value("l1"), double length2 = description.value("l2"),
-                                   double gravity = description.value("g"))
+                                        double length1 = description.value("l1"),
+                                        double length2 = description.value("l2"),
+                                        double gravity = description.value("g"))
       : m1(require_positive("CartesianDoublePendulum", "m1", mass1)),
         m2(require_positive("CartesianDoublePendulum", "m2", mass2)),
         l1(require_positive("CartesianDoublePendulum", "l1", length1)),

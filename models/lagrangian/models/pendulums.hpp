@@ -202,8 +202,8 @@ struct BasicDoublePendulum {
             &BasicDoublePendulum::g};
   }
   explicit BasicDoublePendulum(double mass1 = description.value("m1"), double mass2 = description.value("m2"),
-                          double length1 = description.value("l1"), double length2 = description.value("l2"),
-                          double gravity = description.value("g"))
+                               double length1 = description.value("l1"), double length2 = description.value("l2"),
+                               double gravity = description.value("g"))
       : m1(require_positive("DoublePendulum", "m1", mass1)),
         m2(require_positive("DoublePendulum", "m2", mass2)),
         l1(require_positive("DoublePendulum", "l1", length1)),
@@ -342,7 +342,8 @@ struct BasicBeadOnRotatingHoop {
     return {&Self::m, &Self::R, &Self::omega, &Self::g};
   }
   explicit BasicBeadOnRotatingHoop(double mass = description.value("m"), double radius = description.value("R"),
-                              double spin_rate = description.value("omega"), double gravity = description.value("g"))
+                                   double spin_rate = description.value("omega"),
+                                   double gravity = description.value("g"))
       : m(require_positive("BeadOnRotatingHoop", "m", mass)),
         R(require_positive("BeadOnRotatingHoop", "R", radius)),
         omega(require_finite("BeadOnRotatingHoop", "omega", spin_rate)),
@@ -431,8 +432,8 @@ struct BasicCartPendulum {
     return {&Self::M, &Self::m, &Self::l, &Self::k, &Self::g};
   }
   explicit BasicCartPendulum(double cart_mass = description.value("M"), double bob_mass = description.value("m"),
-                        double length = description.value("l"), double stiffness = description.value("k"),
-                        double gravity = description.value("g"))
+                             double length = description.value("l"), double stiffness = description.value("k"),
+                             double gravity = description.value("g"))
       : M(require_positive("CartPendulum", "M", cart_mass)),
         m(require_positive("CartPendulum", "m", bob_mass)),
         l(require_positive("CartPendulum", "l", length)),
