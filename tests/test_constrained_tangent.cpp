@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include <Eigen/LU>
@@ -30,6 +31,7 @@
 #include "lagrangian/mechanics/constrained_accelerations.hpp"
 #include "lagrangian/models/constrained.hpp"
 #include "lagrangian/models/pendulums.hpp"
+#include "jet_jacobian.hpp"
 #include "tangent_options.hpp"
 
 namespace {
@@ -533,35 +535,39 @@ TEST(ConstrainedSensitivity, InclineSlopeEntersThroughTheRowClosedForm) {
 // S_c the Cartesian model's sensitivities (8 × 8, Φ P0) and S_a the angle
 // model's (4 × 4). Dψ by a first-order Jet.
 Eigen::Matrix<double, 8, 4> dpsi(const Eigen::Vector4d& x, double l1, double l2) {
-  using J = lagrangian::ad::Jet<double, 4, 1>;
-  Eigen::Matrix<J, 4, 1> xs;
-  for (int k = 0; k < 4; ++k) {
-    xs[k] = J(x[k]);
-    xs[k].g[k] = 1.0;
-  }
-  const Eigen::Matrix<J, 8, 1> y = to_cartesian(xs, l1, l2);
-  Eigen::Matrix<double, 8, 4> d;
-  for (int i = 0; i < 8; ++i)
-    for (int k = 0; k < 4; ++k) d(i, k) = y[i].g[k];
-  return d;
+  return lagrangian_test::value_and_jacobian<8>([&](const auto& xs) { return to_cartesian(xs, l1, l2); }, x).second;
 }
 
+/// The double pendulum in angles and in Cartesian coordinates (m1 = 1.3,
+/// m2 = 0.7 kg, l1 = 1, l2 = 0.8 m) from the same start x0, both run with
+/// `o` for 1 s; `start` is the Cartesian start ψ(x0).
+struct TwoDoublePendulums {
+  static constexpr double m1 = 1.3, m2 = 0.7, l1 = 1.0, l2 = 0.8, g = 9.81;
+  const lm::CartesianDoublePendulum cartesian{m1, m2, l1, l2, g};
+  const Eigen::Vector4d x0{0.4, -1.1, 1.7, -0.6};
+  const Eigen::Matrix<double, 8, 1> start = to_cartesian(x0, l1, l2);
+  lagrangian::SensitivityResult angles_run, cartesian_run;
+
+  explicit TwoDoublePendulums(lagrangian::SensitivityOptions o) {
+    o.run = lagrangian_test::lyapunov_options(1.0, 1e-12).run;
+    angles_run = lagrangian::sensitivities(lm::DoublePendulum(m1, m2, l1, l2, g), state<2>(x0), o);
+    cartesian_run = lagrangian::sensitivities(cartesian, state<4>(start), o);
+  }
+  template <int n, class V>
+  static lagrangian::State<n> state(const V& x) {
+    lagrangian::State<n> s;
+    s.q = x.template head<n>();
+    s.qd = x.template tail<n>();
+    return s;
+  }
+};
+
 TEST(ConstrainedSensitivity, CartesianDoublePendulumIsTheAngleModel) {
-  const double m1 = 1.3, m2 = 0.7, l1 = 1.0, l2 = 0.8, g = 9.81;
-  const lm::DoublePendulum angles(m1, m2, l1, l2, g);
-  const lm::CartesianDoublePendulum cartesian(m1, m2, l1, l2, g);
-  const Eigen::Vector4d x0(0.4, -1.1, 1.7, -0.6);
-  lagrangian::SensitivityOptions o;
-  o.run = lagrangian_test::lyapunov_options(1.0, 1e-12).run;
-  lagrangian::State<2> sa;
-  sa.q = x0.head<2>();
-  sa.qd = x0.tail<2>();
-  const lagrangian::SensitivityResult ra = lagrangian::sensitivities(angles, sa, o);
-  const Eigen::Matrix<double, 8, 1> big = to_cartesian(x0, l1, l2);
-  lagrangian::State<4> sc;
-  sc.q = big.head<4>();
-  sc.qd = big.tail<4>();
-  const lagrangian::SensitivityResult rc = lagrangian::sensitivities(cartesian, sc, o);
+  const TwoDoublePendulums both{lagrangian::SensitivityOptions{}};
+  constexpr double l1 = TwoDoublePendulums::l1, l2 = TwoDoublePendulums::l2;
+  const lagrangian::SensitivityResult &ra = both.angles_run, &rc = both.cartesian_run;
+  const Eigen::Vector4d& x0 = both.x0;
+  const Eigen::Matrix<double, 8, 1>& big = both.start;
   ASSERT_EQ(rc.sensitivities.back().rows(), 8);
   ASSERT_EQ(rc.sensitivities.back().cols(), 8);
   EXPECT_EQ(rc.state_columns, 8);
@@ -599,33 +605,22 @@ void expect_refused_as_moving_the_manifold(const M& model, const lagrangian::Sta
 // one, s_c(t) = Dψ(x(t)) s_a(t). The rods' lengths move the Cartesian
 // model's manifold past the start and are refused, naming the parameter.
 TEST(ConstrainedSensitivity, CartesianDoublePendulumParametersAreTheAngleModels) {
-  const double m1 = 1.3, m2 = 0.7, l1 = 1.0, l2 = 0.8, g = 9.81;
-  const lm::DoublePendulum angles(m1, m2, l1, l2, g);
-  const lm::CartesianDoublePendulum cartesian(m1, m2, l1, l2, g);
-  const Eigen::Vector4d x0(0.4, -1.1, 1.7, -0.6);
   lagrangian::SensitivityOptions o;
-  o.run = lagrangian_test::lyapunov_options(1.0, 1e-12).run;
   o.initial_state = false;
   o.parameters = {"m1", "m2", "g"};
-  lagrangian::State<2> sa;
-  sa.q = x0.head<2>();
-  sa.qd = x0.tail<2>();
-  const lagrangian::SensitivityResult ra = lagrangian::sensitivities(angles, sa, o);
-  const Eigen::Matrix<double, 8, 1> big = to_cartesian(x0, l1, l2);
-  lagrangian::State<4> sc;
-  sc.q = big.head<4>();
-  sc.qd = big.tail<4>();
-  const lagrangian::SensitivityResult rc = lagrangian::sensitivities(cartesian, sc, o);
+  const TwoDoublePendulums both(o);
+  const lagrangian::SensitivityResult &ra = both.angles_run, &rc = both.cartesian_run;
   ASSERT_EQ(rc.sensitivities.back().rows(), 8);
   ASSERT_EQ(rc.sensitivities.back().cols(), 3);
-  const Eigen::Matrix<double, 8, 3> expected = dpsi(ra.states.back(), l1, l2) * ra.sensitivities.back();
+  const Eigen::Matrix<double, 8, 3> expected =
+      dpsi(ra.states.back(), TwoDoublePendulums::l1, TwoDoublePendulums::l2) * ra.sensitivities.back();
   const double error = (rc.sensitivities.back() - expected).cwiseAbs().maxCoeff();
   std::printf("Cartesian double pendulum d/dm1, d/dm2, d/dg against the angle model's: %.2e of the largest %.2f\n",
               error, expected.cwiseAbs().maxCoeff());
   EXPECT_GT(expected.cwiseAbs().maxCoeff(), 0.1);
   EXPECT_LE(error, 1e-8 * expected.cwiseAbs().maxCoeff()) << rc.sensitivities.back() << "\n\n" << expected;
   o.parameters = {"g", "l1"};
-  expect_refused_as_moving_the_manifold(cartesian, sc, o, "l1");
+  expect_refused_as_moving_the_manifold(both.cartesian, TwoDoublePendulums::state<4>(both.start), o, "l1");
 }
 
 // The bead on the wire spinning at ω, started at t0 = 0 on the axis at
@@ -702,28 +697,18 @@ TEST(ConstrainedSensitivity, ParticleOnASphereIsTheSphericalPendulumAlongGravity
   const lm::SphericalPendulum angles(m, R, g);
   const lm::ParticleOnSphere cartesian(m, R, g);
   const auto psi = [R](const Eigen::Vector4d& x) {
-    using Jt = lagrangian::ad::Jet<double, 4, 1>;
-    std::array<Jt, 4> a;
-    for (int k = 0; k < 4; ++k) {
-      a[static_cast<std::size_t>(k)] = Jt(x[k]);
-      a[static_cast<std::size_t>(k)].g[k] = 1.0;
-    }
-    using std::cos;
-    using std::sin;
-    const Jt st = sin(a[0]), ct = cos(a[0]), sp = sin(a[1]), cp = cos(a[1]);
-    const std::array<Jt, 6> y = {R * st * cp,
-                                 R * st * sp,
-                                 -R * ct,
-                                 R * (ct * cp * a[2] - st * sp * a[3]),
-                                 R * (ct * sp * a[2] + st * cp * a[3]),
-                                 R * st * a[2]};
-    Eigen::Matrix<double, 6, 1> value;
-    Eigen::Matrix<double, 6, 4> d;
-    for (int i = 0; i < 6; ++i) {
-      value[i] = y[static_cast<std::size_t>(i)].v;
-      for (int k = 0; k < 4; ++k) d(i, k) = y[static_cast<std::size_t>(i)].g[k];
-    }
-    return std::make_pair(value, d);
+    return lagrangian_test::value_and_jacobian<6>(
+        [R](const auto& a) {
+          using S = typename std::decay_t<decltype(a)>::Scalar;
+          using std::cos;
+          using std::sin;
+          const S st = sin(a[0]), ct = cos(a[0]), sp = sin(a[1]), cp = cos(a[1]);
+          Eigen::Matrix<S, 6, 1> y;
+          y << R * st * cp, R * st * sp, -R * ct, R * (ct * cp * a[2] - st * sp * a[3]),
+              R * (ct * sp * a[2] + st * cp * a[3]), R * st * a[2];
+          return y;
+        },
+        x);
   };
   const Eigen::Vector4d x0(0.8, 0.2, 0.5, 1.1);
   lagrangian::SensitivityOptions o;

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <string>
 #include <tuple>
+#include <type_traits>
 #include <vector>
 
 #include "lagrangian/analysis/sensitivity.hpp"
@@ -20,6 +21,7 @@
 #include "lagrangian/models/two_body.hpp"
 
 #include "final_state.hpp"
+#include "jet_jacobian.hpp"
 
 namespace {
 
@@ -274,23 +276,17 @@ TEST(Sensitivity, KeplerInCartesianCoordinatesIsThePolarModelAlongMuAndK) {
   const lm::RelativeMotion<2> cartesian(mu, lm::NewtonianGravity{k});
   const lm::KeplerPolar polar(mu, k);
   const auto psi = [](const Eigen::Vector4d& x) {
-    using J = lagrangian::ad::Jet<double, 4, 1>;
-    std::array<J, 4> a;
-    for (int i = 0; i < 4; ++i) {
-      a[static_cast<std::size_t>(i)] = J(x[i]);
-      a[static_cast<std::size_t>(i)].g[i] = 1.0;
-    }
-    using std::cos;
-    using std::sin;
-    const J c = cos(a[1]), sn = sin(a[1]);
-    const std::array<J, 4> y = {a[0] * c, a[0] * sn, a[2] * c - a[0] * a[3] * sn, a[2] * sn + a[0] * a[3] * c};
-    Eigen::Vector4d value;
-    Eigen::Matrix4d d;
-    for (int i = 0; i < 4; ++i) {
-      value[i] = y[static_cast<std::size_t>(i)].v;
-      for (int j = 0; j < 4; ++j) d(i, j) = y[static_cast<std::size_t>(i)].g[j];
-    }
-    return std::make_pair(value, d);
+    return lagrangian_test::value_and_jacobian<4>(
+        [](const auto& a) {
+          using S = typename std::decay_t<decltype(a)>::Scalar;
+          using std::cos;
+          using std::sin;
+          const S c = cos(a[1]), sn = sin(a[1]);
+          Eigen::Matrix<S, 4, 1> y;
+          y << a[0] * c, a[0] * sn, a[2] * c - a[0] * a[3] * sn, a[2] * sn + a[0] * a[3] * c;
+          return y;
+        },
+        x);
   };
   const Eigen::Vector4d x0(1.1, 0.4, 0.2, 0.9);
   lagrangian::State<2> sp;
