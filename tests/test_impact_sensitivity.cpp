@@ -3,8 +3,11 @@
 // the closed form of the motion after the bounce; a ball on a moving table
 // and a ball on a tilted plane against central differences of simulate()
 // over several bounces; two spheres head-on against their closed form and
-// obliquely against central differences; the refusal of a model whose
-// contacts do not follow its parameters.
+// obliquely against central differences, on a line (SpheresOnLine) against
+// the same closed form, Newton's cradle with its gaps open against its
+// closed form, three discs in a box against central differences; the
+// parameters held in arrays named by their bodies; the refusal of a model whose contacts do not follow its
+// parameters.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,10 +15,13 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "lagrangian/analysis/sensitivity.hpp"
 #include "lagrangian/models/impacts.hpp"
+#include "lagrangian/models/pendulums.hpp"
 
 #include "contact_models.hpp"
 #include "final_state.hpp"
@@ -163,43 +169,112 @@ TEST(ImpactSensitivity, BallOnATiltedPlaneMatchesDifferencesOfSimulate) {
   EXPECT_LT(mass.sensitivities.back().cwiseAbs().maxCoeff(), 1e-12) << mass.sensitivities.back();
 }
 
-// Two spheres head-on along x (the built-in TwoSpheres<2>): sphere 1 from
-// x = 0 at u1, sphere 2 from x = X at u2 < u1. They touch at
-// tc = (X − r1 − r2)/(u1 − u2) and leave with (Newton's law)
+// Two spheres head-on along x: sphere 1 from x = 0 at u1, sphere 2 from
+// x = X at u2 < u1. They touch at tc = (X − r1 − r2)/(u1 − u2) and leave
+// with (Newton's law)
 //   v1 = u1 − m2 (1 + e)(u1 − u2)/(m1 + m2),  v2 = u2 + m1 (1 + e)(u1 − u2)/(m1 + m2),
 // then x_i(t) = x_i(tc) + v_i (t − tc). So ∂x_i/∂e = ∂v_i/∂e (t − tc) with
 // ∂v1/∂e = −m2 (u1 − u2)/M, ∂v2/∂e = m1 (u1 − u2)/M (M = m1 + m2); a
 // radius moves the impact, ∂tc/∂r = −1/(u1 − u2), so ∂x_i/∂r = (u_i − v_i)
 // ∂tc/∂r; and ∂v1/∂m1 = ∂v2/∂m1 = m2 (1 + e)(u1 − u2)/M²,
-// ∂v1/∂m2 = ∂v2/∂m2 = −m1 (1 + e)(u1 − u2)/M². Nothing moves along y.
+// ∂v1/∂m2 = ∂v2/∂m2 = −m1 (1 + e)(u1 − u2)/M².
+struct HeadOn {
+  double m1 = 1.2, m2 = 0.7, r1 = 0.15, r2 = 0.1, e = 0.6, X = 1.0, u1 = 1.5, u2 = -0.4, T = 1.3;
+  /// Rows (x1, x2, ẋ1, ẋ2) at T; columns m1, m2, r1, r2, e.
+  Eigen::MatrixXd columns() const {
+    const double M = m1 + m2, w = u1 - u2, tc = (X - r1 - r2) / w;
+    const double v1 = u1 - m2 * (1 + e) * w / M, v2 = u2 + m1 * (1 + e) * w / M;
+    EXPECT_LT(tc, T);
+    Eigen::MatrixXd out = Eigen::MatrixXd::Zero(4, 5);
+    const auto column = [&](int c, double dv1, double dv2, double dtc) {
+      out(0, c) = dv1 * (T - tc) + (u1 - v1) * dtc;
+      out(1, c) = dv2 * (T - tc) + (u2 - v2) * dtc;
+      out(2, c) = dv1;
+      out(3, c) = dv2;
+    };
+    column(0, m2 * (1 + e) * w / (M * M), m2 * (1 + e) * w / (M * M), 0.0);
+    column(1, -m1 * (1 + e) * w / (M * M), -m1 * (1 + e) * w / (M * M), 0.0);
+    column(2, 0.0, 0.0, -1 / w);
+    column(3, 0.0, 0.0, -1 / w);
+    column(4, -m2 * w / M, m1 * w / M, 0.0);
+    return out;
+  }
+};
+
+// The built-in TwoSpheres<2> in the plane: nothing moves along y.
 TEST(ImpactSensitivity, TwoSpheresHeadOnMatchTheirClosedForm) {
-  const double m1 = 1.2, m2 = 0.7, r1 = 0.15, r2 = 0.1, e = 0.6, X = 1.0, u1 = 1.5, u2 = -0.4, T = 1.3;
-  const lm::TwoSpheres<2> spheres(m1, m2, r1, r2, e);
+  const HeadOn h;
+  const lm::TwoSpheres<2> spheres(h.m1, h.m2, h.r1, h.r2, h.e);
   lagrangian::State<4> s;
-  s.q << 0.0, 0.0, X, 0.0;
-  s.qd << u1, 0.0, u2, 0.0;
+  s.q << 0.0, 0.0, h.X, 0.0;
+  s.qd << h.u1, 0.0, h.u2, 0.0;
   const lagrangian::SensitivityResult r =
-      lagrangian::sensitivities(spheres, s, tight(T, {"m1", "m2", "r1", "r2", "e"}));
+      lagrangian::sensitivities(spheres, s, tight(h.T, {"m1", "m2", "r1", "r2", "e"}));
   EXPECT_EQ(r.impacts, 1);
-  const double M = m1 + m2, w = u1 - u2, tc = (X - r1 - r2) / w;
-  const double v1 = u1 - m2 * (1 + e) * w / M, v2 = u2 + m1 * (1 + e) * w / M;
-  ASSERT_LT(tc, T);
-  // Rows (x1, y1, x2, y2, ẋ1, ẏ1, ẋ2, ẏ2); columns m1, m2, r1, r2, e.
+  // Rows (x1, y1, x2, y2, ẋ1, ẏ1, ẋ2, ẏ2).
   Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(8, 5);
-  const auto column = [&](int c, double dv1, double dv2, double dtc) {
-    expected(0, c) = dv1 * (T - tc) + (u1 - v1) * dtc;
-    expected(2, c) = dv2 * (T - tc) + (u2 - v2) * dtc;
-    expected(4, c) = dv1;
-    expected(6, c) = dv2;
-  };
-  column(0, m2 * (1 + e) * w / (M * M), m2 * (1 + e) * w / (M * M), 0.0);
-  column(1, -m1 * (1 + e) * w / (M * M), -m1 * (1 + e) * w / (M * M), 0.0);
-  column(2, 0.0, 0.0, -1 / w);
-  column(3, 0.0, 0.0, -1 / w);
-  column(4, -m2 * w / M, m1 * w / M, 0.0);
+  const Eigen::MatrixXd line = h.columns();
+  for (int k = 0; k < 4; ++k) expected.row(2 * k) = line.row(k);
   const double error = (r.sensitivities.back() - expected).cwiseAbs().maxCoeff();
   std::printf("two spheres head-on: columns of m1, m2, r1, r2, e %.2e from the closed form\n", error);
   EXPECT_LE(error, 1e-9) << r.sensitivities.back() << "\n\n" << expected;
+}
+
+// The same impact on the line (SpheresOnLine<2>, the scene direct_impact):
+// its parameters are arrays of masses and radii, offered as m1, m2, r1, r2.
+TEST(ImpactSensitivity, TwoSpheresOnALineMatchTheClosedForm) {
+  const HeadOn h;
+  const lm::SpheresOnLine<2> spheres({h.m1, h.m2}, {h.r1, h.r2}, h.e);
+  EXPECT_EQ(lagrangian::parameter_names_of<lm::SpheresOnLine<2>>(),
+            (std::vector<std::string>{"m1", "m2", "r1", "r2", "e"}));
+  lagrangian::State<2> s;
+  s.q << 0.0, h.X;
+  s.qd << h.u1, h.u2;
+  const lagrangian::SensitivityResult r =
+      lagrangian::sensitivities(spheres, s, tight(h.T, {"m1", "m2", "r1", "r2", "e"}));
+  EXPECT_EQ(r.impacts, 1);
+  const Eigen::MatrixXd expected = h.columns();
+  const double error = (r.sensitivities.back() - expected).cwiseAbs().maxCoeff();
+  std::printf("two spheres on a line: columns of m1, m2, r1, r2, e %.2e from the closed form\n", error);
+  EXPECT_LE(error, 1e-9) << r.sensitivities.back() << "\n\n" << expected;
+}
+
+// Newton's cradle with its gaps open (SpheresOnLine<5>, equal masses m and
+// radii r, e = 1): sphere 1 arrives at v, and each impact hands the whole
+// velocity on, so sphere i ≤ 4 stops after crossing its gap
+// g_i = x_{i+1} − x_i − r_i − r_{i+1}: x_i(T) = x_i(0) + g_i, and sphere 5
+// leaves at v at t_last = Σ g_i / v: x_5(T) = x_5(0) + v (T − t_last). So
+// ∂x_i/∂r_k = ∂g_i/∂r_k (−1 for the two spheres of gap i) for i ≤ 4,
+// ∂x_5/∂r_k = −Σ_i ∂g_i/∂r_k (1 for the end spheres, 2 for the inner ones),
+// and no velocity changes. A mass moved alone changes every impact; all
+// five moved together change nothing (only mass ratios enter), so the m_i
+// columns sum to zero, as the scene's one m (registry) reports.
+TEST(ImpactSensitivity, NewtonsCradleWithOpenGapsMatchesItsClosedForm) {
+  constexpr int n = 5;
+  const double m = 0.1, rad = 0.02, v = 1.0, T = 0.6;
+  const lm::SpheresOnLine<n> cradle({m, m, m, m, m}, {rad, rad, rad, rad, rad}, 1.0);
+  lagrangian::State<n> s;
+  s.q << 0.0, 0.11, 0.23, 0.32, 0.45;
+  s.qd << v, 0, 0, 0, 0;
+  std::vector<std::string> names;
+  for (int k = 1; k <= n; ++k) names.push_back("m" + std::to_string(k));
+  for (int k = 1; k <= n; ++k) names.push_back("r" + std::to_string(k));
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(cradle, s, tight(T, names));
+  EXPECT_EQ(r.impacts, n - 1);
+  const Eigen::MatrixXd& got = r.sensitivities.back();
+  Eigen::MatrixXd radii = Eigen::MatrixXd::Zero(2 * n, n);
+  for (int gap = 0; gap < n - 1; ++gap)
+    for (int k : {gap, gap + 1}) {
+      radii(gap, k) -= 1.0;
+      radii(n - 1, k) += 1.0;
+    }
+  const double radius_error = (got.rightCols(n) - radii).cwiseAbs().maxCoeff();
+  const Eigen::VectorXd all_masses = got.leftCols(n).rowwise().sum();
+  std::printf("Newton's cradle: radii's columns %.2e from the closed form; the masses' sum %.2e (each up to %.2f)\n",
+              radius_error, all_masses.cwiseAbs().maxCoeff(), got.leftCols(n).cwiseAbs().maxCoeff());
+  EXPECT_LE(radius_error, 1e-9) << got.rightCols(n) << "\n\n" << radii;
+  for (int k = 0; k < n; ++k) EXPECT_GT(got.col(k).cwiseAbs().maxCoeff(), 0.01) << "m" << k + 1;
+  EXPECT_LE(all_masses.cwiseAbs().maxCoeff(), 1e-9) << all_masses;
 }
 
 // An oblique impact of the same spheres (the common normal turns with the
@@ -216,6 +291,64 @@ TEST(ImpactSensitivity, TwoSpheresObliqueMatchDifferencesOfSimulate) {
   EXPECT_EQ(r.impacts, 1);
   const Eigen::MatrixXd fd = parameter_differences(spheres, s, T, 1e-5, names);
   std::printf("two spheres oblique: %.2e relative from central differences\n",
+              worst_relative(r.sensitivities.back(), fd));
+  EXPECT_GT(fd.cwiseAbs().maxCoeff(), 0.1);
+  EXPECT_LT(worst_relative(r.sensitivities.back(), fd), 1e-6) << r.sensitivities.back() << "\n\n" << fd;
+}
+
+// The models with a mass, radius or length per body reach them through
+// accessors generated per element: each name must reach its own body's
+// value (set here apart from every other).
+TEST(ImpactSensitivity, ParametersHeldInArraysAreNamedByTheirBodies) {
+  const auto expect_named = [](const auto& model, const std::vector<std::pair<std::string, double>>& expected) {
+    using M = std::decay_t<decltype(model)>;
+    const std::vector<std::string> names = lagrangian::parameter_names_of<M>();
+    constexpr auto members = M::parameter_members();
+    ASSERT_EQ(names.size(), expected.size());
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+      EXPECT_EQ(names[i], expected[i].first);
+      EXPECT_EQ(lagrangian::detail::parameter_of(model, members[i]), expected[i].second) << names[i];
+    }
+  };
+  expect_named(lm::SpheresOnLine<3>({1.1, 1.2, 1.3}, {0.21, 0.22, 0.23}, 0.7),
+               {{"m1", 1.1}, {"m2", 1.2}, {"m3", 1.3}, {"r1", 0.21}, {"r2", 0.22}, {"r3", 0.23}, {"e", 0.7}});
+  expect_named(lm::SpheresInBox<2>({1.1, 1.2}, {0.21, 0.22}, 3.0, 4.0, 0.6, 0.7, 5.0),
+               {{"m1", 1.1}, {"m2", 1.2}, {"r1", 0.21}, {"r2", 0.22}, {"W", 3.0}, {"H", 4.0}, {"e_wall", 0.6},
+                {"e_pair", 0.7}, {"g", 5.0}});
+  lm::PendulumChain<3> chain(1.0, 1.0, 9.5);
+  chain.m = {1.1, 1.2, 1.3};
+  chain.l = {0.21, 0.22, 0.23};
+  expect_named(chain, {{"m1", 1.1}, {"m2", 1.2}, {"m3", 1.3}, {"l1", 0.21}, {"l2", 0.22}, {"l3", 0.23}, {"g", 9.5}});
+}
+
+// Three discs of their own masses and radii in a box under gravity, over
+// several impacts with the walls and each other: every parameter against
+// central differences of simulate(), the moved boxes built by their
+// constructor (independent of the accessors).
+TEST(ImpactSensitivity, DiscsInABoxMatchDifferencesOfSimulate) {
+  using Box = lm::SpheresInBox<3>;
+  const std::vector<double> p = {1.0, 1.5, 0.8, 0.1, 0.12, 0.09, 2.0, 1.0, 0.9, 0.8, 1.5};
+  const auto build = [](const std::vector<double>& v) {
+    return Box({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, v[6], v[7], v[8], v[9], v[10]);
+  };
+  lagrangian::State<6> s;
+  s.q << 0.4, 0.5, 1.0, 0.3, 1.6, 0.7;
+  s.qd << 1.0, 0.5, -0.7, 0.8, 0.3, -1.0;
+  const double T = 1.0;
+  const std::vector<std::string> names = lagrangian::parameter_names_of<Box>();
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(build(p), s, tight(T, names));
+  EXPECT_GE(r.impacts, 3);
+  Eigen::MatrixXd fd(12, static_cast<int>(p.size()));
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    std::vector<double> up = p, down = p;
+    const double step = 1e-5 * (1 + std::abs(p[i]));
+    up[i] += step;
+    down[i] -= step;
+    fd.col(static_cast<int>(i)) = (lagrangian::testing::final_state(build(up), s, T) -
+                                   lagrangian::testing::final_state(build(down), s, T)) /
+                                  (2 * step);
+  }
+  std::printf("three discs in a box (%d impacts): %.2e relative from central differences\n", r.impacts,
               worst_relative(r.sensitivities.back(), fd));
   EXPECT_GT(fd.cwiseAbs().maxCoeff(), 0.1);
   EXPECT_LT(worst_relative(r.sensitivities.back(), fd), 1e-6) << r.sensitivities.back() << "\n\n" << fd;

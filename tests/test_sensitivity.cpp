@@ -3,7 +3,8 @@
 // without linear drag, its range, the plane pendulum's exact motion, a
 // circular orbit in the inverse-square field) and against central
 // differences of simulate() (the double, spherical, elastic and driven
-// pendulums, the bead on a spinning hoop, the pendulum on a sprung cart).
+// pendulums, the bead on a spinning hoop, the pendulum on a sprung cart);
+// the three-link chain from rest against its scaling law.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -372,6 +373,52 @@ TEST(Sensitivity, PlanePendulumParametersMatchItsExactMotion) {
               (got.col(4) - dg).cwiseAbs().maxCoeff() / dg.cwiseAbs().maxCoeff());
   EXPECT_LE((got.col(3) - dl).cwiseAbs().maxCoeff(), 1e-7 * dl.cwiseAbs().maxCoeff()) << got.col(3) << "\n" << dl;
   EXPECT_LE((got.col(4) - dg).cwiseAbs().maxCoeff(), 1e-7 * dg.cwiseAbs().maxCoeff()) << got.col(4) << "\n" << dg;
+}
+
+// The three-link chain of equal bobs m on equal rods l released from rest
+// moves as q(t) = Θ(ωt), ω = √(g/l), with Θ the motion of the
+// dimensionless chain (l and g leave T/(m l²) and V/(m g l) and the start
+// at rest). Moving every rod together, ∂ω/∂l = −ω/(2l), so
+//   ∂q/∂l = −t q̇/(2l),  ∂q̇/∂l = −(q̇ + t q̈)/(2l),
+// and ∂ω/∂g = ω/(2g):  ∂q/∂g = t q̇/(2g),  ∂q̇/∂g = (q̇ + t q̈)/(2g),
+// with q, q̇, q̈ of the run at t. The columns of l1, l2, l3 (the model's,
+// one rod each) sum to the first; those of m1, m2, m3 to zero (only mass
+// ratios enter), though each alone moves the chain.
+TEST(Sensitivity, PendulumChainFromRestScalesWithItsRodsAndGravity) {
+  constexpr int n = 3;
+  const double m = 1.3, l = 0.8, g = 9.81, T = 1.5;
+  const lm::PendulumChain<n> chain(m, l, g);
+  EXPECT_EQ(lagrangian::parameter_names_of<lm::PendulumChain<n>>(),
+            (std::vector<std::string>{"m1", "m2", "m3", "l1", "l2", "l3", "g"}));
+  lagrangian::State<n> s;
+  s.q << 0.5, 0.4, 0.3;
+  s.qd.setZero();
+  const lagrangian::SensitivityResult r =
+      lagrangian::sensitivities(chain, s, tight(T, {"m1", "m2", "m3", "l1", "l2", "l3", "g"}));
+  const Eigen::MatrixXd& got = r.sensitivities.back();
+  ASSERT_EQ(got.cols(), 2 * n + 7);
+  const Eigen::VectorXd x = r.states.back();
+  const lagrangian::Vec<double, n> q = x.head(n), qd = x.tail(n);
+  const lagrangian::Vec<double, n> qdd = lagrangian::accelerations(chain, q, qd, T);
+  Eigen::VectorXd along_l(2 * n), along_g(2 * n);
+  along_l << -T * qd / (2 * l), -(qd + T * qdd) / (2 * l);
+  along_g << T * qd / (2 * g), (qd + T * qdd) / (2 * g);
+  const Eigen::VectorXd masses = got.middleCols(2 * n, n).rowwise().sum();
+  const Eigen::VectorXd rods = got.middleCols(3 * n, n).rowwise().sum();
+  const double scale = along_l.cwiseAbs().maxCoeff();
+  std::printf("pendulum chain from rest: rods %.2e, g %.2e of the largest entry (%.2f) from the scaling law; "
+              "the masses' sum %.2e\n",
+              (rods - along_l).cwiseAbs().maxCoeff() / scale,
+              (got.col(2 * n + 6) - along_g).cwiseAbs().maxCoeff() / along_g.cwiseAbs().maxCoeff(), scale,
+              masses.cwiseAbs().maxCoeff());
+  EXPECT_LE((rods - along_l).cwiseAbs().maxCoeff(), 1e-9 * scale) << rods << "\n\n" << along_l;
+  EXPECT_LE((got.col(2 * n + 6) - along_g).cwiseAbs().maxCoeff(), 1e-9 * along_g.cwiseAbs().maxCoeff())
+      << got.col(2 * n + 6) << "\n\n" << along_g;
+  EXPECT_LE(masses.cwiseAbs().maxCoeff(), 1e-9 * scale) << masses;
+  for (int k = 0; k < n; ++k) {
+    EXPECT_GT(got.col(2 * n + k).cwiseAbs().maxCoeff(), 1e-3 * scale) << "m" << k + 1;
+    EXPECT_GT(got.col(3 * n + k).cwiseAbs().maxCoeff(), 1e-3 * scale) << "l" << k + 1;
+  }
 }
 
 // The parameters' columns alone (no state transition matrix) are the same

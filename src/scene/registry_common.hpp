@@ -56,6 +56,7 @@
 #include "json_object.hpp"
 #include "key_units.hpp"
 #include "registry_analysis.hpp"
+#include "shared_parameter_columns.hpp"
 
 namespace lagrangian::scene::detail {
 
@@ -386,11 +387,20 @@ template <class Def>
 SensitivityResult sensitivity_entry(const ModelSpec& spec, const SensitivityOptions& options) {
   return tangent_flow_entry<Def, SensitivityResult>(
       spec, options, "sensitivity", [&](const auto& m, const auto& initial) {
-        if constexpr (!has_parameter_type_v<std::decay_t<decltype(m)>>) {
+        using M = std::decay_t<decltype(m)>;
+        if constexpr (!has_parameter_type_v<M>) {
           if (!options.parameters.empty())
             throw OptionError("--parameter " + options.parameters.front() + ": model '" + info_of<Def>().name +
                               "' does not offer parameter sensitivities (its parameters are plain doubles); "
                               "without --parameter its initial state's columns are computed");
+        } else {
+          const SharedParameterColumns columns =
+              shared_parameter_columns(options.parameters, info_of<Def>(), parameter_names_of<M>());
+          if (!columns.one_to_one()) {
+            SensitivityOptions expanded = options;
+            expanded.parameters = columns.model;
+            return fold_shared_columns(sensitivities(m, initial, expanded), columns);
+          }
         }
         return sensitivities(m, initial, options);
       });

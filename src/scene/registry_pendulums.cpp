@@ -209,14 +209,8 @@ struct DrivenPendulumDef {
   }
 };
 
-/// PendulumChain<3> with its coordinates named (the template names none).
-struct PendulumChain3 : lm::PendulumChain<3> {
-  PendulumChain3(double mass, double length, double gravity) : lm::PendulumChain<3>(mass, length, gravity) {}
-  std::array<std::string_view, 3> coordinate_names() const { return {"theta1", "theta2", "theta3"}; }
-};
-
 struct PendulumChain3Def {
-  using Model = PendulumChain3;
+  using Model = lm::PendulumChain<3>;
   static constexpr const auto& description = lm::presets::pendulum_chain_3;
   static constexpr std::string_view type = "models::PendulumChain<3>";
   static State<3> initial(const Model&, double) { return at_rest<3>({0.5, 0.4, 0.3}); }

@@ -31,8 +31,11 @@
 /// restitution coefficient reads (pointers to data members, or accessors
 /// `P& (*)(Model&)` for a parameter held deeper, as TwoBody's k in its
 /// potential), in the order of
-/// its `description` (model_description.hpp) or of
-/// `static constexpr std::array<std::string_view, np> parameter_names`;
+/// its `description` (model_description.hpp), of
+/// `static constexpr std::array<std::string_view, np> parameter_names`, or
+/// of `static std::string parameter_name(std::size_t i)` (for a model whose
+/// number of parameters follows a template argument, as SpheresOnLine<N>'s
+/// m1 … mN, r1 … rN, e);
 /// Model<Q> must be default constructible (its parameters are then set from
 /// the model's), and hold nothing computed from its parameters (a cached
 /// m1 + m2 would keep its default). The built-in plane, double, spherical,
@@ -40,10 +43,12 @@
 /// Kepler problem, the pendulum on a cart, the harmonic oscillator, the
 /// projectiles, the Atwood machine, the bead on a spinning wire, the
 /// particle on a sphere, the Cartesian double pendulum, the knife edge, the
-/// ball on a plane, two spheres (TwoSpheres) and the two-body models under
-/// Newtonian gravity (TwoBody, RelativeMotion) are written so
-/// (models/pendulums.hpp, models/projectile.hpp, models/constrained.hpp,
-/// models/impacts.hpp, models/two_body.hpp).
+/// ball on a plane, two spheres (TwoSpheres), N spheres on a line
+/// (SpheresOnLine), N discs in a box (SpheresInBox), the N-link pendulum
+/// chain (PendulumChain) and the two-body models under Newtonian gravity
+/// (TwoBody, RelativeMotion) are written so (models/pendulums.hpp,
+/// models/projectile.hpp, models/constrained.hpp, models/impacts.hpp,
+/// models/two_body.hpp).
 ///
 /// Scope as tangent_flow.hpp: models with a fixed n ≤ 6 coordinates.
 /// **Constraints.** A model with holonomic or Pfaffian constraints moves on
@@ -125,6 +130,8 @@ std::vector<std::string> parameter_names_of() {
     static_assert(M::description.parameters.size() == count,
                   "parameter_members() and the model's description list different numbers of parameters");
     for (std::size_t i = 0; i < count; ++i) out.emplace_back(M::description.parameters[i].name);
+  } else if constexpr (requires { M::parameter_name(std::size_t{0}); }) {
+    for (std::size_t i = 0; i < count; ++i) out.emplace_back(M::parameter_name(i));
   } else {
     static_assert(M::parameter_names.size() == count, "parameter_names and parameter_members() differ in length");
     for (std::string_view name : M::parameter_names) out.emplace_back(name);

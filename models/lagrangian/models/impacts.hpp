@@ -20,6 +20,7 @@
 #include "lagrangian/integrate/detail/compiled_models.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/model_description.hpp"
+#include "lagrangian/models/detail/parameter_arrays.hpp"
 #include "lagrangian/models/detail/particles.hpp"
 #include "lagrangian/params.hpp"
 
@@ -135,17 +136,38 @@ inline std::string sphere_name(int i) { return "s" + std::to_string(i + 1); }
 ///   T = ½ Σ m_i ẋ_i²,  V = 0,
 ///   contacts φ_i = x_{i+1} − x_i − r_i − r_{i+1} ≥ 0  ("s1-s2", …).
 /// N = 2 is the direct impact of course notes 1.3; equal touching spheres
-/// are Newton's cradle.
-template <int N>
-struct SpheresOnLine {
+/// are Newton's cradle. P is the parameters' type (parameter sensitivities,
+/// analysis/sensitivity.hpp: m1 … mN, r1 … rN, e; restitution() gives P, so
+/// a parameter's column crosses the impacts).
+template <int N, class P = double>
+struct BasicSpheresOnLine {
   static_assert(N >= 2 && N <= 64, "SpheresOnLine needs 2 to 64 spheres");
   static constexpr int coordinate_count = N;
   /// T = Σ ½ m_i ẋ_i²: M constant (model.hpp, constant_mass_matrix_v; used
   /// up to detail::kMaxSinglePassDof = 64 coordinates).
   static constexpr bool constant_mass_matrix = coordinate_count <= lagrangian::detail::kMaxSinglePassDof;
-  std::array<double, N> m{}, r{};
-  double e = 1.0;
-  SpheresOnLine(const std::array<double, N>& masses, const std::array<double, N>& radii, double restitution) : e(0) {
+  std::array<P, N> m{}, r{};
+  P e = 1.0;
+  /// The model with parameters of type Q, and its parameters: m1 … mN,
+  /// r1 … rN, e.
+  template <class Q>
+  using with_parameter_type = BasicSpheresOnLine<N, Q>;
+  static std::string parameter_name(std::size_t i) {
+    return detail::indexed_parameter_name<N>(i, std::array<std::string_view, 2>{"m", "r"},
+                                             std::array<std::string_view, 1>{"e"});
+  }
+  static constexpr auto parameter_members() {
+    using Self = BasicSpheresOnLine;
+    return detail::array_then_scalar_accessors<Self, P, N, &Self::m, &Self::r>(
+        &detail::member_accessor<Self, P, &Self::e>);
+  }
+  /// Unit masses, radii 0.1 m, e = 1.
+  BasicSpheresOnLine() {
+    m.fill(1.0);
+    r.fill(0.1);
+  }
+  BasicSpheresOnLine(const std::array<double, N>& masses, const std::array<double, N>& radii, double restitution)
+      : e(0) {
     for (int i = 0; i < N; ++i) {
       m[static_cast<std::size_t>(i)] = require_positive("SpheresOnLine", "m" + std::to_string(i + 1), masses[static_cast<std::size_t>(i)]);
       r[static_cast<std::size_t>(i)] = require_nonnegative("SpheresOnLine", "r" + std::to_string(i + 1), radii[static_cast<std::size_t>(i)]);
@@ -166,14 +188,14 @@ struct SpheresOnLine {
   }
   /// Every gap in m: each λ in N.
   std::vector<std::string> constraint_units() const { return std::vector<std::string>(N - 1, "m"); }
-  std::array<double, N - 1> restitution() const {
-    std::array<double, N - 1> out;
+  std::array<P, N - 1> restitution() const {
+    std::array<P, N - 1> out;
     out.fill(e);
     return out;
   }
   std::array<Particle, N> particles() const {
     std::array<Particle, N> out;
-    for (int i = 0; i < N; ++i) out[static_cast<std::size_t>(i)] = {m[static_cast<std::size_t>(i)], {i, -1, -1}};
+    for (int i = 0; i < N; ++i) out[static_cast<std::size_t>(i)] = {ad::value_of(m[static_cast<std::size_t>(i)]), {i, -1, -1}};
     return out;
   }
   template <class S>
@@ -193,6 +215,9 @@ struct SpheresOnLine {
     return g;
   }
 };
+/// N spheres on a line with parameters in double precision.
+template <int N>
+using SpheresOnLine = BasicSpheresOnLine<N>;
 
 /// Two smooth spheres free in a plane (D = 2) or in space (D = 3), no
 /// gravity; coordinates (x₁, y₁[, z₁], x₂, y₂[, z₂]) of the centres (m).
@@ -339,8 +364,10 @@ using BallAndPlane = BasicBallAndPlane<>;
 ///   contacts: each sphere against the four walls (φ = x_i − r_i,
 ///   W − x_i − r_i, y_i − r_i, H − y_i − r_i; restitution e_wall) and every
 ///   pair (φ = |r_j − r_i| − r_i − r_j; restitution e_pair).
-template <int N>
-struct SpheresInBox {
+/// P is the parameters' type (parameter sensitivities,
+/// analysis/sensitivity.hpp: m1 … mN, r1 … rN, W, H, e_wall, e_pair, g).
+template <int N, class P = double>
+struct BasicSpheresInBox {
   static constexpr int pairs = N * (N - 1) / 2;
   static constexpr int contacts = 4 * N + pairs;
   static_assert(N >= 1 && contacts <= 64, "SpheresInBox supports up to 64 contacts (N <= 8)");
@@ -348,10 +375,30 @@ struct SpheresInBox {
   /// T = Σ ½ m_i |v_i|²: M constant (model.hpp, constant_mass_matrix_v;
   /// used up to detail::kMaxSinglePassDof = 64 coordinates).
   static constexpr bool constant_mass_matrix = coordinate_count <= lagrangian::detail::kMaxSinglePassDof;
-  std::array<double, N> m{}, r{};
-  double W, H, g, e_wall, e_pair;
-  SpheresInBox(const std::array<double, N>& masses, const std::array<double, N>& radii, double width, double height,
-               double restitution_wall, double restitution_pair = 1.0, double gravity = 0.0)
+  std::array<P, N> m{}, r{};
+  P W = 2.0, H = 1.0, g = 0.0, e_wall = 1.0, e_pair = 1.0;
+  /// The model with parameters of type Q, and its parameters: m1 … mN,
+  /// r1 … rN, W, H, e_wall, e_pair, g.
+  template <class Q>
+  using with_parameter_type = BasicSpheresInBox<N, Q>;
+  static std::string parameter_name(std::size_t i) {
+    return detail::indexed_parameter_name<N>(i, std::array<std::string_view, 2>{"m", "r"},
+                                             std::array<std::string_view, 5>{"W", "H", "e_wall", "e_pair", "g"});
+  }
+  static constexpr auto parameter_members() {
+    using Self = BasicSpheresInBox;
+    return detail::array_then_scalar_accessors<Self, P, N, &Self::m, &Self::r>(
+        &detail::member_accessor<Self, P, &Self::W>, &detail::member_accessor<Self, P, &Self::H>,
+        &detail::member_accessor<Self, P, &Self::e_wall>, &detail::member_accessor<Self, P, &Self::e_pair>,
+        &detail::member_accessor<Self, P, &Self::g>);
+  }
+  /// Unit masses, radii 0.1 m, the box 2 m × 1 m, elastic, no gravity.
+  BasicSpheresInBox() {
+    m.fill(1.0);
+    r.fill(0.1);
+  }
+  BasicSpheresInBox(const std::array<double, N>& masses, const std::array<double, N>& radii, double width,
+                    double height, double restitution_wall, double restitution_pair = 1.0, double gravity = 0.0)
       : W(require_positive("SpheresInBox", "W", width)),
         H(require_positive("SpheresInBox", "H", height)),
         g(require_nonnegative("SpheresInBox", "g", gravity)),
@@ -361,9 +408,9 @@ struct SpheresInBox {
       const auto k = static_cast<std::size_t>(i);
       m[k] = require_positive("SpheresInBox", "m" + std::to_string(i + 1), masses[k]);
       r[k] = require_positive("SpheresInBox", "r" + std::to_string(i + 1), radii[k]);
-      if (2 * r[k] >= std::min(W, H))
-        throw ParameterError("SpheresInBox: sphere " + std::to_string(i + 1) + " (radius " + std::to_string(r[k]) +
-                             ") does not fit in the box");
+      if (2 * radii[k] >= std::min(width, height))
+        throw ParameterError("SpheresInBox: sphere " + std::to_string(i + 1) + " (radius " +
+                             std::to_string(radii[k]) + ") does not fit in the box");
     }
   }
   std::string name() const { return "spheres_in_box"; }
@@ -388,11 +435,12 @@ struct SpheresInBox {
   std::vector<std::string> constraint_units() const { return std::vector<std::string>(4 * N + N * (N - 1) / 2, "m"); }
   std::array<Particle, N> particles() const {
     std::array<Particle, N> out;
-    for (int i = 0; i < N; ++i) out[static_cast<std::size_t>(i)] = {m[static_cast<std::size_t>(i)], {2 * i, 2 * i + 1, -1}};
+    for (int i = 0; i < N; ++i)
+      out[static_cast<std::size_t>(i)] = {ad::value_of(m[static_cast<std::size_t>(i)]), {2 * i, 2 * i + 1, -1}};
     return out;
   }
-  std::array<double, contacts> restitution() const {
-    std::array<double, contacts> out;
+  std::array<P, contacts> restitution() const {
+    std::array<P, contacts> out;
     for (int k = 0; k < contacts; ++k) out[static_cast<std::size_t>(k)] = k < 4 * N ? e_wall : e_pair;
     return out;
   }
@@ -414,7 +462,7 @@ struct SpheresInBox {
     using std::sqrt;
     Vec<S, contacts> phi;
     for (int i = 0; i < N; ++i) {
-      const double ri = r[static_cast<std::size_t>(i)];
+      const P& ri = r[static_cast<std::size_t>(i)];
       phi[4 * i + 0] = q[2 * i] - ri;
       phi[4 * i + 1] = W - q[2 * i] - ri;
       phi[4 * i + 2] = q[2 * i + 1] - ri;
@@ -429,7 +477,9 @@ struct SpheresInBox {
     return phi;
   }
 };
-
+/// N discs in a box with parameters in double precision.
+template <int N>
+using SpheresInBox = BasicSpheresInBox<N>;
 
 /// What a scene names built-in models that are presets of the templates above
 /// (the registry builds each from its description's parameters).
