@@ -83,8 +83,8 @@ TEST(SceneAnalysis, EveryBuiltInModelSolvesOrRefusesABoundaryValueProblem) {
 // past the start, and a start whose contacts are shut (Newton's cradle with
 // its spheres touching, where no tangent flow is derived, parameters or
 // not). No model is refused for parameters of plain doubles. A model whose
-// parameter names drifted from its scene's would fail here ("is not a
-// parameter of the model").
+// parameter names drifted from its scene's would fail here (the registry's
+// std::logic_error: a scene parameter that is none of the model's).
 TEST(SceneAnalysis, EveryBuiltInParameterHasItsColumnUnderItsScenesName) {
   const std::set<std::string> moves_the_manifold = {
       "atwood_machine c", "bead_on_rotating_wire omega", "cartesian_double_pendulum l1",
@@ -132,8 +132,10 @@ TEST(SceneAnalysis, EveryBuiltInParameterHasItsColumnUnderItsScenesName) {
 // links: their columns are the sums of the model's per-link ones (m1 … m3,
 // l1 … l3). From rest only g/l sets the motion, q(t) = Θ(t √(g/l)), so
 // ∂q/∂g = t q̇/(2g), l ∂x/∂l = −g ∂x/∂g and ∂x/∂m = 0 (the per-link forms
-// are in test_sensitivity.cpp); a per-link name is not the scene's.
-TEST(SceneAnalysis, OneValueForEveryBodyHasTheSumOfTheBodiesColumns) {
+// are in test_sensitivity.cpp). With the initial state's columns in front,
+// the summed columns follow them unchanged; a per-link name is not the
+// scene's.
+TEST(SceneAnalysis, OneValueForEveryLinkHasTheSumOfTheLinksColumns) {
   scene::Scene s = model_scene("pendulum_chain_3");
   s.run.t_end = 1.5;
   s.run.rtol = 1e-12;
@@ -157,22 +159,22 @@ TEST(SceneAnalysis, OneValueForEveryBodyHasTheSumOfTheBodiesColumns) {
   EXPECT_LE((c.col(2).head(3) - q_along_g).cwiseAbs().maxCoeff(), 1e-8 * scale);
   EXPECT_LE((l * c.col(0) + g * c.col(2)).cwiseAbs().maxCoeff(), 1e-8 * scale);
   EXPECT_LE(c.col(1).cwiseAbs().maxCoeff(), 1e-8 * scale);
-  // spheres_in_box's one m for its three discs: only mass ratios enter
-  // (gravity included), so its column is zero; one r moves every impact.
-  scene::Scene box = model_scene("spheres_in_box");
-  box.run.t_end = 1.0;
-  box.run.rtol = 1e-12;
-  box.run.atol = 1e-14;
-  req.parameters = {"m", "r"};
-  const scene::SensitivityRun b = scene::sensitivity(box, req);
-  ASSERT_EQ(b.result.parameters, (std::vector<std::string>{"m", "r"}));
-  const Eigen::MatrixXd& bc = b.result.sensitivities.back();
-  std::printf("spheres_in_box from the scene (%d impacts): d/dm %.2e, d/dr up to %.2f\n", b.result.impacts,
-              bc.col(0).cwiseAbs().maxCoeff(), bc.col(1).cwiseAbs().maxCoeff());
-  EXPECT_GE(b.result.impacts, 2);
-  EXPECT_GT(bc.col(1).cwiseAbs().maxCoeff(), 0.1);
-  EXPECT_LE(bc.col(0).cwiseAbs().maxCoeff(), 1e-8 * bc.col(1).cwiseAbs().maxCoeff());
+
+  // Φ first, then the summed columns: Φ as a run without parameters gives
+  // it, the columns as above (the error control now also weighs Φ: to the
+  // tolerance).
+  req.initial_state = true;
+  const scene::SensitivityRun full = scene::sensitivity(s, req);
+  req.parameters.clear();
+  const scene::SensitivityRun phi = scene::sensitivity(s, req);
+  const Eigen::MatrixXd& f = full.result.sensitivities.back();
+  ASSERT_EQ(f.cols(), 6 + 3);
+  const double phi_scale = phi.result.sensitivities.back().cwiseAbs().maxCoeff();
+  EXPECT_LE((f.leftCols(6) - phi.result.sensitivities.back()).cwiseAbs().maxCoeff(), 1e-8 * phi_scale);
+  EXPECT_LE((f.rightCols(3) - c).cwiseAbs().maxCoeff(), 1e-8 * scale) << f.rightCols(3) << "\n\n" << c;
+
   req.parameters = {"m1"};
+  req.initial_state = false;
   try {
     (void)scene::sensitivity(s, req);
     FAIL() << "a per-link parameter was taken for the scene's";
@@ -180,6 +182,60 @@ TEST(SceneAnalysis, OneValueForEveryBodyHasTheSumOfTheBodiesColumns) {
     EXPECT_NE(std::string(e.what()).find("'m1' is not a parameter of the model (m, l, g)"), std::string::npos)
         << e.what();
   }
+}
+
+// newtons_cradle's one m and one r for its five spheres, started with its
+// gaps open (0.025 m each; sphere 1 at 1 m/s, e = 1): each impact hands the
+// whole velocity on, every sphere but the last stops after crossing its
+// gap, and the last leaves at 1 m/s once all four gaps are crossed. One r
+// for all narrows each gap by 2 dr: spheres 1–4 end 2 dr short, sphere 5
+// 8 dr ahead (test_impact_sensitivity.cpp has each sphere's radius); only
+// mass ratios enter, so m's column is zero.
+TEST(SceneAnalysis, NewtonsCradleWithOpenGapsHasTheSumOfTheSpheresColumns) {
+  scene::Scene s = model_scene("newtons_cradle");
+  s.model->q = {0.0, 0.05, 0.1, 0.15, 0.2};
+  s.model->qd = {1.0, 0.0, 0.0, 0.0, 0.0};
+  s.run.t_end = 0.3;
+  s.run.rtol = 1e-12;
+  s.run.atol = 1e-14;
+  scene::SensitivityRequest req;
+  req.parameters = {"r", "m"};
+  req.initial_state = false;
+  const scene::SensitivityRun r = scene::sensitivity(s, req);
+  ASSERT_EQ(r.result.parameters, (std::vector<std::string>{"r", "m"}));
+  EXPECT_EQ(r.result.impacts, 4);
+  const Eigen::MatrixXd& c = r.result.sensitivities.back();
+  Eigen::VectorXd expected = Eigen::VectorXd::Zero(10);
+  expected << -2, -2, -2, -2, 8, 0, 0, 0, 0, 0;
+  std::printf("newtons_cradle from the scene, gaps open: d/dr %.2e from the closed form, d/dm %.2e\n",
+              (c.col(0) - expected).cwiseAbs().maxCoeff(), c.col(1).cwiseAbs().maxCoeff());
+  EXPECT_LE((c.col(0) - expected).cwiseAbs().maxCoeff(), 1e-9) << c.col(0);
+  EXPECT_LE(c.col(1).cwiseAbs().maxCoeff(), 1e-9) << c.col(1);
+}
+
+// spheres_in_box's one m for its three discs under gravity (9.81 m/s²
+// along −y): T and V both scale with the masses, so m's column is zero;
+// one r moves every impact. Over 1 s the last step, after an impact at
+// 0.991 s, ends within rounding of t_end, which the loops count as t_end:
+// the tangent run did not, and stopped with "the run stopped before
+// t_end" (tangent_run.hpp).
+TEST(SceneAnalysis, DiscsInABoxHaveNoColumnOfTheirCommonMass) {
+  scene::Scene box = model_scene("spheres_in_box");
+  box.model->parameters["g"] = 9.81;
+  box.run.t_end = 1.0;
+  box.run.rtol = 1e-12;
+  box.run.atol = 1e-14;
+  scene::SensitivityRequest req;
+  req.parameters = {"m", "r"};
+  req.initial_state = false;
+  const scene::SensitivityRun b = scene::sensitivity(box, req);
+  ASSERT_EQ(b.result.parameters, (std::vector<std::string>{"m", "r"}));
+  const Eigen::MatrixXd& bc = b.result.sensitivities.back();
+  std::printf("spheres_in_box from the scene under gravity (%d impacts): d/dm %.2e, d/dr up to %.2f\n",
+              b.result.impacts, bc.col(0).cwiseAbs().maxCoeff(), bc.col(1).cwiseAbs().maxCoeff());
+  EXPECT_GE(b.result.impacts, 2);
+  EXPECT_GT(bc.col(1).cwiseAbs().maxCoeff(), 0.1);
+  EXPECT_LE(bc.col(0).cwiseAbs().maxCoeff(), 1e-8 * bc.col(1).cwiseAbs().maxCoeff());
 }
 
 TEST(SceneAnalysis, ParticleScenesAndBadRequestsAreRefused) {

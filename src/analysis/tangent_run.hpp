@@ -11,13 +11,15 @@
 #include "lagrangian/integrate/integrate.hpp"
 #include "lagrangian/integrate/method.hpp"
 #include "lagrangian/integrate/report.hpp"
+#include "lagrangian/integrate/detail/run.hpp"
 #include "tangent_system.hpp"
 
 namespace lagrangian::detail {
 
 /// Integrates `system` over `run` from the state (q0, q̇0) (n values each),
 /// its columns as start() sets them, into x (the whole augmented state);
-/// SimulationError(`stopped`) when the run ends before run.t_end.
+/// SimulationError(`stopped`) when the run ends before run.t_end (as the
+/// loops count it: within rounding of t_end is there, reached()).
 inline void integrate_tangents(TangentSystem& system, int n, const double* q0, const double* qd0,
                                const SimulationOptions& run, const std::string& stopped, std::vector<double>& x,
                                RunReport& report) {
@@ -27,7 +29,7 @@ inline void integrate_tangents(TangentSystem& system, int n, const double* q0, c
   std::copy(q0, q0 + n, x.begin());
   std::copy(qd0, qd0 + n, x.begin() + c);
   integrate(system, x, run, report);
-  if (report.t_final < run.t_end) throw SimulationError(stopped, report.t_final);
+  if (!reached(report.t_final, run.t_end)) throw SimulationError(stopped, report.t_final);
 }
 
 /// OptionError for an invalid run or a method that cannot carry tangent

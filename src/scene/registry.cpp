@@ -111,9 +111,8 @@ void throw_parameter_error(const ModelInfo& info, const std::string& what, Param
   } else if (alias && has_parameter(info, alias(name))) {
     key = std::string(alias(name));
   } else if (!name.empty()) {
-    std::string stem = name;
-    while (!stem.empty() && stem.back() >= '0' && stem.back() <= '9') stem.pop_back();
-    if (has_parameter(info, stem)) key = stem;
+    const std::string_view stem = parameter_stem(name);
+    if (has_parameter(info, stem)) key = std::string(stem);
   }
   if (key.empty()) throw SceneError("model.parameters", what);
   throw SceneError("model.parameters." + key, message);

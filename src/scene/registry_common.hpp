@@ -25,8 +25,8 @@
 // to that. Parameter errors thrown by the model's own validation are re-thrown as SceneError("model.parameters.<name>", …):
 // the model's parameter name is mapped to the registry's by equality, then
 // Def::alias(), then by dropping trailing digits (m1 → m for models built
-// from one shared value); Def::alias("") names the key for messages that do
-// not name a parameter.
+// from one shared value: parameter_stem(), shared_parameter_columns.hpp);
+// Def::alias("") names the key for messages that do not name a parameter.
 
 #include <array>
 #include <cmath>
@@ -381,28 +381,24 @@ FloquetResult floquet_entry(const ModelSpec& spec, const FloquetOptions& options
   });
 }
 
-/// sensitivities() of the model; OptionError naming --parameter for a
-/// model whose parameters are plain doubles (has_parameter_type_v).
+/// sensitivities() of the model, its parameter columns asked for by the
+/// scene's names: a scene parameter that sets every body's (one m for
+/// m1 … mN) has the sum of their columns (shared_parameter_columns.hpp).
+/// Every built-in model offers parameter types (has_parameter_type_v).
 template <class Def>
 SensitivityResult sensitivity_entry(const ModelSpec& spec, const SensitivityOptions& options) {
   return tangent_flow_entry<Def, SensitivityResult>(
       spec, options, "sensitivity", [&](const auto& m, const auto& initial) {
         using M = std::decay_t<decltype(m)>;
-        if constexpr (!has_parameter_type_v<M>) {
-          if (!options.parameters.empty())
-            throw OptionError("--parameter " + options.parameters.front() + ": model '" + info_of<Def>().name +
-                              "' does not offer parameter sensitivities (its parameters are plain doubles); "
-                              "without --parameter its initial state's columns are computed");
-        } else {
-          const SharedParameterColumns columns =
-              shared_parameter_columns(options.parameters, info_of<Def>(), parameter_names_of<M>());
-          if (!columns.one_to_one()) {
-            SensitivityOptions expanded = options;
-            expanded.parameters = columns.model;
-            return fold_shared_columns(sensitivities(m, initial, expanded), columns);
-          }
-        }
-        return sensitivities(m, initial, options);
+        static_assert(has_parameter_type_v<M>,
+                      "a built-in model offers parameter sensitivities: declare with_parameter_type and "
+                      "parameter_members() (analysis/sensitivity.hpp)");
+        const SharedParameterColumns columns =
+            shared_parameter_columns(options.parameters, info_of<Def>(), parameter_names_of<M>());
+        if (columns.one_to_one()) return sensitivities(m, initial, options);
+        SensitivityOptions expanded = options;
+        expanded.parameters = columns.model;
+        return fold_shared_columns(sensitivities(m, initial, expanded), columns);
       });
 }
 

@@ -4,27 +4,14 @@
 #include "shared_parameter_columns.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace lagrangian::scene::detail {
-namespace {
-
-/// True when `name` is `stem` followed by one or more digits.
-bool numbered(const std::string& name, const std::string& stem) {
-  return name.size() > stem.size() && name.compare(0, stem.size(), stem) == 0 &&
-         std::all_of(name.begin() + static_cast<std::ptrdiff_t>(stem.size()), name.end(),
-                     [](unsigned char c) { return std::isdigit(c) != 0; });
-}
-
-}  // namespace
-
-bool SharedParameterColumns::one_to_one() const {
-  for (std::size_t i = 0; i < scene.size(); ++i)
-    if (sum_of[i].size() != 1 || model[static_cast<std::size_t>(sum_of[i][0])] != scene[i]) return false;
-  return true;
+std::string_view parameter_stem(std::string_view name) {
+  while (!name.empty() && name.back() >= '0' && name.back() <= '9') name.remove_suffix(1);
+  return name;
 }
 
 SharedParameterColumns shared_parameter_columns(const std::vector<std::string>& wanted, const ModelInfo& info,
@@ -44,7 +31,7 @@ SharedParameterColumns shared_parameter_columns(const std::vector<std::string>& 
       add(name);
     } else {
       for (const std::string& m : model_parameters)
-        if (numbered(m, name)) add(m);
+        if (m != name && parameter_stem(m) == name) add(m);
     }
     if (columns.empty())
       throw std::logic_error("built-in model '" + info.name + "': scene parameter '" + name +

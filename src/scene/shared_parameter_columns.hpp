@@ -3,6 +3,7 @@
 // parameters at once, and its sensitivity column.
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "lagrangian/analysis/sensitivity.hpp"
@@ -17,13 +18,19 @@ namespace lagrangian::scene::detail {
 /// column is the sum of theirs: ∂x/∂m = Σ_i ∂x/∂m_i, all m_i set by the one
 /// value.
 struct SharedParameterColumns {
-  std::vector<std::string> scene;                 ///< the names asked for
-  std::vector<std::string> model;                 ///< the model's parameters to compute
-  std::vector<std::vector<int>> sum_of;           ///< per scene name, its columns among `model`
+  std::vector<std::string> scene;        ///< the names asked for
+  std::vector<std::string> model;        ///< the model's parameters to compute
+  std::vector<std::vector<int>> sum_of;  ///< per scene name, its columns among `model`
   /// True when every scene name is a model parameter of its own.
-  bool one_to_one() const;
+  bool one_to_one() const { return model == scene; }
 };
-/// OptionError for a name the scene does not list or one listed twice.
+/// A model parameter's name without its body number ("m" of "m12"): the
+/// scene parameter it belongs to when the scene sets one value for every
+/// body (also how a model's error about "m3" is keyed "m").
+std::string_view parameter_stem(std::string_view name);
+/// OptionError for a name the scene does not list or one listed twice;
+/// std::logic_error for a scene parameter that is none of the model's (a
+/// registry bug, caught by the tests).
 SharedParameterColumns shared_parameter_columns(const std::vector<std::string>& wanted, const ModelInfo& info,
                                                 const std::vector<std::string>& model_parameters);
 /// The result of the model's columns with each scene parameter's summed
