@@ -25,6 +25,15 @@ scene::Scene model_scene(const std::string& name) {
   return s;
 }
 
+/// The model's scene run to t_end at rtol 1e-12, atol 1e-14.
+scene::Scene tight_scene(const std::string& name, double t_end) {
+  scene::Scene s = model_scene(name);
+  s.run.t_end = t_end;
+  s.run.rtol = 1e-12;
+  s.run.atol = 1e-14;
+  return s;
+}
+
 }  // namespace
 
 TEST(SceneAnalysis, EveryBuiltInModelAnswersOrRefuses) {
@@ -136,10 +145,7 @@ TEST(SceneAnalysis, EveryBuiltInParameterHasItsColumnUnderItsScenesName) {
 // the summed columns follow them unchanged; a per-link name is not the
 // scene's.
 TEST(SceneAnalysis, OneValueForEveryLinkHasTheSumOfTheLinksColumns) {
-  scene::Scene s = model_scene("pendulum_chain_3");
-  s.run.t_end = 1.5;
-  s.run.rtol = 1e-12;
-  s.run.atol = 1e-14;
+  scene::Scene s = tight_scene("pendulum_chain_3", 1.5);
   scene::SensitivityRequest req;
   req.parameters = {"l", "m", "g"};
   req.initial_state = false;
@@ -192,12 +198,9 @@ TEST(SceneAnalysis, OneValueForEveryLinkHasTheSumOfTheLinksColumns) {
 // 8 dr ahead (test_impact_sensitivity.cpp has each sphere's radius); only
 // mass ratios enter, so m's column is zero.
 TEST(SceneAnalysis, NewtonsCradleWithOpenGapsHasTheSumOfTheSpheresColumns) {
-  scene::Scene s = model_scene("newtons_cradle");
+  scene::Scene s = tight_scene("newtons_cradle", 0.3);
   s.model->q = {0.0, 0.05, 0.1, 0.15, 0.2};
   s.model->qd = {1.0, 0.0, 0.0, 0.0, 0.0};
-  s.run.t_end = 0.3;
-  s.run.rtol = 1e-12;
-  s.run.atol = 1e-14;
   scene::SensitivityRequest req;
   req.parameters = {"r", "m"};
   req.initial_state = false;
@@ -220,11 +223,8 @@ TEST(SceneAnalysis, NewtonsCradleWithOpenGapsHasTheSumOfTheSpheresColumns) {
 // the tangent run did not, and stopped with "the run stopped before
 // t_end" (tangent_run.hpp).
 TEST(SceneAnalysis, DiscsInABoxHaveNoColumnOfTheirCommonMass) {
-  scene::Scene box = model_scene("spheres_in_box");
+  scene::Scene box = tight_scene("spheres_in_box", 1.0);
   box.model->parameters["g"] = 9.81;
-  box.run.t_end = 1.0;
-  box.run.rtol = 1e-12;
-  box.run.atol = 1e-14;
   scene::SensitivityRequest req;
   req.parameters = {"m", "r"};
   req.initial_state = false;
