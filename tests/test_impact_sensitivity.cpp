@@ -247,7 +247,13 @@ TEST(ImpactSensitivity, TwoSpheresOnALineMatchTheClosedForm) {
 // ∂x_5/∂r_k = −Σ_i ∂g_i/∂r_k (1 for the end spheres, 2 for the inner ones),
 // and no velocity changes. A mass moved alone changes every impact; all
 // five moved together change nothing (only mass ratios enter), so the m_i
-// columns sum to zero, as the scene's one m (registry) reports.
+// columns sum to zero, as the scene's one m (registry) reports. Along e,
+// an impact of equal masses leaves the striker at (1 − e)/2 and the struck
+// at (1 + e)/2 of the striker's speed: sphere j + 1 crosses gap j + 1 at
+// ((1 + e)/2)^j v, so at e = 1 the impact time t_i of gap i (0-based)
+// moves by −Σ_{j≤i} g_j j/(2v); sphere i ≤ 3 then drifts back at −v/2 per
+// unit e, ∂x_i/∂e = −(v/2)(T − t_i), and sphere 4 leaves at ((1 + e)/2)⁴ v,
+// ∂ẋ_4/∂e = 2v, ∂x_4/∂e = 2v (T − t_3) − v ∂t_3/∂e.
 TEST(ImpactSensitivity, NewtonsCradleWithOpenGapsMatchesItsClosedForm) {
   constexpr int n = 5;
   const double m = 0.1, rad = 0.02, v = 1.0, T = 0.6;
@@ -258,6 +264,7 @@ TEST(ImpactSensitivity, NewtonsCradleWithOpenGapsMatchesItsClosedForm) {
   std::vector<std::string> names;
   for (int k = 1; k <= n; ++k) names.push_back("m" + std::to_string(k));
   for (int k = 1; k <= n; ++k) names.push_back("r" + std::to_string(k));
+  names.push_back("e");
   const lagrangian::SensitivityResult r = lagrangian::sensitivities(cradle, s, tight(T, names));
   EXPECT_EQ(r.impacts, n - 1);
   const Eigen::MatrixXd& got = r.sensitivities.back();
@@ -267,11 +274,25 @@ TEST(ImpactSensitivity, NewtonsCradleWithOpenGapsMatchesItsClosedForm) {
       radii(gap, k) -= 1.0;
       radii(n - 1, k) += 1.0;
     }
-  const double radius_error = (got.rightCols(n) - radii).cwiseAbs().maxCoeff();
+  Eigen::VectorXd along_e = Eigen::VectorXd::Zero(2 * n);
+  double t_i = 0, dt_i = 0;
+  for (int i = 0; i < n - 1; ++i) {
+    const double gap = s.q[i + 1] - s.q[i] - 2 * rad;
+    t_i += gap / v;
+    dt_i -= gap * i / (2 * v);
+    along_e[i] = -0.5 * v * (T - t_i);
+    along_e[n + i] = -0.5 * v;
+  }
+  along_e[n - 1] = 2 * v * (T - t_i) - v * dt_i;
+  along_e[2 * n - 1] = 2 * v;
+  const double radius_error = (got.middleCols(n, n) - radii).cwiseAbs().maxCoeff();
+  const double e_error = (got.col(2 * n) - along_e).cwiseAbs().maxCoeff();
   const Eigen::VectorXd all_masses = got.leftCols(n).rowwise().sum();
-  std::printf("Newton's cradle: radii's columns %.2e from the closed form; the masses' sum %.2e (each up to %.2f)\n",
-              radius_error, all_masses.cwiseAbs().maxCoeff(), got.leftCols(n).cwiseAbs().maxCoeff());
-  EXPECT_LE(radius_error, 1e-9) << got.rightCols(n) << "\n\n" << radii;
+  std::printf("Newton's cradle: radii's columns %.2e and e's %.2e from the closed form; the masses' sum %.2e (each up "
+              "to %.2f)\n",
+              radius_error, e_error, all_masses.cwiseAbs().maxCoeff(), got.leftCols(n).cwiseAbs().maxCoeff());
+  EXPECT_LE(radius_error, 1e-9) << got.middleCols(n, n) << "\n\n" << radii;
+  EXPECT_LE(e_error, 1e-9) << got.col(2 * n) << "\n\n" << along_e;
   for (int k = 0; k < n; ++k) EXPECT_GT(got.col(k).cwiseAbs().maxCoeff(), 0.01) << "m" << k + 1;
   EXPECT_LE(all_masses.cwiseAbs().maxCoeff(), 1e-9) << all_masses;
 }
