@@ -9,6 +9,7 @@
 #include <vector>
 
 namespace lagrangian::scene::detail {
+
 std::string_view parameter_stem(std::string_view name) {
   while (!name.empty() && name.back() >= '0' && name.back() <= '9') name.remove_suffix(1);
   return name;
