@@ -15,8 +15,6 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
-#include <type_traits>
-#include <utility>
 #include <vector>
 
 #include "lagrangian/analysis/sensitivity.hpp"
@@ -24,6 +22,7 @@
 
 #include "contact_models.hpp"
 #include "final_state.hpp"
+#include "named_parameters.hpp"
 
 namespace {
 
@@ -40,29 +39,49 @@ lagrangian::SensitivityOptions tight(double t_end, std::vector<std::string> para
   return o;
 }
 
-/// Central differences of simulate()'s x(T) along each of a model's
-/// parameters (steps h (1 + |p|)), one column per name in `names`.
+/// Central differences of simulate()'s x(T) along each of `values` (steps
+/// h (1 + |p|)), one column each, the moved models made by build(values).
+template <class Build, int n>
+Eigen::MatrixXd central_differences(const Build& build, const std::vector<double>& values,
+                                    const lagrangian::State<n>& s, double T, double h) {
+  Eigen::MatrixXd out(2 * n, static_cast<int>(values.size()));
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    std::vector<double> up = values, down = values;
+    const double step = h * (1 + std::abs(values[i]));
+    up[i] += step;
+    down[i] -= step;
+    out.col(static_cast<int>(i)) =
+        (lagrangian::testing::final_state(build(up), s, T) - lagrangian::testing::final_state(build(down), s, T)) /
+        (2 * step);
+  }
+  return out;
+}
+
+/// The same along a model's parameters named `names`, moved through its
+/// parameter_members().
 template <class M>
 Eigen::MatrixXd parameter_differences(const M& model, const lagrangian::State<lagrangian::coordinate_count_v<M>>& s,
                                       double T, double h, const std::vector<std::string>& names) {
+  using lagrangian::detail::parameter_of;
   const std::vector<std::string> all = lagrangian::parameter_names_of<M>();
   constexpr auto members = M::parameter_members();
-  Eigen::MatrixXd out(2 * lagrangian::coordinate_count_v<M>, static_cast<int>(names.size()));
-  for (std::size_t c = 0; c < names.size(); ++c) {
-    const std::size_t i = static_cast<std::size_t>(std::find(all.begin(), all.end(), names[c]) - all.begin());
+  std::vector<std::size_t> index;
+  std::vector<double> values;
+  for (const std::string& name : names) {
+    const std::size_t i = static_cast<std::size_t>(std::find(all.begin(), all.end(), name) - all.begin());
     if (i == all.size()) {
-      ADD_FAILURE() << "no parameter " << names[c];
-      return out;
+      ADD_FAILURE() << "no parameter " << name;
+      return Eigen::MatrixXd::Zero(2 * lagrangian::coordinate_count_v<M>, static_cast<int>(names.size()));
     }
-    M up = model, down = model;
-    using lagrangian::detail::parameter_of;
-    const double step = h * (1 + std::abs(parameter_of(model, members[i])));
-    parameter_of(up, members[i]) += step;
-    parameter_of(down, members[i]) -= step;
-    out.col(static_cast<int>(c)) =
-        (lagrangian::testing::final_state(up, s, T) - lagrangian::testing::final_state(down, s, T)) / (2 * step);
+    index.push_back(i);
+    values.push_back(parameter_of(model, members[i]));
   }
-  return out;
+  const auto build = [&](const std::vector<double>& v) {
+    M moved = model;
+    for (std::size_t c = 0; c < index.size(); ++c) parameter_of(moved, members[index[c]]) = v[c];
+    return moved;
+  };
+  return central_differences(build, values, s, T, h);
 }
 
 double worst_relative(const Eigen::MatrixXd& got, const Eigen::MatrixXd& expected) {
@@ -320,21 +339,12 @@ TEST(ImpactSensitivity, TwoSpheresObliqueMatchDifferencesOfSimulate) {
 // generated per element: each name must reach its own body's value (set
 // here apart from every other; the chain's in test_sensitivity.cpp).
 TEST(ImpactSensitivity, ParametersHeldInArraysAreNamedByTheirBodies) {
-  const auto expect_named = [](const auto& model, const std::vector<std::pair<std::string, double>>& expected) {
-    using M = std::decay_t<decltype(model)>;
-    const std::vector<std::string> names = lagrangian::parameter_names_of<M>();
-    constexpr auto members = M::parameter_members();
-    ASSERT_EQ(names.size(), expected.size());
-    for (std::size_t i = 0; i < expected.size(); ++i) {
-      EXPECT_EQ(names[i], expected[i].first);
-      EXPECT_EQ(lagrangian::detail::parameter_of(model, members[i]), expected[i].second) << names[i];
-    }
-  };
-  expect_named(lm::SpheresOnLine<3>({1.1, 1.2, 1.3}, {0.21, 0.22, 0.23}, 0.7),
-               {{"m1", 1.1}, {"m2", 1.2}, {"m3", 1.3}, {"r1", 0.21}, {"r2", 0.22}, {"r3", 0.23}, {"e", 0.7}});
-  expect_named(lm::SpheresInBox<2>({1.1, 1.2}, {0.21, 0.22}, 3.0, 4.0, 0.6, 0.7, 5.0),
-               {{"m1", 1.1}, {"m2", 1.2}, {"r1", 0.21}, {"r2", 0.22}, {"W", 3.0}, {"H", 4.0}, {"e_wall", 0.6},
-                {"e_pair", 0.7}, {"g", 5.0}});
+  using lagrangian::testing::expect_parameters_named;
+  expect_parameters_named(lm::SpheresOnLine<3>({1.1, 1.2, 1.3}, {0.21, 0.22, 0.23}, 0.7),
+                          {{"m1", 1.1}, {"m2", 1.2}, {"m3", 1.3}, {"r1", 0.21}, {"r2", 0.22}, {"r3", 0.23}, {"e", 0.7}});
+  expect_parameters_named(lm::SpheresInBox<2>({1.1, 1.2}, {0.21, 0.22}, 3.0, 4.0, 0.6, 0.7, 5.0),
+                          {{"m1", 1.1}, {"m2", 1.2}, {"r1", 0.21}, {"r2", 0.22}, {"W", 3.0}, {"H", 4.0},
+                           {"e_wall", 0.6}, {"e_pair", 0.7}, {"g", 5.0}});
 }
 
 // Three discs of their own masses and radii in a box under gravity, over
@@ -354,16 +364,7 @@ TEST(ImpactSensitivity, DiscsInABoxMatchDifferencesOfSimulate) {
   const std::vector<std::string> names = lagrangian::parameter_names_of<Box>();
   const lagrangian::SensitivityResult r = lagrangian::sensitivities(build(p), s, tight(T, names));
   EXPECT_GE(r.impacts, 3);
-  Eigen::MatrixXd fd(12, static_cast<int>(p.size()));
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    std::vector<double> up = p, down = p;
-    const double step = 1e-5 * (1 + std::abs(p[i]));
-    up[i] += step;
-    down[i] -= step;
-    fd.col(static_cast<int>(i)) = (lagrangian::testing::final_state(build(up), s, T) -
-                                   lagrangian::testing::final_state(build(down), s, T)) /
-                                  (2 * step);
-  }
+  const Eigen::MatrixXd fd = central_differences(build, p, s, T, 1e-5);
   std::printf("three discs in a box (%d impacts): %.2e relative from central differences\n", r.impacts,
               worst_relative(r.sensitivities.back(), fd));
   EXPECT_GT(fd.cwiseAbs().maxCoeff(), 0.1);

@@ -14,7 +14,6 @@
 #include <string>
 #include <tuple>
 #include <type_traits>
-#include <utility>
 #include <vector>
 
 #include "lagrangian/analysis/sensitivity.hpp"
@@ -24,6 +23,7 @@
 
 #include "final_state.hpp"
 #include "jet_jacobian.hpp"
+#include "named_parameters.hpp"
 
 namespace {
 
@@ -428,15 +428,8 @@ TEST(Sensitivity, PendulumChainParametersAreNamedByTheirLinks) {
   lm::PendulumChain<3> chain(1.0, 1.0, 9.5);
   chain.m = {1.1, 1.2, 1.3};
   chain.l = {0.21, 0.22, 0.23};
-  const std::vector<std::pair<std::string, double>> expected = {
-      {"m1", 1.1}, {"m2", 1.2}, {"m3", 1.3}, {"l1", 0.21}, {"l2", 0.22}, {"l3", 0.23}, {"g", 9.5}};
-  const std::vector<std::string> names = lagrangian::parameter_names_of<lm::PendulumChain<3>>();
-  constexpr auto members = lm::PendulumChain<3>::parameter_members();
-  ASSERT_EQ(names.size(), expected.size());
-  for (std::size_t i = 0; i < expected.size(); ++i) {
-    EXPECT_EQ(names[i], expected[i].first);
-    EXPECT_EQ(lagrangian::detail::parameter_of(chain, members[i]), expected[i].second) << names[i];
-  }
+  lagrangian::testing::expect_parameters_named(
+      chain, {{"m1", 1.1}, {"m2", 1.2}, {"m3", 1.3}, {"l1", 0.21}, {"l2", 0.22}, {"l3", 0.23}, {"g", 9.5}});
 }
 
 // The parameters' columns alone (no state transition matrix) are the same
