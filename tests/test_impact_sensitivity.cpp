@@ -23,19 +23,19 @@
 #include "contact_models.hpp"
 #include "final_state.hpp"
 #include "named_parameters.hpp"
+#include "tangent_options.hpp"
 
 namespace {
 
 namespace lm = lagrangian::models;
 using lagrangian::testing::BouncingBall;
 
+using lagrangian_test::worst_relative;
+
+/// The parameters' columns alone.
 lagrangian::SensitivityOptions tight(double t_end, std::vector<std::string> parameters) {
-  lagrangian::SensitivityOptions o;
-  o.run.t_end = t_end;
-  o.run.rtol = 1e-13;
-  o.run.atol = 1e-15;
+  lagrangian::SensitivityOptions o = lagrangian_test::sensitivity_options(t_end, std::move(parameters));
   o.initial_state = false;
-  o.parameters = std::move(parameters);
   return o;
 }
 
@@ -82,10 +82,6 @@ Eigen::MatrixXd parameter_differences(const M& model, const lagrangian::State<la
     return moved;
   };
   return central_differences(build, values, s, T, h);
-}
-
-double worst_relative(const Eigen::MatrixXd& got, const Eigen::MatrixXd& expected) {
-  return ((got - expected).array().abs() / (1.0 + expected.array().abs())).maxCoeff();
 }
 
 // Dropped from rest at height z0 onto the floor z = 0: the bounce comes at

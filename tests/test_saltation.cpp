@@ -23,19 +23,14 @@
 
 #include "contact_models.hpp"
 #include "final_state.hpp"
+#include "tangent_options.hpp"
 
 namespace {
 
 namespace lm = lagrangian::models;
 using lagrangian::Vec;
 
-lagrangian::SensitivityOptions tight(double t_end) {
-  lagrangian::SensitivityOptions o;
-  o.run.t_end = t_end;
-  o.run.rtol = 1e-13;
-  o.run.atol = 1e-15;
-  return o;
-}
+lagrangian::SensitivityOptions tight(double t_end) { return lagrangian_test::sensitivity_options(t_end); }
 
 /// Free flight of a ball over Δ seconds: x ↦ (q + Δ q̇, q̇) (gravity
 /// enters only q̈, which does not depend on the state).
@@ -55,9 +50,7 @@ Eigen::MatrixXd floor_bounce(double e, double g, double speed) {
   return s;
 }
 
-double worst_relative(const Eigen::MatrixXd& got, const Eigen::MatrixXd& expected) {
-  return ((got - expected).array().abs() / (1.0 + expected.array().abs())).maxCoeff();
-}
+using lagrangian_test::worst_relative;
 
 /// Central differences of simulate()'s x(T) along each component of the
 /// initial state (steps h (1 + |x_i|)).

@@ -24,19 +24,14 @@
 #include "final_state.hpp"
 #include "jet_jacobian.hpp"
 #include "named_parameters.hpp"
+#include "tangent_options.hpp"
 
 namespace {
 
 namespace lm = lagrangian::models;
 
 lagrangian::SensitivityOptions tight(double t_end, std::vector<std::string> parameters, double interval = -1) {
-  lagrangian::SensitivityOptions o;
-  o.run.t_end = t_end;
-  o.run.rtol = 1e-13;
-  o.run.atol = 1e-15;
-  o.run.output_interval = interval;
-  o.parameters = std::move(parameters);
-  return o;
+  return lagrangian_test::sensitivity_options(t_end, std::move(parameters), interval);
 }
 
 /// The model M built by its constructor from its parameters' values in the
