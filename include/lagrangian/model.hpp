@@ -241,6 +241,15 @@ inline constexpr bool has_kinetic_potential_v =
 template <class M>
 inline constexpr bool constant_mass_matrix_v = requires { requires M::constant_mass_matrix; };
 
+/// False when the model declares `static constexpr bool inline_passes =
+/// false`: its T and V are evaluated by an interpreter of expressions (a
+/// text model seen at a fixed size, text/fixed_size.hpp), so the tangent
+/// flow's pass calls their operations instead of inlining all of them into
+/// one function (`flatten`), which for an interpreter costs minutes of
+/// compile time and gigabytes. True for every other model.
+template <class M>
+inline constexpr bool inline_passes_v = !requires { requires !M::inline_passes; };
+
 /// True when the model gives non-conservative generalized forces Q(q, q̇, t).
 template <class M>
 inline constexpr bool has_generalized_forces_v =

@@ -196,11 +196,14 @@ void constant_mass_jvp(const M& model, const E& eval, const Vec<double, n>& q, c
   finish_tangent<n, K>(eval, mass, r, [&](int c) -> const Mat<double, n>& { return dmass[c]; }, q, qd, t, v, qdd,
                        jv);
 }
-/// state_jvp() of any other model: L on TangentNumber<n, K> (the file
-/// comment), evaluated on `eval` (the model itself or its seeded twin).
+/// The pass of eom_tangent_jvp(): L on TangentNumber<n, K>, returned, and
+/// r = ∂L/∂q − mixed + Q − ∂D/∂q̇ (column 0) with its derivatives along the
+/// K directions (columns 1 … K).
 template <int K, class M, class E, int n>
-void eom_tangent_jvp(const M& model, const E& eval, const Vec<double, n>& q, const Vec<double, n>& qd, double t,
-                     const Eigen::Matrix<double, 2 * n, K>& v, Vec<double, n>& qdd, Eigen::Matrix<double, n, K>& jv) {
+inline TangentNumber<n, K> eom_tangent_pass(const M& model, const E& eval, const Vec<double, n>& q,
+                                            const Vec<double, n>& qd, double t,
+                                            const Eigen::Matrix<double, 2 * n, K>& v,
+                                            Eigen::Matrix<double, n, K + 1>& r) {
   using B = ad::EomJet<n>;
   using X = TangentNumber<n, K>;
   Vec<X, n> qx, qdx;
@@ -213,9 +216,7 @@ void eom_tangent_jvp(const M& model, const E& eval, const Vec<double, n>& q, con
     }
   }
   const X tx(B::time(t));
-  const X l = lagrangian_of(eval, qx, qdx, tx);
-  // Column 0: r = ∂L/∂q − mixed + Q − ∂D/∂q̇; column 1 + c: its derivative along V_c.
-  Eigen::Matrix<double, n, K + 1> r;
+  X l = lagrangian_of(eval, qx, qdx, tx);
   const auto part = [](const X& x, int c) -> const B& { return c == 0 ? x.v : x.g[c - 1]; };
   for (int c = 0; c <= K; ++c)
     for (int i = 0; i < n; ++i) r(i, c) = part(l, c).grad_q(i) - part(l, c).mixed(i);
@@ -233,7 +234,42 @@ void eom_tangent_jvp(const M& model, const E& eval, const Vec<double, n>& q, con
         for (int i = 0; i < n; ++i) r(i, c) -= part(d, c).grad_qd(i);
     }
   }
+  return l;
+}
 
+/// Largest model eom_tangent_pass_flat() is taken for: its numbers keep
+/// every part in full storage; above, the inlined pass measured slower.
+inline constexpr int kFlatTangentPassMax = 4;
+
+/// eom_tangent_pass() `flatten`ed, as the q̈ pass is: every operation of T
+/// and V inlined into it (a direction of the double pendulum takes a
+/// quarter of the instructions; docs/performance.md). Taken for one
+/// direction of the state (K = 1: the largest Lyapunov exponent, MEGNO) of
+/// a model of at most kFlatTangentPassMax coordinates; not for K > 1 nor a
+/// seeded twin, whose inlined passes took ten times as long to compile, nor
+/// for models that declare inline_passes = false (an interpreter of
+/// expressions, as text models are).
+template <int K, class M, class E, int n>
+LAGRANGIAN_FLATTEN TangentNumber<n, K> eom_tangent_pass_flat(const M& model, const E& eval, const Vec<double, n>& q,
+                                                             const Vec<double, n>& qd, double t,
+                                                             const Eigen::Matrix<double, 2 * n, K>& v,
+                                                             Eigen::Matrix<double, n, K + 1>& r) {
+  return eom_tangent_pass<K>(model, eval, q, qd, t, v, r);
+}
+
+/// state_jvp() of any other model: L on TangentNumber<n, K> (the file
+/// comment), evaluated on `eval` (the model itself or its seeded twin).
+template <int K, class M, class E, int n>
+void eom_tangent_jvp(const M& model, const E& eval, const Vec<double, n>& q, const Vec<double, n>& qd, double t,
+                     const Eigen::Matrix<double, 2 * n, K>& v, Vec<double, n>& qdd, Eigen::Matrix<double, n, K>& jv) {
+  Eigen::Matrix<double, n, K + 1> r;
+  const TangentNumber<n, K> l = [&] {
+    if constexpr (K == 1 && n <= kFlatTangentPassMax && std::is_same_v<E, M> && inline_passes_v<M>) {
+      return eom_tangent_pass_flat<K>(model, eval, q, qd, t, v, r);
+    } else {
+      return eom_tangent_pass<K>(model, eval, q, qd, t, v, r);
+    }
+  }();
   Mat<double, n> mass, dmass;
   l.v.hessian_to(mass);
   finish_tangent<n, K>(

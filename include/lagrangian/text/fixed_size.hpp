@@ -54,6 +54,8 @@ class FixedSizeModel {
  public:
   static_assert(N >= 1, "text::FixedSizeModel: at least one coordinate");
   static constexpr int coordinate_count = N;
+  /// Its expressions are interpreted: the tangent pass calls them (model.hpp).
+  static constexpr bool inline_passes = false;
   template <class Q>
   using with_parameter_type = FixedSizeModel<N, Q>;
 
