@@ -11,6 +11,7 @@
 #include <string>
 #include <string_view>
 
+#include "lagrangian/analysis/detail/compiled_tangent_flow.hpp"
 #include "lagrangian/integrate/detail/compiled_models.hpp"
 #include "lagrangian/mechanics/impact.hpp"
 #include "lagrangian/model.hpp"
@@ -376,17 +377,21 @@ struct ParticleOffSphere : detail::PlanarParticle<> {
 
 }  // namespace lagrangian::models
 
-// simulate() for these models is compiled once, in the library
-// (src/models/); see lagrangian/integrate/detail/compiled_models.hpp.
+// simulate() and the tangent flow (Lyapunov, Floquet, sensitivities) for
+// these models are compiled once, in the library (src/models/); see
+// lagrangian/integrate/detail/compiled_models.hpp and
+// lagrangian/analysis/detail/compiled_tangent_flow.hpp.
 #define LAGRANGIAN_CONSTRAINED_MODELS_A(X) \
   X(lagrangian::models::BeadOnWire) \
   X(lagrangian::models::BeadOnRotatingWire) \
   X(lagrangian::models::CartesianPendulum) \
   X(lagrangian::models::ParticleOnSphere)
 LAGRANGIAN_CONSTRAINED_MODELS_A(LAGRANGIAN_BUILT_IN_MODEL)
+LAGRANGIAN_CONSTRAINED_MODELS_A(LAGRANGIAN_EXTERN_TANGENT_FLOW)
 #define LAGRANGIAN_CONSTRAINED_MODELS_B(X) \
   X(lagrangian::models::AtwoodMachine) \
   X(lagrangian::models::CartesianDoublePendulum) \
   X(lagrangian::models::KnifeEdge) \
   X(lagrangian::models::ParticleOffSphere)
 LAGRANGIAN_CONSTRAINED_MODELS_B(LAGRANGIAN_BUILT_IN_MODEL)
+LAGRANGIAN_CONSTRAINED_MODELS_B(LAGRANGIAN_EXTERN_TANGENT_FLOW)

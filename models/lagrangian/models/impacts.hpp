@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 
 #include "lagrangian/ad.hpp"
+#include "lagrangian/analysis/detail/compiled_tangent_flow.hpp"
 #include "lagrangian/integrate/detail/compiled_models.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/model_description.hpp"
@@ -533,8 +534,10 @@ inline constexpr ModelDescription spheres_in_box{
 
 }  // namespace lagrangian::models
 
-// simulate() for these models is compiled once, in the library
-// (src/models/); see lagrangian/integrate/detail/compiled_models.hpp.
+// simulate() and the tangent flow (Lyapunov, Floquet, sensitivities) for
+// these models are compiled once, in the library (src/models/); see
+// lagrangian/integrate/detail/compiled_models.hpp and
+// lagrangian/analysis/detail/compiled_tangent_flow.hpp.
 #define LAGRANGIAN_IMPACT_MODELS(X) \
   X(lagrangian::models::SpheresOnLine<2>) \
   X(lagrangian::models::SpheresOnLine<5>) \
@@ -542,3 +545,4 @@ inline constexpr ModelDescription spheres_in_box{
   X(lagrangian::models::BallAndPlane) \
   X(lagrangian::models::SpheresInBox<3>)
 LAGRANGIAN_IMPACT_MODELS(LAGRANGIAN_BUILT_IN_MODEL)
+LAGRANGIAN_IMPACT_MODELS(LAGRANGIAN_EXTERN_TANGENT_FLOW)

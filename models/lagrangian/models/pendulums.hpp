@@ -14,6 +14,7 @@
 #include <boost/math/special_functions/ellint_1.hpp>
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
 
+#include "lagrangian/analysis/detail/compiled_tangent_flow.hpp"
 #include "lagrangian/integrate/detail/compiled_models.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/model_description.hpp"
@@ -527,8 +528,10 @@ inline constexpr ModelDescription pendulum_chain_3{
 
 }  // namespace lagrangian::models
 
-// simulate() for these models is compiled once, in the library
-// (src/models/); see lagrangian/integrate/detail/compiled_models.hpp.
+// simulate() and the tangent flow (Lyapunov, Floquet, sensitivities) for
+// these models are compiled once, in the library (src/models/); see
+// lagrangian/integrate/detail/compiled_models.hpp and
+// lagrangian/analysis/detail/compiled_tangent_flow.hpp.
 #define LAGRANGIAN_PENDULUM_MODELS_A(X) \
   X(lagrangian::models::SimplePendulum) \
   X(lagrangian::models::HarmonicOscillator) \
@@ -536,6 +539,7 @@ inline constexpr ModelDescription pendulum_chain_3{
   X(lagrangian::models::SphericalPendulum) \
   X(lagrangian::models::ElasticPendulum)
 LAGRANGIAN_PENDULUM_MODELS_A(LAGRANGIAN_BUILT_IN_MODEL)
+LAGRANGIAN_PENDULUM_MODELS_A(LAGRANGIAN_EXTERN_TANGENT_FLOW)
 #define LAGRANGIAN_PENDULUM_MODELS_B(X) \
   X(lagrangian::models::BeadOnRotatingHoop) \
   X(lagrangian::models::KeplerPolar) \
@@ -543,3 +547,4 @@ LAGRANGIAN_PENDULUM_MODELS_A(LAGRANGIAN_BUILT_IN_MODEL)
   X(lagrangian::models::DrivenPendulum) \
   X(lagrangian::models::PendulumChain<3>)
 LAGRANGIAN_PENDULUM_MODELS_B(LAGRANGIAN_BUILT_IN_MODEL)
+LAGRANGIAN_PENDULUM_MODELS_B(LAGRANGIAN_EXTERN_TANGENT_FLOW)

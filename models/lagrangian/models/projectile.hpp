@@ -21,6 +21,7 @@
 #include <string>
 
 #include "lagrangian/mechanics/impact.hpp"
+#include "lagrangian/analysis/detail/compiled_tangent_flow.hpp"
 #include "lagrangian/integrate/detail/compiled_models.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/model_description.hpp"
@@ -208,10 +209,13 @@ struct Projectile : detail::PlanarParticle<P> {
 
 }  // namespace lagrangian::models
 
-// simulate() for these models is compiled once, in the library
-// (src/models/); see lagrangian/integrate/detail/compiled_models.hpp.
+// simulate() and the tangent flow (Lyapunov, Floquet, sensitivities) for
+// these models are compiled once, in the library (src/models/); see
+// lagrangian/integrate/detail/compiled_models.hpp and
+// lagrangian/analysis/detail/compiled_tangent_flow.hpp.
 #define LAGRANGIAN_PROJECTILE_MODELS(X) \
   X(lagrangian::models::Projectile<lagrangian::models::Drag::none>) \
   X(lagrangian::models::Projectile<lagrangian::models::Drag::linear>) \
   X(lagrangian::models::Projectile<lagrangian::models::Drag::quadratic>)
 LAGRANGIAN_PROJECTILE_MODELS(LAGRANGIAN_BUILT_IN_MODEL)
+LAGRANGIAN_PROJECTILE_MODELS(LAGRANGIAN_EXTERN_TANGENT_FLOW)

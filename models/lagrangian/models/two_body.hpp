@@ -25,6 +25,7 @@
 #include <Eigen/Geometry>
 
 #include "lagrangian/mechanics/impact.hpp"
+#include "lagrangian/analysis/detail/compiled_tangent_flow.hpp"
 #include "lagrangian/integrate/detail/compiled_models.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/model_description.hpp"
@@ -316,9 +317,12 @@ inline constexpr ModelDescription kepler{
 
 }  // namespace lagrangian::models
 
-// simulate() for these models is compiled once, in the library
-// (src/models/); see lagrangian/integrate/detail/compiled_models.hpp.
+// simulate() and the tangent flow (Lyapunov, Floquet, sensitivities) for
+// these models are compiled once, in the library (src/models/); see
+// lagrangian/integrate/detail/compiled_models.hpp and
+// lagrangian/analysis/detail/compiled_tangent_flow.hpp.
 #define LAGRANGIAN_TWO_BODY_MODELS(X) \
   X(lagrangian::models::TwoBody<2>) \
   X(lagrangian::models::RelativeMotion<2>)
 LAGRANGIAN_TWO_BODY_MODELS(LAGRANGIAN_BUILT_IN_MODEL)
+LAGRANGIAN_TWO_BODY_MODELS(LAGRANGIAN_EXTERN_TANGENT_FLOW)
