@@ -12,16 +12,10 @@
 
 #include <Eigen/Core>
 
+#include "lagrangian/analysis/fwd.hpp"
 #include "lagrangian/scene/detail/registry.hpp"
 #include "lagrangian/integrate/report.hpp"
 #include "lagrangian/scene/scene.hpp"
-
-namespace lagrangian {
-struct LyapunovOptions;
-struct LyapunovResult;
-struct FloquetOptions;
-struct FloquetResult;
-}  // namespace lagrangian
 
 namespace lagrangian::scene::detail {
 

@@ -15,16 +15,10 @@
 // sanitizer build, whose tests do not call them on built-in models) defines
 // LAGRANGIAN_NO_COMPILED_TANGENT_FLOW for itself and its users: the
 // declarations are dropped and every program compiles its own copy.
+#include "lagrangian/analysis/fwd.hpp"
 #include "lagrangian/model.hpp"
 
 namespace lagrangian {
-
-struct LyapunovOptions;
-struct LyapunovResult;
-struct FloquetOptions;
-struct FloquetResult;
-struct SensitivityOptions;
-struct SensitivityResult;
 
 template <class M>
 LyapunovResult lyapunov_spectrum(const M& model, const State<coordinate_count_v<M>>& initial,
