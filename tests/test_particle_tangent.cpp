@@ -20,6 +20,7 @@
 #include "lagrangian/errors.hpp"
 #include "lagrangian/scene/analysis.hpp"
 #include "lagrangian/scene/io.hpp"
+#include "lagrangian/scene/run.hpp"
 #include "../src/scene/particle_engine.hpp"
 
 namespace {
@@ -616,6 +617,200 @@ TEST(ParticleTangent, BinaryOrbitFoundFromALongGuess) {
   EXPECT_NEAR(a, 2.0, 0.2);
   EXPECT_NEAR(r.period, 2 * std::acos(-1.0) * std::sqrt(a * a * a / (m1 + m2)), 1e-8 * period);
   EXPECT_LT(r.result.closure, 1e-7);
+}
+
+// A ball dropped on a plane tilted by 0.3 rad (e = 0.5) bounces until the
+// Zeno rule lets it rest at t∞ ≈ 1.05 s, then slides down the plane. The
+// plane is frictionless, so the motion along it is that of free fall
+// projected on it whatever the bounces, and every start comes to rest on
+// the plane: at t = 1.6 s the flow's Jacobian is, with P = I − n̂n̂ᵀ,
+//   ∂r/∂r0 = P, ∂r/∂v0 = t P, ∂v/∂r0 = 0, ∂v/∂v0 = P
+// (the rest removed the normal parts). The tangent run crosses the bounces
+// by their saltation matrices and the rest by the plastic impact's.
+TEST(ParticleTangent, BallComingToRestOnATiltedPlaneHasTheClosedFormSensitivities) {
+  const Scene scene = parse_scene(R"(
+name = "ball on an incline"
+[run]
+method = "dopri5"
+rtol = 1e-12
+atol = 1e-14
+t_end = 1.6
+[[bodies]]
+name = "ball"
+mass = 0.3
+radius = 0.05
+position = [0.2, 0.1, 0.6]
+velocity = [0.4, -0.3, 0.0]
+[gravity]
+[[contacts.planes]]
+name = "incline"
+point = [0.0, 0.0, 0.0]
+normal = [0.29552020666133955, 0.0, 0.955336489125606]
+restitution = 0.5
+)");
+  const SensitivityRun r = sensitivity(scene, SensitivityRequest{});
+  const Eigen::Vector3d n(std::sin(0.3), 0.0, std::cos(0.3));
+  const Eigen::Matrix3d p = Eigen::Matrix3d::Identity() - n * n.transpose();
+  const double t = 1.6;
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(6, 6);
+  expected.topLeftCorner(3, 3) = p;
+  expected.topRightCorner(3, 3) = t * p;
+  expected.bottomRightCorner(3, 3) = p;
+  EXPECT_LT((r.result.sensitivities.back() - expected).cwiseAbs().maxCoeff(), 1e-9) << r.result.sensitivities.back();
+  EXPECT_DOUBLE_EQ(r.result.times.back(), t);
+  EXPECT_GT(r.result.impacts, 10);
+  // The state: resting on the plane, sliding down it at g sin α.
+  const Eigen::Vector3d rt(r.result.states.back()[0], r.result.states.back()[1], r.result.states.back()[2]);
+  const Eigen::Vector3d vt(r.result.states.back()[3], r.result.states.back()[4], r.result.states.back()[5]);
+  const Eigen::Vector3d g(0, 0, -9.81), r0(0.2, 0.1, 0.6), v0(0.4, -0.3, 0.0);
+  EXPECT_NEAR(n.dot(rt), 0.05, 1e-9);
+  EXPECT_NEAR(n.dot(vt), 0.0, 1e-9);
+  EXPECT_LT((p * (rt - r0 - v0 * t - 0.5 * g * t * t)).norm(), 1e-9);
+}
+
+const char* const kBallOnAFloor = R"(
+name = "ball on a floor"
+[run]
+method = "dopri5"
+rtol = 1e-12
+atol = 1e-14
+t_end = 5.0
+[[bodies]]
+name = "ball"
+mass = 0.2
+radius = 0.05
+position = [0.3, -0.1, 1.0]
+velocity = [0.5, 0.2, 0.0]
+[gravity]
+[[contacts.planes]]
+name = "floor"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+restitution = 0.8
+)";
+
+// The same ball on a level floor (e = 0.8), at rest from t∞ = 3.96 s:
+// along x and y it flies freely, Φ = [[1, t/m], [0, 1]] in (q, p) on the
+// canonical start vectors δx, δy, δp_x, δp_y, whose Benettin factors are
+// exactly 1 (exponents 0); δz and δp_z are what the rest removes (−∞, as
+// the sum). Asked for three exponents, the third vector is δz: refused.
+TEST(ParticleTangent, RestOnAFloorRemovesTwoDirectionsOfTheSpectrum) {
+  const Scene scene = parse_scene(kBallOnAFloor);
+  const LyapunovRun all = lyapunov(scene, LyapunovRequest{});
+  ASSERT_EQ(all.result.spectrum.size(), 6u);
+  for (int i = 0; i < 4; ++i) EXPECT_LT(std::abs(all.result.spectrum[static_cast<std::size_t>(i)]), 1e-12) << i;
+  for (int i = 4; i < 6; ++i) EXPECT_EQ(all.result.spectrum[static_cast<std::size_t>(i)], -HUGE_VAL) << i;
+  EXPECT_EQ(all.result.sum, -HUGE_VAL);
+  EXPECT_EQ(all.result.rests, 1);
+  EXPECT_EQ(all.result.releases, 0);
+  EXPECT_GT(all.result.impacts, 20);
+  EXPECT_NEAR(all.result.q_final[2], 0.05, 1e-12);
+  const LyapunovRun one = lyapunov(scene, LyapunovRequest{1, 0.0});
+  EXPECT_LT(std::abs(one.result.spectrum[0]), 1e-12);
+  try {
+    lyapunov(scene, LyapunovRequest{3, 0.0});
+    ADD_FAILURE() << "three exponents were reported through the rest";
+  } catch (const SimulationError& e) {
+    EXPECT_NE(std::string(e.what()).find("the rest of contact 'ball-floor' removes the direction of tangent vector 3"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// Resting on the floor and sliding into a wall: an impact under a resting
+// contact has no saltation matrix here, so the run stops there, naming both.
+TEST(ParticleTangent, ImpactWhileAContactRestsIsRefused) {
+  std::string text = kBallOnAFloor;
+  text += R"(
+[[contacts.planes]]
+name = "wall"
+point = [2.5, 0.0, 0.0]
+normal = [-1.0, 0.0, 0.0]
+restitution = 0.9
+)";
+  const Scene scene = parse_scene(text);
+  try {
+    lyapunov(scene, LyapunovRequest{});
+    ADD_FAILURE() << "an impact under a resting contact was crossed";
+  } catch (const SimulationError& e) {
+    EXPECT_NE(std::string(e.what()).find("contact 'ball-wall' closes while contact 'ball-floor' rests"),
+              std::string::npos)
+        << e.what();
+    // At rest from 3.96 s, the ball reaches the wall at x = 2.5 − 0.05 m: t = 2.15 / 0.5 s.
+    EXPECT_NEAR(e.time(), 4.3, 1e-6);
+  }
+}
+
+// A ball on a spring (k = 20 N/m, rest length 0.5 m, anchored 1 m above the
+// floor) dropped with e = 0: where it lands at x = 0.1 m the spring's upward
+// pull is below m g, so it rests and slides out along the floor until the
+// pull exceeds m g at x ≈ 0.63 m, where its multiplier falls through 0: it
+// lifts off at 0.51 s and is in the air at 1 s. Started further out it lands
+// at 0.76 m, where the pull already exceeds m g: a plastic impact straight
+// into flight (a plain run rests and lifts off at one instant), then a
+// second landing at 0.99 s nearer the anchor, at rest at 1 s. The flow's
+// Jacobian across all of it against central differences of plain runs (step
+// 1e-6: error ~1e-9 of its entries).
+TEST(ParticleTangent, BallLiftingOffAFloorMatchesCentralDifferencesOfPlainRuns) {
+  struct Case {
+    const char* start;
+    int rests, releases;
+    bool flying;
+  };
+  for (const Case& c : {Case{"position = [-0.5, 0.05, 0.3]\nvelocity = [2.0, 0.4, 0.0]", 1, 1, true},
+                        Case{"position = [0.0, 0.05, 0.3]\nvelocity = [2.5, 0.4, 0.0]", 1, 0, false}}) {
+    const Scene scene = parse_scene(std::string(R"(
+name = "ball on a spring"
+[run]
+method = "dopri5"
+rtol = 1e-12
+atol = 1e-14
+t_end = 1.0
+[[bodies]]
+name = "ball"
+mass = 1.0
+radius = 0.1
+)") + c.start + R"(
+[gravity]
+[[springs]]
+a = "ball"
+anchor = [0.0, 0.0, 1.0]
+stiffness = 20.0
+rest_length = 0.5
+[[contacts.planes]]
+name = "floor"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+restitution = 0.0
+)");
+    const SensitivityRun r = sensitivity(scene, SensitivityRequest{});
+    const LyapunovRun l = lyapunov(scene, LyapunovRequest{1, 0.0});
+    EXPECT_EQ(l.result.rests, c.rests) << c.start;
+    EXPECT_EQ(l.result.releases, c.releases) << c.start;
+    EXPECT_EQ(l.result.q_final[2] > 0.1 + 1e-3, c.flying) << c.start;
+    const Eigen::MatrixXd& phi = r.result.sensitivities.back();
+    RunControls quiet;
+    quiet.write_outputs = false;
+    const auto end_state = [&](int which, double shift) {
+      Scene s = scene;
+      auto& body = s.bodies.front();
+      (which < 3 ? body.position : body.velocity)[which % 3] += shift;
+      const RunResult run_result = run(s, quiet);
+      Eigen::VectorXd x(6);
+      for (int i = 0; i < 3; ++i) {
+        x[i] = run_result.q_final[static_cast<std::size_t>(i)];
+        x[3 + i] = run_result.qd_final[static_cast<std::size_t>(i)];
+      }
+      return x;
+    };
+    const double h = 1e-6;
+    double worst = 0;
+    for (int j = 0; j < 6; ++j) {
+      const Eigen::VectorXd column = (end_state(j, h) - end_state(j, -h)) / (2 * h);
+      worst = std::max(worst, (column - phi.col(j)).cwiseAbs().maxCoeff());
+    }
+    EXPECT_LT(worst, 1e-6 * phi.cwiseAbs().maxCoeff()) << c.start << "\n" << phi;
+  }
 }
 
 }  // namespace

@@ -76,6 +76,8 @@ LyapunovResult lyapunov_spectrum(const TangentModel& model, const double* q0, co
   for (double l : result.spectrum) result.sum += l;
   result.renormalisations = system.renormalisations();
   result.impacts = system.impacts();
+  result.rests = system.rests();
+  result.releases = system.releases();
   result.interval_min = system.shortest();
   result.interval_max = system.longest();
   result.steps = report.steps;

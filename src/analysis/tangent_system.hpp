@@ -57,9 +57,19 @@ namespace lagrangian::detail {
 /// earliest impact the step end moves there, q̇ becomes q̇⁺ and every column
 /// w becomes S w (saltation.hpp), a parameter's column S w + R_p + a ∂φ/∂p / v
 /// (sensitivity.hpp); MEGNO's ℓ jumps with the first vector's
-/// length. Refused with SimulationError: a contact coming to rest (the plain
-/// run's Zeno rule, a touch not faster than contact_touch_speed, a plastic
-/// impact), a grazing one, two contacts closing or touching at one instant.
+/// length. Where the plain run lets a contact rest (its Zeno rule, a
+/// plastic impact) a model with TangentModel::rest holds it shut: the
+/// impact with e = 0 into the motion with φ_j = 0 held is crossed by its
+/// saltation matrix, whose kernel, δφ_j and δφ̇_j, every column loses
+/// (Benettin's vectors are renormalised at once, and those that vanished
+/// are left out from then on: their exponents are −∞); it lifts off at the
+/// first time its multiplier λ_j is negative (the plain run's rule), where
+/// the columns cross unchanged (both motions' rates agree at λ_j = 0).
+/// Refused with SimulationError: a rest on a model without
+/// TangentModel::rest or with parameter columns, a touch not faster than
+/// contact_touch_speed, an impact while another contact rests, a grazing
+/// contact, two contacts closing or touching at one instant, a resting
+/// contact whose gap drifts beyond 1e-6 (1 + ‖q‖∞).
 class TangentSystem final : public System {
  public:
   TangentSystem(const TangentModel& model, int k, double longest, bool benettin, std::vector<int> parameters = {},
@@ -172,19 +182,29 @@ class TangentSystem final : public System {
   bool has_events() const override { return benettin_ || model_.contacts > 0; }
   bool handle_events(double t_old, const double* x_old, double& t, double* x,
                      const StepInterpolant& interpolant) override {
+    // A lift-off ends the step first: an impact before it (cross_impact())
+    // is one under a resting contact, which is refused.
+    const int lifted = resting_count_ > 0 ? lift_off(t_old, x_old, t, x, interpolant) : -1;
     const bool impact = model_.contacts > 0 && cross_impact(t_old, x_old, t, x, interpolant);
-    if (!benettin_) return impact;
+    if (lifted >= 0) release(lifted);
+    if (resting_count_ > 0) check_resting_gaps(x, t);
+    const bool event = impact || lifted >= 0;
+    if (!benettin_) return event;
     if (!impact) megno_step(t_old, t, x, interpolant);
     load(x);
-    bool due = t - last_ >= longest_;
+    bool due = rest_due_ || t - last_ >= longest_;
     for (int j = 0; j < k_ && !due; ++j)
-      due = std::abs(std::log(w_.col(j).norm() / lengths_[static_cast<std::size_t>(j)])) > 1.0;
+      due = !dead_[static_cast<std::size_t>(j)] &&
+            std::abs(std::log(w_.col(j).norm() / lengths_[static_cast<std::size_t>(j)])) > 1.0;
     if (due) renormalise(x, t);
-    return impact || due;
+    return event || due;
   }
 
-  /// Impacts crossed so far.
+  /// Impacts crossed so far (a rest by the Zeno rule is not one).
   int impacts() const { return impacts_; }
+  /// Contacts that came to rest, and resting contacts that lifted off.
+  int rests() const { return rests_; }
+  int releases() const { return releases_; }
   /// The run's options: its contact_touch_speed (a contact touching slower
   /// is not an impact) and Zeno rule (zeno_speed_ratio, zeno_min_interval:
   /// where a plain run lets a contact rest), contact_rules.hpp.
@@ -249,7 +269,7 @@ class TangentSystem final : public System {
   Eigen::MatrixXd from_canonical(const Eigen::MatrixXd& z) const {
     const int n = model_.n;
     const Eigen::Map<const Eigen::MatrixXd> dp(p_.data(), n, 2 * n);
-    Eigen::MatrixXd w(2 * n, k_);
+    Eigen::MatrixXd w(2 * n, z.cols());
     w.topRows(n) = z.topRows(n);
     w.bottomRows(n) = llt_.solve(z.bottomRows(n) - dp.leftCols(n) * z.topRows(n));
     return w;
@@ -288,21 +308,23 @@ class TangentSystem final : public System {
     if (model_.manifold > 0) to_manifold(x, t);
     canonical(x, t);
     const Eigen::Map<const Eigen::MatrixXd> dp(p_.data(), n, 2 * n);
-    if (model_.manifold > 0) {
+    if (model_.manifold > 0) {  // (no contacts: no vector leaves)
+      live_.resize(static_cast<std::size_t>(k_));
+      for (int j = 0; j < k_; ++j) live_[static_cast<std::size_t>(j)] = j;
       qr_.compute(reduced_canonical(w_));
     } else {
-      Eigen::MatrixXd z(2 * n, k_);
-      z.topRows(n) = w_.topRows(n);
-      z.bottomRows(n) = dp * w_;
-      qr_.compute(z);
+      live_canonical(dp);
+      if (rest_due_ && collapse(t)) live_canonical(dp);
     }
+    rest_due_ = false;
     const Eigen::MatrixXd& r = qr_.matrixQR();
-    for (int j = 0; j < k_; ++j) {
-      const double grow = std::log(std::abs(r(j, j)));
+    for (int i = 0; i < static_cast<int>(live_.size()); ++i) {
+      const int j = live_[static_cast<std::size_t>(i)];
+      const double grow = std::log(std::abs(r(i, i)));
       if (!std::isfinite(grow))
         throw SimulationError("lyapunov: tangent vector " + std::to_string(j + 1) +
                                   " became dependent on the others or non-finite (|R_jj| = " +
-                                  std::to_string(std::abs(r(j, j))) + ")",
+                                  std::to_string(std::abs(r(i, i))) + ")",
                               t);
       sums_[static_cast<std::size_t>(j)] += grow;
     }
@@ -311,11 +333,14 @@ class TangentSystem final : public System {
       w_ = divided_by_r(w_, r);
     } else {
       // Q with the signs that make R's diagonal positive: each tangent
-      // vector keeps its direction.
-      Eigen::MatrixXd q = qr_.householderQ() * Eigen::MatrixXd::Identity(2 * n, k_);
-      for (int j = 0; j < k_; ++j)
-        if (r(j, j) < 0) q.col(j) = -q.col(j);
-      w_ = from_canonical(q);
+      // vector keeps its direction; those a rest removed stay 0.
+      const auto live = static_cast<int>(live_.size());
+      Eigen::MatrixXd q = qr_.householderQ() * Eigen::MatrixXd::Identity(2 * n, live);
+      for (int i = 0; i < live; ++i)
+        if (r(i, i) < 0) q.col(i) = -q.col(i);
+      const Eigen::MatrixXd w = from_canonical(q);
+      w_.leftCols(k_).setZero();
+      for (int i = 0; i < live; ++i) w_.col(live_[static_cast<std::size_t>(i)]) = w.col(i);
     }
     remember_lengths();
     store(x);
@@ -326,6 +351,106 @@ class TangentSystem final : public System {
     shortest_ = std::min(shortest_, t - last_);
     longest_taken_ = std::max(longest_taken_, t - last_);
     last_ = t;
+  }
+
+  /// The live tangent vectors (live_: those no rest removed) in canonical
+  /// coordinates (δq, δp = (∂p/∂q) δq + M δq̇), factored into qr_.
+  void live_canonical(const Eigen::Map<const Eigen::MatrixXd>& dp) {
+    const int n = model_.n;
+    live_.clear();
+    for (int j = 0; j < k_; ++j)
+      if (!dead_[static_cast<std::size_t>(j)]) live_.push_back(j);
+    Eigen::MatrixXd z(2 * n, static_cast<Eigen::Index>(live_.size()));
+    for (int i = 0; i < static_cast<int>(live_.size()); ++i) {
+      const auto w = w_.col(live_[static_cast<std::size_t>(i)]);
+      z.col(i).head(n) = w.head(n);
+      z.col(i).tail(n).noalias() = dp * w;
+    }
+    qr_.compute(z);
+  }
+  /// Just after a rest's saltation matrix (renormalise()): the vectors whose
+  /// image lies, to rounding, in the span of those before them — S removed
+  /// their part outside it (|R_jj| ≤ 1e-7 of the largest column; the
+  /// columns were orthonormal at the last renormalisation and e = 0's S
+  /// has entries of order 1, so a vector it keeps has |R_jj| far above
+  /// that). They leave (dead_), at most two per rest; with fewer than 2n
+  /// vectors, or the first one, SimulationError: the rest removed a vector
+  /// that Benettin's method needs. Returns whether one left.
+  bool collapse(double t) {
+    const Eigen::MatrixXd& r = qr_.matrixQR();
+    double largest = 0;
+    for (int i = 0; i < static_cast<int>(live_.size()); ++i) largest = std::max(largest, r.col(i).head(i + 1).norm());
+    int gone = 0;
+    for (int i = 0; i < static_cast<int>(live_.size()); ++i) {
+      if (!(std::abs(r(i, i)) <= 1e-7 * largest)) continue;
+      const int j = live_[static_cast<std::size_t>(i)];
+      if (k_ < 2 * model_.n || j == 0)
+        throw SimulationError("lyapunov: the rest of contact '" + contact(last_rest_) +
+                                  "' removes the direction of tangent vector " + std::to_string(j + 1) +
+                                  " (its exponent becomes -inf, while the exponents asked for are the largest " +
+                                  std::to_string(k_) + " of " + std::to_string(2 * model_.n) +
+                                  "): ask for all of them (exponents = 0)",
+                              t);
+      dead_[static_cast<std::size_t>(j)] = 1;
+      sums_[static_cast<std::size_t>(j)] = -std::numeric_limits<double>::infinity();
+      w_.col(j).setZero();
+      ++gone;
+    }
+    if (gone > 2)
+      throw SimulationError("lyapunov: the rest of contact '" + contact(last_rest_) + "' removed " +
+                                std::to_string(gone) + " tangent vectors; one rest removes at most 2",
+                            t);
+    return gone > 0;
+  }
+
+  /// The earliest lift-off in (t_old, t] of a resting contact, the first
+  /// time from which its multiplier λ_j < 0 (locate_lift_off(), the plain
+  /// run's rule): (t, x) move there and the contact is returned; −1 when
+  /// none.
+  int lift_off(double t_old, const double* x_old, double& t, double* x, const StepInterpolant& interpolant) {
+    const int c = coordinate_count();
+    int which = -1;
+    double at = t;
+    for (int j = 0; j < model_.contacts; ++j) {
+      if (!resting_[static_cast<std::size_t>(j)]) continue;
+      const double end = model_.multiplier(model_.model, x, x + c, t, j);
+      if (!(end < 0)) continue;
+      const auto lambda = [&](double s) {
+        interpolant(s, mid_.data());
+        return model_.multiplier(model_.model, mid_.data(), mid_.data() + c, s, j);
+      };
+      const double start = model_.multiplier(model_.model, x_old, x_old + c, t_old, j);
+      const double found = locate_lift_off(t_old, t, start, end, time_function(lambda));
+      if (which < 0 || found < at) {
+        which = j;
+        at = found;
+      }
+    }
+    if (which >= 0 && at < t) {
+      interpolant(at, x);
+      t = at;
+    }
+    return which;
+  }
+  void release(int j) {
+    model_.rest(model_.model, j, false);
+    resting_[static_cast<std::size_t>(j)] = 0;
+    --resting_count_;
+    ++releases_;
+  }
+  /// SimulationError when a resting contact's gap has left 0 by more than
+  /// 1e-6 (1 + ‖q‖∞): the motion along it drifted (the tangent run holds
+  /// φ̈ = 0 without stabilisation).
+  void check_resting_gaps(const double* x, double t) {
+    const int n = model_.n, c = coordinate_count();
+    model_.gaps(model_.model, x, x + c, t, gap_at_.data(), rate_at_.data());
+    const double tolerance = 1000 * contact_touch_tolerance(x, n);
+    for (int j = 0; j < model_.contacts; ++j)
+      if (resting_[static_cast<std::size_t>(j)] && !(std::abs(gap_at_[static_cast<std::size_t>(j)]) <= tolerance))
+        throw SimulationError("tangent flow: resting contact '" + contact(j) + "' drifted to a gap of " +
+                                  number(gap_at_[static_cast<std::size_t>(j)]) + " (tolerance " + number(tolerance) +
+                                  ")",
+                              t);
   }
 
   /// ConstraintError naming the first row h_i of the constraint manifold
@@ -405,10 +530,12 @@ class TangentSystem final : public System {
   /// contact leaving and coming back within the step): false when none;
   /// otherwise the step end moves to the impact (t, x), MEGNO is taken to
   /// it, the impact law applied to q̇ and the saltation matrix to every
-  /// column. SimulationError where a plain run would let the contact rest
-  /// (a touch slower than contact_touch_speed, the Zeno rule), for two
-  /// contacts closing or touching at one instant, for a grazing contact and
-  /// for one found penetrated.
+  /// column; where a plain run lets the contact rest (the Zeno rule, a
+  /// plastic impact) the impact is plastic and the contact rests from then
+  /// on (TangentModel::rest). SimulationError for a rest the model cannot
+  /// hold (above), a touch slower than contact_touch_speed, an impact while
+  /// another contact rests, two contacts closing or touching at one instant,
+  /// a grazing contact and one found penetrated.
   bool cross_impact(double t_old, const double* x_old, double& t, double* x, const StepInterpolant& interpolant) {
     const int n = model_.n, c = coordinate_count();
     model_.gaps(model_.model, x_old, x_old + c, t_old, gap_old_.data(), rate_old_.data());
@@ -418,6 +545,7 @@ class TangentSystem final : public System {
     double at = t;
     for (int j = 0; j < model_.contacts; ++j) {
       const auto jj = static_cast<std::size_t>(j);
+      if (resting_[jj]) continue;  // held shut
       const GapRate a{gap_old_[jj], rate_old_[jj]}, b{gap_new_[jj], rate_new_[jj]};
       if (a.gap > touch && b.gap > touch && !(a.rate < 0 && b.rate > 0)) continue;  // open throughout
       const auto on_step = [&](double s) {
@@ -447,6 +575,11 @@ class TangentSystem final : public System {
                                 "or slide along): the tangent flow through a closed contact is not derived",
                             t_old);
     if (first < 0) return false;
+    for (int j = 0; j < model_.contacts; ++j)
+      if (resting_[static_cast<std::size_t>(j)])
+        throw SimulationError("tangent flow: contact '" + contact(first) + "' closes while contact '" + contact(j) +
+                                  "' rests: the saltation matrix of an impact under a resting contact is not derived",
+                              at);
     progress_.check(at, t_old);
     if (at < t) interpolant(at, x);
     if (benettin_) megno_step(t_old, at, x, interpolant);
@@ -469,16 +602,12 @@ class TangentSystem final : public System {
                                 number(v) + " >= 0): its saltation matrix is not defined",
                             t);
     const double e = model_.restitution[static_cast<std::size_t>(first)];
-    if (e == 0)
-      throw SimulationError("tangent flow: contact '" + contact(first) +
-                                "' comes to rest (a plastic impact, e = 0: the bodies stick, and a plain run holds "
-                                "the contact shut): the tangent flow through a resting contact is not derived",
-                            t);
     std::fill(zero_.begin(), zero_.end(), 0.0);
     model_.evaluate_direction(model_.model, x, x + c, t, zero_.data(), qdd_minus_.data(), scratch_.data());
-    // Where a plain run lets the contact rest (the Zeno rule: an approach
-    // slower than the touch speed, or an accumulation of impacts while the
-    // forces press the contact shut, d²φ/dt² = G q̈ + γ < 0), stop.
+    // Where a plain run lets the contact rest (a plastic impact; the Zeno
+    // rule: an accumulation of impacts while the forces press the contact
+    // shut, d²φ/dt² = G q̈ + γ < 0) the model holds it shut after an impact
+    // with e = 0; a touch slower than the touch speed stops the run.
     ContactHistory& history = history_[static_cast<std::size_t>(first)];
     const auto pressed = [&] {
       double accel = gamma;
@@ -488,17 +617,44 @@ class TangentSystem final : public System {
     if (-v <= run_.contact_touch_speed)
       throw SimulationError("tangent flow: contact '" + contact(first) + "' comes to rest (approach speed " +
                                 number(-v) +
-                                ", not above contact_touch_speed): the tangent flow through a resting contact is "
-                                "not derived",
+                                ", not above contact_touch_speed): the tangent flow through a touch without an "
+                                "impact is not derived",
                             t);
-    if (zeno_accumulation(history, -v, t, run_, predicate(pressed)))
-      throw SimulationError("tangent flow: contact '" + contact(first) + "' comes to rest (approach speed " +
-                                number(-v) +
-                                ": an accumulation of impacts with the forces pressing it shut, where the plain "
-                                "run's Zeno rule lets it rest): the tangent flow through a resting contact is not "
-                                "derived",
-                            t);
+    const bool zeno = zeno_accumulation(history, -v, t, run_, predicate(pressed));
+    const bool rest = zeno || e == 0;
+    if (rest) {
+      const std::string why = zeno ? "an accumulation of impacts with the forces pressing it shut, where the plain "
+                                     "run's Zeno rule lets it rest"
+                                   : "a plastic impact, e = 0: the bodies stick, and a plain run holds the contact "
+                                     "shut";
+      if (model_.rest == nullptr)
+        throw SimulationError("tangent flow: contact '" + contact(first) + "' comes to rest (approach speed " +
+                                  number(-v) + ": " + why +
+                                  "): the tangent flow through a resting contact is not derived for this model",
+                              t);
+      if (columns_ > k_)
+        throw SimulationError("tangent flow: contact '" + contact(first) + "' comes to rest (" + why +
+                                  "): a parameter's column through a resting contact is not derived",
+                              t);
+      // The last impact is plastic (the plain run's law at a rest).
+      model_.impact(model_.model, x, x + c, t, first, 0.0, qd_plus_.data(), impact_jacobian_.data(),
+                    gap_gradient_.data(), &gamma);
+      model_.rest(model_.model, first, true);
+      if (model_.multiplier(model_.model, x, qd_plus_.data(), t, first) < 0) {
+        // The forces pull the bodies apart at once (a plain run lets the
+        // contact rest and lift off at the same instant): a plastic impact
+        // into the free motion.
+        model_.rest(model_.model, first, false);
+      } else {
+        resting_[static_cast<std::size_t>(first)] = 1;
+        ++resting_count_;
+        ++rests_;
+        last_rest_ = first;
+        rest_due_ = benettin_;
+      }
+    }
     history.record(-v, t);
+    // f⁺: the motion after the impact (with the contact held shut after a rest).
     model_.evaluate_direction(model_.model, x, qd_plus_.data(), t, zero_.data(), qdd_plus_.data(), scratch_.data());
     saltation_from(n, x + c, qdd_minus_.data(), qd_plus_.data(), qdd_plus_.data(), impact_jacobian_.data(),
                    gap_gradient_.data(), v, salt_scratch_.data(), saltation_.data());
@@ -525,7 +681,7 @@ class TangentSystem final : public System {
       megno_i_ += (t - t0_) * (ell_ - ell_before);
       if (t > t0_) megno_ = 2 * megno_i_ / (t - t0_);
     }
-    ++impacts_;
+    if (!(zeno && resting_[static_cast<std::size_t>(first)])) ++impacts_;
     return true;
   }
 
@@ -570,6 +726,14 @@ class TangentSystem final : public System {
   std::vector<double> residual_ = std::vector<double>(static_cast<std::size_t>(model_.manifold)),
                       manifold_jacobian_ = std::vector<double>(static_cast<std::size_t>(2 * model_.n * model_.manifold));
   int impacts_ = 0;
+  // Resting contacts (TangentModel::rest): which rest, how many rested and
+  // lifted off, the last to rest; Benettin's vectors a rest removed, the
+  // others (live_), and a renormalisation due after a rest.
+  std::vector<char> resting_ = std::vector<char>(static_cast<std::size_t>(model_.contacts), 0);
+  int resting_count_ = 0, rests_ = 0, releases_ = 0, last_rest_ = 0;
+  std::vector<char> dead_ = std::vector<char>(static_cast<std::size_t>(k_), 0);
+  std::vector<int> live_;
+  bool rest_due_ = false;
   int renormalisations_ = 0;
   double shortest_ = std::numeric_limits<double>::infinity();
   double longest_taken_ = 0;

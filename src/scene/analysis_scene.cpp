@@ -259,6 +259,10 @@ std::string LyapunovRun::summary() const {
     out += "impacts crossed " + std::to_string(r.impacts) +
            " (each by its saltation matrix S: the sum includes sum ln|det S| / T, 2 ln e per bounce on a fixed "
            "plane)\n";
+  if (r.rests > 0)
+    out += "contacts at rest " + std::to_string(r.rests) + ", lifted off " + std::to_string(r.releases) +
+           " (a contact held shut removes two directions, its gap and its rate: the exponents of the vectors it "
+           "removed are -inf, and so is the sum)\n";
   out += "MEGNO <Y> = " + g10(r.megno_mean) + " (Y(t_end) = " + g10(r.megno) +
          "; -> 0 isochronous, -> 2 regular, grows as lambda_1 t / 2 when chaotic)\n";
   out += "renormalisations " + std::to_string(r.renormalisations) + ", intervals " + g10(r.interval_min) + " .. " +
@@ -283,6 +287,8 @@ std::string LyapunovRun::json() const {
   o.number("atol", run.atol);
   o.integer("renormalisations", r.renormalisations);
   o.integer("impacts", r.impacts);
+  o.integer("rests", r.rests);
+  o.integer("releases", r.releases);
   o.number("interval_min", r.interval_min);
   o.number("interval_max", r.interval_max);
   o.integer("steps", static_cast<long long>(r.steps));

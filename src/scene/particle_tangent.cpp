@@ -89,39 +89,25 @@ void require_tangent_flow_scene(const Scene& scene, const char* command) {
 ///   v_a⁺ = v_a + J n̂/m_a,  v_b⁺ = v_b − J n̂/m_b,  J = −(1 + e) v / (1/m_a + 1/m_b),
 /// v = n̂ · (v_a − v_b) the approach speed (a wall: 1/m_b = 0, v_b = 0), whose
 /// derivatives in the state the saltation matrix takes come from the same
-/// law on ad::Jets. The numbers and matrices of the passes are kept, sized
-/// once.
+/// law on ad::Jets. A contact the tangent run lets rest (where a plain run
+/// does: its Zeno rule, a plastic impact) joins the rows as φ = 0, as in a
+/// plain run, until it lifts off (rest()). The numbers and matrices of the
+/// passes are kept, sized when the rows change.
 class ParticleTangent {
  public:
   /// `scene` has passed require_tangent_flow_scene().
   explicit ParticleTangent(const Scene& scene)
-      : model_(scene), name_(scene.name), x0_(initial_state(scene)), m_(model_.fixed_rows()),
-        solver_(std::max(m_, 1)) {
-    if (model_.has_contacts() && m_ > 0) throw std::logic_error("ParticleTangent: rows and contacts");
+      : model_(scene), name_(scene.name), x0_(initial_state(scene)), fixed_(model_.fixed_rows()), solver_(1) {
+    if (model_.has_contacts() && fixed_ > 0) throw std::logic_error("ParticleTangent: rows and contacts");
     contacts_ = model_.wall_contacts();
     const std::vector<int>& members = model_.pair_members();
     for (std::size_t p = 0; p < members.size(); ++p)
       for (std::size_t r = p + 1; r < members.size(); ++r)
         contacts_.push_back(model_.pair_contact(members[p], members[r]));
-    const int n = model_.dim();
-    const auto dim = static_cast<std::size_t>(n);
+    const auto dim = static_cast<std::size_t>(model_.dim());
     wide_.resize(3 * dim);
     one_.resize(3 * dim);
-    if (m_ == 0) return;
-    six_.resize(dim);
-    x_.resize(2 * dim);
-    c_.setZero(m_, n);
-    dc_.assign(kWidth, Eigen::MatrixXd::Zero(m_, n));
-    gamma_.setZero(m_, kWidth + 1);
-    minv_ct_.setZero(n, m_);
-    schur_.setZero(m_, m_);
-    free_.setZero(n, kWidth + 1);
-    qdd_.setZero(n);
-    u_.setZero(n);
-    scratch_.setZero(n);
-    rhs_.setZero(m_);
-    lambda_.setZero(m_);
-    dlambda_.setZero(m_);
+    size_rows(fixed_);
   }
   ParticleTangent(const ParticleTangent&) = delete;
   ParticleTangent& operator=(const ParticleTangent&) = delete;
@@ -133,9 +119,9 @@ class ParticleTangent {
     tm.evaluate = &evaluate;
     tm.momentum = &momentum;
     tm.evaluate_direction = &evaluate_direction;
-    if (m_ > 0) {
-      tm.manifold = 2 * m_;
-      tm.manifold_holonomic = m_;
+    if (fixed_ > 0) {
+      tm.manifold = 2 * fixed_;
+      tm.manifold_holonomic = fixed_;
       for (const Row& row : model_.rows()) tm.manifold_names.push_back(row.name);
       for (const Row& row : model_.rows()) tm.manifold_names.push_back(row.name + " (rate)");
       tm.manifold_rows = &manifold_rows;
@@ -149,6 +135,8 @@ class ParticleTangent {
       }
       tm.gaps = &gaps;
       tm.impact = &impact;
+      tm.rest = &rest;
+      tm.multiplier = &multiplier;
     }
     return tm;
   }
@@ -224,7 +212,7 @@ class ParticleTangent {
   static void manifold_rows(const void* self, const double* q, const double* qd, double, double* residual,
                             double* jacobian) {
     const auto& s = *static_cast<const ParticleTangent*>(self);
-    const int n = s.model_.dim(), m = s.m_;
+    const int n = s.model_.dim(), m = s.fixed_;
     Eigen::Map<Eigen::MatrixXd> jac(jacobian, 2 * m, 2 * n);
     jac.setZero();
     JetSix* r = s.six_.data();
@@ -279,6 +267,41 @@ class ParticleTangent {
     }
     std::copy(s.x_.begin(), s.x_.begin() + n, q);
     std::copy(s.x_.begin() + n, s.x_.end(), qd);
+  }
+
+  /// Contact j rests (`shut`): its gap φ_j = 0 joins the rows after the
+  /// links and surfaces, as in a plain run (ParticleModel::make_resting), so
+  /// q̈ and its derivatives are those of the motion holding it; or it lifts
+  /// off and leaves them.
+  static void rest(const void* self, int j, bool shut) {
+    const auto& s = *static_cast<const ParticleTangent*>(self);
+    particles::Contact& c = s.model_.contact(s.contacts_[static_cast<std::size_t>(j)].id);
+    if (shut) {
+      s.model_.make_resting(c);
+    } else {
+      const std::vector<particles::Contact*>& resting = s.model_.resting_contacts();
+      const auto it = std::find(resting.begin(), resting.end(), &c);
+      if (it == resting.end()) throw std::logic_error("ParticleTangent::rest: contact " + c.name + " is not resting");
+      s.model_.release(static_cast<std::size_t>(it - resting.begin()));
+    }
+    s.size_rows(static_cast<int>(s.model_.rows().size()));
+  }
+  /// λ_j (N) of resting contact j at (q, q̇): the multiplier of its row in
+  /// M q̈ = F + Cᵀλ (> 0 pushes the bodies apart).
+  static double multiplier(const void* self, const double* q, const double* qd, double, int j) {
+    const auto& s = *static_cast<const ParticleTangent*>(self);
+    const particles::Contact& c = s.model_.contact(s.contacts_[static_cast<std::size_t>(j)].id);
+    const std::vector<particles::Contact*>& resting = s.model_.resting_contacts();
+    const auto it = std::find(resting.begin(), resting.end(), &c);
+    if (it == resting.end()) throw std::logic_error("ParticleTangent::multiplier: contact " + c.name + " is not resting");
+    const int n = s.model_.dim();
+    JetOne *r = s.one_.data(), *v = r + n, *a = v + n;
+    for (int i = 0; i < n; ++i) {
+      r[i] = JetOne(q[i]);
+      v[i] = JetOne(qd[i]);
+    }
+    s.accelerations(r, v, a, 0);
+    return s.lambda_[s.fixed_ + (it - resting.begin())];
   }
 
   /// The contacts' gaps φ (m) and rates φ̇ (m/s).
@@ -402,14 +425,38 @@ class ParticleTangent {
     }
   }
 
+  /// The passes' workspace for m rows (m_): sized when the rows change, not
+  /// per evaluation.
+  void size_rows(int m) const {
+    m_ = m;
+    if (m == 0) return;
+    const int n = model_.dim();
+    six_.resize(static_cast<std::size_t>(n));
+    x_.resize(static_cast<std::size_t>(2 * n));
+    c_.setZero(m, n);
+    dc_.assign(kWidth, Eigen::MatrixXd::Zero(m, n));
+    gamma_.setZero(m, kWidth + 1);
+    minv_ct_.setZero(n, m);
+    schur_.setZero(m, m);
+    free_.setZero(n, kWidth + 1);
+    qdd_.setZero(n);
+    u_.setZero(n);
+    scratch_.setZero(n);
+    rhs_.setZero(m);
+    lambda_.setZero(m);
+    dlambda_.setZero(m);
+    solver_ = lagrangian::detail::MinNormSolver(m);
+  }
+
   using JetSix = ad::Jet<double, 6, 1>;  // the positions of a row's two bodies
-  mutable ParticleModel model_;  // its kernels count their evaluations
+  mutable ParticleModel model_;  // its kernels count their evaluations; it holds the resting contacts' rows
   std::string name_;             // the scene's
   mutable std::vector<JetWide> wide_;
   mutable std::vector<JetOne> one_;
   std::vector<double> x0_;
   std::vector<Contact> contacts_;  // walls and planes, then the sphere pairs
-  int m_;  // rows of the links and surfaces
+  int fixed_;                      // rows of the links and surfaces
+  mutable int m_ = 0;              // rows now: those and the resting contacts'
   // The passes' workspace (the class comment's names).
   mutable std::vector<JetSix> six_;
   mutable std::vector<double> x_;

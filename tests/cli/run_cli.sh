@@ -402,6 +402,12 @@ expect 0 "MEGNO <Y> = " -- "$bin" lyapunov "$ho" --t-end 10
 # The bouncing ball's floor (e = 0.8) over 3 s: 6 impacts, each taking
 # 2 ln e from the sum of the exponents (det S = e^2): sum = 12 ln 0.8 / 3 1/s.
 analysis_json lyapunov ball "d['model'] == 'particles' and len(d['spectrum']) == 6 and abs(d['sum'] - (-0.8925742052568388)) < 1e-6" -- "$src/examples/scenes/bouncing_ball.toml" --t-end 3
+# Over its whole 5 s it comes to rest at 4.06 s and rolls on along x: the
+# four exponents of the free flight along x and y are 0 (their canonical
+# start vectors keep length 1), the rest removes z's two (null: -inf, and
+# the sum), JSON null.
+analysis_json lyapunov ball_rest "d['rests'] == 1 and d['releases'] == 0 and d['impacts'] == 62 and all(abs(l) < 1e-12 for l in d['spectrum'][:4]) and d['spectrum'][4:] == [None, None] and d['sum'] is None" -- "$src/examples/scenes/bouncing_ball.toml"
+expect 0 "lambda_6 = -inf" -- "$bin" lyapunov "$src/examples/scenes/bouncing_ball.toml"
 expect 2 "lyapunov: particle scene 'Newton's cradle': .*not both; this one has 5 links, sphere contacts" -- "$bin" lyapunov "$src/examples/scenes/newtons_cradle.toml"
 # A particle scene's bodies under their forces: the binary star's circular
 # orbits, 12 exponents of a Hamiltonian flow (sum 0, MEGNO near 2: Kepler shear).

@@ -50,12 +50,24 @@
 /// tangent vector crosses an impact by its saltation matrix S
 /// (saltation.hpp); the exponents' sum then includes (1/T) Σ ln |det S| of
 /// the impacts (2 ln e per bounce of a ball on a floor). Impacts are located
-/// by the plain run's rules (integrate/detail/contact_rules.hpp); a contact
-/// that comes to rest where a plain run lets it (its Zeno rule, a touch not
-/// faster than contact_touch_speed, a plastic impact), a grazing contact
-/// (no saltation matrix) and two contacts closing or touching at one instant
-/// stop the run with SimulationError: the tangent flow through a resting
-/// contact or a simultaneous impact is not derived.
+/// by the plain run's rules (integrate/detail/contact_rules.hpp). Where a
+/// plain run lets a contact rest (its Zeno rule, a plastic impact) the model
+/// may hold it shut (TangentModel::rest; particle scenes do): the last
+/// impact, with e = 0, is crossed by its saltation matrix into the motion
+/// with φ_j = 0 held, which removes two directions, δφ_j and δφ̇_j: every
+/// neighbouring motion comes to rest on the same contact, so the flow's
+/// Jacobian loses rank 2 there and two exponents of the whole spectrum are
+/// −∞ (the sum too); a resting contact lifts off where its multiplier λ_j
+/// falls through 0, where both motions' rates agree, so the tangent vectors
+/// cross it unchanged. Asked for fewer than all exponents, a run in which
+/// the rest removes one of its vectors (a start along the gap's own
+/// directions, δφ_j, of a motion whose other coordinates do not mix into
+/// them) stops with SimulationError: those are not the largest. A touch not
+/// faster than contact_touch_speed, a rest on a model without
+/// TangentModel::rest, an impact while another contact rests, a grazing
+/// contact (no saltation matrix) and two contacts closing or touching at one
+/// instant stop the run with SimulationError: the tangent flow through them
+/// is not derived.
 ///
 /// A model with holonomic or Pfaffian constraints moves on its constraint
 /// manifold h = (g, ġ, φ) = 0 in the state space, of dimension
@@ -116,6 +128,8 @@ struct LyapunovResult {
   std::uint64_t rhs_evaluations = 0; ///< evaluations of q̈ with its derivatives along the k vectors
   double seconds = 0;                ///< wall time of the run (s)
   int impacts = 0;                   ///< impacts crossed (saltation.hpp); 0 for a model without contacts
+  int rests = 0;                     ///< contacts that came to rest (a plastic impact or the Zeno rule)
+  int releases = 0;                  ///< resting contacts that lifted off (their multiplier reached 0)
   std::vector<double> q_final, qd_final;  ///< the state at t_final
   /// MEGNO Y(T) of the first tangent vector and its time mean ⟨Y⟩(T)
   /// (dimensionless; see the file comment).
@@ -173,6 +187,17 @@ struct TangentModel {
   /// (sensitivity.hpp): its parameter columns are refused.
   double (*parameter_impact)(const void* model, const double* q, const double* qd, double t, int contact,
                              int parameter, double* dqd_plus) = nullptr;
+  /// Resting contacts, for a model that can hold a contact shut as a plain
+  /// run does (after its Zeno rule or a plastic impact): rest(model, j,
+  /// true) makes φ_j = 0 a holonomic row of the motion from then on, so that
+  /// evaluate() and evaluate_direction() give q̈ and its derivatives of
+  ///   M q̈ = r + G_jᵀ λ_j,   G_j q̈ + γ_j = 0,
+  /// and rest(model, j, false) opens it again; multiplier() is λ_j (N for a
+  /// distance gap; > 0 presses the bodies apart) of a resting contact j at
+  /// (q, q̇, t). Null for a model whose tangent flow through a resting
+  /// contact is not derived: such a rest stops the tangent run.
+  void (*rest)(const void* model, int contact, bool shut) = nullptr;
+  double (*multiplier)(const void* model, const double* q, const double* qd, double t, int contact) = nullptr;
   /// The constraint manifold of a model with holonomic or Pfaffian rows:
   /// the number of its rows h = (g, ġ, φ) (2 mh + mp; 0 for a model
   /// without such constraints), mh and the rows' names, h and ∂h/∂(q, q̇) at
