@@ -378,6 +378,85 @@ TEST(TextSaltation, BallOnAPlaneCrossesItsImpactsAsTheBuiltInModel) {
   EXPECT_NEAR(r.sum, 4 * std::log(0.5), 1e-8);
 }
 
+// The tilted-plane ball as text with e = 0.5: its bounces accumulate, the
+// Zeno rule rests it at t∞ ≈ 1.5 s (the gap held as a holonomic row of the
+// text model, FixedSizeModel::hold()) and it slides down the plane. Along
+// the frictionless plane it falls freely whatever the bounces, and every
+// start comes to rest on it: at 2.2 s Φ = [[P, t P], [0, P]], P = I − n̂n̂ᵀ.
+TEST(TextSaltation, BallComingToRestOnAPlaneHasTheClosedFormFlow) {
+  const double nx = 0.4 / std::sqrt(1.16), nz = 1.0 / std::sqrt(1.16), t = 2.2;
+  text::Definition d;
+  d.coordinates = {"x", "y", "z"};
+  d.kinetic = "0.5*m*(x_dot^2 + y_dot^2 + z_dot^2)";
+  d.potential = "m*g*z";
+  d.contacts = {{"plane", "nx*x + nz*z - R", 0.5, "m"}};
+  d.parameters = {{"m", 1.0}, {"g", 9.81}, {"R", 0.1}, {"nx", nx}, {"nz", nz}};
+  lagrangian::SensitivityOptions o;
+  o.run.t_end = t;
+  o.run.rtol = 1e-12;
+  o.run.atol = 1e-14;
+  const lagrangian::SensitivityResult r =
+      text::sensitivities(text::TextModel(d), start({0.3, 0.1, 1.2}, {-0.5, 0.2, 0.4}), o);
+  const Eigen::Vector3d n(nx, 0.0, nz);
+  const Eigen::Matrix3d p = Eigen::Matrix3d::Identity() - n * n.transpose();
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(6, 6);
+  expected.topLeftCorner(3, 3) = p;
+  expected.topRightCorner(3, 3) = t * p;
+  expected.bottomRightCorner(3, 3) = p;
+  EXPECT_LE((r.sensitivities.back() - expected).cwiseAbs().maxCoeff(), 1e-9) << r.sensitivities.back();
+  EXPECT_GT(r.impacts, 10);
+  const Eigen::VectorXd& x = r.states.back();
+  EXPECT_NEAR(nx * x[0] + nz * x[2], 0.1, 1e-9);
+  EXPECT_NEAR(nx * x[3] + nz * x[5], 0.0, 1e-9);
+  const lagrangian::LyapunovResult l = text::lyapunov_spectrum(text::TextModel(d), start({0.3, 0.1, 1.2}, {-0.5, 0.2, 0.4}), lyapunov_over(t));
+  EXPECT_EQ(l.rests, 1);
+  EXPECT_EQ(std::count(l.spectrum.begin(), l.spectrum.end(), -HUGE_VAL), 2);
+}
+
+// A ball on a spring (k = 20 N/m, rest length 0.5 m, anchored 1 m above the
+// floor) as text, e = 0: it lands where the spring's pull is below m g,
+// rests (the gap a held row), slides out and lifts off where its
+// multiplier, from the held rows and the free motion, falls through 0;
+// Φ(1 s), in the air, against central differences of simulate() on the
+// same text model (step 1e-6).
+TEST(TextSaltation, BallLiftingOffAFloorMatchesCentralDifferences) {
+  text::Definition d;
+  d.coordinates = {"x", "y", "z"};
+  d.kinetic = "0.5*m*(x_dot^2 + y_dot^2 + z_dot^2)";
+  d.potential = "m*g*z + 0.5*k*(sqrt(x^2 + y^2 + (z - H)^2) - L)^2";
+  d.contacts = {{"floor", "z - R", 0.0, "m"}};
+  d.parameters = {{"m", 1.0}, {"g", 9.81}, {"R", 0.1}, {"k", 20.0}, {"H", 1.0}, {"L", 0.5}};
+  const text::TextModel ball(d);
+  const auto s = start({-0.5, 0.05, 0.3}, {2.0, 0.4, 0.0});
+  lagrangian::SensitivityOptions o;
+  o.run.t_end = 1.0;
+  o.run.rtol = 1e-12;
+  o.run.atol = 1e-14;
+  const lagrangian::SensitivityResult r = text::sensitivities(ball, s, o);
+  const lagrangian::LyapunovResult l = text::lyapunov_spectrum(ball, s, lyapunov_over(1.0));
+  EXPECT_EQ(l.rests, 1);
+  EXPECT_EQ(l.releases, 1);
+  EXPECT_GT(l.q_final[2], 0.1 + 1e-3);
+  const Eigen::MatrixXd& phi = r.sensitivities.back();
+  const auto final_state = [&](int j, double shift) {
+    lagrangian::State<lagrangian::Dynamic> moved = s;
+    (j < 3 ? moved.q : moved.qd)[j % 3] += shift;
+    lagrangian::SimulationOptions so = o.run;
+    so.output_interval = -1;
+    lagrangian::Recorder<lagrangian::Dynamic> rec;
+    lagrangian::simulate(ball, moved, so, rec);
+    Eigen::VectorXd x(6);
+    x << rec.samples.back().q, rec.samples.back().qd;
+    return x;
+  };
+  double worst = 0;
+  for (int j = 0; j < 6; ++j) {
+    const Eigen::VectorXd fd = (final_state(j, 1e-6) - final_state(j, -1e-6)) / 2e-6;
+    worst = std::max(worst, (fd - phi.col(j)).cwiseAbs().maxCoeff());
+  }
+  EXPECT_LE(worst, 1e-6 * phi.cwiseAbs().maxCoeff()) << phi;
+}
+
 // Gaps that move with t and with the coordinates, as text and in C++
 // (tests/contact_models.hpp): a ball on a table moving as 0.05 sin 10t m
 // (three bounces in 1 s) and the double pendulum against a wall at

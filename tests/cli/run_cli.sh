@@ -438,6 +438,10 @@ expect 1 "contact 'ball-plane' comes to rest" -- "$bin" lyapunov "$ball"
 # incline, e = 0.5): bounces at 1.18 s and 1.77 s within 2 s, the four
 # exponents summing to 2 ln 0.5 per bounce over 2 s.
 analysis_json lyapunov text_incline "d['impacts'] == 2 and abs(d['sum'] - 2 * d['impacts'] * __import__('math').log(0.5) / d['t_end']) < 1e-6" -- "$src/examples/scenes/text/projectile_on_incline.toml" --t-end 2
+# Over its whole 3 s its bounces accumulate, the Zeno rule rests it on the
+# incline at 2.35 s and it slides down: the rest removes two of the four
+# directions (null), the other two are the slide's.
+analysis_json lyapunov text_incline_rest "d['rests'] == 1 and d['spectrum'][2:] == [None, None] and all(l is not None for l in d['spectrum'][:2])" -- "$src/examples/scenes/text/projectile_on_incline.toml"
 # The elastic bounce from its apex 1 m up is periodic, T = 2 sqrt(2/9.81) s:
 # a closed orbit, every multiplier 1 (a double one per plane: to ~1e-6;
 # without the saltation matrix's correction one would be -1).

@@ -88,15 +88,21 @@ void require_no_bilateral_constraints(const M& model, const std::string& prefix)
 /// holonomic and Pfaffian rows counted at run time, and such rows together
 /// with contacts (an impact under bilateral constraints has no saltation
 /// matrix here).
+/// (The rows of contacts a model holds shut, `held_count()` of them after
+/// its own holonomic rows, are not bilateral constraints declared with
+/// contacts: the tangent run's resting contacts, lyapunov.hpp.)
 template <class M>
 void require_tangent_flow_constraints(const M& model, const std::string& prefix) {
-  const int bilateral = holonomic_count(model) + pfaffian_count(model);
-  if (bilateral == 0) return;
-  if (bilateral_rows_v<M> == Dynamic && bilateral > kMaxRuntimeBilateralRows)
+  const int rows = holonomic_count(model) + pfaffian_count(model);
+  if (rows == 0) return;
+  int held = 0;
+  if constexpr (requires { model.held_count(); }) held = model.held_count();
+  const int bilateral = rows - held;
+  if (bilateral_rows_v<M> == Dynamic && rows > kMaxRuntimeBilateralRows)
     throw AnalysisError(prefix + "the tangent flow takes at most " + std::to_string(kMaxRuntimeBilateralRows) +
                         " holonomic and Pfaffian rows counted at run time; this model declares " +
-                        std::to_string(bilateral));
-  if (unilateral_count(model) > 0)
+                        std::to_string(rows));
+  if (bilateral > 0 && unilateral_count(model) > 0)
     throw AnalysisError(prefix + "the tangent flow is derived for models with holonomic or Pfaffian constraints or "
                                  "with contacts, not both; this model declares both (bilateral rows: " +
                         std::to_string(bilateral) + ", contacts: " + std::to_string(unilateral_count(model)) + ")");

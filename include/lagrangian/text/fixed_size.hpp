@@ -18,8 +18,10 @@
 /// counts them: holonomic and Pfaffian rows (the tangent flow keeps to
 /// their manifold, analysis/lyapunov.hpp) and contacts (their gaps, names,
 /// units and restitution coefficients: the tangent flow crosses their
-/// impacts, analysis/saltation.hpp).
+/// impacts, analysis/saltation.hpp, and holds a contact shut where a plain
+/// run lets it rest: hold()).
 
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <type_traits>
@@ -122,10 +124,11 @@ class FixedSizeModel {
   /// vector (one per kind and number type S: no allocation per call; the
   /// values hold until the next call of the same kind with the same S on
   /// this thread). Holonomic g(q, t) = 0 (m for lengths, rad for angles):
-  int holonomic_count() const { return static_cast<int>(p_->holonomic_bound.size()); }
+  /// (after them the gaps of the contacts held shut, hold()):
+  int holonomic_count() const { return static_cast<int>(holonomic_rows().size()); }
   template <class S>
   Eigen::Map<const Vec<S, Dynamic>> holonomic(const Vec<S, N>& q, const S& t) const {
-    return rows(0, holonomic_, p_->holonomic_bound, q, q, t);
+    return rows(0, holonomic_, holonomic_rows(), q, q, t);
   }
   /// Pfaffian φ(q, q̇, t) = A q̇ + a = 0 (m/s or rad/s):
   int pfaffian_count() const { return static_cast<int>(p_->pfaffian_bound.size()); }
@@ -153,14 +156,51 @@ class FixedSizeModel {
   /// velocity rows, as a run of the text model projects its state (through
   /// the text model itself, compiled once in the library).
   void project_state(double* q, double* qd, double t) const { detail::project_state(p_, q, qd, t); }
-  /// Names and units, as the text model's.
-  std::vector<std::string> holonomic_names() const { return TextModel(p_).holonomic_names(); }
+
+  /// Contact j held shut (`shut`): its gap φ_j(q, t) = 0 becomes a holonomic
+  /// row after the declared ones, so the passes give the motion that keeps
+  /// it shut (the tangent flow's resting contacts, analysis/lyapunov.hpp);
+  /// or opened again. open_held(true) opens every held contact until
+  /// open_held(false) (the free motion at the same state). Not for the
+  /// seeded twin (parameter columns do not cross a rest).
+  void hold(int j, bool shut) const
+    requires std::is_same_v<P, double>
+  {
+    const auto at = std::find(held_.begin(), held_.end(), j);
+    if (shut == (at != held_.end())) return;
+    if (shut) {
+      held_.push_back(j);
+    } else {
+      held_.erase(at);
+    }
+    held_rows_ = p_->holonomic_bound;
+    for (int k : held_) held_rows_.push_back(p_->gaps_bound[static_cast<std::size_t>(k)]);
+  }
+  const std::vector<int>& held() const { return held_; }
+  /// Rows of held contacts among holonomic_count()'s (0 while opened).
+  int held_count() const { return opened_ ? 0 : static_cast<int>(held_.size()); }
+  void open_held(bool open) const { opened_ = open; }
+
+  /// Names and units, as the text model's (a held contact's row by its name).
+  std::vector<std::string> holonomic_names() const {
+    std::vector<std::string> names = TextModel(p_).holonomic_names();
+    if (!opened_) {
+      const std::vector<std::string> contacts = TextModel(p_).unilateral_names();
+      for (int k : held_) names.push_back(contacts[static_cast<std::size_t>(k)]);
+    }
+    return names;
+  }
   std::vector<std::string> pfaffian_names() const { return TextModel(p_).pfaffian_names(); }
   std::vector<std::string> unilateral_names() const { return TextModel(p_).unilateral_names(); }
   std::vector<std::string> constraint_units() const { return TextModel(p_).constraint_units(); }
 
  private:
   static constexpr bool seeded = !std::is_same_v<P, double>;
+
+  /// The holonomic rows now: the declared ones, then the held gaps.
+  const std::vector<Expression>& holonomic_rows() const {
+    return held_.empty() || opened_ ? p_->holonomic_bound : held_rows_;
+  }
 
   static std::shared_ptr<const Parsed> checked(const TextModel& model) {
     if (model.size() != N)
@@ -231,6 +271,11 @@ class FixedSizeModel {
   P value_{};
   Expression kinetic_, potential_, dissipation_;
   std::vector<Expression> forces_, holonomic_, pfaffian_, gaps_;
+  // Contacts held shut (hold()), the rows with their gaps, and whether they
+  // are opened for the moment.
+  mutable std::vector<int> held_;
+  mutable std::vector<Expression> held_rows_;
+  mutable bool opened_ = false;
 };
 
 }  // namespace lagrangian::text
