@@ -413,13 +413,13 @@ class TangentSystem final : public System {
     double at = t;
     for (int j = 0; j < model_.contacts; ++j) {
       if (!resting_[static_cast<std::size_t>(j)]) continue;
-      const double end = model_.multiplier(model_.model, x, x + c, t, j);
+      const double end = multiplier(x, x + c, t, j);
       if (!(end < 0)) continue;
       const auto lambda = [&](double s) {
         interpolant(s, mid_.data());
-        return model_.multiplier(model_.model, mid_.data(), mid_.data() + c, s, j);
+        return multiplier(mid_.data(), mid_.data() + c, s, j);
       };
-      const double start = model_.multiplier(model_.model, x_old, x_old + c, t_old, j);
+      const double start = multiplier(x_old, x_old + c, t_old, j);
       const double found = locate_lift_off(t_old, t, start, end, time_function(lambda));
       if (which < 0 || found < at) {
         which = j;
@@ -431,6 +431,41 @@ class TangentSystem final : public System {
       t = at;
     }
     return which;
+  }
+  /// λ_j (N for a distance gap; > 0 presses the bodies apart) of resting
+  /// contact j at (q, q̇, t): with C the resting contacts' G = ∂φ/∂q and γ
+  /// (their impact maps') and q̈_f the free motion's (the contacts opened
+  /// for the moment),
+  ///   M q̈ = M q̈_f + Cᵀλ,  C q̈ + γ = 0  ⇒  (C M⁻¹ Cᵀ) λ = −γ − C q̈_f.
+  double multiplier(const double* q, const double* qd, double t, int wanted) {
+    const int n = model_.n;
+    held_.clear();
+    for (int j = 0; j < model_.contacts; ++j)
+      if (resting_[static_cast<std::size_t>(j)]) held_.push_back(j);
+    for (int j : held_) model_.rest(model_.model, j, false);
+    std::fill(zero_.begin(), zero_.end(), 0.0);
+    model_.evaluate_direction(model_.model, q, qd, t, zero_.data(), held_free_.data(), held_scratch_.data());
+    for (int j : held_) model_.rest(model_.model, j, true);
+    model_.momentum(model_.model, q, qd, t, held_momentum_.data(), nullptr);
+    const auto rows = static_cast<Eigen::Index>(held_.size());
+    Eigen::MatrixXd g(rows, n);
+    Eigen::VectorXd b(rows);
+    Eigen::Index which = -1;
+    for (Eigen::Index i = 0; i < rows; ++i) {
+      const int j = held_[static_cast<std::size_t>(i)];
+      double gamma = 0;
+      model_.impact(model_.model, q, qd, t, j, 0.0, held_scratch_.data(), held_jacobian_.data(),
+                    held_gradient_.data(), &gamma);
+      const Eigen::Map<const Eigen::VectorXd> gradient(held_gradient_.data(), n), free(held_free_.data(), n);
+      g.row(i) = gradient.transpose();
+      b[i] = -gamma - gradient.dot(free);
+      if (j == wanted) which = i;
+    }
+    if (which < 0) throw std::logic_error("TangentSystem::multiplier: contact " + contact(wanted) + " is not resting");
+    const Eigen::LLT<Eigen::MatrixXd> mass(Eigen::Map<const Eigen::MatrixXd>(held_momentum_.data(), n, 2 * n).rightCols(n));
+    const Eigen::MatrixXd minv_gt = mass.solve(g.transpose());
+    const Eigen::VectorXd lambda = (g * minv_gt).completeOrthogonalDecomposition().solve(b);
+    return lambda[which];
   }
   void release(int j) {
     model_.rest(model_.model, j, false);
@@ -640,13 +675,14 @@ class TangentSystem final : public System {
       model_.impact(model_.model, x, x + c, t, first, 0.0, qd_plus_.data(), impact_jacobian_.data(),
                     gap_gradient_.data(), &gamma);
       model_.rest(model_.model, first, true);
-      if (model_.multiplier(model_.model, x, qd_plus_.data(), t, first) < 0) {
+      resting_[static_cast<std::size_t>(first)] = 1;
+      if (multiplier(x, qd_plus_.data(), t, first) < 0) {
         // The forces pull the bodies apart at once (a plain run lets the
         // contact rest and lift off at the same instant): a plastic impact
         // into the free motion.
         model_.rest(model_.model, first, false);
+        resting_[static_cast<std::size_t>(first)] = 0;
       } else {
-        resting_[static_cast<std::size_t>(first)] = 1;
         ++resting_count_;
         ++rests_;
         last_rest_ = first;
@@ -734,6 +770,12 @@ class TangentSystem final : public System {
   std::vector<char> dead_ = std::vector<char>(static_cast<std::size_t>(k_), 0);
   std::vector<int> live_;
   bool rest_due_ = false;
+  // multiplier()'s: the resting contacts, q̈_f, ∂p/∂(q, q̇), an impact map.
+  std::vector<int> held_;
+  std::vector<double> held_free_ = std::vector<double>(static_cast<std::size_t>(model_.n)),
+                      held_scratch_ = held_free_, held_gradient_ = held_free_,
+                      held_momentum_ = std::vector<double>(static_cast<std::size_t>(2 * model_.n * model_.n)),
+                      held_jacobian_ = std::vector<double>(static_cast<std::size_t>(model_.n * (2 * model_.n + 1)));
   int renormalisations_ = 0;
   double shortest_ = std::numeric_limits<double>::infinity();
   double longest_taken_ = 0;

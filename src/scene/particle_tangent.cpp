@@ -136,7 +136,6 @@ class ParticleTangent {
       tm.gaps = &gaps;
       tm.impact = &impact;
       tm.rest = &rest;
-      tm.multiplier = &multiplier;
     }
     return tm;
   }
@@ -286,24 +285,6 @@ class ParticleTangent {
     }
     s.size_rows(static_cast<int>(s.model_.rows().size()));
   }
-  /// λ_j (N) of resting contact j at (q, q̇): the multiplier of its row in
-  /// M q̈ = F + Cᵀλ (> 0 pushes the bodies apart).
-  static double multiplier(const void* self, const double* q, const double* qd, double, int j) {
-    const auto& s = *static_cast<const ParticleTangent*>(self);
-    const particles::Contact& c = s.model_.contact(s.contacts_[static_cast<std::size_t>(j)].id);
-    const std::vector<particles::Contact*>& resting = s.model_.resting_contacts();
-    const auto it = std::find(resting.begin(), resting.end(), &c);
-    if (it == resting.end()) throw std::logic_error("ParticleTangent::multiplier: contact " + c.name + " is not resting");
-    const int n = s.model_.dim();
-    JetOne *r = s.one_.data(), *v = r + n, *a = v + n;
-    for (int i = 0; i < n; ++i) {
-      r[i] = JetOne(q[i]);
-      v[i] = JetOne(qd[i]);
-    }
-    s.accelerations(r, v, a, 0);
-    return s.lambda_[s.fixed_ + (it - resting.begin())];
-  }
-
   /// The contacts' gaps φ (m) and rates φ̇ (m/s).
   static void gaps(const void* self, const double* q, const double* qd, double, double* gap, double* rate) {
     const auto& s = *static_cast<const ParticleTangent*>(self);

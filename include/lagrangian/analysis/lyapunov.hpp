@@ -90,14 +90,9 @@
 /// leave no motion) an AnalysisError.
 
 #include <algorithm>
-#include <concepts>
 #include <cstdint>
-#include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <Eigen/Cholesky>
-#include <Eigen/QR>
 
 #include "lagrangian/analysis/saltation.hpp"
 #include "lagrangian/analysis/tangent_flow.hpp"
@@ -197,12 +192,11 @@ struct TangentModel {
   /// true) makes φ_j = 0 a holonomic row of the motion from then on, so that
   /// evaluate() and evaluate_direction() give q̈ and its derivatives of
   ///   M q̈ = r + G_jᵀ λ_j,   G_j q̈ + γ_j = 0,
-  /// and rest(model, j, false) opens it again; multiplier() is λ_j (N for a
-  /// distance gap; > 0 presses the bodies apart) of a resting contact j at
-  /// (q, q̇, t). Null for a model whose tangent flow through a resting
-  /// contact is not derived: such a rest stops the tangent run.
+  /// and rest(model, j, false) opens it again (the tangent run finds the
+  /// multipliers from the other hooks: tangent_system.hpp). Null for a model
+  /// whose tangent flow through a resting contact is not derived: such a
+  /// rest stops the tangent run.
   void (*rest)(const void* model, int contact, bool shut) = nullptr;
-  double (*multiplier)(const void* model, const double* q, const double* qd, double t, int contact) = nullptr;
   /// The constraint manifold of a model with holonomic or Pfaffian rows:
   /// the number of its rows h = (g, ġ, φ) (2 mh + mp; 0 for a model
   /// without such constraints), mh and the rows' names, h and ∂h/∂(q, q̇) at
@@ -328,59 +322,14 @@ void evaluate_own_projection(const void* model, double* q, double* qd, double t)
 }
 
 /// A model that holds its contacts shut itself (`void hold(int contact,
-/// bool shut) const`, `held()`, the contacts held, and `open_held(bool)`,
-/// which opens them all for the moment): a held contact's gap is a
-/// holonomic row of its passes, counted at run time (text::FixedSizeModel).
+/// bool shut) const`): a held contact's gap is a holonomic row of its
+/// passes, counted at run time (text::FixedSizeModel).
 template <class M>
-concept holds_contacts = requires(const M& m) {
-  m.hold(0, true);
-  { m.held() } -> std::convertible_to<const std::vector<int>&>;
-  m.open_held(true);
-};
+concept holds_contacts = requires(const M& m) { m.hold(0, true); };
 
 template <class M>
 void evaluate_hold(const void* model, int contact, bool shut) {
   static_cast<const M*>(model)->hold(contact, shut);
-}
-
-/// λ_j of held contact j at (q, q̇, t) from the held rows C (each held
-/// contact's G = ∂φ/∂q and γ, impact_map_with()) and the free motion's q̈_f
-/// (the contacts opened for the moment): M q̈ = M q̈_f + Cᵀλ with C q̈ = −γ
-/// gives (C M⁻¹ Cᵀ) λ = −γ − C q̈_f.
-template <class M>
-double evaluate_held_multiplier(const void* model, const double* q, const double* qd, double t, int contact) {
-  constexpr int n = coordinate_count_v<M>;
-  const M& m = *static_cast<const M*>(model);
-  const std::vector<int>& held = m.held();
-  const auto rows = static_cast<int>(held.size());
-  // Every evaluation below is of the free motion (and the contacts' maps
-  // without the held rows): the held contacts opened until this returns.
-  struct Opened {
-    const M& m;
-    ~Opened() { m.open_held(false); }
-  } opened{m};
-  m.open_held(true);
-  Vec<double, n> free, jv;
-  const Eigen::Matrix<double, 2 * n, 1> zero = Eigen::Matrix<double, 2 * n, 1>::Zero();
-  jvp_along(m, q, qd, t, zero.data(), free.data(), jv.data());
-  Eigen::Matrix<double, n, 2 * n> dp;
-  momentum_jacobian(m, Eigen::Map<const Vec<double, n>>(q), Eigen::Map<const Vec<double, n>>(qd), t, dp, nullptr);
-  const Eigen::LLT<Mat<double, n>> llt(dp.template rightCols<n>());
-  Eigen::MatrixXd c(rows, n);
-  Eigen::VectorXd b(rows);
-  int which = -1;
-  for (int i = 0; i < rows; ++i) {
-    const int j = held[static_cast<std::size_t>(i)];
-    const ImpactMap<n> map = impact_map_with(m, Eigen::Map<const Vec<double, n>>(q),
-                                             Eigen::Map<const Vec<double, n>>(qd), t, j, 0.0);
-    c.row(i) = map.gap_gradient.transpose();
-    b[i] = -map.gamma - map.gap_gradient.dot(free);
-    if (j == contact) which = i;
-  }
-  if (which < 0) throw std::logic_error("evaluate_held_multiplier: the contact is not held");
-  const Eigen::MatrixXd minv_ct = llt.solve(c.transpose());
-  const Eigen::VectorXd lambda = (c * minv_ct).completeOrthogonalDecomposition().solve(b);
-  return lambda[which];
 }
 
 /// The TangentModel of `model`: AnalysisError (`prefix` starting its
@@ -425,10 +374,7 @@ TangentModel tangent_model_of(const M& model, const std::string& prefix) {
       tm.contact_names.assign(first, first + count);
       tm.gaps = &evaluate_gaps<M>;
       tm.impact = &evaluate_impact<M>;
-      if constexpr (holds_contacts<M>) {
-        tm.rest = &evaluate_hold<M>;
-        tm.multiplier = &evaluate_held_multiplier<M>;
-      }
+      if constexpr (holds_contacts<M>) tm.rest = &evaluate_hold<M>;
     }
   }
   return tm;

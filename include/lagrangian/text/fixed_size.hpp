@@ -160,9 +160,8 @@ class FixedSizeModel {
   /// Contact j held shut (`shut`): its gap φ_j(q, t) = 0 becomes a holonomic
   /// row after the declared ones, so the passes give the motion that keeps
   /// it shut (the tangent flow's resting contacts, analysis/lyapunov.hpp);
-  /// or opened again. open_held(true) opens every held contact until
-  /// open_held(false) (the free motion at the same state). Not for the
-  /// seeded twin (parameter columns do not cross a rest).
+  /// or opened again. Not for the seeded twin (parameter columns do not
+  /// cross a rest).
   void hold(int j, bool shut) const
     requires std::is_same_v<P, double>
   {
@@ -176,18 +175,14 @@ class FixedSizeModel {
     held_rows_ = p_->holonomic_bound;
     for (int k : held_) held_rows_.push_back(p_->gaps_bound[static_cast<std::size_t>(k)]);
   }
-  const std::vector<int>& held() const { return held_; }
-  /// Rows of held contacts among holonomic_count()'s (0 while opened).
-  int held_count() const { return opened_ ? 0 : static_cast<int>(held_.size()); }
-  void open_held(bool open) const { opened_ = open; }
+  /// Rows of held contacts among holonomic_count()'s.
+  int held_count() const { return static_cast<int>(held_.size()); }
 
   /// Names and units, as the text model's (a held contact's row by its name).
   std::vector<std::string> holonomic_names() const {
     std::vector<std::string> names = TextModel(p_).holonomic_names();
-    if (!opened_) {
-      const std::vector<std::string> contacts = TextModel(p_).unilateral_names();
-      for (int k : held_) names.push_back(contacts[static_cast<std::size_t>(k)]);
-    }
+    const std::vector<std::string> contacts = TextModel(p_).unilateral_names();
+    for (int k : held_) names.push_back(contacts[static_cast<std::size_t>(k)]);
     return names;
   }
   std::vector<std::string> pfaffian_names() const { return TextModel(p_).pfaffian_names(); }
@@ -199,7 +194,7 @@ class FixedSizeModel {
 
   /// The holonomic rows now: the declared ones, then the held gaps.
   const std::vector<Expression>& holonomic_rows() const {
-    return held_.empty() || opened_ ? p_->holonomic_bound : held_rows_;
+    return held_.empty() ? p_->holonomic_bound : held_rows_;
   }
 
   static std::shared_ptr<const Parsed> checked(const TextModel& model) {
@@ -271,11 +266,9 @@ class FixedSizeModel {
   P value_{};
   Expression kinetic_, potential_, dissipation_;
   std::vector<Expression> forces_, holonomic_, pfaffian_, gaps_;
-  // Contacts held shut (hold()), the rows with their gaps, and whether they
-  // are opened for the moment.
+  // Contacts held shut (hold()) and the rows with their gaps.
   mutable std::vector<int> held_;
   mutable std::vector<Expression> held_rows_;
-  mutable bool opened_ = false;
 };
 
 }  // namespace lagrangian::text
