@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -23,6 +22,7 @@
 #include "lagrangian/integrate/detail/roots.hpp"
 #include "lagrangian/integrate/system.hpp"
 #include "manifold.hpp"
+#include "resting_contacts.hpp"
 
 namespace lagrangian::detail {
 
@@ -58,18 +58,14 @@ namespace lagrangian::detail {
 /// w becomes S w (saltation.hpp), a parameter's column S w + R_p + a ∂φ/∂p / v
 /// (sensitivity.hpp); MEGNO's ℓ jumps with the first vector's
 /// length. Where the plain run lets a contact rest (its Zeno rule, a
-/// plastic impact) a model with TangentModel::rest holds it shut: the
-/// impact with e = 0 into the motion with φ_j = 0 held is crossed by its
-/// saltation matrix, whose kernel, δφ_j and δφ̇_j, every column loses
-/// (Benettin's vectors are renormalised at once, and those that vanished
-/// are left out from then on: their exponents are −∞); it lifts off at the
-/// first time its multiplier λ_j is negative (the plain run's rule), where
-/// the columns cross unchanged (both motions' rates agree at λ_j = 0).
-/// Refused with SimulationError: a rest on a model without
-/// TangentModel::rest or with parameter columns, a touch not faster than
-/// contact_touch_speed, an impact while another contact rests, a grazing
-/// contact, two contacts closing or touching at one instant, a resting
-/// contact whose gap drifts beyond 1e-6 (1 + ‖q‖∞).
+/// plastic impact) the impact with e = 0 is crossed into the motion that
+/// holds it shut (resting_contacts.hpp), whose saltation matrix removes
+/// δφ_j and δφ̇_j: Benettin's vectors are renormalised at once and those
+/// that vanished left out (exponents −∞); at its lift-off (λ_j = 0, the
+/// rates agree) the columns cross unchanged. Refused with SimulationError:
+/// a rest on a model without TangentModel::rest or with parameter columns,
+/// a touch not faster than contact_touch_speed, an impact under a resting
+/// contact, a grazing contact, two contacts closing or touching at once.
 class TangentSystem final : public System {
  public:
   TangentSystem(const TangentModel& model, int k, double longest, bool benettin, std::vector<int> parameters = {},
@@ -127,15 +123,14 @@ class TangentSystem final : public System {
                                 t0);
     }
     if (model_.manifold > 0) {
-      check_on_manifold(x, t0);
-      // B0, the tangent space's basis (H at the start, from check_on_manifold()).
-      start_basis_ = tangent_basis(manifold_jacobian(), 2 * model_.n);
+      manifold_.check(x, t0);
+      // B0, the tangent space's basis (H at the start, from check()).
+      start_basis_ = tangent_basis(manifold_.jacobian(), 2 * model_.n);
     }
     if (benettin_ && model_.manifold > 0) {
       // The first k vectors of B0, orthonormal in reduced canonical coordinates.
       canonical(x, t0);
-      reduce_ = configuration_basis();
-      qr_.compute(reduced_canonical(start_basis_));
+      qr_.compute(manifold_.reduced_canonical(start_basis_, dp_dx()));
       w_ = divided_by_r(start_basis_, qr_.matrixQR()).leftCols(k_);
     } else if (benettin_) {
       canonical(x, t0);
@@ -184,10 +179,10 @@ class TangentSystem final : public System {
                      const StepInterpolant& interpolant) override {
     // A lift-off ends the step first: an impact before it (cross_impact())
     // is one under a resting contact, which is refused.
-    const int lifted = resting_count_ > 0 ? lift_off(t_old, x_old, t, x, interpolant) : -1;
+    const int lifted = resting_.count() > 0 ? resting_.lift_off(t_old, x_old, t, x, interpolant) : -1;
     const bool impact = model_.contacts > 0 && cross_impact(t_old, x_old, t, x, interpolant);
-    if (lifted >= 0) release(lifted);
-    if (resting_count_ > 0) check_resting_gaps(x, t);
+    if (lifted >= 0) resting_.release(lifted);
+    if (resting_.count() > 0) resting_.check_gaps(x, t, gap_at_.data(), rate_at_.data());
     const bool event = impact || lifted >= 0;
     if (!benettin_) return event;
     if (!impact) megno_step(t_old, t, x, interpolant);
@@ -203,8 +198,8 @@ class TangentSystem final : public System {
   /// Impacts crossed so far (a rest by the Zeno rule is not one).
   int impacts() const { return impacts_; }
   /// Contacts that came to rest, and resting contacts that lifted off.
-  int rests() const { return rests_; }
-  int releases() const { return releases_; }
+  int rests() const { return resting_.rests(); }
+  int releases() const { return resting_.releases(); }
   /// The run's options: its contact_touch_speed (a contact touching slower
   /// is not an impact) and Zeno rule (zeno_speed_ratio, zeno_min_interval:
   /// where a plain run lets a contact rest), contact_rules.hpp.
@@ -260,15 +255,19 @@ class TangentSystem final : public System {
   void canonical(const double* x, double t) {
     const int n = model_.n, c = coordinate_count();
     model_.momentum(model_.model, x, x + c, t, p_.data(), nullptr);
-    const Eigen::Map<const Eigen::MatrixXd> dp(p_.data(), n, 2 * n);
+    const Eigen::Map<const Eigen::MatrixXd> dp = dp_dx();
     llt_.compute(dp.rightCols(n));
     if (llt_.info() != Eigen::Success)
       throw SimulationError("lyapunov: the mass matrix dp/dqd is not positive definite", t);
   }
+  /// ∂p/∂(q, q̇) (n × 2n) of the last canonical().
+  Eigen::Map<const Eigen::MatrixXd> dp_dx() const {
+    return Eigen::Map<const Eigen::MatrixXd>(p_.data(), model_.n, 2 * model_.n);
+  }
   /// W = P⁻¹ Z: δq = Z_q, δq̇ = M⁻¹ (Z_p − (∂p/∂q) Z_q).
   Eigen::MatrixXd from_canonical(const Eigen::MatrixXd& z) const {
     const int n = model_.n;
-    const Eigen::Map<const Eigen::MatrixXd> dp(p_.data(), n, 2 * n);
+    const Eigen::Map<const Eigen::MatrixXd> dp = dp_dx();
     Eigen::MatrixXd w(2 * n, z.cols());
     w.topRows(n) = z.topRows(n);
     w.bottomRows(n) = llt_.solve(z.bottomRows(n) - dp.leftCols(n) * z.topRows(n));
@@ -305,13 +304,16 @@ class TangentSystem final : public System {
   }
   void renormalise(double* x, double t) {
     const int n = model_.n;
-    if (model_.manifold > 0) to_manifold(x, t);
+    if (model_.manifold > 0) {
+      manifold_.project(x, t, w_);
+      store(x);
+    }
     canonical(x, t);
-    const Eigen::Map<const Eigen::MatrixXd> dp(p_.data(), n, 2 * n);
+    const Eigen::Map<const Eigen::MatrixXd> dp = dp_dx();
     if (model_.manifold > 0) {  // (no contacts: no vector leaves)
       live_.resize(static_cast<std::size_t>(k_));
       for (int j = 0; j < k_; ++j) live_[static_cast<std::size_t>(j)] = j;
-      qr_.compute(reduced_canonical(w_));
+      qr_.compute(manifold_.reduced_canonical(w_, dp));
     } else {
       live_canonical(dp);
       if (rest_due_ && collapse(t)) live_canonical(dp);
@@ -385,7 +387,7 @@ class TangentSystem final : public System {
       if (!(std::abs(r(i, i)) <= 1e-7 * largest)) continue;
       const int j = live_[static_cast<std::size_t>(i)];
       if (k_ < 2 * model_.n || j == 0)
-        throw SimulationError("lyapunov: the rest of contact '" + contact(last_rest_) +
+        throw SimulationError("lyapunov: the rest of contact '" + contact(resting_.last()) +
                                   "' removes the direction of tangent vector " + std::to_string(j + 1) +
                                   " (its exponent becomes -inf, while the exponents asked for are the largest " +
                                   std::to_string(k_) + " of " + std::to_string(2 * model_.n) +
@@ -397,169 +399,15 @@ class TangentSystem final : public System {
       ++gone;
     }
     if (gone > 2)
-      throw SimulationError("lyapunov: the rest of contact '" + contact(last_rest_) + "' removed " +
+      throw SimulationError("lyapunov: the rest of contact '" + contact(resting_.last()) + "' removed " +
                                 std::to_string(gone) + " tangent vectors; one rest removes at most 2",
                             t);
     return gone > 0;
   }
 
-  /// The earliest lift-off in (t_old, t] of a resting contact, the first
-  /// time from which its multiplier λ_j < 0 (locate_lift_off(), the plain
-  /// run's rule): (t, x) move there and the contact is returned; −1 when
-  /// none.
-  int lift_off(double t_old, const double* x_old, double& t, double* x, const StepInterpolant& interpolant) {
-    const int c = coordinate_count();
-    int which = -1;
-    double at = t;
-    for (int j = 0; j < model_.contacts; ++j) {
-      if (!resting_[static_cast<std::size_t>(j)]) continue;
-      const double end = multiplier(x, x + c, t, j);
-      if (!(end < 0)) continue;
-      const auto lambda = [&](double s) {
-        interpolant(s, mid_.data());
-        return multiplier(mid_.data(), mid_.data() + c, s, j);
-      };
-      const double start = multiplier(x_old, x_old + c, t_old, j);
-      const double found = locate_lift_off(t_old, t, start, end, time_function(lambda));
-      if (which < 0 || found < at) {
-        which = j;
-        at = found;
-      }
-    }
-    if (which >= 0 && at < t) {
-      interpolant(at, x);
-      t = at;
-    }
-    return which;
-  }
-  /// λ_j (N for a distance gap; > 0 presses the bodies apart) of resting
-  /// contact j at (q, q̇, t): with C the resting contacts' G = ∂φ/∂q and γ
-  /// (their impact maps') and q̈_f the free motion's (the contacts opened
-  /// for the moment),
-  ///   M q̈ = M q̈_f + Cᵀλ,  C q̈ + γ = 0  ⇒  (C M⁻¹ Cᵀ) λ = −γ − C q̈_f.
-  double multiplier(const double* q, const double* qd, double t, int wanted) {
-    const int n = model_.n;
-    held_.clear();
-    for (int j = 0; j < model_.contacts; ++j)
-      if (resting_[static_cast<std::size_t>(j)]) held_.push_back(j);
-    for (int j : held_) model_.rest(model_.model, j, false);
-    std::fill(zero_.begin(), zero_.end(), 0.0);
-    model_.evaluate_direction(model_.model, q, qd, t, zero_.data(), held_free_.data(), held_scratch_.data());
-    for (int j : held_) model_.rest(model_.model, j, true);
-    model_.momentum(model_.model, q, qd, t, held_momentum_.data(), nullptr);
-    const auto rows = static_cast<Eigen::Index>(held_.size());
-    Eigen::MatrixXd g(rows, n);
-    Eigen::VectorXd b(rows);
-    Eigen::Index which = -1;
-    for (Eigen::Index i = 0; i < rows; ++i) {
-      const int j = held_[static_cast<std::size_t>(i)];
-      double gamma = 0;
-      model_.impact(model_.model, q, qd, t, j, 0.0, held_scratch_.data(), held_jacobian_.data(),
-                    held_gradient_.data(), &gamma);
-      const Eigen::Map<const Eigen::VectorXd> gradient(held_gradient_.data(), n), free(held_free_.data(), n);
-      g.row(i) = gradient.transpose();
-      b[i] = -gamma - gradient.dot(free);
-      if (j == wanted) which = i;
-    }
-    if (which < 0) throw std::logic_error("TangentSystem::multiplier: contact " + contact(wanted) + " is not resting");
-    const Eigen::LLT<Eigen::MatrixXd> mass(Eigen::Map<const Eigen::MatrixXd>(held_momentum_.data(), n, 2 * n).rightCols(n));
-    const Eigen::MatrixXd minv_gt = mass.solve(g.transpose());
-    const Eigen::VectorXd lambda = (g * minv_gt).completeOrthogonalDecomposition().solve(b);
-    return lambda[which];
-  }
-  void release(int j) {
-    model_.rest(model_.model, j, false);
-    resting_[static_cast<std::size_t>(j)] = 0;
-    --resting_count_;
-    ++releases_;
-  }
-  /// SimulationError when a resting contact's gap has left 0 by more than
-  /// 1e-6 (1 + ‖q‖∞): the motion along it drifted (the tangent run holds
-  /// φ̈ = 0 without stabilisation).
-  void check_resting_gaps(const double* x, double t) {
-    const int n = model_.n, c = coordinate_count();
-    model_.gaps(model_.model, x, x + c, t, gap_at_.data(), rate_at_.data());
-    const double tolerance = 1000 * contact_touch_tolerance(x, n);
-    for (int j = 0; j < model_.contacts; ++j)
-      if (resting_[static_cast<std::size_t>(j)] && !(std::abs(gap_at_[static_cast<std::size_t>(j)]) <= tolerance))
-        throw SimulationError("tangent flow: resting contact '" + contact(j) + "' drifted to a gap of " +
-                                  number(gap_at_[static_cast<std::size_t>(j)]) + " (tolerance " + number(tolerance) +
-                                  ")",
-                              t);
-  }
-
-  /// ConstraintError naming the first row h_i of the constraint manifold
-  /// (g, ġ or φ) off zero at the start by more than 1e-9 (1 + ‖q‖∞) or
-  /// 1e-9 (1 + ‖q̇‖∞), the plain run's test.
-  void check_on_manifold(const double* x, double t) {
-    const int n = model_.n, c = coordinate_count(), mh = model_.manifold_holonomic;
-    model_.manifold_rows(model_.model, x, x + c, t, residual_.data(), manifold_jacobian_.data());
-    const Eigen::Map<const Eigen::VectorXd> q(x, n), qd(x + c, n);
-    const double qs = 1.0 + q.lpNorm<Eigen::Infinity>(), vs = 1.0 + qd.lpNorm<Eigen::Infinity>();
-    for (int i = 0; i < model_.manifold; ++i) {
-      const double h = residual_[static_cast<std::size_t>(i)];
-      if (!(std::abs(h) <= 1e-9 * (i < mh ? qs : vs)))
-        throw ConstraintError("tangent flow: the initial state violates constraint " +
-                              model_.manifold_names[static_cast<std::size_t>(i)] + " (" + number(h) +
-                              "); use consistent_initial_state() to find the nearest consistent state");
-    }
-  }
-  /// The state of x projected onto the constraint manifold (the model's
-  /// projection) and the tangent vectors onto its tangent space,
-  /// W ← W − H⁺ (H W) with H = ∂h/∂(q, q̇): a renormalisation takes off
-  /// the drift the integration left (the exact flow keeps both on it).
-  void to_manifold(double* x, double t) {
-    const int c = coordinate_count();
-    try {
-      model_.project(model_.model, x, x + c, t);
-    } catch (const ConstraintError& e) {
-      throw SimulationError(std::string("tangent flow: projection onto the constraint manifold failed: ") + e.what(),
-                            t);
-    }
-    model_.manifold_rows(model_.model, x, x + c, t, residual_.data(), manifold_jacobian_.data());
-    const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(manifold_jacobian());
-    w_ -= cod.solve(manifold_jacobian() * w_);
-    reduce_ = configuration_basis();
-    store(x);
-  }
-  /// U: an orthonormal basis (n × f) of the configuration's tangent space
-  /// ker G, G = ∂g/∂q of the holonomic rows (from the last manifold_rows()
-  /// evaluation; the identity without holonomic rows).
-  Eigen::MatrixXd configuration_basis() const {
-    const int n = model_.n, mh = model_.manifold_holonomic;
-    if (mh == 0) return Eigen::MatrixXd::Identity(n, n);
-    return tangent_basis(manifold_jacobian().topLeftCorner(mh, n), n);
-  }
-  /// H = ∂h/∂(q, q̇) of the last manifold_rows() evaluation.
-  Eigen::Map<const Eigen::MatrixXd> manifold_jacobian() const {
-    return Eigen::Map<const Eigen::MatrixXd>(manifold_jacobian_.data(), model_.manifold, 2 * model_.n);
-  }
-  /// The reduced canonical coordinates (Uᵀ δq, Uᵀ δp) of tangent vectors
-  /// (the columns of w) of the manifold, δp = (∂p/∂q) δq + M δq̇ (p_ at
-  /// the state): on the manifold of a holonomic system they are Darboux
-  /// coordinates of the symplectic form Σ δq_i ∧ δp_i restricted to it
-  /// (δq = U a, Uᵀ δp = b: ω = a₁·b₂ − a₂·b₁), so volumes in them are
-  /// phase-space volumes and a Hamiltonian spectrum sums to zero at every
-  /// time, as in (q, p) without constraints; they determine a tangent
-  /// vector of the manifold (Pfaffian rows too: the map is injective).
-  Eigen::MatrixXd reduced_canonical(const Eigen::MatrixXd& w) const {
-    const int n = model_.n, f = static_cast<int>(reduce_.cols());
-    const Eigen::Map<const Eigen::MatrixXd> dp(p_.data(), n, 2 * n);
-    Eigen::MatrixXd z(2 * f, w.cols());
-    z.topRows(f) = reduce_.transpose() * w.topRows(n);
-    z.bottomRows(f) = reduce_.transpose() * (dp * w);
-    return z;
-  }
   /// x with 6 significant digits, for messages.
-  static std::string number(double x) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.6g", x);
-    return buf;
-  }
-  std::string contact(int j) const {
-    return j < static_cast<int>(model_.contact_names.size()) ? model_.contact_names[static_cast<std::size_t>(j)]
-                                                              : std::to_string(j);
-  }
+  static std::string number(double x) { return short_number(x); }
+  std::string contact(int j) const { return contact_name(model_, j); }
   /// The earliest contact closing in the step (t_old, t], located by the
   /// plain run's rules (locate_closing: crossings, dips of the gap, a
   /// contact leaving and coming back within the step): false when none;
@@ -580,7 +428,7 @@ class TangentSystem final : public System {
     double at = t;
     for (int j = 0; j < model_.contacts; ++j) {
       const auto jj = static_cast<std::size_t>(j);
-      if (resting_[jj]) continue;  // held shut
+      if (resting_.resting(j)) continue;  // held shut
       const GapRate a{gap_old_[jj], rate_old_[jj]}, b{gap_new_[jj], rate_new_[jj]};
       if (a.gap > touch && b.gap > touch && !(a.rate < 0 && b.rate > 0)) continue;  // open throughout
       const auto on_step = [&](double s) {
@@ -610,11 +458,7 @@ class TangentSystem final : public System {
                                 "or slide along): the tangent flow through a closed contact is not derived",
                             t_old);
     if (first < 0) return false;
-    for (int j = 0; j < model_.contacts; ++j)
-      if (resting_[static_cast<std::size_t>(j)])
-        throw SimulationError("tangent flow: contact '" + contact(first) + "' closes while contact '" + contact(j) +
-                                  "' rests: the saltation matrix of an impact under a resting contact is not derived",
-                              at);
+    resting_.refuse_impact(first, at);
     progress_.check(at, t_old);
     if (at < t) interpolant(at, x);
     if (benettin_) megno_step(t_old, at, x, interpolant);
@@ -658,36 +502,13 @@ class TangentSystem final : public System {
     const bool zeno = zeno_accumulation(history, -v, t, run_, predicate(pressed));
     const bool rest = zeno || e == 0;
     if (rest) {
-      const std::string why = zeno ? "an accumulation of impacts with the forces pressing it shut, where the plain "
-                                     "run's Zeno rule lets it rest"
-                                   : "a plastic impact, e = 0: the bodies stick, and a plain run holds the contact "
-                                     "shut";
-      if (model_.rest == nullptr)
-        throw SimulationError("tangent flow: contact '" + contact(first) + "' comes to rest (approach speed " +
-                                  number(-v) + ": " + why +
-                                  "): the tangent flow through a resting contact is not derived for this model",
-                              t);
-      if (columns_ > k_)
-        throw SimulationError("tangent flow: contact '" + contact(first) + "' comes to rest (" + why +
-                                  "): a parameter's column through a resting contact is not derived",
-                              t);
+      resting_.require_holdable(first, -v, zeno, columns_ > k_, t);
       // The last impact is plastic (the plain run's law at a rest).
       model_.impact(model_.model, x, x + c, t, first, 0.0, qd_plus_.data(), impact_jacobian_.data(),
                     gap_gradient_.data(), &gamma);
-      model_.rest(model_.model, first, true);
-      resting_[static_cast<std::size_t>(first)] = 1;
-      if (multiplier(x, qd_plus_.data(), t, first) < 0) {
-        // The forces pull the bodies apart at once (a plain run lets the
-        // contact rest and lift off at the same instant): a plastic impact
-        // into the free motion.
-        model_.rest(model_.model, first, false);
-        resting_[static_cast<std::size_t>(first)] = 0;
-      } else {
-        ++resting_count_;
-        ++rests_;
-        last_rest_ = first;
-        rest_due_ = benettin_;
-      }
+      // (Unless the forces pull the bodies apart at once: then a plastic
+      // impact into the free motion.)
+      if (resting_.hold(x, qd_plus_.data(), t, first)) rest_due_ = benettin_;
     }
     history.record(-v, t);
     // f⁺: the motion after the impact (with the contact held shut after a rest).
@@ -717,7 +538,7 @@ class TangentSystem final : public System {
       megno_i_ += (t - t0_) * (ell_ - ell_before);
       if (t > t0_) megno_ = 2 * megno_i_ / (t - t0_);
     }
-    if (!(zeno && resting_[static_cast<std::size_t>(first)])) ++impacts_;
+    if (!(zeno && resting_.resting(first))) ++impacts_;
     return true;
   }
 
@@ -757,25 +578,14 @@ class TangentSystem final : public System {
                       saltation_ = std::vector<double>(static_cast<std::size_t>(4 * model_.n * model_.n)),
                       salt_scratch_ = zero_;
   Eigen::MatrixXd jumped_;
-  // The constraint manifold: its rows and their Jacobian, U (configuration_basis()).
-  Eigen::MatrixXd reduce_;
-  std::vector<double> residual_ = std::vector<double>(static_cast<std::size_t>(model_.manifold)),
-                      manifold_jacobian_ = std::vector<double>(static_cast<std::size_t>(2 * model_.n * model_.manifold));
+  TangentManifold manifold_{model_, model_.n * (1 + columns_)};  // (models with holonomic or Pfaffian rows)
   int impacts_ = 0;
-  // Resting contacts (TangentModel::rest): which rest, how many rested and
-  // lifted off, the last to rest; Benettin's vectors a rest removed, the
-  // others (live_), and a renormalisation due after a rest.
-  std::vector<char> resting_ = std::vector<char>(static_cast<std::size_t>(model_.contacts), 0);
-  int resting_count_ = 0, rests_ = 0, releases_ = 0, last_rest_ = 0;
+  // Resting contacts (TangentModel::rest); Benettin's vectors a rest
+  // removed, the others (live_), and a renormalisation due after a rest.
+  RestingContacts resting_{model_, model_.n * (1 + columns_)};
   std::vector<char> dead_ = std::vector<char>(static_cast<std::size_t>(k_), 0);
   std::vector<int> live_;
   bool rest_due_ = false;
-  // multiplier()'s: the resting contacts, q̈_f, ∂p/∂(q, q̇), an impact map.
-  std::vector<int> held_;
-  std::vector<double> held_free_ = std::vector<double>(static_cast<std::size_t>(model_.n)),
-                      held_scratch_ = held_free_, held_gradient_ = held_free_,
-                      held_momentum_ = std::vector<double>(static_cast<std::size_t>(2 * model_.n * model_.n)),
-                      held_jacobian_ = std::vector<double>(static_cast<std::size_t>(model_.n * (2 * model_.n + 1)));
   int renormalisations_ = 0;
   double shortest_ = std::numeric_limits<double>::infinity();
   double longest_taken_ = 0;

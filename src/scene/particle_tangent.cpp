@@ -406,11 +406,13 @@ class ParticleTangent {
     }
   }
 
-  /// The passes' workspace for m rows (m_): sized when the rows change, not
-  /// per evaluation.
+  /// The passes' workspace for m rows (m_): sized when the number of rows
+  /// changes to one it does not hold (a contact opened and held again for a
+  /// multiplier finds it sized), not per evaluation.
   void size_rows(int m) const {
     m_ = m;
-    if (m == 0) return;
+    if (m == 0 || m == sized_) return;
+    sized_ = m;
     const int n = model_.dim();
     six_.resize(static_cast<std::size_t>(n));
     x_.resize(static_cast<std::size_t>(2 * n));
@@ -438,6 +440,7 @@ class ParticleTangent {
   std::vector<Contact> contacts_;  // walls and planes, then the sphere pairs
   int fixed_;                      // rows of the links and surfaces
   mutable int m_ = 0;              // rows now: those and the resting contacts'
+  mutable int sized_ = 0;          // rows the workspace below is sized for
   // The passes' workspace (the class comment's names).
   mutable std::vector<JetSix> six_;
   mutable std::vector<double> x_;
