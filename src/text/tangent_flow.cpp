@@ -1,6 +1,8 @@
 // Lyapunov exponents, Floquet multipliers and sensitivities of a text model
 // (text/tangent_flow.hpp): the model seen at its size n as a
 // FixedSizeModel<n>, n = 1 … kMaxTangentFlowCoordinates, each compiled here once.
+// A library configured with LAGRANGIAN_COMPILED_TANGENT_FLOW=OFF (the
+// sanitizer build) compiles none of it: the three functions say so.
 
 #include "lagrangian/text/tangent_flow.hpp"
 
@@ -12,6 +14,28 @@
 #include "lagrangian/text/fixed_size.hpp"
 
 namespace lagrangian::text {
+
+#if defined(LAGRANGIAN_NO_COMPILED_TANGENT_FLOW) && LAGRANGIAN_NO_COMPILED_TANGENT_FLOW
+
+namespace {
+[[noreturn]] void not_compiled(const char* prefix) {
+  throw AnalysisError(std::string(prefix) +
+                      "the tangent flow of text models is not in this library (configured with "
+                      "LAGRANGIAN_COMPILED_TANGENT_FLOW=OFF)");
+}
+}  // namespace
+
+LyapunovResult lyapunov_spectrum(const TextModel&, const State<Dynamic>&, const LyapunovOptions&) {
+  not_compiled("lyapunov: ");
+}
+FloquetResult floquet_multipliers(const TextModel&, const State<Dynamic>&, const FloquetOptions&) {
+  not_compiled("floquet: ");
+}
+SensitivityResult sensitivities(const TextModel&, const State<Dynamic>&, const SensitivityOptions&) {
+  not_compiled("sensitivity: ");
+}
+
+#else
 
 void detail::project_state(const std::shared_ptr<const Parsed>& parsed, double* q, double* qd, double t) {
   const TextModel model(parsed);
@@ -151,5 +175,7 @@ SensitivityResult sensitivities(const TextModel& model, const State<Dynamic>& in
     return lagrangian::detail::sensitivities(tm, start.q.data(), start.qd.data(), indices, names, options);
   });
 }
+
+#endif
 
 }  // namespace lagrangian::text
