@@ -49,8 +49,10 @@ std::string model_name(const Scene& scene, const detail::ModelEntry& entry) {
 std::string model_phrase(const std::string& name) {
   if (name == "text") return "the model stated as text";
   if (name == "particles") return "the bodies of the particle scene";
+  if (name == "gas") return "the spheres of the gas";
   return name;
 }
+
 
 /// f() with a scene error that names a key but no line (the registry's:
 /// parameters, initial state) placed at the key's line in the scene file.
@@ -76,6 +78,24 @@ std::string g10(double v) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%.10g", v);
   return buf;
+}
+
+/// How the analysis integrated: the method and rtol, or the gas's exact
+/// event-driven flights.
+std::string method_phrase(const std::string& model, const SimulationOptions& run) {
+  if (model == "gas") return "event-driven engine, exact flights";
+  return std::string(to_string(run.method)) + ", rtol " + g10(run.rtol);
+}
+
+/// "cost: …": steps and evaluations (`what` they evaluate), or the gas
+/// engine's events.
+std::string cost_line(const std::string& model, std::uint64_t steps, std::uint64_t evaluations, const char* what,
+                      double seconds) {
+  if (model == "gas")
+    return "cost: " + std::to_string(steps) + " events of the event-driven engine (impacts and cell crossings), " +
+           g10(seconds) + " s\n";
+  return "cost: " + std::to_string(steps) + " steps, " + std::to_string(evaluations) + " " + what + ", " +
+         g10(seconds) + " s\n";
 }
 
 /// Writes the path as `<dir>/bvp_path.csv` through `bvp_path.csv.partial`.
@@ -220,7 +240,7 @@ auto tangent_analysis(const Scene& scene, const char* what, std::string& model, 
                       OnModel&& on_model) {
   if (!scene.model) {
     scene.validate();
-    model = "particles";
+    model = scene.gas ? "gas" : "particles";
     return particles(scene);
   }
   const detail::ModelEntry& entry = model_entry(scene, what);
@@ -250,8 +270,7 @@ LyapunovRun lyapunov(const Scene& scene, const LyapunovRequest& request) {
 std::string LyapunovRun::summary() const {
   const LyapunovResult& r = result;
   std::string out = "Lyapunov exponents of " + model_phrase(model) + " over t = " + g10(run.t0) + " .. " +
-                    g10(run.t_end) + " s (" +
-                    std::string(to_string(run.method)) + ", rtol " + g10(run.rtol) + "), largest first, 1/s:\n";
+                    g10(run.t_end) + " s (" + method_phrase(model, run) + "), largest first, 1/s:\n";
   for (std::size_t i = 0; i < r.spectrum.size(); ++i)
     out += "  lambda_" + std::to_string(i + 1) + " = " + g10(r.spectrum[i]) + "\n";
   out += "sum " + g10(r.sum) + " 1/s (canonical coordinates: 0 for a Hamiltonian flow, to the integration error)\n";
@@ -267,8 +286,8 @@ std::string LyapunovRun::summary() const {
          "; -> 0 isochronous, -> 2 regular, grows as lambda_1 t / 2 when chaotic)\n";
   out += "renormalisations " + std::to_string(r.renormalisations) + ", intervals " + g10(r.interval_min) + " .. " +
          g10(r.interval_max) + " s\n";
-  out += "cost: " + std::to_string(r.steps) + " steps, " + std::to_string(r.rhs_evaluations) +
-         " evaluations of q'' with its derivatives along the vectors, " + g10(r.seconds) + " s\n";
+  out += cost_line(model, r.steps, r.rhs_evaluations, "evaluations of q'' with its derivatives along the vectors",
+                   r.seconds);
   return out;
 }
 
@@ -415,7 +434,7 @@ std::string SensitivityRun::summary() const {
                          : r.parameters.empty() ? start
                                                 : start + " and to its parameters";
   std::string out = "sensitivities of " + model_phrase(model) + " at t = " + g10(r.times.back()) + " s to " + of +
-                    " (" + std::string(to_string(run.method)) + ", rtol " + g10(run.rtol) + "); x = (q, qdot):\n";
+                    " (" + method_phrase(model, run) + "); x = (q, qdot):\n";
   out += "x(t) = " + bracketed(r.states.back()) + "\n";
   if (r.state_columns > 0) {
     out += "d x(t) / d x(t0), row i: x_i(t), column j: x_j(t0):\n";
@@ -425,8 +444,7 @@ std::string SensitivityRun::summary() const {
     out += "d x(t) / d " + r.parameters[k] + " = " + bracketed(s.col(r.state_columns + static_cast<Eigen::Index>(k))) +
            "\n";
   if (r.impacts > 0) out += "impacts crossed " + std::to_string(r.impacts) + " (each by its saltation matrix)\n";
-  out += "cost: " + std::to_string(r.steps) + " steps, " + std::to_string(r.rhs_evaluations) +
-         " evaluations of the state and its columns, " + g10(r.seconds) + " s\n";
+  out += cost_line(model, r.steps, r.rhs_evaluations, "evaluations of the state and its columns", r.seconds);
   return out;
 }
 

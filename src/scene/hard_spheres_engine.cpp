@@ -79,8 +79,8 @@ struct Plane {
 
 class Engine {
  public:
-  Engine(const HardSphereSystem& sys, const HardSphereOptions& opt)
-      : sys_(sys), opt_(opt), t_end_(opt.t_end), now_(opt.t0), use_grid_(opt.broad_phase == BroadPhase::cell_grid) {
+  Engine(const HardSphereSystem& sys, const HardSphereOptions& opt, const HardSphereImpactObserver* on_impact)
+      : sys_(sys), opt_(opt), on_impact_(on_impact), t_end_(opt.t_end), now_(opt.t0), use_grid_(opt.broad_phase == BroadPhase::cell_grid) {
     const std::size_t n = sys.spheres.size();
     names_.reserve(n);
     for (std::size_t i = 0; i < n; ++i) names_.push_back(sphere_name(sys, i));
@@ -416,8 +416,11 @@ class Engine {
     p.r0 = ri;
     q.r0 = rj;
     p.tref = q.tref = now_;
+    const Eigen::Vector3d vi = p.v, vj = q.v;
     p.v += (J / p.mass) * n;
     q.v -= (J / q.mass) * n;
+    if (on_impact_ != nullptr)
+      (*on_impact_)({now_, i, static_cast<std::ptrdiff_t>(j), -1, n, dist, e, vi, p.v, vj, q.v});
     ++p.count;
     ++q.count;
     p.last_impact = q.last_impact = now_;
@@ -430,6 +433,7 @@ class Engine {
   void wall_impact(std::uint32_t i, std::uint32_t w, RunReport& rep) {
     Body& p = bodies_[i];
     const Eigen::Vector3d r = p.at(now_);
+    const Eigen::Vector3d v = p.v;
     double u, sep, e;
     if (w < 6) {
       const int d = static_cast<int>(w / 2);
@@ -452,6 +456,16 @@ class Engine {
     p.tref = now_;
     ++p.count;
     p.last_impact = now_;
+    if (on_impact_ != nullptr) {
+      Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+      if (w < 6) {
+        normal[static_cast<int>(w / 2)] = (w % 2 == 0) ? 1.0 : -1.0;
+      } else {
+        normal = planes_[w - 6].n;
+      }
+      (*on_impact_)({now_, i, -1, static_cast<int>(w), normal, 0.0, e, v, p.v, Eigen::Vector3d::Zero(),
+                     Eigen::Vector3d::Zero()});
+    }
     const double loss = 0.5 * p.mass * (1 - e * e) * u * u;
     // the stretch of [t0, t_end] this impact falls in (RunReport::wall_impulse_blocks)
     constexpr int kB = RunReport::kWallImpulseBlocks;
@@ -520,6 +534,7 @@ class Engine {
 
   const HardSphereSystem& sys_;
   const HardSphereOptions& opt_;
+  const HardSphereImpactObserver* on_impact_;  // null: none
   double t_end_, now_;
   bool use_grid_;
   Eigen::Vector3d lo_, hi_;
@@ -541,10 +556,10 @@ class Engine {
 }  // namespace
 
 RunReport run_hard_spheres(const HardSphereSystem& system, const HardSphereOptions& options,
-                           const HardSphereSampler& sampler) {
+                           const HardSphereSampler& sampler, const HardSphereImpactObserver& on_impact) {
   validate(system, options);
   const auto start = std::chrono::steady_clock::now();
-  Engine engine(system, options);
+  Engine engine(system, options, on_impact ? &on_impact : nullptr);
   return engine.run(sampler, start);
 }
 

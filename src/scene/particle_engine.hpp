@@ -14,6 +14,7 @@
 
 #include "lagrangian/analysis/fwd.hpp"
 #include "lagrangian/scene/detail/registry.hpp"
+#include "lagrangian/scene/hard_spheres.hpp"
 #include "lagrangian/integrate/report.hpp"
 #include "lagrangian/scene/scene.hpp"
 
@@ -73,12 +74,18 @@ std::vector<double> initial_state(const Scene& scene);
 /// a box, and no effect or constraint (the exact event-driven engine applies).
 bool event_driven_eligible(const Scene& scene);
 
+/// An event_driven_eligible() scene's bodies, box, contact planes and
+/// restitutions as the engine's HardSphereSystem (hard_spheres_scene.cpp).
+HardSphereSystem hard_sphere_system(const Scene& scene);
+
 /// Lyapunov exponents and MEGNO, and Floquet multipliers, of a particle
 /// scene's motion from its bodies' state at t0 (particle_tangent.cpp): its
 /// tangent flow by automatic differentiation of its force effects and of
 /// the rows of its links and surfaces, its contacts crossed at their
-/// impacts by the saltation matrix. A scene with rows and contacts
-/// together, a gas or more than 100 bodies is refused with OptionError
+/// impacts by the saltation matrix. A gas runs on the event-driven
+/// engine's tangent flow instead (scene/hard_spheres_tangent.hpp; its
+/// Floquet multipliers are refused). A scene with rows and contacts
+/// together or more than 100 bodies is refused with OptionError
 /// ("lyapunov: particle scene '<name>': …").
 LyapunovResult particle_lyapunov(const Scene& scene, const LyapunovOptions& options);
 FloquetResult particle_floquet(const Scene& scene, const FloquetOptions& options);

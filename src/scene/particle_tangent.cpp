@@ -21,6 +21,7 @@
 #include "lagrangian/analysis/sensitivity.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/mechanics/detail/min_norm_solver.hpp"
+#include "lagrangian/scene/hard_spheres_tangent.hpp"
 #include "particle_engine.hpp"
 #include "particle_model.hpp"
 
@@ -57,7 +58,11 @@ void require_tangent_flow_scene(const Scene& scene, const char* command) {
   if (scene.box) contacts.push_back("a box");
   std::string why;
   if (scene.gas) {
-    why = "the tangent flow of a particle scene is not derived for a gas";
+    why = std::string(command) == "floquet"
+              ? "the Floquet multipliers of a gas are not derived (its motion has no period); its Lyapunov "
+                "exponents and sensitivities are (lagrangian lyapunov, lagrangian sensitivity)"
+              : "a gas has no force effects to differentiate: its tangent flow is the event-driven engine's "
+                "(lyapunov_hard_spheres(), sensitivities_hard_spheres())";
   } else if (!rows.empty() && !contacts.empty()) {
     why = "the tangent flow of a particle scene is derived for bodies under force effects ([gravity], "
           "[newtonian_gravity], [[springs]], [[linear_drag]], [[quadratic_drag]]) held by [[links]] and "
@@ -452,7 +457,41 @@ class ParticleTangent {
 
 }  // namespace
 
+namespace {
+
+/// A gas scene with its spheres expanded, for the event-driven engine's
+/// tangent flow (scene/hard_spheres_tangent.hpp); OptionError for a gas
+/// that engine does not run (force effects, or engine = "ode").
+Scene expanded_gas(const Scene& scene, const char* command) {
+  Scene s = scene;
+  s.expand_gas();
+  if (s.run.engine == "ode" || !event_driven_eligible(s))
+    throw OptionError(std::string(command) + ": particle scene '" + scene.name +
+                      "': the tangent flow of a gas is taken on the event-driven engine (spheres flying free "
+                      "between sphere, box and plane contacts, no force effect" +
+                      (s.run.engine == "ode" ? std::string("); this scene asks for engine = \"ode\"")
+                                             : std::string("); this scene declares other effects")));
+  return s;
+}
+
+/// The engine's run over the analysis's t0, t_end and output_interval.
+HardSphereOptions gas_run(const Scene& scene, const SimulationOptions& run) {
+  HardSphereOptions o;
+  o.t0 = run.t0;
+  o.t_end = run.t_end;
+  o.output_interval = run.output_interval;
+  o.max_recorded_events = static_cast<std::size_t>(scene.output.max_events);
+  return o;
+}
+
+}  // namespace
+
 LyapunovResult particle_lyapunov(const Scene& scene, const LyapunovOptions& options) {
+  if (scene.gas) {
+    const Scene gas = expanded_gas(scene, "lyapunov");
+    return lyapunov_hard_spheres(hard_sphere_system(gas), gas_run(gas, options.run), options.exponents,
+                                 options.interval);
+  }
   require_tangent_flow_scene(scene, "lyapunov");
   const ParticleTangent tangent(scene);
   return lagrangian::detail::lyapunov_spectrum(tangent.tangent_model(), tangent.q0(), tangent.qd0(), options);
@@ -465,11 +504,15 @@ FloquetResult particle_floquet(const Scene& scene, const FloquetOptions& options
 }
 
 SensitivityResult particle_sensitivities(const Scene& scene, const SensitivityOptions& options) {
-  require_tangent_flow_scene(scene, "sensitivity");
+  if (!scene.gas) require_tangent_flow_scene(scene, "sensitivity");
   if (!options.parameters.empty())
     throw OptionError("sensitivity: particle scene '" + scene.name + "': --parameter " + options.parameters.front() +
                       ": a particle scene's sensitivities are those of its initial state (its masses and effects are "
                       "not parameters of its tangent flow)");
+  if (scene.gas) {
+    const Scene gas = expanded_gas(scene, "sensitivity");
+    return sensitivities_hard_spheres(hard_sphere_system(gas), gas_run(gas, options.run));
+  }
   const ParticleTangent tangent(scene);
   return lagrangian::detail::sensitivities(tangent.tangent_model(), tangent.q0(), tangent.qd0(), {}, {}, options);
 }

@@ -96,17 +96,7 @@ std::string engine_of(const Scene& scene) {
 
 RunReport run_event_driven(const Scene& scene, CsvSink* csv, const detail::SampleTick& tick, std::vector<double>& q_final,
                            std::vector<double>& qd_final) {
-  HardSphereSystem sys;
-  for (const Body& b : scene.bodies) sys.spheres.push_back({b.name, b.mass, b.radius, b.position, b.velocity});
-  sys.box_min = scene.box->min;
-  sys.box_max = scene.box->max;
-  sys.box_restitution = scene.box->restitution;
-  sys.pair_restitution = scene.sphere_contacts ? scene.sphere_contacts->restitution : 1.0;
-  for (std::size_t k = 0; k < scene.planes.size(); ++k) {
-    const PlaneContact& p = scene.planes[k];
-    sys.walls.push_back({p.name.empty() ? "plane" + std::to_string(k) : p.name, p.point, p.normal.normalized(),
-                         p.restitution});
-  }
+  const HardSphereSystem sys = detail::hard_sphere_system(scene);
   HardSphereOptions opt;
   opt.t0 = scene.run.t0;
   opt.t_end = scene.run.t_end;

@@ -65,6 +65,7 @@
 ///
 /// Units: SI throughout (m, kg, s, m/s, J, N·s).
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -150,6 +151,29 @@ struct HardSphereOptions {
 /// resolved after the sample (the sample shows the spheres touching).
 using HardSphereSampler = std::function<void(double t, const std::vector<HardSphere>&)>;
 
+/// One impact as the engine resolved it, for a HardSphereImpactObserver:
+/// sphere `a` against sphere `b` or, with b = −1, against wall `wall`.
+struct HardSphereImpact {
+  double t = 0;         ///< time of the impact (s)
+  std::size_t a = 0;    ///< the sphere (index into HardSphereSystem::spheres)
+  std::ptrdiff_t b = -1;  ///< the other sphere, or −1 at a wall
+  /// At a wall: 0 … 5 the box's faces (box_wall_names' order), 6 + k the
+  /// extra wall k; −1 for two spheres.
+  int wall = -1;
+  /// Unit normal: from b's centre to a's (two spheres), the wall's inward
+  /// normal (a wall).
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  double distance = 0;     ///< |r_a − r_b| at the impact (m), R_a + R_b to round-off; 0 at a wall
+  double restitution = 1;  ///< e applied (1 where the TC model made the impact elastic)
+  Eigen::Vector3d va_before = Eigen::Vector3d::Zero(), va_after = Eigen::Vector3d::Zero();  ///< v_a (m/s)
+  Eigen::Vector3d vb_before = Eigen::Vector3d::Zero(), vb_after = Eigen::Vector3d::Zero();  ///< v_b (m/s); 0 at a wall
+};
+
+/// Called at every impact, in the order the engine resolves them, after
+/// the velocities have changed (lyapunov_hard_spheres() carries its tangent
+/// vectors across them).
+using HardSphereImpactObserver = std::function<void(const HardSphereImpact&)>;
+
 /// Checks a system and options; throws OptionError, naming the sphere(s) or
 /// wall or option and the offending values, for: a non-finite or inverted
 /// box; a mass or radius that is not finite and > 0; a non-finite position
@@ -187,9 +211,10 @@ void validate(const HardSphereSystem& system, const HardSphereOptions& options);
 ///  - wall_impulses: the normal impulse each wall received over the run
 ///    (N·s), every impact counted: the six box faces ("wall:x_min", …) and
 ///    the extra planes.
+/// `on_impact`, if given, sees every impact (HardSphereImpact).
 /// Throws OptionError (see validate) and SimulationError when more than
 /// options.max_events events are needed.
 RunReport run_hard_spheres(const HardSphereSystem& system, const HardSphereOptions& options,
-                           const HardSphereSampler& sampler = {});
+                           const HardSphereSampler& sampler = {}, const HardSphereImpactObserver& on_impact = {});
 
 }  // namespace lagrangian
