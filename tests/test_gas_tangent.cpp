@@ -89,7 +89,7 @@ TEST(GasTangent, OneSphereInABoxHasTheClosedFormTransitionMatrix) {
   h.velocity = Eigen::Vector3d(2.3, -1.7, 0.9);
   s.spheres.push_back(h);
   const double T = 1.0;
-  const lagrangian::SensitivityResult r = lagrangian::sensitivities_hard_spheres(s, over(T));
+  const lagrangian::SensitivityResult r = lagrangian::scene::sensitivities_hard_spheres(s, over(T));
   const Eigen::VectorXd x = final_state(s, over(T));
   Eigen::Matrix3d D = Eigen::Matrix3d::Zero();
   for (int k = 0; k < 3; ++k) D(k, k) = x[3 + k] / h.velocity[k] > 0 ? 1.0 : -1.0;
@@ -107,7 +107,7 @@ TEST(GasTangent, OneSphereInABoxHasTheClosedFormTransitionMatrix) {
 /// Largest |Φ − Φ_fd| over max |Φ|, Φ_fd by central differences of plain
 /// runs with step h along each of the 6N start coordinates.
 double against_differences(const HardSphereSystem& s, const HardSphereOptions& o, double h, int* impacts) {
-  const lagrangian::SensitivityResult r = lagrangian::sensitivities_hard_spheres(s, o);
+  const lagrangian::SensitivityResult r = lagrangian::scene::sensitivities_hard_spheres(s, o);
   *impacts = r.impacts;
   const Eigen::MatrixXd& phi = r.sensitivities.back();
   double worst = 0;
@@ -136,7 +136,7 @@ TEST(GasTangent, TransitionMatrixMatchesCentralDifferences) {
 TEST(GasTangent, SpectrumSumIsThePhaseSpaceContraction) {
   const HardSphereSystem s = gas(12, 0.8, 0.9);
   const double T = 4.0;
-  const lagrangian::LyapunovResult r = lagrangian::lyapunov_hard_spheres(s, over(T));
+  const lagrangian::LyapunovResult r = lagrangian::scene::lyapunov_hard_spheres(s, over(T));
   const lagrangian::RunReport plain = lagrangian::run_hard_spheres(s, over(T));
   double expected = 0;
   for (const lagrangian::EventRecord& e : plain.events) expected += 2 * std::log(e.separation_speed / e.approach_speed);
@@ -146,7 +146,7 @@ TEST(GasTangent, SpectrumSumIsThePhaseSpaceContraction) {
   EXPECT_LT(expected, -1.0);
   EXPECT_NEAR(r.sum, expected, 1e-12 * std::abs(expected));
   ASSERT_EQ(r.spectrum.size(), 72u);
-  const lagrangian::LyapunovResult elastic = lagrangian::lyapunov_hard_spheres(gas(12), over(T));
+  const lagrangian::LyapunovResult elastic = lagrangian::scene::lyapunov_hard_spheres(gas(12), over(T));
   EXPECT_LT(std::abs(elastic.sum), 1e-11);
 }
 
@@ -156,7 +156,7 @@ TEST(GasTangent, SpectrumSumIsThePhaseSpaceContraction) {
 // spectrum's first.
 TEST(GasTangent, ElasticGasSpectrumPairsAndHasTwoZeros) {
   const HardSphereSystem s = gas(20);
-  const lagrangian::LyapunovResult r = lagrangian::lyapunov_hard_spheres(s, over(200.0));
+  const lagrangian::LyapunovResult r = lagrangian::scene::lyapunov_hard_spheres(s, over(200.0));
   const std::vector<double>& l = r.spectrum;
   ASSERT_EQ(l.size(), 120u);
   EXPECT_GT(l.front(), 1.0);
@@ -168,7 +168,7 @@ TEST(GasTangent, ElasticGasSpectrumPairsAndHasTwoZeros) {
   std::sort(size.begin(), size.end());
   EXPECT_LT(size[1], 0.01 * l.front());
   EXPECT_GT(size[2], 0.05 * l.front());
-  const lagrangian::LyapunovResult one = lagrangian::lyapunov_hard_spheres(s, over(200.0), 1);
+  const lagrangian::LyapunovResult one = lagrangian::scene::lyapunov_hard_spheres(s, over(200.0), 1);
   ASSERT_EQ(one.spectrum.size(), 1u);
   EXPECT_NEAR(one.spectrum[0], l.front(), 1e-9 * l.front());
   EXPECT_EQ(one.impacts, r.impacts);
@@ -180,7 +180,7 @@ TEST(GasTangent, ElasticGasSpectrumPairsAndHasTwoZeros) {
 // length: Y = 0 and the exponent 0.
 TEST(GasTangent, MegnoOfChaoticAndOfExchangingMotions) {
   const double T = 100.0;
-  const lagrangian::LyapunovResult chaotic = lagrangian::lyapunov_hard_spheres(gas(20), over(T), 1);
+  const lagrangian::LyapunovResult chaotic = lagrangian::scene::lyapunov_hard_spheres(gas(20), over(T), 1);
   EXPECT_NEAR(chaotic.megno_mean / (chaotic.spectrum[0] * T / 2), 1.0, 0.05);
   HardSphereSystem s;
   HardSphere a, b;
@@ -190,7 +190,7 @@ TEST(GasTangent, MegnoOfChaoticAndOfExchangingMotions) {
   a.velocity = Eigen::Vector3d(1.3, 0, 0);
   b.velocity = Eigen::Vector3d(-0.4, 0, 0);
   s.spheres = {a, b};
-  const lagrangian::LyapunovResult line = lagrangian::lyapunov_hard_spheres(s, over(T), 1);
+  const lagrangian::LyapunovResult line = lagrangian::scene::lyapunov_hard_spheres(s, over(T), 1);
   EXPECT_GT(line.impacts, 100);
   EXPECT_LT(std::abs(line.megno_mean), 1e-9);
   EXPECT_LT(std::abs(line.spectrum[0]), 1e-12);
@@ -209,11 +209,11 @@ void expect_refusal(F&& f, const std::string& part) {
 
 TEST(GasTangent, RefusesWhatItDoesNotDerive) {
   const HardSphereSystem s = gas(4);
-  expect_refusal([&] { (void)lagrangian::lyapunov_hard_spheres(s, over(1.0), 25); }, "exponents must be in [0, 24]");
-  expect_refusal([&] { (void)lagrangian::lyapunov_hard_spheres(gas(4, 0.0), over(1.0)); }, "pair_restitution = 0");
-  expect_refusal([&] { (void)lagrangian::lyapunov_hard_spheres(s, over(1.0), 0, -1.0); }, "interval must be");
-  expect_refusal([&] { (void)lagrangian::lyapunov_hard_spheres(gas(120), over(1.0)); }, "at most 600 vectors");
-  expect_refusal([&] { (void)lagrangian::sensitivities_hard_spheres(gas(120), over(1.0)); }, "at most 100 spheres");
+  expect_refusal([&] { (void)lagrangian::scene::lyapunov_hard_spheres(s, over(1.0), 25); }, "exponents must be in [0, 24]");
+  expect_refusal([&] { (void)lagrangian::scene::lyapunov_hard_spheres(gas(4, 0.0), over(1.0)); }, "pair_restitution = 0");
+  expect_refusal([&] { (void)lagrangian::scene::lyapunov_hard_spheres(s, over(1.0), 0, -1.0); }, "interval must be");
+  expect_refusal([&] { (void)lagrangian::scene::lyapunov_hard_spheres(gas(120), over(1.0)); }, "at most 600 vectors");
+  expect_refusal([&] { (void)lagrangian::scene::sensitivities_hard_spheres(gas(120), over(1.0)); }, "at most 100 spheres");
 }
 
 }  // namespace

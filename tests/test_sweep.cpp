@@ -522,6 +522,34 @@ TEST(SweepChaos, TheChaosColumnsAreTheLyapunovExponentAndMegnoOfEachPoint) {
   EXPECT_TRUE(std::isnan(plain.records[0].lyapunov_max));
 }
 
+// A gas takes the event-driven engine's tangent flow (scene/
+// hard_spheres_tangent.hpp): its chaos columns are those of a direct
+// scene::lyapunov() at each point, and a dilute gas's λ1 is positive.
+TEST(SweepChaos, AGasHasTheChaosColumnsOfTheEventDrivenTangentFlow) {
+  const std::string scene_file = out_dir("chaos_gas_scene") + ".toml";
+  {
+    std::ofstream f(scene_file);
+    f << "name = \"small gas\"\n[run]\nt_end = 3.0\n[gas]\ncount = 20\nmass = 1.0\nradius = 0.05\n"
+         "speed = 1.0\nseed = 3\n[contacts.spheres]\nrestitution = 1.0\n[contacts.box]\nmin = [0.0, 0.0, 0.0]\n"
+         "max = [1.0, 1.0, 1.0]\nrestitution = 1.0\n";
+  }
+  SweepOptions o = options("chaos_gas", {parse_vary("gas.seed=3:4:2")});
+  o.outputs = {"chaos"};
+  const SweepResult r = sweep(scene_file, o);
+  ASSERT_EQ(r.failed, 0u);
+  ASSERT_EQ(r.records.size(), 2u);
+  for (const SweepRecord& rec : r.records) {
+    const std::string seed = std::to_string(static_cast<int>(rec.values[0]));
+    const LyapunovRun direct = lyapunov(load_scene(scene_file, {parse_key_setting("gas.seed=" + seed)}),
+                                        LyapunovRequest{1, 0.0});
+    EXPECT_EQ(direct.model, "gas");
+    EXPECT_DOUBLE_EQ(rec.lyapunov_max, direct.result.spectrum.front()) << "seed " << seed;
+    EXPECT_DOUBLE_EQ(rec.megno, direct.result.megno_mean) << "seed " << seed;
+    EXPECT_GT(rec.lyapunov_max, 0.5) << "seed " << seed;
+  }
+  EXPECT_NE(r.records[0].lyapunov_max, r.records[1].lyapunov_max);
+}
+
 // A scene without a tangent flow (a particle scene with links and sphere
 // contacts) is refused before any run, with scene::lyapunov()'s reason.
 TEST(SweepChaos, AModelWithoutATangentFlowIsRefusedBeforeAnyRun) {

@@ -18,7 +18,7 @@
 #include "lagrangian/analysis/sensitivity.hpp"
 #include "lagrangian/errors.hpp"
 
-namespace lagrangian {
+namespace lagrangian::scene {
 namespace {
 
 /// k tangent vectors of a gas of N spheres, W (6N × k): rows 3i … 3i+2 hold
@@ -300,7 +300,7 @@ void require_positive_restitutions(const HardSphereSystem& system) {
 
 LyapunovResult lyapunov_hard_spheres(const HardSphereSystem& system, const HardSphereOptions& options, int exponents,
                                      double interval) {
-  validate(system, options);
+  lagrangian::validate(system, options);
   const int d = 6 * static_cast<int>(system.spheres.size());
   if (exponents < 0 || exponents > d)
     throw OptionError("lyapunov: exponents must be in [0, " + std::to_string(d) + "] (0: all " + std::to_string(d) +
@@ -330,7 +330,7 @@ LyapunovResult lyapunov_hard_spheres(const HardSphereSystem& system, const HardS
       }
   };
   const RunReport report =
-      run_hard_spheres(system, run, sampler, [&](const HardSphereImpact& e) { lyapunov.impact(e); });
+      lagrangian::run_hard_spheres(system, run, sampler, [&](const HardSphereImpact& e) { lyapunov.impact(e); });
   LyapunovResult r = lyapunov.finish(run.t_end);
   r.steps = report.steps;
   r.q_final = std::move(q);
@@ -340,7 +340,7 @@ LyapunovResult lyapunov_hard_spheres(const HardSphereSystem& system, const HardS
 }
 
 SensitivityResult sensitivities_hard_spheres(const HardSphereSystem& system, const HardSphereOptions& options) {
-  validate(system, options);
+  lagrangian::validate(system, options);
   const int n = static_cast<int>(system.spheres.size());
   if (n > kMaxHardSphereSensitivitySpheres)
     throw OptionError("sensitivity: a gas of " + std::to_string(n) + " spheres; the state transition matrix (6N x 6N) "
@@ -361,7 +361,7 @@ SensitivityResult sensitivities_hard_spheres(const HardSphereSystem& system, con
   };
   HardSphereOptions run = options;
   run.max_recorded_events = 0;
-  const RunReport report = run_hard_spheres(system, run, sampler, [&](const HardSphereImpact& e) {
+  const RunReport report = lagrangian::run_hard_spheres(system, run, sampler, [&](const HardSphereImpact& e) {
     tangent.impact(e);
     ++r.impacts;
   });
@@ -370,4 +370,4 @@ SensitivityResult sensitivities_hard_spheres(const HardSphereSystem& system, con
   return r;
 }
 
-}  // namespace lagrangian
+}  // namespace lagrangian::scene

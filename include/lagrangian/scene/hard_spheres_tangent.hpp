@@ -45,7 +45,7 @@
 #include "lagrangian/analysis/fwd.hpp"
 #include "lagrangian/scene/hard_spheres.hpp"
 
-namespace lagrangian {
+namespace lagrangian::scene {
 
 /// Most tangent vectors lyapunov_hard_spheres() carries (the whole
 /// spectrum of 100 spheres), and most spheres sensitivities_hard_spheres()
@@ -69,4 +69,4 @@ LyapunovResult lyapunov_hard_spheres(const HardSphereSystem& system, const HardS
 /// kMaxHardSphereSensitivitySpheres spheres (and as validate()).
 SensitivityResult sensitivities_hard_spheres(const HardSphereSystem& system, const HardSphereOptions& options);
 
-}  // namespace lagrangian
+}  // namespace lagrangian::scene
