@@ -70,17 +70,22 @@ lagrangian::State<lagrangian::Dynamic> start(std::initializer_list<double> q, st
 TEST(TextTangentFlow, DoublePendulumJacobianIsTheBuiltInModels) {
   const lm::DoublePendulum built_in(1.3, 0.7, 1.1, 0.8, 9.81);
   const text::TextModel model(lagrangian::testing::double_pendulum_text(built_in));
-  const text::FixedSizeModel<2> fixed(model);
   for (const auto& [q, qd] : {std::pair{Vec<double, 2>(0.3, -1.2), Vec<double, 2>(0.8, 2.1)},
                               std::pair{Vec<double, 2>(2.0, 2.0), Vec<double, 2>(0.0, 0.0)},
                               std::pair{Vec<double, 2>(-3.0, 1.0), Vec<double, 2>(-4.0, 5.5)}}) {
-    Vec<double, 2> qdd_text, qdd_cpp;
-    Eigen::Matrix<double, 2, 4> j_text, j_cpp;
-    lagrangian::state_jacobian(fixed, q, qd, 0.0, qdd_text, j_text);
+    Eigen::VectorXd qdd_text;
+    Eigen::MatrixXd j_text;
+    Vec<double, 2> qdd_cpp;
+    Eigen::Matrix<double, 2, 4> j_cpp;
+    text::state_jacobian(model, q, qd, 0.0, qdd_text, j_text);
     lagrangian::state_jacobian(built_in, q, qd, 0.0, qdd_cpp, j_cpp);
     EXPECT_LE((qdd_text - qdd_cpp).norm(), 1e-13 * (1 + qdd_cpp.norm()));
     EXPECT_LE((j_text - j_cpp).norm(), 1e-12 * (1 + j_cpp.norm())) << "text:\n" << j_text << "\nC++:\n" << j_cpp;
   }
+  Eigen::VectorXd qdd;
+  Eigen::MatrixXd j;
+  EXPECT_THROW(text::state_jacobian(model, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.0, qdd, j),
+               lagrangian::OptionError);
 }
 
 /// models::PendulumChain<n> (unit masses and lengths) as text: bob k moves
@@ -104,16 +109,17 @@ text::Definition chain_text(int n) {
 template <int N>
 void expect_chain_agrees() {
   const text::TextModel model(chain_text(N));
-  const text::FixedSizeModel<N> fixed(model);
   const lm::PendulumChain<N> built_in;
   Vec<double, N> q, qd;
   for (int k = 0; k < N; ++k) {
     q[k] = std::sin(1.0 + 2.3 * k);
     qd[k] = std::cos(0.4 + 1.7 * k);
   }
-  Vec<double, N> qdd_text, qdd_cpp;
-  Eigen::Matrix<double, N, 2 * N> j_text, j_cpp;
-  lagrangian::state_jacobian(fixed, q, qd, 0.0, qdd_text, j_text);
+  Eigen::VectorXd qdd_text;
+  Eigen::MatrixXd j_text;
+  Vec<double, N> qdd_cpp;
+  Eigen::Matrix<double, N, 2 * N> j_cpp;
+  text::state_jacobian(model, q, qd, 0.0, qdd_text, j_text);
   lagrangian::state_jacobian(built_in, q, qd, 0.0, qdd_cpp, j_cpp);
   EXPECT_LE((qdd_text - qdd_cpp).norm(), 1e-12 * (1 + qdd_cpp.norm())) << N << " links";
   EXPECT_LE((j_text - j_cpp).norm(), 1e-11 * (1 + j_cpp.norm())) << N << " links\n" << j_text << "\n" << j_cpp;
@@ -132,12 +138,13 @@ TEST(TextTangentFlow, TimeDependentEnergiesGiveTheBuiltInDrivenPendulums) {
   // and its derivatives enter J.
   const lm::DrivenPendulum built_in(1.0, 1.0, 0.05, 200.0, 9.81);
   const text::TextModel model(kapitza_text(200.0));
-  const text::FixedSizeModel<1> fixed(model);
   for (double t : {0.0, 0.0123, 0.7}) {
     const Vec<double, 1> q(2.9), qd(-0.4);
-    Vec<double, 1> qdd_text, qdd_cpp;
-    Eigen::Matrix<double, 1, 2> j_text, j_cpp;
-    lagrangian::state_jacobian(fixed, q, qd, t, qdd_text, j_text);
+    Eigen::VectorXd qdd_text;
+    Eigen::MatrixXd j_text;
+    Vec<double, 1> qdd_cpp;
+    Eigen::Matrix<double, 1, 2> j_cpp;
+    text::state_jacobian(model, q, qd, t, qdd_text, j_text);
     lagrangian::state_jacobian(built_in, q, qd, t, qdd_cpp, j_cpp);
     EXPECT_NEAR(qdd_text[0], qdd_cpp[0], 1e-12 * (1 + std::abs(qdd_cpp[0]))) << "t = " << t;
     EXPECT_LE((j_text - j_cpp).norm(), 1e-12 * (1 + j_cpp.norm())) << "t = " << t << "\n" << j_text << "\n" << j_cpp;
@@ -147,10 +154,9 @@ TEST(TextTangentFlow, TimeDependentEnergiesGiveTheBuiltInDrivenPendulums) {
 TEST(TextTangentFlow, LinearDragGivesMinusBOverMWhetherDissipationOrForces) {
   for (bool as_dissipation : {true, false}) {
     const text::TextModel model(linear_drag_text(as_dissipation));
-    const text::FixedSizeModel<2> fixed(model);
-    Vec<double, 2> qdd;
-    Eigen::Matrix<double, 2, 4> j;
-    lagrangian::state_jacobian(fixed, Vec<double, 2>(1.0, 2.0), Vec<double, 2>(3.0, -4.0), 0.0, qdd, j);
+    Eigen::VectorXd qdd;
+    Eigen::MatrixXd j;
+    text::state_jacobian(model, Eigen::Vector2d(1.0, 2.0), Eigen::Vector2d(3.0, -4.0), 0.0, qdd, j);
     Eigen::Matrix<double, 2, 4> expected = Eigen::Matrix<double, 2, 4>::Zero();
     expected(0, 2) = expected(1, 3) = -0.5 / 2.0;  // ∂q̈/∂q̇ = −b/m I
     EXPECT_LE((j - expected).norm(), 1e-15) << (as_dissipation ? "D" : "Q") << "\n" << j;
@@ -552,15 +558,17 @@ text::Definition spinning_wire_text(double m, double omega) {
   return d;
 }
 
-/// J = ∂q̈/∂(q, q̇) of the text model seen at size N and of the C++ model
+/// J = ∂q̈/∂(q, q̇) of the text model (text::state_jacobian(): the
+/// library's passes at its size) and of the C++ model
 /// at (q, q̇, t), and their q̈: equal to rounding (relative to |J|).
 template <int N, class M>
 void expect_same_jacobian(const text::TextModel& model, const M& cpp, const Vec<double, N>& q, const Vec<double, N>& qd,
                           double t) {
-  const text::FixedSizeModel<N> fixed(model);
-  Vec<double, N> a_text, a_cpp;
-  Eigen::Matrix<double, N, 2 * N> j_text, j_cpp;
-  lagrangian::state_jacobian(fixed, q, qd, t, a_text, j_text);
+  Eigen::VectorXd a_text;
+  Eigen::MatrixXd j_text;
+  Vec<double, N> a_cpp;
+  Eigen::Matrix<double, N, 2 * N> j_cpp;
+  text::state_jacobian(model, q, qd, t, a_text, j_text);
   lagrangian::state_jacobian(cpp, q, qd, t, a_cpp, j_cpp);
   EXPECT_LE((a_text - a_cpp).norm(), 1e-13 * (1 + a_cpp.norm())) << a_text.transpose() << "\n" << a_cpp.transpose();
   EXPECT_LE((j_text - j_cpp).norm(), 1e-13 * (1 + j_cpp.norm())) << "text:\n" << j_text << "\nC++:\n" << j_cpp;

@@ -25,6 +25,10 @@ namespace {
 }
 }  // namespace
 
+void state_jacobian(const TextModel&, const Eigen::VectorXd&, const Eigen::VectorXd&, double, Eigen::VectorXd&,
+                    Eigen::MatrixXd&) {
+  not_compiled("state_jacobian: ");
+}
 LyapunovResult lyapunov_spectrum(const TextModel&, const State<Dynamic>&, const LyapunovOptions&) {
   not_compiled("lyapunov: ");
 }
@@ -89,6 +93,22 @@ auto at_fixed_size(const TextModel& model, const State<Dynamic>& initial, const 
 }
 
 }  // namespace
+
+void state_jacobian(const TextModel& model, const Eigen::VectorXd& q, const Eigen::VectorXd& qd, double t,
+                    Eigen::VectorXd& qdd, Eigen::MatrixXd& jacobian) {
+  State<Dynamic> at(static_cast<int>(q.size()));
+  at.q = q;
+  at.qd = qd;
+  at_fixed_size(model, at, "state_jacobian: ", [&](const auto& fixed, const auto& start) {
+    constexpr int n = std::decay_t<decltype(fixed)>::coordinate_count;
+    Vec<double, n> a;
+    Eigen::Matrix<double, n, 2 * n> j;
+    lagrangian::state_jacobian(fixed, start.q, start.qd, t, a, j);
+    qdd = a;
+    jacobian = j;
+    return 0;
+  });
+}
 
 LyapunovResult lyapunov_spectrum(const TextModel& model, const State<Dynamic>& initial,
                                  const LyapunovOptions& options) {

@@ -25,6 +25,16 @@
 
 namespace lagrangian::text {
 
+/// q̈ and J = ∂q̈/∂(q, q̇) (n × 2n: the columns ∂/∂q, then ∂/∂q̇) of `model`
+/// at (q, q̇, t), as lagrangian::state_jacobian() gives them for a C++
+/// model, by the same passes the analyses below take (on a constraint
+/// manifold, J of the constrained motion). OptionError for q or q̇ of
+/// another size; AnalysisError as the analyses (more than
+/// kMaxTangentFlowCoordinates coordinates, constraints and contacts
+/// together).
+void state_jacobian(const TextModel& model, const Eigen::VectorXd& q, const Eigen::VectorXd& qd, double t,
+                    Eigen::VectorXd& qdd, Eigen::MatrixXd& jacobian);
+
 /// The Lyapunov exponents of the motion of `model` from `initial` (see
 /// lagrangian::lyapunov_spectrum()).
 LyapunovResult lyapunov_spectrum(const TextModel& model, const State<Dynamic>& initial, const LyapunovOptions& options);
