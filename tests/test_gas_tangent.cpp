@@ -209,11 +209,14 @@ void expect_refusal(F&& f, const std::string& part) {
 
 TEST(GasTangent, RefusesWhatItDoesNotDerive) {
   const HardSphereSystem s = gas(4);
-  expect_refusal([&] { (void)lagrangian::scene::lyapunov_hard_spheres(s, over(1.0), 25); }, "exponents must be in [0, 24]");
-  expect_refusal([&] { (void)lagrangian::scene::lyapunov_hard_spheres(gas(4, 0.0), over(1.0)); }, "pair_restitution = 0");
+  expect_refusal([&] { (void)lagrangian::scene::lyapunov_hard_spheres(s, over(1.0), 25); },
+                 "exponents must be in [0, 24]");
+  expect_refusal([&] { (void)lagrangian::scene::lyapunov_hard_spheres(gas(4, 0.0), over(1.0)); },
+                 "pair_restitution = 0");
   expect_refusal([&] { (void)lagrangian::scene::lyapunov_hard_spheres(s, over(1.0), 0, -1.0); }, "interval must be");
   expect_refusal([&] { (void)lagrangian::scene::lyapunov_hard_spheres(gas(120), over(1.0)); }, "at most 600 vectors");
-  expect_refusal([&] { (void)lagrangian::scene::sensitivities_hard_spheres(gas(120), over(1.0)); }, "at most 100 spheres");
+  expect_refusal([&] { (void)lagrangian::scene::sensitivities_hard_spheres(gas(120), over(1.0)); },
+                 "at most 100 spheres");
 }
 
 }  // namespace

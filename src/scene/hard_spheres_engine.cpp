@@ -80,7 +80,12 @@ struct Plane {
 class Engine {
  public:
   Engine(const HardSphereSystem& sys, const HardSphereOptions& opt, const HardSphereImpactObserver* on_impact)
-      : sys_(sys), opt_(opt), on_impact_(on_impact), t_end_(opt.t_end), now_(opt.t0), use_grid_(opt.broad_phase == BroadPhase::cell_grid) {
+      : sys_(sys),
+        opt_(opt),
+        on_impact_(on_impact),
+        t_end_(opt.t_end),
+        now_(opt.t0),
+        use_grid_(opt.broad_phase == BroadPhase::cell_grid) {
     const std::size_t n = sys.spheres.size();
     names_.reserve(n);
     for (std::size_t i = 0; i < n; ++i) names_.push_back(sphere_name(sys, i));
