@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "lagrangian/analysis/lyapunov.hpp"
@@ -42,6 +43,26 @@ HardSphereSystem gas(int n, double pair_e = 1.0, double box_e = 1.0) {
     h.mass = 1.0 + 0.25 * (i % 5);
     h.position = Eigen::Vector3d(0.15 + 0.2 * (i % m), 0.15 + 0.2 * ((i / m) % m), 0.15 + 0.2 * (i / (m * m)));
     h.velocity = Eigen::Vector3d(next(), next(), next()) * 2.0;
+    s.spheres.push_back(h);
+  }
+  s.pair_restitution = pair_e;
+  s.box_restitution = box_e;
+  return s;
+}
+
+/// Three spheres of radius 0.1 m, 1, 1.5 and 2 kg, in a box of 0.6 m:
+/// crowded enough for impacts between them every few tenths of a second.
+HardSphereSystem crowded(double pair_e = 1.0, double box_e = 1.0) {
+  HardSphereSystem s;
+  s.box_max = Eigen::Vector3d::Constant(0.6);
+  const Eigen::Vector3d at[3] = {{0.15, 0.15, 0.15}, {0.45, 0.2, 0.35}, {0.25, 0.45, 0.42}};
+  const Eigen::Vector3d v[3] = {{1.1, 0.7, -0.4}, {-0.8, 0.9, 0.6}, {0.5, -1.2, -0.7}};
+  for (int i = 0; i < 3; ++i) {
+    HardSphere h;
+    h.radius = 0.1;
+    h.mass = 1.0 + 0.5 * i;
+    h.position = at[i];
+    h.velocity = v[i];
     s.spheres.push_back(h);
   }
   s.pair_restitution = pair_e;
@@ -106,9 +127,8 @@ TEST(GasTangent, OneSphereInABoxHasTheClosedFormTransitionMatrix) {
 
 /// Largest |Φ − Φ_fd| over max |Φ|, Φ_fd by central differences of plain
 /// runs with step h along each of the 6N start coordinates.
-double against_differences(const HardSphereSystem& s, const HardSphereOptions& o, double h, int* impacts) {
+double against_differences(const HardSphereSystem& s, const HardSphereOptions& o, double h) {
   const lagrangian::SensitivityResult r = lagrangian::scene::sensitivities_hard_spheres(s, o);
-  *impacts = r.impacts;
   const Eigen::MatrixXd& phi = r.sensitivities.back();
   double worst = 0;
   for (int j = 0; j < phi.cols(); ++j) {
@@ -118,15 +138,57 @@ double against_differences(const HardSphereSystem& s, const HardSphereOptions& o
   return worst / phi.cwiseAbs().maxCoeff();
 }
 
-// Five spheres of unequal masses, elastic and inelastic: every column of the
-// transition matrix against central differences of the engine's own runs
-// (no impact changes order over ±h).
+/// Impacts of a plain run: between two spheres, and in all.
+std::pair<int, int> impacts(const HardSphereSystem& s, const HardSphereOptions& o) {
+  std::pair<int, int> count{0, 0};
+  lagrangian::run_hard_spheres(s, o, {}, [&](const lagrangian::HardSphereImpact& e) {
+    count.first += e.b >= 0 ? 1 : 0;
+    ++count.second;
+  });
+  return count;
+}
+
+// Twelve spheres of unequal masses, elastic and inelastic (e = 0.8 between
+// spheres, 0.9 at the walls), with impacts between spheres and at the
+// walls: every column of the transition matrix against central
+// differences of the engine's own runs (no impact changes order over ±h).
 TEST(GasTangent, TransitionMatrixMatchesCentralDifferences) {
-  int impacts = 0;
-  EXPECT_LT(against_differences(gas(5), over(1.5), 1e-6, &impacts), 1e-8);
-  EXPECT_GT(impacts, 8);
-  EXPECT_LT(against_differences(gas(5, 0.7, 0.85), over(1.5), 1e-6, &impacts), 1e-8);
-  EXPECT_GT(impacts, 8);
+  const HardSphereOptions o = over(1.2);
+  for (const HardSphereSystem& s : {gas(12), gas(12, 0.8, 0.9)}) {
+    const auto [pairs, all] = impacts(s, o);
+    EXPECT_GE(pairs, 3) << "e = " << s.pair_restitution;
+    EXPECT_GE(all - pairs, 10) << "e = " << s.pair_restitution;
+    EXPECT_LT(against_differences(s, o, 1e-7), 1e-7) << "e = " << s.pair_restitution;
+  }
+}
+
+// MEGNO against its definition evaluated by brute force: ℓ(t) = ln |Φ(t) e₁|
+// sampled every 0.2 ms (the transition matrix at the samples), Y(t) =
+// (2/t) ∫₀ᵗ s dℓ = 2 (ℓ(t) − (1/t) ∫₀ᵗ ℓ) and ⟨Y⟩ = (1/T) ∫₀ᵀ Y, the
+// integrals by the trapezoid rule (ℓ jumps at each impact: the samples'
+// spacing bounds the error).
+TEST(GasTangent, MegnoIsItsDefinition) {
+  for (const HardSphereSystem& s : {crowded(), crowded(0.8, 0.9)}) {
+    const double T = 4.0;
+    const auto [pairs, all] = impacts(s, over(T));
+    EXPECT_GE(pairs, 6) << "e = " << s.pair_restitution << ", " << all << " impacts";
+    const lagrangian::LyapunovResult r = lagrangian::scene::lyapunov_hard_spheres(s, over(T), 1);
+    const lagrangian::SensitivityResult phi = lagrangian::scene::sensitivities_hard_spheres(s, over(T, 2e-4));
+    double area = 0, mean = 0, y_last = 0, ell_last = 0;
+    for (std::size_t i = 1; i < phi.times.size(); ++i) {
+      const double t = phi.times[i], dt = t - phi.times[i - 1];
+      const double ell = std::log(phi.sensitivities[i].col(0).norm());
+      area += 0.5 * (ell + ell_last) * dt;
+      const double y = 2.0 * (ell - area / t);
+      mean += 0.5 * (y + y_last) * dt;
+      ell_last = ell;
+      y_last = y;
+    }
+    mean /= T;
+    EXPECT_GT(std::abs(y_last), 1.0) << "e = " << s.pair_restitution;
+    EXPECT_NEAR(r.megno, y_last, 2e-4 * std::abs(y_last)) << "e = " << s.pair_restitution;
+    EXPECT_NEAR(r.megno_mean, mean, 2e-4 * std::abs(mean)) << "e = " << s.pair_restitution;
+  }
 }
 
 // Liouville: each saltation matrix has determinant e², so the whole

@@ -78,17 +78,23 @@ class GasTangent {
   }
 
   /// ∫ ln |δx_c|² dt over [t1, t2] in closed form (the header): with
-  /// Q = C (u² + h²), u = τ + B/C, h² = (AC − B²)/C²,
+  /// Q = C (u² + h²), u = τ + B/C, h² = (A − B²/C)/C ≥ 1 (Q ≥ |δv|² = C),
   ///   ∫ ln Q dτ = Δ ln Q(τ1) + u2 ln(q2/q1) − 2Δ + 2h [atan(u2/h) − atan(u1/h)],
-  /// q = u² + h², Δ = τ2 − τ1, each difference formed without cancellation.
+  /// q = u² + h², Δ = τ2 − τ1, each difference formed without cancellation;
+  /// where Q changes by less than 1e-8 of itself over the flight (or the
+  /// scales leave double's range), Δ ln Q(τ1) + (B1 Δ² + C Δ³/3)/Q(τ1),
+  /// B1 = B + C τ1, whose error is below 1e-16 relative.
   double log_length2_integral(int c, double t1, double t2) const {
     const double d = t2 - t1, q_start = length2(c, t1);
     if (!(d > 0)) return 0.0;
     const double A = a_[c], B = b_[c], C = c_[c];
-    if (!(C > 0) || !std::isfinite(B / C)) return d * std::log(q_start);
-    const double h2 = std::max((A * C - B * B) / (C * C), 1.0);  // Q ≥ |δv|² = C, so h² ≥ 1
+    const double slope = B + C * (t1 - t_ref_);  // ½ dQ/dτ at τ1
+    const double series = d * std::log(q_start) + (slope * d * d + C * d * d * d / 3.0) / q_start;
+    if (!(C > 0) || 2.0 * std::abs(slope) * d + C * d * d <= 1e-8 * q_start) return series;
+    const double shift = B / C, h2 = std::max((A - B * shift) / C, 1.0);
+    if (!std::isfinite(shift) || !std::isfinite(h2)) return series;
     const double h = std::sqrt(h2);
-    const double u1 = (t1 - t_ref_) + B / C, u2 = (t2 - t_ref_) + B / C;
+    const double u1 = (t1 - t_ref_) + shift, u2 = (t2 - t_ref_) + shift;
     const double q1 = u1 * u1 + h2;
     return d * std::log(q_start) + u2 * std::log1p(d * (u1 + u2) / q1) - 2.0 * d +
            2.0 * h * std::atan2(d * h, h2 + u1 * u2);
@@ -211,18 +217,27 @@ class GasLyapunov {
     return w;
   }
 
-  /// ℓ(t) = ln |δx_1(t)| as if never renormalised.
-  double ell(double t) const { return 0.5 * std::log(tangent_.length2(0, t)) + offset_; }
+  /// ℓ(t) = ln |δx_1(t)| up to a constant: MEGNO takes only its changes
+  /// (∫ s dℓ), so the constant a renormalisation would add cancels.
+  double ell(double t) const { return 0.5 * std::log(tangent_.length2(0, t)); }
 
-  /// MEGNO over the flight from megno_t_ to t: ∫ s dℓ = [s ℓ] − ∫ ℓ ds
-  /// exactly, ⟨Y⟩ by the trapezoid rule between impacts.
+  /// I(t) = ∫₀ˢ s' dℓ after the flight from megno_t_ to t (no impact in
+  /// between): ∫ s dℓ = [s ℓ] − ∫ ℓ ds, exactly.
+  double integral_at(double t) const {
+    const double s1 = megno_t_ - t0_, s2 = t - t0_;
+    const double area = 0.5 * tangent_.log_length2_integral(0, megno_t_, t);
+    return integral_ + s2 * ell(t) - s1 * ell(megno_t_) - area;
+  }
+
+  /// MEGNO over the flight to t: Y = 2 I / s exactly, ⟨Y⟩'s integral by
+  /// Simpson's rule with Y at the flight's midpoint.
   void advance_megno(double t) {
     if (!(t > megno_t_)) return;
-    const double s1 = megno_t_ - t0_, s2 = t - t0_;
-    const double area = offset_ * (t - megno_t_) + 0.5 * tangent_.log_length2_integral(0, megno_t_, t);
-    integral_ += s2 * ell(t) - s1 * ell(megno_t_) - area;
+    const double s1 = megno_t_ - t0_, s2 = t - t0_, mid = 0.5 * (megno_t_ + t);
+    const double y_mid = 2.0 * integral_at(mid) / (mid - t0_);
+    integral_ = integral_at(t);
     const double y2 = 2.0 * integral_ / s2;
-    mean_integral_ += 0.5 * (y_ + y2) * (s2 - s1);
+    mean_integral_ += (s2 - s1) * (y_ + 4.0 * y_mid + y2) / 6.0;
     y_ = y2;
     megno_t_ = t;
   }
@@ -242,7 +257,6 @@ class GasLyapunov {
 
   /// Z = P W = Q R in (r, p); log R_jj summed, W ← P⁻¹ Q.
   void renormalise(double t) {
-    const double before = tangent_.length2(0, t);
     Eigen::MatrixXd& w = tangent_.at(t);
     const int n = tangent_.spheres(), k = tangent_.columns();
     Eigen::MatrixXd z = w;
@@ -257,7 +271,6 @@ class GasLyapunov {
     }
     for (int i = 0; i < n; ++i) w.middleRows(3 * n + 3 * i, 3) /= tangent_.mass(i);
     tangent_.restart(t);
-    offset_ += 0.5 * (std::log(before) - std::log(tangent_.length2(0, t)));
     const double gap = t - last_;
     if (renormalisations_ == 0 || gap < interval_min_) interval_min_ = gap;
     if (renormalisations_ == 0 || gap > interval_max_) interval_max_ = gap;
@@ -274,7 +287,7 @@ class GasLyapunov {
   double last_;  // time of the last renormalisation (s)
   int renormalisations_ = 0, impacts_ = 0;
   double interval_min_ = 0, interval_max_ = 0;
-  double offset_ = 0, megno_t_, integral_ = 0, y_ = 0, mean_integral_ = 0;
+  double megno_t_, integral_ = 0, y_ = 0, mean_integral_ = 0;
 };
 
 std::string number(double x) {

@@ -34,9 +34,9 @@
 /// in (r, v) has changed by more than a factor e since the last one, or
 /// after `interval` (0: T/100); the tangent vectors are brought to that
 /// time (their flights are exact), so no sample of the spheres is needed.
-/// MEGNO (lyapunov.hpp) of the first vector is integrated exactly between
-/// impacts: |δx_1(t)|² is a quadratic in t there, whose log has a closed-form
-/// integral.
+/// MEGNO (lyapunov.hpp) of the first vector: Y is exact, as |δx_1(t)|² is a
+/// quadratic in t between impacts, whose log has a closed-form integral;
+/// its mean ⟨Y⟩ is integrated by Simpson's rule over each flight.
 ///
 /// Cost: per impact O(k) for k vectors (two spheres' rows), per
 /// renormalisation O(N k²); the whole spectrum of N spheres has 6N
