@@ -192,6 +192,13 @@ class GasLyapunov {
   LyapunovResult finish(double t_end) {
     advance_megno(t_end);
     if (renormalisations_ == 0 || t_end > last_) renormalise(t_end);
+    for (double s : sums_)
+      if (!std::isfinite(s))
+        throw SimulationError("lyapunov: the gas's tangent vectors lost their independence (a zero or non-finite "
+                              "diagonal of R at a renormalisation); no exponents are reported",
+                              t_end);
+    if (!std::isfinite(y_) || !std::isfinite(mean_integral_))
+      throw SimulationError("lyapunov: MEGNO of the gas's first tangent vector is not finite", t_end);
     LyapunovResult r;
     const double T = t_end - t0_;
     for (double s : sums_) r.spectrum.push_back(s / T);
