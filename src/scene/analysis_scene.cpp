@@ -53,7 +53,6 @@ std::string model_phrase(const std::string& name) {
   return name;
 }
 
-
 /// f() with a scene error that names a key but no line (the registry's:
 /// parameters, initial state) placed at the key's line in the scene file.
 template <class F>

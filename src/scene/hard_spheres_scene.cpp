@@ -1,5 +1,5 @@
-// A scene of free-flying spheres as the event-driven engine's system
-// (particle_engine.hpp: hard_sphere_system()).
+// A scene of free-flying spheres as the event-driven engine's system and
+// run (particle_engine.hpp: hard_sphere_system(), hard_sphere_options()).
 
 #include <string>
 
@@ -20,6 +20,15 @@ HardSphereSystem hard_sphere_system(const Scene& scene) {
                          p.restitution});
   }
   return sys;
+}
+
+HardSphereOptions hard_sphere_options(const Scene& scene, const SimulationOptions& run) {
+  HardSphereOptions o;
+  o.t0 = run.t0;
+  o.t_end = run.t_end;
+  o.output_interval = run.output_interval;
+  o.max_recorded_events = static_cast<std::size_t>(scene.output.max_events);
+  return o;
 }
 
 }  // namespace lagrangian::scene::detail

@@ -77,6 +77,9 @@ bool event_driven_eligible(const Scene& scene);
 /// An event_driven_eligible() scene's bodies, box, contact planes and
 /// restitutions as the engine's HardSphereSystem (hard_spheres_scene.cpp).
 HardSphereSystem hard_sphere_system(const Scene& scene);
+/// The engine's run over `run`'s t0, t_end and output_interval (the scene's
+/// own run, or an analysis's), logging the scene's output.max_events impacts.
+HardSphereOptions hard_sphere_options(const Scene& scene, const SimulationOptions& run);
 
 /// Lyapunov exponents and MEGNO, and Floquet multipliers, of a particle
 /// scene's motion from its bodies' state at t0 (particle_tangent.cpp): its

@@ -455,10 +455,6 @@ class ParticleTangent {
   mutable lagrangian::detail::MinNormSolver solver_;
 };
 
-}  // namespace
-
-namespace {
-
 /// A gas scene with its spheres expanded, for the event-driven engine's
 /// tangent flow (scene/hard_spheres_tangent.hpp); OptionError for a gas
 /// that engine does not run (force effects, or engine = "ode").
@@ -474,22 +470,12 @@ Scene expanded_gas(const Scene& scene, const char* command) {
   return s;
 }
 
-/// The engine's run over the analysis's t0, t_end and output_interval.
-HardSphereOptions gas_run(const Scene& scene, const SimulationOptions& run) {
-  HardSphereOptions o;
-  o.t0 = run.t0;
-  o.t_end = run.t_end;
-  o.output_interval = run.output_interval;
-  o.max_recorded_events = static_cast<std::size_t>(scene.output.max_events);
-  return o;
-}
-
 }  // namespace
 
 LyapunovResult particle_lyapunov(const Scene& scene, const LyapunovOptions& options) {
   if (scene.gas) {
     const Scene gas = expanded_gas(scene, "lyapunov");
-    return lyapunov_hard_spheres(hard_sphere_system(gas), gas_run(gas, options.run), options.exponents,
+    return lyapunov_hard_spheres(hard_sphere_system(gas), hard_sphere_options(gas, options.run), options.exponents,
                                  options.interval);
   }
   require_tangent_flow_scene(scene, "lyapunov");
@@ -511,7 +497,7 @@ SensitivityResult particle_sensitivities(const Scene& scene, const SensitivityOp
                       "not parameters of its tangent flow)");
   if (scene.gas) {
     const Scene gas = expanded_gas(scene, "sensitivity");
-    return sensitivities_hard_spheres(hard_sphere_system(gas), gas_run(gas, options.run));
+    return sensitivities_hard_spheres(hard_sphere_system(gas), hard_sphere_options(gas, options.run));
   }
   const ParticleTangent tangent(scene);
   return lagrangian::detail::sensitivities(tangent.tangent_model(), tangent.q0(), tangent.qd0(), {}, {}, options);

@@ -97,11 +97,7 @@ std::string engine_of(const Scene& scene) {
 RunReport run_event_driven(const Scene& scene, CsvSink* csv, const detail::SampleTick& tick, std::vector<double>& q_final,
                            std::vector<double>& qd_final) {
   const HardSphereSystem sys = detail::hard_sphere_system(scene);
-  HardSphereOptions opt;
-  opt.t0 = scene.run.t0;
-  opt.t_end = scene.run.t_end;
-  opt.output_interval = scene.run.output_interval;
-  opt.max_recorded_events = static_cast<std::size_t>(scene.output.max_events);
+  const HardSphereOptions opt = detail::hard_sphere_options(scene, scene.run);
   const int n = static_cast<int>(sys.spheres.size());
   Sample<Dynamic> s;
   s.q.resize(3 * n);
