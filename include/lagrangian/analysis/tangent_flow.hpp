@@ -111,6 +111,8 @@ void require_tangent_flow_constraints(const M& model, const std::string& prefix)
 
 /// Largest number of coordinates state_jacobian() takes.
 inline constexpr int kMaxTangentFlowCoordinates = 6;
+static_assert(kMaxTangentFlowCoordinates == 6,
+              "src/analysis/tangent_solve.cpp compiles the tangent pass's linear algebra for n = 1 … 6");
 
 namespace detail {
 /// The number of the tangent pass of an n-coordinate model along K

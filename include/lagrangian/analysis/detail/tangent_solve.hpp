@@ -21,11 +21,9 @@
 
 #include <algorithm>
 #include <array>
-#include <sstream>
 #include <string>
 #include <vector>
 
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 
 #include "lagrangian/ad.hpp"
@@ -74,40 +72,61 @@ void along_directions(const Vec<double, n>& q, const Vec<double, n>& qd, const E
   }
 }
 
-/// The Cholesky factors of M; DynamicsError naming the state when M is not
-/// positive definite (relative to its largest diagonal factor).
+/// ∂M along the directions c = 0 … K − 1 of a tangent pass, as a callable
+/// that does not make the linear algebra below a template on it: M's
+/// derivative along direction c is at(c).
 template <int n>
-void factor_tangent_mass(Eigen::LLT<Mat<double, n>>& llt, const Mat<double, n>& mass, const Vec<double, n>& q,
-                         const Vec<double, n>& qd, double t) {
-  llt.compute(mass);
-  const double big = mass.cwiseAbs().maxCoeff();
-  bool positive = llt.info() == Eigen::Success && big > 0;
-  if (positive) {
-    const Vec<double, n> d = llt.matrixL().toDenseMatrix().diagonal();
-    positive = d.minCoeff() * d.minCoeff() >= singular_mass_tolerance * d.maxCoeff() * d.maxCoeff();
-  }
-  if (!positive) {
-    std::ostringstream os;
-    os.precision(17);
-    os << "tangent flow: the mass matrix M = d2L/dqd2 is singular or not positive definite at "
-       << describe_state(q, qd, t);
-    throw DynamicsError(os.str());
-  }
-}
+class MassDerivatives {
+ public:
+  /// Refers to `f` (f(c) returns ∂M along c), which must outlive this.
+  template <class F>
+  explicit MassDerivatives(const F& f)
+      : f_(&f), at_([](const void* g, int c) -> const Mat<double, n>& { return (*static_cast<const F*>(g))(c); }) {}
+  const Mat<double, n>& operator()(int c) const { return at_(f_, c); }
+
+ private:
+  const void* f_;
+  const Mat<double, n>& (*at_)(const void*, int);
+};
+
+/// The Cholesky factors L Lᵀ = M of a tangent pass's mass matrix, and
+/// solves with them. Compiled once per n = 1 … kMaxTangentFlowCoordinates
+/// (src/analysis/tangent_solve.cpp): a model's own file instantiates none
+/// of it.
+template <int n>
+class TangentCholesky {
+ public:
+  /// Factors M (its lower triangle); DynamicsError naming the state (q, q̇,
+  /// t) when M is not positive definite, relative to its largest diagonal
+  /// factor (singular_mass_tolerance).
+  void factor(const Mat<double, n>& mass, const Vec<double, n>& q, const Vec<double, n>& qd, double t);
+  /// x = M⁻¹ b for `columns` right-hand sides of n rows each, stored one
+  /// column after the other; x may be b.
+  void solve(const double* b, double* x, int columns = 1) const;
+
+ private:
+  Eigen::Matrix<double, n, n, n == 1 ? Eigen::ColMajor : Eigen::RowMajor> l_;  // L, lower triangle
+  Vec<double, n> inverse_;                                                     // 1 / L_ii
+};
+
+/// q̈ = M⁻¹ r₀ and (J V)_c = M⁻¹ (r_{c+1} − ∂M_c q̈) for c = 0 … k − 1, the
+/// derivative of M q̈ = r along direction c; r is n × (k + 1) and jv n × k,
+/// column-major; DynamicsError when M is not positive definite
+/// (TangentCholesky). Compiled once per n (src/analysis/tangent_solve.cpp),
+/// not once per model and width.
+template <int n>
+void solve_tangent_columns(const Mat<double, n>& mass, const double* r, int k, MassDerivatives<n> dmass,
+                           const Vec<double, n>& q, const Vec<double, n>& qd, double t, Vec<double, n>& qdd,
+                           double* jv);
 
 /// q̈ = M⁻¹ r and JV = M⁻¹ (dR − dM_c q̈)_c from M, r (column 0 of R) and
 /// their derivatives along the K directions (R's columns 1 … K, dmass(c)).
 template <int n, int K, class DMass>
-void solve_tangent(const Mat<double, n>& mass, const Eigen::Matrix<double, n, K + 1>& r, DMass&& dmass,
+void solve_tangent(const Mat<double, n>& mass, const Eigen::Matrix<double, n, K + 1>& r, const DMass& dmass,
                    const Vec<double, n>& q, const Vec<double, n>& qd, double t, Vec<double, n>& qdd,
                    Eigen::Matrix<double, n, K>& jv) {
-  Eigen::LLT<Mat<double, n>> llt;
-  factor_tangent_mass(llt, mass, q, qd, t);
-  qdd = llt.solve(r.col(0));
-  // M (J V)_c = (∂r V)_c − (∂M V)_c q̈, the derivative of M q̈ = r along direction c.
-  Eigen::Matrix<double, n, K> rhs;
-  for (int c = 0; c < K; ++c) rhs.col(c) = r.col(c + 1) - dmass(c) * qdd;
-  jv = llt.solve(rhs);
+  // One row or column-major: both store column c of an n-row matrix at c n.
+  solve_tangent_columns<n>(mass, r.data(), K, MassDerivatives<n>(dmass), q, qd, t, qdd, jv.data());
 }
 
 /// C (m × n) and γ of the holonomic rows, then the Pfaffian rows, of
@@ -237,9 +256,11 @@ void solve_constrained_tangent(const M& model, const Mat<double, n>& mass, const
     gamma[i] = gd[i].v;
     for (int k = 0; k < n; ++k) c(i, k) = cd(i, k).v;
   }
-  Eigen::LLT<Mat<double, n>> llt;
-  factor_tangent_mass(llt, mass, q, qd, t);
-  const CappedMatrix<double, n, mc, n, cap> minv_ct = llt.solve(c.transpose());
+  TangentCholesky<n> llt;
+  llt.factor(mass, q, qd, t);
+  // M⁻¹ Cᵀ, column by column (one row or column-major: column j at j n).
+  CappedMatrix<double, n, mc, n, cap> minv_ct = c.transpose();
+  llt.solve(minv_ct.data(), minv_ct.data(), m);
   const CappedMatrix<double, mc, mc, cap, cap> schur = c * minv_ct;
   MinNormSolver& solver = schur_solver<mc>(m);
   solver.factorize(schur.data());
@@ -247,7 +268,8 @@ void solve_constrained_tangent(const M& model, const Mat<double, n>& mass, const
   // sides of the two equations.
   const auto solve = [&](const Vec<double, n>& a, const Multipliers& b, Vec<double, n>& out,
                          Multipliers& multipliers) {
-    const Vec<double, n> free = llt.solve(a);
+    Vec<double, n> free;
+    llt.solve(a.data(), free.data());
     const Multipliers target = b - c * free;
     solver.solve(target.data(), multipliers.data());
     out = free + minv_ct * multipliers;
