@@ -22,6 +22,8 @@
 
 namespace {
 
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
 using lagrangian::DynamicsError;
 using lagrangian::Mat;
 using lagrangian::Vec;
@@ -29,39 +31,41 @@ using lagrangian::detail::solve_tangent;
 using lagrangian::detail::TangentCholesky;
 
 /// A symmetric positive definite n × n matrix with eigenvalues spread over
-/// `decades` decades, in a random orthonormal basis.
-template <int n>
-Mat<double, n> positive_definite(double decades, std::mt19937& rng) {
+/// `decades` decades, in a random orthonormal basis. The checks use Eigen's
+/// decompositions on run-time sizes only (compiled once for every n).
+MatrixXd positive_definite(int n, double decades, std::mt19937& rng) {
   std::normal_distribution<double> n01;
-  Mat<double, n> a;
+  MatrixXd a(n, n);
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) a(i, j) = n01(rng);
-  const Mat<double, n> basis = Eigen::HouseholderQR<Mat<double, n>>(a).householderQ();
-  Vec<double, n> spectrum;
+  const MatrixXd basis = Eigen::HouseholderQR<MatrixXd>(a).householderQ();
+  VectorXd spectrum(n);
   for (int i = 0; i < n; ++i) spectrum[i] = std::pow(10.0, -decades * i / std::max(1, n - 1));
-  Mat<double, n> m = basis * spectrum.asDiagonal() * basis.transpose();
+  const MatrixXd m = basis * spectrum.asDiagonal() * basis.transpose();
   return (m + m.transpose()) / 2;
 }
+
+MatrixXd lu_solve(const MatrixXd& m, const MatrixXd& b) { return Eigen::FullPivLU<MatrixXd>(m).solve(b); }
 
 template <int n>
 void solves_match_lu(int columns, double decades, std::mt19937& rng) {
   SCOPED_TRACE("n = " + std::to_string(n) + ", " + std::to_string(columns) + " columns, 1e" +
                std::to_string(static_cast<int>(decades)) + " condition");
-  const Mat<double, n> m = positive_definite<n>(decades, rng);
-  const Eigen::MatrixXd b = Eigen::MatrixXd::Random(n, columns);
+  const MatrixXd m = positive_definite(n, decades, rng);
+  const MatrixXd b = MatrixXd::Random(n, columns);
   TangentCholesky<n> llt;
   const Vec<double, n> zero = Vec<double, n>::Zero();
-  llt.factor(m, zero, zero, 0.0);
-  Eigen::MatrixXd x(n, columns);
+  llt.factor(Mat<double, n>(m), zero, zero, 0.0);
+  MatrixXd x(n, columns);
   llt.solve(b.data(), x.data(), columns);
-  const Eigen::MatrixXd expected = Eigen::FullPivLU<Eigen::MatrixXd>(Eigen::MatrixXd(m)).solve(b);
+  const MatrixXd expected = lu_solve(m, b);
   const double condition = std::pow(10.0, decades);
   EXPECT_LE((x - expected).norm(), 1e-14 * condition * expected.norm());
-  EXPECT_LE((Eigen::MatrixXd(m) * x - b).norm(), 1e-14 * m.norm() * x.norm());
+  EXPECT_LE((m * x - b).norm(), 1e-14 * m.norm() * x.norm());
   // In place: x may be b.
-  Eigen::MatrixXd in_place = b;
+  MatrixXd in_place = b;
   llt.solve(in_place.data(), in_place.data(), columns);
-  EXPECT_EQ(in_place, x);
+  EXPECT_TRUE(in_place == x);
 }
 
 template <int n>
@@ -87,30 +91,29 @@ void tangent_matches_differences(std::mt19937& rng) {
   SCOPED_TRACE("n = " + std::to_string(n) + ", K = " + std::to_string(K));
   // M's eigenvalues 1 … 0.1 and ∂M of norm about 0.1: M + s ∂M stays far
   // from singular over the differences' steps (s = ±1e-5).
-  const Mat<double, n> m = positive_definite<n>(1.0, rng);
-  Eigen::Matrix<double, n, K + 1> r = Eigen::Matrix<double, n, K + 1>::Random();
+  const MatrixXd m = positive_definite(n, 1.0, rng);
+  const MatrixXd r = MatrixXd::Random(n, K + 1);
   std::array<Mat<double, n>, K> dm;
   for (auto& d : dm) {
-    const Mat<double, n> a = Mat<double, n>::Random();
+    const MatrixXd a = MatrixXd::Random(n, n);
     d = 0.05 * (a + a.transpose());  // ∂M is symmetric, not definite
   }
   const auto dmass = [&](int c) -> const Mat<double, n>& { return dm[c]; };
   const Vec<double, n> q = Vec<double, n>::Constant(0.25), qd = Vec<double, n>::Constant(-0.5);
   Vec<double, n> qdd;
   Eigen::Matrix<double, n, K> jv;
-  solve_tangent<n, K>(m, r, dmass, q, qd, 1.5, qdd, jv);
-  const Eigen::FullPivLU<Mat<double, n>> lu(m);
-  EXPECT_LE((qdd - lu.solve(r.col(0))).norm(), 1e-13 * qdd.norm());
+  solve_tangent<n, K>(Mat<double, n>(m), Eigen::Matrix<double, n, K + 1>(r), dmass, q, qd, 1.5, qdd, jv);
+  const VectorXd qdd_lu = lu_solve(m, r.col(0));
+  EXPECT_LE((VectorXd(qdd) - qdd_lu).norm(), 1e-13 * qdd_lu.norm());
   const double h = 1e-5;
   for (int c = 0; c < K; ++c) {
-    const auto at = [&](double s) -> Vec<double, n> {
-      return Eigen::FullPivLU<Mat<double, n>>(m + s * dm[c]).solve(r.col(0) + s * r.col(c + 1));
-    };
+    const MatrixXd dmc = dm[c];
+    const VectorXd jvc = jv.col(c), rc = r.col(c + 1);
     // The defining equation M (J V)_c + ∂M_c q̈ = r_{c+1}, then the differences.
-    EXPECT_LE((m * jv.col(c) + dm[c] * qdd - r.col(c + 1)).norm(), 1e-14 * (1 + r.col(c + 1).norm()))
-        << "direction " << c;
-    const Vec<double, n> difference = (at(h) - at(-h)) / (2 * h);
-    EXPECT_LE((jv.col(c) - difference).norm(), 1e-8 * (1 + difference.norm())) << "direction " << c;
+    EXPECT_LE((m * jvc + dmc * VectorXd(qdd) - rc).norm(), 1e-14 * (1 + rc.norm())) << "direction " << c;
+    const auto at = [&](double s) -> VectorXd { return lu_solve(m + s * dmc, r.col(0) + s * rc); };
+    const VectorXd difference = (at(h) - at(-h)) / (2 * h);
+    EXPECT_LE((jvc - difference).norm(), 1e-8 * (1 + difference.norm())) << "direction " << c;
   }
 }
 
