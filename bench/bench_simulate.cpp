@@ -63,7 +63,7 @@ struct OutOfLineRhs {
 
 /// The oscillator with its q̈ = −(k/m) x supplied by the model.
 struct HandOscillator : lagrangian::models::HarmonicOscillator {
-  using HarmonicOscillator::HarmonicOscillator;
+  using lagrangian::models::HarmonicOscillator::BasicHarmonicOscillator;
   void accelerations(const lagrangian::Vec<double, 1>& q, const lagrangian::Vec<double, 1>&, double,
                      lagrangian::Vec<double, 1>& qdd) const {
     qdd[0] = -(k / m) * q[0];
