@@ -4,11 +4,16 @@
 // solves compiled once per n in src/analysis/tangent_solve.cpp) and the same
 // arithmetic with Eigen's fixed-size LLT, instantiated per model and width
 // (what the pass compiled before; the same singular-mass test). M changes on
-// every call. Usage: bench_tangent_solve [Google Benchmark flags]
+// every call. And the step every q̈ of a model with n > 2 coordinates
+// takes, M q̈ = rhs (factor and one solve, the singular-mass test included),
+// and a constrained model's M⁻¹ Cᵀ for c rows: MassCholesky
+// (mechanics/detail/mass_cholesky.hpp) against Eigen's LLT, fixed and
+// run-time size. Usage: bench_tangent_solve [Google Benchmark flags]
 #include <benchmark/benchmark.h>
 
 #include <array>
 #include <cmath>
+#include <type_traits>
 
 #include <Eigen/Cholesky>
 
@@ -82,6 +87,56 @@ LAGRANGIAN_BOTH(4, 8)
 LAGRANGIAN_BOTH(6, 1)
 LAGRANGIAN_BOTH(6, 12)
 #undef LAGRANGIAN_BOTH
+
+/// M q̈ = rhs and M X = Cᵀ (c columns) with the factors of M; N is n or
+/// Dynamic (the size then n).
+template <int N, int n, int c, bool eigen>
+void MassSolve(benchmark::State& state) {
+  const Mat<double, n> fixed = positive_definite<n>(0.1);
+  Mat<double, N> mass = fixed;
+  Vec<double, N> rhs = Vec<double, n>::Constant(0.3), qdd(n);
+  Eigen::Matrix<double, N, c> ct = Eigen::Matrix<double, n, c>::Constant(0.2), x(n, c);
+  std::conditional_t<eigen, Eigen::LLT<Mat<double, N>>, lagrangian::detail::MassCholesky<N>> llt;
+  if constexpr (!eigen) llt.resize(n);
+  for (auto _ : state) {
+    mass(0, 0) += 1e-12;
+    benchmark::DoNotOptimize(mass.data());
+    if constexpr (eigen) {
+      llt.compute(mass);
+      const auto d = llt.matrixLLT().diagonal();
+      if (llt.info() != Eigen::Success ||
+          d.minCoeff() * d.minCoeff() < lagrangian::singular_mass_tolerance * d.maxCoeff() * d.maxCoeff())
+        state.SkipWithError("not positive definite");
+      qdd = llt.solve(rhs);
+      if constexpr (c > 0) x = llt.solve(ct);
+    } else {
+      if (!llt.compute(mass, lagrangian::singular_mass_tolerance)) state.SkipWithError("not positive definite");
+      llt.solve(rhs.data(), qdd.data());
+      if constexpr (c > 0) {
+        x = ct;
+        llt.solve(x.data(), x.data(), c);
+      }
+    }
+    benchmark::DoNotOptimize(qdd.data());
+    benchmark::DoNotOptimize(x.data());
+  }
+}
+
+#define LAGRANGIAN_MASS(N, n, c)                 \
+  BENCHMARK(MassSolve<N, n, c, true>)->Name("EigenLlt<" #N ", " #n ", " #c ">");            \
+  BENCHMARK(MassSolve<N, n, c, false>)->Name("MassCholesky<" #N ", " #n ", " #c ">");
+LAGRANGIAN_MASS(3, 3, 0)
+LAGRANGIAN_MASS(4, 4, 0)
+LAGRANGIAN_MASS(6, 6, 0)
+LAGRANGIAN_MASS(10, 10, 0)
+LAGRANGIAN_MASS(20, 20, 0)
+LAGRANGIAN_MASS(40, 40, 0)
+LAGRANGIAN_MASS(-1, 10, 0)
+LAGRANGIAN_MASS(-1, 40, 0)
+LAGRANGIAN_MASS(4, 4, 1)
+LAGRANGIAN_MASS(6, 6, 3)
+LAGRANGIAN_MASS(9, 9, 6)
+#undef LAGRANGIAN_MASS
 
 }  // namespace
 

@@ -5,7 +5,11 @@
 // against Eigen's LU with full pivoting (an independent factorisation), by
 // the residual M x − b, and against central differences of
 // q̈(s) = (M + s ∂M)⁻¹ (r₀ + s r₁); a matrix that is not positive definite
-// must be refused with the state named.
+// must be refused with the state named. And MassCholesky
+// (mechanics/detail/mass_cholesky.hpp), the same factors for every q̈ of a
+// model with n > 2 coordinates, at run-time sizes and at fixed sizes
+// beyond those the library compiles (its long rows take a vectorised dot
+// product).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -27,6 +31,7 @@ using Eigen::VectorXd;
 using lagrangian::DynamicsError;
 using lagrangian::Mat;
 using lagrangian::Vec;
+using lagrangian::detail::MassCholesky;
 using lagrangian::detail::solve_tangent;
 using lagrangian::detail::TangentCholesky;
 
@@ -178,6 +183,62 @@ TEST(TangentCholesky, AcceptsAPositiveDefiniteMatrixWithinTheTolerance) {
   llt.solve(b, x);
   EXPECT_NEAR(x[0], 2.0, 1e-15);
   EXPECT_NEAR(x[1], 3.0, 1e-12);
+}
+
+/// MassCholesky<N> of an n × n M against LU with full pivoting, for a few
+/// column counts, through the pointer form and the matrix form.
+template <int N>
+void mass_cholesky_matches_lu(int n, std::mt19937& rng) {
+  SCOPED_TRACE("N = " + std::to_string(N) + ", n = " + std::to_string(n));
+  const MatrixXd m = positive_definite(n, 6.0, rng);
+  MassCholesky<N> llt;
+  ASSERT_TRUE(llt.compute(Mat<double, N>(m), lagrangian::singular_mass_tolerance));
+  EXPECT_EQ(llt.size(), n);
+  for (int columns : {1, 3, 4, 7}) {
+    const MatrixXd b = MatrixXd::Random(n, columns);
+    MatrixXd x = b;
+    llt.solve(x.data(), x.data(), columns);
+    const MatrixXd expected = lu_solve(m, b);
+    EXPECT_LE((x - expected).norm(), 1e-14 * 1e6 * expected.norm()) << columns << " columns";
+    EXPECT_LE((m * x - b).norm(), 1e-14 * m.norm() * x.norm()) << columns << " columns";
+  }
+  // The matrix form, one column and n × 2.
+  const Eigen::Matrix<double, N, 1> b1 = VectorXd::Random(n);
+  const Eigen::Matrix<double, N, 1> x1 = llt.solve(b1);
+  EXPECT_LE((m * VectorXd(x1) - VectorXd(b1)).norm(), 1e-14 * m.norm() * x1.norm());
+  const Eigen::Matrix<double, N, 2> b2 = MatrixXd::Random(n, 2);
+  const Eigen::Matrix<double, N, 2> x2 = llt.solve(b2.transpose().transpose());
+  EXPECT_LE((m * MatrixXd(x2) - MatrixXd(b2)).norm(), 1e-14 * m.norm() * x2.norm());
+}
+
+TEST(MassCholesky, SolvesAgreeWithFullPivotingLuAtRunTimeAndLargeFixedSizes) {
+  std::mt19937 rng(31);
+  for (int n : {1, 2, 3, 7, 8, 9, 12, 40}) mass_cholesky_matches_lu<Eigen::Dynamic>(n, rng);
+  mass_cholesky_matches_lu<1>(1, rng);
+  mass_cholesky_matches_lu<9>(9, rng);
+  mass_cholesky_matches_lu<12>(12, rng);  // not among the library's sizes: compiled here
+  mass_cholesky_matches_lu<40>(40, rng);
+}
+
+TEST(MassCholesky, RefusesWhatIsNotPositiveDefiniteAtRunTimeSize) {
+  const double tolerance = lagrangian::singular_mass_tolerance;
+  MassCholesky<Eigen::Dynamic> llt;
+  MatrixXd m = MatrixXd::Identity(10, 10);
+  EXPECT_TRUE(llt.compute(m, tolerance));
+  m(9, 9) = -1;
+  EXPECT_FALSE(llt.compute(m, tolerance)) << "indefinite";
+  m = MatrixXd::Identity(10, 10);
+  m(9, 0) = m(0, 9) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(llt.compute(m, tolerance)) << "not a number in the last row";
+  m = MatrixXd::Identity(10, 10);
+  m(4, 4) = 1e-15;
+  EXPECT_FALSE(llt.compute(m, tolerance)) << "pivot ratio 1e-15";
+  m(4, 4) = 1e-13;
+  EXPECT_TRUE(llt.compute(m, tolerance)) << "pivot ratio 1e-13";
+  // Singular in its last three rows: M_99 − (1 1) [2 1; 1 2]⁻¹ (1 1)ᵀ = 2/3 − 2/3 = 0.
+  m = MatrixXd::Identity(10, 10);
+  m.bottomRightCorner(3, 3) << 2, 1, 1, 1, 2, 1, 1, 1, 2.0 / 3.0;
+  EXPECT_FALSE(llt.compute(m, tolerance)) << "singular";
 }
 
 }  // namespace

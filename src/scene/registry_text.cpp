@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Cholesky>
+
 #include "lagrangian/text/tangent_flow.hpp"
 #include "lagrangian/text/text_model.hpp"
 #include "registry_entry.hpp"

@@ -55,7 +55,6 @@
 #include <string>
 #include <type_traits>
 
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 
 #include "lagrangian/ad.hpp"

@@ -78,10 +78,12 @@ void constrained_accelerations(const M& model, Workspace<coordinate_count_v<M>>&
       }
     }
   }
-  cw.minv_ct = ws.cholesky.solve(cs.jacobian.transpose());
+  cw.minv_ct = cs.jacobian.transpose();
+  ws.cholesky.solve(cw.minv_ct.data(), cw.minv_ct.data(), static_cast<int>(cw.minv_ct.cols()));
   cw.schur.noalias() = cs.jacobian * cw.minv_ct;
   cw.schur_solver.factorize(cw.schur.data());
-  cw.free = ws.cholesky.solve(ws.rhs);
+  cw.free = ws.rhs;
+  ws.cholesky.solve(cw.free.data(), cw.free.data());
   cw.target.noalias() -= cs.jacobian * cw.free;
   cw.schur_solver.solve(cw.target.data(), cw.multipliers.data());
   cw.constraint_forces.noalias() = cs.jacobian.transpose() * cw.multipliers;

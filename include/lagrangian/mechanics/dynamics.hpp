@@ -27,12 +27,12 @@
 #include <sstream>
 #include <string>
 
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 
 #include "lagrangian/ad.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/mechanics/detail/inlining.hpp"
+#include "lagrangian/mechanics/detail/mass_cholesky.hpp"
 #include "lagrangian/model.hpp"
 
 namespace lagrangian {
@@ -48,6 +48,7 @@ struct Workspace {
   explicit Workspace(int n) { resize(n); }
   void resize(int n) {
     mass.resize(n, n);
+    cholesky.resize(n);
     for (auto* v : {&momenta, &dL_dq, &mixed, &forces, &rhs, &accelerations, &scratch_q, &scratch_qd, &scratch_qdd})
       v->resize(n);
   }
@@ -60,7 +61,7 @@ struct Workspace {
   Vec<double, N> rhs;                 ///< ∂L/∂q − mixed + Q
   Vec<double, N> accelerations;       ///< q̈ = M⁻¹ rhs (from the reference-returning accelerations())
   double lagrangian = 0;              ///< L
-  Eigen::LLT<Mat<double, N>> cholesky;  ///< factorisation of M (n > 2, and constrained models)
+  detail::MassCholesky<N> cholesky;     ///< factorisation of M (n > 2, and constrained models)
   Vec<double, N> scratch_q, scratch_qd, scratch_qdd;  ///< buffers for run-time sized right-hand sides
 };
 
@@ -68,7 +69,8 @@ struct Workspace {
 /// the Cholesky pivots d_i (M = L D Lᵀ, L unit lower triangular),
 /// min d / max d < 1e-14. A diagonal M (its pivots are the diagonal) is
 /// divided out and systems with n ≤ 2 are solved in closed form, with the
-/// same criterion; larger ones with a fixed-size Eigen LLT.
+/// same criterion; larger ones with the Cholesky factors L Lᵀ = M
+/// (d_i = L_ii²).
 inline constexpr double singular_mass_tolerance = 1e-14;
 
 namespace detail {
@@ -342,15 +344,7 @@ template <int N>
 /// min d / max d ≥ singular_mass_tolerance.
 template <int N>
 void factor_mass_matrix(Workspace<N>& ws, const Vec<double, N>& q, const Vec<double, N>& qd, double t) {
-  ws.cholesky.compute(ws.mass);
-  bool ok = ws.cholesky.info() == Eigen::Success;
-  if (ok) {
-    const auto d = ws.cholesky.matrixLLT().diagonal();
-    const double lo = d.minCoeff();
-    const double hi = d.maxCoeff();
-    ok = std::isfinite(lo) && std::isfinite(hi) && lo > 0 && (lo * lo) >= singular_mass_tolerance * (hi * hi);
-  }
-  if (!ok) singular_mass_failure(ws, q, qd, t);
+  if (!ws.cholesky.compute(ws.mass, singular_mass_tolerance)) singular_mass_failure(ws, q, qd, t);
 }
 
 }  // namespace detail
@@ -440,11 +434,12 @@ LAGRANGIAN_ALWAYS_INLINE void free_accelerations(const M& model, Workspace<coord
   } else {
     if constexpr (n == Dynamic) {
       // Cramer's rule for a run-time size of 2 too (a text model's double
-      // pendulum): the dynamic-size LLT costs about ten times as much.
+      // pendulum), as for a fixed one.
       if (ws.mass.rows() == 2) return solve_2x2(ws.mass, checked_determinant_2x2(ws, q, qd, t), ws.rhs, out);
     }
     detail::factor_mass_matrix(ws, q, qd, t);
-    out = ws.cholesky.solve(ws.rhs);
+    if constexpr (n == Dynamic) out.resize(ws.rhs.size());  // (nothing allocated when it has that size)
+    ws.cholesky.solve(ws.rhs.data(), out.data());
   }
 }
 }  // namespace detail

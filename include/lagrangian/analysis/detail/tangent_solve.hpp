@@ -29,6 +29,7 @@
 #include "lagrangian/ad.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/mechanics/constraint_counts.hpp"
+#include "lagrangian/mechanics/detail/mass_cholesky.hpp"
 #include "lagrangian/mechanics/detail/min_norm_solver.hpp"
 #include "lagrangian/mechanics/dynamics.hpp"
 #include "lagrangian/model.hpp"
@@ -89,10 +90,10 @@ class MassDerivatives {
   const Mat<double, n>& (*at_)(const void*, int);
 };
 
-/// The Cholesky factors L Lᵀ = M of a tangent pass's mass matrix, and
-/// solves with them. Compiled once per n = 1 … kMaxTangentFlowCoordinates
-/// (src/analysis/tangent_solve.cpp): a model's own file instantiates none
-/// of it.
+/// The Cholesky factors L Lᵀ = M of a tangent pass's mass matrix
+/// (MassCholesky), and solves with them. Compiled once per n = 1 …
+/// kMaxTangentFlowCoordinates (src/analysis/tangent_solve.cpp): a model's
+/// own file instantiates none of it.
 template <int n>
 class TangentCholesky {
  public:
@@ -102,11 +103,10 @@ class TangentCholesky {
   void factor(const Mat<double, n>& mass, const Vec<double, n>& q, const Vec<double, n>& qd, double t);
   /// x = M⁻¹ b for `columns` right-hand sides of n rows each, stored one
   /// column after the other; x may be b.
-  void solve(const double* b, double* x, int columns = 1) const;
+  void solve(const double* b, double* x, int columns = 1) const { llt_.solve(b, x, columns); }
 
  private:
-  Eigen::Matrix<double, n, n, n == 1 ? Eigen::ColMajor : Eigen::RowMajor> l_;  // L, lower triangle
-  Vec<double, n> inverse_;                                                     // 1 / L_ii
+  MassCholesky<n> llt_;
 };
 
 /// q̈ = M⁻¹ r₀ and (J V)_c = M⁻¹ (r_{c+1} − ∂M_c q̈) for c = 0 … k − 1, the

@@ -26,6 +26,7 @@
 #include <optional>
 #include <vector>
 
+#include <Eigen/Cholesky>
 #include <nlopt.h>
 
 #include "lagrangian/mechanics/properties.hpp"

@@ -6,8 +6,6 @@
 #include <string>
 #include <utility>
 
-#include <Eigen/Cholesky>
-
 #include "lagrangian/mechanics/dynamics.hpp"
 #include "lagrangian/errors.hpp"
 #include "lagrangian/model.hpp"
@@ -84,7 +82,7 @@ class ConstantMassAccelerations {
     } else if constexpr (n == 2) {
       solve_2x2(mass_, det_, ws.rhs, out);
     } else {
-      out = llt_.solve(ws.rhs);
+      llt_.solve(ws.rhs.data(), out.data());
     }
   }
 
@@ -118,7 +116,7 @@ class ConstantMassAccelerations {
   bool diagonal_ = false;
   Mat<double, n> mass_;             // M
   double det_ = 0;                  // det M (n = 2, not diagonal)
-  Eigen::LLT<Mat<double, n>> llt_;  // n > 2, not diagonal
+  MassCholesky<n> llt_;             // n > 2, not diagonal
 };
 
 }  // namespace lagrangian::detail
