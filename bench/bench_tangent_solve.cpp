@@ -122,8 +122,8 @@ void MassSolve(benchmark::State& state) {
   }
 }
 
-#define LAGRANGIAN_MASS(N, n, c)                 \
-  BENCHMARK(MassSolve<N, n, c, true>)->Name("EigenLlt<" #N ", " #n ", " #c ">");            \
+#define LAGRANGIAN_MASS(N, n, c)                                                \
+  BENCHMARK(MassSolve<N, n, c, true>)->Name("EigenLlt<" #N ", " #n ", " #c ">"); \
   BENCHMARK(MassSolve<N, n, c, false>)->Name("MassCholesky<" #N ", " #n ", " #c ">");
 LAGRANGIAN_MASS(3, 3, 0)
 LAGRANGIAN_MASS(4, 4, 0)

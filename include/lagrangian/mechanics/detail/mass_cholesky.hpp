@@ -94,13 +94,13 @@ bool MassCholesky<N>::compute(const Mat<double, N>& mass, double tolerance) {
 
 template <int N>
 void MassCholesky<N>::solve(const double* b, double* x, int columns) const {
-  // L y = b, then Lᵀ x = y, W columns at a time: x is written only in the
-  // second sweep, so it may be b. l_ holds L's rows, inverse_ 1 / L_ii.
+  // L y = b, then Lᵀ x = y. Four columns at a time through a local block
+  // (fixed sizes up to 16), the others one at a time in x's own storage;
+  // either way b_i is read before x_i is written, so x may be b. l_ holds
+  // L's rows, inverse_ 1 / L_ii.
   const int n = size();
   constexpr int cap = N == Dynamic ? 1 : N;
   const auto sweep = [&]<int W>(const double* bw, double* xw) {
-    // y in x's storage for one column (x may be b: y_i replaces b_i after
-    // b_i is read); W columns in a local block of fixed capacity, or x.
     if constexpr (W == 1) {
       for (int i = 0; i < n; ++i) xw[i] = (bw[i] - row_dot(&l_(i, 0), xw, i)) * inverse_[i];
       for (int i = n - 1; i >= 0; --i) {
@@ -110,7 +110,7 @@ void MassCholesky<N>::solve(const double* b, double* x, int columns) const {
         for (int k = 0; k < i; ++k) xw[k] -= li[k] * xi;
       }
     } else {
-      double y[cap][W];  // (fixed sizes only: see the loop below)
+      double y[cap][W];
       for (int i = 0; i < n; ++i) {
         double s[W];
         for (int w = 0; w < W; ++w) s[w] = bw[w * n + i];
