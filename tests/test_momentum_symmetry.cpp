@@ -10,6 +10,7 @@
 #include <string>
 
 #include "lagrangian/integrate/detail/momentum_symmetry.hpp"
+#include "lagrangian/integrate/detail/point_momenta_monitor.hpp"
 #include "lagrangian/lagrangian.hpp"
 #include "lagrangian/models/constrained.hpp"
 #include "lagrangian/models/impacts.hpp"
@@ -77,9 +78,44 @@ TEST(MomentumSymmetry, AFloorConservesLzButNotPz) {
 }
 
 TEST(MomentumSymmetry, DriftIsOverTheConservedComponentsOnly) {
-  EXPECT_DOUBLE_EQ(detail::conserved_drift({1, 2, 30}, {1, 6, -70}, {true, true, false}), 4.0);
-  EXPECT_DOUBLE_EQ(detail::conserved_drift({1, 2, 30}, {4, 6, -70}, {true, true, false}), 5.0);
-  EXPECT_EQ(detail::conserved_drift({1, 2, 30}, {4, 6, -70}, {false, false, false}), 0.0);
+  // One unit mass at the origin (L = 0), P sampled three times; x and y of P
+  // conserved, z not, no component of L.
+  RunReport r;
+  r.linear_momentum_conserved = {true, true, false};
+  r.angular_momentum_conserved = {false, false, false};
+  detail::PointMomenta momenta({0.0, 0.0, 0.0});
+  const double origin[3] = {0, 0, 0};
+  auto sample = [&](const std::array<double, 3>& v) {
+    momenta.clear();
+    momenta.add(1.0, origin, v.data());
+    momenta.record(r);
+  };
+  sample({1, 6, -70});
+  EXPECT_EQ(r.linear_momentum_initial, (std::array<double, 3>{1, 6, -70}));
+  EXPECT_EQ(r.linear_momentum_drift_final, 0.0);
+  sample({1, 2, 30});  // |(0, −4)|, z ignored
+  EXPECT_DOUBLE_EQ(r.linear_momentum_drift_final, 4.0);
+  sample({4, 2, 30});  // |(3, −4)|
+  EXPECT_DOUBLE_EQ(r.linear_momentum_drift_final, 5.0);
+  sample({1, 7, 0});  // |(0, 1)|: the final drift falls, the largest stays
+  EXPECT_DOUBLE_EQ(r.linear_momentum_drift_final, 1.0);
+  EXPECT_DOUBLE_EQ(r.linear_momentum_drift_max, 5.0);
+  EXPECT_EQ(r.angular_momentum_drift_max, 0.0);
+
+  // A point off the origin: L = r × m v changes, but no component of L is
+  // conserved, so no drift is reported.
+  RunReport r2;
+  r2.linear_momentum_conserved = r2.angular_momentum_conserved = {false, false, false};
+  detail::PointMomenta off({0.0, 0.0, 0.0});
+  const double at[3] = {1, 2, 3};
+  for (const std::array<double, 3>& v : {std::array<double, 3>{1, 0, 0}, std::array<double, 3>{0, 5, -2}}) {
+    off.clear();
+    off.add(2.0, at, v.data());
+    off.record(r2);
+  }
+  EXPECT_EQ(r2.linear_momentum_drift_max, 0.0);
+  EXPECT_EQ(r2.angular_momentum_drift_max, 0.0);
+  EXPECT_NE(off.angular()[0], 0.0);
 }
 
 SimulationOptions options(double t_end) {

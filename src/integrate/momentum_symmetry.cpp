@@ -73,12 +73,4 @@ void for_each_probe_state(const double* x0, int m, double t0, double t_end,
   }
 }
 
-double conserved_drift(const std::array<double, 3>& v, const std::array<double, 3>& v0,
-                       const std::array<bool, 3>& conserved) {
-  double s = 0;
-  for (std::size_t k = 0; k < 3; ++k)
-    if (conserved[k]) s += (v[k] - v0[k]) * (v[k] - v0[k]);
-  return std::sqrt(s);
-}
-
 }  // namespace lagrangian::detail

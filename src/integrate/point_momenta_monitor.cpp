@@ -1,9 +1,6 @@
 #include "lagrangian/integrate/detail/point_momenta_monitor.hpp"
 
-#include <algorithm>
 #include <cmath>
-
-#include "lagrangian/integrate/detail/momentum_symmetry.hpp"
 
 namespace lagrangian::detail {
 
@@ -13,18 +10,20 @@ void PointMomenta::add_scales(double mass, const double* d, const double* v) {
   l_scale_ += std::abs(mass) * std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) * speed;
 }
 
-void PointMomenta::record(RunReport& report) {
-  if (!started_) {
-    started_ = true;
-    report.has_particles = true;
-    report.linear_momentum_initial = P_;
-    report.angular_momentum_initial = L_;
+void PointMomenta::start(RunReport& report) {
+  started_ = true;
+  report.has_particles = true;
+  report.linear_momentum_initial = P_;
+  report.angular_momentum_initial = L_;
+  P0_ = P_;
+  L0_ = L_;
+  for (std::size_t k = 0; k < 3; ++k) {
+    wp_[k] = report.linear_momentum_conserved[k] ? 1.0 : 0.0;
+    wl_[k] = report.angular_momentum_conserved[k] ? 1.0 : 0.0;
   }
-  report.linear_momentum_drift_final = conserved_drift(P_, report.linear_momentum_initial, report.linear_momentum_conserved);
-  report.angular_momentum_drift_final =
-      conserved_drift(L_, report.angular_momentum_initial, report.angular_momentum_conserved);
-  report.linear_momentum_drift_max = std::max(report.linear_momentum_drift_max, report.linear_momentum_drift_final);
-  report.angular_momentum_drift_max = std::max(report.angular_momentum_drift_max, report.angular_momentum_drift_final);
+}
+
+void PointMomenta::record_scales(RunReport& report) {
   // The scales at t0: a run whose error flings the bodies off would grow a
   // running maximum with its own error. Zero at t0 (all at rest): the first
   // nonzero value met.

@@ -243,7 +243,7 @@ class ParticleSystem final : public lagrangian::System {
   void start(double* x, double t0) override {
     rep_.conservative = !model_.dissipative();
     const double T0 = model_.kinetic(x), V0 = model_.potential(x);
-    energy_.start(rep_, T0 + V0, T0, V0);  // h = T + V: particles in fixed surroundings
+    energy_.start_h_is_total(rep_, T0, V0);  // h = T + V: particles in fixed surroundings
     rep_.has_particles = true;
     probe_momentum_symmetry(x, t0);
     rep_.constrained = model_.fixed_rows() > 0;
@@ -285,13 +285,15 @@ class ParticleSystem final : public lagrangian::System {
     }
     const double T = model_.kinetic(x), V = model_.potential(x), E = T + V;
     if (!std::isfinite(E)) lagrangian::detail::throw_non_finite_energy(t, E, x, model_.dim());
-    energy_.sample(rep_, t, E, T, V);
+    energy_.sample_h_is_total(rep_, t, T, V);
     // P and L about the origin (the point the symmetry probe judges them about).
     momenta_.clear();
     const int dim = model_.dim();
     for (int i = 0; i < model_.bodies(); ++i) momenta_.add(model_.mass()[static_cast<std::size_t>(i)], x + 3 * i, x + dim + 3 * i);
     momenta_.record(rep_);
-    for (int i = 0; i < dim; ++i) rep_.coordinate_scale = std::max(rep_.coordinate_scale, std::abs(x[i]));
+    double scale = rep_.coordinate_scale;
+    for (int i = 0; i < dim; ++i) scale = std::max(scale, std::abs(x[i]));
+    rep_.coordinate_scale = scale;
     if (rep_.constrained && !model_.rows().empty()) {
       rep_.constraints.min_rank = std::min(rep_.constraints.min_rank, rank(x));
       record_residuals(x);

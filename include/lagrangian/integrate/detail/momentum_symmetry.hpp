@@ -56,9 +56,4 @@ class MomentumSymmetry {
 void for_each_probe_state(const double* x0, int m, double t0, double t_end,
                           FunctionRef<void(const double*, double)> probe);
 
-/// The largest change of the conserved components of a momentum vector:
-/// |v − v0| over the components whose flag is set (0 when none is).
-double conserved_drift(const std::array<double, 3>& v, const std::array<double, 3>& v0,
-                       const std::array<bool, 3>& conserved);
-
 }  // namespace lagrangian::detail
