@@ -9,7 +9,7 @@ namespace lagrangian::detail {
 
 void EnergyMonitor::start(RunReport& report, double h0) {
   pending_.clear();
-  total_ = h_is_total_ = false;
+  total_ = false;
   h0_ = h_last_ = h0;
   h_drift_ = e_drift_ = h_differs_ = 0;
   scale_ = EnergyScale();
@@ -28,11 +28,6 @@ void EnergyMonitor::start(RunReport& report, double h0, double kinetic0, double 
   rescale(report);
 }
 
-void EnergyMonitor::start_h_is_total(RunReport& report, double kinetic0, double potential0) {
-  start(report, kinetic0 + potential0, kinetic0, potential0);
-  h_is_total_ = true;
-}
-
 void EnergyMonitor::shift(double t, double dh, double dE) { pending_.push_back({t, dh, dE}); }
 
 void EnergyMonitor::apply_shifts(double t) {
@@ -46,10 +41,6 @@ void EnergyMonitor::apply_shifts(double t) {
 
 void EnergyMonitor::finish(RunReport& report, double t) {
   apply_shifts(t);
-  if (h_is_total_) {
-    e0_ = h0_;
-    e_last_ = h_last_;
-  }
   report.energy_final = h_last_;
   report.energy_drift_final = std::abs(h_last_ - h0_) / report.energy_scale;
   if (total_) {

@@ -15,8 +15,6 @@ void PointMomenta::start(RunReport& report) {
   report.has_particles = true;
   report.linear_momentum_initial = P_;
   report.angular_momentum_initial = L_;
-  P0_ = P_;
-  L0_ = L_;
   for (std::size_t k = 0; k < 3; ++k) {
     wp_[k] = report.linear_momentum_conserved[k] ? 1.0 : 0.0;
     wl_[k] = report.angular_momentum_conserved[k] ? 1.0 : 0.0;

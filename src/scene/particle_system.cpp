@@ -243,7 +243,7 @@ class ParticleSystem final : public lagrangian::System {
   void start(double* x, double t0) override {
     rep_.conservative = !model_.dissipative();
     const double T0 = model_.kinetic(x), V0 = model_.potential(x);
-    energy_.start_h_is_total(rep_, T0, V0);  // h = T + V: particles in fixed surroundings
+    energy_.start(rep_, T0 + V0, T0, V0);  // h = T + V: particles in fixed surroundings
     rep_.has_particles = true;
     probe_momentum_symmetry(x, t0);
     rep_.constrained = model_.fixed_rows() > 0;

@@ -43,9 +43,6 @@ class EnergyMonitor {
   void start(RunReport& report, double h0);
   /// A run starting with h₀, T₀ and V₀ (J); E = T + V watched too.
   void start(RunReport& report, double h0, double kinetic0, double potential0);
-  /// A run whose h is E = T + V (particles in fixed surroundings), starting
-  /// with T₀ and V₀ (J): both drifts are one, watched once.
-  void start_h_is_total(RunReport& report, double kinetic0, double potential0);
   /// An impact at t changed h by dh and E by dE (J; an impulse leaves V as
   /// it is, so dE = ΔT).
   void shift(double t, double dh, double dE);
@@ -69,15 +66,16 @@ class EnergyMonitor {
     h_differs_ = std::max(h_differs_, std::abs(e_last_ - h));
     rescale(report);
   }
-  /// A sample at t of a run started with start_h_is_total: T and V (J).
-  /// The scale meets |T| + |V| alone, never less than |h|.
+  /// A sample at t of a run whose h is E = T + V (particles in fixed
+  /// surroundings; started with h₀ = T₀ + V₀ and shifted with dh = dE): T
+  /// and V (J). The two drifts are one, computed once; the scale meets
+  /// |T| + |V| alone, never less than |h|.
   void sample_h_is_total(RunReport& report, double t, double kinetic, double potential) {
     if (!pending_.empty()) apply_shifts(t);
-    h_last_ = kinetic + potential;
-    h_drift_ = std::max(h_drift_, std::abs(h_last_ - h0_));
+    h_last_ = e_last_ = kinetic + potential;
+    h_drift_ = e_drift_ = std::max(h_drift_, std::abs(h_last_ - h0_));
     scale_.meet(kinetic, potential);
-    report.energy_scale = scale_.value();
-    report.energy_drift_max = report.total_energy_drift_max = h_drift_ / report.energy_scale;
+    rescale(report);
   }
   /// The run ended at t: the final drifts, the final energies, and whether
   /// E equalled h at every sample (to 1e-9 of the scale).
@@ -97,7 +95,6 @@ class EnergyMonitor {
   };
   std::vector<Shift> pending_;
   bool total_ = false;
-  bool h_is_total_ = false;  // E is h: e0_, e_last_ and e_drift_ are h's
   double h0_ = 0, e0_ = 0, h_last_ = 0, e_last_ = 0;
   double h_drift_ = 0, e_drift_ = 0, h_differs_ = 0;  // J
   EnergyScale scale_;

@@ -52,7 +52,8 @@ class PointMomenta {
     // rest 0): the drifts of this sample.
     double sp = 0, sl = 0;
     for (std::size_t k = 0; k < 3; ++k) {
-      const double dp = P_[k] - P0_[k], dl = L_[k] - L0_[k];
+      const double dp = P_[k] - report.linear_momentum_initial[k];
+      const double dl = L_[k] - report.angular_momentum_initial[k];
       sp += wp_[k] * (dp * dp);
       sl += wl_[k] * (dl * dl);
     }
@@ -73,7 +74,6 @@ class PointMomenta {
   void record_scales(RunReport& report);
   std::array<double, 3> r0_;
   std::array<double, 3> P_{}, L_{};
-  std::array<double, 3> P0_{}, L0_{};  // the first sample's
   std::array<double, 3> wp_{}, wl_{};  // 1 for a conserved component, 0 for the rest
   double p_scale_ = 0, l_scale_ = 0;  // Σ m |v|, Σ m |r − r0| |v| of this sample
   bool started_ = false;
