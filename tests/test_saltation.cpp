@@ -4,14 +4,16 @@
 // central differences of simulate() for a ball on a tilted plane and for
 // two spheres (a direct and an oblique impact); Liouville across impacts
 // (the exponents' sum gains 2 ln e per bounce), the monodromy matrix of an
-// elastic bounce, and the refusals (a contact coming to rest, two contacts
-// at one instant). Parameter columns across impacts: test_impact_sensitivity.
+// elastic bounce, contacts coming to rest (the Zeno rule, a plastic impact)
+// against closed forms, and the refusals (a parameter's column through a
+// rest, two contacts at one instant). Parameter columns across impacts: test_impact_sensitivity.
 #include <gtest/gtest.h>
 
 #include <array>
 #include <cmath>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "lagrangian/analysis/floquet.hpp"
@@ -30,7 +32,9 @@ namespace {
 namespace lm = lagrangian::models;
 using lagrangian::Vec;
 
-lagrangian::SensitivityOptions tight(double t_end) { return lagrangian_test::sensitivity_options(t_end); }
+lagrangian::SensitivityOptions tight(double t_end, std::vector<std::string> parameters = {}) {
+  return lagrangian_test::sensitivity_options(t_end, std::move(parameters));
+}
 
 /// Free flight of a ball over Δ seconds: x ↦ (q + Δ q̇, q̇) (gravity
 /// enters only q̈, which does not depend on the state).
@@ -209,38 +213,97 @@ TEST(Saltation, ElasticBounceMonodromyMatchesItsClosedForm) {
   EXPECT_LT(std::abs(r.q[2] - (R + h)), 1e-12);
 }
 
-// A ball with e = 0.5 comes to rest after 1.35 s (its bounces' times sum
-// to 3 τ1): a tangent run past that is refused where a plain run's Zeno
-// rule lets the contact rest (an approach below zeno_speed_ratio of the
-// fastest, the floor pressing), not integrated through ever-shorter
-// flights.
-TEST(Saltation, ContactComingToRestStopsTheRun) {
+// A ball with e = 0.5 dropped from 1 m comes to rest after 3 τ1 = 1.35 s
+// (its bounces' times sum to that): the tangent run rests it where a plain
+// run's Zeno rule does (the gap held as a row, detail::HoldingContacts) and
+// goes on. On the floor it slides at 0.3 m/s: x(3 s) = 0.9 m, z = R. The
+// rest removes the two directions of the gap (every neighbouring start
+// comes to rest on the floor): two exponents −∞. The other four are those
+// of free sliding along x and y, the shear [[1, t/m], [0, 1]] in (x, p_x),
+// whose canonical start vectors keep length 1: exponents 0.
+TEST(Saltation, BallComingToRestOnTheFloorSlidesOnWithTwoDirectionsRemoved) {
   const lm::BallAndPlane ball(1.0, 0.1, 0.5);
   lagrangian::State<3> s;
   s.q << 0.0, 0.0, 1.1;
+  s.qd << 0.3, 0.0, 0.0;
   lagrangian::LyapunovOptions o;
   o.run.t_end = 3.0;
+  const lagrangian::LyapunovResult r = lagrangian::lyapunov_spectrum(ball, s, o);
+  EXPECT_EQ(r.rests, 1);
+  EXPECT_EQ(r.releases, 0);
+  EXPECT_GT(r.impacts, 10);
+  EXPECT_EQ(r.t_final, 3.0);
+  EXPECT_NEAR(r.q_final[0], 0.9, 1e-9);
+  EXPECT_NEAR(r.q_final[2], 0.1, 1e-9);
+  EXPECT_NEAR(r.qd_final[2], 0.0, 1e-9);
+  ASSERT_EQ(r.spectrum.size(), 6u);
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(r.spectrum[static_cast<std::size_t>(i)], 0.0, 1e-9) << i;
+  EXPECT_EQ(r.spectrum[4], -HUGE_VAL);
+  EXPECT_EQ(r.spectrum[5], -HUGE_VAL);
+  // Parameter columns do not cross a rest: refused at the rest.
   try {
-    lagrangian::lyapunov_spectrum(ball, s, o);
-    FAIL() << "a ball at rest on the floor was carried through";
+    lagrangian::sensitivities(ball, s, tight(3.0, {"g"}));
+    FAIL() << "a parameter's column was carried through a rest";
   } catch (const lagrangian::SimulationError& e) {
-    EXPECT_NE(std::string(e.what()).find("contact 'ball-plane' comes to rest"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("the plain run's Zeno rule"), std::string::npos) << e.what();
-    // At the accumulation of the bounces, 3 τ1 = 3 √(2 m / g) = 1.3546 s.
+    EXPECT_NE(std::string(e.what()).find("a parameter's column through a resting contact is not derived"),
+              std::string::npos)
+        << e.what();
     EXPECT_NEAR(e.time(), 3 * std::sqrt(2 / 9.81), 1e-4);
   }
-  // A plastic impact (e = 0): the spheres stick, and a plain run holds the
-  // contact shut from there.
+}
+
+// The C++ twin of TextSaltation.BallComingToRestOnAPlaneHasTheClosedFormFlow:
+// the ball on the plane with normal n̂ ∝ (0.4, 0, 1), e = 0.5, bounces to
+// rest (t∞ ≈ 1.5 s) and slides down it. Along the frictionless plane it
+// falls freely whatever the bounces, and every start comes to rest on it:
+// at 2.2 s Φ = [[P, t P], [0, P]], P = I − n̂n̂ᵀ.
+TEST(Saltation, BallComingToRestOnATiltedPlaneHasTheClosedFormFlow) {
+  const double t = 2.2;
+  const lm::BallAndPlane ball(1.0, 0.1, 0.5, 9.81, {0.4, 0.0, 1.0}, 0.0);
+  lagrangian::State<3> s;
+  s.q << 0.3, 0.1, 1.2;
+  s.qd << -0.5, 0.2, 0.4;
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(ball, s, tight(t));
+  const Eigen::Vector3d n = Eigen::Vector3d(0.4, 0.0, 1.0).normalized();
+  const Eigen::Matrix3d p = Eigen::Matrix3d::Identity() - n * n.transpose();
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(6, 6);
+  expected.topLeftCorner(3, 3) = p;
+  expected.topRightCorner(3, 3) = t * p;
+  expected.bottomRightCorner(3, 3) = p;
+  EXPECT_LE((r.sensitivities.back() - expected).cwiseAbs().maxCoeff(), 1e-9) << r.sensitivities.back();
+  EXPECT_GT(r.impacts, 10);
+  const Eigen::VectorXd& x = r.states.back();
+  EXPECT_NEAR(n.dot(x.head(3)), 0.1, 1e-9);
+  EXPECT_NEAR(n.dot(x.tail(3)), 0.0, 1e-9);
+}
+
+// A plastic impact (e = 0): spheres of 1 and 2 kg (radii 0.1 m) at x = 0
+// and 0.7 m meet at 1/3 s and stick, as a plain run holds them; from then
+// on both move with the centre of mass, V = (m1 v1 + m2 v2) / (m1 + m2),
+// x1(T) = (m1 x1 + m2 (x2 − d)) / (m1 + m2) + V T, x2(T) = x1(T) + d
+// (momentum conservation, d = 0.2 m), whatever the initial state. Φ(1 s) is
+// therefore, with μ_i = m_i / (m1 + m2), the rank-2 matrix whose position
+// rows are (μ1, μ2, μ1 T, μ2 T) and velocity rows (0, 0, μ1, μ2).
+TEST(Saltation, SpheresStickingInAPlasticImpactMoveWithTheirCentreOfMass) {
   const lm::SpheresOnLine<2> line({1.0, 2.0}, {0.1, 0.1}, 0.0);
   lagrangian::State<2> pair;
   pair.q << 0.0, 0.7;
   pair.qd << 1.0, -0.5;
-  try {
-    lagrangian::sensitivities(line, pair, tight(1.0));
-    FAIL() << "a plastic impact was crossed";
-  } catch (const lagrangian::SimulationError& e) {
-    EXPECT_NE(std::string(e.what()).find("a plastic impact, e = 0"), std::string::npos) << e.what();
-  }
+  const double T = 1.0, mu1 = 1.0 / 3.0, mu2 = 2.0 / 3.0;
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(line, pair, tight(T));
+  EXPECT_EQ(r.impacts, 1);
+  Eigen::MatrixXd expected(4, 4);
+  expected << mu1, mu2, mu1 * T, mu2 * T,  //
+      mu1, mu2, mu1 * T, mu2 * T,          //
+      0.0, 0.0, mu1, mu2,                  //
+      0.0, 0.0, mu1, mu2;
+  EXPECT_LE((r.sensitivities.back() - expected).cwiseAbs().maxCoeff(), 1e-9) << r.sensitivities.back();
+  // The state: V = 0 here, so both rest where they met.
+  const Eigen::VectorXd& x = r.states.back();
+  EXPECT_NEAR(x[0], 1.0 / 3.0, 1e-9);
+  EXPECT_NEAR(x[1] - x[0], 0.2, 1e-9);
+  EXPECT_NEAR(x[2], 0.0, 1e-9);
+  EXPECT_NEAR(x[3], 0.0, 1e-9);
 }
 
 // Three equal spheres on a line, the outer two meeting the middle one at

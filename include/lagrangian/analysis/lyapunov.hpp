@@ -52,7 +52,9 @@
 /// the impacts (2 ln e per bounce of a ball on a floor). Impacts are located
 /// by the plain run's rules (integrate/detail/contact_rules.hpp). Where a
 /// plain run lets a contact rest (its Zeno rule, a plastic impact) the model
-/// may hold it shut (TangentModel::rest; particle scenes do): the last
+/// may hold it shut (TangentModel::rest: particle scenes, text models and,
+/// through detail::HoldingContacts, C++ models whose only constraints are
+/// contacts do): the last
 /// impact, with e = 0, is crossed by its saltation matrix into the motion
 /// with φ_j = 0 held, which removes two directions, δφ_j and δφ̇_j: every
 /// neighbouring motion comes to rest on the same contact, so the flow's
@@ -91,9 +93,11 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "lagrangian/analysis/detail/holding_contacts.hpp"
 #include "lagrangian/analysis/saltation.hpp"
 #include "lagrangian/analysis/tangent_flow.hpp"
 #include "lagrangian/errors.hpp"
@@ -142,6 +146,9 @@ namespace detail {
 /// ∂q̈/∂(q, q̇) (column-major) at (q, q̇, t).
 struct TangentModel {
   const void* model = nullptr;
+  /// What `model` points to when the TangentModel owns it (a model seen
+  /// through HoldingContacts, tangent_model_of()); null otherwise.
+  std::shared_ptr<const void> owner;
   void (*evaluate)(const void* model, const double* q, const double* qd, double t, double* qdd, double* jacobian) =
       nullptr;
   /// ∂p/∂(q, q̇) at (q, q̇, t) (n × 2n, column-major; momentum_jacobian())
@@ -213,13 +220,24 @@ struct TangentModel {
 LyapunovResult lyapunov_spectrum(const TangentModel& model, const double* q0, const double* qd0,
                                  const LyapunovOptions& options);
 
+/// The model a TangentModel of M points to (tangent_model_of()), as an M:
+/// for a model held through HoldingContacts, the copy's base.
+template <class M>
+const M& model_at(const void* model) {
+  if constexpr (held_by_wrapper<M>) {
+    return *static_cast<const HoldingContacts<M>*>(model);
+  } else {
+    return *static_cast<const M*>(model);
+  }
+}
+
 template <class M>
 void evaluate_tangent(const void* model, const double* q, const double* qd, double t, double* qdd,
                       double* jacobian) {
   constexpr int n = coordinate_count_v<M>;
   Vec<double, n> a;
   Eigen::Matrix<double, n, 2 * n> j;
-  state_jacobian(*static_cast<const M*>(model), Eigen::Map<const Vec<double, n>>(q),
+  state_jacobian(model_at<M>(model), Eigen::Map<const Vec<double, n>>(q),
                  Eigen::Map<const Vec<double, n>>(qd), t, a, j);
   Eigen::Map<Vec<double, n>> qdd_out(qdd);
   Eigen::Map<Eigen::Matrix<double, n, 2 * n>> jacobian_out(jacobian);
@@ -245,7 +263,7 @@ void jvp_along(const M& model, const double* q, const double* qd, double t, cons
 template <class M>
 void evaluate_tangent_direction(const void* model, const double* q, const double* qd, double t, const double* v,
                                 double* qdd, double* jv) {
-  jvp_along(*static_cast<const M*>(model), q, qd, t, v, qdd, jv);
+  jvp_along(model_at<M>(model), q, qd, t, v, qdd, jv);
 }
 
 template <class M>
@@ -254,7 +272,7 @@ void evaluate_momentum(const void* model, const double* q, const double* qd, dou
   constexpr int n = coordinate_count_v<M>;
   Eigen::Matrix<double, n, 2 * n> j;
   Vec<double, n> gradient;
-  momentum_jacobian(*static_cast<const M*>(model), Eigen::Map<const Vec<double, n>>(q),
+  momentum_jacobian(model_at<M>(model), Eigen::Map<const Vec<double, n>>(q),
                     Eigen::Map<const Vec<double, n>>(qd), t, j, &gradient);
   Eigen::Map<Eigen::Matrix<double, n, 2 * n>> out_map(out);
   out_map = j;
@@ -264,7 +282,7 @@ void evaluate_momentum(const void* model, const double* q, const double* qd, dou
 template <class M>
 void evaluate_gaps(const void* model, const double* q, const double* qd, double t, double* gap, double* rate) {
   constexpr int n = coordinate_count_v<M>, u = unilateral_count_v<M>;
-  const M& m = *static_cast<const M*>(model);
+  const M& m = model_at<M>(model);
   const int count = unilateral_count(m);
   thread_local Vec<double, u> g, r;  // sized once per thread for a run-time count
   if (g.size() != count) g.resize(count), r.resize(count);
@@ -277,7 +295,7 @@ template <class M>
 double evaluate_impact(const void* model, const double* q, const double* qd, double t, int contact, double e,
                        double* qd_plus, double* jacobian, double* gap_gradient, double* gamma) {
   constexpr int n = coordinate_count_v<M>;
-  const ImpactMap<n> map = impact_map_with(*static_cast<const M*>(model), Eigen::Map<const Vec<double, n>>(q),
+  const ImpactMap<n> map = impact_map_with(model_at<M>(model), Eigen::Map<const Vec<double, n>>(q),
                                            Eigen::Map<const Vec<double, n>>(qd), t, contact, e);
   *gamma = map.gamma;
   Eigen::Map<Vec<double, n>> plus_out(qd_plus), gradient_out(gap_gradient);
@@ -292,14 +310,14 @@ template <class M>
 void evaluate_manifold(const void* model, const double* q, const double* qd, double t, double* residual,
                        double* jacobian) {
   constexpr int n = coordinate_count_v<M>;
-  manifold_rows(*static_cast<const M*>(model), Eigen::Map<const Vec<double, n>>(q),
+  manifold_rows(model_at<M>(model), Eigen::Map<const Vec<double, n>>(q),
                 Eigen::Map<const Vec<double, n>>(qd), t, residual, jacobian);
 }
 
 template <class M>
 void evaluate_projection(const void* model, double* q, double* qd, double t) {
   constexpr int n = coordinate_count_v<M>;
-  const M& m = *static_cast<const M*>(model);
+  const M& m = model_at<M>(model);
   const int size = model_size(m);
   Vec<double, n> qv = Eigen::Map<const Vec<double, n>>(q, size), qdv = Eigen::Map<const Vec<double, n>>(qd, size);
   project_positions(m, qv, t, 1e-12);  // ‖g‖∞ ≤ 1e-12 (1 + ‖q‖∞)
@@ -318,7 +336,7 @@ concept projects_own_state = requires(const M& m, double* x, double t) { m.proje
 
 template <class M>
 void evaluate_own_projection(const void* model, double* q, double* qd, double t) {
-  static_cast<const M*>(model)->project_state(q, qd, t);
+  model_at<M>(model).project_state(q, qd, t);
 }
 
 /// A model that holds its contacts shut itself (`void hold(int contact,
@@ -329,13 +347,17 @@ concept holds_contacts = requires(const M& m) { m.hold(0, true); };
 
 template <class M>
 void evaluate_hold(const void* model, int contact, bool shut) {
-  static_cast<const M*>(model)->hold(contact, shut);
+  model_at<M>(model).hold(contact, shut);
 }
 
 /// The TangentModel of `model`: AnalysisError (`prefix` starting its
 /// message) for constraints the tangent flow is not derived for
 /// (require_tangent_flow_constraints()) and for contacts without
-/// restitution coefficients.
+/// restitution coefficients. A model with contacts and no other rows
+/// (held_by_wrapper) has its q̈ and J from a copy of it that can hold its
+/// contacts shut (HoldingContacts, owned by the result: `model` points to
+/// it, and model_at() gives the model back to the other hooks), so the
+/// tangent run carries it through a rest.
 template <class M>
 TangentModel tangent_model_of(const M& model, const std::string& prefix) {
   require_tangent_flow_constraints(model, prefix);
@@ -374,7 +396,19 @@ TangentModel tangent_model_of(const M& model, const std::string& prefix) {
       tm.contact_names.assign(first, first + count);
       tm.gaps = &evaluate_gaps<M>;
       tm.impact = &evaluate_impact<M>;
-      if constexpr (holds_contacts<M>) tm.rest = &evaluate_hold<M>;
+      if constexpr (holds_contacts<M>) {
+        tm.rest = &evaluate_hold<M>;
+      } else if constexpr (held_by_wrapper<M>) {
+        // q̈ and its derivatives from the copy's passes, whose rows are the
+        // held gaps; the other hooks are the model's own (model_at()).
+        using H = HoldingContacts<M>;
+        auto holding = std::make_shared<const H>(model);
+        tm.model = holding.get();
+        tm.owner = std::move(holding);
+        tm.evaluate = &evaluate_tangent<H>;
+        tm.evaluate_direction = &evaluate_tangent_direction<H>;
+        tm.rest = &evaluate_hold<H>;
+      }
     }
   }
   return tm;

@@ -208,7 +208,7 @@ typename M::template with_parameter_type<ad::Jet<double, 1, 1>> seeded_twin(cons
 template <class M>
 void evaluate_parameter_direction(const void* model, const double* q, const double* qd, double t, const double* v,
                                   int parameter, double* qdd, double* jv) {
-  const M& m = *static_cast<const M*>(model);
+  const M& m = model_at<M>(model);
   const auto seeded = seeded_twin(m, parameter);
   jvp_along(m, q, qd, t, v, qdd, jv, &seeded);
 }
@@ -219,7 +219,7 @@ template <class M>
 double evaluate_parameter_manifold(const void* model, const double* q, const double* qd, double t, int parameter,
                                    double* out) {
   constexpr int n = coordinate_count_v<M>;
-  const M& m = *static_cast<const M*>(model);
+  const M& m = model_at<M>(model);
   manifold_rows_along_parameter<n>(seeded_twin(m, parameter), q, qd, t, out);
   return parameter_of(m, M::parameter_members()[static_cast<std::size_t>(parameter)]);
 }
@@ -256,7 +256,7 @@ double impact_along_parameter(const E& seeded, const double* q, const double* qd
 template <class M>
 double evaluate_parameter_impact(const void* model, const double* q, const double* qd, double t, int contact,
                                  int parameter, double* dqd_plus) {
-  return impact_along_parameter<coordinate_count_v<M>>(seeded_twin(*static_cast<const M*>(model), parameter), q, qd,
+  return impact_along_parameter<coordinate_count_v<M>>(seeded_twin(model_at<M>(model), parameter), q, qd,
                                                        t, contact, dqd_plus);
 }
 
