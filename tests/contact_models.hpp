@@ -1,13 +1,16 @@
 #pragma once
 // Models with contacts written for the tests of the tangent flow across
 // impacts (test_saltation.cpp, and their text forms in
-// test_text_tangent.cpp): a gap that moves with time, and a mass matrix and
-// gap gradient that move with the coordinates.
+// test_text_tangent.cpp): a gap that moves with time, a mass matrix and gap
+// gradient that move with the coordinates, and a number of contacts chosen
+// at run time (also test_unilateral.cpp).
 
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "lagrangian/ad.hpp"
 #include "lagrangian/model.hpp"
@@ -56,6 +59,40 @@ struct DoublePendulumAgainstWall : models::DoublePendulum {
   Vec<S, 1> unilateral(const Vec<S, 2>& q, const S&) const {
     using std::sin;
     return Vec<S, 1>(0.9 - (l1 * sin(q[0]) + l2 * sin(q[1])));
+  }
+};
+
+/// A point mass m (kg) in the plane, x and y (m), inside a regular polygon
+/// of N walls at distance a (m) from the origin, N chosen at run time:
+///   T = ½ m (ẋ² + ẏ²),  V = 0,
+///   contacts φ_k = a − (x cos θ_k + y sin θ_k) ≥ 0,  θ_k = 2πk/N  ("wall<k>"),
+/// each with restitution e = 1: a billiard.
+struct PolygonBilliard {
+  static constexpr int coordinate_count = 2;
+  static constexpr bool constant_mass_matrix = true;
+  int walls;
+  double m = 0.2, a = 1.0;
+  int unilateral_count() const { return walls; }
+  double angle(int k) const { return 2 * std::numbers::pi * k / walls; }
+  std::vector<std::string> unilateral_names() const {
+    std::vector<std::string> out;
+    for (int k = 0; k < walls; ++k) out.push_back("wall" + std::to_string(k));
+    return out;
+  }
+  std::vector<double> restitution() const { return std::vector<double>(static_cast<std::size_t>(walls), 1.0); }
+  template <class S>
+  S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
+    return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1]);
+  }
+  template <class S>
+  S potential(const Vec<S, 2>&, const S&) const {
+    return S(0);
+  }
+  template <class S>
+  Vec<S, Dynamic> unilateral(const Vec<S, 2>& q, const S&) const {
+    Vec<S, Dynamic> g(walls);
+    for (int k = 0; k < walls; ++k) g[k] = a - (q[0] * std::cos(angle(k)) + q[1] * std::sin(angle(k)));
+    return g;
   }
 };
 

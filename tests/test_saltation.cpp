@@ -306,6 +306,27 @@ TEST(Saltation, SpheresStickingInAPlasticImpactMoveWithTheirCentreOfMass) {
   EXPECT_NEAR(x[3], 0.0, 1e-9);
 }
 
+// A model whose number of contacts is chosen at run time (the polygon
+// billiard of contact_models.hpp: a point of 0.2 kg, elastic walls at 1 m
+// from the origin): with no walls it is a free particle, with four a square
+// billiard. In both the flow is free flight, Φ = [[1, t/m], [0, 1]] in
+// (q, p) along each axis, and a reflection on a flat wall, e = 1, is an
+// orthogonal map of (δq, δp) that keeps phase volume (|det S| = 1): every
+// exponent is 0 and so is the sum.
+TEST(Saltation, ABilliardWithARunTimeNumberOfWallsHasZeroExponents) {
+  lagrangian::State<2> s;
+  s.q << 0.2, 0.1;
+  s.qd << 1.0, 0.3;
+  for (const int walls : {0, 4}) {
+    const lagrangian::testing::PolygonBilliard billiard{walls};
+    const lagrangian::LyapunovResult r = lagrangian::lyapunov_spectrum(billiard, s, lagrangian_test::lyapunov_options(5.0));
+    EXPECT_EQ(r.impacts > 0, walls > 0) << walls;
+    ASSERT_EQ(r.spectrum.size(), 4u);
+    for (const double l : r.spectrum) EXPECT_NEAR(l, 0.0, 1e-9) << walls;
+    EXPECT_NEAR(r.sum, 0.0, 1e-9) << walls;
+  }
+}
+
 // Three equal spheres on a line, the outer two meeting the middle one at
 // one instant: the saltation matrix of two simultaneous impacts is not
 // defined by one contact's law, and the run says so.

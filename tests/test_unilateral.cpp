@@ -12,44 +12,14 @@
 #include "lagrangian/lagrangian.hpp"
 #include "lagrangian/models/constrained.hpp"
 
+#include "contact_models.hpp"
+
 namespace {
 
 using namespace lagrangian;
 using namespace lagrangian::models;
 
-/// A point mass m (kg) in the plane, x and y (m), inside a regular polygon
-/// of N walls at distance a (m) from the origin, N chosen at run time:
-///   T = ½ m (ẋ² + ẏ²),  V = 0,
-///   contacts φ_k = a − (x cos θ_k + y sin θ_k) ≥ 0,  θ_k = 2πk/N  ("wall<k>"),
-/// each with restitution e = 1: a billiard.
-struct PolygonBilliard {
-  static constexpr int coordinate_count = 2;
-  static constexpr bool constant_mass_matrix = true;
-  int walls;
-  double m = 0.2, a = 1.0;
-  int unilateral_count() const { return walls; }
-  double angle(int k) const { return 2 * std::numbers::pi * k / walls; }
-  std::vector<std::string> unilateral_names() const {
-    std::vector<std::string> out;
-    for (int k = 0; k < walls; ++k) out.push_back("wall" + std::to_string(k));
-    return out;
-  }
-  std::vector<double> restitution() const { return std::vector<double>(static_cast<std::size_t>(walls), 1.0); }
-  template <class S>
-  S kinetic(const Vec<S, 2>&, const Vec<S, 2>& qd, const S&) const {
-    return 0.5 * m * (qd[0] * qd[0] + qd[1] * qd[1]);
-  }
-  template <class S>
-  S potential(const Vec<S, 2>&, const S&) const {
-    return S(0);
-  }
-  template <class S>
-  Vec<S, Dynamic> unilateral(const Vec<S, 2>& q, const S&) const {
-    Vec<S, Dynamic> g(walls);
-    for (int k = 0; k < walls; ++k) g[k] = a - (q[0] * std::cos(angle(k)) + q[1] * std::sin(angle(k)));
-    return g;
-  }
-};
+using lagrangian::testing::PolygonBilliard;
 
 TEST(Unilateral, TwoHundredContactsOfOneModelAllTakePart) {
   // A billiard in a regular 200-gon, started off the centre: its impacts,

@@ -367,6 +367,17 @@ TangentModel tangent_model_of(const M& model, const std::string& prefix) {
   tm.momentum = &evaluate_momentum<M>;
   tm.n = coordinate_count_v<M>;
   tm.evaluate_direction = &evaluate_tangent_direction<M>;
+  if constexpr (held_by_wrapper<M>) {
+    // q̈ and its derivatives from the copy's passes, whose rows are the held
+    // gaps; the other hooks are the model's own (model_at()). Also for a
+    // run-time number of contacts that is 0: model_at() expects the copy.
+    using H = HoldingContacts<M>;
+    auto holding = std::make_shared<const H>(model);
+    tm.model = holding.get();
+    tm.owner = std::move(holding);
+    tm.evaluate = &evaluate_tangent<H>;
+    tm.evaluate_direction = &evaluate_tangent_direction<H>;
+  }
   if constexpr (bilateral_rows_v<M> != 0) {
     const int mh = holonomic_count(model), mp = pfaffian_count(model);
     if (mh + mp > 0) {
@@ -399,15 +410,7 @@ TangentModel tangent_model_of(const M& model, const std::string& prefix) {
       if constexpr (holds_contacts<M>) {
         tm.rest = &evaluate_hold<M>;
       } else if constexpr (held_by_wrapper<M>) {
-        // q̈ and its derivatives from the copy's passes, whose rows are the
-        // held gaps; the other hooks are the model's own (model_at()).
-        using H = HoldingContacts<M>;
-        auto holding = std::make_shared<const H>(model);
-        tm.model = holding.get();
-        tm.owner = std::move(holding);
-        tm.evaluate = &evaluate_tangent<H>;
-        tm.evaluate_direction = &evaluate_tangent_direction<H>;
-        tm.rest = &evaluate_hold<H>;
+        tm.rest = &evaluate_hold<HoldingContacts<M>>;
       }
     }
   }
