@@ -22,6 +22,7 @@
 #include "lagrangian/scene/io.hpp"
 #include "lagrangian/scene/run.hpp"
 #include "../src/scene/particle_engine.hpp"
+#include "plane_slide.hpp"
 
 namespace {
 
@@ -653,12 +654,9 @@ restitution = 0.5
 )");
   const SensitivityRun r = sensitivity(scene, SensitivityRequest{});
   const Eigen::Vector3d n(std::sin(0.3), 0.0, std::cos(0.3));
-  const Eigen::Matrix3d p = Eigen::Matrix3d::Identity() - n * n.transpose();
   const double t = 1.6;
-  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(6, 6);
-  expected.topLeftCorner(3, 3) = p;
-  expected.topRightCorner(3, 3) = t * p;
-  expected.bottomRightCorner(3, 3) = p;
+  const Eigen::MatrixXd expected = lagrangian_test::flow_sliding_on_a_plane(n, t);
+  const Eigen::Matrix3d p = expected.topLeftCorner(3, 3);  // P = I − n̂n̂ᵀ
   EXPECT_LT((r.result.sensitivities.back() - expected).cwiseAbs().maxCoeff(), 1e-9) << r.result.sensitivities.back();
   EXPECT_DOUBLE_EQ(r.result.times.back(), t);
   EXPECT_GT(r.result.impacts, 10);

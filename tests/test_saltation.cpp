@@ -25,6 +25,7 @@
 
 #include "contact_models.hpp"
 #include "final_state.hpp"
+#include "plane_slide.hpp"
 #include "tangent_options.hpp"
 
 namespace {
@@ -265,11 +266,7 @@ TEST(Saltation, BallComingToRestOnATiltedPlaneHasTheClosedFormFlow) {
   s.qd << -0.5, 0.2, 0.4;
   const lagrangian::SensitivityResult r = lagrangian::sensitivities(ball, s, tight(t));
   const Eigen::Vector3d n = Eigen::Vector3d(0.4, 0.0, 1.0).normalized();
-  const Eigen::Matrix3d p = Eigen::Matrix3d::Identity() - n * n.transpose();
-  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(6, 6);
-  expected.topLeftCorner(3, 3) = p;
-  expected.topRightCorner(3, 3) = t * p;
-  expected.bottomRightCorner(3, 3) = p;
+  const Eigen::MatrixXd expected = lagrangian_test::flow_sliding_on_a_plane(n, t);
   EXPECT_LE((r.sensitivities.back() - expected).cwiseAbs().maxCoeff(), 1e-9) << r.sensitivities.back();
   EXPECT_GT(r.impacts, 10);
   const Eigen::VectorXd& x = r.states.back();

@@ -24,6 +24,7 @@
 #include "contact_models.hpp"
 #include "text_definitions.hpp"
 #include "tangent_options.hpp"
+#include "plane_slide.hpp"
 
 namespace {
 
@@ -403,12 +404,7 @@ TEST(TextSaltation, BallComingToRestOnAPlaneHasTheClosedFormFlow) {
   o.run.atol = 1e-14;
   const lagrangian::SensitivityResult r =
       text::sensitivities(text::TextModel(d), start({0.3, 0.1, 1.2}, {-0.5, 0.2, 0.4}), o);
-  const Eigen::Vector3d n(nx, 0.0, nz);
-  const Eigen::Matrix3d p = Eigen::Matrix3d::Identity() - n * n.transpose();
-  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(6, 6);
-  expected.topLeftCorner(3, 3) = p;
-  expected.topRightCorner(3, 3) = t * p;
-  expected.bottomRightCorner(3, 3) = p;
+  const Eigen::MatrixXd expected = lagrangian_test::flow_sliding_on_a_plane(Eigen::Vector3d(nx, 0.0, nz), t);
   EXPECT_LE((r.sensitivities.back() - expected).cwiseAbs().maxCoeff(), 1e-9) << r.sensitivities.back();
   EXPECT_GT(r.impacts, 10);
   const Eigen::VectorXd& x = r.states.back();
