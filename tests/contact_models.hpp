@@ -2,8 +2,9 @@
 // Models with contacts written for the tests of the tangent flow across
 // impacts (test_saltation.cpp, and their text forms in
 // test_text_tangent.cpp): a gap that moves with time, a mass matrix and gap
-// gradient that move with the coordinates, and a number of contacts chosen
-// at run time (also test_unilateral.cpp).
+// gradient that move with the coordinates, a number of contacts chosen at
+// run time (also test_unilateral.cpp), and contacts of models with
+// holonomic rows (test_constrained_tangent.cpp).
 
 #include <array>
 #include <cmath>
@@ -14,6 +15,7 @@
 
 #include "lagrangian/ad.hpp"
 #include "lagrangian/model.hpp"
+#include "lagrangian/models/constrained.hpp"
 #include "lagrangian/models/pendulums.hpp"
 
 namespace lagrangian::testing {
@@ -59,6 +61,35 @@ struct DoublePendulumAgainstWall : models::DoublePendulum {
   Vec<S, 1> unilateral(const Vec<S, 2>& q, const S&) const {
     using std::sin;
     return Vec<S, 1>(0.9 - (l1 * sin(q[0]) + l2 * sin(q[1])));
+  }
+};
+
+/// The plane pendulum as a particle (x, y) on a rod (CartesianPendulum: a
+/// holonomic row √(x² + y²) − l = 0) whose bob meets a wall at x = a (m):
+/// the contact φ = a − x ≥ 0 with restitution e.
+struct RodPendulumAgainstWall : models::CartesianPendulum {
+  double a = 0.5, e = 0.8;
+  std::string name() const { return "rod_pendulum_against_wall"; }
+  std::array<std::string_view, 1> unilateral_names() const { return {"wall"}; }
+  std::array<std::string_view, 2> constraint_units() const { return {"m", "m"}; }
+  std::array<double, 1> restitution() const { return {e}; }
+  template <class S>
+  Vec<S, 1> unilateral(const Vec<S, 2>& q, const S&) const {
+    return Vec<S, 1>(a - q[0]);
+  }
+};
+
+/// The double pendulum in Cartesian coordinates (two rods as holonomic
+/// rows) whose lower bob meets a wall at x = 0.9 m with e = 0.9:
+/// DoublePendulumAgainstWall in other coordinates.
+struct CartesianDoublePendulumAgainstWall : models::CartesianDoublePendulum {
+  std::string name() const { return "cartesian_double_pendulum_against_wall"; }
+  std::array<std::string_view, 1> unilateral_names() const { return {"wall"}; }
+  std::array<std::string_view, 3> constraint_units() const { return {"m", "m", "m"}; }
+  std::array<double, 1> restitution() const { return {0.9}; }
+  template <class S>
+  Vec<S, 1> unilateral(const Vec<S, 4>& q, const S&) const {
+    return Vec<S, 1>(0.9 - q[2]);
   }
 };
 

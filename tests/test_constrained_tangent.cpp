@@ -9,8 +9,10 @@
 // rows (the Atwood machine's masses and g, an incline's slope, the spinning
 // wire's rate from the axis; the Cartesian double pendulum and the particle
 // on a sphere against their angle models; a free knife edge's mass and
-// inertia), and the periodic-orbit search's energy row under constraint
-// forces.
+// inertia), the periodic-orbit search's energy row under constraint
+// forces, and impacts under holonomic rows (a rod pendulum against a wall:
+// the exponents' sum in closed form; the Cartesian double pendulum against
+// a wall: the angle model's Φ).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -26,11 +28,13 @@
 
 #include "lagrangian/analysis/floquet.hpp"
 #include "lagrangian/analysis/lyapunov.hpp"
+#include "lagrangian/analysis/saltation.hpp"
 #include "lagrangian/analysis/sensitivity.hpp"
 #include "lagrangian/analysis/tangent_flow.hpp"
 #include "lagrangian/mechanics/constrained_accelerations.hpp"
 #include "lagrangian/models/constrained.hpp"
 #include "lagrangian/models/pendulums.hpp"
+#include "contact_models.hpp"
 #include "jet_jacobian.hpp"
 #include "tangent_options.hpp"
 
@@ -894,6 +898,142 @@ TEST(ConstrainedFloquet, OrbitFoundWithAPfaffianRowAsWithoutIt) {
               (energy - m * g * s.q[1]) / (m * g * l), r.monodromy.trace() - 2.0);
   EXPECT_GT(std::abs(r.period - 0.95 * period), 0.04 * period);  // not the guess
   EXPECT_NEAR(r.monodromy.trace(), 2.0, 1e-6);
+}
+
+// Impacts under holonomic rows (saltation.hpp: Newton's law keeps the rows,
+// the saltation matrix acts on the manifold's tangent space).
+//
+// The rod pendulum against a wall at x = 0.5 m (e = 0.8), from the bottom at
+// 2 m/s, 6 s. In its angle θ an impact maps θ̇ to −e θ̇ whatever θ, and its
+// saltation matrix in (θ, θ̇) is [[−e, 0], [(1 + e) θ̈/θ̇, −e]], det e²;
+// between impacts the flow keeps phase volume in (θ, p_θ). The reduced
+// canonical coordinates of the rod model, (Uᵀδq, Uᵀδp) with U the unit
+// tangent of the circle, are (l δθ, m l δθ̇) (Uᵀ ∂U/∂θ = 0): a constant
+// scaling of (θ, p_θ). So the two exponents sum to 2 ln e · impacts / T
+// exactly (the rows' impulses included: without them the bob would leave
+// the circle and the sum would differ).
+TEST(ConstrainedImpact, RodPendulumAgainstAWallLosesPhaseVolumeAsESquaredPerImpact) {
+  const lagrangian::testing::RodPendulumAgainstWall pendulum;
+  lagrangian::State<2> s;
+  s.q << 0.0, -1.0;
+  s.qd << 2.0, 0.0;
+  const double t_end = 6.0;
+  const lagrangian::LyapunovResult r = lagrangian::lyapunov_spectrum(pendulum, s, lagrangian_test::lyapunov_options(t_end));
+  ASSERT_EQ(r.spectrum.size(), 2u);
+  EXPECT_GE(r.impacts, 3);
+  const double expected = 2 * std::log(pendulum.e) * r.impacts / t_end;
+  EXPECT_NEAR(r.sum, expected, 1e-8) << r.impacts << " impacts";
+  std::printf("rod pendulum against a wall: %d impacts, sum %.12f, closed form %.12f 1/s (differ by %.1e)\n",
+              r.impacts, r.sum, expected, std::abs(r.sum - expected));
+}
+
+// The Cartesian double pendulum against a wall (3 rows: two rods, one
+// contact) and the angle model against the same wall
+// (DoublePendulumAgainstWall: 0.9 − (l1 sin θ1 + l2 sin θ2) ≥ 0) are one
+// motion, impact included: S_c(t) Dψ(x0) = Dψ(x(t)) S_a(t) as without the
+// wall (ConstrainedSensitivity above), now across the impact, where the
+// angle model's law has no rows and the Cartesian one's keeps two.
+TEST(ConstrainedImpact, CartesianDoublePendulumAgainstAWallIsTheAngleModel) {
+  const lagrangian::testing::CartesianDoublePendulumAgainstWall cartesian;
+  const lagrangian::testing::DoublePendulumAgainstWall angles;
+  const Eigen::Vector4d x0{0.2, 0.2, 1.0, 1.5};
+  const Eigen::Matrix<double, 8, 1> big = to_cartesian(x0, 1.0, 1.0);
+  const lagrangian::SensitivityOptions o = lagrangian_test::sensitivity_options(3.0, {}, -1.0);
+  const lagrangian::SensitivityResult ra =
+      lagrangian::sensitivities(angles, TwoDoublePendulums::state<2>(x0), o);
+  const lagrangian::SensitivityResult rc =
+      lagrangian::sensitivities(cartesian, TwoDoublePendulums::state<4>(big), o);
+  EXPECT_GE(ra.impacts, 2);
+  EXPECT_EQ(rc.impacts, ra.impacts);
+  const Eigen::Vector4d x1 = ra.states.back();
+  EXPECT_LE((rc.states.back() - to_cartesian(x1, 1.0, 1.0)).norm(), 1e-8);
+  const Eigen::Matrix<double, 8, 4> left = rc.sensitivities.back() * dpsi(x0, 1.0, 1.0);
+  const Eigen::Matrix<double, 8, 4> right = dpsi(x1, 1.0, 1.0) * ra.sensitivities.back();
+  EXPECT_LE((left - right).norm(), 1e-8 * right.norm()) << "Cartesian:\n" << left << "\nangles:\n" << right;
+  std::printf("Cartesian double pendulum against a wall: %d impacts, |S_c Dpsi - Dpsi S_a| = %.1e of %.3g (%.1e)\n",
+              ra.impacts, (left - right).norm(), right.norm(), (left - right).norm() / right.norm());
+}
+
+// The impact law under a row, in closed form: the rod pendulum (m = 1 kg,
+// l = 1 m) meets the wall at θ = 30° (x = 0.5 m) moving along the circle,
+// q̇ = θ̇ (cos θ, sin θ); the rod keeps it on the circle and the wall
+// reverses θ̇ times e, so q̇⁺ = −e q̇. Off the velocity manifold, with M = 1
+// and W = [C; G] square (C = q/|q| the rod's row, G = (−1, 0) the wall's),
+// W q̇⁺ = (0, −e G q̇) gives ∂q̇⁺/∂q̇ = W⁻¹ [0; −e G]. The same rod written
+// twice (a redundant row) gives the same q̇⁺ and derivatives; a contact
+// whose gap is |q| itself, which the rod fixes, has no impact.
+struct RodTwiceAgainstWall : lagrangian::testing::RodPendulumAgainstWall {
+  std::array<std::string_view, 2> holonomic_names() const { return {"rod", "rod_again"}; }
+  std::array<std::string_view, 3> constraint_units() const { return {"m", "m", "m"}; }
+  template <class S>
+  Vec<S, 2> holonomic(const Vec<S, 2>& q, const S& t) const {
+    const S g = RodPendulumAgainstWall::holonomic(q, t)[0];
+    return Vec<S, 2>(g, 2.0 * g);
+  }
+};
+struct RodAgainstItsOwnLength : lagrangian::testing::RodPendulumAgainstWall {
+  template <class S>
+  Vec<S, 1> unilateral(const Vec<S, 2>& q, const S&) const {
+    using std::sqrt;
+    return Vec<S, 1>(1.5 - sqrt(q[0] * q[0] + q[1] * q[1]));
+  }
+};
+
+TEST(ConstrainedImpact, ImpactUnderARodHasTheClosedForm) {
+  const lagrangian::testing::RodPendulumAgainstWall rod;
+  const RodTwiceAgainstWall twice;
+  const double theta = std::acos(-1.0) / 6, rate = 1.3;
+  const Vec<double, 2> q(std::sin(theta), -std::cos(theta)), qd = rate * Vec<double, 2>(std::cos(theta), std::sin(theta));
+  Eigen::Matrix2d w;
+  w << q[0], q[1], -1.0, 0.0;
+  Eigen::Matrix2d rhs = Eigen::Matrix2d::Zero();
+  rhs.row(1) << rod.e * 1.0, 0.0;  // −e G
+  const Eigen::Matrix2d expected = w.inverse() * rhs;
+  for (const bool redundant : {false, true}) {
+    const auto map = redundant ? lagrangian::impact_map(twice, q, qd, 0.0, 0) : lagrangian::impact_map(rod, q, qd, 0.0, 0);
+    EXPECT_NEAR(map.approach, -rate * std::cos(theta), 1e-15);
+    EXPECT_LE((map.qd_plus + rod.e * qd).norm(), 1e-15) << map.qd_plus.transpose();
+    EXPECT_LE((map.jacobian.middleCols(2, 2) - expected).norm(), 1e-14)
+        << (redundant ? "the rod twice\n" : "") << map.jacobian.middleCols(2, 2) << "\n\n" << expected;
+  }
+  const RodAgainstItsOwnLength own;
+  const Vec<double, 2> far(0.0, -1.0), outward(0.0, -0.3);
+  try {
+    (void)lagrangian::impact_map(own, far, outward, 0.0, 0);
+    FAIL() << "an impact of a gap the rod fixes was applied";
+  } catch (const lagrangian::DynamicsError& e) {
+    EXPECT_EQ(std::string(e.what()), "impact map: the gap of contact 0 does not change along the motions the holonomic "
+                                     "and Pfaffian constraints allow here");
+  }
+}
+
+// What is still refused for a model with rows and contacts: a contact
+// coming to rest (the held gap would change the manifold the tangent
+// vectors are kept on). The rod pendulum released at 0.6 rad beyond a wall
+// at x = 0.3 m (φ = x − 0.3), which gravity presses it against, meets it
+// with e = 0: a plain run lets it rest there.
+struct RodPendulumAgainstNearWall : lagrangian::testing::RodPendulumAgainstWall {
+  template <class S>
+  Vec<S, 1> unilateral(const Vec<S, 2>& q, const S&) const {
+    return Vec<S, 1>(q[0] - 0.3);
+  }
+};
+
+TEST(ConstrainedImpact, ARestUnderRowsStopsTheRunWithItsReason) {
+  RodPendulumAgainstNearWall pendulum;
+  pendulum.e = 0.0;
+  lagrangian::State<2> s;
+  s.q << std::sin(0.6), -std::cos(0.6);
+  try {
+    (void)lagrangian::lyapunov_spectrum(pendulum, s, lagrangian_test::lyapunov_options(5.0));
+    FAIL() << "a rest under a holonomic row was crossed";
+  } catch (const lagrangian::SimulationError& e) {
+    EXPECT_NE(std::string(e.what()).find("contact 'wall' comes to rest"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("a plastic impact"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("is not derived for a model with holonomic or Pfaffian constraints"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

@@ -895,17 +895,10 @@ TEST(TextTangentFlow, RefusesWhatItIsNotDerivedFor) {
   EXPECT_EQ(message_of([&] { (void)text::lyapunov_spectrum(big, s7, lyapunov_over(1.0)); }),
             "lyapunov: the tangent flow is derived for models of at most 6 coordinates; this text model has 7");
 
-  text::Definition rod;  // a particle on a circle, held by a holonomic constraint, above a floor
+  text::Definition rod;  // a particle on a circle, held by a holonomic constraint
   rod.coordinates = {"x", "y"};
   rod.kinetic = "0.5*(x_dot^2 + y_dot^2)";
   rod.potential = "9.81*y";
-  rod.holonomic = {"x^2 + y^2 - 1"};
-  rod.contacts = {{"floor", "y + 2", 0.5, "m"}};
-  const text::TextModel held(rod);
-  EXPECT_EQ(message_of([&] { (void)text::floquet_multipliers(held, start({1, 0}, {0, 0}), floquet_over(1.0)); }),
-            "floquet: the tangent flow is derived for models with holonomic or Pfaffian constraints or with "
-            "contacts, not both; this model declares both (bilateral rows: 1, contacts: 1)");
-  rod.contacts.clear();
   rod.holonomic.assign(8, "x^2 + y^2 - 1");  // the most rows taken, each the same circle: d = 2
   const text::TextModel eight(rod);
   EXPECT_EQ(text::lyapunov_spectrum(eight, start({1, 0}, {0, 1}), lyapunov_over(1.0)).spectrum.size(), 2u);
@@ -919,6 +912,47 @@ TEST(TextTangentFlow, RefusesWhatItIsNotDerivedFor) {
   EXPECT_EQ(message_of([&] { (void)text::lyapunov_spectrum(pendulum, start({1}, {0}), lyapunov_over(1.0)); }),
             "lyapunov: the initial state's q and qd have sizes 1 and 1; the model has 2 coordinates");
   EXPECT_THROW((void)text::FixedSizeModel<3>(pendulum), lagrangian::AnalysisError);
+}
+
+// A holonomic row and a contact stated as text: the rod pendulum against a
+// wall (RodPendulumAgainstWall of contact_models.hpp, its row written as
+// x² + y² − 1 here: the same circle, rows of another scale). Its exponents
+// sum to 2 ln e · impacts / T (test_constrained_tangent.cpp), and the
+// spectrum and Φ are the C++ model's. Parameter columns of such a model
+// are refused with the reason.
+TEST(TextTangentFlow, RodPendulumAgainstAWallIsTheCppModel) {
+  text::Definition d;
+  d.coordinates = {"x", "y"};
+  d.parameters = {{"g", 9.81}};
+  d.kinetic = "0.5*(x_dot^2 + y_dot^2)";
+  d.potential = "g*y";
+  d.holonomic = {"x^2 + y^2 - 1"};
+  d.contacts = {{"wall", "0.5 - x", 0.8, "m"}};
+  const text::TextModel model(d);
+  const lagrangian::testing::RodPendulumAgainstWall cpp;
+  lagrangian::State<2> s;
+  s.q << 0.0, -1.0;
+  s.qd << 2.0, 0.0;
+  const double t_end = 6.0;
+  const lagrangian::LyapunovResult a = text::lyapunov_spectrum(model, start({0.0, -1.0}, {2.0, 0.0}), lyapunov_over(t_end));
+  const lagrangian::LyapunovResult b = lagrangian::lyapunov_spectrum(cpp, s, lyapunov_over(t_end));
+  ASSERT_EQ(a.spectrum.size(), 2u);
+  EXPECT_GE(a.impacts, 3);
+  EXPECT_EQ(a.impacts, b.impacts);
+  EXPECT_NEAR(a.sum, 2 * std::log(0.8) * a.impacts / t_end, 1e-8);
+  for (std::size_t i = 0; i < 2; ++i) EXPECT_NEAR(a.spectrum[i], b.spectrum[i], 1e-7) << "exponent " << i;
+  const lagrangian::SensitivityOptions o = lagrangian_test::sensitivity_options(3.0, {}, -1.0);
+  const lagrangian::SensitivityResult sa = text::sensitivities(model, start({0.0, -1.0}, {2.0, 0.0}), o);
+  const lagrangian::SensitivityResult sb = lagrangian::sensitivities(cpp, s, o);
+  EXPECT_GE(sa.impacts, 1);
+  EXPECT_LE(lagrangian_test::worst_relative(sa.sensitivities.back(), sb.sensitivities.back()), 1e-8)
+      << sa.sensitivities.back() << "\n\n" << sb.sensitivities.back();
+  lagrangian::SensitivityOptions with_g = o;
+  with_g.parameters = {"g"};
+  EXPECT_EQ(message_of([&] { (void)text::sensitivities(model, start({0.0, -1.0}, {2.0, 0.0}), with_g); }),
+            "sensitivity: parameter columns of a model with both holonomic or Pfaffian constraints and contacts are "
+            "not derived (the impact map under the constraints along a parameter); ask for the initial state's "
+            "columns only");
 }
 
 }  // namespace

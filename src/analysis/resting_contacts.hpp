@@ -59,7 +59,8 @@ class RestingContacts {
     if (model_.rest == nullptr)
       throw SimulationError("tangent flow: contact '" + contact_name(model_, j) + "' comes to rest (approach speed " +
                                 short_number(approach) + ": " + why +
-                                "): the tangent flow through a resting contact is not derived for this model",
+                                "): the tangent flow through a resting contact is not derived for " +
+                                (model_.manifold > 0 ? "a model with holonomic or Pfaffian constraints" : "this model"),
                             t);
     if (parameter_columns)
       throw SimulationError("tangent flow: contact '" + contact_name(model_, j) + "' comes to rest (" + why +

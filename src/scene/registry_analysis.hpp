@@ -128,13 +128,10 @@ inline std::string too_many_coordinates(const std::string& count) {
 }
 inline const char* const kNoRestitution =
     "the tangent flow crosses impacts of contacts with restitution coefficients; this model's contacts have none";
-inline const char* const kConstraintsAndContacts =
-    "the tangent flow is derived for models with holonomic or Pfaffian constraints or with contacts, not both; "
-    "this one has both";
 
 /// `run(model)` for the models the tangent flow is derived for (contacts
 /// crossed at their impacts, analysis/saltation.hpp; holonomic and
-/// Pfaffian constraints kept on their manifold), the OptionError of no_tangent_flow() for the others (the
+/// Pfaffian constraints kept on their manifold and through the impacts), the OptionError of no_tangent_flow() for the others (the
 /// scene asks for what its model cannot give, as solve-bvp's refusals do),
 /// which never instantiate it. (Text models, whose size is known at run
 /// time, are seen at their size by text/tangent_flow.hpp.)
@@ -142,15 +139,13 @@ template <class Result, class M, class Run>
 Result with_tangent_flow(const M& model, const ModelInfo& info, const char* what, Run&& run) {
   constexpr int n = coordinate_count_v<M>;
   constexpr int u = unilateral_count_v<M>;
-  constexpr bool bilateral = holonomic_count_v<M> != 0 || pfaffian_count_v<M> != 0;
   constexpr bool contacts_crossed = u == 0 || has_restitution_v<M>;
-  if constexpr (n == Dynamic || n > kMaxTangentFlowCoordinates || !contacts_crossed || (bilateral && u != 0)) {
+  if constexpr (n == Dynamic || n > kMaxTangentFlowCoordinates || !contacts_crossed) {
     (void)model, (void)run;
     throw no_tangent_flow(what, "model '" + info.name + "'",
                           n == Dynamic                       ? too_many_coordinates("a run-time number")
                           : n > kMaxTangentFlowCoordinates ? too_many_coordinates(std::to_string(n))
-                          : !contacts_crossed              ? std::string(kNoRestitution)
-                                                           : std::string(kConstraintsAndContacts));
+                                                           : std::string(kNoRestitution));
   } else {
     return run(model);
   }

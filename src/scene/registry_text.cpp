@@ -128,10 +128,9 @@ BvpResult bvp_text(const ModelSpec& spec, const BvpRequest& request, DiscreteRul
 /// checked as a run's start is; the refusals of built-in models
 /// (no_tangent_flow) for a model with more coordinates than the tangent
 /// flow takes, and for constraints it is not derived for
-/// (require_tangent_flow_constraints(): both bilateral constraints and
-/// contacts, or more bilateral rows than it takes at run time). Holonomic
-/// and Pfaffian constraints are kept to their manifold, contacts crossed
-/// at their impacts.
+/// (require_tangent_flow_constraints(): more bilateral rows than it takes
+/// at run time). Holonomic and Pfaffian constraints are kept to their
+/// manifold, contacts crossed at their impacts.
 template <class Compute>
 auto with_text_tangent_flow(const ModelSpec& spec, double t0, const char* what, Compute&& compute) {
   const State<Dynamic> s0 = initial_of(spec);

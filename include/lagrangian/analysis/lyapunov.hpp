@@ -320,9 +320,12 @@ void evaluate_projection(const void* model, double* q, double* qd, double t) {
   const M& m = model_at<M>(model);
   const int size = model_size(m);
   Vec<double, n> qv = Eigen::Map<const Vec<double, n>>(q, size), qdv = Eigen::Map<const Vec<double, n>>(qd, size);
-  project_positions(m, qv, t, 1e-12);  // ‖g‖∞ ≤ 1e-12 (1 + ‖q‖∞)
+  // The manifold is the holonomic and Pfaffian rows' alone: no contact is
+  // held shut (ActiveSet{}); the contacts act only at their impacts.
+  const ActiveSet bilateral_only;
+  project_positions(m, qv, t, 1e-12, 20, bilateral_only);  // ‖g‖∞ ≤ 1e-12 (1 + ‖q‖∞)
   Workspace<n> ws(size);
-  project_velocities(m, ws, qv, qdv, t);
+  project_velocities(m, ws, qv, qdv, t, bilateral_only);
   Eigen::Map<Vec<double, n>> q_out(q, size), qd_out(qd, size);
   q_out = qv;
   qd_out = qdv;
@@ -383,10 +386,11 @@ TangentModel tangent_model_of(const M& model, const std::string& prefix) {
     if (mh + mp > 0) {
       tm.manifold = 2 * mh + mp;
       tm.manifold_holonomic = mh;
-      const auto names = constraint_names(model);  // holonomic, contacts (none here), Pfaffian
+      const auto names = constraint_names(model);  // holonomic, contacts, Pfaffian
+      const int first_pfaffian = mh + unilateral_count(model);
       for (int i = 0; i < mh; ++i) tm.manifold_names.push_back(names[static_cast<std::size_t>(i)]);
       for (int i = 0; i < mh; ++i) tm.manifold_names.push_back(names[static_cast<std::size_t>(i)] + " (rate)");
-      for (int i = mh; i < mh + mp; ++i) tm.manifold_names.push_back(names[static_cast<std::size_t>(i)]);
+      for (int i = 0; i < mp; ++i) tm.manifold_names.push_back(names[static_cast<std::size_t>(first_pfaffian + i)]);
       tm.manifold_rows = &evaluate_manifold<M>;
       if constexpr (projects_own_state<M>) {
         tm.project = &evaluate_own_projection<M>;
@@ -407,8 +411,10 @@ TangentModel tangent_model_of(const M& model, const std::string& prefix) {
       tm.contact_names.assign(first, first + count);
       tm.gaps = &evaluate_gaps<M>;
       tm.impact = &evaluate_impact<M>;
+      // (With holonomic or Pfaffian rows too, a rest stops the run: the
+      // held gap would change the manifold its vectors are kept on.)
       if constexpr (holds_contacts<M>) {
-        tm.rest = &evaluate_hold<M>;
+        if (tm.manifold == 0) tm.rest = &evaluate_hold<M>;
       } else if constexpr (held_by_wrapper<M>) {
         tm.rest = &evaluate_hold<HoldingContacts<M>>;
       }
@@ -422,10 +428,9 @@ TangentModel tangent_model_of(const M& model, const std::string& prefix) {
 /// The Lyapunov exponents of the motion of `model` from `initial` at
 /// options.run.t0 to options.run.t_end (see the file comment). Throws
 /// OptionError for a bad option (naming it and its value), AnalysisError
-/// for constraints the tangent flow is not derived for (holonomic or
-/// Pfaffian rows together with contacts; contacts alone are crossed at
-/// their impacts), ConstraintError for a start off the constraint
-/// manifold, SimulationError when the run fails.
+/// for constraints the tangent flow is not derived for (more holonomic and
+/// Pfaffian rows counted at run time than it takes), ConstraintError for a
+/// start off the constraint manifold, SimulationError when the run fails.
 template <class M>
 LyapunovResult lyapunov_spectrum(const M& model, const State<coordinate_count_v<M>>& initial,
                                  const LyapunovOptions& options) {

@@ -43,11 +43,11 @@
 /// Scope: models with a fixed number of coordinates (n ≤ 6: a number holds
 /// K + 1 EomJets of n² entries each); constraint rows counted at compile
 /// time, or at run time (a model stated as text) up to
-/// kMaxRuntimeBilateralRows. Refused with AnalysisError: more rows counted
-/// at run time, and bilateral constraints together with contacts. A model's contacts do not act
-/// between impacts, so J is that of its free motion; the tangent runs
+/// kMaxRuntimeBilateralRows (more are refused with AnalysisError). A
+/// model's contacts do not act between impacts, so J is that of its motion
+/// under its holonomic and Pfaffian rows alone; the tangent runs
 /// (lyapunov.hpp, sensitivity.hpp) cross each impact with its saltation
-/// matrix (saltation.hpp).
+/// matrix (saltation.hpp), the rows kept through it.
 
 #include <algorithm>
 #include <array>
@@ -68,43 +68,17 @@
 namespace lagrangian {
 
 namespace detail {
-/// AnalysisError (its message starting with `prefix`) when the model has
-/// holonomic or Pfaffian constraints (the impact map, saltation.hpp).
-/// Contacts act only at impacts: between them the tangent flow is that of
-/// the free equations of motion, and an impact is crossed by its saltation
-/// matrix.
-template <class M>
-void require_no_bilateral_constraints(const M& model, const std::string& prefix) {
-  if (holonomic_count(model) > 0 || pfaffian_count(model) > 0)
-    throw AnalysisError(prefix +
-                        "the tangent flow is derived for models without bilateral constraints; this model declares " +
-                        std::to_string(holonomic_count(model)) + " holonomic and " +
-                        std::to_string(pfaffian_count(model)) + " Pfaffian constraint rows");
-}
-
 /// AnalysisError (its message starting with `prefix`) for constraints the
 /// tangent flow is not derived for: more than kMaxRuntimeBilateralRows
-/// holonomic and Pfaffian rows counted at run time, and such rows together
-/// with contacts (an impact under bilateral constraints has no saltation
-/// matrix here).
-/// (The rows of contacts a model holds shut, `held_count()` of them after
-/// its own holonomic rows, are not bilateral constraints declared with
-/// contacts: the tangent run's resting contacts, lyapunov.hpp.)
+/// holonomic and Pfaffian rows counted at run time. (Such rows together
+/// with contacts are kept through the impacts: saltation.hpp.)
 template <class M>
 void require_tangent_flow_constraints(const M& model, const std::string& prefix) {
   const int rows = holonomic_count(model) + pfaffian_count(model);
-  if (rows == 0) return;
-  int held = 0;
-  if constexpr (requires { model.held_count(); }) held = model.held_count();
-  const int bilateral = rows - held;
   if (bilateral_rows_v<M> == Dynamic && rows > kMaxRuntimeBilateralRows)
     throw AnalysisError(prefix + "the tangent flow takes at most " + std::to_string(kMaxRuntimeBilateralRows) +
                         " holonomic and Pfaffian rows counted at run time; this model declares " +
                         std::to_string(rows));
-  if (bilateral > 0 && unilateral_count(model) > 0)
-    throw AnalysisError(prefix + "the tangent flow is derived for models with holonomic or Pfaffian constraints or "
-                                 "with contacts, not both; this model declares both (bilateral rows: " +
-                        std::to_string(bilateral) + ", contacts: " + std::to_string(unilateral_count(model)) + ")");
 }
 }  // namespace detail
 

@@ -12,8 +12,8 @@
 /// coordinates; holonomic and Pfaffian constraints are kept on their
 /// manifold (at most kMaxRuntimeBilateralRows rows: the text model counts
 /// them at run time), contacts are crossed at their impacts by the
-/// saltation matrix (analysis/saltation.hpp), a model with both is refused
-/// (AnalysisError naming what the model has). Sensitivities to the model's parameters (by name, as in its
+/// saltation matrix (analysis/saltation.hpp), the constraints kept through
+/// them. Sensitivities to the model's parameters (by name, as in its
 /// definition) come from its expressions as written, each parameter
 /// carrying its derivative through them.
 
