@@ -918,8 +918,7 @@ TEST(TextTangentFlow, RefusesWhatItIsNotDerivedFor) {
 // wall (RodPendulumAgainstWall of contact_models.hpp, its row written as
 // x² + y² − 1 here: the same circle, rows of another scale). Its exponents
 // sum to 2 ln e · impacts / T (test_constrained_tangent.cpp), and the
-// spectrum and Φ are the C++ model's. Parameter columns of such a model
-// are refused with the reason.
+// spectrum and Φ are the C++ model's.
 TEST(TextTangentFlow, RodPendulumAgainstAWallIsTheCppModel) {
   text::Definition d;
   d.coordinates = {"x", "y"};
@@ -947,12 +946,53 @@ TEST(TextTangentFlow, RodPendulumAgainstAWallIsTheCppModel) {
   EXPECT_GE(sa.impacts, 1);
   EXPECT_LE(lagrangian_test::worst_relative(sa.sensitivities.back(), sb.sensitivities.back()), 1e-8)
       << sa.sensitivities.back() << "\n\n" << sb.sensitivities.back();
-  lagrangian::SensitivityOptions with_g = o;
-  with_g.parameters = {"g"};
-  EXPECT_EQ(message_of([&] { (void)text::sensitivities(model, start({0.0, -1.0}, {2.0, 0.0}), with_g); }),
-            "sensitivity: parameter columns of a model with both holonomic or Pfaffian constraints and contacts are "
-            "not derived (the impact map under the constraints along a parameter); ask for the initial state's "
-            "columns only");
+}
+
+// The parameter columns of that model, g and the wall's place a (gap
+// a − x), across its impacts (the impact law under the row along a
+// parameter, and the gap moving with a), against central differences of
+// simulate() on the same text model.
+TEST(TextSaltation, RodAgainstAWallParameterColumnsMatchCentralDifferences) {
+  const auto rod_against_wall = [](double g, double a) {
+    text::Definition d;
+    d.coordinates = {"x", "y"};
+    d.parameters = {{"g", g}, {"a", a}};
+    d.kinetic = "0.5*(x_dot^2 + y_dot^2)";
+    d.potential = "g*y";
+    d.holonomic = {"x^2 + y^2 - 1"};
+    d.contacts = {{"wall", "a - x", 0.8, "m"}};
+    return text::TextModel(d);
+  };
+  const double g = 9.81, a = 0.5;
+  const auto s = start({0.0, -1.0}, {2.0, 0.0});
+  lagrangian::SensitivityOptions o;
+  o.run.t_end = 3.0;
+  o.run.rtol = 1e-12;
+  o.run.atol = 1e-14;
+  o.initial_state = false;
+  o.parameters = {"g", "a"};
+  const lagrangian::SensitivityResult r = text::sensitivities(rod_against_wall(g, a), s, o);
+  ASSERT_EQ(r.sensitivities.back().cols(), 2);
+  EXPECT_GE(r.impacts, 2);
+  const auto final_state = [&](double gg, double aa) {
+    lagrangian::SimulationOptions so = o.run;
+    so.output_interval = -1;
+    lagrangian::Recorder<lagrangian::Dynamic> rec;
+    const lagrangian::RunReport report = lagrangian::simulate(rod_against_wall(gg, aa), s, so, rec);
+    EXPECT_EQ(static_cast<int>(report.impacts), r.impacts);
+    Eigen::VectorXd x(4);
+    x << rec.samples.back().q, rec.samples.back().qd;
+    return x;
+  };
+  Eigen::MatrixXd fd(4, 2);
+  fd.col(0) = (final_state(g + 1e-5, a) - final_state(g - 1e-5, a)) / 2e-5;
+  fd.col(1) = (final_state(g, a + 1e-6) - final_state(g, a - 1e-6)) / 2e-6;
+  const Eigen::MatrixXd& columns = r.sensitivities.back();
+  EXPECT_GT(columns.col(1).norm(), 0.1);
+  EXPECT_LE((fd - columns).cwiseAbs().maxCoeff(), 1e-6 * columns.cwiseAbs().maxCoeff())
+      << "columns:\n" << columns << "\ncentral differences:\n" << fd;
+  std::printf("rod against a wall, %d impacts: |columns - central differences| = %.1e of %.3g\n", r.impacts,
+              (fd - columns).cwiseAbs().maxCoeff(), columns.cwiseAbs().maxCoeff());
 }
 
 }  // namespace

@@ -85,10 +85,6 @@ SensitivityResult sensitivities(const TangentModel& model, const double* q0, con
   if (!(run.output_interval > 0)) run.output_interval = -1;  // t0 and t_end only
   if (!options.initial_state && parameters.empty())
     throw OptionError("sensitivity: nothing to compute: initial_state = false and no parameters");
-  if (!parameters.empty() && model.manifold > 0 && model.contacts > 0)
-    throw AnalysisError("sensitivity: parameter columns of a model with both holonomic or Pfaffian constraints and "
-                        "contacts are not derived (the impact map under the constraints along a parameter); ask for "
-                        "the initial state's columns only");
   const int n = model.n;
   const auto clock_start = std::chrono::steady_clock::now();
 

@@ -278,8 +278,7 @@ std::vector<int> parameter_indices(const std::vector<std::string>& wanted, const
 /// off a constraint manifold, AnalysisError for parameters a model does not
 /// offer (has_parameter_type_v), parameters of a model whose contacts do not
 /// follow its parameters (restitution_follows_parameters_v) or
-/// parameters that move the constraint manifold past the start,
-/// parameters of a model with both constraints and contacts, more than
+/// parameters that move the constraint manifold past the start, more than
 /// kMaxRuntimeBilateralRows constraint rows counted at run time, or
 /// constraints that leave no motion, SimulationError when the run fails.
 template <class M>
