@@ -4,8 +4,10 @@
 //     columns), and it with the five parameters' columns, against central
 //     differences of plain runs (2 runs per column) at the same tolerance,
 //     each side's error measured against the sensitivities at rtol 1e-13;
-//  2. fit_drag() on the record of tests/test_identification.cpp by each
-//     FitMethod: runs and wall time per fit;
+//  2. fit_drag() and fit_restitution() on the records of
+//     tests/test_identification.cpp by each FitMethod: runs and wall time
+//     per fit (the restitution fits' runs cross the ball's bounces and, for
+//     trial values below about 0.69, its rest);
 //  3. across impacts: a ball (e = 0.75) on a tilted plane, two bounces in
 //     1.4 s, dopri5 at rtol 1e-10: a plain run, Φ (6 columns, each impact
 //     crossed by its saltation matrix) and central differences of plain
@@ -23,6 +25,7 @@
 #include "lagrangian/models/impacts.hpp"
 #include "lagrangian/models/pendulums.hpp"
 
+#include "bounce_record.hpp"
 #include "drag_record.hpp"
 #include "final_state.hpp"
 
@@ -122,26 +125,34 @@ int main(int argc, char** argv) {
                 (fd - reference).cwiseAbs().maxCoeff() / scale);
   }
 
-  // The drag record of tests/test_identification.cpp.
-  const lagrangian::testing::DragRecord record;
-  const lagrangian::State<2>& x0 = record.x0;
-  const std::vector<double>&xs = record.xs, &ys = record.ys;
-  const lm::Projectile<lm::Drag::linear> trial(0.145, 9.81, 0.0, 0.0);
+  // The records of tests/test_identification.cpp: each fit `fits` times by
+  // each method, per fit and per run.
   const char* names[] = {"BOBYQA", "Gauss-Newton", "L-BFGS", "SLSQP"};
-  for (int r = 0; r < repeats; ++r) {
-    std::printf("fit_drag, 50 fits each:");
-    for (const lm::FitMethod m :
-         {lm::FitMethod::bobyqa, lm::FitMethod::gauss_newton, lm::FitMethod::lbfgs, lm::FitMethod::slsqp}) {
-      const int fits = 50;
-      lm::Fit f;
-      const auto start = Clock::now();
-      for (int i = 0; i < fits; ++i) f = lm::fit_drag(trial, x0, 0.02, xs, ys, 1.0, {m, 0.0});
-      const double per_fit = since(start) / fits;
-      std::printf("  %s %.3f ms (%d runs, %.0f us each)", names[static_cast<int>(m)], 1e3 * per_fit, f.evaluations,
-                  1e6 * per_fit / f.evaluations);
+  const auto time_fits = [&](const char* label, int fits, const auto& fit) {
+    for (int r = 0; r < repeats; ++r) {
+      std::printf("%s, %d fits each:", label, fits);
+      for (const lm::FitMethod m :
+           {lm::FitMethod::bobyqa, lm::FitMethod::gauss_newton, lm::FitMethod::lbfgs, lm::FitMethod::slsqp}) {
+        lm::Fit f;
+        const auto start = Clock::now();
+        for (int i = 0; i < fits; ++i) f = fit(lm::FitOptions{m, 0.0});
+        const double per_fit = since(start) / fits;
+        std::printf("  %s %.3f ms (%d runs, %.0f us each)", names[static_cast<int>(m)], 1e3 * per_fit, f.evaluations,
+                    1e6 * per_fit / f.evaluations);
+      }
+      std::printf("\n");
     }
-    std::printf("\n");
-  }
+  };
+  const lagrangian::testing::DragRecord record;
+  const lm::Projectile<lm::Drag::linear> trial(0.145, 9.81, 0.0, 0.0);
+  time_fits("fit_drag", 50, [&](const lm::FitOptions& options) {
+    return lm::fit_drag(trial, record.x0, 0.02, record.xs, record.ys, 1.0, options);
+  });
+  const lagrangian::testing::BounceRecord bounces;
+  const lm::BallAndPlane ball_trial(0.3, 0.05, 0.0, 9.81);
+  time_fits("fit_restitution", 20, [&](const lm::FitOptions& options) {
+    return lm::fit_restitution(ball_trial, bounces.x0, bounces.interval, bounces.heights, options);
+  });
 
   // Across impacts.
   const lm::BallAndPlane ball(1.0, 0.1, 0.75, 9.81, {0.4, 0.0, 1.0}, 0.0);

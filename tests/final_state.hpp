@@ -9,15 +9,15 @@
 
 namespace lagrangian::testing {
 
-/// The state (q, q̇) (2n values) of `model` at o.t_end from `s` at o.t0.
+/// The state (q, q̇) (2n values) of `model` at o.t_end from `s` at o.t0
+/// (n fixed or counted at run time, as a text model's).
 template <class M>
 Eigen::VectorXd final_state(const M& model, const State<coordinate_count_v<M>>& s, SimulationOptions o) {
-  constexpr int n = coordinate_count_v<M>;
   o.output_interval = -1;  // the initial and the final state only
-  Recorder<n> rec;
+  Recorder<coordinate_count_v<M>> rec;
   simulate(model, s, o, rec);
   const auto& last = rec.samples.back();
-  Eigen::VectorXd x(2 * n);
+  Eigen::VectorXd x(last.q.size() + last.qd.size());
   x << last.q, last.qd;
   return x;
 }

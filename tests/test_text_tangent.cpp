@@ -6,6 +6,7 @@
 
 #include <Eigen/LU>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <cstdio>
@@ -24,6 +25,7 @@
 #include "contact_models.hpp"
 #include "text_definitions.hpp"
 #include "tangent_options.hpp"
+#include "final_state.hpp"
 #include "plane_slide.hpp"
 
 namespace {
@@ -66,6 +68,16 @@ lagrangian::State<lagrangian::Dynamic> start(std::initializer_list<double> q, st
   i = 0;
   for (double x : qd) s.qd[i++] = x;
   return s;
+}
+
+/// x(o.t_end) of a plain run of the text model `d` with its parameter
+/// `name` set to `value` (central differences along a parameter).
+Eigen::VectorXd final_state_with(const text::Definition& d, const std::string& name, double value,
+                                 const lagrangian::State<lagrangian::Dynamic>& s, const lagrangian::SimulationOptions& o) {
+  text::Definition moved = d;
+  for (auto& [key, v] : moved.parameters)
+    if (key == name) v = value;
+  return lagrangian::testing::final_state(text::TextModel(moved), s, o);
 }
 
 TEST(TextTangentFlow, DoublePendulumJacobianIsTheBuiltInModels) {
@@ -413,6 +425,28 @@ TEST(TextSaltation, BallComingToRestOnAPlaneHasTheClosedFormFlow) {
   const lagrangian::LyapunovResult l = text::lyapunov_spectrum(text::TextModel(d), start({0.3, 0.1, 1.2}, {-0.5, 0.2, 0.4}), lyapunov_over(t));
   EXPECT_EQ(l.rests, 1);
   EXPECT_EQ(std::count(l.spectrum.begin(), l.spectrum.end(), -HUGE_VAL), 2);
+
+  // Its parameter columns through the bounces and the rest (the seeded
+  // twins hold the gap as the model does): the state at 2.2 s is the closed
+  // form of tests/plane_slide.hpp on the plane nx x + nz z = R, whatever m;
+  // its derivatives in g, R, nx and nz by central differences of it, 0 in m.
+  o.parameters = {"m", "g", "R", "nx", "nz"};
+  const Eigen::Vector3d r0(0.3, 0.1, 1.2), v0(-0.5, 0.2, 0.4);
+  const lagrangian::SensitivityResult p =
+      text::sensitivities(text::TextModel(d), start({0.3, 0.1, 1.2}, {-0.5, 0.2, 0.4}), o);
+  ASSERT_EQ(p.sensitivities.back().cols(), 6 + 5);
+  const auto closed_form = [&](std::array<double, 5> v) {  // (m, g, R, nx, nz)
+    return lagrangian_test::state_sliding_on_a_plane(r0, v0, Eigen::Vector3d(v[3], 0.0, v[4]), v[2], v[1], t);
+  };
+  const std::array<double, 5> at = {1.0, 9.81, 0.1, nx, nz};
+  const Eigen::MatrixXd columns = lagrangian_test::central_differences(closed_form, at);
+  for (int j = 0; j < 5; ++j) {
+    const Eigen::VectorXd expected = columns.col(j), got = p.sensitivities.back().col(6 + j);
+    EXPECT_LE((got - expected).cwiseAbs().maxCoeff(), 1e-8) << o.parameters[static_cast<std::size_t>(j)] << "\n"
+                                                              << got.transpose() << "\n"
+                                                              << expected.transpose();
+  }
+  EXPECT_GT(p.sensitivities.back().col(6 + 1).cwiseAbs().maxCoeff(), 0.5);
 }
 
 // A ball on a spring (k = 20 N/m, rest length 0.5 m, anchored 1 m above the
@@ -443,13 +477,7 @@ TEST(TextSaltation, BallLiftingOffAFloorMatchesCentralDifferences) {
   const auto final_state = [&](int j, double shift) {
     lagrangian::State<lagrangian::Dynamic> moved = s;
     (j < 3 ? moved.q : moved.qd)[j % 3] += shift;
-    lagrangian::SimulationOptions so = o.run;
-    so.output_interval = -1;
-    lagrangian::Recorder<lagrangian::Dynamic> rec;
-    lagrangian::simulate(ball, moved, so, rec);
-    Eigen::VectorXd x(6);
-    x << rec.samples.back().q, rec.samples.back().qd;
-    return x;
+    return lagrangian::testing::final_state(ball, moved, o.run);
   };
   double worst = 0;
   for (int j = 0; j < 6; ++j) {
@@ -457,6 +485,26 @@ TEST(TextSaltation, BallLiftingOffAFloorMatchesCentralDifferences) {
     worst = std::max(worst, (fd - phi.col(j)).cwiseAbs().maxCoeff());
   }
   EXPECT_LE(worst, 1e-6 * phi.cwiseAbs().maxCoeff()) << phi;
+
+  // The columns of k, H and g across the landing, the rest and the lift-off
+  // (where λ = 0 and both motions' rates agree: no jump), against central
+  // differences of simulate() with each parameter moved by ±1e-6 of itself.
+  o.parameters = {"k", "H", "g"};
+  const lagrangian::SensitivityResult pr = text::sensitivities(ball, s, o);
+  const Eigen::MatrixXd& columns = pr.sensitivities.back();
+  ASSERT_EQ(columns.cols(), 6 + 3);
+  const std::array<double, 3> values = {20.0, 1.0, 9.81};
+  for (int j = 0; j < 3; ++j) {
+    const std::string& name = o.parameters[static_cast<std::size_t>(j)];
+    const double value = values[static_cast<std::size_t>(j)], h = 1e-6 * value;
+    const Eigen::VectorXd fd =
+        (final_state_with(d, name, value + h, s, o.run) - final_state_with(d, name, value - h, s, o.run)) / (2 * h);
+    EXPECT_LE((fd - columns.col(6 + j)).cwiseAbs().maxCoeff(), 1e-6 * columns.col(6 + j).cwiseAbs().maxCoeff())
+        << name << "\n"
+        << fd.transpose() << "\n"
+        << columns.col(6 + j).transpose();
+    EXPECT_GT(columns.col(6 + j).cwiseAbs().maxCoeff(), 1e-2) << name;
+  }
 }
 
 // Gaps that move with t and with the coordinates, as text and in C++
@@ -837,21 +885,11 @@ TEST(TextConstrainedSensitivity, CartesianDoublePendulumParametersMatchCentralDi
   const lagrangian::SensitivityResult r = text::sensitivities(text::TextModel(d), s, o);
   const Eigen::MatrixXd& got = r.sensitivities.back();
   ASSERT_EQ(got.cols(), 3);
-  const auto final_state = [&](const std::string& name, double value) {
-    text::Definition moved = d;
-    for (auto& [n, v] : moved.parameters)
-      if (n == name) v = value;
-    lagrangian::SimulationOptions so;
-    so.t_end = 1.0;
-    so.rtol = 1e-13;
-    so.atol = 1e-15;
-    so.output_interval = -1;
-    lagrangian::Recorder<lagrangian::Dynamic> rec;
-    lagrangian::simulate(text::TextModel(moved), s, so, rec);
-    Eigen::VectorXd x(8);
-    x << rec.samples.back().q, rec.samples.back().qd;
-    return x;
-  };
+  lagrangian::SimulationOptions so;
+  so.t_end = 1.0;
+  so.rtol = 1e-13;
+  so.atol = 1e-15;
+  const auto final_state = [&](const std::string& name, double value) { return final_state_with(d, name, value, s, so); };
   for (int j = 0; j < 3; ++j) {
     const std::string& name = r.parameters[static_cast<std::size_t>(j)];
     double value = 0;

@@ -49,8 +49,9 @@ class RestingContacts {
 
   /// SimulationError unless contact j, coming to rest at t at approach
   /// speed `approach` (its Zeno rule, or else a plastic impact), can be
-  /// held: the model has TangentModel::rest and the run no parameter
-  /// columns (they do not cross a rest).
+  /// held: the model has TangentModel::rest and, for a run with parameter
+  /// columns, TangentModel::rest_holds_parameters (its seeded twins hold
+  /// the contact too).
   void require_holdable(int j, double approach, bool zeno, bool parameter_columns, double t) const {
     const std::string why = zeno ? "an accumulation of impacts with the forces pressing it shut, where the plain "
                                    "run's Zeno rule lets it rest"
@@ -62,9 +63,10 @@ class RestingContacts {
                                 "): the tangent flow through a resting contact is not derived for " +
                                 (model_.manifold > 0 ? "a model with holonomic or Pfaffian constraints" : "this model"),
                             t);
-    if (parameter_columns)
+    if (parameter_columns && !model_.rest_holds_parameters)
       throw SimulationError("tangent flow: contact '" + contact_name(model_, j) + "' comes to rest (" + why +
-                                "): a parameter's column through a resting contact is not derived",
+                                "): a parameter's column through a resting contact is not derived for this model "
+                                "(its seeded twins do not hold the contact)",
                             t);
   }
 

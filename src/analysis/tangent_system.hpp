@@ -63,7 +63,8 @@ namespace lagrangian::detail {
 /// δφ_j and δφ̇_j: Benettin's vectors are renormalised at once and those
 /// that vanished left out (exponents −∞); at its lift-off (λ_j = 0, the
 /// rates agree) the columns cross unchanged. Refused with SimulationError:
-/// a rest on a model without TangentModel::rest or with parameter columns,
+/// a rest on a model without TangentModel::rest, or with parameter columns
+/// that it does not hold (TangentModel::rest_holds_parameters),
 /// a touch not faster than contact_touch_speed, an impact under a resting
 /// contact, a grazing contact, two contacts closing or touching at once.
 class TangentSystem final : public System {
@@ -526,7 +527,7 @@ class TangentSystem final : public System {
     const Eigen::Map<const Eigen::VectorXd> a(salt_scratch_.data(), 2 * n);
     for (int j = k_; j < columns_; ++j) {
       const double dgap = model_.parameter_impact(model_.model, x, x + c, t, first,
-                                                  parameters_[static_cast<std::size_t>(j - k_)], scratch_.data());
+                                                  parameters_[static_cast<std::size_t>(j - k_)], rest, scratch_.data());
       w_.col(j) += a * (dgap / v);
       w_.col(j).tail(n) += Eigen::Map<const Eigen::VectorXd>(scratch_.data(), n);
     }

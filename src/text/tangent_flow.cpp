@@ -169,10 +169,22 @@ double parameter_manifold(const void* model, const double* q, const double* qd, 
 /// the twin whose parameter is seeded.
 template <int N>
 double parameter_impact(const void* model, const double* q, const double* qd, double t, int contact, int parameter,
-                        double* dqd_plus) {
+                        bool plastic, double* dqd_plus) {
   const auto& with = static_cast<const WithSeeds<N>&>(*static_cast<const FixedSizeModel<N>*>(model));
   return lagrangian::detail::impact_along_parameter<N>(*with.seeded[static_cast<std::size_t>(parameter)], q, qd, t,
-                                                       contact, dqd_plus);
+                                                       contact, plastic, dqd_plus);
+}
+
+/// Contact j held shut or opened (TangentModel::rest) in the model and in
+/// each seeded twin, so that a parameter's column follows the held motion:
+/// the twin's rows are then the model's, each carrying its derivative
+/// along the parameter (a floor's height moves the held row).
+template <int N>
+void hold_with_seeds(const void* model, int contact, bool shut) {
+  const auto& with = static_cast<const WithSeeds<N>&>(*static_cast<const FixedSizeModel<N>*>(model));
+  with.hold(contact, shut);
+  for (const auto& twin : with.seeded)
+    if (twin) twin->hold(contact, shut);
 }
 
 }  // namespace
@@ -191,6 +203,10 @@ SensitivityResult sensitivities(const TextModel& model, const State<Dynamic>& in
       tm.evaluate_parameter = &parameter_direction<n>;
       if (tm.manifold > 0) tm.parameter_manifold = &parameter_manifold<n>;
       if (tm.contacts > 0) tm.parameter_impact = &parameter_impact<n>;
+      if (tm.rest != nullptr) {
+        tm.rest = &hold_with_seeds<n>;
+        tm.rest_holds_parameters = true;
+      }
     }
     return lagrangian::detail::sensitivities(tm, start.q.data(), start.qd.data(), indices, names, options);
   });

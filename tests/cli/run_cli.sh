@@ -523,6 +523,10 @@ analysis_json sensitivity projectile_g "len(d['parameters']['g']) == 4 and 'stat
 # The ball dropped 1 m onto the floor (e = 0.5) bounces at t1 = sqrt(2/g) with speed v1 = g t1; at
 # t = 0.8 s its column of e is (0, 0, v1 (t - t1), 0, 0, v1): the parameter's column crosses the impact.
 analysis_json sensitivity ball_e "(lambda t1: all(abs(a - b) < 1e-7 for a, b in zip(d['parameters']['e'], [0, 0, 9.81 * t1 * (0.8 - t1), 0, 0, 9.81 * t1])) and len(d['parameters']['e']) == 6 and d['impacts'] == 1)((2 / 9.81) ** 0.5)" -- "$src/examples/scenes/ball_and_plane.toml" --t-end 0.8 --parameter e --parameters-only
+# The same scene to its end (3 s): the bounces accumulate and the ball rests on the floor from
+# 1.35 s, sliding on at 0.3 m/s. At rest z = R + offset and z_dot = 0 whatever e and g, so the
+# columns through the rest are (0, 0, 1, 0, 0, 0) for the offset and 0 for e and g.
+analysis_json sensitivity ball_rest_columns "d['impacts'] > 10 and all(abs(a - b) < 1e-7 for a, b in zip(d['parameters']['offset'], [0, 0, 1, 0, 0, 0])) and all(abs(a) < 1e-7 for a in d['parameters']['e'] + d['parameters']['g']) and len(d['parameters']['g']) == 6" -- "$src/examples/scenes/ball_and_plane.toml" --parameter offset --parameter e --parameter g --parameters-only
 # A circular orbit of kepler_polar (r = a = 1 m, k/m = 1: w = 1 rad/s) over half a turn: along k
 # dr = -(a/k)(1 - cos wt) = -2, dphi = (2/k)(wt - sin wt) = 2 pi, dr_dot = 0, dphi_dot = (2w/k)(1 - cos wt) = 4.
 analysis_json sensitivity polar_k "len(d['parameters']['k']) == 4 and all(abs(a - b) < 1e-7 for a, b in zip(d['parameters']['k'], [-2, 2 * __import__('math').pi, 0, 4]))" -- "$src/examples/scenes/kepler_polar.toml" --set 'model.q[0]=1' --set 'model.qd[1]=1' --t-end 3.141592653589793 --parameter k --parameters-only

@@ -189,11 +189,13 @@ struct TangentModel {
                    double* qd_plus, double* jacobian, double* gap_gradient, double* gamma) = nullptr;
   /// For a model with contacts and parameters asked for: the impact map of
   /// contact j at (q, q̇⁻, t) along the model's parameter number
-  /// `parameter`: ∂q̇⁺/∂p (n values into `dqd_plus`); it returns ∂φ_j/∂p.
-  /// Null for a model whose contacts do not follow its parameters
-  /// (sensitivity.hpp): its parameter columns are refused.
+  /// `parameter`, with the contact's own restitution coefficient or, when
+  /// `plastic`, e = 0 (the impact that begins a rest): ∂q̇⁺/∂p (n values
+  /// into `dqd_plus`); it returns ∂φ_j/∂p. Null for a model whose contacts
+  /// do not follow its parameters (sensitivity.hpp): its parameter columns
+  /// are refused.
   double (*parameter_impact)(const void* model, const double* q, const double* qd, double t, int contact,
-                             int parameter, double* dqd_plus) = nullptr;
+                             int parameter, bool plastic, double* dqd_plus) = nullptr;
   /// Resting contacts, for a model that can hold a contact shut as a plain
   /// run does (after its Zeno rule or a plastic impact): rest(model, j,
   /// true) makes φ_j = 0 a holonomic row of the motion from then on, so that
@@ -204,6 +206,12 @@ struct TangentModel {
   /// whose tangent flow through a resting contact is not derived: such a
   /// rest stops the tangent run.
   void (*rest)(const void* model, int contact, bool shut) = nullptr;
+  /// True when rest() holds the contact shut in the models that
+  /// evaluate_parameter() evaluates too (a text model's seeded twins; a C++
+  /// model's twin, held through HoldingContacts as the model is), so that a
+  /// parameter's column follows the held motion through a rest; false: a
+  /// rest stops a run with parameter columns.
+  bool rest_holds_parameters = false;
   /// The constraint manifold of a model with holonomic or Pfaffian rows:
   /// the number of its rows h = (g, ġ, φ) (2 mh + mp; 0 for a model
   /// without such constraints), mh and the rows' names, h and ∂h/∂(q, q̇) at

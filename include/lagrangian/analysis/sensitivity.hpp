@@ -88,7 +88,12 @@
 /// may not follow its parameters. The type of restitution() is the only
 /// mark the library can check: a model that gives it as P but reads a
 /// cached double in unilateral() gets columns without that double's
-/// derivative.
+/// derivative. Where a plain run lets a contact rest (lyapunov.hpp) the
+/// impact that begins the rest is plastic (R_p with e = 0) and f⁺ is the
+/// held motion's; while it rests the column follows that motion, q̈ along p
+/// from the seeded twin holding the same contacts (a held gap that moves
+/// with p moves the row); at its lift-off the rates agree and the column
+/// crosses unchanged.
 /// A model's watched events are not applied (a projectile flies on through
 /// its landing plane).
 
@@ -210,6 +215,18 @@ void evaluate_parameter_direction(const void* model, const double* q, const doub
                                   int parameter, double* qdd, double* jv) {
   const M& m = model_at<M>(model);
   const auto seeded = seeded_twin(m, parameter);
+  if constexpr (held_by_wrapper<M>) {
+    // A model whose tangent flow holds its resting contacts through
+    // HoldingContacts (lyapunov.hpp): the twin holds the same ones, so the
+    // column follows the held motion, whose rows carry ∂/∂p too.
+    const auto& holding = *static_cast<const HoldingContacts<M>*>(model);
+    if (holding.held_count() > 0) {
+      const HoldingContacts<std::remove_cvref_t<decltype(seeded)>> held(seeded);
+      held.held_like(holding);
+      jvp_along(holding, q, qd, t, v, qdd, jv, &held);
+      return;
+    }
+  }
   jvp_along(m, q, qd, t, v, qdd, jv, &seeded);
 }
 
@@ -236,9 +253,10 @@ inline constexpr bool restitution_follows_parameters_v =
 /// ∂q̇⁺/∂p (n values into `dqd_plus`) and, returned, ∂φ_j/∂p at an impact
 /// of contact j at (q, q̇⁻, t): Newton's law (saltation.hpp) on the seeded
 /// twin `seeded` (parameters of type ad::Jet<double, 1, 1>), every input a
-/// constant and the parameter carrying δp = 1.
+/// constant and the parameter carrying δp = 1; with the contact's own e, or
+/// e = 0 when `plastic` (the impact that begins a rest: e does not enter).
 template <int n, class E>
-double impact_along_parameter(const E& seeded, const double* q, const double* qd, double t, int contact,
+double impact_along_parameter(const E& seeded, const double* q, const double* qd, double t, int contact, bool plastic,
                               double* dqd_plus) {
   using I = ad::Jet<double, 1, 1>;
   Vec<I, n> qx, qdx;
@@ -246,7 +264,7 @@ double impact_along_parameter(const E& seeded, const double* q, const double* qd
     qx[k] = I(q[k]);
     qdx[k] = I(qd[k]);
   }
-  const I e = seeded.restitution()[static_cast<std::size_t>(contact)];
+  const I e = plastic ? I(0.0) : I(seeded.restitution()[static_cast<std::size_t>(contact)]);
   const ImpactLaw<I, n> law = impact_law(seeded, qx, qdx, I(t), contact, e);
   for (int i = 0; i < n; ++i) dqd_plus[i] = law.plus[i].g[0];
   return law.gap.g[0];
@@ -255,9 +273,9 @@ double impact_along_parameter(const E& seeded, const double* q, const double* qd
 /// TangentModel::parameter_impact of a model offering parameter types.
 template <class M>
 double evaluate_parameter_impact(const void* model, const double* q, const double* qd, double t, int contact,
-                                 int parameter, double* dqd_plus) {
+                                 int parameter, bool plastic, double* dqd_plus) {
   return impact_along_parameter<coordinate_count_v<M>>(seeded_twin(model_at<M>(model), parameter), q, qd,
-                                                       t, contact, dqd_plus);
+                                                       t, contact, plastic, dqd_plus);
 }
 
 /// The sensitivities over a TangentModel (src/analysis/sensitivity.cpp);
@@ -301,6 +319,7 @@ SensitivityResult sensitivities(const M& model, const State<coordinate_count_v<M
         if (tm.contacts > 0) {
           if constexpr (detail::restitution_follows_parameters_v<M>) {
             tm.parameter_impact = &detail::evaluate_parameter_impact<M>;
+            tm.rest_holds_parameters = detail::held_by_wrapper<M>;
           } else {
             throw AnalysisError(
                 "sensitivity: model '" + model_name(model) +

@@ -128,7 +128,7 @@ class FixedSizeModel {
   int holonomic_count() const { return static_cast<int>(holonomic_rows().size()); }
   template <class S>
   Eigen::Map<const Vec<S, Dynamic>> holonomic(const Vec<S, N>& q, const S& t) const {
-    return rows(0, holonomic_, holonomic_rows(), q, q, t);
+    return rows(0, holonomic_rows(), holonomic_rows(), q, q, t);
   }
   /// Pfaffian φ(q, q̇, t) = A q̇ + a = 0 (m/s or rad/s):
   int pfaffian_count() const { return static_cast<int>(p_->pfaffian_bound.size()); }
@@ -160,11 +160,9 @@ class FixedSizeModel {
   /// Contact j held shut (`shut`): its gap φ_j(q, t) = 0 becomes a holonomic
   /// row after the declared ones, so the passes give the motion that keeps
   /// it shut (the tangent flow's resting contacts, analysis/lyapunov.hpp);
-  /// or opened again. Not for the seeded twin (parameter columns do not
-  /// cross a rest).
-  void hold(int j, bool shut) const
-    requires std::is_same_v<P, double>
-  {
+  /// or opened again. The seeded twin holds its own gap, which carries the
+  /// parameter (a parameter's column through a rest).
+  void hold(int j, bool shut) const {
     const auto at = std::find(held_.begin(), held_.end(), j);
     if (shut == (at != held_.end())) return;
     if (shut) {
@@ -172,8 +170,9 @@ class FixedSizeModel {
     } else {
       held_.erase(at);
     }
-    held_rows_ = p_->holonomic_bound;
-    for (int k : held_) held_rows_.push_back(p_->gaps_bound[static_cast<std::size_t>(k)]);
+    const std::vector<Expression>& gaps = seeded ? gaps_ : p_->gaps_bound;
+    held_rows_ = seeded ? holonomic_ : p_->holonomic_bound;
+    for (int k : held_) held_rows_.push_back(gaps[static_cast<std::size_t>(k)]);
   }
   /// Rows of held contacts among holonomic_count()'s.
   int held_count() const { return static_cast<int>(held_.size()); }
@@ -192,9 +191,11 @@ class FixedSizeModel {
  private:
   static constexpr bool seeded = !std::is_same_v<P, double>;
 
-  /// The holonomic rows now: the declared ones, then the held gaps.
+  /// The holonomic rows now: the declared ones, then the held gaps (the
+  /// twin's own expressions, or the bound ones for P = double).
   const std::vector<Expression>& holonomic_rows() const {
-    return held_.empty() ? p_->holonomic_bound : held_rows_;
+    if (!held_.empty()) return held_rows_;
+    return seeded ? holonomic_ : p_->holonomic_bound;
   }
 
   static std::shared_ptr<const Parsed> checked(const TextModel& model) {

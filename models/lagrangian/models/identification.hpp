@@ -5,20 +5,21 @@
 ///   J(p) = Σ_k |x_sim(t_k; p) − x_k|²,  t_k = t0 + k Δ  (k = 0 … K−1),
 /// and the fit reports the parameter and the root-mean-square residual
 /// √(J/K) (m), which for a right model is the noise of the record.
-///  - fit_restitution(): e of a ball bouncing on a floor, from heights, by
-///    NLopt's derivative-free BOBYQA;
-///  - fit_drag(): the drag coefficient of a projectile, from positions, by
-///    BOBYQA or from the run's parameter sensitivity s_k = ∂x_sim(t_k)/∂p
-///    (analysis/sensitivity.hpp, integrated beside the state: J and its
-///    derivative from one run): Gauss–Newton, p ← p − Σ r_k·s_k / Σ |s_k|²
-///    with r_k = x_sim(t_k) − x_k, or NLopt's L-BFGS or SLSQP on the mean
-///    square J/K with d(J/K)/dp = 2 Σ_k r_k·s_k / K.
+///  - fit_restitution(): e of a ball bouncing on a floor, from heights;
+///  - fit_drag(): the drag coefficient of a projectile, from positions;
+/// each by NLopt's derivative-free BOBYQA or from the run's parameter
+/// sensitivity s_k = ∂x_sim(t_k)/∂p (analysis/sensitivity.hpp, integrated
+/// beside the state: J and its derivative from one run): Gauss–Newton,
+/// p ← p − Σ r_k·s_k / Σ |s_k|² with r_k = x_sim(t_k) − x_k, or NLopt's
+/// L-BFGS or SLSQP on the mean square J/K with d(J/K)/dp = 2 Σ_k r_k·s_k / K.
 
 #include <cmath>
 #include <cstddef>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "lagrangian/analysis/sensitivity.hpp"
 #include "lagrangian/errors.hpp"
@@ -36,7 +37,7 @@ struct Fit {
   int evaluations = 0;      ///< simulated runs (with the sensitivity beside the state when a method uses it)
 };
 
-/// How fit_drag() searches (docs/analysis.md compares them).
+/// How a fit searches (docs/analysis.md compares them).
 enum class FitMethod {
   bobyqa,        ///< NLopt LN_BOBYQA: derivative-free, plain runs
   gauss_newton,  ///< Gauss–Newton with the residuals' derivatives from the parameter sensitivity
@@ -119,23 +120,86 @@ Fit fit_record(const State<N>& x0, double interval, std::size_t K, const MakeMod
   return {p, std::sqrt(j / static_cast<double>(K)), evaluations};
 }
 
+/// The fit fed by the parameter's sensitivity: each run of make_model(p)
+/// integrates s = ∂x/∂p beside the state (analysis/sensitivity.hpp) and
+/// `add(x_k, s_k, k, j, g, h)` adds sample k's |r_k|², r_k·s_k and |s_k|²
+/// (x_k the state (q, q̇), s_k its column) to J, g = ½ dJ/dp and h;
+/// Gauss–Newton on (J, g, h), or NLopt's L-BFGS or SLSQP on the mean
+/// square J/K with d(J/K)/dp = 2 g / K (on the sum's scale NLopt's L-BFGS
+/// fails and SLSQP stops early: docs/analysis.md).
+template <class M, class MakeModel, class Add>
+Fit fit_record_by_sensitivity(const char* who, const State<coordinate_count_v<M>>& x0, double interval, std::size_t K,
+                              const MakeModel& make_model, const std::string& parameter, const Add& add, double lo,
+                              double hi, double start, double xtol, double stop, FitMethod method) {
+  const double count = static_cast<double>(K);
+  SensitivityOptions so;
+  so.run.t_end = interval * (count - 1);
+  so.run.output_interval = interval;
+  so.initial_state = false;
+  so.parameters = {parameter};
+  int evaluations = 0;
+  auto run = [&](double p, double& g, double& h) {
+    ++evaluations;
+    const SensitivityResult r = sensitivities(make_model(p), x0, so);
+    require_samples(who, r.states.size(), K, r.times.empty() ? 0.0 : r.times.back());
+    double j = 0;
+    g = h = 0;
+    for (std::size_t k = 0; k < K; ++k) add(r.states[k], r.sensitivities[k], k, j, g, h);
+    return j;
+  };
+  if (method == FitMethod::gauss_newton) {
+    const auto [p, j] = gauss_newton_1d(run, lo, hi, start, xtol, stop, 300);
+    return {p, std::sqrt(j / count), evaluations};
+  }
+  if (method != FitMethod::lbfgs && method != FitMethod::slsqp)
+    throw ParameterError(std::string(who) + ": method " + std::to_string(static_cast<int>(method)) +
+                         " is not a FitMethod");
+  auto mean_square = [&](double p, double& dj) {
+    double g = 0, h = 0;
+    const double j = run(p, g, h);
+    dj = 2 * g / count;
+    return j / count;
+  };
+  const auto [p, j] = minimise_1d_with_gradient(mean_square, method == FitMethod::lbfgs ? NLOPT_LD_LBFGS : NLOPT_LD_SLSQP,
+                                                lo, hi, start, xtol, stop / count, 300);
+  return {p, std::sqrt(j), evaluations};
+}
+
 }  // namespace detail
 
 /// The coefficient of restitution e ∈ [0, 1] of `ball` (its own e is
 /// ignored) that best reproduces the recorded heights z_k of the ball's
-/// centre (m) at t_k = k·interval from the initial state x0. Throws
-/// ParameterError for an empty, ragged or non-finite record.
+/// centre (m) at t_k = k·interval from the initial state x0, searched as
+/// `options` says (BOBYQA by default; the others with ∂z/∂e from the
+/// parameter's column, which crosses the bounces and the rest a plain run
+/// ends them with). Throws ParameterError for an empty, ragged or
+/// non-finite record.
 inline Fit fit_restitution(const BallAndPlane& ball, const State<3>& x0, double interval,
-                           const std::vector<double>& heights) {
+                           const std::vector<double>& heights, const FitOptions& options = {}) {
   detail::check_record("fit_restitution", interval, {heights});
-  return detail::fit_record(
-      x0, interval, heights.size(),
-      [&](double e) { return BallAndPlane(ball.m, ball.R, e, ball.g, ball.normal(), ball.d); },
-      [&](const Sample<3>& s, std::size_t k) {
-        const double r = s.q[2] - heights[k];
-        return r * r;
+  require_nonnegative("fit_restitution", "target_rms", options.target_rms);
+  const std::size_t K = heights.size();
+  const double stop =
+      options.target_rms > 0 ? options.target_rms * options.target_rms * static_cast<double>(K) : -HUGE_VAL;
+  const auto make = [&](double e) { return BallAndPlane(ball.m, ball.R, e, ball.g, ball.normal(), ball.d); };
+  if (options.method == FitMethod::bobyqa) {
+    return detail::fit_record(
+        x0, interval, K, make,
+        [&](const Sample<3>& s, std::size_t k) {
+          const double r = s.q[2] - heights[k];
+          return r * r;
+        },
+        0.0, 1.0, 0.5, 1e-9, stop);
+  }
+  return detail::fit_record_by_sensitivity<BallAndPlane>(
+      "fit_restitution", x0, interval, K, make, "e",
+      [&](const Eigen::VectorXd& x, const Eigen::MatrixXd& s, std::size_t k, double& j, double& g, double& h) {
+        const double r = x[2] - heights[k], dz = s(2, 0);
+        j += r * r;
+        g += r * dz;
+        h += dz * dz;
       },
-      0.0, 1.0, 0.5, 1e-9);
+      0.0, 1.0, 0.5, 1e-9, stop, options.method);
 }
 
 /// The drag coefficient (b in kg/s for Drag::linear, c in kg/m for
@@ -165,48 +229,15 @@ Fit fit_drag(const Projectile<D>& projectile, const State<2>& x0, double interva
         },
         lo, hi, start, xtol, stop);
   }
-  // J = Σ|r_k|², g = Σ r_k·s_k and h = Σ |s_k|² from one run with s = ∂x/∂c
-  // beside the state.
-  SensitivityOptions so;
-  so.run.t_end = interval * (count - 1);
-  so.run.output_interval = interval;
-  so.initial_state = false;
-  so.parameters = {std::string(Projectile<D>::description.parameters[3].name)};
-  int evaluations = 0;
-  auto run = [&](double c, double& g, double& h) {
-    ++evaluations;
-    const SensitivityResult r = sensitivities(make(c), x0, so);
-    detail::require_samples("fit_drag", r.states.size(), K, r.times.empty() ? 0.0 : r.times.back());
-    double j = 0;
-    g = h = 0;
-    for (std::size_t k = 0; k < K; ++k) {
-      const double rx = r.states[k][0] - xs[k], ry = r.states[k][1] - ys[k];
-      const double sx = r.sensitivities[k](0, 0), sy = r.sensitivities[k](1, 0);
-      j += rx * rx + ry * ry;
-      g += rx * sx + ry * sy;
-      h += sx * sx + sy * sy;
-    }
-    return j;
-  };
-  if (options.method == FitMethod::gauss_newton) {
-    const auto [c, j] = detail::gauss_newton_1d(run, lo, hi, start, xtol, stop, 300);
-    return {c, std::sqrt(j / count), evaluations};
-  }
-  // On the mean square J/K: on the sum's scale NLopt's L-BFGS fails and
-  // SLSQP stops early (docs/analysis.md).
-  auto mean_square = [&](double c, double& dj) {
-    double g = 0, h = 0;
-    const double j = run(c, g, h);
-    dj = 2 * g / count;
-    return j / count;
-  };
-  if (options.method != FitMethod::lbfgs && options.method != FitMethod::slsqp)
-    throw ParameterError("fit_drag: method " + std::to_string(static_cast<int>(options.method)) +
-                         " is not a FitMethod");
-  const auto [c, j] = detail::minimise_1d_with_gradient(
-      mean_square, options.method == FitMethod::lbfgs ? NLOPT_LD_LBFGS : NLOPT_LD_SLSQP, lo, hi, start, xtol,
-      stop / count, 300);
-  return {c, std::sqrt(j), evaluations};
+  return detail::fit_record_by_sensitivity<detail::ProjectileWithoutLanding<D>>(
+      "fit_drag", x0, interval, K, make, std::string(Projectile<D>::description.parameters[3].name),
+      [&](const Eigen::VectorXd& x, const Eigen::MatrixXd& s, std::size_t k, double& j, double& g, double& h) {
+        const double rx = x[0] - xs[k], ry = x[1] - ys[k], sx = s(0, 0), sy = s(1, 0);
+        j += rx * rx + ry * ry;
+        g += rx * sx + ry * sy;
+        h += sx * sx + sy * sy;
+      },
+      lo, hi, start, xtol, stop, options.method);
 }
 
 }  // namespace lagrangian::models

@@ -21,6 +21,16 @@
 namespace lagrangian::detail {
 
 template <class M>
+class HoldingContacts;
+
+/// HoldingContacts of M's twin with parameters of type Q (instantiated only
+/// where a parameter's seeded twin is asked for).
+template <class M, class Q>
+struct HoldingTwin {
+  using type = HoldingContacts<typename M::template with_parameter_type<Q>>;
+};
+
+template <class M>
 class HoldingContacts : public M {
  public:
   static constexpr int n = coordinate_count_v<M>;
@@ -28,6 +38,10 @@ class HoldingContacts : public M {
                 "HoldingContacts: a model with contacts and no holonomic or Pfaffian rows");
 
   explicit HoldingContacts(const M& model) : M(model) {}
+  /// The model with its parameters of type Q holding the same contacts
+  /// (held_like()): a parameter's seeded twin (analysis/sensitivity.hpp).
+  template <class Q>
+  using with_parameter_type = typename HoldingTwin<M, Q>::type;
 
   /// Contact j held shut (`shut`), or opened again.
   void hold(int j, bool shut) const {
@@ -39,6 +53,13 @@ class HoldingContacts : public M {
       held_.erase(at);
     }
   }
+  /// Holds the contacts `other` holds, in its order.
+  template <class Other>
+  void held_like(const Other& other) const {
+    held_ = other.held();
+  }
+  /// The contacts held shut, in the order they were held.
+  const std::vector<int>& held() const { return held_; }
   /// Contacts held shut, each one holonomic row.
   int held_count() const { return static_cast<int>(held_.size()); }
   int holonomic_count() const { return held_count(); }
