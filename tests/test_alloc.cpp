@@ -214,6 +214,31 @@ TEST(NoAllocation, ConstrainedTextModelTangentPassDoesNotAllocate) {
   EXPECT_TRUE(jv.allFinite());
 }
 
+// A parameter's column while a contact rests: q̈ and its derivative along
+// (δx, δp) on the seeded twin that holds the contact as the model's copy
+// does (sensitivity.hpp), built on the stack at every call.
+TEST(NoAllocation, ParameterDirectionThroughARestDoesNotAllocate) {
+  const BallAndPlane ball(1.0, 0.1, 0.5, 9.81, {0.4, 0.0, 1.0}, 0.0);
+  const lagrangian::detail::TangentModel tm = lagrangian::detail::tangent_model_of(ball, "");
+  ASSERT_NE(tm.rest, nullptr);
+  tm.rest(tm.model, 0, true);
+  const double n[3] = {0.4 / std::sqrt(1.16), 0.0, 1.0 / std::sqrt(1.16)};
+  double q[3] = {0.3, 0.1, 0.1 / n[2] - 0.3 * n[0] / n[2]}, qd[3] = {-0.5, 0.2, 0.2};
+  qd[2] = -(n[0] * qd[0]) / n[2];  // along the plane
+  const double v[6] = {0.1, -0.2, 0.3, 0.05, 0.02, -0.1};
+  double qdd[3], jv[3];
+  lagrangian::detail::evaluate_parameter_direction<BallAndPlane>(tm.model, q, qd, 0.0, v, 3, qdd, jv);
+  const long before = g_allocations.load();
+  for (int i = 0; i < 100; ++i) {
+    q[0] += 1e-4;
+    lagrangian::detail::evaluate_parameter_direction<BallAndPlane>(tm.model, q, qd, 0.0, v, 3, qdd, jv);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  // The held motion's: no acceleration across the plane.
+  EXPECT_NEAR(n[0] * qdd[0] + n[1] * qdd[1] + n[2] * qdd[2], 0.0, 1e-12);
+  EXPECT_TRUE(std::isfinite(jv[0] + jv[1] + jv[2]));
+}
+
 TEST(NoAllocation, AllocationCountOfARunDoesNotGrowWithSteps) {
   // A counting check that can fail: confirm the counter sees allocations,
   // by new and (outside AddressSanitizer) by the C allocator.

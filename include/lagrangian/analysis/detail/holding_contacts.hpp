@@ -53,15 +53,16 @@ class HoldingContacts : public M {
       held_.erase(at);
     }
   }
-  /// Holds the contacts `other` holds, in its order.
+  /// Holds the contacts `other` holds, in its order, from now on whatever it
+  /// holds later (its list is read, not copied: `other` outlives this).
   template <class Other>
   void held_like(const Other& other) const {
-    held_ = other.held();
+    like_ = &other.held();
   }
   /// The contacts held shut, in the order they were held.
-  const std::vector<int>& held() const { return held_; }
+  const std::vector<int>& held() const { return like_ != nullptr ? *like_ : held_; }
   /// Contacts held shut, each one holonomic row.
-  int held_count() const { return static_cast<int>(held_.size()); }
+  int held_count() const { return static_cast<int>(held().size()); }
   int holonomic_count() const { return held_count(); }
 
   /// The held contacts' gaps φ_j(q, t) (m or rad), in the order they were
@@ -75,7 +76,7 @@ class HoldingContacts : public M {
     if (rows.size() != count) rows.resize(count);
     if (count > 0) {
       const auto gaps = M::unilateral(q, t);
-      for (int k = 0; k < count; ++k) rows[k] = gaps[held_[static_cast<std::size_t>(k)]];
+      for (int k = 0; k < count; ++k) rows[k] = gaps[held()[static_cast<std::size_t>(k)]];
     }
     return Eigen::Map<const Vec<S, Dynamic>>(rows.data(), count);
   }
@@ -83,12 +84,13 @@ class HoldingContacts : public M {
   std::vector<std::string> holonomic_names() const {
     const std::vector<std::string> contacts = constraint_names(static_cast<const M&>(*this));
     std::vector<std::string> names;
-    for (int j : held_) names.push_back(contacts[static_cast<std::size_t>(j)]);
+    for (int j : held()) names.push_back(contacts[static_cast<std::size_t>(j)]);
     return names;
   }
 
  private:
   mutable std::vector<int> held_;
+  mutable const std::vector<int>* like_ = nullptr;  // held_like()'s list, read in place of held_
 };
 
 /// True for a model whose tangent flow holds its resting contacts through
