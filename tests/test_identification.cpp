@@ -63,7 +63,7 @@ TEST(Identification, RestitutionFitsFromTheSensitivityReachTheDerivativeFreeResi
     }
   }
   // The searches start at e = 0.5, where the ball comes to rest at
-  // τ (1 + 2e/(1 − e)) = 3τ = 1.39 s, τ = √(2 (1.05 − R)/g): at 2.5 s it lies
+  // τ (1 + 2e/(1 − e)) = 3τ = 1.35 s, τ = √(2 (1.05 − R)/g): at 2.5 s it lies
   // on the floor, z = R, ż = 0, whatever e near 0.5, so the column of e
   // carried through the bounces and the rest ends at 0.
   SensitivityOptions so;
