@@ -30,6 +30,65 @@ void add(S* p, int i, const Vector3<S>& f) {
   p[3 * i + 2] += f[2];
 }
 
+// -- the scene's parameters in a pass of its tangent flow -----------------------
+
+/// One number a particle scene declares, named by its scene key
+/// (scene_parameters(), particle_tangent.cpp): what it is, the entry it
+/// belongs to (a body, a spring, a drag entry, a link, a surface, a
+/// contact plane) and its component (x, y, z of a vector). A pass of the
+/// tangent flow on numbers with one direction (ad::Jet<double, 1, 1>)
+/// seeds it: the parameter then carries δp = 1 along that direction, so
+/// the pass gives ∂a/∂p beside (∂a/∂x) δx. Kind::none seeds nothing.
+struct Parameter {
+  enum class Kind {
+    none,
+    gravity,            // gravity.g[c] (m/s²)
+    newton_G,           // newtonian_gravity.G (m³ kg⁻¹ s⁻²)
+    mass,               // bodies[i].mass (kg)
+    radius,             // bodies[i].radius (m)
+    stiffness,          // springs[i].stiffness (N/m)
+    rest_length,        // springs[i].rest_length (m)
+    linear_drag,        // linear_drag[i].coefficient (kg/s)
+    quadratic_drag,     // quadratic_drag[i].coefficient (kg/m)
+    link_length,        // links[i].length (m)
+    surface_point,      // surfaces[i].point[c] (m)
+    surface_radius,     // surfaces[i].radius (m)
+    sphere_restitution, // contacts.spheres.restitution
+    plane_restitution,  // contacts.planes[i].restitution
+    plane_point,        // contacts.planes[i].point[c] (m)
+    box_restitution,    // contacts.box.restitution
+    box_min,            // contacts.box.min[c] (m)
+    box_max,            // contacts.box.max[c] (m)
+  };
+  Kind kind = Kind::none;
+  int index = 0;
+  int component = 0;
+  bool is(Kind k, int i = 0, int c = 0) const { return kind == k && index == i && component == c; }
+};
+
+/// `value` as a number of type S, carrying δ = 1 along its one direction
+/// when it is the seeded parameter (`seeded`); a double stays a double.
+template <class S>
+S seeded(double value, bool seeded) {
+  if constexpr (std::is_same_v<S, double>) {
+    return value;
+  } else {
+    S x(value);
+    if (seeded) x.g[0] = 1.0;
+    return x;
+  }
+}
+
+/// 1/m of body `body` (1/kg; 0 for an anchor, body −1) from its stored
+/// `inverse`, carrying ∂(1/m)/∂m when its mass is seeded.
+template <class S>
+S inverse_mass(double inverse, int body, const Parameter& p) {
+  if constexpr (!std::is_same_v<S, double>) {
+    if (body >= 0 && p.is(Parameter::Kind::mass, body)) return 1.0 / seeded<S>(1.0 / inverse, true);
+  }
+  return S(inverse);
+}
+
 // -- force kernels -------------------------------------------------------------
 //
 // Each declared effect kind is one kernel. A kernel adds its accelerations
@@ -54,13 +113,16 @@ struct GravityKernel final : Kernel {
   std::vector<double> mass;
   Vector3d g;
   template <class S>
-  void add(const S*, const S*, S* a) {
+  void add(const S*, const S*, S* a, const Parameter& p = {}) {
     ++evaluations;
     const int n = static_cast<int>(mass.size());
+    const S g0 = seeded<S>(g[0], p.is(Parameter::Kind::gravity, 0, 0)),
+            g1 = seeded<S>(g[1], p.is(Parameter::Kind::gravity, 0, 1)),
+            g2 = seeded<S>(g[2], p.is(Parameter::Kind::gravity, 0, 2));
     for (int i = 0; i < n; ++i) {
-      a[3 * i] += g[0];
-      a[3 * i + 1] += g[1];
-      a[3 * i + 2] += g[2];
+      a[3 * i] += g0;
+      a[3 * i + 1] += g1;
+      a[3 * i + 2] += g2;
     }
   }
   /// The first kernel of a right-hand side: writes ṙ = v and a = g.
@@ -89,17 +151,21 @@ struct NewtonKernel final : Kernel {
   std::vector<double> mass;
   double G;
   template <class S>
-  void add(const S* r, const S*, S* a) {
+  void add(const S* r, const S*, S* a, const Parameter& p = {}) {
     using std::sqrt;
     ++evaluations;
     const int n = static_cast<int>(mass.size());
+    const S g = seeded<S>(G, p.is(Parameter::Kind::newton_G));
+    const auto m = [&](int i) {
+      return seeded<S>(mass[static_cast<std::size_t>(i)], p.is(Parameter::Kind::mass, i));
+    };
     for (int i = 0; i < n; ++i)
       for (int j = i + 1; j < n; ++j) {
         const Vector3<S> d = at(r, i) - at(r, j);
         const S d2 = d.squaredNorm();
-        const Vector3<S> f = (-G / (d2 * sqrt(d2))) * d;  // per unit mass of each
-        add3(a, i, Vector3<S>(mass[static_cast<std::size_t>(j)] * f));
-        add3(a, j, Vector3<S>(-mass[static_cast<std::size_t>(i)] * f));
+        const Vector3<S> f = (-g / (d2 * sqrt(d2))) * d;  // per unit mass of each
+        add3(a, i, Vector3<S>(m(j) * f));
+        add3(a, j, Vector3<S>(-m(i) * f));
       }
   }
   double potential(const double* r) const override {
@@ -128,19 +194,24 @@ struct SpringKernel final : Kernel {
   explicit SpringKernel(std::vector<SpringData> s) : Kernel("springs"), springs(std::move(s)) {}
   std::vector<SpringData> springs;
   template <class S>
-  void add(const S* r, const S*, S* acc) {
+  void add(const S* r, const S*, S* acc, const Parameter& p = {}) {
     ++evaluations;
-    for (const auto& s : springs) {
+    for (std::size_t i = 0; i < springs.size(); ++i) {
+      const SpringData& s = springs[i];
+      const int entry = static_cast<int>(i);
       const Vector3<S> d = at(r, s.a) - (s.b >= 0 ? at(r, s.b) : Vector3<S>(s.anchor.cast<S>()));
+      const S k = seeded<S>(s.k, p.is(Parameter::Kind::stiffness, entry));
+      const bool seeded_length = p.is(Parameter::Kind::rest_length, entry);
       Vector3<S> f;
-      if (s.L0 == 0.0) {
-        f = -s.k * d;
+      if (s.L0 == 0.0 && !seeded_length) {
+        f = -k * d;
       } else {
         const S l = d.norm();
-        f = (-s.k * (l - s.L0) / l) * d;  // l = 0 gives NaN, caught as a non-finite state
+        f = (-k * (l - seeded<S>(s.L0, seeded_length)) / l) * d;  // l = 0 gives NaN, caught as a non-finite state
       }
-      lagrangian::scene::detail::particles::add(acc, s.a, Vector3<S>(s.inv_ma * f));
-      if (s.b >= 0) lagrangian::scene::detail::particles::add(acc, s.b, Vector3<S>(-s.inv_mb * f));
+      lagrangian::scene::detail::particles::add(acc, s.a, Vector3<S>(inverse_mass<S>(s.inv_ma, s.a, p) * f));
+      if (s.b >= 0)
+        lagrangian::scene::detail::particles::add(acc, s.b, Vector3<S>(-inverse_mass<S>(s.inv_mb, s.b, p) * f));
     }
   }
   double potential(const double* r) const override {
@@ -153,37 +224,66 @@ struct SpringKernel final : Kernel {
   }
 };
 
+/// The bodies a drag acts on, one entry per body and [[…_drag]] table:
+/// the rate c/m and, for a pass with a seeded parameter, c and m.
+struct DragEntries {
+  std::vector<int> body;
+  std::vector<int> table;           // the entry's [[…_drag]] table
+  std::vector<double> coefficient;  // c of that table
+  std::vector<double> mass;         // m of the body (kg)
+  std::vector<double> rate;         // c/m
+  void push(int b, int t, double c, double m) {
+    body.push_back(b);
+    table.push_back(t);
+    coefficient.push_back(c);
+    mass.push_back(m);
+    rate.push_back(c * (1.0 / m));
+  }
+  /// c/m of entry k, with its derivative when the coefficient of the
+  /// entry's table (a parameter of kind `kind`) or the body's mass is seeded.
+  template <class S>
+  S rate_of(std::size_t k, Parameter::Kind kind, const Parameter& p) const {
+    if constexpr (!std::is_same_v<S, double>) {
+      const bool c = p.is(kind, table[k]), m = p.is(Parameter::Kind::mass, body[k]);
+      if (c || m) return seeded<S>(coefficient[k], c) / seeded<S>(mass[k], m);
+    }
+    return S(rate[k]);
+  }
+};
+
 /// F = −b v (Rayleigh D = ½ b |v|²).
 struct LinearDragKernel final : Kernel {
-  LinearDragKernel(std::vector<int> b, std::vector<double> c) : Kernel("linear_drag"), body(std::move(b)), rate(std::move(c)) {}
-  std::vector<int> body;
-  std::vector<double> rate;  // b/m (1/s) per entry
+  explicit LinearDragKernel(DragEntries e) : Kernel("linear_drag"), entries(std::move(e)) {}
+  DragEntries entries;
   template <class S>
-  void add(const S*, const S* v, S* a) {
+  void add(const S*, const S* v, S* a, const Parameter& p = {}) {
     ++evaluations;
-    for (std::size_t k = 0; k < body.size(); ++k)
-      lagrangian::scene::detail::particles::add(a, body[k], Vector3<S>(-rate[k] * at(v, body[k])));
+    for (std::size_t k = 0; k < entries.body.size(); ++k) {
+      const int i = entries.body[k];
+      lagrangian::scene::detail::particles::add(
+          a, i, Vector3<S>(-entries.rate_of<S>(k, Parameter::Kind::linear_drag, p) * at(v, i)));
+    }
   }
   bool dissipative() const override { return true; }
 };
 
 /// F = −c |v| v (D = ⅓ c |v|³).
 struct QuadraticDragKernel final : Kernel {
-  QuadraticDragKernel(std::vector<int> b, std::vector<double> c)
-      : Kernel("quadratic_drag"), body(std::move(b)), rate(std::move(c)) {}
-  std::vector<int> body;
-  std::vector<double> rate;  // c/m (1/m) per entry
+  explicit QuadraticDragKernel(DragEntries e) : Kernel("quadratic_drag"), entries(std::move(e)) {}
+  DragEntries entries;
   template <class S>
-  void add(const S*, const S* v, S* a) {
+  void add(const S*, const S* v, S* a, const Parameter& p = {}) {
     ++evaluations;
-    for (std::size_t k = 0; k < body.size(); ++k) {
-      const Vector3<S> u = at(v, body[k]);
+    for (std::size_t k = 0; k < entries.body.size(); ++k) {
+      const int i = entries.body[k];
+      const Vector3<S> u = at(v, i);
       if constexpr (!std::is_same_v<S, double>) {
         // |u| u has the derivative 0 at u = 0, where |u|'s is undefined:
         // on AD numbers a body at rest adds nothing.
         if (u.squaredNorm() == 0.0) continue;
       }
-      lagrangian::scene::detail::particles::add(a, body[k], Vector3<S>(-rate[k] * u.norm() * u));
+      lagrangian::scene::detail::particles::add(
+          a, i, Vector3<S>(-entries.rate_of<S>(k, Parameter::Kind::quadratic_drag, p) * u.norm() * u));
     }
   }
   bool dissipative() const override { return true; }

@@ -127,17 +127,17 @@ class ParticleModel {
 
   /// a = F(r, v)/m (m/s², 3N values) of the declared force kernels alone,
   /// on numbers of any type S: doubles, or AD numbers for the tangent flow
-  /// (particle_tangent.cpp), which takes scenes without constraint rows or
-  /// contacts, whose accelerations these are. (The kernels a run calls are
-  /// listed in rhs_for() too: a new kind goes into both.)
+  /// (particle_tangent.cpp), whose pass may seed one of the scene's
+  /// parameters `p`. (The kernels a run calls are listed in rhs_for() too:
+  /// a new kind goes into both.)
   template <class S>
-  void force_accelerations(const S* r, const S* v, S* a) {
+  void force_accelerations(const S* r, const S* v, S* a, const Parameter& p = {}) {
     for (int i = 0; i < dim_; ++i) a[i] = S(0.0);
-    if (gravity_) gravity_->add(r, v, a);
-    if (newton_) newton_->add(r, v, a);
-    if (springs_) springs_->add(r, v, a);
-    if (linear_drag_) linear_drag_->add(r, v, a);
-    if (quadratic_drag_) quadratic_drag_->add(r, v, a);
+    if (gravity_) gravity_->add(r, v, a, p);
+    if (newton_) newton_->add(r, v, a, p);
+    if (springs_) springs_->add(r, v, a, p);
+    if (linear_drag_) linear_drag_->add(r, v, a, p);
+    if (quadratic_drag_) quadratic_drag_->add(r, v, a, p);
   }
 
   using RhsFn = void (*)(ParticleModel&, const double*, double*, double);
@@ -446,20 +446,19 @@ class ParticleModel {
     kernels_.push_back(std::make_unique<SpringKernel>(std::move(s)));
     springs_ = static_cast<SpringKernel*>(kernels_.back().get());
   }
+  const auto drag_entries = [&](const auto& tables) {
+    DragEntries entries;
+    for (std::size_t t = 0; t < tables.size(); ++t)
+      for (int i : members(tables[t].bodies))
+        entries.push(i, static_cast<int>(t), tables[t].coefficient, mass_[static_cast<std::size_t>(i)]);
+    return entries;
+  };
   if (!scene.linear_drag.empty()) {
-    std::vector<int> b;
-    std::vector<double> c;
-    for (const auto& d : scene.linear_drag)
-      for (int i : members(d.bodies)) b.push_back(i), c.push_back(d.coefficient * inv(i));
-    kernels_.push_back(std::make_unique<LinearDragKernel>(std::move(b), std::move(c)));
+    kernels_.push_back(std::make_unique<LinearDragKernel>(drag_entries(scene.linear_drag)));
     linear_drag_ = static_cast<LinearDragKernel*>(kernels_.back().get());
   }
   if (!scene.quadratic_drag.empty()) {
-    std::vector<int> b;
-    std::vector<double> c;
-    for (const auto& d : scene.quadratic_drag)
-      for (int i : members(d.bodies)) b.push_back(i), c.push_back(d.coefficient * inv(i));
-    kernels_.push_back(std::make_unique<QuadraticDragKernel>(std::move(b), std::move(c)));
+    kernels_.push_back(std::make_unique<QuadraticDragKernel>(drag_entries(scene.quadratic_drag)));
     quadratic_drag_ = static_cast<QuadraticDragKernel*>(kernels_.back().get());
   }
   }
@@ -476,6 +475,7 @@ class ParticleModel {
       const Vector3d d0 = scene.bodies[static_cast<std::size_t>(row.a)].position -
                           (row.b >= 0 ? scene.bodies[static_cast<std::size_t>(row.b)].position : l.anchor);
       row.length = std::isnan(l.length) ? d0.norm() : l.length;
+      row.source = static_cast<int>(k);
       row.name = l.name.empty() ? "link" + std::to_string(k) : l.name;
       rows_.push_back(row);
       has_links_ = true;
@@ -488,6 +488,7 @@ class ParticleModel {
     row.p = s.point;
     row.n = s.normal.normalized();
     row.length = s.radius;
+    row.source = static_cast<int>(k);
     row.name = s.name.empty() ? "surface" + std::to_string(k) : s.name;
     rows_.push_back(row);
     has_surfaces_ = true;
@@ -511,6 +512,7 @@ class ParticleModel {
       c.n = pc.normal.normalized();
       c.R = radius_[static_cast<std::size_t>(i)];
       c.e = pc.restitution;
+      c.plane = static_cast<int>(k);
       c.name = names_[static_cast<std::size_t>(i)] + "-" + pname;
       wall_contacts_.push_back(c);
     }

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -24,25 +25,51 @@ struct Row {
   int a = -1, b = -1;  // bodies; b = -1 for a fixed end
   Vector3d p = Vector3d::Zero(), n = Vector3d::Zero();
   double length = 0;  // link L, sphere ρ, contact R or R_a + R_b
+  int source = -1;    // the scene's link or surface this row is (-1 for a resting contact)
   std::string name;
 
   // g, its gradient and γ on numbers S: doubles in a run, AD numbers
-  // (ad::Jet) for the tangent flow (particle_tangent.cpp).
+  // (ad::Jet) for the tangent flow (particle_tangent.cpp), whose pass may
+  // seed one of the scene's parameters `par` (a link's length, a surface's
+  // point or radius).
 
+  /// p (m): the anchor, a plane's point or a sphere's centre.
+  template <class S>
+  Vector3<S> point(const Parameter& par) const {
+    Vector3<S> x = p.template cast<S>();
+    if constexpr (!std::is_same_v<S, double>) {
+      if ((kind == Kind::plane || kind == Kind::sphere) && par.kind == Parameter::Kind::surface_point &&
+          par.index == source)
+        x[par.component].g[0] = 1.0;
+    }
+    return x;
+  }
+  /// L, ρ or R (m).
+  template <class S>
+  S size(const Parameter& par) const {
+    return seeded<S>(length, (kind == Kind::link && par.is(Parameter::Kind::link_length, source)) ||
+                                 (kind == Kind::sphere && par.is(Parameter::Kind::surface_radius, source)));
+  }
   /// r_a − r_b (m), or r_a − p for a fixed end.
   template <class S>
-  Vector3<S> d(const S* r) const {
-    return at(r, a) - (b >= 0 ? at(r, b) : Vector3<S>(p.template cast<S>()));
+  Vector3<S> d(const S* r, const Parameter& par = {}) const {
+    return at(r, a) - (b >= 0 ? at(r, b) : point<S>(par));
   }
   /// Unit of the row's multiplier: N/m for the rows ½(|d|² − L²), N for gaps in m.
   const char* multiplier_unit() const { return kind == Kind::link || kind == Kind::sphere ? "N/m" : "N"; }
   /// g(r): m² for the rows ½(|d|² − L²), m for gaps.
   template <class S>
-  S value(const S* r) const {
+  S value(const S* r, const Parameter& par = {}) const {
     switch (kind) {
-      case Kind::link: return 0.5 * (d(r).squaredNorm() - length * length);
-      case Kind::plane: return n.template cast<S>().dot(at(r, a) - p.template cast<S>());
-      case Kind::sphere: return 0.5 * ((at(r, a) - p.template cast<S>()).squaredNorm() - length * length);
+      case Kind::link: {
+        const S l = size<S>(par);
+        return 0.5 * (d(r, par).squaredNorm() - l * l);
+      }
+      case Kind::plane: return n.template cast<S>().dot(at(r, a) - point<S>(par));
+      case Kind::sphere: {
+        const S rho = size<S>(par);
+        return 0.5 * ((at(r, a) - point<S>(par)).squaredNorm() - rho * rho);
+      }
       case Kind::rest_plane: return n.template cast<S>().dot(at(r, a) - p.template cast<S>()) - length;
       case Kind::rest_spheres: return d(r).norm() - length;
     }
@@ -50,17 +77,17 @@ struct Row {
   }
   /// Gradient with respect to body a (body b gets its negative).
   template <class S>
-  Vector3<S> grad(const S* r) const {
+  Vector3<S> grad(const S* r, const Parameter& par = {}) const {
     switch (kind) {
-      case Kind::link: return d(r);
+      case Kind::link: return d(r, par);
       case Kind::plane:
       case Kind::rest_plane: return n.template cast<S>();
-      case Kind::sphere: return at(r, a) - p.template cast<S>();
+      case Kind::sphere: return at(r, a) - point<S>(par);
       case Kind::rest_spheres: return d(r).normalized();
     }
     return Vector3<S>(S(0.0), S(0.0), S(0.0));
   }
-  /// γ = g̈ − ∇g·a = vᵀ ∂²g/∂r² v (m²/s² or m/s²).
+  /// γ = g̈ − ∇g·a = vᵀ ∂²g/∂r² v (m²/s² or m/s²); no parameter enters it.
   template <class S>
   S gamma(const S* r, const S* v) const {
     const Vector3<S> dv = b >= 0 ? Vector3<S>(at(v, a) - at(v, b)) : at(v, a);
@@ -100,6 +127,7 @@ struct Contact {
   Vector3d p = Vector3d::Zero(), n = Vector3d::Zero();
   double R = 0;  // R_a (+ R_b)
   double e = 1;
+  int plane = -1;  // the scene's contact plane it is (-1 for a box wall or a pair of spheres)
   std::string name;
   int id = -1;  // its number among the scene's contacts (ParticleModel::contact)
   lagrangian::detail::ContactHistory history;  // for the Zeno rule

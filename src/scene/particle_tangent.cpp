@@ -24,12 +24,14 @@
 #include "lagrangian/scene/hard_spheres_tangent.hpp"
 #include "particle_engine.hpp"
 #include "particle_model.hpp"
+#include "particle_parameters.hpp"
 
 namespace lagrangian::scene::detail {
 namespace {
 
 using particles::ParticleModel;
 using particles::Contact;
+using particles::Parameter;
 using particles::Row;
 using particles::Vector3;
 
@@ -144,6 +146,17 @@ class ParticleTangent {
     }
     return tm;
   }
+  /// The columns of these parameters of the scene follow (`tm`, made by
+  /// tangent_model(), gets the hooks that give them).
+  void use_parameters(std::vector<SceneParameter> parameters, lagrangian::detail::TangentModel& tm) {
+    parameters_ = std::move(parameters);
+    tm.evaluate_parameter = &evaluate_parameter;
+    if (fixed_ > 0) tm.parameter_manifold = &parameter_manifold;
+    if (!contacts_.empty()) {
+      tm.parameter_impact = &parameter_impact;
+      tm.rest_holds_parameters = true;  // rest() holds the contact in the one model every pass evaluates
+    }
+  }
   const double* q0() const { return x0_.data(); }
   const double* qd0() const { return x0_.data() + model_.dim(); }
 
@@ -177,16 +190,43 @@ class ParticleTangent {
   /// q̈ and (∂q̈/∂(q, q̇)) w along one direction w (2n values).
   static void evaluate_direction(const void* self, const double* q, const double* qd, double, const double* w,
                                  double* qdd, double* jw) {
+    static_cast<const ParticleTangent*>(self)->along(q, qd, w, {}, qdd, jw);
+  }
+  /// q̈ and (∂q̈/∂(q, q̇)) w + ∂q̈/∂p for the scene's parameter number
+  /// `parameter` (use_parameters()).
+  static void evaluate_parameter(const void* self, const double* q, const double* qd, double, const double* w,
+                                 int parameter, double* qdd, double* jw) {
     const auto& s = *static_cast<const ParticleTangent*>(self);
-    const int n = s.model_.dim();
-    JetOne *r = s.one_.data(), *v = r + n, *a = v + n;
+    s.along(q, qd, w, s.parameters_[static_cast<std::size_t>(parameter)].which, qdd, jw);
+  }
+  /// The impact map of contact j along the parameter (impact_along_parameter()).
+  static double parameter_impact(const void* self, const double* q, const double* qd, double, int j, int parameter,
+                                 bool plastic, double* dqd_plus) {
+    const auto& s = *static_cast<const ParticleTangent*>(self);
+    return impact_along_parameter(s.model_, s.contacts_[static_cast<std::size_t>(j)],
+                                  s.parameters_[static_cast<std::size_t>(parameter)].which, q, qd, plastic,
+                                  dqd_plus);
+  }
+  /// ∂h/∂p of the links' and surfaces' rows (rows_along_parameter()); returns p.
+  static double parameter_manifold(const void* self, const double* q, const double* qd, double, int parameter,
+                                   double* out) {
+    const auto& s = *static_cast<const ParticleTangent*>(self);
+    const SceneParameter& p = s.parameters_[static_cast<std::size_t>(parameter)];
+    rows_along_parameter(s.model_, s.fixed_, p.which, q, qd, out);
+    return p.value;
+  }
+  /// q̈ and its derivative along the direction w of the state and, when
+  /// `p` is a parameter, along p.
+  void along(const double* q, const double* qd, const double* w, const Parameter& p, double* qdd, double* jw) const {
+    const int n = model_.dim();
+    JetOne *r = one_.data(), *v = r + n, *a = v + n;
     for (int i = 0; i < n; ++i) {
       r[i] = JetOne(q[i]);
       r[i].g[0] = w[i];
       v[i] = JetOne(qd[i]);
       v[i].g[0] = w[n + i];
     }
-    s.accelerations(r, v, a, 1);
+    accelerations(r, v, a, 1, true, p);
     for (int i = 0; i < n; ++i) {
       qdd[i] = a[i].v;
       jw[i] = a[i].g[0];
@@ -352,12 +392,13 @@ class ParticleTangent {
   }
 
   /// a: q̈ on numbers J that carry `width` directions, from the force
-  /// kernels and, with rows, their multipliers (the class comment). The
+  /// kernels and, with rows, their multipliers (the class comment); a pass
+  /// of one direction may seed a parameter `p` of the scene too. The
   /// values (C, S and its factors, λ, q̈) are the same in every pass of one
   /// evaluation: `values` false reuses those of the pass before.
   template <class J>
-  void accelerations(const J* r, const J* v, J* a, int width, bool values = true) const {
-    model_.force_accelerations(r, v, a);
+  void accelerations(const J* r, const J* v, J* a, int width, bool values = true, const Parameter& p = {}) const {
+    model_.force_accelerations(r, v, a, p);
     if (m_ == 0) return;
     const int n = model_.dim();
     // C, γ and the free accelerations F/m, with their derivatives.
@@ -365,7 +406,7 @@ class ParticleTangent {
     if (values) c_.setZero();
     for (int i = 0; i < m_; ++i) {
       const Row& row = model_.rows()[static_cast<std::size_t>(i)];
-      const Vector3<J> grad = row.grad(r);
+      const Vector3<J> grad = row.grad(r, p);
       const J gamma = row.gamma(r, v);
       gamma_(i, 0) = gamma.v;
       for (int k = 0; k < width; ++k) gamma_(i, k + 1) = gamma.g[static_cast<std::size_t>(k)];
@@ -397,11 +438,18 @@ class ParticleTangent {
       qdd_.noalias() += minv_ct_ * lambda_;
     }
     for (int i = 0; i < n; ++i) a[i].v = qdd_[i];
-    // δq̈ = u + M⁻¹Cᵀδλ, u = δa_F + M⁻¹δCᵀλ, δλ = S⁺ (−δγ − δC q̈ − C u).
+    // δq̈ = u + M⁻¹Cᵀδλ, u = δa_F + M⁻¹δCᵀλ + δ(M⁻¹) Cᵀλ,
+    // δλ = S⁺ (−δγ − δC q̈ − C u); δ(M⁻¹) is −1/m_i² on body i's three
+    // coordinates when its mass m_i is the seeded parameter.
     for (int k = 0; k < width; ++k) {
       const Eigen::MatrixXd& dc = dc_[static_cast<std::size_t>(k)];
       scratch_.noalias() = dc.transpose() * lambda_;
       u_ = free_.col(k + 1) + model_.inverse_masses().cwiseProduct(scratch_);
+      if (p.kind == Parameter::Kind::mass) {
+        const double inverse = model_.inverse_masses()[3 * p.index];
+        u_.segment<3>(3 * p.index).noalias() -=
+            inverse * inverse * (c_.middleCols<3>(3 * p.index).transpose() * lambda_);
+      }
       rhs_ = -gamma_.col(k + 1);
       rhs_.noalias() -= dc * qdd_;
       rhs_.noalias() -= c_ * u_;
@@ -443,6 +491,7 @@ class ParticleTangent {
   mutable std::vector<JetOne> one_;
   std::vector<double> x0_;
   std::vector<Contact> contacts_;  // walls and planes, then the sphere pairs
+  std::vector<SceneParameter> parameters_;  // those whose columns are asked for (use_parameters())
   int fixed_;                      // rows of the links and surfaces
   mutable int m_ = 0;              // rows now: those and the resting contacts'
   mutable int sized_ = 0;          // rows the workspace below is sized for
@@ -490,17 +539,27 @@ FloquetResult particle_floquet(const Scene& scene, const FloquetOptions& options
 }
 
 SensitivityResult particle_sensitivities(const Scene& scene, const SensitivityOptions& options) {
-  if (!scene.gas) require_tangent_flow_scene(scene, "sensitivity");
-  if (!options.parameters.empty())
-    throw OptionError("sensitivity: particle scene '" + scene.name + "': --parameter " + options.parameters.front() +
-                      ": a particle scene's sensitivities are those of its initial state (its masses and effects are "
-                      "not parameters of its tangent flow)");
   if (scene.gas) {
+    if (!options.parameters.empty())
+      throw OptionError("sensitivity: particle scene '" + scene.name + "': --parameter " +
+                        options.parameters.front() +
+                        ": a gas's sensitivities are those of its initial state (its event-driven tangent flow "
+                        "carries no parameter columns)");
     const Scene gas = expanded_gas(scene, "sensitivity");
     return sensitivities_hard_spheres(hard_sphere_system(gas), hard_sphere_options(gas, options.run));
   }
-  const ParticleTangent tangent(scene);
-  return lagrangian::detail::sensitivities(tangent.tangent_model(), tangent.q0(), tangent.qd0(), {}, {}, options);
+  require_tangent_flow_scene(scene, "sensitivity");
+  ParticleTangent tangent(scene);
+  lagrangian::detail::TangentModel tm = tangent.tangent_model();
+  std::vector<int> indices;
+  std::vector<std::string> names;
+  if (!options.parameters.empty()) {
+    std::vector<SceneParameter> all = scene_parameters(scene);
+    for (const SceneParameter& p : all) names.push_back(p.name);
+    indices = lagrangian::detail::parameter_indices(options.parameters, names);
+    tangent.use_parameters(std::move(all), tm);
+  }
+  return lagrangian::detail::sensitivities(tm, tangent.q0(), tangent.qd0(), indices, names, options);
 }
 
 Eigen::MatrixXd particle_acceleration_jacobian(const Scene& scene, const std::vector<double>& x,
