@@ -196,12 +196,11 @@ struct SpringKernel final : Kernel {
   template <class S>
   void add(const S* r, const S*, S* acc, const Parameter& p = {}) {
     ++evaluations;
-    for (std::size_t i = 0; i < springs.size(); ++i) {
-      const SpringData& s = springs[i];
-      const int entry = static_cast<int>(i);
+    for (const SpringData& s : springs) {
+      const int entry = static_cast<int>(&s - springs.data());
       const Vector3<S> d = at(r, s.a) - (s.b >= 0 ? at(r, s.b) : Vector3<S>(s.anchor.cast<S>()));
       const S k = seeded<S>(s.k, p.is(Parameter::Kind::stiffness, entry));
-      const bool seeded_length = p.is(Parameter::Kind::rest_length, entry);
+      const bool seeded_length = !std::is_same_v<S, double> && p.is(Parameter::Kind::rest_length, entry);
       Vector3<S> f;
       if (s.L0 == 0.0 && !seeded_length) {
         f = -k * d;
