@@ -18,7 +18,8 @@ void SensitivityCommand::declare(OptionList& o) {
                  "stepper: rk4, dopri5, cash_karp54, fehlberg78, bulirsch_stoer, gauss_radau15 or rosenbrock4 "
                  "(the columns are integrated beside the state)");
   o.values("--parameter", request_.parameters,
-           "NAME: a model parameter (as in [model.parameters]) whose column d x(t_end) / d NAME follows; repeatable");
+           "NAME: a model parameter (as in [model.parameters]) or a particle scene's key (gravity.g[2], "
+           "bodies[0].mass) whose column d x(t_end) / d NAME follows; repeatable");
   o.flag("--parameters-only", parameters_only_, "only the parameters' columns, not the state transition matrix");
   o.flag("--json", json_, "print one JSON object (state, state_transition, parameters, ...) instead of text");
   o.flag("-q,--quiet", quiet_, "print only errors");
