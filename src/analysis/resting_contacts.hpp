@@ -138,10 +138,11 @@ class RestingContacts {
                               t);
   }
 
-  /// SimulationError: contact `closing` closes at t while another rests
-  /// (the saltation matrix of an impact under a resting contact is not
-  /// derived).
+  /// SimulationError: contact `closing` closes at t while another rests,
+  /// on a model whose impact law is not its contact's alone then
+  /// (TangentModel::impact_alone_while_resting).
   void refuse_impact(int closing, double t) const {
+    if (model_.impact_alone_while_resting) return;
     for (int j = 0; j < model_.contacts; ++j)
       if (resting(j))
         throw SimulationError("tangent flow: contact '" + contact_name(model_, closing) + "' closes while contact '" +

@@ -143,6 +143,7 @@ class ParticleTangent {
       tm.gaps = &gaps;
       tm.impact = &impact;
       tm.rest = &rest;
+      tm.impact_alone_while_resting = true;  // Newton's law of the one contact, as a plain run's impulse()
     }
     return tm;
   }

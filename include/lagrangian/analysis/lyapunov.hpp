@@ -212,6 +212,16 @@ struct TangentModel {
   /// parameter's column follows the held motion through a rest; false: a
   /// rest stops a run with parameter columns.
   bool rest_holds_parameters = false;
+  /// True when impact() and parameter_impact() give Newton's law of their
+  /// contact alone while other contacts rest, as a plain run applies it
+  /// (the resting contacts are rows of the motion, not of the law): an
+  /// impact whose impulse leaves every resting contact's rate unchanged (a
+  /// wall's normal orthogonal in M⁻¹ to a floor's) then crosses by the
+  /// usual saltation matrix with those contacts still held, and one that
+  /// sets a resting contact moving is refused (a plain run releases it:
+  /// impacts in sequence at one instant). False: every impact while a
+  /// contact rests is refused.
+  bool impact_alone_while_resting = false;
   /// The constraint manifold of a model with holonomic or Pfaffian rows:
   /// the number of its rows h = (g, ġ, φ) (2 mh + mp; 0 for a model
   /// without such constraints), mh and the rows' names, h and ∂h/∂(q, q̇) at
