@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "lagrangian/ad/cmath.hpp"
+#include "lagrangian/ad/eigen.hpp"
 #include "lagrangian/ad/jet.hpp"
 
 namespace lagrangian::scene::detail {
