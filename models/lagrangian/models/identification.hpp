@@ -17,6 +17,7 @@
 #include <cstddef>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -165,6 +166,52 @@ Fit fit_record_by_sensitivity(const char* who, const State<coordinate_count_v<M>
   return {p, std::sqrt(j), evaluations};
 }
 
+/// The fit of one parameter p ∈ [lo, hi] (from `start`, to `xtol`) to
+/// recorded coordinates: J(p) = Σ_k Σ_i (q_{c_i}(t_k; p) − y_i,k)², the
+/// coordinates c_i = `coordinates[i]` of the runs of make(p) against the
+/// series y_i = `*series[i]`, searched as `options` says (the sensitivity's
+/// column of `parameter` feeding the methods that use one); each sample's
+/// terms are summed before they join J.
+template <class MakeModel>
+Fit fit_coordinates(const char* who, const auto& x0, double interval, const std::vector<int>& coordinates,
+                    const std::vector<const std::vector<double>*>& series, const MakeModel& make,
+                    const std::string& parameter, double lo, double hi, double start, double xtol,
+                    const FitOptions& options) {
+  using M = std::decay_t<decltype(make(start))>;
+  const std::size_t K = series.front()->size();
+  const double stop =
+      options.target_rms > 0 ? options.target_rms * options.target_rms * static_cast<double>(K) : -HUGE_VAL;
+  const auto residual = [&](std::size_t i, double q, std::size_t k) { return q - (*series[i])[k]; };
+  if (options.method == FitMethod::bobyqa) {
+    return fit_record(
+        x0, interval, K, make,
+        [&](const auto& sample, std::size_t k) {
+          double jk = 0;
+          for (std::size_t i = 0; i < coordinates.size(); ++i) {
+            const double r = residual(i, sample.q[coordinates[i]], k);
+            jk += r * r;
+          }
+          return jk;
+        },
+        lo, hi, start, xtol, stop);
+  }
+  return fit_record_by_sensitivity<M>(
+      who, x0, interval, K, make, parameter,
+      [&](const Eigen::VectorXd& x, const Eigen::MatrixXd& s, std::size_t k, double& j, double& g, double& h) {
+        double jk = 0, gk = 0, hk = 0;
+        for (std::size_t i = 0; i < coordinates.size(); ++i) {
+          const double r = residual(i, x[coordinates[i]], k), d = s(coordinates[i], 0);
+          jk += r * r;
+          gk += r * d;
+          hk += d * d;
+        }
+        j += jk;
+        g += gk;
+        h += hk;
+      },
+      lo, hi, start, xtol, stop, options.method);
+}
+
 }  // namespace detail
 
 /// The coefficient of restitution e ∈ [0, 1] of `ball` (its own e is
@@ -178,28 +225,9 @@ inline Fit fit_restitution(const BallAndPlane& ball, const State<3>& x0, double 
                            const std::vector<double>& heights, const FitOptions& options = {}) {
   detail::check_record("fit_restitution", interval, {heights});
   require_nonnegative("fit_restitution", "target_rms", options.target_rms);
-  const std::size_t K = heights.size();
-  const double stop =
-      options.target_rms > 0 ? options.target_rms * options.target_rms * static_cast<double>(K) : -HUGE_VAL;
   const auto make = [&](double e) { return BallAndPlane(ball.m, ball.R, e, ball.g, ball.normal(), ball.d); };
-  if (options.method == FitMethod::bobyqa) {
-    return detail::fit_record(
-        x0, interval, K, make,
-        [&](const Sample<3>& s, std::size_t k) {
-          const double r = s.q[2] - heights[k];
-          return r * r;
-        },
-        0.0, 1.0, 0.5, 1e-9, stop);
-  }
-  return detail::fit_record_by_sensitivity<BallAndPlane>(
-      "fit_restitution", x0, interval, K, make, "e",
-      [&](const Eigen::VectorXd& x, const Eigen::MatrixXd& s, std::size_t k, double& j, double& g, double& h) {
-        const double r = x[2] - heights[k], dz = s(2, 0);
-        j += r * r;
-        g += r * dz;
-        h += dz * dz;
-      },
-      0.0, 1.0, 0.5, 1e-9, stop, options.method);
+  return detail::fit_coordinates("fit_restitution", x0, interval, {2}, {&heights}, make, "e", 0.0, 1.0, 0.5, 1e-9,
+                                 options);
 }
 
 /// The drag coefficient (b in kg/s for Drag::linear, c in kg/m for
@@ -213,31 +241,12 @@ Fit fit_drag(const Projectile<D>& projectile, const State<2>& x0, double interva
   detail::check_record("fit_drag", interval, {xs, ys});
   require_positive("fit_drag", "max_coefficient", max_coefficient);
   require_nonnegative("fit_drag", "target_rms", options.target_rms);
-  const std::size_t K = xs.size();
-  const double count = static_cast<double>(K);
-  const double stop = options.target_rms > 0 ? options.target_rms * options.target_rms * count : -HUGE_VAL;
-  const double lo = 0.0, hi = max_coefficient, start = 0.5 * max_coefficient, xtol = 1e-12 * max_coefficient;
   const auto make = [&](double c) {
     return detail::ProjectileWithoutLanding<D>{Projectile<D>(projectile.m, projectile.g, projectile.beta, c)};
   };
-  if (options.method == FitMethod::bobyqa) {
-    return detail::fit_record(
-        x0, interval, K, make,
-        [&](const Sample<2>& s, std::size_t k) {
-          const double rx = s.q[0] - xs[k], ry = s.q[1] - ys[k];
-          return rx * rx + ry * ry;
-        },
-        lo, hi, start, xtol, stop);
-  }
-  return detail::fit_record_by_sensitivity<detail::ProjectileWithoutLanding<D>>(
-      "fit_drag", x0, interval, K, make, std::string(Projectile<D>::description.parameters[3].name),
-      [&](const Eigen::VectorXd& x, const Eigen::MatrixXd& s, std::size_t k, double& j, double& g, double& h) {
-        const double rx = x[0] - xs[k], ry = x[1] - ys[k], sx = s(0, 0), sy = s(1, 0);
-        j += rx * rx + ry * ry;
-        g += rx * sx + ry * sy;
-        h += sx * sx + sy * sy;
-      },
-      lo, hi, start, xtol, stop, options.method);
+  return detail::fit_coordinates("fit_drag", x0, interval, {0, 1}, {&xs, &ys}, make,
+                                 std::string(Projectile<D>::description.parameters[3].name), 0.0, max_coefficient,
+                                 0.5 * max_coefficient, 1e-12 * max_coefficient, options);
 }
 
 }  // namespace lagrangian::models
