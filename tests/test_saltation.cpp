@@ -355,6 +355,46 @@ TEST(Saltation, ABilliardWithARunTimeNumberOfWallsHasZeroExponents) {
 // Three equal spheres on a line, the outer two meeting the middle one at
 // one instant: the saltation matrix of two simultaneous impacts is not
 // defined by one contact's law, and the run says so.
+// The built-in SpheresInBox with one disc (1 kg, r = 0.1 m, box 2 m × 1 m,
+// g = 9.81 m/s², e_wall = 0.8) dropped from y = 0.6 m moving at 0.3 m/s:
+// it bounces to rest on the floor by the Zeno rule at
+// √(2h/g) (1 + e)/(1 − e) = 2.87 s (h = 0.5 m) and slides into the right
+// wall (reached at x = W − r = 1.9 m) at 4.67 s, whose impulse, along x,
+// leaves the floor's rate alone: the impact is crossed with the disc held
+// on the floor (the particle scenes' floor-and-wall test in C++). Along x,
+// x(t) = (W − r)(1 + e) − e x0 − e ẋ0 t after it, ẋ = −e ẋ0; y = r and
+// ẏ = 0 whatever the start: at 5.5 s, in (x, y, ẋ, ẏ),
+//   ∂x/∂x0 = −e, ∂x/∂ẋ0 = −e t, ∂ẋ/∂ẋ0 = −e, every other entry 0,
+// and the columns of the parameters: ∂x/∂e_wall = W − r − x0 − ẋ0 t,
+// ∂ẋ/∂e_wall = −ẋ0; ∂x/∂W = 1 + e; ∂x/∂r1 = −(1 + e), ∂y/∂r1 = 1; g, H
+// and m1: 0.
+TEST(Saltation, DiscAtRestOnTheFloorBouncesOffAWallAsTheClosedForm) {
+  const lm::SpheresInBox<1> box({1.0}, {0.1}, 2.0, 1.0, 0.8, 1.0, 9.81);
+  lagrangian::State<2> s;
+  s.q << 0.5, 0.6;
+  s.qd << 0.3, 0.0;
+  const double t = 5.5, e = 0.8, reach = 1.9, x0 = 0.5, v0 = 0.3;
+  const lagrangian::SensitivityResult r =
+      lagrangian::sensitivities(box, s, tight(t, {"e_wall", "W", "r1", "g", "H", "m1"}));
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(4, 10);
+  expected(0, 0) = -e;
+  expected(0, 2) = -e * t;
+  expected(2, 2) = -e;
+  expected(0, 4) = reach - x0 - v0 * t;
+  expected(2, 4) = -v0;
+  expected(0, 5) = 1 + e;
+  expected(0, 6) = -(1 + e);
+  expected(1, 6) = 1.0;
+  const Eigen::MatrixXd& got = r.sensitivities.back();
+  EXPECT_LT((got - expected).cwiseAbs().maxCoeff(), 1e-9) << got;
+  EXPECT_NEAR(r.states.back()[0], reach * (1 + e) - e * x0 - e * v0 * t, 1e-9);
+  EXPECT_NEAR(r.states.back()[1], 0.1, 1e-9);
+  const lagrangian::LyapunovResult l = lagrangian::lyapunov_spectrum(box, s, lagrangian_test::lyapunov_options(t));
+  EXPECT_EQ(l.rests, 1);
+  EXPECT_EQ(l.releases, 0);
+  EXPECT_GT(l.impacts, 20);
+}
+
 TEST(Saltation, SimultaneousImpactsStopTheRun) {
   const lm::SpheresOnLine<3> line({1.0, 1.0, 1.0}, {0.1, 0.1, 0.1}, 1.0);
   lagrangian::State<3> s;

@@ -435,6 +435,9 @@ TangentModel tangent_model_of(const M& model, const std::string& prefix) {
         if (tm.manifold == 0) tm.rest = &evaluate_hold<M>;
       } else if constexpr (held_by_wrapper<M>) {
         tm.rest = &evaluate_hold<HoldingContacts<M>>;
+        // The impact hooks are the model's own (model_at()): Newton's law
+        // of the closing contact alone, as a plain run's.
+        tm.impact_alone_while_resting = true;
       }
     }
   }
