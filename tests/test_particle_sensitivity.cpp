@@ -269,4 +269,21 @@ TEST(ParticleSensitivity, DoublePendulumOnLinksMatchesPlainRuns) {
   }
 }
 
+// A gas's tangent flow is the event-driven engine's, which carries the
+// initial state's columns only: a parameter is refused, naming it.
+TEST(ParticleSensitivity, AGasRefusesParameters) {
+  const Scene scene = load_scene(std::string(LAGRANGIAN_SOURCE_DIR) + "/examples/scenes/gas_in_container.toml");
+  SensitivityRequest request;
+  request.parameters = {"bodies[0].mass"};
+  try {
+    sensitivity(scene, request);
+    ADD_FAILURE() << "a gas's parameter column was computed";
+  } catch (const OptionError& e) {
+    EXPECT_NE(std::string(e.what()).find("--parameter bodies[0].mass: a gas's sensitivities are those of its initial "
+                                         "state"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace

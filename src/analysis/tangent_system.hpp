@@ -567,7 +567,7 @@ class TangentSystem final : public System {
       throw SimulationError("tangent flow: the impulse of contact '" + contact(first) + "' sets resting contact '" +
                                 contact(j) + "' moving (its rate changes by " +
                                 number(rate_old_[jj] - rate_at_[jj]) +
-                                " m/s; a plain run releases it): impacts in sequence at one instant are not derived",
+                                "; a plain run releases it): impacts in sequence at one instant are not derived",
                             t);
     }
   }
