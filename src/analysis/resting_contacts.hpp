@@ -151,6 +151,30 @@ class RestingContacts {
                               t);
   }
 
+  /// SimulationError when the impulse of contact `closing` (q̇⁺ in
+  /// `qd_plus`, approach speed −v, at (q, t) of x) changes the rate of a
+  /// resting contact by more than 1e-9 |v|: a plain run releases that
+  /// contact (impacts in sequence at one instant, or a lift-off at the
+  /// impact), which the tangent flow does not derive. An impulse orthogonal
+  /// in M⁻¹ to the resting contacts' (a wall's while a floor holds) leaves
+  /// them held, and the free motion's saltation matrix carries the held
+  /// motion's tangent vectors across. `gap`, `before`, `after`: buffers of
+  /// one value per contact.
+  void require_unmoved(int closing, const double* x, const double* qd_plus, double v, double t, double* gap,
+                       double* before, double* after) const {
+    model_.gaps(model_.model, x, x + c_, t, gap, before);
+    model_.gaps(model_.model, x, qd_plus, t, gap, after);
+    for (int j = 0; j < model_.contacts; ++j) {
+      const double change = after[j] - before[j];
+      if (!resting(j) || std::abs(change) <= 1e-9 * std::abs(v)) continue;
+      throw SimulationError("tangent flow: the impulse of contact '" + contact_name(model_, closing) +
+                                "' sets resting contact '" + contact_name(model_, j) + "' moving (its rate changes by " +
+                                short_number(change) +
+                                "; a plain run releases it): impacts in sequence at one instant are not derived",
+                            t);
+    }
+  }
+
  private:
   /// λ_j (N for a distance gap; > 0 presses the bodies apart) of resting
   /// contact j at (q, q̇, t) (the class comment).

@@ -66,10 +66,8 @@ namespace lagrangian::detail {
 /// a rest on a model without TangentModel::rest, or with parameter columns
 /// that it does not hold (TangentModel::rest_holds_parameters),
 /// a touch not faster than contact_touch_speed, an impact while a contact
-/// rests on a model whose impact law is not its contact's alone
-/// (TangentModel::impact_alone_while_resting) or whose impulse sets a
-/// resting contact moving, a grazing contact, two contacts closing or
-/// touching at once.
+/// rests that resting_contacts.hpp does not allow, a grazing contact, two
+/// contacts closing or touching at once.
 class TangentSystem final : public System {
  public:
   TangentSystem(const TangentModel& model, int k, double longest, bool benettin, std::vector<int> parameters = {},
@@ -421,8 +419,8 @@ class TangentSystem final : public System {
   /// plastic impact) the impact is plastic and the contact rests from then
   /// on (TangentModel::rest). SimulationError for a rest the model cannot
   /// hold (above), a touch slower than contact_touch_speed, an impact while
-  /// another contact rests that the model's law does not allow
-  /// (require_rests_unmoved()), two contacts closing or touching at one instant,
+  /// another contact rests (refuse_impact(), require_unmoved()), two
+  /// contacts closing or touching at one instant,
   /// a grazing contact and one found penetrated.
   bool cross_impact(double t_old, const double* x_old, double& t, double* x, const StepInterpolant& interpolant) {
     const int n = model_.n, c = coordinate_count();
@@ -468,9 +466,8 @@ class TangentSystem final : public System {
     if (at < t) interpolant(at, x);
     if (benettin_) megno_step(t_old, at, x, interpolant);
     t = at;
-    // Another contact touching at the impact (a ball in a corner, a row of
-    // touching spheres): impacts in sequence at one instant. (A resting
-    // contact touches, held shut: the impact law keeps it.)
+    // Another open contact touching at the impact (a ball in a corner, a
+    // row of touching spheres): impacts in sequence at one instant.
     model_.gaps(model_.model, x, x + c, t, gap_at_.data(), rate_at_.data());
     for (int j = 0; j < model_.contacts; ++j)
       if (j != first && !resting_.resting(j) &&
@@ -487,7 +484,8 @@ class TangentSystem final : public System {
       throw SimulationError("tangent flow: contact '" + contact(first) + "' grazes (approach speed " +
                                 number(v) + " >= 0): its saltation matrix is not defined",
                             t);
-    if (resting_.count() > 0) require_rests_unmoved(x, first, v, t);
+    if (resting_.count() > 0)
+      resting_.require_unmoved(first, x, qd_plus_.data(), v, t, gap_at_.data(), rate_at_.data(), rate_old_.data());
     const double e = model_.restitution[static_cast<std::size_t>(first)];
     std::fill(zero_.begin(), zero_.end(), 0.0);
     model_.evaluate_direction(model_.model, x, x + c, t, zero_.data(), qdd_minus_.data(), scratch_.data());
@@ -548,28 +546,6 @@ class TangentSystem final : public System {
     }
     if (!(zeno && resting_.resting(first))) ++impacts_;
     return true;
-  }
-
-  /// SimulationError when the impulse of contact `first` (q̇⁺ in qd_plus_,
-  /// approach speed −v) changes the rate of a resting contact by more than
-  /// 1e-9 |v|: a plain run releases that contact (impacts in sequence at
-  /// one instant, or a lift-off at the impact), which the tangent flow does
-  /// not derive. An impulse orthogonal in M⁻¹ to the resting contacts' (a
-  /// wall's while a floor holds) leaves them held, and the free motion's
-  /// saltation matrix carries the held motion's tangent vectors across.
-  void require_rests_unmoved(const double* x, int first, double v, double t) {
-    const int c = coordinate_count();
-    model_.gaps(model_.model, x, x + c, t, gap_at_.data(), rate_at_.data());
-    model_.gaps(model_.model, x, qd_plus_.data(), t, gap_old_.data(), rate_old_.data());
-    for (int j = 0; j < model_.contacts; ++j) {
-      const auto jj = static_cast<std::size_t>(j);
-      if (!resting_.resting(j) || std::abs(rate_old_[jj] - rate_at_[jj]) <= 1e-9 * std::abs(v)) continue;
-      throw SimulationError("tangent flow: the impulse of contact '" + contact(first) + "' sets resting contact '" +
-                                contact(j) + "' moving (its rate changes by " +
-                                number(rate_old_[jj] - rate_at_[jj]) +
-                                "; a plain run releases it): impacts in sequence at one instant are not derived",
-                            t);
-    }
   }
 
   TangentModel model_;
