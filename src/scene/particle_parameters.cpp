@@ -17,7 +17,7 @@ namespace lagrangian::scene::detail {
 using particles::Parameter;
 using Kind = particles::Parameter::Kind;
 
-std::vector<SceneParameter> scene_parameters(const Scene& scene) {
+std::vector<SceneParameter> scene_parameters(const Scene& scene, const particles::ParticleModel& model) {
   std::vector<SceneParameter> out;
   const auto add = [&](std::string name, Kind kind, int index, int component, double value) {
     out.push_back({std::move(name), Parameter{kind, index, component}, value});
@@ -46,18 +46,8 @@ std::vector<SceneParameter> scene_parameters(const Scene& scene) {
   for (std::size_t i = 0; i < scene.quadratic_drag.size(); ++i)
     add(entry("quadratic_drag", i, "coefficient"), Kind::quadratic_drag, static_cast<int>(i), 0,
         scene.quadratic_drag[i].coefficient);
-  for (std::size_t i = 0; i < scene.links.size(); ++i) {
-    const Link& l = scene.links[i];
-    double length = l.length;
-    if (std::isnan(length)) {  // the distance at t0, as the engine takes it
-      const auto at = [&](const std::string& name) {
-        return std::find_if(scene.bodies.begin(), scene.bodies.end(), [&](const Body& b) { return b.name == name; })
-            ->position;
-      };
-      length = (at(l.a) - (l.b.empty() ? l.anchor : at(l.b))).norm();
-    }
-    add(entry("links", i, "length"), Kind::link_length, static_cast<int>(i), 0, length);
-  }
+  for (std::size_t i = 0; i < scene.links.size(); ++i)  // (the engine's L: the distance at t0 when not given)
+    add(entry("links", i, "length"), Kind::link_length, static_cast<int>(i), 0, model.rows()[i].length);
   for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
     const Surface& s = scene.surfaces[i];
     vector(entry("surfaces", i, "point"), Kind::surface_point, static_cast<int>(i), s.point);

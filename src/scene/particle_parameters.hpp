@@ -26,8 +26,9 @@ struct SceneParameter {
 /// the bodies' masses (and radii where contacts meet them), g, G, the
 /// springs' stiffnesses and rest lengths, the drags' coefficients, the
 /// links' lengths, the surfaces' points and radii, and the contacts'
-/// restitution coefficients, planes' points and the box's corners.
-std::vector<SceneParameter> scene_parameters(const Scene& scene);
+/// restitution coefficients, planes' points and the box's corners; the
+/// values as `model`, built from the scene, holds them.
+std::vector<SceneParameter> scene_parameters(const Scene& scene, const particles::ParticleModel& model);
 
 /// Newton's law at an impact of contact `c` at (q, q̇⁻) along the seeded
 /// parameter `p` (the state held constant): ∂q̇⁺/∂p (3N values into

@@ -147,16 +147,20 @@ class ParticleTangent {
     }
     return tm;
   }
-  /// The columns of these parameters of the scene follow (`tm`, made by
-  /// tangent_model(), gets the hooks that give them).
-  void use_parameters(std::vector<SceneParameter> parameters, lagrangian::detail::TangentModel& tm) {
-    parameters_ = std::move(parameters);
+  /// The columns of the scene's parameters (scene_parameters(), whose
+  /// names it returns) can follow: `tm`, made by tangent_model(), gets the
+  /// hooks that give them.
+  std::vector<std::string> use_parameters(const Scene& scene, lagrangian::detail::TangentModel& tm) {
+    parameters_ = scene_parameters(scene, model_);
     tm.evaluate_parameter = &evaluate_parameter;
     if (fixed_ > 0) tm.parameter_manifold = &parameter_manifold;
     if (!contacts_.empty()) {
       tm.parameter_impact = &parameter_impact;
       tm.rest_holds_parameters = true;  // rest() holds the contact in the one model every pass evaluates
     }
+    std::vector<std::string> names;
+    for (const SceneParameter& p : parameters_) names.push_back(p.name);
+    return names;
   }
   const double* q0() const { return x0_.data(); }
   const double* qd0() const { return x0_.data() + model_.dim(); }
@@ -555,10 +559,8 @@ SensitivityResult particle_sensitivities(const Scene& scene, const SensitivityOp
   std::vector<int> indices;
   std::vector<std::string> names;
   if (!options.parameters.empty()) {
-    std::vector<SceneParameter> all = scene_parameters(scene);
-    for (const SceneParameter& p : all) names.push_back(p.name);
+    names = tangent.use_parameters(scene, tm);
     indices = lagrangian::detail::parameter_indices(options.parameters, names);
-    tangent.use_parameters(std::move(all), tm);
   }
   return lagrangian::detail::sensitivities(tm, tangent.q0(), tangent.qd0(), indices, names, options);
 }
