@@ -310,32 +310,6 @@ class ParticleModel {
       }
   }
 
-  /// Newton's law of restitution for one contact, with the active constraint
-  /// rows kept at C Δv = −C v:  M Δv = Jᵀ μ,  J = [C; ∇φ],
-  /// J Δv = [−C v; −(1 + e) φ̇]. Returns the impulse along ∇φ (N·s).
-  /// Resting contacts are not rows here: they take part as contacts of their
-  /// own (released when the impulse makes them approach, see resolve_at).
-  double impulse(double* x, const Contact& c, double e) {
-    const int m = fixed_rows_;
-    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(m + 1, dim_);
-    if (m > 0) {
-      assemble(x);
-      J.topRows(m) = C_.topRows(m);
-    }
-    const Vector3d nrm = c.normal(x);
-    J.block<1, 3>(m, 3 * c.a) = nrm.transpose();
-    if (c.pair) J.block<1, 3>(m, 3 * c.b) = -nrm.transpose();
-    Eigen::Map<Eigen::VectorXd> v(x + dim_, dim_);
-    Eigen::VectorXd b(m + 1);
-    if (m > 0) b.head(m) = -(C_.topRows(m) * v);
-    b[m] = -(1.0 + e) * c.rate(x, x + dim_);
-    const Eigen::MatrixXd MinvJt = inv_mass3_.asDiagonal() * J.transpose();
-    const Eigen::MatrixXd S = J * MinvJt;
-    const Eigen::VectorXd mu = S.completeOrthogonalDecomposition().solve(b);
-    v += MinvJt * mu;
-    return mu[m];
-  }
-
   /// d²φ/dt² of a contact at x under the current forces and constraints.
   /// True when the forces press the contact shut: d²φ/dt² < 0 beyond
   /// round-off (1e-9 of the largest acceleration, at least 1e-12 m/s²).

@@ -69,40 +69,6 @@ std::vector<SceneParameter> scene_parameters(const Scene& scene, const particles
   return out;
 }
 
-double impact_along_parameter(const particles::ParticleModel& model, const particles::Contact& c,
-                              const Parameter& p, const double* q, const double* qd, bool plastic,
-                              double* dqd_plus) {
-  using D = ad::Jet<double, 1, 1>;
-  using particles::at;
-  const bool own_e = c.pair ? p.is(Kind::sphere_restitution)
-                     : c.plane >= 0 ? p.is(Kind::plane_restitution, c.plane)
-                                    : p.is(Kind::box_restitution);
-  const D e = plastic ? D(0.0) : particles::seeded<D>(c.e, own_e);
-  const std::vector<double>& mass = model.mass();
-  const D inv_a = particles::inverse_mass<D>(1.0 / mass[static_cast<std::size_t>(c.a)], c.a, p);
-  const D inv_b = c.pair ? particles::inverse_mass<D>(1.0 / mass[static_cast<std::size_t>(c.b)], c.b, p) : D(0.0);
-  const Eigen::Vector3d normal = c.pair ? Eigen::Vector3d((at(q, c.a) - at(q, c.b)).normalized()) : c.n;
-  const double v = normal.dot(at(qd, c.a) - (c.pair ? at(qd, c.b) : Eigen::Vector3d::Zero()));
-  const D impulse = -(1.0 + e) * v / (inv_a + inv_b);
-  std::fill(dqd_plus, dqd_plus + model.dim(), 0.0);
-  const double da = (inv_a * impulse).g[0], db = (inv_b * impulse).g[0];
-  for (int k = 0; k < 3; ++k) {
-    dqd_plus[3 * c.a + k] = da * normal[k];
-    if (c.pair) dqd_plus[3 * c.b + k] = -db * normal[k];
-  }
-  double dphi = 0;
-  if (p.kind == Kind::radius && (p.index == c.a || (c.pair && p.index == c.b))) dphi = -1.0;
-  if (!c.pair) {
-    // The wall's point: its plane's, or the box's lower corner for a wall
-    // whose normal points along +axis and its upper corner for one along −axis.
-    const double side = c.n.sum();
-    if ((c.plane >= 0 && p.kind == Kind::plane_point && p.index == c.plane) ||
-        (c.plane < 0 && ((p.kind == Kind::box_min && side > 0) || (p.kind == Kind::box_max && side < 0))))
-      dphi -= c.n[p.component];
-  }
-  return dphi;
-}
-
 void rows_along_parameter(const particles::ParticleModel& model, int rows, const Parameter& p, const double* q,
                           const double* qd, double* out) {
   using D = ad::Jet<double, 1, 1>;

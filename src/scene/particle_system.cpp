@@ -26,6 +26,7 @@
 #include "lagrangian/integrate/integrate.hpp"
 #include "lagrangian/integrate/system.hpp"
 #include "particle_engine.hpp"
+#include "particle_impact.hpp"
 #include "particle_model.hpp"
 
 namespace lagrangian::scene::detail {
@@ -132,7 +133,7 @@ class ParticleContacts final : public lagrangian::detail::ContactSystem {
     lagrangian::detail::LawResult r;
     r.kinetic_before = model_.kinetic(x);
     r.approach = -c.rate(x, v);
-    r.impulse = model_.impulse(x, c, e);
+    r.impulse = impulse(model_, c, e, x);
     r.kinetic_after = model_.kinetic(x);
     r.separation = c.rate(x, v);
     if (record) energy_.shift(t, r.kinetic_after - r.kinetic_before, r.kinetic_after - r.kinetic_before);

@@ -1,6 +1,6 @@
 // The tangent flow of a particle scene (particle_engine.hpp): bodies in
 // Cartesian coordinates under their declared force effects, held by their
-// links and surfaces or meeting their contacts, with J = ∂a/∂(r, v) by
+// links and surfaces and meeting their contacts, with J = ∂a/∂(r, v) by
 // automatic differentiation of the force kernels (particle_forces.hpp) and
 // of the rows (particle_rows.hpp) on ad::Jet numbers, and the impacts'
 // maps for the saltation matrix (analysis/saltation.hpp), as the
@@ -23,6 +23,7 @@
 #include "lagrangian/mechanics/detail/min_norm_solver.hpp"
 #include "lagrangian/scene/hard_spheres_tangent.hpp"
 #include "particle_engine.hpp"
+#include "particle_impact.hpp"
 #include "particle_model.hpp"
 #include "particle_parameters.hpp"
 
@@ -45,19 +46,10 @@ using JetOne = ad::Jet<double, 1, 1>;
 constexpr std::size_t kMaxBodies = 100;
 
 /// OptionError (`command: particle scene '<name>': …`) for a scene whose
-/// tangent flow is not derived: rows (links, surfaces) together with
-/// contacts, a gas, more than kMaxBodies bodies. Read from the scene before
-/// anything is built.
+/// tangent flow is not taken here: a gas (the event-driven engine's, or
+/// none), more than kMaxBodies bodies. Read from the scene before anything
+/// is built.
 void require_tangent_flow_scene(const Scene& scene, const char* command) {
-  std::vector<std::string> rows, contacts;
-  const auto count = [](std::size_t k, const char* one, const char* many) {
-    return std::to_string(k) + " " + (k == 1 ? one : many);
-  };
-  if (!scene.links.empty()) rows.push_back(count(scene.links.size(), "link", "links"));
-  if (!scene.surfaces.empty()) rows.push_back(count(scene.surfaces.size(), "surface", "surfaces"));
-  if (scene.sphere_contacts) contacts.push_back("sphere contacts");
-  if (!scene.planes.empty()) contacts.push_back(count(scene.planes.size(), "contact plane", "contact planes"));
-  if (scene.box) contacts.push_back("a box");
   std::string why;
   if (scene.gas) {
     why = std::string(command) == "floquet"
@@ -65,12 +57,6 @@ void require_tangent_flow_scene(const Scene& scene, const char* command) {
                 "exponents and sensitivities are (lagrangian lyapunov, lagrangian sensitivity)"
               : "a gas has no force effects to differentiate: its tangent flow is the event-driven engine's "
                 "(lyapunov_hard_spheres(), sensitivities_hard_spheres())";
-  } else if (!rows.empty() && !contacts.empty()) {
-    why = "the tangent flow of a particle scene is derived for bodies under force effects ([gravity], "
-          "[newtonian_gravity], [[springs]], [[linear_drag]], [[quadratic_drag]]) held by [[links]] and "
-          "[[surfaces]], or meeting contacts crossed at their impacts, not both; this one has ";
-    rows.insert(rows.end(), contacts.begin(), contacts.end());
-    for (std::size_t i = 0; i < rows.size(); ++i) why += (i == 0 ? "" : ", ") + rows[i];
   } else if (scene.bodies.size() > kMaxBodies) {
     why = "the tangent flow of a particle scene is taken for at most " + std::to_string(kMaxBodies) +
           " bodies; this one has " + std::to_string(scene.bodies.size());
@@ -80,7 +66,7 @@ void require_tangent_flow_scene(const Scene& scene, const char* command) {
   throw OptionError(std::string(command) + ": particle scene '" + scene.name + "': " + why);
 }
 
-/// A particle scene without contacts as a TangentModel: q = r (3N
+/// A particle scene as a TangentModel: q = r (3N
 /// positions, m), q̇ = v (m/s), p = m v, and q̈ = a(r, v) of its force
 /// kernels (F = m a) held by the rows g(r) = 0 of its links and surfaces:
 ///   M q̈ = F + Cᵀλ,   C q̈ = −γ,
@@ -92,20 +78,22 @@ void require_tangent_flow_scene(const Scene& scene, const char* command) {
 /// tangent_solve.hpp) but with M diagonal and the sizes chosen at run time.
 /// C, γ and F along the directions come from the rows and the kernels on
 /// ad::Jets. Contacts (planes, a box's walls, sphere pairs) are crossed at
-/// their impacts by Newton's law along the contact normal n̂:
-///   v_a⁺ = v_a + J n̂/m_a,  v_b⁺ = v_b − J n̂/m_b,  J = −(1 + e) v / (1/m_a + 1/m_b),
-/// v = n̂ · (v_a − v_b) the approach speed (a wall: 1/m_b = 0, v_b = 0), whose
-/// derivatives in the state the saltation matrix takes come from the same
-/// law on ad::Jets. A contact the tangent run lets rest (where a plain run
-/// does: its Zeno rule, a plastic impact) joins the rows as φ = 0, as in a
-/// plain run, until it lifts off (rest()). The numbers and matrices of the
-/// passes are kept, sized when the rows change.
+/// their impacts by Newton's law with the links' and surfaces' rows kept
+/// (impact_map(): without rows, v_a⁺ = v_a + J n̂/m_a, v_b⁺ = v_b − J n̂/m_b,
+/// J = −(1 + e) v / (1/m_a + 1/m_b), v = n̂ · (v_a − v_b) the approach
+/// speed), whose derivatives in the state the saltation matrix takes come
+/// from the same law on ad::Jets. In a scene without links and surfaces a
+/// contact the tangent run lets rest (where a plain run does: its Zeno
+/// rule, a plastic impact) joins the rows as φ = 0, as in a plain run,
+/// until it lifts off (rest()); with them a rest stops the tangent run
+/// (holding the gap would change the manifold the vectors are kept on).
+/// The numbers and matrices of the passes are kept, sized when the rows
+/// change.
 class ParticleTangent {
  public:
   /// `scene` has passed require_tangent_flow_scene().
   explicit ParticleTangent(const Scene& scene)
       : model_(scene), name_(scene.name), x0_(initial_state(scene)), fixed_(model_.fixed_rows()), solver_(1) {
-    if (model_.has_contacts() && fixed_ > 0) throw std::logic_error("ParticleTangent: rows and contacts");
     contacts_ = model_.wall_contacts();
     const std::vector<int>& members = model_.pair_members();
     for (std::size_t p = 0; p < members.size(); ++p)
@@ -142,7 +130,7 @@ class ParticleTangent {
       }
       tm.gaps = &gaps;
       tm.impact = &impact;
-      tm.rest = &rest;
+      if (fixed_ == 0) tm.rest = &rest;
       tm.impact_alone_while_resting = true;  // Newton's law of the one contact, as a plain run's impulse()
     }
     return tm;
@@ -347,53 +335,33 @@ class ParticleTangent {
       rate[j] = g.rate;
     }
   }
-  /// The impact map of contact j with coefficient e at (q, q̇⁻) (the class
-  /// comment): q̇⁺, ∂q̇⁺/∂(q, q̇, t) (n × (2n + 1), column-major), G = ∂φ/∂q,
-  /// γ (φ̈ = G q̈ + γ); returns the approach speed v.
+  /// The impact map of contact j with coefficient e at (q, q̇⁻), the rows
+  /// of the links and surfaces kept (impact_map()): q̇⁺, ∂q̇⁺/∂(q, q̇, t)
+  /// (n × (2n + 1), column-major; the rows do not move, so the last
+  /// column is 0), G = ∂φ/∂q, γ (φ̈ = G q̈ + γ); returns the approach speed v.
   static double impact(const void* self, const double* q, const double* qd, double, int j, double e, double* qd_plus,
                        double* jacobian, double* gap_gradient, double* gamma) {
     const auto& s = *static_cast<const ParticleTangent*>(self);
     const Contact& c = s.contacts_[static_cast<std::size_t>(j)];
     const int n = s.model_.dim();
-    using D = ad::Jet<double, 12, 1>;  // along r_a, v_a, r_b, v_b
-    Vector3<D> ra, va, rb, vb;
-    for (int k = 0; k < 3; ++k) {
-      ra[k] = D::variable(q[3 * c.a + k], k);
-      va[k] = D::variable(qd[3 * c.a + k], 3 + k);
-      rb[k] = c.pair ? D::variable(q[3 * c.b + k], 6 + k) : D(0.0);
-      vb[k] = c.pair ? D::variable(qd[3 * c.b + k], 9 + k) : D(0.0);
-    }
-    const Vector3<D> d = ra - rb, dv = va - vb;
-    const Vector3<D> normal = c.pair ? Vector3<D>(d.normalized()) : Vector3<D>(c.n.cast<D>());
-    const D v = normal.dot(dv);
-    const double inv_a = 1.0 / s.model_.mass()[static_cast<std::size_t>(c.a)];
-    const double inv_b = c.pair ? 1.0 / s.model_.mass()[static_cast<std::size_t>(c.b)] : 0.0;
-    const D impulse = -(1.0 + e) * v / (inv_a + inv_b);
-    std::copy(qd, qd + n, qd_plus);
-    std::fill(jacobian, jacobian + static_cast<std::ptrdiff_t>(n) * (2 * n + 1), 0.0);
-    for (int i = 0; i < n; ++i) jacobian[(n + i) * n + i] = 1.0;
+    const double v = impact_map(s.model_, c, q, qd, e, qd_plus, jacobian);
+    std::fill(jacobian + static_cast<std::ptrdiff_t>(n) * (2 * n), jacobian + static_cast<std::ptrdiff_t>(n) * (2 * n + 1),
+              0.0);
+    // G: n̂ on body a, −n̂ on body b; γ: a wall's gap n̂·(r_a − p) − R has
+    // none; a pair's |d| − R has (|ḋ|² − (n̂·ḋ)²)/|d|.
     std::fill(gap_gradient, gap_gradient + n, 0.0);
-    // Column of the local variable l in ∂q̇⁺/∂(q, q̇, t).
-    const auto column = [&](int l) {
-      const int body = l < 6 ? c.a : c.b, k = l % 3;
-      return (l % 6 < 3 ? 0 : n) + 3 * body + k;
-    };
-    const int sides = c.pair ? 2 : 1;
-    for (int side = 0; side < sides; ++side) {
-      const int body = side == 0 ? c.a : c.b;
-      const double sign = side == 0 ? 1.0 : -1.0;
-      for (int k = 0; k < 3; ++k) {
-        const int row = 3 * body + k;
-        const D plus = (side == 0 ? va[k] : vb[k]) + sign * (side == 0 ? inv_a : inv_b) * impulse * normal[k];
-        qd_plus[row] = plus.v;
-        for (int l = 0; l < 6 * sides; ++l) jacobian[column(l) * n + row] = plus.g[static_cast<std::size_t>(l)];
-        gap_gradient[row] = sign * normal[k].v;
-      }
+    const Vector3<double> normal = c.normal(q);
+    for (int k = 0; k < 3; ++k) {
+      gap_gradient[3 * c.a + k] = normal[k];
+      if (c.pair) gap_gradient[3 * c.b + k] = -normal[k];
     }
-    // γ: a wall's gap n̂·(r_a − p) − R has none; a pair's |d| − R has
-    // (|ḋ|² − (n̂·ḋ)²)/|d|.
-    *gamma = c.pair ? (dv.squaredNorm().v - v.v * v.v) / d.norm().v : 0.0;
-    return v.v;
+    *gamma = 0.0;
+    if (c.pair) {
+      const Vector3<double> d = particles::at(q, c.a) - particles::at(q, c.b);
+      const Vector3<double> dv = particles::at(qd, c.a) - particles::at(qd, c.b);
+      *gamma = (dv.squaredNorm() - v * v) / d.norm();
+    }
+    return v;
   }
 
   /// a: q̈ on numbers J that carry `width` directions, from the force

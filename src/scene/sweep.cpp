@@ -64,8 +64,9 @@ Plan make_plan(const std::string& scene_path, const SweepOptions& o) {
 }
 
 /// `--output chaos` needs the tangent flow of the scene's model or bodies:
-/// a particle scene with rows and contacts together and a model
-/// the tangent flow is not derived for are refused here (OptionError "--output chaos: …", the reason scene::lyapunov()
+/// a scene the tangent flow is not derived for (a text model of more
+/// coordinates than it takes, a particle scene of more bodies) is refused
+/// here (OptionError "--output chaos: …", the reason scene::lyapunov()
 /// gives) rather than failing every run. The check starts point 0's run
 /// with a budget of one step: the refusal comes before any step, and the
 /// run stops (SimulationError, max_steps) after the first.
