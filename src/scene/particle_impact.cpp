@@ -156,8 +156,10 @@ double impact_map(const ParticleModel& model, const Contact& c, const double* q,
     approach = law(model, c, bodies, r.data(), v.data(), JetWide(e), Parameter{}, plus.data()).approach.v;
     for (int s = 0; s < width; ++s) {
       const int dir = first + s, column = (dir < d ? 0 : n) + coordinate(dir % d);
-      for (int j = 0; j < d; ++j)
-        jacobian[column * n + coordinate(j)] = plus[static_cast<std::size_t>(coordinate(j))].g[static_cast<std::size_t>(s)];
+      for (int j = 0; j < d; ++j) {
+        const int row = coordinate(j);
+        jacobian[column * n + row] = plus[static_cast<std::size_t>(row)].g[static_cast<std::size_t>(s)];
+      }
     }
   }
   for (int j = 0; j < d; ++j) qd_plus[coordinate(j)] = plus[static_cast<std::size_t>(coordinate(j))].v;

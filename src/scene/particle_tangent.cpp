@@ -131,7 +131,7 @@ class ParticleTangent {
       tm.gaps = &gaps;
       tm.impact = &impact;
       if (fixed_ == 0) tm.rest = &rest;
-      tm.impact_alone_while_resting = true;  // Newton's law of the one contact, as a plain run's impulse()
+      tm.impact_alone_while_resting = true;  // Newton's law of the one contact, as a plain run's (impulse())
     }
     return tm;
   }
@@ -345,8 +345,8 @@ class ParticleTangent {
     const Contact& c = s.contacts_[static_cast<std::size_t>(j)];
     const int n = s.model_.dim();
     const double v = impact_map(s.model_, c, q, qd, e, qd_plus, jacobian);
-    std::fill(jacobian + static_cast<std::ptrdiff_t>(n) * (2 * n), jacobian + static_cast<std::ptrdiff_t>(n) * (2 * n + 1),
-              0.0);
+    double* time_column = jacobian + static_cast<std::ptrdiff_t>(n) * (2 * n);
+    std::fill(time_column, time_column + n, 0.0);
     // G: n̂ on body a, −n̂ on body b; γ: a wall's gap n̂·(r_a − p) − R has
     // none; a pair's |d| − R has (|ḋ|² − (n̂·ḋ)²)/|d|.
     std::fill(gap_gradient, gap_gradient + n, 0.0);

@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
+#include <utility>
 
 #include <Eigen/Core>
 
@@ -26,6 +28,74 @@ inline double row_dot(const double* a, const double* b, int len) {
     return s;
   }
   return Eigen::Map<const Eigen::VectorXd>(a, len).dot(Eigen::Map<const Eigen::VectorXd>(b, len));
+}
+
+/// f.template operator()<K>() for K = n, n in [1, kMax]: a size known at
+/// run time handed to a kernel compiled for it.
+template <int kMax, class F>
+decltype(auto) at_run_time_size(int n, F&& f) {
+  return [&]<int... K>(std::integer_sequence<int, K...>) {
+    using R = decltype(f.template operator()<1>());
+    if constexpr (std::is_void_v<R>) {
+      (void)((n == K + 1 ? (f.template operator()<K + 1>(), true) : false) || ...);
+    } else {
+      R r{};
+      (void)((n == K + 1 ? (r = f.template operator()<K + 1>(), true) : false) || ...);
+      return r;
+    }
+  }(std::make_integer_sequence<int, kMax>{});
+}
+
+/// L Lᵀ = M for K × K M (column-major, its lower triangle read) into L's
+/// rows (row-major, lower triangle) and 1 / L_ii: the sums of
+/// MassCholesky::compute() in loops of fixed length that the compiler
+/// unrolls whole (every bound a constant once the outer loop is unrolled).
+template <int K>
+bool factor_unrolled(const double* m, double* l, double* inverse, double tolerance) {
+  double smallest = 0, largest = 0;
+#pragma GCC unroll 16
+  for (int j = 0; j < K; ++j) {
+    double dot = 0;
+#pragma GCC unroll 16
+    for (int k = 0; k < j; ++k) dot += l[j * K + k] * l[j * K + k];
+    const double s = m[j * K + j] - dot;
+    if (!(s > 0) || !(s <= std::numeric_limits<double>::max())) return false;
+    const double d = std::sqrt(s);
+    l[j * K + j] = d;
+    inverse[j] = 1 / d;
+    smallest = j == 0 ? s : std::min(smallest, s);
+    largest = std::max(largest, s);
+#pragma GCC unroll 16
+    for (int i = j + 1; i < K; ++i) {
+      double t = 0;
+#pragma GCC unroll 16
+      for (int k = 0; k < j; ++k) t += l[i * K + k] * l[j * K + k];
+      l[i * K + j] = (m[j * K + i] - t) * inverse[j];
+    }
+  }
+  return smallest >= tolerance * largest;
+}
+
+/// x = (L Lᵀ)⁻¹ b for one right-hand side of K rows (x may be b), unrolled
+/// whole as factor_unrolled().
+template <int K>
+void solve_unrolled(const double* l, const double* inverse, const double* b, double* x) {
+  double y[K];
+#pragma GCC unroll 16
+  for (int i = 0; i < K; ++i) {
+    double dot = 0;
+#pragma GCC unroll 16
+    for (int k = 0; k < i; ++k) dot += l[i * K + k] * y[k];
+    y[i] = (b[i] - dot) * inverse[i];
+  }
+#pragma GCC unroll 16
+  for (int i = K - 1; i >= 0; --i) {
+    y[i] *= inverse[i];
+#pragma GCC unroll 16
+    for (int k = 0; k < i; ++k) y[k] -= l[i * K + k] * y[i];
+  }
+#pragma GCC unroll 16
+  for (int i = 0; i < K; ++i) x[i] = y[i];
 }
 
 /// L Lᵀ = M for a symmetric positive definite M (its lower triangle read),
@@ -66,6 +136,10 @@ class MassCholesky {
   int size() const { return static_cast<int>(inverse_.size()); }
 
  private:
+  /// Largest order whose factorisation and single solve are unrolled whole
+  /// (a run-time order up to it takes the kernel of its size).
+  static constexpr int kUnrolledMax = 12;
+
   Eigen::Matrix<double, N, N, (N == 1) ? Eigen::ColMajor : Eigen::RowMajor> l_;  // L, lower triangle
   Vec<double, N> inverse_;                                                         // 1 / L_ii
 };
@@ -75,6 +149,12 @@ bool MassCholesky<N>::compute(const Mat<double, N>& mass, double tolerance) {
   const int n = static_cast<int>(mass.rows());
   if constexpr (N == Dynamic) {
     if (l_.rows() != n) resize(n);
+  }
+  const auto unrolled = [&]<int K>() { return factor_unrolled<K>(mass.data(), l_.data(), inverse_.data(), tolerance); };
+  if constexpr (N == Dynamic) {
+    if (n >= 1 && n <= kUnrolledMax) return at_run_time_size<kUnrolledMax>(n, unrolled);
+  } else if constexpr (N <= kUnrolledMax) {
+    return unrolled.template operator()<N>();
   }
   // L_jj² = M_jj − Σ_{k<j} L_jk², L_ij = (M_ij − Σ_{k<j} L_ik L_jk) / L_jj for i > j.
   double smallest = 0, largest = 0;
@@ -102,6 +182,12 @@ void MassCholesky<N>::solve(const double* b, double* x, int columns) const {
   constexpr int cap = N == Dynamic ? 1 : N;
   const auto sweep = [&]<int W>(const double* bw, double* xw) {
     if constexpr (W == 1) {
+      const auto unrolled = [&]<int K>() { solve_unrolled<K>(l_.data(), inverse_.data(), bw, xw); };
+      if constexpr (N == Dynamic) {
+        if (n <= kUnrolledMax) return at_run_time_size<kUnrolledMax>(n, unrolled);
+      } else if constexpr (N <= kUnrolledMax) {
+        return unrolled.template operator()<N>();
+      }
       for (int i = 0; i < n; ++i) xw[i] = (bw[i] - row_dot(&l_(i, 0), xw, i)) * inverse_[i];
       for (int i = n - 1; i >= 0; --i) {
         xw[i] *= inverse_[i];
