@@ -2,8 +2,13 @@
 // Particle scenes shared by the tangent-flow tests of particle scenes
 // (test_particle_tangent.cpp, test_particle_sensitivity.cpp).
 
+#include <cstddef>
 #include <sstream>
 #include <string>
+
+#include <Eigen/Core>
+
+#include "lagrangian/scene/run.hpp"
 
 namespace lagrangian_test {
 
@@ -15,6 +20,22 @@ inline std::string precise_scene(const std::string& name, double t_end, const st
   os << "name = \"" << name << "\"\n[run]\nmethod = \"dopri5\"\nrtol = 1e-12\natol = 1e-14\nt_end = " << t_end << "\n"
      << tables;
   return os.str();
+}
+
+/// x(t_end) = (q, q̇) of a plain run of `scene` that writes no files; its
+/// number of impacts into `impacts` when given.
+inline Eigen::VectorXd plain_end_state(const lagrangian::scene::Scene& scene, int* impacts = nullptr) {
+  lagrangian::scene::RunControls quiet;
+  quiet.write_outputs = false;
+  const lagrangian::scene::RunResult r = lagrangian::scene::run(scene, quiet);
+  if (impacts != nullptr) *impacts = static_cast<int>(r.report.impacts);
+  const auto n = static_cast<Eigen::Index>(r.q_final.size());
+  Eigen::VectorXd x(2 * n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    x[i] = r.q_final[static_cast<std::size_t>(i)];
+    x[n + i] = r.qd_final[static_cast<std::size_t>(i)];
+  }
+  return x;
 }
 
 /// A ball (0.3 kg, R = 0.05 m) dropped on a frictionless plane through

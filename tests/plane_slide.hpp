@@ -40,15 +40,18 @@ inline Eigen::VectorXd state_sliding_on_a_plane(const Eigen::Vector3d& r0, const
   return x;
 }
 
-/// ∂f/∂p_j at p = `at` (column j) for a smooth closed form f of K
-/// parameters, by central differences with steps 1e-6 max(1, |p_j|)
-/// (truncation error about 1e-12 of f's third derivative).
+/// ∂f/∂p_j at p = `at` (column j) for a smooth f of K parameters, by
+/// central differences with steps `step` max(floor, |p_j|): by default
+/// 1e-6 max(1, |p_j|) for a closed form (truncation error about 1e-12 of
+/// f's third derivative); a relative step (floor 0) for plain runs, whose
+/// own errors a larger step divides less.
 template <std::size_t K, class F>
-Eigen::MatrixXd central_differences(const F& f, const std::array<double, K>& at) {
+Eigen::MatrixXd central_differences(const F& f, const std::array<double, K>& at, double step = 1e-6,
+                                    double floor = 1.0) {
   Eigen::MatrixXd columns(f(at).size(), static_cast<Eigen::Index>(K));
   for (std::size_t j = 0; j < K; ++j) {
     std::array<double, K> up = at, down = at;
-    const double h = 1e-6 * std::max(1.0, std::abs(at[j]));
+    const double h = step * std::max(floor, std::abs(at[j]));
     up[j] += h;
     down[j] -= h;
     columns.col(static_cast<Eigen::Index>(j)) = (f(up) - f(down)) / (2 * h);

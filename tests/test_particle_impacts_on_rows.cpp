@@ -20,6 +20,7 @@
 #include "lagrangian/scene/io.hpp"
 #include "lagrangian/scene/run.hpp"
 #include "particle_scenes.hpp"
+#include "plane_slide.hpp"
 
 namespace {
 
@@ -127,19 +128,13 @@ TEST(ParticleImpactsOnRows, ColumnsMatchPlainRunsAndTheMassDropsOut) {
   const SensitivityRun r = columns_of(scene, {"contacts.planes[0].restitution", "bodies[0].mass"});
   const Eigen::MatrixXd& s = r.result.sensitivities.back();
   ASSERT_EQ(s.cols(), 8);
-  RunControls quiet;
-  quiet.write_outputs = false;
   const auto end_state = [&](double e, double vx) {
     Scene moved = scene;
     moved.planes[0].restitution = e;
     moved.bodies[0].velocity[0] = vx;
-    const RunResult run_result = run(moved, quiet);
-    EXPECT_EQ(static_cast<int>(run_result.report.impacts), r.result.impacts);
-    Eigen::VectorXd x(6);
-    for (int i = 0; i < 3; ++i) {
-      x[i] = run_result.q_final[static_cast<std::size_t>(i)];
-      x[3 + i] = run_result.qd_final[static_cast<std::size_t>(i)];
-    }
+    int impacts = 0;
+    const Eigen::VectorXd x = lagrangian_test::plain_end_state(moved, &impacts);
+    EXPECT_EQ(impacts, r.result.impacts);
     return x;
   };
   Eigen::MatrixXd fd(6, 2), ad(6, 2);
@@ -192,32 +187,19 @@ anchor = [0.0, 0.0, 0.0]
   EXPECT_EQ(r.result.impacts, 2);
   const Eigen::MatrixXd& s = r.result.sensitivities.back();
   ASSERT_EQ(s.cols(), 4);
-  RunControls quiet;
-  quiet.write_outputs = false;
-  const std::array<double, 4> at{0.9, 0.1, 0.15, -9.81};
   const auto end_state = [&](const std::array<double, 4>& p) {
     Scene moved = scene;
     moved.sphere_contacts->restitution = p[0];
     moved.bodies[0].mass = p[1];
     moved.bodies[1].mass = p[2];
     moved.gravity->g[2] = p[3];
-    const RunResult run_result = run(moved, quiet);
-    EXPECT_EQ(static_cast<int>(run_result.report.impacts), r.result.impacts);
-    Eigen::VectorXd x(12);
-    for (int i = 0; i < 6; ++i) {
-      x[i] = run_result.q_final[static_cast<std::size_t>(i)];
-      x[6 + i] = run_result.qd_final[static_cast<std::size_t>(i)];
-    }
+    int impacts = 0;
+    const Eigen::VectorXd x = lagrangian_test::plain_end_state(moved, &impacts);
+    EXPECT_EQ(impacts, r.result.impacts);
     return x;
   };
-  Eigen::MatrixXd fd(12, 4);
-  for (std::size_t j = 0; j < 4; ++j) {
-    std::array<double, 4> up = at, down = at;
-    const double h = 1e-5 * std::abs(at[j]);
-    up[j] += h;
-    down[j] -= h;
-    fd.col(static_cast<Eigen::Index>(j)) = (end_state(up) - end_state(down)) / (2 * h);
-  }
+  const Eigen::MatrixXd fd =
+      lagrangian_test::central_differences(end_state, std::array{0.9, 0.1, 0.15, -9.81}, 1e-5, 0.0);
   double worst = 0;
   for (int j = 0; j < 4; ++j) {
     const double scale = fd.col(j).cwiseAbs().maxCoeff();

@@ -215,30 +215,15 @@ TEST(ParticleSensitivity, DoublePendulumOnLinksMatchesPlainRuns) {
   scene.run.atol = 1e-14;
   scene.bodies[1].mass = 0.6;
   const Eigen::MatrixXd columns = parameter_columns(scene, {"gravity.g[2]", "bodies[0].mass", "bodies[1].mass"});
-  RunControls quiet;
-  quiet.write_outputs = false;
   const auto end_state = [&](const std::array<double, 3>& p) {
     Scene s = scene;
     s.gravity->g[2] = p[0];
     s.bodies[0].mass = p[1];
     s.bodies[1].mass = p[2];
-    const RunResult r = run(s, quiet);
-    Eigen::VectorXd x(12);
-    for (int i = 0; i < 6; ++i) {
-      x[i] = r.q_final[static_cast<std::size_t>(i)];
-      x[6 + i] = r.qd_final[static_cast<std::size_t>(i)];
-    }
-    return x;
+    return lagrangian_test::plain_end_state(s);
   };
-  const std::array<double, 3> at{-9.81, 1.0, 0.6};
-  Eigen::MatrixXd expected(12, 3);
-  for (std::size_t j = 0; j < 3; ++j) {
-    std::array<double, 3> up = at, down = at;
-    const double h = 1e-5 * std::abs(at[j]);
-    up[j] += h;
-    down[j] -= h;
-    expected.col(static_cast<Eigen::Index>(j)) = (end_state(up) - end_state(down)) / (2 * h);
-  }
+  const Eigen::MatrixXd expected =
+      lagrangian_test::central_differences(end_state, std::array{-9.81, 1.0, 0.6}, 1e-5, 0.0);
   for (int j = 0; j < 3; ++j)
     EXPECT_LT((columns.col(j) - expected.col(j)).cwiseAbs().maxCoeff(), 1e-6 * expected.col(j).cwiseAbs().maxCoeff())
         << j << "\n" << columns << "\n\n" << expected;
