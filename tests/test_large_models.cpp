@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <initializer_list>
 #include <random>
 #include <string>
 
@@ -132,7 +133,8 @@ Eigen::VectorXd expect_closed_form(const M& model, const Eigen::VectorXd& q, con
 }
 
 // Fixed sizes (one pass; inline Hessians up to 12 coordinates, pooled
-// above), the same chain with a run-time size (one pass at width n), and the
+// above), the same chain with a run-time size (one pass with numbers of
+// fixed width kPaddedWidth up to that many coordinates, at width n above), and the
 // hand-coded chain of the benchmarks (M and f by formula, an Eigen LLT).
 template <int N>
 void every_formulation_agrees() {
@@ -158,12 +160,11 @@ TEST(ChainsOfEverySize, FixedRunTimeAndHandCodedAgreeWithTheClosedForm) {
   every_formulation_agrees<40>();
 }
 
-// Run-time sizes up to kRunTimeCapacity take one pass; larger ones the
-// block passes, with the same numbers at width 2 kBlock.
-TEST(ChainsOfEverySize, RunTimeSizesAroundTheCapacityAgreeWithTheClosedForm) {
-  static_assert(detail::kRunTimeCapacity == 64);
-  for (const int n : {63, 64, 65, 70}) {
-    std::mt19937_64 rng(5 + n);
+// Run-time chains of each size at a random state (angles and rates in
+// (−1.5, 1.5), the generator seeded with seed + n), against the closed form.
+void run_time_chains_agree_with_the_closed_form(std::initializer_list<int> sizes, int seed) {
+  for (const int n : sizes) {
+    std::mt19937_64 rng(seed + n);
     std::uniform_real_distribution<double> u(-1.5, 1.5);
     Eigen::VectorXd q(n), qd(n);
     for (int i = 0; i < n; ++i) {
@@ -174,8 +175,24 @@ TEST(ChainsOfEverySize, RunTimeSizesAroundTheCapacityAgreeWithTheClosedForm) {
   }
 }
 
-// Small run-time sizes (n = 1, 3, 4: widths rounded up to whole chunks)
-// against the library's fixed-size chains.
+// Run-time sizes up to kRunTimeCapacity take one pass; larger ones the
+// block passes, with the same numbers at width 2 kBlock.
+TEST(ChainsOfEverySize, RunTimeSizesAroundTheCapacityAgreeWithTheClosedForm) {
+  static_assert(detail::kRunTimeCapacity == 64);
+  run_time_chains_agree_with_the_closed_form({63, 64, 65, 70}, 5);
+}
+
+// Run-time sizes up to kPaddedWidth take numbers of that fixed width, with
+// their Hessians inline; above it, numbers of run-time width with pooled
+// Hessians. Both sides of the boundary against the closed form.
+TEST(ChainsOfEverySize, RunTimeSizesAroundThePaddedWidthAgreeWithTheClosedForm) {
+  static_assert(detail::kPaddedWidth == 12);
+  run_time_chains_agree_with_the_closed_form({11, 12, 13}, 17);
+}
+
+// Small run-time sizes (n = 1, 3, 4: passes with numbers of fixed width
+// kPaddedWidth, the directions past n unused) against the library's
+// fixed-size chains.
 template <int N>
 void compare_with_fixed(std::mt19937_64& rng) {
   const models::PendulumChain<N> fixed(1.0, 1.0, 9.81);

@@ -112,15 +112,23 @@ inline constexpr int kBlock = 4;
 /// coordinates).
 inline constexpr int kMaxSinglePassDof = 64;
 /// Largest run-time size whose equations of motion come from one pass:
-/// run-time sized models take ad::EomJet<kRunTimeCapacity, true>, numbers
-/// with room for this many directions of which they use n (their width, set
-/// for the pass); larger ones take the block passes with the same numbers
-/// at width 2 kBlock, so a model's functions are instantiated once.
+/// run-time sized models above kPaddedWidth coordinates take
+/// ad::EomJet<kRunTimeCapacity, true>, numbers with room for this many
+/// directions of which they use n (their width, set for the pass); larger
+/// ones take the block passes with the same numbers at width 2 kBlock.
 inline constexpr int kRunTimeCapacity = 64;
 /// Run-time sizes up to this many take, for a model that opts in (below),
 /// a pass with numbers of that fixed width, ad::EomJet<n>, as a fixed-size
 /// model does.
 inline constexpr int kSmallFixedWidths = 4;
+/// Run-time sizes up to this many (above kSmallFixedWidths for a model
+/// that opts in to fixed widths, below) take one pass with numbers of this
+/// fixed width, ad::EomJet<kPaddedWidth>: their Hessians live in the
+/// numbers, not in pooled blocks, and their loops have a fixed length; the
+/// directions past the model's size stay zero. A run-time sized model's T
+/// and V are so compiled for two number types, this one and
+/// ad::EomJet<kRunTimeCapacity, true>.
+inline constexpr int kPaddedWidth = 12;
 /// True when a run-time sized model opts in to fixed-width passes for its
 /// small sizes by declaring `static constexpr bool fixed_width_passes =
 /// true;`: its T and V are then compiled for ad::EomJet<1> … <4> too, which

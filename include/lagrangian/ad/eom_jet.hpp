@@ -169,8 +169,9 @@ class EomJet {
     for (int k = 0; k < nterms_; ++k) h += terms()[k].at(i, j);
     return h;
   }
-  /// Writes the full symmetric H into the N×N matrix `m` (any type with
-  /// m(i, j) and setZero()).
+  /// Writes the full symmetric H into the matrix `m` (any type with
+  /// m(i, j), cols() and setZero()) of width() columns, or of fewer when the
+  /// directions past m.cols() were never seeded (their H entries are zero).
   template <class Matrix>
   constexpr void hessian_to(Matrix& m) const {
     EomJet sum = *this;
@@ -187,8 +188,9 @@ class EomJet {
       for (int i = lo_; i < hi_; ++i)
         for (int j = lo_; j <= i; ++j) m(i, j) = m(j, i) = h[i * N + j];
     } else {
+      const int cols = width() < m.cols() ? width() : static_cast<int>(m.cols());
       for (int i = lo_; i < hi_; ++i)
-        for (int j = 0; j < width(); ++j) m(i, j) = h[i * N + j];
+        for (int j = 0; j < cols; ++j) m(i, j) = h[i * N + j];
     }
   }
 

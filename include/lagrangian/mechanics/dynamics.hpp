@@ -219,13 +219,15 @@ LAGRANGIAN_FLATTEN void eom_pass_inline(const M& model, Workspace<coordinate_cou
   eom_single_pass_flat<J>(model, ws, qj, qdj, q, qd, t);
 }
 
-/// The pass of a run-time sized model of K coordinates with numbers of
-/// fixed width K (fixed_width_passes_v).
+/// The pass of a run-time sized model of n ≤ K coordinates with numbers of
+/// fixed width K: K = n (fixed_width_passes_v), or K = kPaddedWidth, whose
+/// directions n … K − 1 are never seeded and stay zero.
 template <int K, class M>
 void eom_pass_fixed_width(const M& model, Workspace<Dynamic>& ws, const Vec<double, Dynamic>& q,
                           const Vec<double, Dynamic>& qd, double t) {
   using J = ad::EomJet<K>;
-  eom_single_pass<J>(model, ws, jet_vector<J>(0, K), jet_vector<J>(1, K), q, qd, t);
+  const int n = static_cast<int>(q.size());
+  eom_single_pass<J>(model, ws, jet_vector<J>(0, n), jet_vector<J>(1, n), q, qd, t);
 }
 
 /// The pass of a larger fixed-size model (pooled Hessians) or of a run-time
@@ -238,7 +240,7 @@ LAGRANGIAN_NOINLINE void eom_pass_large(const M& model, Workspace<coordinate_cou
                                         const Vec<double, coordinate_count_v<M>>& qd, double t) {
   constexpr int n = coordinate_count_v<M>;
   if constexpr (n == Dynamic) {
-    using J = EomJet<M>;  // run-time width, one instantiation of T and V
+    using J = EomJet<M>;  // run-time width
     const int size = static_cast<int>(q.size());
     if constexpr (fixed_width_passes_v<M>) {
       static_assert(kSmallFixedWidths == 4);
@@ -250,6 +252,8 @@ LAGRANGIAN_NOINLINE void eom_pass_large(const M& model, Workspace<coordinate_cou
         default: break;
       }
     }
+    static_assert(kPaddedWidth <= ad::EomJet<1>::kInlineHessianMax);
+    if (size <= kPaddedWidth) return eom_pass_fixed_width<kPaddedWidth>(model, ws, q, qd, t);
     if (size > kRunTimeCapacity) {
       ad::WidthScope width(2 * kBlock);
       eom_pass_blocks<J>(model, ws, q, qd, t);
