@@ -151,25 +151,27 @@ bool MassCholesky<N>::compute(const Mat<double, N>& mass, double tolerance) {
     if (l_.rows() != n) resize(n);
   }
   const auto unrolled = [&]<int K>() { return factor_unrolled<K>(mass.data(), l_.data(), inverse_.data(), tolerance); };
-  if constexpr (N == Dynamic) {
-    if (n >= 1 && n <= kUnrolledMax) return at_run_time_size<kUnrolledMax>(n, unrolled);
-  } else if constexpr (N <= kUnrolledMax) {
+  if constexpr (N != Dynamic && N <= kUnrolledMax) {
     return unrolled.template operator()<N>();
+  } else {  // (the loops below are compiled only for the orders that reach them)
+    if constexpr (N == Dynamic) {
+      if (n >= 1 && n <= kUnrolledMax) return at_run_time_size<kUnrolledMax>(n, unrolled);
+    }
+    // L_jj² = M_jj − Σ_{k<j} L_jk², L_ij = (M_ij − Σ_{k<j} L_ik L_jk) / L_jj for i > j.
+    double smallest = 0, largest = 0;
+    for (int j = 0; j < n; ++j) {
+      const double* lj = &l_(j, 0);
+      const double s = mass(j, j) - row_dot(lj, lj, j);
+      if (!(s > 0) || !(s <= std::numeric_limits<double>::max())) return false;
+      const double d = std::sqrt(s);
+      l_(j, j) = d;
+      inverse_[j] = 1 / d;
+      smallest = j == 0 ? s : std::min(smallest, s);
+      largest = std::max(largest, s);
+      for (int i = j + 1; i < n; ++i) l_(i, j) = (mass(i, j) - row_dot(&l_(i, 0), lj, j)) * inverse_[j];
+    }
+    return smallest >= tolerance * largest;
   }
-  // L_jj² = M_jj − Σ_{k<j} L_jk², L_ij = (M_ij − Σ_{k<j} L_ik L_jk) / L_jj for i > j.
-  double smallest = 0, largest = 0;
-  for (int j = 0; j < n; ++j) {
-    const double* lj = &l_(j, 0);
-    const double s = mass(j, j) - row_dot(lj, lj, j);
-    if (!(s > 0) || !(s <= std::numeric_limits<double>::max())) return false;
-    const double d = std::sqrt(s);
-    l_(j, j) = d;
-    inverse_[j] = 1 / d;
-    smallest = j == 0 ? s : std::min(smallest, s);
-    largest = std::max(largest, s);
-    for (int i = j + 1; i < n; ++i) l_(i, j) = (mass(i, j) - row_dot(&l_(i, 0), lj, j)) * inverse_[j];
-  }
-  return smallest >= tolerance * largest;
 }
 
 template <int N>
@@ -183,17 +185,19 @@ void MassCholesky<N>::solve(const double* b, double* x, int columns) const {
   const auto sweep = [&]<int W>(const double* bw, double* xw) {
     if constexpr (W == 1) {
       const auto unrolled = [&]<int K>() { solve_unrolled<K>(l_.data(), inverse_.data(), bw, xw); };
-      if constexpr (N == Dynamic) {
-        if (n <= kUnrolledMax) return at_run_time_size<kUnrolledMax>(n, unrolled);
-      } else if constexpr (N <= kUnrolledMax) {
+      if constexpr (N != Dynamic && N <= kUnrolledMax) {
         return unrolled.template operator()<N>();
-      }
-      for (int i = 0; i < n; ++i) xw[i] = (bw[i] - row_dot(&l_(i, 0), xw, i)) * inverse_[i];
-      for (int i = n - 1; i >= 0; --i) {
-        xw[i] *= inverse_[i];
-        const double xi = xw[i];
-        const double* li = &l_(i, 0);
-        for (int k = 0; k < i; ++k) xw[k] -= li[k] * xi;
+      } else {
+        if constexpr (N == Dynamic) {
+          if (n <= kUnrolledMax) return at_run_time_size<kUnrolledMax>(n, unrolled);
+        }
+        for (int i = 0; i < n; ++i) xw[i] = (bw[i] - row_dot(&l_(i, 0), xw, i)) * inverse_[i];
+        for (int i = n - 1; i >= 0; --i) {
+          xw[i] *= inverse_[i];
+          const double xi = xw[i];
+          const double* li = &l_(i, 0);
+          for (int k = 0; k < i; ++k) xw[k] -= li[k] * xi;
+        }
       }
     } else {
       double y[cap][W];
