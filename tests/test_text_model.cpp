@@ -158,25 +158,6 @@ TEST(TextModel, ARunTimeTwoByTwoMassMatrixIsCheckedAndSolved) {
   EXPECT_NEAR(a[1], -1.0, 1e-15);
 }
 
-/// The n-link chain of unit masses and lengths (test_models::RuntimeChain)
-/// as text: T = ½ m Σ_k |v_k|², v_k = Σ_{j≤k} l q̇_j (cos q_j, sin q_j);
-/// V = m g Σ_k y_k, y_k = −Σ_{j≤k} l cos q_j.
-Definition chain_text(int n) {
-  Definition d;
-  std::string vx, vy, y;
-  for (int k = 0; k < n; ++k) {
-    const std::string q = "q" + std::to_string(k);
-    d.coordinates.push_back(q);
-    vx += (k ? " + " : "") + ("l*" + q + "_dot*cos(" + q + ")");
-    vy += (k ? " + " : "") + ("l*" + q + "_dot*sin(" + q + ")");
-    y += " - l*cos(" + q + ")";
-    d.kinetic += (k ? " + " : "") + ("0.5*m*((" + vx + ")^2 + (" + vy + ")^2)");
-    d.potential += (k ? " + " : "") + ("m*g*(" + y + ")");
-  }
-  d.parameters = {{"m", 1.0}, {"l", 1.0}, {"g", 9.81}};
-  return d;
-}
-
 // Text models of up to 4 coordinates take numbers of their own width, up to
 // 12 numbers of width 12 (the directions past n unused), above that numbers
 // of run-time width: chains on each side of those bounds against the same
@@ -185,7 +166,7 @@ TEST(TextModel, ChainsOfEveryPassWidthAgreeWithTheChainInCpp) {
   std::mt19937_64 rng(20261204);
   std::uniform_real_distribution<double> u(-1.5, 1.5);
   for (const int n : {4, 5, 12, 13}) {
-    const text::TextModel text_model(chain_text(n));
+    const text::TextModel text_model(lagrangian::testing::pendulum_chain_text(n));
     const test_models::RuntimeChain chain{n};
     Workspace<Dynamic> ws(n), wsx(n);
     for (int k = 0; k < 5; ++k) {

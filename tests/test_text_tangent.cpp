@@ -101,27 +101,9 @@ TEST(TextTangentFlow, DoublePendulumJacobianIsTheBuiltInModels) {
                lagrangian::OptionError);
 }
 
-/// models::PendulumChain<n> (unit masses and lengths) as text: bob k moves
-/// at (Σ_{j≤k} cos q_j q̇_j, Σ_{j≤k} sin q_j q̇_j) and hangs at −Σ_{j≤k} cos q_j.
-text::Definition chain_text(int n) {
-  text::Definition d;
-  std::string vx, vy, y;
-  for (int k = 0; k < n; ++k) {
-    const std::string q = "q" + std::to_string(k);
-    d.coordinates.push_back(q);
-    vx += (k ? " + " : "") + std::string("cos(") + q + ")*" + q + "_dot";
-    vy += (k ? " + " : "") + std::string("sin(") + q + ")*" + q + "_dot";
-    y += " - cos(" + q + ")";
-    d.kinetic += (k ? " + " : "") + std::string("0.5*m*((") + vx + ")^2 + (" + vy + ")^2)";
-    d.potential += (k ? " + " : "") + std::string("m*g*(") + y + ")";
-  }
-  d.parameters = {{"m", 1.0}, {"g", 9.81}};
-  return d;
-}
-
 template <int N>
 void expect_chain_agrees() {
-  const text::TextModel model(chain_text(N));
+  const text::TextModel model(lagrangian::testing::pendulum_chain_text(N));
   const lm::PendulumChain<N> built_in;
   Vec<double, N> q, qd;
   for (int k = 0; k < N; ++k) {
