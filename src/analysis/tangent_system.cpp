@@ -17,6 +17,10 @@
 #include <Eigen/Core>
 #include <Eigen/QR>
 
+#include "lagrangian/analysis/saltation.hpp"
+#include "lagrangian/errors.hpp"
+#include "lagrangian/integrate/detail/roots.hpp"
+
 namespace lagrangian::detail {
 
 TangentSystem::TangentSystem(const TangentModel& model, int k, double longest, bool benettin,

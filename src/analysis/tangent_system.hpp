@@ -3,13 +3,9 @@
 // the driver (lyapunov.cpp, floquet.cpp, sensitivity.cpp); its members are
 // compiled once, in tangent_system.cpp.
 
-#include <algorithm>
-#include <cmath>
 #include <cstdint>
 #include <limits>
-#include <stdexcept>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include <Eigen/Cholesky>
@@ -17,10 +13,7 @@
 #include <Eigen/QR>
 
 #include "lagrangian/analysis/lyapunov.hpp"
-#include "lagrangian/analysis/saltation.hpp"
-#include "lagrangian/errors.hpp"
 #include "lagrangian/integrate/detail/contact_rules.hpp"
-#include "lagrangian/integrate/detail/roots.hpp"
 #include "lagrangian/integrate/system.hpp"
 #include "manifold.hpp"
 #include "resting_contacts.hpp"
