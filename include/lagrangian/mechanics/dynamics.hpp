@@ -60,7 +60,6 @@ struct Workspace {
   Vec<double, N> forces;              ///< Q, non-conservative generalized forces
   Vec<double, N> rhs;                 ///< ∂L/∂q − mixed + Q
   Vec<double, N> accelerations;       ///< q̈ = M⁻¹ rhs (from the reference-returning accelerations())
-  double lagrangian = 0;              ///< L
   detail::MassCholesky<N> cholesky;     ///< factorisation of M (n > 2, and constrained models)
   Vec<double, N> scratch_q, scratch_qd, scratch_qdd;  ///< buffers for run-time sized right-hand sides
 };
@@ -157,7 +156,6 @@ void eom_pass_blocks(const M& model, Workspace<coordinate_count_v<M>>& ws, const
       seed(a, 0);
       if (b != a) seed(b, kBlock);
       const J l = lagrangian_of(model, qj, qdj, J::time(t));
-      ws.lagrangian = l.v;
       for (int i = a * kBlock; i < std::min(n, (a + 1) * kBlock); ++i) {
         const int li = i - a * kBlock;
         if (b == a) {
@@ -176,7 +174,7 @@ void eom_pass_blocks(const M& model, Workspace<coordinate_count_v<M>>& ws, const
 }
 
 /// One pass with numbers J of n directions over the coordinate vectors qj,
-/// qdj (of J): L, ∂L/∂q, p, M and the mixed term.
+/// qdj (of J): ∂L/∂q, p, M and the mixed term.
 /// (Not always_inline: g++ does not flatten the body of an always_inline
 /// callee into a `flatten` caller.)
 template <class J, class M, class JVec>
@@ -189,7 +187,6 @@ inline void eom_single_pass(const M& model, Workspace<coordinate_count_v<M>>& ws
     qdj[k] = J::velocity(qd[k], k);
   }
   J l = lagrangian_of(model, qj, qdj, J::time(t));
-  ws.lagrangian = l.v;
   for (int i = 0; i < n; ++i) {
     ws.dL_dq[i] = l.grad_q(i);
     ws.momenta[i] = l.grad_qd(i);
@@ -271,9 +268,12 @@ LAGRANGIAN_NOINLINE void eom_pass_large(const M& model, Workspace<coordinate_cou
   }
 }
 
-/// The Euler–Lagrange pass: L, ∂L/∂q, p, M and the mixed term from one
+/// The Euler–Lagrange pass: ∂L/∂q, p, M and the mixed term from one
 /// evaluation of T and V (or L) on ad::EomJet numbers (block passes for
-/// the largest models).
+/// the largest models). L's own value is not kept: q̈ does not need it, and
+/// with it unused g++ drops the cosines that only V's value takes (cos θ of
+/// a pendulum's height), leaving sin θ for ∂V/∂θ: a double pendulum's pass
+/// then calls one sincos and two sin instead of three sincos.
 template <class M>
 LAGRANGIAN_ALWAYS_INLINE void eom_pass(const M& model, Workspace<coordinate_count_v<M>>& ws,
                                        const Vec<double, coordinate_count_v<M>>& q,

@@ -30,14 +30,14 @@ EomSample eom_sample(const M& model, const double* q_in, const double* qd_in, do
     }
   }
   if (!constrained) free_accelerations(model, ws, q, qd, t, qdd);
-  // (Both paths leave M, p and L of the state in ws.)
+  // (Both paths leave M and p of the state in ws; L is evaluated here.)
   EomSample s;
   s.qdd.assign(qdd.data(), qdd.data() + n);
   s.p.assign(ws.momenta.data(), ws.momenta.data() + n);
   s.mass.reserve(static_cast<std::size_t>(n) * static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) s.mass.push_back(ws.mass(i, j));
-  s.h = ws.momenta.dot(qd) - ws.lagrangian;
+  s.h = ws.momenta.dot(qd) - lagrangian_of(model, q, qd, t);
   return s;
 }
 
