@@ -706,6 +706,20 @@ TEST(ParticleTangent, RestOnAFloorRemovesTwoDirectionsOfTheSpectrum) {
   }
 }
 
+/// The ball on a floor with a wall through (2.5, 0, 0) of the given normal
+/// (TOML array), e_w = 0.9.
+Scene ball_on_a_floor_and_a_wall(const std::string& normal) {
+  return parse_scene(std::string(kBallOnAFloor) + "[[contacts.planes]]\nname = \"wall\"\npoint = [2.5, 0.0, 0.0]\n" +
+                     "normal = " + normal + "\nrestitution = 0.9\n");
+}
+
+/// Φ and the columns of the wall's restitution and of its point's x.
+SensitivityRun wall_columns(const Scene& scene) {
+  SensitivityRequest request;
+  request.parameters = {"contacts.planes[1].restitution", "contacts.planes[1].point[0]"};
+  return sensitivity(scene, request);
+}
+
 // Resting on the floor from 3.96 s, the ball slides into a wall at
 // x = 2.5 m (e_w = 0.9) at 4.3 s: the wall's impulse is orthogonal to the
 // floor's, so the ball stays at rest on the floor and the impact is crossed
@@ -716,18 +730,8 @@ TEST(ParticleTangent, RestOnAFloorRemovesTwoDirectionsOfTheSpectrum) {
 // the rows of z and ż 0; the column of e_w is (W − x0 − ẋ0 t, 0, 0, −ẋ0, 0, 0)
 // and that of the wall's point (1 + e_w)(1, 0, 0, 0, 0, 0).
 TEST(ParticleTangent, BallRestingOnAFloorBouncesOffAWallAsTheClosedForm) {
-  std::string text = kBallOnAFloor;
-  text += R"(
-[[contacts.planes]]
-name = "wall"
-point = [2.5, 0.0, 0.0]
-normal = [-1.0, 0.0, 0.0]
-restitution = 0.9
-)";
-  const Scene scene = parse_scene(text);
-  SensitivityRequest request;
-  request.parameters = {"contacts.planes[1].restitution", "contacts.planes[1].point[0]"};
-  const SensitivityRun r = sensitivity(scene, request);
+  const Scene scene = ball_on_a_floor_and_a_wall("[-1.0, 0.0, 0.0]");
+  const SensitivityRun r = wall_columns(scene);
   const double t = 5.0, e = 0.9, w = 2.45, x0 = 0.3, v0 = 0.5;
   Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(6, 8);
   expected(0, 0) = -e;
@@ -747,6 +751,40 @@ restitution = 0.9
   EXPECT_EQ(l.result.rests, 1);
   EXPECT_EQ(l.result.releases, 0);
   EXPECT_GT(l.result.impacts, 20);
+}
+
+// The same ball into a wall leaning back (normal n = (−1, 0, 0.3)/√1.09
+// through (2.5, 0, 0), e_w = 0.9), reached at rest on the floor (z = R)
+// where x = x_w = 2.5 + 0.3 R − R √1.09. Newton's law of the wall alone,
+// v⁺ = v − (1 + e_w)(n·v) n, gives ẋ⁺ = c ẋ0 with c = 1 − (1 + e_w)/1.09
+// and ż⁺ = 0.3 (1 + e_w) ẋ0 / 1.09 = 0.26 m/s: the impulse lifts the ball
+// off the floor, which a plain run releases at the impact and the tangent
+// run too; it bounces back to rest within 0.3 s. Along x,
+// x(t) = x_w + c ẋ0 t − c (x_w − x0) after the impact, so at 5 s
+//   ∂x/∂x0 = c, ∂x/∂ẋ0 = c t, ∂ẋ/∂ẋ0 = c, ∂y/∂y0 = ∂ẏ/∂ẏ0 = 1, ∂y/∂ẏ0 = t,
+// the rows of z and ż 0; the column of e_w is −(x0 + ẋ0 t − x_w, 0, 0,
+// ẋ0, 0, 0)/1.09 and that of the wall's point (1 − c)(1, 0, 0, 0, 0, 0).
+TEST(ParticleTangent, BallLiftedOffAFloorByAWallAsTheClosedForm) {
+  const Scene scene = ball_on_a_floor_and_a_wall("[-1.0, 0.0, 0.3]");
+  const SensitivityRun r = wall_columns(scene);
+  const double t = 5.0, c = 1 - 1.9 / 1.09, x0 = 0.3, v0 = 0.5, xw = 2.5 + 0.3 * 0.05 - 0.05 * std::sqrt(1.09);
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(6, 8);
+  expected(0, 0) = c;
+  expected(0, 3) = c * t;
+  expected(3, 3) = c;
+  expected(1, 1) = expected(4, 4) = 1.0;
+  expected(1, 4) = t;
+  expected(0, 6) = -(x0 + v0 * t - xw) / 1.09;
+  expected(3, 6) = -v0 / 1.09;
+  expected(0, 7) = 1.0 - c;
+  const Eigen::MatrixXd& phi = r.result.sensitivities.back();
+  EXPECT_LT((phi - expected).cwiseAbs().maxCoeff(), 1e-9) << phi;
+  const Eigen::VectorXd& x = r.result.states.back();
+  EXPECT_NEAR(x[0], xw + c * v0 * t - c * (xw - x0), 1e-9);
+  EXPECT_NEAR(x[2], 0.05, 1e-12);
+  const LyapunovRun l = lyapunov(scene, LyapunovRequest{});
+  EXPECT_EQ(l.result.rests, 2);
+  EXPECT_EQ(l.result.releases, 1);
 }
 
 // Resting on the incline (particle_scenes.hpp), the ball slides down (to

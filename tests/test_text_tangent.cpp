@@ -11,6 +11,7 @@
 #include <complex>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "lagrangian/analysis/lyapunov.hpp"
 #include "lagrangian/analysis/sensitivity.hpp"
@@ -486,6 +487,128 @@ TEST(TextSaltation, BallLiftingOffAFloorMatchesCentralDifferences) {
         << fd.transpose() << "\n"
         << columns.col(6 + j).transpose();
     EXPECT_GT(columns.col(6 + j).cwiseAbs().maxCoeff(), 1e-2) << name;
+  }
+}
+
+/// A disc (m = 1 kg, r = 0.1 m) in a box 2 m × 1 m as text, every wall
+/// with e = 0.8, the right wall's gap `right` (the test's choice of wall).
+text::Definition disc_in_a_box_text(const std::string& right) {
+  text::Definition d;
+  d.coordinates = {"x", "y"};
+  d.units = {"m", "m"};
+  d.kinetic = "0.5*m*(x_dot^2 + y_dot^2)";
+  d.potential = "m*g*y";
+  d.contacts = {{"floor", "y - r", 0.8, "m"},
+                {"left", "x - r", 0.8, "m"},
+                {"right", right, 0.8, "m"},
+                {"ceiling", "H - r - y", 0.8, "m"}};
+  d.parameters = {{"m", 1.0}, {"g", 9.81}, {"r", 0.1}, {"W", 2.0}, {"H", 1.0}};
+  return d;
+}
+
+/// The disc's four exponents: y's pair removed at a rest (−∞), x's two
+/// summing to `sum` (1/s) to 1e-8.
+void expect_two_removed_and_sum(const std::vector<double>& spectrum, double sum) {
+  ASSERT_EQ(spectrum.size(), 4u);
+  EXPECT_EQ(std::count(spectrum.begin(), spectrum.end(), -HUGE_VAL), 2);
+  double finite = 0;
+  for (const double lambda : spectrum)
+    if (std::isfinite(lambda)) finite += lambda;
+  EXPECT_NEAR(finite, sum, 1e-8);
+}
+
+// The disc of Saltation.DiscAtRestOnTheFloorBouncesOffAWallAsTheClosedForm
+// (test_saltation.cpp; there SpheresInBox) stated as text. Dropped from
+// y = 0.6 m moving at 0.3 m/s, it bounces to rest on the floor by the Zeno
+// rule at √(2h/g) (1 + e)/(1 − e) = 2.87 s (h = 0.5 m), held there as a
+// row of the text model, and slides into the right wall at x = W − r =
+// 1.9 m at 4.67 s. The wall's law is the closing contact's alone, the
+// floor opened for it (its held row would otherwise be a row of the law);
+// the wall's impulse, along x, leaves the floor's rate alone, so the impact
+// is crossed with the disc still held on the floor. Along x,
+// x(t) = (W − r)(1 + e) − e x0 − e ẋ0 t after it, ẋ = −e ẋ0; y = r and
+// ẏ = 0 whatever the start: at 5.5 s, in (x, y, ẋ, ẏ),
+//   ∂x/∂x0 = −e, ∂x/∂ẋ0 = −e t, ∂ẋ/∂ẋ0 = −e, every other entry 0,
+// and the parameters' columns ∂x/∂W = 1 + e, ∂x/∂r = −(1 + e),
+// ∂y/∂r = 1; g, H and m: 0.
+TEST(TextSaltation, DiscAtRestOnTheFloorBouncesOffAWallAsTheClosedForm) {
+  const text::TextModel box(disc_in_a_box_text("W - r - x"));
+  const auto s = start({0.5, 0.6}, {0.3, 0.0});
+  const double t = 5.5, e = 0.8, reach = 1.9, x0 = 0.5, v0 = 0.3;
+  const lagrangian::SensitivityResult r =
+      text::sensitivities(box, s, lagrangian_test::sensitivity_options(t, {"W", "r", "g", "H", "m"}));
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(4, 9);
+  expected(0, 0) = -e;
+  expected(0, 2) = -e * t;
+  expected(2, 2) = -e;
+  expected(0, 4) = 1 + e;
+  expected(0, 5) = -(1 + e);
+  expected(1, 5) = 1.0;
+  const Eigen::MatrixXd& got = r.sensitivities.back();
+  EXPECT_LT((got - expected).cwiseAbs().maxCoeff(), 1e-9) << got;
+  EXPECT_NEAR(r.states.back()[0], reach * (1 + e) - e * x0 - e * v0 * t, 1e-9);
+  EXPECT_NEAR(r.states.back()[1], 0.1, 1e-9);
+  const lagrangian::LyapunovResult l = text::lyapunov_spectrum(box, s, lagrangian_test::lyapunov_options(t));
+  EXPECT_EQ(l.rests, 1);
+  EXPECT_EQ(l.releases, 0);
+  EXPECT_GT(l.impacts, 20);
+  // Along x the flow is Φ_x above, det Φ_x = e², so the two finite
+  // exponents sum to 2 ln e / t; y's pair was removed at the rest (−∞).
+  expect_two_removed_and_sum(l.spectrum, 2 * std::log(e) / t);
+}
+
+// The same disc against a right wall leaning back, gap
+// φ = W − r − x + 0.3 (y − r), ∇φ = (−1, 0.3), reached where the floor holds
+// the disc (y = r) at the same place and time t_w = (1.9 − x0)/ẋ0. The
+// wall's law alone (e = 0.8, approach rate −ẋ0):
+//   q̇⁺ = q̇ + Λ ∇φ / m,  Λ = (1 + e) m ẋ0 / |∇φ|²,
+// so ẋ⁺ = c ẋ0 with c = 1 − (1 + e)/1.09 and ẏ⁺ = 0.3 (1 + e) ẋ0 / 1.09
+// = 0.149 m/s: the impulse lifts the disc off the floor, which a plain run
+// releases, and so does the tangent run. The disc bounces back to rest by
+// the Zeno rule about 0.15 s later; the floor does not act along x, so
+// x(t) = 1.9 + c ẋ0 (t − t_w) = 1.9 + c ẋ0 t − c (W − r − x0): at 5.5 s,
+//   ∂x/∂x0 = c, ∂x/∂ẋ0 = c t, ∂ẋ/∂ẋ0 = c, every other entry 0,
+// ∂x/∂W = 1 − c, ∂x/∂r = −(1 − c), ∂y/∂r = 1; g, H and m: 0. The two
+// finite exponents sum to ln(det Φ_x)/t = 2 ln|c| / t.
+TEST(TextSaltation, DiscLiftedOffTheFloorByAWallAsTheClosedForm) {
+  const text::TextModel box(disc_in_a_box_text("W - r - x + 0.3*(y - r)"));
+  const auto s = start({0.5, 0.6}, {0.3, 0.0});
+  const double t = 5.5, c = 1 - 1.8 / 1.09, x0 = 0.5, v0 = 0.3;
+  const lagrangian::SensitivityResult r =
+      text::sensitivities(box, s, lagrangian_test::sensitivity_options(t, {"W", "r", "g", "H", "m"}));
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(4, 9);
+  expected(0, 0) = c;
+  expected(0, 2) = c * t;
+  expected(2, 2) = c;
+  expected(0, 4) = 1 - c;
+  expected(0, 5) = -(1 - c);
+  expected(1, 5) = 1.0;
+  const Eigen::MatrixXd& got = r.sensitivities.back();
+  EXPECT_LT((got - expected).cwiseAbs().maxCoeff(), 1e-9) << got;
+  EXPECT_NEAR(r.states.back()[0], 1.9 + c * v0 * t - c * (1.9 - x0), 1e-9);
+  EXPECT_NEAR(r.states.back()[1], 0.1, 1e-9);
+  const lagrangian::LyapunovResult l = text::lyapunov_spectrum(box, s, lagrangian_test::lyapunov_options(t));
+  EXPECT_EQ(l.rests, 2);
+  EXPECT_EQ(l.releases, 1);
+  expect_two_removed_and_sum(l.spectrum, 2 * std::log(std::abs(c)) / t);
+}
+
+// The wall leaning the other way, gap W − r − x − 0.3 (y − r): its impulse
+// presses the disc into the floor it rests on (a plain run resolves a floor
+// impact at the same instant: impacts in sequence), which the tangent flow
+// does not derive: the run stops at the wall, naming both contacts.
+TEST(TextSaltation, ImpulseThatPressesARestingContactIsRefused) {
+  const text::TextModel box(disc_in_a_box_text("W - r - x - 0.3*(y - r)"));
+  try {
+    (void)text::lyapunov_spectrum(box, start({0.5, 0.6}, {0.3, 0.0}), lagrangian_test::lyapunov_options(5.5));
+    ADD_FAILURE() << "an impact that moves a resting contact was crossed";
+  } catch (const lagrangian::SimulationError& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find("the impulse of contact 'right' sets resting contact 'floor' moving (its rate changes by "
+                        "-0.148624; a plain run resolves it as another impact at the same instant)"),
+              std::string::npos)
+        << error.what();
+    EXPECT_NEAR(error.time(), (1.9 - 0.5) / 0.3, 1e-6);
   }
 }
 

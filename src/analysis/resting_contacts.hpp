@@ -138,39 +138,61 @@ class RestingContacts {
                               t);
   }
 
-  /// SimulationError: contact `closing` closes at t while another rests,
-  /// on a model whose impact law is not its contact's alone then
-  /// (TangentModel::impact_alone_while_resting).
-  void refuse_impact(int closing, double t) const {
-    if (model_.impact_alone_while_resting) return;
+  /// Calls `law()`, which evaluates an impact law of contact `closing`
+  /// through the model's hooks, with the law a plain run applies: Newton's
+  /// law of the closing contact alone, the other resting contacts no rows
+  /// of it. A model whose impact hooks give that law whatever it holds
+  /// (TangentModel::impact_alone_while_resting) is called as it is; one
+  /// whose held contacts are rows of its passes and so of its law (a text
+  /// model's, FixedSizeModel::hold()) has the other resting contacts opened
+  /// for the call and held again after it. (An exception
+  /// from `law` ends the tangent run; they are not held again then.)
+  template <class Law>
+  void with_law_alone(int closing, Law&& law) {
+    if (model_.impact_alone_while_resting || count_ == 0) {
+      law();
+      return;
+    }
+    opened_.clear();
     for (int j = 0; j < model_.contacts; ++j)
-      if (resting(j))
-        throw SimulationError("tangent flow: contact '" + contact_name(model_, closing) + "' closes while contact '" +
-                                  contact_name(model_, j) +
-                                  "' rests: the saltation matrix of an impact under a resting contact is not derived",
-                              t);
+      if (resting(j) && j != closing) opened_.push_back(j);
+    for (int j : opened_) model_.rest(model_.model, j, false);
+    law();
+    for (int j : opened_) model_.rest(model_.model, j, true);
   }
 
-  /// SimulationError when the impulse of contact `closing` (q̇⁺ in
-  /// `qd_plus`, approach speed −v, at (q, t) of x) changes the rate of a
-  /// resting contact by more than 1e-9 |v|: a plain run releases that
-  /// contact (impacts in sequence at one instant, or a lift-off at the
-  /// impact), which the tangent flow does not derive. An impulse orthogonal
-  /// in M⁻¹ to the resting contacts' (a wall's while a floor holds) leaves
-  /// them held, and the free motion's saltation matrix carries the held
-  /// motion's tangent vectors across. `gap`, `before`, `after`: buffers of
-  /// one value per contact.
-  void require_unmoved(int closing, const double* x, const double* qd_plus, double v, double t, double* gap,
-                       double* before, double* after) const {
+  /// The resting contacts that the impulse of contact `closing` (q̇⁺ in
+  /// `qd_plus`, approach speed −v, at (q, t) of x) sets separating faster
+  /// than `touch_speed` (m/s), into `lifting`: a plain run releases them at
+  /// the impact, and so does the tangent run (release(), after f⁻), with
+  /// f⁺ of the motion without them; a neighbouring start rests as well and
+  /// lifts off at its own impact. An impulse orthogonal in M⁻¹ to the
+  /// resting contacts' (a wall's while a floor holds) leaves them held, and
+  /// the saltation matrix carries the held motion's tangent vectors across.
+  /// SimulationError when a resting contact's rate changes by more than
+  /// 1e-9 |v| otherwise: set approaching (a plain run resolves it as another
+  /// impact at the same instant) or separating no faster than the touch
+  /// speed (a plain run keeps it resting). `gap`, `before`, `after`:
+  /// buffers of one value per contact.
+  void lifted_by(int closing, const double* x, const double* qd_plus, double v, double t, double touch_speed,
+                 double* gap, double* before, double* after, std::vector<int>& lifting) const {
+    lifting.clear();
     model_.gaps(model_.model, x, x + c_, t, gap, before);
     model_.gaps(model_.model, x, qd_plus, t, gap, after);
     for (int j = 0; j < model_.contacts; ++j) {
       const double change = after[j] - before[j];
       if (!resting(j) || std::abs(change) <= 1e-9 * std::abs(v)) continue;
+      if (after[j] > touch_speed) {
+        lifting.push_back(j);
+        continue;
+      }
       throw SimulationError("tangent flow: the impulse of contact '" + contact_name(model_, closing) +
                                 "' sets resting contact '" + contact_name(model_, j) + "' moving (its rate changes by " +
                                 short_number(change) +
-                                "; a plain run releases it): impacts in sequence at one instant are not derived",
+                                (after[j] < 0 ? "; a plain run resolves it as another impact at the same instant): "
+                                                "impacts in sequence at one instant are not derived"
+                                              : ", separating no faster than contact_touch_speed: a plain run keeps "
+                                                "it resting): not derived"),
                             t);
     }
   }
@@ -212,8 +234,9 @@ class RestingContacts {
   int c_;
   std::vector<char> resting_;
   int count_ = 0, rests_ = 0, releases_ = 0, last_ = 0;
-  // The resting contacts, a state on the step, q̈_f, ∂p/∂(q, q̇), an impact map.
-  std::vector<int> held_;
+  // The resting contacts, those opened for an impact law, a state on the
+  // step, q̈_f, ∂p/∂(q, q̇), an impact map.
+  std::vector<int> held_, opened_;
   std::vector<double> state_, free_, scratch_, gradient_, zero_, momentum_, jacobian_;
 };
 

@@ -35,6 +35,7 @@ TangentSystem::TangentSystem(const TangentModel& model, int k, double longest, b
     throw std::logic_error(
         "TangentSystem: parameter columns of a model with contacts need its parameter_impact");
   jumped_.resize(2 * model_.n, columns_);
+  lifting_.reserve(static_cast<std::size_t>(model_.contacts));
 }
 
 TangentSystem::~TangentSystem() = default;
@@ -355,7 +356,6 @@ bool TangentSystem::cross_impact(double t_old, const double* x_old, double& t, d
                               "or slide along): the tangent flow through a closed contact is not derived",
                           t_old);
   if (first < 0) return false;
-  resting_.refuse_impact(first, at);
   progress_.check(at, t_old);
   if (at < t) interpolant(at, x);
   if (benettin_) megno_step(t_old, at, x, interpolant);
@@ -371,18 +371,26 @@ bool TangentSystem::cross_impact(double t_old, const double* x_old, double& t, d
                                 "derived",
                             t);
   const double ell_before = log_length(x);
-  double gamma = 0;
-  const double v = model_.impact(model_.model, x, x + c, t, first, model_.restitution[static_cast<std::size_t>(first)],
-                                 qd_plus_.data(), impact_jacobian_.data(), gap_gradient_.data(), &gamma);
+  double gamma = 0, v = 0;
+  resting_.with_law_alone(first, [&] {
+    v = model_.impact(model_.model, x, x + c, t, first, model_.restitution[static_cast<std::size_t>(first)],
+                      qd_plus_.data(), impact_jacobian_.data(), gap_gradient_.data(), &gamma);
+  });
   if (!(v < 0))
     throw SimulationError("tangent flow: contact '" + contact(first) + "' grazes (approach speed " +
                               number(v) + " >= 0): its saltation matrix is not defined",
                           t);
+  lifting_.clear();
   if (resting_.count() > 0)
-    resting_.require_unmoved(first, x, qd_plus_.data(), v, t, gap_at_.data(), rate_at_.data(), rate_old_.data());
+    resting_.lifted_by(first, x, qd_plus_.data(), v, t, run_.contact_touch_speed, gap_at_.data(), rate_at_.data(),
+                       rate_old_.data(), lifting_);
   const double e = model_.restitution[static_cast<std::size_t>(first)];
   std::fill(zero_.begin(), zero_.end(), 0.0);
   model_.evaluate_direction(model_.model, x, x + c, t, zero_.data(), qdd_minus_.data(), scratch_.data());
+  // Resting contacts the impulse sets separating lift off at the impact, as
+  // in a plain run: f⁻ above is the held motion's, f⁺ below the motion's
+  // without them.
+  for (int j : lifting_) resting_.release(j);
   // Where a plain run lets the contact rest (a plastic impact; the Zeno
   // rule: an accumulation of impacts while the forces press the contact
   // shut, d²φ/dt² = G q̈ + γ < 0) the model holds it shut after an impact
@@ -404,8 +412,10 @@ bool TangentSystem::cross_impact(double t_old, const double* x_old, double& t, d
   if (rest) {
     resting_.require_holdable(first, -v, zeno, columns_ > k_, t);
     // The last impact is plastic (the plain run's law at a rest).
-    model_.impact(model_.model, x, x + c, t, first, 0.0, qd_plus_.data(), impact_jacobian_.data(),
-                  gap_gradient_.data(), &gamma);
+    resting_.with_law_alone(first, [&] {
+      model_.impact(model_.model, x, x + c, t, first, 0.0, qd_plus_.data(), impact_jacobian_.data(),
+                    gap_gradient_.data(), &gamma);
+    });
     // (Unless the forces pull the bodies apart at once: then a plastic
     // impact into the free motion.)
     if (resting_.hold(x, qd_plus_.data(), t, first)) rest_due_ = benettin_;
@@ -425,8 +435,11 @@ bool TangentSystem::cross_impact(double t_old, const double* x_old, double& t, d
   // and the gap move with the parameter too.
   const Eigen::Map<const Eigen::VectorXd> a(salt_scratch_.data(), 2 * n);
   for (int j = k_; j < columns_; ++j) {
-    const double dgap = model_.parameter_impact(model_.model, x, x + c, t, first,
-                                                parameters_[static_cast<std::size_t>(j - k_)], rest, scratch_.data());
+    double dgap = 0;
+    resting_.with_law_alone(first, [&] {
+      dgap = model_.parameter_impact(model_.model, x, x + c, t, first, parameters_[static_cast<std::size_t>(j - k_)],
+                                     rest, scratch_.data());
+    });
     w_.col(j) += a * (dgap / v);
     w_.col(j).tail(n) += Eigen::Map<const Eigen::VectorXd>(scratch_.data(), n);
   }

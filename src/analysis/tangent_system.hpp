@@ -164,10 +164,11 @@ class TangentSystem final : public System {
   /// column; where a plain run lets the contact rest (the Zeno rule, a
   /// plastic impact) the impact is plastic and the contact rests from then
   /// on (TangentModel::rest). SimulationError for a rest the model cannot
-  /// hold (above), a touch slower than contact_touch_speed, an impact while
-  /// another contact rests (refuse_impact(), require_unmoved()), two
-  /// contacts closing or touching at one instant,
-  /// a grazing contact and one found penetrated.
+  /// hold (above), a touch slower than contact_touch_speed, an impulse
+  /// that sets a resting contact approaching or separating slowly
+  /// (RestingContacts::lifted_by(); one that lifts it off releases it), two contacts
+  /// closing or touching at one instant, a grazing contact and one found
+  /// penetrated.
   bool cross_impact(double t_old, const double* x_old, double& t, double* x, const StepInterpolant& interpolant);
 
   TangentModel model_;
@@ -196,6 +197,7 @@ class TangentSystem final : public System {
   std::vector<double> gap_old_ = std::vector<double>(static_cast<std::size_t>(model_.contacts)),
                       gap_new_ = gap_old_, gap_at_ = gap_old_, rate_old_ = gap_old_, rate_new_ = gap_old_,
                       rate_at_ = gap_old_;
+  std::vector<int> lifting_;  // resting contacts an impulse lifts off (reserved for every contact)
   SimulationOptions run_;
   std::vector<ContactHistory> history_ = std::vector<ContactHistory>(static_cast<std::size_t>(model_.contacts));
   EventProgress progress_;

@@ -219,8 +219,10 @@ struct TangentModel {
   /// wall's normal orthogonal in M⁻¹ to a floor's) then crosses by the
   /// usual saltation matrix with those contacts still held, and one that
   /// sets a resting contact moving is refused (a plain run releases it:
-  /// impacts in sequence at one instant). False: every impact while a
-  /// contact rests is refused.
+  /// impacts in sequence at one instant). False: the law keeps the held
+  /// contacts as its rows (a text model's), so the tangent run opens the
+  /// other resting contacts through rest() while it evaluates impact() and
+  /// parameter_impact(), and holds them again after: the same law.
   bool impact_alone_while_resting = false;
   /// The constraint manifold of a model with holonomic or Pfaffian rows:
   /// the number of its rows h = (g, ġ, φ) (2 mh + mp; 0 for a model
