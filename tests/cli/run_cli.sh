@@ -453,6 +453,44 @@ analysis_json lyapunov text_incline "d['impacts'] == 2 and abs(d['sum'] - 2 * d[
 # incline at 2.35 s and it slides down: the rest removes two of the four
 # directions (null), the other two are the slide's.
 analysis_json lyapunov text_incline_rest "d['rests'] == 1 and d['spectrum'][2:] == [None, None] and all(l is not None for l in d['spectrum'][:2])" -- "$src/examples/scenes/text/projectile_on_incline.toml"
+# A disc (1 kg, r = 0.1 m) stated as text, at rest on the floor by 2.87 s
+# (e = 0.8), slides into a wall leaning back, gap 1.9 - x + 0.3 (y - 0.1):
+# the wall's law alone, e = 0.8, lifts it off the floor (released, as a
+# plain run releases it) and it comes to rest again. Along x the flow over
+# 5.5 s is [[c, c t], [0, c]], c = 1 - 1.8/1.09: the two finite exponents
+# sum to 2 ln|c| / 5.5; y's two are removed (null). Leaning the other way
+# the wall's impulse presses the disc into the floor (impacts in sequence
+# at one instant): exit 1, naming both contacts.
+cat > "$work/disc_and_wall.toml" <<'TOML'
+name = "disc against a leaning wall (text)"
+[run]
+t_end = 5.5
+rtol = 1e-11
+atol = 1e-13
+[model]
+coordinates = ["x", "y"]
+units = ["m", "m"]
+kinetic = "0.5*m*(x_dot^2 + y_dot^2)"
+potential = "m*g*y"
+q = [0.5, 0.6]
+qd = [0.3, 0.0]
+[[model.contacts]]
+name = "floor"
+gap = "y - 0.1"
+restitution = 0.8
+unit = "m"
+[[model.contacts]]
+name = "wall"
+gap = "1.9 - x + lean*(y - 0.1)"
+restitution = 0.8
+unit = "m"
+[model.parameters]
+m = 1.0
+g = 9.81
+lean = 0.3
+TOML
+analysis_json lyapunov text_lifted "d['rests'] == 2 and d['releases'] == 1 and d['spectrum'][2:] == [None, None] and abs(d['spectrum'][0] + d['spectrum'][1] - 2 * __import__('math').log(1.8 / 1.09 - 1) / 5.5) < 1e-8" -- "$work/disc_and_wall.toml"
+expect 1 "tangent flow: the impulse of contact 'wall' sets resting contact 'floor' moving" -- "$bin" lyapunov "$work/disc_and_wall.toml" --set model.parameters.lean=-0.3
 # The elastic bounce from its apex 1 m up is periodic, T = 2 sqrt(2/9.81) s:
 # a closed orbit, every multiplier 1 (a double one per plane: to ~1e-6;
 # without the saltation matrix's correction one would be -1).
