@@ -217,9 +217,11 @@ struct TangentModel {
   /// (the resting contacts are rows of the motion, not of the law): an
   /// impact whose impulse leaves every resting contact's rate unchanged (a
   /// wall's normal orthogonal in M⁻¹ to a floor's) then crosses by the
-  /// usual saltation matrix with those contacts still held, and one that
-  /// sets a resting contact moving is refused (a plain run releases it:
-  /// impacts in sequence at one instant). False: the law keeps the held
+  /// usual saltation matrix with those contacts still held; one that lifts
+  /// a resting contact off (separating faster than contact_touch_speed)
+  /// releases it at the impact, as a plain run does; one that sets it
+  /// approaching is refused (impacts in sequence at one instant, in a
+  /// plain run). False: the law keeps the held
   /// contacts as its rows (a text model's), so the tangent run opens the
   /// other resting contacts through rest() while it evaluates impact() and
   /// parameter_impact(), and holds them again after: the same law.
