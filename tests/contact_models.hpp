@@ -16,6 +16,7 @@
 #include "lagrangian/ad.hpp"
 #include "lagrangian/model.hpp"
 #include "lagrangian/models/constrained.hpp"
+#include "lagrangian/models/detail/particles.hpp"
 #include "lagrangian/models/pendulums.hpp"
 
 namespace lagrangian::testing {
@@ -90,6 +91,27 @@ struct CartesianDoublePendulumAgainstWall : models::CartesianDoublePendulum {
   template <class S>
   Vec<S, 1> unilateral(const Vec<S, 4>& q, const S&) const {
     return Vec<S, 1>(0.9 - q[2]);
+  }
+};
+
+/// A disc of mass m = 1 kg and radius 0.1 m in the vertical plane, its
+/// centre at (x, y) (m), gravity g = 9.81 m/s² along −y, on a floor and
+/// against a wall through x = 2 m leaning by `lean`:
+///   T = ½ m (ẋ² + ẏ²),  V = m g y,
+///   contacts "floor" φ_0 = y − 0.1 ≥ 0 and "wall" φ_1 = 1.9 − x + lean (y − 0.1) ≥ 0,
+/// both with restitution e = 0.8. At rest on the floor the wall's impulse,
+/// along ∇φ_1 = (−1, lean), lifts the disc off for lean > 0 and presses it
+/// into the floor for lean < 0.
+struct DiscAndLeaningWall : models::detail::PlanarParticle<> {
+  static constexpr int coordinate_count = 2;
+  explicit DiscAndLeaningWall(double leaning) : PlanarParticle{1.0, 9.81}, lean(leaning) {}
+  double lean;
+  std::string name() const { return "disc_and_leaning_wall"; }
+  std::array<std::string_view, 2> unilateral_names() const { return {"floor", "wall"}; }
+  std::array<double, 2> restitution() const { return {0.8, 0.8}; }
+  template <class S>
+  Vec<S, 2> unilateral(const Vec<S, 2>& q, const S&) const {
+    return Vec<S, 2>(q[1] - 0.1, 1.9 - q[0] + lean * (q[1] - 0.1));
   }
 };
 

@@ -395,6 +395,41 @@ TEST(Saltation, DiscAtRestOnTheFloorBouncesOffAWallAsTheClosedForm) {
   EXPECT_GT(l.impacts, 20);
 }
 
+// The disc of the test above in C++ against a wall leaning back
+// (DiscAndLeaningWall, contact_models.hpp; the closed form is derived at
+// TextSaltation.DiscLiftedOffTheFloorByAWallAsTheClosedForm): the wall's
+// law alone lifts the disc off the floor at 4.67 s, which the tangent run
+// releases as a plain run does, and the disc comes to rest again. At 5.5 s, in (x, y, ẋ, ẏ), ∂x/∂x0 = c,
+// ∂x/∂ẋ0 = c t, ∂ẋ/∂ẋ0 = c (c = 1 − 1.8/1.09), every other entry 0. Leaning
+// the other way the wall's impulse presses the disc into the floor: the run
+// stops at the impact, naming both contacts.
+TEST(Saltation, DiscLiftedOffTheFloorByALeaningWallAsTheClosedForm) {
+  using lagrangian::testing::DiscAndLeaningWall;
+  lagrangian::State<2> s;
+  s.q << 0.5, 0.6;
+  s.qd << 0.3, 0.0;
+  const double t = 5.5, c = 1 - 1.8 / 1.09;
+  const lagrangian::SensitivityResult r = lagrangian::sensitivities(DiscAndLeaningWall{0.3}, s, tight(t));
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(4, 4);
+  expected(0, 0) = c;
+  expected(0, 2) = c * t;
+  expected(2, 2) = c;
+  EXPECT_LT((r.sensitivities.back() - expected).cwiseAbs().maxCoeff(), 1e-9) << r.sensitivities.back();
+  const lagrangian::LyapunovResult l =
+      lagrangian::lyapunov_spectrum(DiscAndLeaningWall{0.3}, s, lagrangian_test::lyapunov_options(t));
+  EXPECT_EQ(l.rests, 2);
+  EXPECT_EQ(l.releases, 1);
+  try {
+    (void)lagrangian::lyapunov_spectrum(DiscAndLeaningWall{-0.3}, s, lagrangian_test::lyapunov_options(t));
+    ADD_FAILURE() << "an impact that presses a resting contact was crossed";
+  } catch (const lagrangian::SimulationError& error) {
+    EXPECT_NE(std::string(error.what()).find("the impulse of contact 'wall' sets resting contact 'floor' moving"),
+              std::string::npos)
+        << error.what();
+    EXPECT_NEAR(error.time(), (1.9 - 0.5) / 0.3, 1e-6);
+  }
+}
+
 TEST(Saltation, SimultaneousImpactsStopTheRun) {
   const lm::SpheresOnLine<3> line({1.0, 1.0, 1.0}, {0.1, 0.1, 0.1}, 1.0);
   lagrangian::State<3> s;
